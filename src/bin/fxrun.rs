@@ -1,0 +1,318 @@
+//! `fxrun`: apply EFFECT scripts to images (and check, plan and draw them).
+//!
+//! Exit codes: 0 ok, 1 input rejected (script, shader, image or argument), 2 I/O,
+//! GPU or internal error.
+
+use anyhow::Context as _;
+use clap::Parser;
+use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, ReusePolicy};
+use fxgraph::graph::{compile, dot, library, CompileRequest, Override};
+use fxgraph::gpu::context::{list_adapters, AdapterChoice};
+use fxgraph::gpu::runner::{apply_to_image, ImageJob, JobReport, RunError};
+use fxgraph::script::types::format_value;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "fxrun",
+    version,
+    about = "Apply declarative filter-graph effects (EFFECT scripts) to images on the GPU",
+    after_help = "EFFECT is a path to an .fx file or a built-in effect name (see --list).\n\
+Examples:\n  fxrun glow -i photo.png -o glow.png\n  fxrun gaussian_blur --set sigma=8 -i in.png -o out.png --timings\n  fxrun effects/glow.fx --check\n  fxrun glow --plan --size 1920x1080 --json\n\n\
+Exit codes: 0 ok, 1 input rejected, 2 I/O, GPU or internal error."
+)]
+struct Cli {
+    /// Effects to apply in order (paths to .fx files or built-in names).
+    effects: Vec<String>,
+    /// Input image.
+    #[arg(short, long)]
+    input: Option<PathBuf>,
+    /// Output image (format from the extension).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Set a parameter: NAME=VALUE (effect), EFFECT.NAME=VALUE, or PASS.NAME=VALUE.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+    /// An auxiliary input image: NAME=FILE (read by AUX.NAME).
+    #[arg(long = "aux", value_name = "NAME=FILE")]
+    aux: Vec<String>,
+    /// Bits per channel of the output file (8, 16, 32 where the format allows).
+    #[arg(long)]
+    bit_depth: Option<u8>,
+    /// Treat 8/16-bit files as linear data (no sRGB decode on load or encode on save).
+    #[arg(long)]
+    assume_linear: bool,
+    /// Print one row per pass and the run's time split.
+    #[arg(long)]
+    timings: bool,
+    /// Write the timings as JSON to FILE.
+    #[arg(long, value_name = "FILE")]
+    timings_json: Option<PathBuf>,
+    /// Only check the effect: print diagnostics, exit 0 (warnings allowed) or 1.
+    #[arg(long)]
+    check: bool,
+    /// Write the graph as Graphviz DOT to FILE (`-` for stdout).
+    #[arg(long, value_name = "FILE")]
+    dot: Option<String>,
+    /// Print the schedule, the texture lifetime steps and the memory figures.
+    #[arg(long)]
+    plan: bool,
+    /// Input size for --plan/--dot/--check: WxH.
+    #[arg(long, value_name = "WxH")]
+    size: Option<String>,
+    /// With --plan: one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Texture reuse policy for --plan: min-peak (default) or pool.
+    #[arg(long, default_value = "min-peak")]
+    policy: String,
+    /// List the built-in effects.
+    #[arg(long)]
+    list: bool,
+    /// List the effect's passes and parameters.
+    #[arg(long)]
+    describe: bool,
+    /// List the GPU adapters.
+    #[arg(long)]
+    adapters: bool,
+    /// Pick an adapter by index (see --adapters) or by part of its name.
+    #[arg(long)]
+    adapter: Option<String>,
+}
+
+/// An error with its exit code, already reported or to be printed.
+struct Fail {
+    code: u8,
+    message: String,
+}
+
+impl From<RunError> for Fail {
+    fn from(e: RunError) -> Self {
+        Fail { code: e.exit_code() as u8, message: e.to_string() }
+    }
+}
+
+impl From<anyhow::Error> for Fail {
+    fn from(e: anyhow::Error) -> Self {
+        Fail { code: 2, message: format!("{e:#}") }
+    }
+}
+
+fn rejected(message: impl Into<String>) -> Fail {
+    Fail { code: 1, message: message.into() }
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        // Silences a harmless warning of the Vulkan loader on headless machines.
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = match e.kind() {
+                clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion => 0,
+                _ => 1,
+            };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            if !f.message.is_empty() {
+                let msg = f.message.trim_end();
+                if msg.contains(": error:") || msg.starts_with("error") {
+                    eprintln!("{msg}");
+                } else {
+                    eprintln!("fxrun: error: {msg}");
+                }
+            }
+            ExitCode::from(f.code)
+        }
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), Fail> {
+    let bad = || rejected(format!("--size {s}: expected WIDTHxHEIGHT, e.g. 1920x1080"));
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    if w == 0 || h == 0 {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+fn adapter_choice(a: &Option<String>) -> AdapterChoice {
+    match a {
+        None => AdapterChoice::Auto,
+        Some(s) => match s.parse::<usize>() {
+            Ok(i) => AdapterChoice::Index(i),
+            Err(_) => AdapterChoice::NameContains(s.clone()),
+        },
+    }
+}
+
+fn run(cli: Cli) -> Result<(), Fail> {
+    if cli.adapters {
+        let list = list_adapters();
+        if list.is_empty() {
+            return Err(Fail { code: 2, message: "no GPU adapter found (install mesa-vulkan-drivers for lavapipe)".into() });
+        }
+        for a in list {
+            println!("{a}");
+        }
+        return Ok(());
+    }
+    if cli.list {
+        for (name, desc) in library::builtin_effects() {
+            println!("{name:<16} {desc}");
+        }
+        return Ok(());
+    }
+    if cli.effects.is_empty() {
+        return Err(rejected("no effect given (try `fxrun --list`, or `fxrun --help`)"));
+    }
+    let req = CompileRequest {
+        effects: cli.effects.clone(),
+        overrides: cli.set.iter().map(|a| Override { arg: a.clone() }).collect(),
+        search_dirs: Vec::new(),
+    };
+    let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
+    if analysis {
+        let (graph, diags, sources) = compile(&req);
+        if !diags.is_empty() {
+            eprint!("{}", diags.render(&sources));
+        }
+        let Some(graph) = graph else {
+            return Err(Fail { code: 1, message: String::new() });
+        };
+        if cli.describe {
+            describe(&graph);
+        }
+        let (w, h) = match &cli.size {
+            Some(s) => parse_size(s)?,
+            None => (1920, 1080),
+        };
+        let desc = InputDesc::rgba8_srgb(w, h).with_gbuffer();
+        let policy = match cli.policy.as_str() {
+            "min-peak" => ReusePolicy::MinPeak,
+            "pool" => ReusePolicy::Pool,
+            other => return Err(rejected(format!("--policy {other}: expected min-peak or pool"))),
+        };
+        let planned = plan(&graph, &desc, &PlanOptions { policy, output_format: None });
+        let (p, notes) = match planned {
+            Ok(x) => x,
+            Err(d) => {
+                eprint!("{}", d.render(&sources));
+                return Err(Fail { code: 1, message: String::new() });
+            }
+        };
+        if !notes.is_empty() && !cli.json {
+            eprint!("{}", notes.render(&sources));
+        }
+        if let Some(target) = &cli.dot {
+            let text = dot::to_dot(&graph, Some(&p));
+            if target == "-" {
+                print!("{text}");
+            } else {
+                fxgraph::io::write_atomic(std::path::Path::new(target), |w| {
+                    w.write_all(text.as_bytes()).map_err(|e| fxgraph::io::IoError::Io { path: target.into(), source: e })
+                })
+                .map_err(RunError::from)?;
+            }
+        }
+        if cli.plan {
+            if cli.json {
+                println!("{}", serde_json::to_string_pretty(&p.to_json()).expect("plan serializes"));
+            } else {
+                print!("{}", p.render());
+            }
+        }
+        return Ok(());
+    }
+    let (Some(input), Some(output)) = (cli.input.clone(), cli.output.clone()) else {
+        return Err(rejected("give an input and an output image: -i INPUT -o OUTPUT (or --check, --plan, --dot, --describe)"));
+    };
+    let mut aux = Vec::new();
+    for a in &cli.aux {
+        let (n, f) = a.split_once('=').ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
+        aux.push((n.to_string(), PathBuf::from(f)));
+    }
+    let job = ImageJob {
+        effects: cli.effects.clone(),
+        overrides: cli.set.clone(),
+        input,
+        output,
+        bit_depth: cli.bit_depth,
+        assume_linear: cli.assume_linear,
+        aux,
+        timings: cli.timings || cli.timings_json.is_some(),
+    };
+    let report = apply_to_image(&job, None, &adapter_choice(&cli.adapter))?;
+    if !report.warnings.is_empty() {
+        eprint!("{}", report.warnings);
+    }
+    if cli.timings {
+        print_timings(&report);
+    }
+    if let Some(path) = &cli.timings_json {
+        let text = serde_json::to_string_pretty(&report).context("serializing timings")?;
+        fxgraph::io::write_atomic(path, |w| w.write_all(text.as_bytes()).map_err(|e| fxgraph::io::IoError::Io { path: path.clone(), source: e }))
+            .map_err(RunError::from)?;
+    }
+    Ok(())
+}
+
+fn describe(graph: &fxgraph::graph::Graph) {
+    for (name, desc) in &graph.descriptions {
+        println!("effect {name}");
+        for line in desc.lines() {
+            println!("  {line}");
+        }
+    }
+    println!("passes (in execution order):");
+    for &n in &graph.schedule {
+        let p = graph.pass(n);
+        let inputs: Vec<String> = p.inputs.iter().enumerate().map(|(i, inp)| format!("{}={}", inp.name, graph.label(graph.input_source(n, i)))).collect();
+        println!("  {:<28} SHADER.{:<16} {}", p.path, p.shader, inputs.join(" "));
+    }
+    if graph.params.is_empty() {
+        println!("parameters: none");
+    } else {
+        println!("parameters:");
+        for p in &graph.params {
+            let range = p.range.map(|(a, b)| format!(" range [{}, {}]", format_value(&[a]), format_value(&[b]))).unwrap_or_default();
+            let choices = match &p.ty {
+                fxgraph::script::types::ParamType::Enum(v) => format!(" one of {}", v.join("|")),
+                _ => String::new(),
+            };
+            println!("  {}.{:<14} {:<5} = {:<10} (default {}){range}{choices}  {}", p.effect, p.name, p.ty.name(), format_value(&p.value), format_value(&p.default), p.description);
+        }
+    }
+    if graph.has_feedback() {
+        println!("temporal: uses feedback (earlier output frames); a sharded sequence run needs warm-up frames");
+    }
+    if graph.latency > 0 || graph.history > 0 {
+        println!("temporal: reads {} earlier and {} later input frames (latency {})", graph.history, graph.latency, graph.latency);
+    }
+}
+
+fn print_timings(r: &JobReport) {
+    println!("adapter: {} ({})  image {}x{}", r.adapter, r.backend, r.width, r.height);
+    println!("{:<32} {:>11} {:<10} {:>9} {:>9}", "pass", "size", "format", "gpu ms", "cpu ms");
+    for p in &r.passes {
+        let gpu = p.gpu_ms.map(|g| format!("{g:.2}")).unwrap_or_else(|| "-".into());
+        println!("{:<32} {:>11} {:<10} {:>9} {:>9.2}", p.path, format!("{}x{}", p.width, p.height), p.format, gpu, p.cpu_ms);
+    }
+    println!(
+        "compile {:.1} ms | decode {:.1} | device {:.1} | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
+        r.compile_ms, r.decode_ms, r.device_ms, r.pipeline_ms, r.upload_ms, r.passes_ms, r.readback_ms, r.encode_ms, r.total_ms
+    );
+    let mib = |b: u64| b as f64 / 1048576.0;
+    println!("transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})", mib(r.peak_bytes), mib(r.lower_bound_bytes), mib(r.naive_bytes));
+}

@@ -1,0 +1,3 @@
+pub mod context;
+pub mod executor;
+pub mod runner;

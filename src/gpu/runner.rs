@@ -1,0 +1,286 @@
+//! Running effects on images: the library API behind `fxrun` and for Rust programs.
+//!
+//! - [`Effect`]: a compiled effect chain (no device needed).
+//! - [`Effect::prepare`]: plan it for an input size/format and build its pipelines on
+//!   an [`Engine`] (which may wrap the caller's own device: [`GpuContext::from_existing`]).
+//! - [`apply_to_image`]: the whole file-to-file job of `fxrun -i -o`.
+
+use super::context::{GpuContext, GpuError};
+use super::executor::{wgpu_format, Engine, ExecError, FrameInputs, PassTiming, Prepared};
+use crate::graph::plan::{plan, InputDesc, PlanOptions};
+use crate::graph::{compile, CompileRequest, Graph, Override};
+use crate::io::{self, FileFormat, Image, IoError, LoadOptions, Pixels, SaveOptions};
+use crate::script::types::{ColorSpace, Format};
+use crate::script::{Diagnostics, SourceMap};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Errors of a run, each with the CLI exit code it maps to.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The effect, its shaders or a `--set` were rejected (diagnostics rendered).
+    #[error("{rendered}")]
+    Rejected { rendered: String },
+    /// An input file was rejected (corrupt, unsupported).
+    #[error(transparent)]
+    BadInput(IoError),
+    /// A file could not be read or written.
+    #[error(transparent)]
+    Io(IoError),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error("{0}")]
+    Other(String),
+}
+
+impl RunError {
+    /// 1: input rejected; 2: I/O, GPU or internal.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            RunError::Rejected { .. } | RunError::BadInput(_) => 1,
+            RunError::Io(_) | RunError::Gpu(_) | RunError::Other(_) => 2,
+        }
+    }
+}
+
+impl From<IoError> for RunError {
+    fn from(e: IoError) -> Self {
+        if e.is_input_error() {
+            RunError::BadInput(e)
+        } else {
+            RunError::Io(e)
+        }
+    }
+}
+
+/// A compiled effect chain.
+pub struct Effect {
+    pub graph: Graph,
+    pub sources: SourceMap,
+    /// Warnings and notes from compiling.
+    pub warnings: Diagnostics,
+}
+
+impl Effect {
+    /// Compile a chain of effects (paths or built-in names) with `NAME=VALUE` overrides.
+    pub fn compile(effects: &[String], overrides: &[String]) -> Result<Effect, RunError> {
+        let req = CompileRequest {
+            effects: effects.to_vec(),
+            overrides: overrides.iter().map(|a| Override { arg: a.clone() }).collect(),
+            search_dirs: Vec::new(),
+        };
+        let (graph, diags, sources) = compile(&req);
+        match graph {
+            Some(graph) if !diags.has_errors() => Ok(Effect { graph, sources, warnings: diags }),
+            _ => Err(RunError::Rejected { rendered: diags.render(&sources) }),
+        }
+    }
+
+    /// Plan for `input` and prepare on `engine`; the output is rendered in
+    /// `output_format` (None: the output pass's own format).
+    pub fn prepare(&mut self, engine: &mut Engine, input: &InputDesc, output_format: Option<Format>) -> Result<Prepared, RunError> {
+        let opts = PlanOptions { output_format, ..Default::default() };
+        let (p, notes) = plan(&self.graph, input, &opts).map_err(|d| RunError::Rejected { rendered: d.render(&self.sources) })?;
+        self.warnings.extend(notes);
+        engine.prepare(&self.graph, p, &mut self.sources).map_err(|e| match e {
+            ExecError::Rejected(d) => RunError::Rejected { rendered: d.render(&self.sources) },
+            ExecError::Gpu(g) => RunError::Gpu(g),
+            ExecError::Input(s) => RunError::Other(s),
+        })
+    }
+}
+
+/// The texture format an image is uploaded as, and what its samples mean.
+pub fn input_format(img: &Image, assume_linear: bool) -> (Format, ColorSpace) {
+    match img.pixels {
+        Pixels::U8(_) if assume_linear => (Format::Rgba8, ColorSpace::Linear),
+        Pixels::U8(_) => (Format::Rgba8Srgb, ColorSpace::Linear),
+        Pixels::F32(_) => (Format::Rgba16f, ColorSpace::Linear),
+    }
+}
+
+/// Upload an image as a texture of `format` (from [`input_format`]).
+pub fn upload_image(ctx: &GpuContext, label: &str, img: &Image, format: Format) -> Result<wgpu::Texture, GpuError> {
+    let bytes: Vec<u8> = match (&img.pixels, format) {
+        (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
+        (Pixels::F32(v), Format::Rgba16f) => v.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect(),
+        (Pixels::F32(v), Format::Rgba32f) => v.iter().flat_map(|&x| x.to_le_bytes()).collect(),
+        (p, f) => {
+            let lin = p.to_f32_linear(false);
+            match f {
+                Format::Rgba16f => lin.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect(),
+                _ => lin.iter().flat_map(|&x| x.to_le_bytes()).collect(),
+            }
+        }
+    };
+    ctx.upload_texture(label, img.width, img.height, wgpu_format(format), &bytes, wgpu::TextureUsages::empty())
+}
+
+/// The output texture format for a file: 8-bit files get rgba8-srgb (rgba8 with
+/// `assume_linear`), 16-bit and half EXR rgba16f, 32-bit EXR rgba32f.
+pub fn output_format_for(path: &Path, bit_depth: Option<u8>, assume_linear: bool) -> Result<Format, IoError> {
+    let ff = FileFormat::from_path(path).ok_or_else(|| IoError::Unsupported {
+        path: path.to_path_buf(),
+        message: "unknown output file type (use .png, .jpg, .exr, .tif, ...)".into(),
+    })?;
+    let bits = bit_depth.unwrap_or(ff.default_bit_depth());
+    if !ff.supports_bit_depth(bits) {
+        return Err(IoError::Unsupported {
+            path: path.to_path_buf(),
+            message: format!("{} files cannot have {bits}-bit channels (supported: {:?})", ff.name(), ff.bit_depths()),
+        });
+    }
+    Ok(match (ff, bits) {
+        (FileFormat::Exr, 32) => Format::Rgba32f,
+        (_, 8) if assume_linear => Format::Rgba8,
+        (_, 8) => Format::Rgba8Srgb,
+        (_, 32) => Format::Rgba32f,
+        _ => Format::Rgba16f,
+    })
+}
+
+/// Read a texture back as pixels (U8 for 8-bit formats, linear F32 otherwise).
+pub fn read_pixels(ctx: &GpuContext, texture: &wgpu::Texture, format: Format) -> Result<Pixels, GpuError> {
+    let raw = ctx.read_texture(texture)?;
+    Ok(match format {
+        Format::Rgba8 | Format::Rgba8Srgb => Pixels::U8(raw),
+        Format::Rgba16f => Pixels::F32(raw.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect()),
+        Format::Rgba32f => Pixels::F32(raw.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()),
+        other => return Err(GpuError::Map(format!("cannot read back {other} as an image"))),
+    })
+}
+
+/// Create an output texture for a plan.
+pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("fxgraph output"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu_format(format),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    })
+}
+
+/// Options of [`apply_to_image`].
+#[derive(Debug, Clone, Default)]
+pub struct ImageJob {
+    pub effects: Vec<String>,
+    pub overrides: Vec<String>,
+    pub input: PathBuf,
+    pub output: PathBuf,
+    pub bit_depth: Option<u8>,
+    pub assume_linear: bool,
+    /// `--aux NAME=FILE` images.
+    pub aux: Vec<(String, PathBuf)>,
+    pub timings: bool,
+}
+
+/// Where the time of a job went.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct JobReport {
+    pub adapter: String,
+    pub backend: String,
+    pub width: u32,
+    pub height: u32,
+    pub passes: Vec<PassTiming>,
+    pub compile_ms: f64,
+    pub decode_ms: f64,
+    pub device_ms: f64,
+    pub pipeline_ms: f64,
+    pub upload_ms: f64,
+    pub passes_ms: f64,
+    pub readback_ms: f64,
+    pub encode_ms: f64,
+    pub total_ms: f64,
+    pub peak_bytes: u64,
+    pub lower_bound_bytes: u64,
+    pub naive_bytes: u64,
+    /// Compiler warnings and notes, rendered.
+    #[serde(skip)]
+    pub warnings: String,
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+/// Apply an effect chain to an image file and write the result atomically.
+pub fn apply_to_image(job: &ImageJob, engine: Option<&mut Engine>, adapter: &super::context::AdapterChoice) -> Result<JobReport, RunError> {
+    let t_all = Instant::now();
+    let mut report = JobReport::default();
+    let t = Instant::now();
+    let mut effect = Effect::compile(&job.effects, &job.overrides)?;
+    report.compile_ms = ms(t.elapsed());
+    // Fail on the output path before doing the work.
+    let out_format = output_format_for(&job.output, job.bit_depth, job.assume_linear)?;
+    let t = Instant::now();
+    let img = io::load_image(&job.input, &LoadOptions { assume_linear: job.assume_linear })?;
+    let mut aux_imgs = Vec::new();
+    for (name, path) in &job.aux {
+        let a = io::load_image(path, &LoadOptions { assume_linear: job.assume_linear })?;
+        if (a.width, a.height) != (img.width, img.height) {
+            return Err(RunError::BadInput(IoError::Unsupported {
+                path: path.clone(),
+                message: format!("auxiliary image is {}x{}, the input is {}x{}", a.width, a.height, img.width, img.height),
+            }));
+        }
+        aux_imgs.push((name.clone(), a));
+    }
+    report.decode_ms = ms(t.elapsed());
+    let t = Instant::now();
+    let mut own_engine;
+    let engine = match engine {
+        Some(e) => e,
+        None => {
+            own_engine = Engine::new(GpuContext::new(adapter)?);
+            &mut own_engine
+        }
+    };
+    report.device_ms = ms(t.elapsed());
+    report.adapter = engine.ctx.info.name.clone();
+    report.backend = format!("{:?}", engine.ctx.info.backend);
+    let (in_format, in_cs) = input_format(&img, job.assume_linear);
+    let aux_desc: Vec<(String, Format)> = aux_imgs.iter().map(|(n, a)| (n.clone(), input_format(a, job.assume_linear).0)).collect();
+    let desc = InputDesc { width: img.width, height: img.height, format: in_format, colorspace: in_cs, aux: aux_desc };
+    let t = Instant::now();
+    let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
+    report.pipeline_ms = ms(t.elapsed());
+    report.warnings = if effect.warnings.is_empty() { String::new() } else { effect.warnings.render(&effect.sources) };
+    report.peak_bytes = prepared.plan.peak_bytes;
+    report.lower_bound_bytes = prepared.plan.lower_bound_bytes;
+    report.naive_bytes = prepared.plan.naive_bytes;
+    let t = Instant::now();
+    let ctx = engine.ctx.clone();
+    let input_tex = upload_image(&ctx, "fxgraph input", &img, in_format)?;
+    let mut aux_tex = Vec::new();
+    for (name, a) in &aux_imgs {
+        let f = input_format(a, job.assume_linear).0;
+        aux_tex.push((name.clone(), upload_image(&ctx, &format!("aux {name}"), a, f)?));
+    }
+    let out = prepared.plan.output;
+    let output_tex = create_output(&ctx, out.width, out.height, out.format);
+    report.upload_ms = ms(t.elapsed());
+    let t = Instant::now();
+    let mut inputs = FrameInputs::single(&input_tex);
+    for (n, tex) in &aux_tex {
+        inputs.aux.insert(n.clone(), tex);
+    }
+    report.passes = prepared.run(engine, &inputs, &output_tex, job.timings).map_err(|e| match e {
+        ExecError::Gpu(g) => RunError::Gpu(g),
+        other => RunError::Other(other.to_string()),
+    })?;
+    report.passes_ms = ms(t.elapsed());
+    let t = Instant::now();
+    let pixels = read_pixels(&ctx, &output_tex, out.format)?;
+    report.readback_ms = ms(t.elapsed());
+    let t = Instant::now();
+    io::save_image(&job.output, out.width, out.height, &pixels, &SaveOptions { bit_depth: job.bit_depth, assume_linear: job.assume_linear })?;
+    report.encode_ms = ms(t.elapsed());
+    report.width = out.width;
+    report.height = out.height;
+    report.total_ms = ms(t_all.elapsed());
+    Ok(report)
+}

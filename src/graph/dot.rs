@@ -1,0 +1,80 @@
+//! Graphviz DOT output of a compiled graph.
+
+use super::plan::Plan;
+use super::{Graph, Node};
+use petgraph::visit::EdgeRef;
+use std::fmt::Write as _;
+
+fn esc(s: &str) -> String {
+    s.replace('\\', "\\\\").replace('"', "\\\"")
+}
+
+/// DOT text: one box per pass with its size, format and colour space (from `plan`
+/// when given, else the rules), solid data edges and dashed feedback edges.
+pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
+    let g = &graph.graph;
+    let mut out = String::new();
+    let _ = writeln!(out, "digraph fxgraph {{");
+    let _ = writeln!(out, "  rankdir=LR;");
+    let _ = writeln!(out, "  node [fontname=\"Helvetica\", fontsize=10];");
+    for n in g.node_indices() {
+        let id = n.index();
+        match &g[n] {
+            Node::Input { .. } | Node::Aux { .. } => {
+                let _ = writeln!(out, "  n{id} [label=\"{}\", shape=ellipse, style=filled, fillcolor=\"#e8f0ff\"];", esc(&graph.label(n)));
+            }
+            Node::Output => {
+                let _ = writeln!(out, "  n{id} [label=\"OUT\", shape=doublecircle];");
+            }
+            Node::Feedback { .. } => {}
+            Node::Pass(p) => {
+                let live = graph.schedule.contains(&n);
+                let detail = match plan.and_then(|pl| pl.passes.iter().find(|pp| pp.node == Some(n))) {
+                    Some(pp) => format!("{}x{} {} {}", pp.desc.width, pp.desc.height, pp.desc.format, pp.colorspace),
+                    None => {
+                        let size = match &p.size {
+                            super::SizeRule::Absolute(w, h) => format!("{w}x{h}"),
+                            super::SizeRule::Scale { sx, sy, of } => format!("{sx}x{sy} of {}", graph.label(*of)),
+                        };
+                        let format = match &p.format {
+                            super::FormatRule::Fixed(f) => f.name().to_string(),
+                            super::FormatRule::SameAs(of) => format!("format of {}", graph.label(*of)),
+                        };
+                        format!("{size} {format} {}", p.colorspace)
+                    }
+                };
+                let style = if live { "filled" } else { "dashed" };
+                let _ = writeln!(
+                    out,
+                    "  n{id} [label=\"{}\\nSHADER.{}\\n{}\", shape=box, style={style}, fillcolor=\"#fff6dd\"];",
+                    esc(&p.path),
+                    esc(&p.shader),
+                    esc(&detail)
+                );
+            }
+        }
+    }
+    for e in g.edge_references() {
+        let (s, t) = (e.source(), e.target());
+        let label = match &g[t] {
+            Node::Pass(p) => p.inputs.get(e.weight().input).map(|i| i.name.clone()).unwrap_or_default(),
+            _ => String::new(),
+        };
+        match &g[s] {
+            Node::Feedback { pass, back } => {
+                let _ = writeln!(
+                    out,
+                    "  n{} -> n{} [label=\"{} [-{back}]\", style=dashed, constraint=false];",
+                    pass.index(),
+                    t.index(),
+                    esc(&label)
+                );
+            }
+            _ => {
+                let _ = writeln!(out, "  n{} -> n{} [label=\"{}\"];", s.index(), t.index(), esc(&label));
+            }
+        }
+    }
+    let _ = writeln!(out, "}}");
+    out
+}

@@ -1,0 +1,779 @@
+//! Resolution (sizes, formats, colour spaces for a given input) and the texture
+//! lifetime plan: `Alloc / Run / Free` steps as plain data for the executor.
+//!
+//! Transient values (pass outputs read later in the same frame) get *slots*
+//! (physical textures). A value is allocated just before its producer runs and
+//! freed right after its last reader. A freed slot is reused by a later value of the
+//! same descriptor; with [`ReusePolicy::MinPeak`] (the default) it is kept idle for
+//! that only when holding it does not raise the peak above the live-set lower bound,
+//! otherwise it is released and a new one created later. So on every graph the
+//! plan's peak equals the lower bound (`peak_bytes == lower_bound_bytes`).
+
+use super::{FormatRule, Graph, Node, SizeRule};
+use crate::script::ast::MAX_SIDE;
+use crate::script::types::{ColorSpace, Format, Sampling};
+use crate::script::{Diagnostic, Diagnostics, Span};
+use petgraph::graph::NodeIndex;
+use petgraph::Direction;
+use serde::Serialize;
+use std::collections::HashMap;
+
+/// What the graph is run on.
+#[derive(Debug, Clone, Serialize)]
+pub struct InputDesc {
+    pub width: u32,
+    pub height: u32,
+    /// Format of the input texture (`IN`).
+    pub format: Format,
+    /// What the input's sampled values mean.
+    pub colorspace: ColorSpace,
+    /// Auxiliary images available (same size as the input).
+    pub aux: Vec<(String, Format)>,
+}
+
+impl InputDesc {
+    /// An 8-bit sRGB image (e.g. a PNG photo), sampled as linear light.
+    pub fn rgba8_srgb(width: u32, height: u32) -> Self {
+        InputDesc {
+            width,
+            height,
+            format: Format::Rgba8Srgb,
+            colorspace: ColorSpace::Linear,
+            aux: Vec::new(),
+        }
+    }
+
+    /// Adds the deferred renderer's G-buffer images as auxiliary inputs.
+    pub fn with_gbuffer(mut self) -> Self {
+        self.aux = gbuffer_aux();
+        self
+    }
+}
+
+/// The auxiliary inputs the deferred renderer provides, with their formats.
+pub fn gbuffer_aux() -> Vec<(String, Format)> {
+    [
+        ("depth", Format::R32f),
+        ("normal", Format::Rgba16f),
+        ("position", Format::Rgba16f),
+        ("albedo", Format::Rgba8Srgb),
+        ("material", Format::Rgba8),
+        ("specular", Format::R16f),
+    ]
+    .into_iter()
+    .map(|(n, f)| (n.to_string(), f))
+    .collect()
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub enum ReusePolicy {
+    /// Reuse a freed texture only where that keeps the peak at the lower bound.
+    #[default]
+    MinPeak,
+    /// Keep every freed texture for reuse (fewer creations, possibly higher peak).
+    Pool,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct PlanOptions {
+    pub policy: ReusePolicy,
+    /// Format of the output target (e.g. the caller's texture, or rgba8-srgb for a
+    /// PNG). `None`: the output pass's own format.
+    pub output_format: Option<Format>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub struct TextureDesc {
+    pub width: u32,
+    pub height: u32,
+    pub format: Format,
+}
+
+impl TextureDesc {
+    pub fn bytes(&self) -> u64 {
+        self.width as u64 * self.height as u64 * self.format.bytes_per_pixel()
+    }
+}
+
+/// An image a pass reads or writes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Resource {
+    /// The input frame `frame` frames from the current one.
+    Input { frame: i32 },
+    Aux(String),
+    /// A transient value (index into `Plan::values`).
+    Value(usize),
+    /// The output of `ring`'s pass `back` frames ago (0: this frame).
+    Persistent { ring: usize, back: u32 },
+    /// The output target.
+    Output,
+}
+
+/// How an input texture is viewed when sampled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum View {
+    /// As stored.
+    Natural,
+    /// An 8-bit texture viewed as sRGB, so sampling decodes to linear.
+    SrgbDecode,
+    /// An sRGB texture viewed as plain 8-bit, so sampling returns encoded values.
+    Raw,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PlannedInput {
+    pub name: String,
+    pub resource: Resource,
+    pub view: View,
+    pub sampling: Sampling,
+    pub desc: TextureDesc,
+}
+
+/// What a pass runs: a shader from the script, or a built-in helper.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum PassShader {
+    Script { name: String },
+    /// Colour-space conversion inserted by the compiler.
+    Convert { to: ColorSpace },
+    /// Copies its input to the output target (format conversion included).
+    Blit,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PlannedPass {
+    /// Graph node of a script pass; `None` for inserted passes.
+    #[serde(skip)]
+    pub node: Option<NodeIndex>,
+    pub path: String,
+    pub shader: PassShader,
+    pub inputs: Vec<PlannedInput>,
+    pub output: Resource,
+    pub desc: TextureDesc,
+    pub colorspace: ColorSpace,
+}
+
+/// A transient value: the output of one pass, alive from its producer to its last reader.
+#[derive(Debug, Clone, Serialize)]
+pub struct Value {
+    pub desc: TextureDesc,
+    pub producer: usize,
+    pub last_reader: usize,
+    pub slot: usize,
+}
+
+/// A persistent ring of the last `depth + 1` outputs of a pass (feedback).
+#[derive(Debug, Clone, Serialize)]
+pub struct Ring {
+    pub pass: String,
+    pub desc: TextureDesc,
+    pub depth: u32,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Step {
+    /// Bind `value` to `slot`, creating the slot's texture if `create`.
+    Alloc { value: usize, slot: usize, create: bool },
+    Run { pass: usize },
+    /// `value` is dead. If `release`, the slot's texture is destroyed; otherwise it
+    /// is kept for a later value of the same descriptor.
+    Free { value: usize, slot: usize, release: bool },
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Plan {
+    pub input: InputDesc,
+    pub passes: Vec<PlannedPass>,
+    pub values: Vec<Value>,
+    /// Descriptor of each slot (physical transient texture).
+    pub slots: Vec<TextureDesc>,
+    pub rings: Vec<Ring>,
+    pub steps: Vec<Step>,
+    /// Bytes if every transient value had its own texture.
+    pub naive_bytes: u64,
+    /// Largest bytes of transient textures held at one moment by this plan.
+    pub peak_bytes: u64,
+    /// Largest sum of bytes of values live at one moment (no plan can do better
+    /// for this schedule).
+    pub lower_bound_bytes: u64,
+    /// Bytes of feedback rings and input history kept across frames.
+    pub persistent_bytes: u64,
+    pub latency: u32,
+    pub history: u32,
+    pub output: TextureDesc,
+}
+
+struct Resolver<'g> {
+    graph: &'g Graph,
+    input: &'g InputDesc,
+    sizes: HashMap<NodeIndex, Option<(u32, u32)>>,
+    diags: Diagnostics,
+}
+
+impl Resolver<'_> {
+    fn size(&mut self, n: NodeIndex) -> Option<(u32, u32)> {
+        if let Some(s) = self.sizes.get(&n) {
+            return *s;
+        }
+        self.sizes.insert(n, None); // in progress: a size that depends on itself is None
+        let s = match &self.graph.graph[n] {
+            Node::Input { .. } | Node::Aux { .. } | Node::Output => Some((self.input.width, self.input.height)),
+            Node::Feedback { pass, .. } => self.size(*pass),
+            Node::Pass(p) => match &p.size {
+                SizeRule::Absolute(w, h) => Some((*w, *h)),
+                SizeRule::Scale { sx, sy, of } => {
+                    let base = if *of == n { None } else { self.size(*of) };
+                    match base {
+                        None => {
+                            self.diags.push(
+                                Diagnostic::error(format!("the size of pass `{}` depends on itself", p.path))
+                                    .at(p.name_span, "its OUT.RELATIVE_TO input is sized from this pass"),
+                            );
+                            None
+                        }
+                        Some((w, h)) => {
+                            let (fw, fh) = ((w as f64 * sx).round(), (h as f64 * sy).round());
+                            if fw > MAX_SIDE as f64 || fh > MAX_SIDE as f64 {
+                                self.diags.push(
+                                    Diagnostic::error(format!(
+                                        "pass `{}` would be {}x{} px for a {}x{} input, larger than {MAX_SIDE} px",
+                                        p.path, fw, fh, self.input.width, self.input.height
+                                    ))
+                                    .at(p.name_span, "output too large"),
+                                );
+                                None
+                            } else {
+                                let out = ((fw as u32).max(1), (fh as u32).max(1));
+                                let growth = (out.0 as f64 / self.input.width as f64).max(out.1 as f64 / self.input.height as f64);
+                                if growth > 4.0 {
+                                    self.diags.push(
+                                        Diagnostic::warning(format!(
+                                            "pass `{}` is {:.0}x larger than the effect input ({}x{} px)",
+                                            p.path, growth, out.0, out.1
+                                        ))
+                                        .at(p.name_span, "pathological growth"),
+                                    );
+                                }
+                                Some(out)
+                            }
+                        }
+                    }
+                }
+            },
+        };
+        self.sizes.insert(n, s);
+        s
+    }
+
+    fn format(&self, n: NodeIndex, depth: usize) -> Format {
+        match &self.graph.graph[n] {
+            Node::Input { .. } | Node::Output => self.input.format,
+            Node::Aux { name, .. } => self
+                .input
+                .aux
+                .iter()
+                .find(|(a, _)| a == name)
+                .map(|(_, f)| *f)
+                .unwrap_or(Format::Rgba16f),
+            Node::Feedback { pass, .. } => self.format(*pass, depth + 1),
+            Node::Pass(p) => match &p.format {
+                FormatRule::Fixed(f) => *f,
+                FormatRule::SameAs(of) if depth < 64 => self.format(*of, depth + 1),
+                FormatRule::SameAs(_) => Format::Rgba16f,
+            },
+        }
+    }
+
+    fn colorspace(&self, n: NodeIndex) -> ColorSpace {
+        match &self.graph.graph[n] {
+            Node::Input { .. } | Node::Output => self.input.colorspace,
+            Node::Aux { .. } => ColorSpace::Linear,
+            Node::Feedback { pass, .. } => self.colorspace(*pass),
+            Node::Pass(p) => p.colorspace,
+        }
+    }
+
+    fn desc(&mut self, n: NodeIndex) -> Option<TextureDesc> {
+        let (width, height) = self.size(n)?;
+        Some(TextureDesc {
+            width,
+            height,
+            format: self.format(n, 0),
+        })
+    }
+}
+
+/// Resolve the graph for `input` and plan texture lifetimes. Errors (an aux input
+/// not provided, an oversized pass, ...) are returned as diagnostics.
+pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Plan, Diagnostics), Diagnostics> {
+    let mut r = Resolver {
+        graph,
+        input,
+        sizes: HashMap::new(),
+        diags: Diagnostics::default(),
+    };
+    let g = &graph.graph;
+    // Auxiliary inputs must be provided.
+    for n in g.node_indices() {
+        if let Node::Aux { name, span } = &g[n] {
+            let used = g.neighbors_directed(n, Direction::Outgoing).any(|m| graph.schedule.contains(&m));
+            if used && !input.aux.iter().any(|(a, _)| a == name) {
+                let avail: Vec<&str> = input.aux.iter().map(|(a, _)| a.as_str()).collect();
+                let mut d = Diagnostic::error(format!("auxiliary input `AUX.{name}` is not provided")).at(*span, "not available");
+                d = if avail.is_empty() {
+                    d.note("auxiliary inputs come from the deferred renderer (`--scene`) or `--aux NAME=FILE`")
+                } else {
+                    d.note(format!("available: {}", avail.join(", ")))
+                };
+                r.diags.push(d);
+            }
+        }
+    }
+    // Feedback rings: one per pass whose earlier outputs are read.
+    let mut ring_of: HashMap<NodeIndex, usize> = HashMap::new();
+    let mut rings: Vec<Ring> = Vec::new();
+    for n in g.node_indices() {
+        if let Node::Feedback { pass, back } = g[n] {
+            let reads = g.neighbors_directed(n, Direction::Outgoing).any(|m| graph.schedule.contains(&m));
+            if !reads {
+                continue;
+            }
+            let Some(desc) = r.desc(pass) else { continue };
+            let idx = *ring_of.entry(pass).or_insert_with(|| {
+                rings.push(Ring {
+                    pass: graph.pass(pass).path.clone(),
+                    desc,
+                    depth: 0,
+                });
+                rings.len() - 1
+            });
+            rings[idx].depth = rings[idx].depth.max(back);
+        }
+    }
+    // Script passes in schedule order, each writing a transient value, a ring, or the output.
+    let out_src = graph.output_source();
+    let mut passes: Vec<PlannedPass> = Vec::new();
+    let mut produced: HashMap<NodeIndex, Resource> = HashMap::new();
+    let mut conversions: HashMap<(NodeIndex, ColorSpace), Resource> = HashMap::new();
+    let mut values: Vec<Value> = Vec::new();
+    let mut resource_desc: HashMap<String, TextureDesc> = HashMap::new();
+    let live_readers = |n: NodeIndex| -> usize {
+        g.neighbors_directed(n, Direction::Outgoing)
+            .filter(|m| graph.schedule.contains(m))
+            .count()
+    };
+    let output_direct = matches!(g[out_src], Node::Pass(_)) && live_readers(out_src) == 0 && !ring_of.contains_key(&out_src);
+    for &n in &graph.schedule {
+        let p = graph.pass(n);
+        let Some(mut desc) = r.desc(n) else { continue };
+        if p.colorspace == ColorSpace::Srgb && desc.format.is_srgb() {
+            r.diags.push(
+                Diagnostic::error(format!("pass `{}` writes sRGB-encoded values into an rgba8-srgb texture, which encodes them again", p.path))
+                    .at(p.name_span, "double sRGB encoding")
+                    .note("use OUT.FORMAT = rgba8 with OUT.COLORSPACE = srgb, or keep COLORSPACE linear"),
+            );
+        }
+        let mut inputs = Vec::new();
+        for (i, inp) in p.inputs.iter().enumerate() {
+            let src = graph.input_source(n, i);
+            let Some(src_desc) = r.desc(src) else { continue };
+            let have = r.colorspace(src);
+            let mut resource = resource_of(graph, src, &produced, &ring_of);
+            let mut view = View::Natural;
+            let mut in_desc = src_desc;
+            if have != inp.colorspace {
+                match (src_desc.format, have, inp.colorspace) {
+                    (Format::Rgba8Srgb, ColorSpace::Linear, ColorSpace::Srgb) => view = View::Raw,
+                    (Format::Rgba8, ColorSpace::Srgb, ColorSpace::Linear) => view = View::SrgbDecode,
+                    _ => {
+                        // An explicit conversion pass (once per source and target space).
+                        let key = (src, inp.colorspace);
+                        if let Some(res) = conversions.get(&key) {
+                            resource = res.clone();
+                        } else {
+                            let conv_format = if src_desc.format.is_float() { src_desc.format } else { Format::Rgba16f };
+                            let conv_desc = TextureDesc { format: conv_format, ..src_desc };
+                            r.diags.push(
+                                Diagnostic::note_diag(format!(
+                                    "`{}` is {have} but pass `{}` expects its input `{}` in {}: converting with an extra pass",
+                                    graph.label(src),
+                                    p.path,
+                                    inp.name,
+                                    inp.colorspace
+                                ))
+                                .at(inp.span, format!("converted from {have} to {}", inp.colorspace)),
+                            );
+                            let v = values.len();
+                            values.push(Value { desc: conv_desc, producer: passes.len(), last_reader: passes.len(), slot: 0 });
+                            passes.push(PlannedPass {
+                                node: None,
+                                path: format!("{}:{}:{}", p.path, inp.name, inp.colorspace),
+                                shader: PassShader::Convert { to: inp.colorspace },
+                                inputs: vec![PlannedInput {
+                                    name: "img".into(),
+                                    resource: resource.clone(),
+                                    view: View::Natural,
+                                    sampling: Sampling::default(),
+                                    desc: src_desc,
+                                }],
+                                output: Resource::Value(v),
+                                desc: conv_desc,
+                                colorspace: inp.colorspace,
+                            });
+                            resource = Resource::Value(v);
+                            conversions.insert(key, resource.clone());
+                        }
+                        in_desc = match &resource {
+                            Resource::Value(v) => values[*v].desc,
+                            _ => src_desc,
+                        };
+                    }
+                }
+            }
+            resource_desc.insert(format!("{resource:?}"), in_desc);
+            inputs.push(PlannedInput {
+                name: inp.name.clone(),
+                resource,
+                view,
+                sampling: inp.sampling,
+                desc: in_desc,
+            });
+        }
+        let output = if n == out_src && output_direct {
+            if let Some(f) = opts.output_format {
+                desc.format = f;
+            }
+            Resource::Output
+        } else if let Some(&ring) = ring_of.get(&n) {
+            Resource::Persistent { ring, back: 0 }
+        } else {
+            values.push(Value { desc, producer: passes.len(), last_reader: passes.len(), slot: 0 });
+            Resource::Value(values.len() - 1)
+        };
+        produced.insert(n, output.clone());
+        passes.push(PlannedPass {
+            node: Some(n),
+            path: p.path.clone(),
+            shader: PassShader::Script { name: p.shader.clone() },
+            inputs,
+            output,
+            desc,
+            colorspace: p.colorspace,
+        });
+    }
+    // The output target, when the output pass could not write it directly.
+    let output_desc;
+    if output_direct {
+        output_desc = passes
+            .iter()
+            .find(|p| p.output == Resource::Output)
+            .map(|p| p.desc)
+            .unwrap_or(TextureDesc { width: input.width, height: input.height, format: input.format });
+    } else {
+        let Some(src_desc) = r.desc(out_src) else {
+            return Err(r.diags);
+        };
+        let resource = resource_of(graph, out_src, &produced, &ring_of);
+        output_desc = TextureDesc {
+            format: opts.output_format.unwrap_or(src_desc.format),
+            ..src_desc
+        };
+        passes.push(PlannedPass {
+            node: None,
+            path: "OUT".into(),
+            shader: PassShader::Blit,
+            inputs: vec![PlannedInput {
+                name: "img".into(),
+                resource,
+                view: View::Natural,
+                sampling: Sampling::default(),
+                desc: src_desc,
+            }],
+            output: Resource::Output,
+            desc: output_desc,
+            colorspace: r.colorspace(out_src),
+        });
+    }
+    if r.diags.has_errors() {
+        r.diags.sort();
+        return Err(r.diags);
+    }
+    // Last readers.
+    for (i, p) in passes.iter().enumerate() {
+        for inp in &p.inputs {
+            if let Resource::Value(v) = inp.resource {
+                values[v].last_reader = values[v].last_reader.max(i);
+            }
+        }
+    }
+    let (slots, steps, peak, lower) = assign_slots(&mut values, passes.len(), opts.policy);
+    let naive = values.iter().map(|v| v.desc.bytes()).sum();
+    let in_bytes = TextureDesc { width: input.width, height: input.height, format: input.format }.bytes();
+    let persistent = rings.iter().map(|r| r.desc.bytes() * (r.depth as u64 + 1)).sum::<u64>()
+        + in_bytes * (graph.history + graph.latency) as u64;
+    let mut diags = r.diags;
+    diags.sort();
+    Ok((
+        Plan {
+            input: input.clone(),
+            passes,
+            values,
+            slots,
+            rings,
+            steps,
+            naive_bytes: naive,
+            peak_bytes: peak,
+            lower_bound_bytes: lower,
+            persistent_bytes: persistent,
+            latency: graph.latency,
+            history: graph.history,
+            output: output_desc,
+        },
+        diags,
+    ))
+}
+
+fn resource_of(graph: &Graph, n: NodeIndex, produced: &HashMap<NodeIndex, Resource>, ring_of: &HashMap<NodeIndex, usize>) -> Resource {
+    match &graph.graph[n] {
+        Node::Input { frame } => Resource::Input { frame: *frame },
+        Node::Aux { name, .. } => Resource::Aux(name.clone()),
+        Node::Feedback { pass, back } => Resource::Persistent {
+            ring: ring_of[pass],
+            back: *back,
+        },
+        Node::Pass(_) => produced.get(&n).cloned().expect("producer scheduled before reader"),
+        Node::Output => Resource::Output,
+    }
+}
+
+/// Assign values to slots and build the steps. Returns (slots, steps, peak, lower bound).
+fn assign_slots(values: &mut [Value], n_passes: usize, policy: ReusePolicy) -> (Vec<TextureDesc>, Vec<Step>, u64, u64) {
+    // Bytes live at each pass.
+    let mut live = vec![0u64; n_passes.max(1)];
+    for v in values.iter() {
+        for t in v.producer..=v.last_reader {
+            live[t] += v.desc.bytes();
+        }
+    }
+    let lower = live.iter().copied().max().unwrap_or(0);
+    let mut held = live.clone();
+    // slot -> (desc, pass index after which it is free again)
+    let mut slots: Vec<(TextureDesc, usize)> = Vec::new();
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by_key(|&v| (values[v].producer, v));
+    let mut first_use = Vec::new();
+    for &v in &order {
+        let (desc, start, end) = (values[v].desc, values[v].producer, values[v].last_reader);
+        let bytes = desc.bytes();
+        // Free slots of the same descriptor, the most recently freed first.
+        let mut best: Option<usize> = None;
+        for (s, (sd, free_after)) in slots.iter().enumerate() {
+            if *sd != desc || *free_after >= start {
+                continue;
+            }
+            let idle = (free_after + 1)..start;
+            let fits = match policy {
+                ReusePolicy::Pool => true,
+                ReusePolicy::MinPeak => idle.clone().all(|t| held[t] + bytes <= lower),
+            };
+            if fits && best.is_none_or(|b| slots[b].1 < *free_after) {
+                best = Some(s);
+            }
+        }
+        let slot = match best {
+            Some(s) => {
+                for t in (slots[s].1 + 1)..start {
+                    held[t] += bytes;
+                }
+                slots[s].1 = end;
+                first_use.push(false);
+                s
+            }
+            None => {
+                slots.push((desc, end));
+                first_use.push(true);
+                slots.len() - 1
+            }
+        };
+        values[v].slot = slot;
+    }
+    // A value's free releases its slot unless a later value reuses it.
+    let mut next_user: HashMap<usize, usize> = HashMap::new();
+    for &v in &order {
+        next_user.entry(values[v].slot).or_insert(v);
+    }
+    let mut steps = Vec::new();
+    let created: HashMap<usize, bool> = order.iter().zip(first_use.iter()).map(|(&v, &c)| (v, c)).collect();
+    for t in 0..n_passes {
+        for &v in &order {
+            if values[v].producer == t {
+                steps.push(Step::Alloc { value: v, slot: values[v].slot, create: created[&v] });
+            }
+        }
+        steps.push(Step::Run { pass: t });
+        for &v in &order {
+            if values[v].last_reader == t {
+                let reused = order.iter().any(|&w| w != v && values[w].slot == values[v].slot && values[w].producer > t);
+                steps.push(Step::Free { value: v, slot: values[v].slot, release: !reused });
+            }
+        }
+    }
+    let peak = held.iter().copied().max().unwrap_or(0);
+    (slots.into_iter().map(|(d, _)| d).collect(), steps, peak, lower)
+}
+
+impl Plan {
+    /// Simulate the steps and check the invariants: every value is allocated before
+    /// it is written, read only while alive, never written into a slot that holds
+    /// another live value, and freed exactly once. Returns the bytes actually held at
+    /// the peak (which must equal `peak_bytes`).
+    pub fn validate(&self) -> Result<u64, String> {
+        let mut slot_holder: Vec<Option<usize>> = vec![None; self.slots.len()];
+        let mut slot_exists = vec![false; self.slots.len()];
+        let mut alive = vec![false; self.values.len()];
+        let mut done = vec![false; self.values.len()];
+        let mut peak = 0u64;
+        for step in &self.steps {
+            match *step {
+                Step::Alloc { value, slot, create } => {
+                    if done[value] || alive[value] {
+                        return Err(format!("value {value} allocated twice"));
+                    }
+                    if let Some(other) = slot_holder[slot] {
+                        return Err(format!("value {value} allocated in slot {slot} still holding live value {other}"));
+                    }
+                    if create == slot_exists[slot] {
+                        return Err(format!("slot {slot}: create={create} but exists={}", slot_exists[slot]));
+                    }
+                    if self.slots[slot] != self.values[value].desc {
+                        return Err(format!("value {value} does not match slot {slot}'s descriptor"));
+                    }
+                    slot_exists[slot] = true;
+                    slot_holder[slot] = Some(value);
+                    alive[value] = true;
+                }
+                Step::Run { pass } => {
+                    let p = &self.passes[pass];
+                    for inp in &p.inputs {
+                        if let Resource::Value(v) = inp.resource {
+                            if !alive[v] {
+                                return Err(format!("pass {} reads value {v} which is not alive", p.path));
+                            }
+                        }
+                    }
+                    if let Resource::Value(v) = p.output {
+                        if !alive[v] || slot_holder[self.values[v].slot] != Some(v) {
+                            return Err(format!("pass {} writes value {v} that does not own its slot", p.path));
+                        }
+                        if p.inputs.iter().any(|i| i.resource == p.output) {
+                            return Err(format!("pass {} reads its own output", p.path));
+                        }
+                    }
+                    let held: u64 = (0..self.slots.len()).filter(|&s| slot_exists[s]).map(|s| self.slots[s].bytes()).sum();
+                    peak = peak.max(held);
+                }
+                Step::Free { value, slot, release } => {
+                    if !alive[value] || slot_holder[slot] != Some(value) {
+                        return Err(format!("value {value} freed but not alive in slot {slot}"));
+                    }
+                    alive[value] = false;
+                    done[value] = true;
+                    slot_holder[slot] = None;
+                    if release {
+                        slot_exists[slot] = false;
+                    }
+                }
+            }
+        }
+        if let Some(v) = alive.iter().position(|&a| a) {
+            return Err(format!("value {v} never freed"));
+        }
+        if slot_exists.iter().any(|&e| e) {
+            return Err("a slot is still held at the end".into());
+        }
+        if peak != self.peak_bytes {
+            return Err(format!("simulated peak {peak} != reported {}", self.peak_bytes));
+        }
+        Ok(peak)
+    }
+
+    /// Human-readable schedule, steps and byte figures.
+    pub fn render(&self) -> String {
+        use std::fmt::Write as _;
+        let mut out = String::new();
+        let _ = writeln!(out, "input {}x{} {} ({})", self.input.width, self.input.height, self.input.format, self.input.colorspace);
+        let _ = writeln!(out, "passes:");
+        for (i, p) in self.passes.iter().enumerate() {
+            let ins: Vec<String> = p.inputs.iter().map(|i| format!("{}={}", i.name, self.resource_name(&i.resource))).collect();
+            let _ = writeln!(
+                out,
+                "  {i:>2} {:<28} {:>5}x{:<5} {:<10} {:<6} <- {}  -> {}",
+                p.path,
+                p.desc.width,
+                p.desc.height,
+                p.desc.format.name(),
+                p.colorspace.name(),
+                ins.join(" "),
+                self.resource_name(&p.output)
+            );
+        }
+        let _ = writeln!(out, "steps:");
+        for s in &self.steps {
+            let line = match s {
+                Step::Alloc { value, slot, create } => {
+                    let d = self.values[*value].desc;
+                    format!("alloc  v{value} -> t{slot} {}x{} {}{}", d.width, d.height, d.format, if *create { " (new)" } else { " (reused)" })
+                }
+                Step::Run { pass } => format!("run    {}", self.passes[*pass].path),
+                Step::Free { value, slot, release } => format!("free   v{value} (t{slot}{})", if *release { " released" } else { " kept for reuse" }),
+            };
+            let _ = writeln!(out, "  {line}");
+        }
+        let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
+        let _ = writeln!(out, "naive bytes:       {:>12} ({:.2} MiB)", self.naive_bytes, mib(self.naive_bytes));
+        let _ = writeln!(out, "peak bytes:        {:>12} ({:.2} MiB)", self.peak_bytes, mib(self.peak_bytes));
+        let _ = writeln!(out, "lower bound bytes: {:>12} ({:.2} MiB)", self.lower_bound_bytes, mib(self.lower_bound_bytes));
+        let _ = writeln!(out, "persistent bytes:  {:>12} ({:.2} MiB)", self.persistent_bytes, mib(self.persistent_bytes));
+        if self.latency > 0 || self.history > 0 {
+            let _ = writeln!(out, "frames: {} before, {} after (latency {})", self.history, self.latency, self.latency);
+        }
+        out
+    }
+
+    pub fn resource_name(&self, r: &Resource) -> String {
+        match r {
+            Resource::Input { frame: 0 } => "IN".into(),
+            Resource::Input { frame } => format!("IN[{frame:+}]"),
+            Resource::Aux(n) => format!("AUX.{n}"),
+            Resource::Value(v) => format!("v{v}"),
+            Resource::Persistent { ring, back } => format!("{}[-{back}]", self.rings[*ring].pass),
+            Resource::Output => "OUT".into(),
+        }
+    }
+
+    /// The plan as a JSON object (schedule, steps and byte figures).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "input": { "width": self.input.width, "height": self.input.height, "format": self.input.format.name() },
+            "passes": self.passes.iter().map(|p| p.path.clone()).collect::<Vec<_>>(),
+            "pass_details": self.passes.iter().map(|p| serde_json::json!({
+                "path": p.path, "width": p.desc.width, "height": p.desc.height,
+                "format": p.desc.format.name(), "colorspace": p.colorspace.name(),
+                "inputs": p.inputs.iter().map(|i| serde_json::json!({"name": i.name, "resource": self.resource_name(&i.resource)})).collect::<Vec<_>>(),
+                "output": self.resource_name(&p.output),
+            })).collect::<Vec<_>>(),
+            "steps": self.steps,
+            "slots": self.slots,
+            "naive_bytes": self.naive_bytes,
+            "peak_bytes": self.peak_bytes,
+            "lower_bound_bytes": self.lower_bound_bytes,
+            "persistent_bytes": self.persistent_bytes,
+            "latency": self.latency,
+            "history": self.history,
+        })
+    }
+}
+
+/// Span of a pass for diagnostics raised after planning.
+pub fn pass_span(graph: &Graph, p: &PlannedPass) -> Option<Span> {
+    p.node.map(|n| graph.pass(n).name_span)
+}

@@ -1,0 +1,18 @@
+//! fxgraph: a declarative filter-graph post-processing engine.
+//!
+//! Layers, each depending only on the ones above it:
+//! - [`script`]: the EFFECT language (grammar, AST with spans, diagnostics). No GPU.
+//! - [`graph`]: lowering to a petgraph DAG, size/format resolution, schedule and the
+//!   texture lifetime plan, all plain data. No GPU.
+//! - [`shader`]: WGSL loading, `#ifdef` preprocessing and naga reflection. No GPU.
+//! - `gpu` (feature `gpu`): device, texture pool, pipeline cache and the executor
+//!   that interprets a [`graph::Plan`].
+//! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes.
+pub mod graph;
+pub mod script;
+pub mod shader;
+
+#[cfg(feature = "gpu")]
+pub mod gpu;
+#[cfg(feature = "gpu")]
+pub mod io;

@@ -1,0 +1,67 @@
+//! Shaders: finding a pass's WGSL file, `#ifdef` preprocessing, naga reflection, and
+//! checking the script's bindings against the shader's declarations. No GPU code.
+//!
+//! The conventions are documented in `docs/shaders.md`.
+
+pub mod preprocess;
+pub mod reflect;
+
+pub use preprocess::preprocess;
+pub use reflect::{reflect, Reflection, StdValue, UniformField, UniformLayout, UniformSource};
+
+use crate::graph::library::embedded_shader;
+use std::path::{Path, PathBuf};
+
+/// The fullscreen vertex stage every pass uses (the library's, not the user's).
+pub const FULLSCREEN_VS: &str = r#"
+struct FxVertexOut {
+    @builtin(position) position: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+}
+
+// One triangle covering the viewport; uv is (0,0) at the top-left texel corner.
+@vertex
+fn vs_main(@builtin(vertex_index) index: u32) -> FxVertexOut {
+    let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
+    var out: FxVertexOut;
+    out.position = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, 0.0, 1.0);
+    out.uv = uv;
+    return out;
+}
+"#;
+
+/// A shader file's text and the name it is shown under in diagnostics.
+#[derive(Debug, Clone)]
+pub struct ShaderFile {
+    pub shown: String,
+    pub text: String,
+    pub path: Option<PathBuf>,
+}
+
+/// Find `NAME.wgsl`: next to the effect file (and in its `../shaders`), then in the
+/// extra folders, then the embedded library.
+pub fn find_shader(name: &str, effect_dir: Option<&Path>, extra_dirs: &[PathBuf]) -> Option<ShaderFile> {
+    let file = format!("{name}.wgsl");
+    let mut dirs: Vec<PathBuf> = Vec::new();
+    if let Some(d) = effect_dir {
+        dirs.push(d.to_path_buf());
+        dirs.push(d.join("shaders"));
+        dirs.push(d.join("..").join("shaders"));
+    }
+    dirs.extend(extra_dirs.iter().cloned());
+    for d in dirs {
+        let p = d.join(&file);
+        if let Ok(text) = std::fs::read_to_string(&p) {
+            return Some(ShaderFile {
+                shown: p.display().to_string(),
+                text,
+                path: Some(p),
+            });
+        }
+    }
+    embedded_shader(&file).map(|t| ShaderFile {
+        shown: format!("<builtin>/shaders/{file}"),
+        text: t.to_string(),
+        path: None,
+    })
+}

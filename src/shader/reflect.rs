@@ -1,0 +1,481 @@
+//! naga reflection of a pass shader and the checks of the script against it.
+
+use crate::graph::PassNode;
+use crate::script::types::{format_value, Value};
+use crate::script::{Diagnostic, FileId, Span};
+use naga::{ImageClass, ImageDimension, ScalarKind, TypeInner};
+
+/// A `texture_2d<f32>` the script binds an input to, by name.
+#[derive(Debug, Clone)]
+pub struct TextureBinding {
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub span: Span,
+}
+
+/// A `sampler`: `<input>_sampler` takes that input's sampling, others the default.
+#[derive(Debug, Clone)]
+pub struct SamplerBinding {
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub span: Span,
+}
+
+/// Scalar/vector/matrix types a uniform field may have.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FieldType {
+    F32(u8),
+    I32(u8),
+    U32(u8),
+    Mat4,
+}
+
+impl FieldType {
+    pub fn components(self) -> usize {
+        match self {
+            FieldType::F32(n) | FieldType::I32(n) | FieldType::U32(n) => n as usize,
+            FieldType::Mat4 => 16,
+        }
+    }
+    pub fn wgsl(self) -> String {
+        let v = |n: u8, s: &str| if n == 1 { s.to_string() } else { format!("vec{n}<{s}>") };
+        match self {
+            FieldType::F32(n) => v(n, "f32"),
+            FieldType::I32(n) => v(n, "i32"),
+            FieldType::U32(n) => v(n, "u32"),
+            FieldType::Mat4 => "mat4x4<f32>".into(),
+        }
+    }
+}
+
+/// A member of the shader's uniform struct.
+#[derive(Debug, Clone)]
+pub struct UniformMember {
+    pub name: String,
+    pub offset: u32,
+    pub ty: FieldType,
+    pub span: Span,
+    /// From a `// @default(...)` annotation.
+    pub default: Option<Value>,
+    /// From a `// @range(min, max)` annotation.
+    pub range: Option<(f64, f64)>,
+    pub description: String,
+}
+
+#[derive(Debug, Clone)]
+pub struct UniformBlock {
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub size: u32,
+    pub members: Vec<UniformMember>,
+    pub span: Span,
+}
+
+/// What a shader declares.
+#[derive(Debug, Clone)]
+pub struct Reflection {
+    pub entry_point: String,
+    pub textures: Vec<TextureBinding>,
+    pub samplers: Vec<SamplerBinding>,
+    pub uniform: Option<UniformBlock>,
+}
+
+/// Values the runtime provides under reserved uniform names (see docs/shaders.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StdValue {
+    /// `out_size`: output size in pixels.
+    OutSize,
+    /// `out_texel`: 1 / output size.
+    OutTexel,
+    /// `<input>_size`
+    InputSize(usize),
+    /// `<input>_texel`
+    InputTexel(usize),
+    /// `frame`: frame index (0 for a still image).
+    Frame,
+    /// `time`: seconds (frame / fps).
+    Time,
+    /// `near`, `far`: camera planes (renderer input; 0.1 and 100 otherwise).
+    Near,
+    Far,
+    /// `proj`, `inv_proj`: camera projection (identity without a renderer).
+    Proj,
+    InvProj,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum UniformSource {
+    Param(Value),
+    Std(StdValue),
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct UniformField {
+    pub name: String,
+    pub offset: u32,
+    pub ty: FieldType,
+    pub source: UniformSource,
+}
+
+/// How to fill a pass's uniform buffer.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct UniformLayout {
+    pub size: u32,
+    pub fields: Vec<UniformField>,
+}
+
+/// Per-frame values for [`UniformLayout::write`].
+#[derive(Debug, Clone, Default)]
+pub struct StdContext {
+    pub out_size: (u32, u32),
+    pub input_sizes: Vec<(u32, u32)>,
+    pub frame: u64,
+    pub time: f64,
+    pub near: f32,
+    pub far: f32,
+    pub proj: [f32; 16],
+    pub inv_proj: [f32; 16],
+}
+
+impl UniformLayout {
+    /// The uniform buffer bytes for one run of the pass.
+    pub fn write(&self, ctx: &StdContext) -> Vec<u8> {
+        let mut out = vec![0u8; self.size as usize];
+        for f in &self.fields {
+            let values: Vec<f64> = match &f.source {
+                UniformSource::Param(v) => v.clone(),
+                UniformSource::Std(s) => match *s {
+                    StdValue::OutSize => vec![ctx.out_size.0 as f64, ctx.out_size.1 as f64],
+                    StdValue::OutTexel => vec![1.0 / ctx.out_size.0 as f64, 1.0 / ctx.out_size.1 as f64],
+                    StdValue::InputSize(i) => {
+                        let s = ctx.input_sizes.get(i).copied().unwrap_or((1, 1));
+                        vec![s.0 as f64, s.1 as f64]
+                    }
+                    StdValue::InputTexel(i) => {
+                        let s = ctx.input_sizes.get(i).copied().unwrap_or((1, 1));
+                        vec![1.0 / s.0 as f64, 1.0 / s.1 as f64]
+                    }
+                    StdValue::Frame => vec![ctx.frame as f64],
+                    StdValue::Time => vec![ctx.time],
+                    StdValue::Near => vec![ctx.near as f64],
+                    StdValue::Far => vec![ctx.far as f64],
+                    StdValue::Proj => ctx.proj.iter().map(|&x| x as f64).collect(),
+                    StdValue::InvProj => ctx.inv_proj.iter().map(|&x| x as f64).collect(),
+                },
+            };
+            for (i, &x) in values.iter().take(f.ty.components()).enumerate() {
+                let at = f.offset as usize + 4 * i;
+                let bytes = match f.ty {
+                    FieldType::F32(_) | FieldType::Mat4 => (x as f32).to_le_bytes(),
+                    FieldType::I32(_) => (x as i32).to_le_bytes(),
+                    FieldType::U32(_) => (x.max(0.0) as u32).to_le_bytes(),
+                };
+                out[at..at + 4].copy_from_slice(&bytes);
+            }
+        }
+        out
+    }
+
+    /// True when a field changes from frame to frame.
+    pub fn is_dynamic(&self) -> bool {
+        self.fields
+            .iter()
+            .any(|f| matches!(f.source, UniformSource::Std(StdValue::Frame | StdValue::Time)))
+    }
+}
+
+fn span(file: FileId, s: naga::Span) -> Span {
+    match s.to_range() {
+        Some(r) => Span::new(file, r.start, r.end),
+        None => Span::new(file, 0, 0),
+    }
+}
+
+/// Parse, validate and reflect preprocessed WGSL (`file` is its id in the source
+/// map, so error spans point into it).
+pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> {
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
+        let mut d = Diagnostic::error(format!("WGSL: {}", e.message()));
+        let mut first = true;
+        for (s, label) in e.labels() {
+            d = if first { d.at(span(file, s), label) } else { d.also(span(file, s), label) };
+            first = false;
+        }
+        vec![d]
+    })?;
+    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default());
+    if let Err(e) = validator.validate(&module) {
+        let mut d = Diagnostic::error(format!("WGSL validation: {}", e.as_inner()));
+        let mut first = true;
+        for (s, label) in e.spans() {
+            d = if first { d.at(span(file, *s), label.clone()) } else { d.also(span(file, *s), label.clone()) };
+            first = false;
+        }
+        let mut src: &dyn std::error::Error = e.as_inner();
+        while let Some(next) = src.source() {
+            d = d.note(next.to_string());
+            src = next;
+        }
+        return Err(vec![d]);
+    }
+    let mut diags = Vec::new();
+    let fragments: Vec<_> = module.entry_points.iter().filter(|e| e.stage == naga::ShaderStage::Fragment).collect();
+    let entry_point = match fragments.as_slice() {
+        [one] => one.name.clone(),
+        [] => {
+            diags.push(Diagnostic::error("the shader has no `@fragment` entry point").at(Span::new(file, 0, 0), "expected `@fragment fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32>`"));
+            String::new()
+        }
+        many => {
+            let names: Vec<&str> = many.iter().map(|e| e.name.as_str()).collect();
+            diags.push(Diagnostic::error(format!("the shader has {} `@fragment` entry points ({}); a pass uses exactly one", many.len(), names.join(", "))).at(Span::new(file, 0, 0), ""));
+            String::new()
+        }
+    };
+    let mut textures = Vec::new();
+    let mut samplers = Vec::new();
+    let mut uniform = None;
+    for (h, gv) in module.global_variables.iter() {
+        let gspan = span(file, module.global_variables.get_span(h));
+        let name = gv.name.clone().unwrap_or_default();
+        let Some(rb) = &gv.binding else { continue };
+        match &module.types[gv.ty].inner {
+            TypeInner::Image {
+                dim: ImageDimension::D2,
+                arrayed: false,
+                class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
+            } => textures.push(TextureBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
+            TypeInner::Sampler { comparison: false } => samplers.push(SamplerBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
+            TypeInner::Struct { members, span: size } if gv.space == naga::AddressSpace::Uniform => {
+                if uniform.is_some() {
+                    diags.push(Diagnostic::error("a pass shader has at most one uniform buffer").at(gspan, "second uniform"));
+                    continue;
+                }
+                let decl_span = module.types.get_span(gv.ty);
+                let decl_text = decl_span.to_range().map(|r| &wgsl[r]).unwrap_or("");
+                let decl_start = decl_span.to_range().map(|r| r.start).unwrap_or(0);
+                let mut out = Vec::new();
+                for m in members {
+                    let mname = m.name.clone().unwrap_or_default();
+                    let ty = match module.types[m.ty].inner {
+                        TypeInner::Scalar(s) => scalar_field(s, 1),
+                        TypeInner::Vector { size, scalar } => scalar_field(scalar, size as u8),
+                        TypeInner::Matrix { columns: naga::VectorSize::Quad, rows: naga::VectorSize::Quad, scalar } if scalar.kind == ScalarKind::Float && scalar.width == 4 => Some(FieldType::Mat4),
+                        _ => None,
+                    };
+                    let (mspan, default, range, description) = member_annotations(decl_text, decl_start, &mname, file);
+                    match ty {
+                        Some(ty) => out.push(UniformMember { name: mname, offset: m.offset, ty, span: mspan.unwrap_or(gspan), default, range, description }),
+                        None => diags.push(Diagnostic::error(format!("uniform field `{mname}` has an unsupported type")).at(mspan.unwrap_or(gspan), "use f32, i32, u32, their vectors, or mat4x4<f32>")),
+                    }
+                }
+                uniform = Some(UniformBlock { name, group: rb.group, binding: rb.binding, size: *size, members: out, span: gspan });
+            }
+            _ => diags.push(
+                Diagnostic::error(format!("unsupported resource `{name}` in a pass shader"))
+                    .at(gspan, "a pass shader may declare texture_2d<f32>, sampler and one var<uniform> struct"),
+            ),
+        }
+    }
+    // One bind group keeps the layout simple: every resource in group 0.
+    for (g, s) in textures.iter().map(|t| (t.group, t.span)).chain(samplers.iter().map(|t| (t.group, t.span))).chain(uniform.iter().map(|u| (u.group, u.span))) {
+        if g != 0 {
+            diags.push(Diagnostic::error("pass shader resources must be in `@group(0)`").at(s, "not in group 0"));
+        }
+    }
+    if diags.is_empty() {
+        Ok(Reflection { entry_point, textures, samplers, uniform })
+    } else {
+        Err(diags)
+    }
+}
+
+fn scalar_field(s: naga::Scalar, n: u8) -> Option<FieldType> {
+    match (s.kind, s.width) {
+        (ScalarKind::Float, 4) => Some(FieldType::F32(n)),
+        (ScalarKind::Sint, 4) => Some(FieldType::I32(n)),
+        (ScalarKind::Uint, 4) => Some(FieldType::U32(n)),
+        _ => None,
+    }
+}
+
+/// The span of a struct member's declaration and its `// @default(..) @range(..) text` annotations.
+fn member_annotations(decl: &str, decl_start: usize, name: &str, file: FileId) -> (Option<Span>, Option<Value>, Option<(f64, f64)>, String) {
+    let mut off = 0;
+    for line in decl.split_inclusive('\n') {
+        let t = line.trim_start();
+        let lead = line.len() - t.len();
+        let matches = t.strip_prefix(name).is_some_and(|r| r.trim_start().starts_with(':'));
+        if matches {
+            let code_len = t.find("//").unwrap_or(t.trim_end().len());
+            let sp = Span::new(file, decl_start + off + lead, decl_start + off + lead + t[..code_len].trim_end().len());
+            let mut default = None;
+            let mut range = None;
+            let mut desc = String::new();
+            if let Some(c) = t.find("//") {
+                let mut rest = t[c + 2..].trim();
+                loop {
+                    if let Some(r) = rest.strip_prefix("@default(") {
+                        if let Some(end) = r.find(')') {
+                            default = r[..end].split(',').map(|x| x.trim().parse::<f64>().ok()).collect::<Option<Vec<_>>>();
+                            rest = r[end + 1..].trim_start();
+                            continue;
+                        }
+                    }
+                    if let Some(r) = rest.strip_prefix("@range(") {
+                        if let Some(end) = r.find(')') {
+                            let v: Option<Vec<f64>> = r[..end].split(',').map(|x| x.trim().parse::<f64>().ok()).collect();
+                            if let Some([a, b]) = v.as_deref() {
+                                range = Some((*a, *b));
+                            }
+                            rest = r[end + 1..].trim_start();
+                            continue;
+                        }
+                    }
+                    break;
+                }
+                desc = rest.to_string();
+            }
+            return (Some(sp), default, range, desc);
+        }
+        off += line.len();
+    }
+    (None, None, None, String::new())
+}
+
+/// The standard value a reserved uniform name stands for, given the pass inputs.
+fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'static [FieldType])> {
+    const V2: &[FieldType] = &[FieldType::F32(2)];
+    const SCALAR: &[FieldType] = &[FieldType::F32(1), FieldType::U32(1), FieldType::I32(1)];
+    const F1: &[FieldType] = &[FieldType::F32(1)];
+    const M4: &[FieldType] = &[FieldType::Mat4];
+    Some(match name {
+        "out_size" => (StdValue::OutSize, V2),
+        "out_texel" => (StdValue::OutTexel, V2),
+        "frame" => (StdValue::Frame, SCALAR),
+        "time" => (StdValue::Time, F1),
+        "near" => (StdValue::Near, F1),
+        "far" => (StdValue::Far, F1),
+        "proj" => (StdValue::Proj, M4),
+        "inv_proj" => (StdValue::InvProj, M4),
+        _ => {
+            for (i, inp) in inputs.iter().enumerate() {
+                if name.strip_prefix(inp.as_str()) == Some("_size") {
+                    return Some((StdValue::InputSize(i), V2));
+                }
+                if name.strip_prefix(inp.as_str()) == Some("_texel") {
+                    return Some((StdValue::InputTexel(i), V2));
+                }
+            }
+            return None;
+        }
+    })
+}
+
+/// Check a pass's inputs and parameters against its shader; build its uniform layout.
+/// `shader_name` is how the shader is named in messages.
+pub fn bind_pass(pass: &PassNode, refl: &Reflection, shader_name: &str) -> Result<UniformLayout, Vec<Diagnostic>> {
+    let mut diags = Vec::new();
+    let input_names: Vec<String> = pass.inputs.iter().map(|i| i.name.clone()).collect();
+    for inp in &pass.inputs {
+        if !refl.textures.iter().any(|t| t.name == inp.name) {
+            let mut d = Diagnostic::error(format!("shader `{shader_name}` has no texture input `{}`", inp.name)).at(inp.span, "not declared by the shader");
+            let names: Vec<&str> = refl.textures.iter().map(|t| t.name.as_str()).collect();
+            d = match crate::script::ast::suggest(&inp.name, names.iter().copied()) {
+                Some(s) => d.note(format!("did you mean `{s}`?")),
+                None if names.is_empty() => d.note("the shader declares no `texture_2d<f32>`"),
+                None => d.note(format!("its textures: {}", names.join(", "))),
+            };
+            diags.push(d);
+        }
+    }
+    for t in &refl.textures {
+        if !pass.inputs.iter().any(|i| i.name == t.name) {
+            diags.push(
+                Diagnostic::error(format!("pass `{}` does not bind the shader's texture `{}`", pass.path, t.name))
+                    .at(pass.name_span, format!("add `{} = IN` (or PASS.name, AUX.name)", t.name))
+                    .also(t.span, "declared here"),
+            );
+        }
+    }
+    let mut layout = UniformLayout::default();
+    let members: &[UniformMember] = refl.uniform.as_ref().map(|u| u.members.as_slice()).unwrap_or(&[]);
+    if let Some(u) = &refl.uniform {
+        layout.size = u.size.max(16);
+    }
+    for p in &pass.params {
+        let Some(m) = members.iter().find(|m| m.name == p.name) else {
+            let mut d = Diagnostic::error(format!("shader `{shader_name}` has no parameter `{}`", p.name)).at(p.span, "not a field of the shader's uniform struct");
+            let names: Vec<&str> = members.iter().filter(|m| std_value(&m.name, &input_names).is_none()).map(|m| m.name.as_str()).collect();
+            d = match crate::script::ast::suggest(&p.name, names.iter().copied()) {
+                Some(s) => d.note(format!("did you mean `{s}`?")),
+                None if names.is_empty() => d.note("the shader takes no parameters"),
+                None => d.note(format!("its parameters: {}", names.join(", "))),
+            };
+            diags.push(d);
+            continue;
+        };
+        if std_value(&m.name, &input_names).is_some() {
+            diags.push(Diagnostic::error(format!("`{}` is a standard value set by the runtime", p.name)).at(p.span, "cannot be set").also(m.span, "declared here"));
+            continue;
+        }
+        let n = m.ty.components();
+        let type_ok = p.value.len() == n && match m.ty {
+            FieldType::F32(_) | FieldType::Mat4 => true,
+            FieldType::I32(_) => p.value.iter().all(|x| x.fract() == 0.0),
+            FieldType::U32(_) => p.value.iter().all(|x| x.fract() == 0.0 && *x >= 0.0),
+        };
+        if !type_ok {
+            diags.push(
+                Diagnostic::error(format!("wrong type for `{}`: the shader declares {}, found {}", p.name, m.ty.wgsl(), format_value(&p.value)))
+                    .at(p.span, format!("expected {}", m.ty.wgsl()))
+                    .also(m.span, "declared here"),
+            );
+            continue;
+        }
+        if let Some((lo, hi)) = m.range {
+            if p.value.iter().any(|&x| !(x >= lo && x <= hi)) {
+                diags.push(
+                    Diagnostic::error(format!("value {} of `{}` is out of range [{}, {}]", format_value(&p.value), p.name, format_value(&[lo]), format_value(&[hi])))
+                        .at(p.span, "out of range")
+                        .also(m.span, "range declared here"),
+                );
+                continue;
+            }
+        }
+        layout.fields.push(UniformField { name: m.name.clone(), offset: m.offset, ty: m.ty, source: UniformSource::Param(p.value.clone()) });
+    }
+    for m in members {
+        if layout.fields.iter().any(|f| f.name == m.name) || pass.params.iter().any(|p| p.name == m.name) {
+            continue;
+        }
+        if let Some((sv, types)) = std_value(&m.name, &input_names) {
+            if !types.contains(&m.ty) {
+                let want: Vec<String> = types.iter().map(|t| t.wgsl()).collect();
+                diags.push(Diagnostic::error(format!("standard value `{}` must be declared as {}", m.name, want.join(" or "))).at(m.span, "wrong type"));
+                continue;
+            }
+            layout.fields.push(UniformField { name: m.name.clone(), offset: m.offset, ty: m.ty, source: UniformSource::Std(sv) });
+        } else if let Some(def) = &m.default {
+            if def.len() != m.ty.components() {
+                diags.push(Diagnostic::error(format!("`@default` of `{}` has {} values, the field has {}", m.name, def.len(), m.ty.components())).at(m.span, "wrong default"));
+                continue;
+            }
+            layout.fields.push(UniformField { name: m.name.clone(), offset: m.offset, ty: m.ty, source: UniformSource::Param(def.clone()) });
+        } else {
+            diags.push(
+                Diagnostic::error(format!("pass `{}` does not set the shader parameter `{}`", pass.path, m.name))
+                    .at(pass.name_span, format!("add `{} = ...`", m.name))
+                    .also(m.span, "declared here without a `// @default(...)`"),
+            );
+        }
+    }
+    if diags.is_empty() {
+        Ok(layout)
+    } else {
+        Err(diags)
+    }
+}
