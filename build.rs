@@ -6,7 +6,10 @@ use std::path::Path;
 fn main() {
     let root = std::env::var("CARGO_MANIFEST_DIR").unwrap();
     let mut out = String::new();
-    for (dir, ext, konst) in [("effects", "fx", "EMBEDDED_EFFECTS"), ("shaders", "wgsl", "EMBEDDED_SHADERS")] {
+    for (dir, ext, konst) in [
+        ("effects", "fx", "EMBEDDED_EFFECTS"),
+        ("shaders", "wgsl", "EMBEDDED_SHADERS"),
+    ] {
         let path = Path::new(&root).join(dir);
         println!("cargo:rerun-if-changed={}", path.display());
         let mut files: Vec<_> = std::fs::read_dir(&path)
@@ -14,12 +17,21 @@ fn main() {
             .unwrap_or_default();
         files.retain(|p| p.extension().and_then(|e| e.to_str()) == Some(ext));
         files.sort();
-        writeln!(out, "/// Files of `{dir}/` embedded at build time: (file name, contents).").unwrap();
+        writeln!(
+            out,
+            "/// Files of `{dir}/` embedded at build time: (file name, contents)."
+        )
+        .unwrap();
         writeln!(out, "pub static {konst}: &[(&str, &str)] = &[").unwrap();
         for f in files {
             println!("cargo:rerun-if-changed={}", f.display());
             let name = f.file_name().unwrap().to_str().unwrap();
-            writeln!(out, "    ({name:?}, include_str!({:?})),", f.display().to_string()).unwrap();
+            writeln!(
+                out,
+                "    ({name:?}, include_str!({:?})),",
+                f.display().to_string()
+            )
+            .unwrap();
         }
         writeln!(out, "];").unwrap();
     }

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use fxgraph::io::{
-    load_image, load_image_from_memory, save_image, srgb, write_atomic, FileFormat, Image,
-    IoError, LoadOptions, Pixels, SaveOptions,
+    load_image, load_image_from_memory, save_image, srgb, write_atomic, FileFormat, Image, IoError,
+    LoadOptions, Pixels, SaveOptions,
 };
 
 fn corpus() -> PathBuf {
@@ -141,8 +141,16 @@ fn encode_u8_is_exact_at_every_decision_threshold() {
                 lo = mid
             }
         }
-        assert_eq!(srgb::encode_u8(f32::from_bits(lo)) as u32, k - 1, "below threshold {k}");
-        assert_eq!(srgb::encode_u8(f32::from_bits(hi)) as u32, k, "at threshold {k}");
+        assert_eq!(
+            srgb::encode_u8(f32::from_bits(lo)) as u32,
+            k - 1,
+            "below threshold {k}"
+        );
+        assert_eq!(
+            srgb::encode_u8(f32::from_bits(hi)) as u32,
+            k,
+            "at threshold {k}"
+        );
     }
 }
 
@@ -243,7 +251,13 @@ fn png_16bit_from_u8_is_value_times_257() {
     let p = d.path().join("u8to16.png");
     let px = pattern_u8(67, 41);
     save(&p, 67, 41, &Pixels::U8(px.clone()), Some(16));
-    let lin = load_image(&p, &LoadOptions { assume_linear: true }).unwrap();
+    let lin = load_image(
+        &p,
+        &LoadOptions {
+            assume_linear: true,
+        },
+    )
+    .unwrap();
     for (a, b) in px.iter().zip(f32s(&lin)) {
         assert_eq!((*a as u32) * 257, (b * 65535.0).round() as u32);
     }
@@ -251,7 +265,11 @@ fn png_16bit_from_u8_is_value_times_257() {
     let img = load(&p);
     let lut = srgb::decode_lut_u8();
     for (i, (a, b)) in px.iter().zip(f32s(&img)).enumerate() {
-        let want = if i % 4 == 3 { *a as f32 / 255.0 } else { lut[*a as usize] };
+        let want = if i % 4 == 3 {
+            *a as f32 / 255.0
+        } else {
+            lut[*a as usize]
+        };
         assert!((want - b).abs() < 1e-6, "sample {i}");
     }
 }
@@ -261,9 +279,18 @@ fn f32_to_png8_rounds_through_srgb() {
     let d = tmp();
     let p = d.path().join("f.png");
     let px = vec![
-        0.5, 0.0, 1.0, 1.0, //
-        0.214_041_14, f32::NAN, 2.0, 0.5, //
-        -1.0, 0.001, 0.18, 0.0,
+        0.5,
+        0.0,
+        1.0,
+        1.0, //
+        0.214_041_14,
+        f32::NAN,
+        2.0,
+        0.5, //
+        -1.0,
+        0.001,
+        0.18,
+        0.0,
     ];
     save(&p, 3, 1, &Pixels::F32(px.clone()), None);
     let img = load(&p);
@@ -280,7 +307,14 @@ fn f32_to_png8_rounds_through_srgb() {
     assert_eq!(u8s(&load(&p))[..4], [128, 0, 255, 255]);
 }
 
-fn write_raw_png(p: &Path, w: u32, h: u32, color: png::ColorType, depth: png::BitDepth, data: &[u8]) {
+fn write_raw_png(
+    p: &Path,
+    w: u32,
+    h: u32,
+    color: png::ColorType,
+    depth: png::BitDepth,
+    data: &[u8],
+) {
     let f = std::fs::File::create(p).unwrap();
     let mut e = png::Encoder::new(f, w, h);
     e.set_color(color);
@@ -294,21 +328,45 @@ fn write_raw_png(p: &Path, w: u32, h: u32, color: png::ColorType, depth: png::Bi
 fn gray_and_gray_alpha_png_expand() {
     let d = tmp();
     let p = d.path().join("gray.png");
-    write_raw_png(&p, 3, 1, png::ColorType::Grayscale, png::BitDepth::Eight, &[0, 77, 255]);
+    write_raw_png(
+        &p,
+        3,
+        1,
+        png::ColorType::Grayscale,
+        png::BitDepth::Eight,
+        &[0, 77, 255],
+    );
     let img = load(&p);
-    assert_eq!(u8s(&img), &[0, 0, 0, 255, 77, 77, 77, 255, 255, 255, 255, 255]);
+    assert_eq!(
+        u8s(&img),
+        &[0, 0, 0, 255, 77, 77, 77, 255, 255, 255, 255, 255]
+    );
     assert!(!img.source.has_alpha);
     assert_eq!(img.source.bit_depth, 8);
 
     let p = d.path().join("gray_alpha.png");
-    write_raw_png(&p, 2, 1, png::ColorType::GrayscaleAlpha, png::BitDepth::Eight, &[10, 20, 200, 0]);
+    write_raw_png(
+        &p,
+        2,
+        1,
+        png::ColorType::GrayscaleAlpha,
+        png::BitDepth::Eight,
+        &[10, 20, 200, 0],
+    );
     let img = load(&p);
     assert_eq!(u8s(&img), &[10, 10, 10, 20, 200, 200, 200, 0]);
     assert!(img.source.has_alpha);
 
     let p = d.path().join("gray16.png");
     // 0x8000 = 32768
-    write_raw_png(&p, 1, 1, png::ColorType::Grayscale, png::BitDepth::Sixteen, &[0x80, 0x00]);
+    write_raw_png(
+        &p,
+        1,
+        1,
+        png::ColorType::Grayscale,
+        png::BitDepth::Sixteen,
+        &[0x80, 0x00],
+    );
     let img = load(&p);
     let v = f32s(&img);
     let want = srgb::srgb_to_linear(32768.0 / 65535.0);
@@ -325,9 +383,22 @@ fn assume_linear_changes_16bit_decoding() {
         .iter()
         .flat_map(|v| v.to_be_bytes())
         .collect();
-    write_raw_png(&p, 1, 1, png::ColorType::Rgba, png::BitDepth::Sixteen, &data);
+    write_raw_png(
+        &p,
+        1,
+        1,
+        png::ColorType::Rgba,
+        png::BitDepth::Sixteen,
+        &data,
+    );
     let srgb_img = load(&p);
-    let lin_img = load_image(&p, &LoadOptions { assume_linear: true }).unwrap();
+    let lin_img = load_image(
+        &p,
+        &LoadOptions {
+            assume_linear: true,
+        },
+    )
+    .unwrap();
     let (a, b) = (f32s(&srgb_img), f32s(&lin_img));
     assert!((a[0] - 0.214_1).abs() < 1e-3, "{}", a[0]);
     assert!((b[0] - 32768.0 / 65535.0).abs() < 1e-7);
@@ -405,19 +476,31 @@ fn exr_from_u8_is_srgb_decoded() {
 
 #[test]
 fn exr_luminance_only_loads_as_gray() {
-    use exr::prelude::*;
+    use exr::prelude::Layer;
+    use exr::prelude::{Encoding, LayerAttributes, SpecificChannels, Vec2, WritableImage};
     let d = tmp();
     let p = d.path().join("y.exr");
     let y = SpecificChannels::build()
         .with_channel("Y")
         .with_pixel_fn(|Vec2(x, _y): Vec2<usize>| (x as f32 * 2.0,));
-    let layer = Layer::new((3, 2), LayerAttributes::default(), Encoding::UNCOMPRESSED, y);
-    Image::from_layer(layer).write().to_file(&p).unwrap();
+    let layer = Layer::new(
+        (3, 2),
+        LayerAttributes::default(),
+        Encoding::UNCOMPRESSED,
+        y,
+    );
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_file(&p)
+        .unwrap();
     let img = load(&p);
     assert_eq!((img.width, img.height), (3, 2));
     assert!(!img.source.has_alpha);
     let v = f32s(&img);
-    assert_eq!(&v[..12], &[0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0, 1.0, 4.0, 4.0, 4.0, 1.0]);
+    assert_eq!(
+        &v[..12],
+        &[0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0, 1.0, 4.0, 4.0, 4.0, 1.0]
+    );
 }
 
 #[test]
@@ -428,13 +511,21 @@ fn real_hdr_exr_files_load() {
         let img = load(&dir.join(name));
         let v = f32s(&img);
         assert_eq!(v.len(), (img.width * img.height * 4) as usize);
-        assert!(img.width >= 256 && img.height >= 256, "{name}: {}x{}", img.width, img.height);
+        assert!(
+            img.width >= 256 && img.height >= 256,
+            "{name}: {}x{}",
+            img.width,
+            img.height
+        );
         let max = v
             .chunks_exact(4)
             .flat_map(|p| &p[..3])
             .fold(0.0f32, |m, &x| m.max(x));
         assert!(max > 100.0, "{name}: max {max}");
-        assert!(v.iter().all(|x| x.is_finite()), "{name}: non-finite samples");
+        assert!(
+            v.iter().all(|x| x.is_finite()),
+            "{name}: non-finite samples"
+        );
         eprintln!(
             "{name}: {}x{}, max {max}, {:?}, {:.0} ms",
             img.width,
@@ -447,7 +538,9 @@ fn real_hdr_exr_files_load() {
 
 #[test]
 fn every_damaged_exr_is_rejected_without_panicking() {
-    let Some(dir) = corpus_dir("exr-damaged") else { return };
+    let Some(dir) = corpus_dir("exr-damaged") else {
+        return;
+    };
     let start = Instant::now();
     let mut n = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
@@ -462,17 +555,28 @@ fn every_damaged_exr_is_rejected_without_panicking() {
         match r {
             Err(e @ IoError::Decode { .. }) => {
                 let msg = e.to_string();
-                assert!(msg.contains(p.file_name().unwrap().to_str().unwrap()), "{msg}");
+                assert!(
+                    msg.contains(p.file_name().unwrap().to_str().unwrap()),
+                    "{msg}"
+                );
                 assert!(e.is_input_error());
             }
             Err(e) => panic!("{}: expected a Decode error, got {e:?}", p.display()),
-            Ok(img) => panic!("{}: damaged file decoded as {}x{}", p.display(), img.width, img.height),
+            Ok(img) => panic!(
+                "{}: damaged file decoded as {}x{}",
+                p.display(),
+                img.width,
+                img.height
+            ),
         }
         assert!(ms < 5000.0, "{}: took {ms:.0} ms", p.display());
         n += 1;
     }
     assert!(n >= 50, "only {n} files in {}", dir.display());
-    eprintln!("{n} damaged EXR files rejected in {:.2} s", start.elapsed().as_secs_f64());
+    eprintln!(
+        "{n} damaged EXR files rejected in {:.2} s",
+        start.elapsed().as_secs_f64()
+    );
 }
 
 // ---------------------------------------------------------------------------------------
@@ -510,7 +614,8 @@ fn jpeg_round_trip_psnr() {
     assert!(!img.source.has_alpha);
     let got = u8s(&img);
     assert!(got.chunks_exact(4).all(|p| p[3] == 255));
-    let rgb = |v: &[u8]| -> Vec<u8> { v.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
+    let rgb =
+        |v: &[u8]| -> Vec<u8> { v.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect() };
     let q = psnr(&rgb(&px), &rgb(got));
     assert!(q > 35.0, "PSNR {q:.1} dB");
 
@@ -591,7 +696,9 @@ fn float_and_16bit_formats_round_trip() {
             assert_eq!(*b, 1.0);
         } else {
             // RGBE: 8-bit mantissa shared by the pixel's largest channel
-            let m = bright[i / 4 * 4..i / 4 * 4 + 3].iter().fold(0.0f32, |m, &x| m.max(x));
+            let m = bright[i / 4 * 4..i / 4 * 4 + 3]
+                .iter()
+                .fold(0.0f32, |m, &x| m.max(x));
             assert!((a - b).abs() <= m / 128.0 + 1e-6, "sample {i}: {a} vs {b}");
         }
     }
@@ -628,10 +735,22 @@ fn content_wins_over_extension() {
 
 #[test]
 fn format_names_and_bit_depths() {
-    assert_eq!(FileFormat::from_path(Path::new("a/B.PNG")), Some(FileFormat::Png));
-    assert_eq!(FileFormat::from_path(Path::new("x.jpeg")), Some(FileFormat::Jpeg));
-    assert_eq!(FileFormat::from_path(Path::new("x.exr")), Some(FileFormat::Exr));
-    assert_eq!(FileFormat::from_path(Path::new("x.tiff")), Some(FileFormat::Tiff));
+    assert_eq!(
+        FileFormat::from_path(Path::new("a/B.PNG")),
+        Some(FileFormat::Png)
+    );
+    assert_eq!(
+        FileFormat::from_path(Path::new("x.jpeg")),
+        Some(FileFormat::Jpeg)
+    );
+    assert_eq!(
+        FileFormat::from_path(Path::new("x.exr")),
+        Some(FileFormat::Exr)
+    );
+    assert_eq!(
+        FileFormat::from_path(Path::new("x.tiff")),
+        Some(FileFormat::Tiff)
+    );
     assert_eq!(FileFormat::from_path(Path::new("x.txt")), None);
     assert_eq!(FileFormat::from_path(Path::new("png")), None);
     assert!(FileFormat::Png.supports_bit_depth(16));
@@ -676,14 +795,19 @@ fn empty_missing_and_text_files() {
     std::fs::write(&empty, b"").unwrap();
     let e = load_image(&empty, &LoadOptions::default()).unwrap_err();
     assert!(matches!(e, IoError::Decode { .. }), "{e:?}");
-    assert_eq!(e.to_string(), format!("{}: the file is empty", empty.display()));
+    assert_eq!(
+        e.to_string(),
+        format!("{}: the file is empty", empty.display())
+    );
 
     let missing = d.path().join("missing.png");
     let e = load_image(&missing, &LoadOptions::default()).unwrap_err();
     assert!(matches!(e, IoError::Io { .. }), "{e:?}");
     assert!(!e.is_input_error());
     assert_eq!(e.path(), missing);
-    assert!(e.to_string().starts_with(&format!("{}: ", missing.display())));
+    assert!(e
+        .to_string()
+        .starts_with(&format!("{}: ", missing.display())));
 
     let text = d.path().join("notes.png");
     std::fs::write(&text, "this is not an image\n").unwrap();
@@ -707,17 +831,33 @@ fn oversized_images_are_refused_before_decoding() {
     let d = tmp();
     // A real 40000x1 PNG: small file, but wider than the limit.
     let p = d.path().join("wide.png");
-    write_raw_png(&p, 40000, 1, png::ColorType::Grayscale, png::BitDepth::Eight, &vec![9u8; 40000]);
+    write_raw_png(
+        &p,
+        40000,
+        1,
+        png::ColorType::Grayscale,
+        png::BitDepth::Eight,
+        &vec![9u8; 40000],
+    );
     let e = load_image(&p, &LoadOptions::default()).unwrap_err();
     assert!(matches!(e, IoError::Decode { .. }), "{e:?}");
     assert!(e.to_string().contains("too large"), "{e}");
 
     // An EXR whose header claims 40000x1.
-    use exr::prelude::*;
+    use exr::prelude::{f16, Layer};
+    use exr::prelude::{Encoding, LayerAttributes, SpecificChannels, Vec2, WritableImage};
     let p = d.path().join("wide.exr");
     let ch = SpecificChannels::rgb(|_: Vec2<usize>| (f16::ONE, f16::ONE, f16::ONE));
-    let layer = Layer::new((40000, 1), LayerAttributes::default(), Encoding::FAST_LOSSLESS, ch);
-    Image::from_layer(layer).write().to_file(&p).unwrap();
+    let layer = Layer::new(
+        (40000, 1),
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        ch,
+    );
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_file(&p)
+        .unwrap();
     let e = load_image(&p, &LoadOptions::default()).unwrap_err();
     assert!(matches!(e, IoError::Decode { .. }), "{e:?}");
     assert!(e.to_string().contains("too large"), "{e}");
@@ -736,7 +876,9 @@ fn oversized_images_are_refused_before_decoding() {
 
 #[test]
 fn coffee_photo_loads_as_u8() {
-    let Some(dir) = corpus_dir("photos") else { return };
+    let Some(dir) = corpus_dir("photos") else {
+        return;
+    };
     let img = load(&dir.join("coffee.png"));
     assert_eq!((img.width, img.height), (600, 400));
     assert_eq!(img.source.format, FileFormat::Png);
@@ -802,14 +944,21 @@ fn failed_saves_leave_the_target_untouched() {
     )
     .unwrap_err();
     assert!(matches!(e, IoError::Unsupported { .. }), "{e:?}");
-    assert!(e.to_string().starts_with(&format!("{}: JPEG", jpg.display())), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("{}: JPEG", jpg.display())),
+        "{e}"
+    );
     assert_eq!(std::fs::read(&jpg).unwrap(), b"old jpeg");
 
     // unknown extension
     let odd = d.path().join("out.xyz");
     std::fs::write(&odd, b"keep").unwrap();
     let e = save_image(&odd, 4, 4, &px, &SaveOptions::default()).unwrap_err();
-    assert!(matches!(e, IoError::Unsupported { .. }) && e.is_input_error(), "{e:?}");
+    assert!(
+        matches!(e, IoError::Unsupported { .. }) && e.is_input_error(),
+        "{e:?}"
+    );
     assert_eq!(std::fs::read(&odd).unwrap(), b"keep");
 
     // wrong buffer size
@@ -820,22 +969,31 @@ fn failed_saves_leave_the_target_untouched() {
     assert_eq!(dir_names(d.path()), ["out.jpg", "out.png", "out.xyz"]);
 
     // missing folder: an Io error
-    let e = save_image(&d.path().join("nope/x.png"), 4, 4, &px, &SaveOptions::default())
-        .unwrap_err();
+    let e = save_image(
+        &d.path().join("nope/x.png"),
+        4,
+        4,
+        &px,
+        &SaveOptions::default(),
+    )
+    .unwrap_err();
     assert!(matches!(e, IoError::Io { .. }), "{e:?}");
     assert!(!e.is_input_error());
 
     // and a successful save replaces the file and leaves nothing else behind
     save(&target, 4, 4, &px, None);
-    assert_eq!(u8s(&load(&target)), match &px {
-        Pixels::U8(v) => &v[..],
-        _ => unreachable!(),
-    });
+    assert_eq!(
+        u8s(&load(&target)),
+        match &px {
+            Pixels::U8(v) => &v[..],
+            _ => unreachable!(),
+        }
+    );
     assert_eq!(dir_names(d.path()), ["out.jpg", "out.png", "out.xyz"]);
 }
 
 #[test]
-fn write_atomic_replaces_and_supports_relative_names() {
+fn write_atomic_replaces_existing_files() {
     let d = tmp();
     let target = d.path().join("data.bin");
     for content in [&b"first"[..], b"second, longer", b"3"] {
@@ -860,7 +1018,9 @@ fn write_atomic_replaces_and_supports_relative_names() {
 fn timing_report() {
     let (w, h) = (1920u32, 1080u32);
     let n = (w * h) as usize;
-    let lin: Vec<f32> = (0..n * 4).map(|i| ((i * 7919) % 10007) as f32 / 10007.0).collect();
+    let lin: Vec<f32> = (0..n * 4)
+        .map(|i| ((i * 7919) % 10007) as f32 / 10007.0)
+        .collect();
 
     let t = Instant::now();
     let mut acc = 0u64;
@@ -894,7 +1054,7 @@ fn timing_report() {
     for y in 0..h as usize {
         for x in 0..w as usize {
             let i = (y * w as usize + x) * 4;
-            let noise = ((x * 31 + y * 17) * 2654435761usize >> 28) as u8 & 3;
+            let noise = (((x * 31 + y * 17) * 2654435761usize) >> 28) as u8 & 3;
             photo[i] = (x * 255 / w as usize) as u8 + noise;
             photo[i + 1] = (y * 255 / h as usize) as u8;
             photo[i + 2] = ((x + y) % 256) as u8;
@@ -907,7 +1067,11 @@ fn timing_report() {
         ("png16 from F32", Pixels::F32(lin.clone()), Some(16)),
         ("exr half from F32", Pixels::F32(lin.clone()), None),
     ] {
-        let ext = if name.starts_with("exr") { "exr" } else { "png" };
+        let ext = if name.starts_with("exr") {
+            "exr"
+        } else {
+            "png"
+        };
         let p = d.path().join(format!("frame.{ext}"));
         let t = Instant::now();
         save(&p, w, h, &px, bits);

@@ -5,10 +5,10 @@
 
 use anyhow::Context as _;
 use clap::Parser;
-use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, ReusePolicy};
-use fxgraph::graph::{compile, dot, library, CompileRequest, Override};
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
 use fxgraph::gpu::runner::{apply_to_image, ImageJob, JobReport, RunError};
+use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, ReusePolicy};
+use fxgraph::graph::{compile, dot, library, CompileRequest, Override};
 use fxgraph::script::types::format_value;
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -90,22 +90,34 @@ struct Fail {
 
 impl From<RunError> for Fail {
     fn from(e: RunError) -> Self {
-        Fail { code: e.exit_code() as u8, message: e.to_string() }
+        Fail {
+            code: e.exit_code() as u8,
+            message: e.to_string(),
+        }
     }
 }
 
 impl From<anyhow::Error> for Fail {
     fn from(e: anyhow::Error) -> Self {
-        Fail { code: 2, message: format!("{e:#}") }
+        Fail {
+            code: 2,
+            message: format!("{e:#}"),
+        }
     }
 }
 
 fn rejected(message: impl Into<String>) -> Fail {
-    Fail { code: 1, message: message.into() }
+    Fail {
+        code: 1,
+        message: message.into(),
+    }
 }
 
 fn main() -> ExitCode {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    env_logger::Builder::from_env(
+        env_logger::Env::default().default_filter_or("warn,wgpu_hal::gles::egl=off"),
+    )
+    .init();
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         // Silences a harmless warning of the Vulkan loader on headless machines.
         std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
@@ -140,7 +152,10 @@ fn main() -> ExitCode {
 fn parse_size(s: &str) -> Result<(u32, u32), Fail> {
     let bad = || rejected(format!("--size {s}: expected WIDTHxHEIGHT, e.g. 1920x1080"));
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
     if w == 0 || h == 0 {
         return Err(bad());
     }
@@ -161,7 +176,10 @@ fn run(cli: Cli) -> Result<(), Fail> {
     if cli.adapters {
         let list = list_adapters();
         if list.is_empty() {
-            return Err(Fail { code: 2, message: "no GPU adapter found (install mesa-vulkan-drivers for lavapipe)".into() });
+            return Err(Fail {
+                code: 2,
+                message: "no GPU adapter found (install mesa-vulkan-drivers for lavapipe)".into(),
+            });
         }
         for a in list {
             println!("{a}");
@@ -175,11 +193,17 @@ fn run(cli: Cli) -> Result<(), Fail> {
         return Ok(());
     }
     if cli.effects.is_empty() {
-        return Err(rejected("no effect given (try `fxrun --list`, or `fxrun --help`)"));
+        return Err(rejected(
+            "no effect given (try `fxrun --list`, or `fxrun --help`)",
+        ));
     }
     let req = CompileRequest {
         effects: cli.effects.clone(),
-        overrides: cli.set.iter().map(|a| Override { arg: a.clone() }).collect(),
+        overrides: cli
+            .set
+            .iter()
+            .map(|a| Override { arg: a.clone() })
+            .collect(),
         search_dirs: Vec::new(),
     };
     let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
@@ -189,7 +213,10 @@ fn run(cli: Cli) -> Result<(), Fail> {
             eprint!("{}", diags.render(&sources));
         }
         let Some(graph) = graph else {
-            return Err(Fail { code: 1, message: String::new() });
+            return Err(Fail {
+                code: 1,
+                message: String::new(),
+            });
         };
         if cli.describe {
             describe(&graph);
@@ -202,14 +229,28 @@ fn run(cli: Cli) -> Result<(), Fail> {
         let policy = match cli.policy.as_str() {
             "min-peak" => ReusePolicy::MinPeak,
             "pool" => ReusePolicy::Pool,
-            other => return Err(rejected(format!("--policy {other}: expected min-peak or pool"))),
+            other => {
+                return Err(rejected(format!(
+                    "--policy {other}: expected min-peak or pool"
+                )))
+            }
         };
-        let planned = plan(&graph, &desc, &PlanOptions { policy, output_format: None });
+        let planned = plan(
+            &graph,
+            &desc,
+            &PlanOptions {
+                policy,
+                output_format: None,
+            },
+        );
         let (p, notes) = match planned {
             Ok(x) => x,
             Err(d) => {
                 eprint!("{}", d.render(&sources));
-                return Err(Fail { code: 1, message: String::new() });
+                return Err(Fail {
+                    code: 1,
+                    message: String::new(),
+                });
             }
         };
         if !notes.is_empty() && !cli.json {
@@ -221,14 +262,21 @@ fn run(cli: Cli) -> Result<(), Fail> {
                 print!("{text}");
             } else {
                 fxgraph::io::write_atomic(std::path::Path::new(target), |w| {
-                    w.write_all(text.as_bytes()).map_err(|e| fxgraph::io::IoError::Io { path: target.into(), source: e })
+                    w.write_all(text.as_bytes())
+                        .map_err(|e| fxgraph::io::IoError::Io {
+                            path: target.into(),
+                            source: e,
+                        })
                 })
                 .map_err(RunError::from)?;
             }
         }
         if cli.plan {
             if cli.json {
-                println!("{}", serde_json::to_string_pretty(&p.to_json()).expect("plan serializes"));
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&p.to_json()).expect("plan serializes")
+                );
             } else {
                 print!("{}", p.render());
             }
@@ -240,7 +288,9 @@ fn run(cli: Cli) -> Result<(), Fail> {
     };
     let mut aux = Vec::new();
     for a in &cli.aux {
-        let (n, f) = a.split_once('=').ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
+        let (n, f) = a
+            .split_once('=')
+            .ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
         aux.push((n.to_string(), PathBuf::from(f)));
     }
     let job = ImageJob {
@@ -262,8 +312,14 @@ fn run(cli: Cli) -> Result<(), Fail> {
     }
     if let Some(path) = &cli.timings_json {
         let text = serde_json::to_string_pretty(&report).context("serializing timings")?;
-        fxgraph::io::write_atomic(path, |w| w.write_all(text.as_bytes()).map_err(|e| fxgraph::io::IoError::Io { path: path.clone(), source: e }))
-            .map_err(RunError::from)?;
+        fxgraph::io::write_atomic(path, |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| fxgraph::io::IoError::Io {
+                    path: path.clone(),
+                    source: e,
+                })
+        })
+        .map_err(RunError::from)?;
     }
     Ok(())
 }
@@ -278,41 +334,86 @@ fn describe(graph: &fxgraph::graph::Graph) {
     println!("passes (in execution order):");
     for &n in &graph.schedule {
         let p = graph.pass(n);
-        let inputs: Vec<String> = p.inputs.iter().enumerate().map(|(i, inp)| format!("{}={}", inp.name, graph.label(graph.input_source(n, i)))).collect();
-        println!("  {:<28} SHADER.{:<16} {}", p.path, p.shader, inputs.join(" "));
+        let inputs: Vec<String> = p
+            .inputs
+            .iter()
+            .enumerate()
+            .map(|(i, inp)| format!("{}={}", inp.name, graph.label(graph.input_source(n, i))))
+            .collect();
+        println!(
+            "  {:<28} SHADER.{:<16} {}",
+            p.path,
+            p.shader,
+            inputs.join(" ")
+        );
     }
     if graph.params.is_empty() {
         println!("parameters: none");
     } else {
         println!("parameters:");
         for p in &graph.params {
-            let range = p.range.map(|(a, b)| format!(" range [{}, {}]", format_value(&[a]), format_value(&[b]))).unwrap_or_default();
+            let range = p
+                .range
+                .map(|(a, b)| format!(" range [{}, {}]", format_value(&[a]), format_value(&[b])))
+                .unwrap_or_default();
             let choices = match &p.ty {
                 fxgraph::script::types::ParamType::Enum(v) => format!(" one of {}", v.join("|")),
                 _ => String::new(),
             };
-            println!("  {}.{:<14} {:<5} = {:<10} (default {}){range}{choices}  {}", p.effect, p.name, p.ty.name(), format_value(&p.value), format_value(&p.default), p.description);
+            println!(
+                "  {}.{:<14} {:<5} = {:<10} (default {}){range}{choices}  {}",
+                p.effect,
+                p.name,
+                p.ty.name(),
+                format_value(&p.value),
+                format_value(&p.default),
+                p.description
+            );
         }
     }
     if graph.has_feedback() {
         println!("temporal: uses feedback (earlier output frames); a sharded sequence run needs warm-up frames");
     }
     if graph.latency > 0 || graph.history > 0 {
-        println!("temporal: reads {} earlier and {} later input frames (latency {})", graph.history, graph.latency, graph.latency);
+        println!(
+            "temporal: reads {} earlier and {} later input frames (latency {})",
+            graph.history, graph.latency, graph.latency
+        );
     }
 }
 
 fn print_timings(r: &JobReport) {
-    println!("adapter: {} ({})  image {}x{}", r.adapter, r.backend, r.width, r.height);
-    println!("{:<32} {:>11} {:<10} {:>9} {:>9}", "pass", "size", "format", "gpu ms", "cpu ms");
+    println!(
+        "adapter: {} ({})  image {}x{}",
+        r.adapter, r.backend, r.width, r.height
+    );
+    println!(
+        "{:<32} {:>11} {:<10} {:>9} {:>9}",
+        "pass", "size", "format", "gpu ms", "cpu ms"
+    );
     for p in &r.passes {
-        let gpu = p.gpu_ms.map(|g| format!("{g:.2}")).unwrap_or_else(|| "-".into());
-        println!("{:<32} {:>11} {:<10} {:>9} {:>9.2}", p.path, format!("{}x{}", p.width, p.height), p.format, gpu, p.cpu_ms);
+        let gpu = p
+            .gpu_ms
+            .map(|g| format!("{g:.2}"))
+            .unwrap_or_else(|| "-".into());
+        println!(
+            "{:<32} {:>11} {:<10} {:>9} {:>9.2}",
+            p.path,
+            format!("{}x{}", p.width, p.height),
+            p.format,
+            gpu,
+            p.cpu_ms
+        );
     }
     println!(
         "compile {:.1} ms | decode {:.1} | device {:.1} | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
         r.compile_ms, r.decode_ms, r.device_ms, r.pipeline_ms, r.upload_ms, r.passes_ms, r.readback_ms, r.encode_ms, r.total_ms
     );
     let mib = |b: u64| b as f64 / 1048576.0;
-    println!("transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})", mib(r.peak_bytes), mib(r.lower_bound_bytes), mib(r.naive_bytes));
+    println!(
+        "transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})",
+        mib(r.peak_bytes),
+        mib(r.lower_bound_bytes),
+        mib(r.naive_bytes)
+    );
 }

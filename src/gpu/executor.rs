@@ -2,7 +2,9 @@
 //! and runs it frame after frame, interpreting the plan's `Alloc / Run / Free` steps.
 
 use super::context::{GpuContext, GpuError, GpuTimer};
-use crate::graph::plan::{PassShader, Plan, PlannedPass, Resource, ReusePolicy, Step, TextureDesc, View};
+use crate::graph::plan::{
+    PassShader, Plan, PlannedPass, Resource, ReusePolicy, Step, TextureDesc, View,
+};
 use crate::graph::Graph;
 use crate::script::types::{Filter, Format, Sampling, Wrap};
 use crate::script::{Diagnostic, Diagnostics, SourceMap, Span};
@@ -49,6 +51,9 @@ fn view_format(f: Format, view: View) -> Option<wgpu::TextureFormat> {
         _ => None,
     }
 }
+
+/// A shader file (as shown) and its defines.
+type ShaderKey = (String, Vec<(String, i64)>);
 
 /// A render pipeline with its bind group layout, shared by passes with the same
 /// shader text, target format and input filterability.
@@ -135,10 +140,12 @@ impl<'a> FrameInputs<'a> {
 
 impl Engine {
     pub fn new(ctx: GpuContext) -> Self {
-        let vs = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("fxgraph fullscreen vertex"),
-            source: wgpu::ShaderSource::Wgsl(FULLSCREEN_VS.into()),
-        });
+        let vs = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("fxgraph fullscreen vertex"),
+                source: wgpu::ShaderSource::Wgsl(FULLSCREEN_VS.into()),
+            });
         Engine {
             ctx,
             vs,
@@ -155,13 +162,18 @@ impl Engine {
 
     /// Check the plan against the device, load and reflect every shader, and build
     /// the pipelines. All problems are returned together as diagnostics.
-    pub fn prepare(&mut self, graph: &Graph, plan: Plan, sources: &mut SourceMap) -> Result<Prepared, ExecError> {
+    pub fn prepare(
+        &mut self,
+        graph: &Graph,
+        plan: Plan,
+        sources: &mut SourceMap,
+    ) -> Result<Prepared, ExecError> {
         let start = Instant::now();
         let mut diags = Diagnostics::default();
         let max = self.ctx.device.limits().max_texture_dimension_2d;
         let adapter = self.ctx.info.name.clone();
         let mut shader_files: HashMap<String, crate::script::FileId> = HashMap::new();
-        let mut reflections: HashMap<(String, Vec<(String, i64)>), Option<(Arc<str>, Reflection)>> = HashMap::new();
+        let mut reflections: HashMap<ShaderKey, Option<(Arc<str>, Reflection)>> = HashMap::new();
         let mut passes = Vec::new();
         for (pi, p) in plan.passes.iter().enumerate() {
             let span = p.node.map(|n| graph.pass(n).name_span);
@@ -190,37 +202,56 @@ impl Engine {
                 PassShader::Script { name } => {
                     let n = p.node.expect("script pass has a node");
                     let pn = graph.pass(n);
-                    let Some(file) = find_shader(name, pn.shader_dir.as_deref(), &self.shader_dirs) else {
+                    let Some(file) = find_shader(name, pn.shader_dir.as_deref(), &self.shader_dirs)
+                    else {
                         diags.push(
                             Diagnostic::error(format!("no shader `{name}.wgsl`"))
                                 .at(pn.shader_span, "not found next to the effect file, in its shaders/ folder, or in the built-in library"),
                         );
                         continue;
                     };
-                    (file.shown.clone(), file.text, file.shown, pn.defines.clone(), Some(n))
+                    (
+                        file.shown.clone(),
+                        file.text,
+                        file.shown,
+                        pn.defines.clone(),
+                        Some(n),
+                    )
                 }
                 PassShader::Convert { to } => {
                     let f = find_shader("_colorspace", None, &[]).expect("built-in shader");
                     let to_linear = i64::from(*to == crate::script::types::ColorSpace::Linear);
-                    (f.shown.clone(), f.text, f.shown, vec![("TO_LINEAR".to_string(), to_linear)], None)
+                    (
+                        f.shown.clone(),
+                        f.text,
+                        f.shown,
+                        vec![("TO_LINEAR".to_string(), to_linear)],
+                        None,
+                    )
                 }
                 PassShader::Blit => {
                     let f = find_shader("_blit", None, &[]).expect("built-in shader");
                     (f.shown.clone(), f.text, f.shown, Vec::new(), None)
                 }
             };
-            let file_id = *shader_files.entry(key_name.clone()).or_insert_with(|| sources.add(shown, file_text.clone()));
+            let file_id = *shader_files
+                .entry(key_name.clone())
+                .or_insert_with(|| sources.add(shown, file_text.clone()));
             let cache_key = (key_name.clone(), defines.clone());
             if !reflections.contains_key(&cache_key) {
                 let result = match preprocess(&file_text, &defines) {
                     Err(e) => {
-                        diags.push(Diagnostic::error(e.message).at(Span::new(file_id, e.start, e.end), ""));
+                        diags.push(
+                            Diagnostic::error(e.message).at(Span::new(file_id, e.start, e.end), ""),
+                        );
                         None
                     }
                     Ok((wgsl, _)) => {
                         // Reflect the preprocessed text: it has the same lines and columns,
                         // plus constants appended at the end.
-                        let pre_id = if wgsl.starts_with(&*file_text) || defines.is_empty() && wgsl.trim_end() == file_text.trim_end() {
+                        let pre_id = if wgsl.starts_with(&*file_text)
+                            || defines.is_empty() && wgsl.trim_end() == file_text.trim_end()
+                        {
                             file_id
                         } else {
                             sources.add(sources.get(file_id).name.clone(), wgsl.clone())
@@ -238,7 +269,9 @@ impl Engine {
                 };
                 reflections.insert(cache_key.clone(), result);
             }
-            let Some((wgsl, refl)) = reflections[&cache_key].clone() else { continue };
+            let Some((wgsl, refl)) = reflections[&cache_key].clone() else {
+                continue;
+            };
             let layout = match node {
                 Some(n) => match bind_pass(graph.pass(n), &refl, &key_name) {
                     Ok(l) => l,
@@ -262,8 +295,16 @@ impl Engine {
                 };
                 let inp = &p.inputs[ii];
                 let f = self.format_filterable(inp.desc.format);
-                if !f && inp.sampling.filter == Filter::Linear && refl.samplers.iter().any(|s| s.name == format!("{}_sampler", t.name)) {
-                    let span = p.node.and_then(|n| graph.pass(n).inputs.get(ii).map(|i| i.span));
+                if !f
+                    && inp.sampling.filter == Filter::Linear
+                    && refl
+                        .samplers
+                        .iter()
+                        .any(|s| s.name == format!("{}_sampler", t.name))
+                {
+                    let span = p
+                        .node
+                        .and_then(|n| graph.pass(n).inputs.get(ii).map(|i| i.span));
                     let d = Diagnostic::error(format!(
                         "input `{}` of pass `{}` is {}, which this adapter ({adapter}) cannot filter",
                         inp.name, p.path, inp.desc.format
@@ -275,7 +316,10 @@ impl Engine {
                     });
                     ok = false;
                 }
-                if inp.view != View::Natural && !self.ctx.device.features().contains(wgpu::Features::empty()) && self.ctx.info.backend == wgpu::Backend::Gl {
+                if inp.view != View::Natural
+                    && !self.ctx.device.features().contains(wgpu::Features::empty())
+                    && self.ctx.info.backend == wgpu::Backend::Gl
+                {
                     diags.push(at(Diagnostic::error(format!(
                         "pass `{}` needs to view `{}` in another colour space, which the GL backend cannot do",
                         p.path, inp.name
@@ -287,10 +331,21 @@ impl Engine {
             }
             let mut samplers = Vec::new();
             for s in &refl.samplers {
-                let (sampling, filtering) = match s.name.strip_suffix("_sampler").and_then(|n| p.inputs.iter().find(|i| i.name == n)) {
-                    Some(inp) => (inp.sampling, inp.sampling.filter == Filter::Linear && self.format_filterable(inp.desc.format)),
+                let (sampling, filtering) = match s
+                    .name
+                    .strip_suffix("_sampler")
+                    .and_then(|n| p.inputs.iter().find(|i| i.name == n))
+                {
+                    Some(inp) => (
+                        inp.sampling,
+                        inp.sampling.filter == Filter::Linear
+                            && self.format_filterable(inp.desc.format),
+                    ),
                     None => {
-                        let all = p.inputs.iter().all(|i| self.format_filterable(i.desc.format));
+                        let all = p
+                            .inputs
+                            .iter()
+                            .all(|i| self.format_filterable(i.desc.format));
                         (Sampling::default(), all)
                     }
                 };
@@ -358,13 +413,24 @@ impl Engine {
         })
     }
 
-    fn pipeline(&mut self, key: &PipelineKey, refl: &Reflection, samplers: &[(u32, Sampling, bool)], label: &str) -> Result<Arc<CachedPipeline>, GpuError> {
+    fn pipeline(
+        &mut self,
+        key: &PipelineKey,
+        refl: &Reflection,
+        samplers: &[(u32, Sampling, bool)],
+        label: &str,
+    ) -> Result<Arc<CachedPipeline>, GpuError> {
         if let Some(p) = self.pipelines.get(key) {
             return Ok(p.clone());
         }
         let mut entries = Vec::new();
         for t in &refl.textures {
-            let filterable = key.filterable.iter().find(|(b, _)| *b == t.binding).map(|(_, f)| *f).unwrap_or(true);
+            let filterable = key
+                .filterable
+                .iter()
+                .find(|(b, _)| *b == t.binding)
+                .map(|(_, f)| *f)
+                .unwrap_or(true);
             entries.push(wgpu::BindGroupLayoutEntry {
                 binding: t.binding,
                 visibility: wgpu::ShaderStages::FRAGMENT,
@@ -380,7 +446,11 @@ impl Engine {
             entries.push(wgpu::BindGroupLayoutEntry {
                 binding: *binding,
                 visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Sampler(if *filtering { wgpu::SamplerBindingType::Filtering } else { wgpu::SamplerBindingType::NonFiltering }),
+                ty: wgpu::BindingType::Sampler(if *filtering {
+                    wgpu::SamplerBindingType::Filtering
+                } else {
+                    wgpu::SamplerBindingType::NonFiltering
+                }),
                 count: None,
             });
         }
@@ -453,9 +523,18 @@ impl Engine {
                     Wrap::Repeat => wgpu::AddressMode::Repeat,
                     Wrap::Mirror => wgpu::AddressMode::MirrorRepeat,
                 };
-                let filter = if filtering && s.filter == Filter::Linear { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest };
+                let filter = if filtering && s.filter == Filter::Linear {
+                    wgpu::FilterMode::Linear
+                } else {
+                    wgpu::FilterMode::Nearest
+                };
                 self.ctx.device.create_sampler(&wgpu::SamplerDescriptor {
-                    label: Some(&format!("sampler {} {}/{}", s.filter.name(), s.wrap_u.name(), s.wrap_v.name())),
+                    label: Some(&format!(
+                        "sampler {} {}/{}",
+                        s.filter.name(),
+                        s.wrap_u.name(),
+                        s.wrap_v.name()
+                    )),
                     address_mode_u: mode(s.wrap_u),
                     address_mode_v: mode(s.wrap_v),
                     address_mode_w: wgpu::AddressMode::ClampToEdge,
@@ -481,12 +560,18 @@ impl Engine {
         };
         self.ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d { width: d.width, height: d.height, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: d.width,
+                height: d.height,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats,
         })
     }
@@ -496,17 +581,37 @@ impl Prepared {
     /// Run one frame: every step of the plan, writing the result into `output`
     /// (a texture of `plan.output`'s size and format with RENDER_ATTACHMENT usage).
     /// Returns per-pass timings.
-    pub fn run(&mut self, engine: &mut Engine, inputs: &FrameInputs, output: &wgpu::Texture, want_timings: bool) -> Result<Vec<PassTiming>, ExecError> {
+    pub fn run(
+        &mut self,
+        engine: &mut Engine,
+        inputs: &FrameInputs,
+        output: &wgpu::Texture,
+        want_timings: bool,
+    ) -> Result<Vec<PassTiming>, ExecError> {
         let out_fmt = wgpu_format(self.plan.output.format);
-        if output.format() != out_fmt && output.format().remove_srgb_suffix() != out_fmt.remove_srgb_suffix() {
-            return Err(ExecError::Input(format!("output texture is {:?}, the plan renders {:?}", output.format(), out_fmt)));
+        if output.format() != out_fmt
+            && output.format().remove_srgb_suffix() != out_fmt.remove_srgb_suffix()
+        {
+            return Err(ExecError::Input(format!(
+                "output texture is {:?}, the plan renders {:?}",
+                output.format(),
+                out_fmt
+            )));
         }
-        for (frame, _) in self.plan.passes.iter().flat_map(|p| p.inputs.iter()).filter_map(|i| match i.resource {
-            Resource::Input { frame } => Some((frame, ())),
-            _ => None,
-        }) {
+        for (frame, _) in self
+            .plan
+            .passes
+            .iter()
+            .flat_map(|p| p.inputs.iter())
+            .filter_map(|i| match i.resource {
+                Resource::Input { frame } => Some((frame, ())),
+                _ => None,
+            })
+        {
             if !inputs.frames.contains_key(&frame) {
-                return Err(ExecError::Input(format!("input frame {frame:+} not provided")));
+                return Err(ExecError::Input(format!(
+                    "input frame {frame:+} not provided"
+                )));
             }
         }
         let ctx = engine.ctx.clone();
@@ -519,7 +624,11 @@ impl Prepared {
             inv_proj: IDENTITY,
             ..Default::default()
         };
-        let timer = if want_timings { self.timer.take() } else { None };
+        let timer = if want_timings {
+            self.timer.take()
+        } else {
+            None
+        };
         let mut timings = Vec::new();
         let mut to_release: Vec<wgpu::Texture> = Vec::new();
         let mut pass_i = 0usize;
@@ -529,7 +638,10 @@ impl Prepared {
                     Step::Alloc { slot, .. } => {
                         if self.slots[slot].is_none() {
                             let d = self.plan.slots[slot];
-                            self.slots[slot] = Some(engine.create_texture(&format!("transient t{slot} {}x{} {}", d.width, d.height, d.format), d));
+                            self.slots[slot] = Some(engine.create_texture(
+                                &format!("transient t{slot} {}x{} {}", d.width, d.height, d.format),
+                                d,
+                            ));
                         }
                     }
                     Step::Free { slot, release, .. } => {
@@ -542,7 +654,16 @@ impl Prepared {
                     Step::Run { pass } => {
                         let t0 = Instant::now();
                         let p = self.plan.passes[pass].clone();
-                        self.encode_pass(engine, &ctx, pass, &p, inputs, output, &std_base, timer.as_ref().map(|t| (t, pass_i as u32)))?;
+                        self.encode_pass(
+                            engine,
+                            &ctx,
+                            pass,
+                            &p,
+                            inputs,
+                            output,
+                            &std_base,
+                            timer.as_ref().map(|t| (t, pass_i as u32)),
+                        )?;
                         pass_i += 1;
                         // Textures whose last reader was this pass go back now.
                         for t in to_release.drain(..) {
@@ -563,7 +684,11 @@ impl Prepared {
         })();
         if let Some(t) = &timer {
             if result.is_ok() {
-                let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fxgraph timestamps resolve") });
+                let mut enc = ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("fxgraph timestamps resolve"),
+                    });
                 t.resolve(&mut enc, pass_i as u32);
                 ctx.queue.submit([enc.finish()]);
                 if let Ok(ms) = t.read_ms(&ctx, pass_i as u32) {
@@ -579,7 +704,10 @@ impl Prepared {
         result?;
         let errors = ctx.take_uncaptured_errors();
         if let Some(e) = errors.first() {
-            return Err(ExecError::Gpu(GpuError::Validation { what: "frame".into(), message: e.clone() }));
+            return Err(ExecError::Gpu(GpuError::Validation {
+                what: "frame".into(),
+                message: e.clone(),
+            }));
         }
         // Feedback rings: this frame's output becomes "one frame ago".
         for (r, ring) in self.rings.iter().enumerate() {
@@ -590,11 +718,24 @@ impl Prepared {
         Ok(timings)
     }
 
-    fn texture_for<'t>(&'t self, r: &Resource, inputs: &'t FrameInputs, output: &'t wgpu::Texture) -> Result<&'t wgpu::Texture, ExecError> {
+    fn texture_for<'t>(
+        &'t self,
+        r: &Resource,
+        inputs: &'t FrameInputs,
+        output: &'t wgpu::Texture,
+    ) -> Result<&'t wgpu::Texture, ExecError> {
         Ok(match r {
-            Resource::Input { frame } => inputs.frames.get(frame).copied().ok_or_else(|| ExecError::Input(format!("input frame {frame:+} not provided")))?,
-            Resource::Aux(name) => inputs.aux.get(name).copied().ok_or_else(|| ExecError::Input(format!("auxiliary input `{name}` not provided")))?,
-            Resource::Value(v) => self.slots[self.plan.values[*v].slot].as_ref().expect("allocated before use"),
+            Resource::Input { frame } => {
+                inputs.frames.get(frame).copied().ok_or_else(|| {
+                    ExecError::Input(format!("input frame {frame:+} not provided"))
+                })?
+            }
+            Resource::Aux(name) => inputs.aux.get(name).copied().ok_or_else(|| {
+                ExecError::Input(format!("auxiliary input `{name}` not provided"))
+            })?,
+            Resource::Value(v) => self.slots[self.plan.values[*v].slot]
+                .as_ref()
+                .expect("allocated before use"),
             Resource::Persistent { ring, back } => {
                 let n = self.rings[*ring].len();
                 &self.rings[*ring][(self.ring_head[*ring] + *back as usize) % n]
@@ -617,7 +758,11 @@ impl Prepared {
     ) -> Result<(), ExecError> {
         let gp = &self.passes[index];
         let target = self.texture_for(&p.output, inputs, output)?;
-        let samplers: Vec<(u32, wgpu::Sampler)> = gp.samplers.iter().map(|(b, s, f)| (*b, engine.sampler(*s, *f))).collect();
+        let samplers: Vec<(u32, wgpu::Sampler)> = gp
+            .samplers
+            .iter()
+            .map(|(b, s, f)| (*b, engine.sampler(*s, *f)))
+            .collect();
         ctx.scoped(&gp.path, |device| -> Result<(), ExecError> {
             let mut views = Vec::new();
             for (binding, ii) in &gp.textures {
@@ -632,19 +777,32 @@ impl Prepared {
             }
             let std = StdContext {
                 out_size: (p.desc.width, p.desc.height),
-                input_sizes: p.inputs.iter().map(|i| (i.desc.width, i.desc.height)).collect(),
+                input_sizes: p
+                    .inputs
+                    .iter()
+                    .map(|i| (i.desc.width, i.desc.height))
+                    .collect(),
                 ..std_base.clone()
             };
             let mut entries: Vec<wgpu::BindGroupEntry> = Vec::new();
             for (b, v) in &views {
-                entries.push(wgpu::BindGroupEntry { binding: *b, resource: wgpu::BindingResource::TextureView(v) });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: *b,
+                    resource: wgpu::BindingResource::TextureView(v),
+                });
             }
             for (b, s) in &samplers {
-                entries.push(wgpu::BindGroupEntry { binding: *b, resource: wgpu::BindingResource::Sampler(s) });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: *b,
+                    resource: wgpu::BindingResource::Sampler(s),
+                });
             }
             if let Some((b, layout, buffer)) = &gp.uniform {
                 ctx.queue.write_buffer(buffer, 0, &layout.write(&std));
-                entries.push(wgpu::BindGroupEntry { binding: *b, resource: buffer.as_entire_binding() });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: *b,
+                    resource: buffer.as_entire_binding(),
+                });
             }
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(&format!("{} bind group", gp.path)),
@@ -656,7 +814,9 @@ impl Prepared {
                 format: Some(wgpu_format(p.desc.format)),
                 ..Default::default()
             });
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&gp.path) });
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some(&gp.path),
+            });
             {
                 let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some(&gp.path),
@@ -666,7 +826,9 @@ impl Prepared {
                         resolve_target: None,
                         ops: wgpu::Operations {
                             // SAFETY: the fullscreen triangle writes every pixel of the target.
-                            load: wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() }),
+                            load: wgpu::LoadOp::DontCare(unsafe {
+                                wgpu::LoadOpDontCare::enabled()
+                            }),
                             store: wgpu::StoreOp::Store,
                         },
                     })],
@@ -692,4 +854,6 @@ impl Prepared {
     }
 }
 
-const IDENTITY: [f32; 16] = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+const IDENTITY: [f32; 16] = [
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+];

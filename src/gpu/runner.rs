@@ -66,27 +66,50 @@ impl Effect {
     pub fn compile(effects: &[String], overrides: &[String]) -> Result<Effect, RunError> {
         let req = CompileRequest {
             effects: effects.to_vec(),
-            overrides: overrides.iter().map(|a| Override { arg: a.clone() }).collect(),
+            overrides: overrides
+                .iter()
+                .map(|a| Override { arg: a.clone() })
+                .collect(),
             search_dirs: Vec::new(),
         };
         let (graph, diags, sources) = compile(&req);
         match graph {
-            Some(graph) if !diags.has_errors() => Ok(Effect { graph, sources, warnings: diags }),
-            _ => Err(RunError::Rejected { rendered: diags.render(&sources) }),
+            Some(graph) if !diags.has_errors() => Ok(Effect {
+                graph,
+                sources,
+                warnings: diags,
+            }),
+            _ => Err(RunError::Rejected {
+                rendered: diags.render(&sources),
+            }),
         }
     }
 
     /// Plan for `input` and prepare on `engine`; the output is rendered in
     /// `output_format` (None: the output pass's own format).
-    pub fn prepare(&mut self, engine: &mut Engine, input: &InputDesc, output_format: Option<Format>) -> Result<Prepared, RunError> {
-        let opts = PlanOptions { output_format, ..Default::default() };
-        let (p, notes) = plan(&self.graph, input, &opts).map_err(|d| RunError::Rejected { rendered: d.render(&self.sources) })?;
+    pub fn prepare(
+        &mut self,
+        engine: &mut Engine,
+        input: &InputDesc,
+        output_format: Option<Format>,
+    ) -> Result<Prepared, RunError> {
+        let opts = PlanOptions {
+            output_format,
+            ..Default::default()
+        };
+        let (p, notes) = plan(&self.graph, input, &opts).map_err(|d| RunError::Rejected {
+            rendered: d.render(&self.sources),
+        })?;
         self.warnings.extend(notes);
-        engine.prepare(&self.graph, p, &mut self.sources).map_err(|e| match e {
-            ExecError::Rejected(d) => RunError::Rejected { rendered: d.render(&self.sources) },
-            ExecError::Gpu(g) => RunError::Gpu(g),
-            ExecError::Input(s) => RunError::Other(s),
-        })
+        engine
+            .prepare(&self.graph, p, &mut self.sources)
+            .map_err(|e| match e {
+                ExecError::Rejected(d) => RunError::Rejected {
+                    rendered: d.render(&self.sources),
+                },
+                ExecError::Gpu(g) => RunError::Gpu(g),
+                ExecError::Input(s) => RunError::Other(s),
+            })
     }
 }
 
@@ -100,25 +123,47 @@ pub fn input_format(img: &Image, assume_linear: bool) -> (Format, ColorSpace) {
 }
 
 /// Upload an image as a texture of `format` (from [`input_format`]).
-pub fn upload_image(ctx: &GpuContext, label: &str, img: &Image, format: Format) -> Result<wgpu::Texture, GpuError> {
+pub fn upload_image(
+    ctx: &GpuContext,
+    label: &str,
+    img: &Image,
+    format: Format,
+) -> Result<wgpu::Texture, GpuError> {
     let bytes: Vec<u8> = match (&img.pixels, format) {
         (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
-        (Pixels::F32(v), Format::Rgba16f) => v.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect(),
+        (Pixels::F32(v), Format::Rgba16f) => v
+            .iter()
+            .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
+            .collect(),
         (Pixels::F32(v), Format::Rgba32f) => v.iter().flat_map(|&x| x.to_le_bytes()).collect(),
         (p, f) => {
             let lin = p.to_f32_linear(false);
             match f {
-                Format::Rgba16f => lin.iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect(),
+                Format::Rgba16f => lin
+                    .iter()
+                    .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
+                    .collect(),
                 _ => lin.iter().flat_map(|&x| x.to_le_bytes()).collect(),
             }
         }
     };
-    ctx.upload_texture(label, img.width, img.height, wgpu_format(format), &bytes, wgpu::TextureUsages::empty())
+    ctx.upload_texture(
+        label,
+        img.width,
+        img.height,
+        wgpu_format(format),
+        &bytes,
+        wgpu::TextureUsages::empty(),
+    )
 }
 
 /// The output texture format for a file: 8-bit files get rgba8-srgb (rgba8 with
 /// `assume_linear`), 16-bit and half EXR rgba16f, 32-bit EXR rgba32f.
-pub fn output_format_for(path: &Path, bit_depth: Option<u8>, assume_linear: bool) -> Result<Format, IoError> {
+pub fn output_format_for(
+    path: &Path,
+    bit_depth: Option<u8>,
+    assume_linear: bool,
+) -> Result<Format, IoError> {
     let ff = FileFormat::from_path(path).ok_or_else(|| IoError::Unsupported {
         path: path.to_path_buf(),
         message: "unknown output file type (use .png, .jpg, .exr, .tif, ...)".into(),
@@ -127,7 +172,11 @@ pub fn output_format_for(path: &Path, bit_depth: Option<u8>, assume_linear: bool
     if !ff.supports_bit_depth(bits) {
         return Err(IoError::Unsupported {
             path: path.to_path_buf(),
-            message: format!("{} files cannot have {bits}-bit channels (supported: {:?})", ff.name(), ff.bit_depths()),
+            message: format!(
+                "{} files cannot have {bits}-bit channels (supported: {:?})",
+                ff.name(),
+                ff.bit_depths()
+            ),
         });
     }
     Ok(match (ff, bits) {
@@ -140,13 +189,29 @@ pub fn output_format_for(path: &Path, bit_depth: Option<u8>, assume_linear: bool
 }
 
 /// Read a texture back as pixels (U8 for 8-bit formats, linear F32 otherwise).
-pub fn read_pixels(ctx: &GpuContext, texture: &wgpu::Texture, format: Format) -> Result<Pixels, GpuError> {
+pub fn read_pixels(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    format: Format,
+) -> Result<Pixels, GpuError> {
     let raw = ctx.read_texture(texture)?;
     Ok(match format {
         Format::Rgba8 | Format::Rgba8Srgb => Pixels::U8(raw),
-        Format::Rgba16f => Pixels::F32(raw.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect()),
-        Format::Rgba32f => Pixels::F32(raw.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()),
-        other => return Err(GpuError::Map(format!("cannot read back {other} as an image"))),
+        Format::Rgba16f => Pixels::F32(
+            raw.chunks_exact(2)
+                .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
+                .collect(),
+        ),
+        Format::Rgba32f => Pixels::F32(
+            raw.chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        ),
+        other => {
+            return Err(GpuError::Map(format!(
+                "cannot read back {other} as an image"
+            )))
+        }
     })
 }
 
@@ -154,12 +219,18 @@ pub fn read_pixels(ctx: &GpuContext, texture: &wgpu::Texture, format: Format) ->
 pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some("fxgraph output"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: wgpu_format(format),
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     })
 }
@@ -208,7 +279,11 @@ fn ms(d: Duration) -> f64 {
 }
 
 /// Apply an effect chain to an image file and write the result atomically.
-pub fn apply_to_image(job: &ImageJob, engine: Option<&mut Engine>, adapter: &super::context::AdapterChoice) -> Result<JobReport, RunError> {
+pub fn apply_to_image(
+    job: &ImageJob,
+    engine: Option<&mut Engine>,
+    adapter: &super::context::AdapterChoice,
+) -> Result<JobReport, RunError> {
     let t_all = Instant::now();
     let mut report = JobReport::default();
     let t = Instant::now();
@@ -217,14 +292,27 @@ pub fn apply_to_image(job: &ImageJob, engine: Option<&mut Engine>, adapter: &sup
     // Fail on the output path before doing the work.
     let out_format = output_format_for(&job.output, job.bit_depth, job.assume_linear)?;
     let t = Instant::now();
-    let img = io::load_image(&job.input, &LoadOptions { assume_linear: job.assume_linear })?;
+    let img = io::load_image(
+        &job.input,
+        &LoadOptions {
+            assume_linear: job.assume_linear,
+        },
+    )?;
     let mut aux_imgs = Vec::new();
     for (name, path) in &job.aux {
-        let a = io::load_image(path, &LoadOptions { assume_linear: job.assume_linear })?;
+        let a = io::load_image(
+            path,
+            &LoadOptions {
+                assume_linear: job.assume_linear,
+            },
+        )?;
         if (a.width, a.height) != (img.width, img.height) {
             return Err(RunError::BadInput(IoError::Unsupported {
                 path: path.clone(),
-                message: format!("auxiliary image is {}x{}, the input is {}x{}", a.width, a.height, img.width, img.height),
+                message: format!(
+                    "auxiliary image is {}x{}, the input is {}x{}",
+                    a.width, a.height, img.width, img.height
+                ),
             }));
         }
         aux_imgs.push((name.clone(), a));
@@ -243,12 +331,25 @@ pub fn apply_to_image(job: &ImageJob, engine: Option<&mut Engine>, adapter: &sup
     report.adapter = engine.ctx.info.name.clone();
     report.backend = format!("{:?}", engine.ctx.info.backend);
     let (in_format, in_cs) = input_format(&img, job.assume_linear);
-    let aux_desc: Vec<(String, Format)> = aux_imgs.iter().map(|(n, a)| (n.clone(), input_format(a, job.assume_linear).0)).collect();
-    let desc = InputDesc { width: img.width, height: img.height, format: in_format, colorspace: in_cs, aux: aux_desc };
+    let aux_desc: Vec<(String, Format)> = aux_imgs
+        .iter()
+        .map(|(n, a)| (n.clone(), input_format(a, job.assume_linear).0))
+        .collect();
+    let desc = InputDesc {
+        width: img.width,
+        height: img.height,
+        format: in_format,
+        colorspace: in_cs,
+        aux: aux_desc,
+    };
     let t = Instant::now();
     let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
     report.pipeline_ms = ms(t.elapsed());
-    report.warnings = if effect.warnings.is_empty() { String::new() } else { effect.warnings.render(&effect.sources) };
+    report.warnings = if effect.warnings.is_empty() {
+        String::new()
+    } else {
+        effect.warnings.render(&effect.sources)
+    };
     report.peak_bytes = prepared.plan.peak_bytes;
     report.lower_bound_bytes = prepared.plan.lower_bound_bytes;
     report.naive_bytes = prepared.plan.naive_bytes;
@@ -258,7 +359,10 @@ pub fn apply_to_image(job: &ImageJob, engine: Option<&mut Engine>, adapter: &sup
     let mut aux_tex = Vec::new();
     for (name, a) in &aux_imgs {
         let f = input_format(a, job.assume_linear).0;
-        aux_tex.push((name.clone(), upload_image(&ctx, &format!("aux {name}"), a, f)?));
+        aux_tex.push((
+            name.clone(),
+            upload_image(&ctx, &format!("aux {name}"), a, f)?,
+        ));
     }
     let out = prepared.plan.output;
     let output_tex = create_output(&ctx, out.width, out.height, out.format);
@@ -268,19 +372,90 @@ pub fn apply_to_image(job: &ImageJob, engine: Option<&mut Engine>, adapter: &sup
     for (n, tex) in &aux_tex {
         inputs.aux.insert(n.clone(), tex);
     }
-    report.passes = prepared.run(engine, &inputs, &output_tex, job.timings).map_err(|e| match e {
-        ExecError::Gpu(g) => RunError::Gpu(g),
-        other => RunError::Other(other.to_string()),
-    })?;
+    report.passes = prepared
+        .run(engine, &inputs, &output_tex, job.timings)
+        .map_err(|e| match e {
+            ExecError::Gpu(g) => RunError::Gpu(g),
+            other => RunError::Other(other.to_string()),
+        })?;
     report.passes_ms = ms(t.elapsed());
     let t = Instant::now();
     let pixels = read_pixels(&ctx, &output_tex, out.format)?;
     report.readback_ms = ms(t.elapsed());
     let t = Instant::now();
-    io::save_image(&job.output, out.width, out.height, &pixels, &SaveOptions { bit_depth: job.bit_depth, assume_linear: job.assume_linear })?;
+    io::save_image(
+        &job.output,
+        out.width,
+        out.height,
+        &pixels,
+        &SaveOptions {
+            bit_depth: job.bit_depth,
+            assume_linear: job.assume_linear,
+        },
+    )?;
     report.encode_ms = ms(t.elapsed());
     report.width = out.width;
     report.height = out.height;
     report.total_ms = ms(t_all.elapsed());
     Ok(report)
+}
+
+/// Apply an effect chain to an in-memory image on `engine`; returns the output
+/// size and pixels read back in `out_format` (rgba8-srgb gives sRGB-encoded U8,
+/// rgba16f/rgba32f give linear F32). Used by tests and Rust programs.
+pub fn apply_in_memory(
+    engine: &mut Engine,
+    effects: &[String],
+    overrides: &[String],
+    img: &Image,
+    aux: &[(String, &Image)],
+    out_format: Format,
+    assume_linear: bool,
+) -> Result<(u32, u32, Pixels), RunError> {
+    let mut effect = Effect::compile(effects, overrides)?;
+    let (in_format, in_cs) = input_format(img, assume_linear);
+    let desc = InputDesc {
+        width: img.width,
+        height: img.height,
+        format: in_format,
+        colorspace: in_cs,
+        aux: aux
+            .iter()
+            .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
+            .collect(),
+    };
+    let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
+    let ctx = engine.ctx.clone();
+    let input_tex = upload_image(&ctx, "fxgraph input", img, in_format)?;
+    let aux_tex: Vec<(String, wgpu::Texture)> = aux
+        .iter()
+        .map(|(n, a)| {
+            Ok((
+                n.clone(),
+                upload_image(
+                    &ctx,
+                    &format!("aux {n}"),
+                    a,
+                    input_format(a, assume_linear).0,
+                )?,
+            ))
+        })
+        .collect::<Result<_, GpuError>>()?;
+    let out = prepared.plan.output;
+    let output_tex = create_output(&ctx, out.width, out.height, out.format);
+    let mut inputs = FrameInputs::single(&input_tex);
+    for (n, t) in &aux_tex {
+        inputs.aux.insert(n.clone(), t);
+    }
+    prepared
+        .run(engine, &inputs, &output_tex, false)
+        .map_err(|e| match e {
+            ExecError::Gpu(g) => RunError::Gpu(g),
+            other => RunError::Other(other.to_string()),
+        })?;
+    Ok((
+        out.width,
+        out.height,
+        read_pixels(&ctx, &output_tex, out.format)?,
+    ))
 }

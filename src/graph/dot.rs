@@ -21,7 +21,11 @@ pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
         let id = n.index();
         match &g[n] {
             Node::Input { .. } | Node::Aux { .. } => {
-                let _ = writeln!(out, "  n{id} [label=\"{}\", shape=ellipse, style=filled, fillcolor=\"#e8f0ff\"];", esc(&graph.label(n)));
+                let _ = writeln!(
+                    out,
+                    "  n{id} [label=\"{}\", shape=ellipse, style=filled, fillcolor=\"#e8f0ff\"];",
+                    esc(&graph.label(n))
+                );
             }
             Node::Output => {
                 let _ = writeln!(out, "  n{id} [label=\"OUT\", shape=doublecircle];");
@@ -29,20 +33,28 @@ pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
             Node::Feedback { .. } => {}
             Node::Pass(p) => {
                 let live = graph.schedule.contains(&n);
-                let detail = match plan.and_then(|pl| pl.passes.iter().find(|pp| pp.node == Some(n))) {
-                    Some(pp) => format!("{}x{} {} {}", pp.desc.width, pp.desc.height, pp.desc.format, pp.colorspace),
-                    None => {
-                        let size = match &p.size {
-                            super::SizeRule::Absolute(w, h) => format!("{w}x{h}"),
-                            super::SizeRule::Scale { sx, sy, of } => format!("{sx}x{sy} of {}", graph.label(*of)),
-                        };
-                        let format = match &p.format {
-                            super::FormatRule::Fixed(f) => f.name().to_string(),
-                            super::FormatRule::SameAs(of) => format!("format of {}", graph.label(*of)),
-                        };
-                        format!("{size} {format} {}", p.colorspace)
-                    }
-                };
+                let detail =
+                    match plan.and_then(|pl| pl.passes.iter().find(|pp| pp.node == Some(n))) {
+                        Some(pp) => format!(
+                            "{}x{} {} {}",
+                            pp.desc.width, pp.desc.height, pp.desc.format, pp.colorspace
+                        ),
+                        None => {
+                            let size = match &p.size {
+                                super::SizeRule::Absolute(w, h) => format!("{w}x{h}"),
+                                super::SizeRule::Scale { sx, sy, of } => {
+                                    format!("{sx}x{sy} of {}", graph.label(*of))
+                                }
+                            };
+                            let format = match &p.format {
+                                super::FormatRule::Fixed(f) => f.name().to_string(),
+                                super::FormatRule::SameAs(of) => {
+                                    format!("format of {}", graph.label(*of))
+                                }
+                            };
+                            format!("{size} {format} {}", p.colorspace)
+                        }
+                    };
                 let style = if live { "filled" } else { "dashed" };
                 let _ = writeln!(
                     out,
@@ -57,7 +69,11 @@ pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
     for e in g.edge_references() {
         let (s, t) = (e.source(), e.target());
         let label = match &g[t] {
-            Node::Pass(p) => p.inputs.get(e.weight().input).map(|i| i.name.clone()).unwrap_or_default(),
+            Node::Pass(p) => p
+                .inputs
+                .get(e.weight().input)
+                .map(|i| i.name.clone())
+                .unwrap_or_default(),
             _ => String::new(),
         };
         match &g[s] {
@@ -71,7 +87,13 @@ pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
                 );
             }
             _ => {
-                let _ = writeln!(out, "  n{} -> n{} [label=\"{}\"];", s.index(), t.index(), esc(&label));
+                let _ = writeln!(
+                    out,
+                    "  n{} -> n{} [label=\"{}\"];",
+                    s.index(),
+                    t.index(),
+                    esc(&label)
+                );
             }
         }
     }

@@ -17,7 +17,10 @@ pub fn builtin_effects() -> Vec<(String, String)> {
         let m = parse_module(&sources, id, &mut diags);
         let stem = file.trim_end_matches(".fx");
         if let Some(e) = main_effect(&m, stem) {
-            out.push((e.name.node.clone(), first_line(e.description.as_deref().unwrap_or(""))));
+            out.push((
+                e.name.node.clone(),
+                first_line(e.description.as_deref().unwrap_or("")),
+            ));
         }
     }
     out.sort();
@@ -30,12 +33,18 @@ fn first_line(s: &str) -> String {
 
 /// The embedded text of `effects/<name>`.
 pub fn embedded_effect(file_name: &str) -> Option<&'static str> {
-    EMBEDDED_EFFECTS.iter().find(|(n, _)| *n == file_name).map(|(_, t)| *t)
+    EMBEDDED_EFFECTS
+        .iter()
+        .find(|(n, _)| *n == file_name)
+        .map(|(_, t)| *t)
 }
 
 /// The embedded text of `shaders/<name>`.
 pub fn embedded_shader(file_name: &str) -> Option<&'static str> {
-    EMBEDDED_SHADERS.iter().find(|(n, _)| *n == file_name).map(|(_, t)| *t)
+    EMBEDDED_SHADERS
+        .iter()
+        .find(|(n, _)| *n == file_name)
+        .map(|(_, t)| *t)
 }
 
 /// The effect a file stands for: the one named like the file, else the last one.
@@ -75,9 +84,16 @@ impl Loader {
         let as_file = path.extension().is_some_and(|e| e == "fx") || path.components().count() > 1;
         let idx = if as_file || path.is_file() {
             match std::fs::read_to_string(path) {
-                Ok(text) => self.add_module(Origin::Disk(path.to_path_buf()), arg.to_string(), text, diags),
+                Ok(text) => self.add_module(
+                    Origin::Disk(path.to_path_buf()),
+                    arg.to_string(),
+                    text,
+                    diags,
+                ),
                 Err(e) => {
-                    diags.push(Diagnostic::error(format!("cannot read effect file `{arg}`: {e}")));
+                    diags.push(Diagnostic::error(format!(
+                        "cannot read effect file `{arg}`: {e}"
+                    )));
                     return None;
                 }
             }
@@ -85,9 +101,14 @@ impl Loader {
             match self.find_named(arg, diags) {
                 Some(i) => i,
                 None => {
-                    let names: Vec<String> = builtin_effects().into_iter().map(|(n, _)| n).collect();
-                    let mut d = Diagnostic::error(format!("no effect file or built-in effect named `{arg}`"));
-                    if let Some(s) = crate::script::ast::suggest(arg, names.iter().map(|s| s.as_str())) {
+                    let names: Vec<String> =
+                        builtin_effects().into_iter().map(|(n, _)| n).collect();
+                    let mut d = Diagnostic::error(format!(
+                        "no effect file or built-in effect named `{arg}`"
+                    ));
+                    if let Some(s) =
+                        crate::script::ast::suggest(arg, names.iter().map(|s| s.as_str()))
+                    {
                         d = d.note(format!("did you mean `{s}`?"));
                     }
                     diags.push(d.note(format!("built-in effects: {}", names.join(", "))));
@@ -95,7 +116,11 @@ impl Loader {
                 }
             }
         };
-        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or(arg).to_string();
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or(arg)
+            .to_string();
         let name = main_effect(&self.modules[idx].1, &stem).map(|e| e.name.node.clone());
         match name {
             Some(n) => Some((idx, n)),
@@ -117,12 +142,26 @@ impl Loader {
             }
         }
         let text = embedded_effect(&file)?;
-        Some(self.add_module(Origin::Embedded(file.clone()), format!("<builtin>/effects/{file}"), text.to_string(), diags))
+        Some(self.add_module(
+            Origin::Embedded(file.clone()),
+            format!("<builtin>/effects/{file}"),
+            text.to_string(),
+            diags,
+        ))
     }
 
-    fn add_module(&mut self, origin: Origin, shown: String, text: String, diags: &mut Diagnostics) -> usize {
+    fn add_module(
+        &mut self,
+        origin: Origin,
+        shown: String,
+        text: String,
+        diags: &mut Diagnostics,
+    ) -> usize {
         let key = match &origin {
-            Origin::Disk(p) => std::fs::canonicalize(p).unwrap_or(p.clone()).display().to_string(),
+            Origin::Disk(p) => std::fs::canonicalize(p)
+                .unwrap_or(p.clone())
+                .display()
+                .to_string(),
             Origin::Embedded(n) => format!("<builtin>/{n}"),
         };
         if let Some(&i) = self.loaded.get(&key) {
@@ -149,14 +188,24 @@ impl Loader {
                 return;
             }
         }
-        let file = Path::new(target).file_name().and_then(|f| f.to_str()).unwrap_or(target);
+        let file = Path::new(target)
+            .file_name()
+            .and_then(|f| f.to_str())
+            .unwrap_or(target);
         if let Some(text) = embedded_effect(file) {
-            self.add_module(Origin::Embedded(file.to_string()), format!("<builtin>/effects/{file}"), text.to_string(), diags);
+            self.add_module(
+                Origin::Embedded(file.to_string()),
+                format!("<builtin>/effects/{file}"),
+                text.to_string(),
+                diags,
+            );
             return;
         }
         diags.push(
-            Diagnostic::error(format!("cannot find included file `{target}`"))
-                .at(span, "no such file next to this one, nor in the built-in library"),
+            Diagnostic::error(format!("cannot find included file `{target}`")).at(
+                span,
+                "no such file next to this one, nor in the built-in library",
+            ),
         );
     }
 
@@ -173,7 +222,10 @@ impl Loader {
 
     fn find_loaded(&self, name: &str) -> Option<(usize, usize)> {
         self.modules.iter().enumerate().find_map(|(mi, (_, m))| {
-            m.effects.iter().position(|e| e.name.node == name).map(|ei| (mi, ei))
+            m.effects
+                .iter()
+                .position(|e| e.name.node == name)
+                .map(|ei| (mi, ei))
         })
     }
 

@@ -104,10 +104,17 @@ pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) 
     let input0 = lw.input_node(0);
     let _ = input0;
     for (_, name) in &entries {
-        let at = lw.loader.effect(name, &mut Diagnostics::default()).expect("entry effect is loaded");
+        let at = lw
+            .loader
+            .effect(name, &mut Diagnostics::default())
+            .expect("entry effect is loaded");
         let count = namespaces.entry(name.clone()).or_insert(0);
         *count += 1;
-        let ns = if *count == 1 { name.clone() } else { format!("{name}#{count}") };
+        let ns = if *count == 1 {
+            name.clone()
+        } else {
+            format!("{name}#{count}")
+        };
         let def = lw.loader.effect_def(at).clone();
         descriptions.push((ns.clone(), def.description.clone().unwrap_or_default()));
         let args = lw.top_level_args(&def, &ns);
@@ -119,10 +126,16 @@ pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) 
     }
     for o in &lw.overrides {
         if !o.used {
-            let what = if o.path.is_empty() { o.name.clone() } else { format!("{}.{}", o.path, o.name) };
+            let what = if o.path.is_empty() {
+                o.name.clone()
+            } else {
+                format!("{}.{}", o.path, o.name)
+            };
             let names: Vec<String> = lw.params.iter().map(|p| p.name.clone()).collect();
-            let mut d = Diagnostic::error(format!("`--set {what}`: no effect or pass parameter of that name"))
-                .at(o.key_span, "unknown parameter");
+            let mut d = Diagnostic::error(format!(
+                "`--set {what}`: no effect or pass parameter of that name"
+            ))
+            .at(o.key_span, "unknown parameter");
             if let Some(s) = ast::suggest(&o.name, names.iter().map(|s| s.as_str())) {
                 d = d.note(format!("did you mean `{s}`?"));
             } else if !names.is_empty() {
@@ -165,7 +178,11 @@ pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) 
     (Some(graph), diags, loader.sources)
 }
 
-fn parse_overrides(list: &[Override], loader: &mut Loader, diags: &mut Diagnostics) -> Vec<ParsedOverride> {
+fn parse_overrides(
+    list: &[Override],
+    loader: &mut Loader,
+    diags: &mut Diagnostics,
+) -> Vec<ParsedOverride> {
     let mut out = Vec::new();
     for o in list {
         let file = loader.sources.add("--set", o.arg.clone());
@@ -183,7 +200,9 @@ fn parse_overrides(list: &[Override], loader: &mut Loader, diags: &mut Diagnosti
         };
         let key_span = Span::new(file, 0, eq);
         if name.is_empty() {
-            diags.push(Diagnostic::error("`--set` needs a parameter name").at(key_span, "empty name"));
+            diags.push(
+                Diagnostic::error("`--set` needs a parameter name").at(key_span, "empty name"),
+            );
             continue;
         }
         if let Some(value) = parse_value(file, &o.arg, eq + 1, diags) {
@@ -202,7 +221,10 @@ fn parse_overrides(list: &[Override], loader: &mut Loader, diags: &mut Diagnosti
 /// A `--set` value as a parameter argument.
 fn raw_to_arg(v: &Spanned<RawValue>) -> Option<Spanned<ParamArg>> {
     let arg = match &v.node {
-        RawValue::Number(n) => ParamArg::Literal { value: vec![*n], is_bool: false },
+        RawValue::Number(n) => ParamArg::Literal {
+            value: vec![*n],
+            is_bool: false,
+        },
         RawValue::Tuple(items) => ParamArg::Literal {
             value: items
                 .iter()
@@ -213,9 +235,17 @@ fn raw_to_arg(v: &Spanned<RawValue>) -> Option<Spanned<ParamArg>> {
                 .collect::<Option<Vec<f64>>>()?,
             is_bool: false,
         },
-        RawValue::Ref { key, frame: None } if key.is(&["true"]) => ParamArg::Literal { value: vec![1.0], is_bool: true },
-        RawValue::Ref { key, frame: None } if key.is(&["false"]) => ParamArg::Literal { value: vec![0.0], is_bool: true },
-        RawValue::Ref { key, frame: None } if key.parts.len() == 1 => ParamArg::Word(key.first().to_string()),
+        RawValue::Ref { key, frame: None } if key.is(&["true"]) => ParamArg::Literal {
+            value: vec![1.0],
+            is_bool: true,
+        },
+        RawValue::Ref { key, frame: None } if key.is(&["false"]) => ParamArg::Literal {
+            value: vec![0.0],
+            is_bool: true,
+        },
+        RawValue::Ref { key, frame: None } if key.parts.len() == 1 => {
+            ParamArg::Word(key.first().to_string())
+        }
         _ => return None,
     };
     Some(Spanned::new(arg, v.span))
@@ -257,12 +287,18 @@ impl Lowerer<'_> {
                     o.used = true;
                     let Some(arg) = raw_to_arg(&o.value) else {
                         self.diags.push(
-                            Diagnostic::error(format!("`{}` takes a {} value", decl.name.node, decl.ty.name()))
-                                .at(o.value.span, "not a parameter value"),
+                            Diagnostic::error(format!(
+                                "`{}` takes a {} value",
+                                decl.name.node,
+                                decl.ty.name()
+                            ))
+                            .at(o.value.span, "not a parameter value"),
                         );
                         continue;
                     };
-                    if let Some(v) = convert_arg(&arg, &decl.ty, decl.range, &decl.name.node, self.diags) {
+                    if let Some(v) =
+                        convert_arg(&arg, &decl.ty, decl.range, &decl.name.node, self.diags)
+                    {
                         value = v.clone();
                         args.insert(decl.name.node.clone(), (v, o.value.span));
                     }
@@ -294,11 +330,18 @@ impl Lowerer<'_> {
         // Parameter values of this instance.
         let mut values: HashMap<String, (Value, ParamType, Span)> = HashMap::new();
         for decl in &def.params {
-            let (v, span) = args.get(&decl.name.node).cloned().unwrap_or((decl.default.clone(), decl.span));
+            let (v, span) = args
+                .get(&decl.name.node)
+                .cloned()
+                .unwrap_or((decl.default.clone(), decl.span));
             values.insert(decl.name.node.clone(), (v, decl.ty.clone(), span));
         }
         let effect_in = self.node_of(in_src);
-        let effect_colorspace = def.colorspace.as_ref().map(|c| c.node).unwrap_or(ColorSpace::Linear);
+        let effect_colorspace = def
+            .colorspace
+            .as_ref()
+            .map(|c| c.node)
+            .unwrap_or(ColorSpace::Linear);
         // Phase 1: a node for every shader pass.
         let mut handles: HashMap<String, SourceRef> = HashMap::new();
         for p in &def.passes {
@@ -318,9 +361,18 @@ impl Lowerer<'_> {
                     inputs: Vec::new(),
                     params: Vec::new(),
                     defines: Vec::new(),
-                    size: SizeRule::Scale { sx: 1.0, sy: 1.0, of: effect_in },
+                    size: SizeRule::Scale {
+                        sx: 1.0,
+                        sy: 1.0,
+                        of: effect_in,
+                    },
                     format,
-                    colorspace: p.out.colorspace.as_ref().map(|c| c.node).unwrap_or(effect_colorspace),
+                    colorspace: p
+                        .out
+                        .colorspace
+                        .as_ref()
+                        .map(|c| c.node)
+                        .unwrap_or(effect_colorspace),
                     span: p.span,
                     name_span: p.name.span,
                 };
@@ -332,23 +384,41 @@ impl Lowerer<'_> {
         let mut in_progress = Vec::new();
         for p in &def.passes {
             if matches!(p.kind, PassKind::Effect(_)) {
-                self.effect_pass(&def, &p.name.node, ns, in_src, &values, &mut handles, &mut in_progress);
+                self.effect_pass(
+                    &def,
+                    &p.name.node,
+                    ns,
+                    in_src,
+                    &values,
+                    &mut handles,
+                    &mut in_progress,
+                );
             }
         }
         // Phase 3: inputs, sizes, parameters and defines of the shader passes.
         for p in &def.passes {
-            let PassKind::Shader(_) = &p.kind else { continue };
-            let Some(SourceRef::Pass(node, 0)) = handles.get(&p.name.node).copied() else { continue };
+            let PassKind::Shader(_) = &p.kind else {
+                continue;
+            };
+            let Some(SourceRef::Pass(node, 0)) = handles.get(&p.name.node).copied() else {
+                continue;
+            };
             let mut inputs = Vec::new();
             let mut input_refs = HashMap::new();
             for (i, inp) in p.inputs.iter().enumerate() {
-                let Some(r) = self.resolve_source(&inp.source, in_src, &handles, &def) else { continue };
+                let Some(r) = self.resolve_source(&inp.source, in_src, &handles, &def) else {
+                    continue;
+                };
                 input_refs.insert(inp.name.node.clone(), r);
                 self.edges.push((r, node, i, inp.source.span));
                 inputs.push(PassInput {
                     name: inp.name.node.clone(),
                     sampling: inp.sampling(),
-                    colorspace: inp.colorspace.as_ref().map(|c| c.node).unwrap_or(effect_colorspace),
+                    colorspace: inp
+                        .colorspace
+                        .as_ref()
+                        .map(|c| c.node)
+                        .unwrap_or(effect_colorspace),
                     span: inp.name.span.to(inp.source.span),
                 });
             }
@@ -399,11 +469,17 @@ impl Lowerer<'_> {
                 }
                 o.used = true;
                 let Some(arg) = raw_to_arg(&o.value) else {
-                    self.diags.push(Diagnostic::error("not a parameter value").at(o.value.span, "expected a number, tuple or true/false"));
+                    self.diags.push(
+                        Diagnostic::error("not a parameter value")
+                            .at(o.value.span, "expected a number, tuple or true/false"),
+                    );
                     continue;
                 };
                 let ParamArg::Literal { value, is_bool } = arg.node else {
-                    self.diags.push(Diagnostic::error("a shader parameter takes numbers").at(o.value.span, "expected a number, tuple or true/false"));
+                    self.diags.push(
+                        Diagnostic::error("a shader parameter takes numbers")
+                            .at(o.value.span, "expected a number, tuple or true/false"),
+                    );
                     continue;
                 };
                 match params.iter_mut().find(|q| q.name == o.name) {
@@ -425,11 +501,22 @@ impl Lowerer<'_> {
                 let v = match &d.value.node {
                     DefineArg::Int(i) => *i,
                     DefineArg::Param(name) => match values.get(&name.node) {
-                        Some((v, ty, _)) if v.len() == 1 && v[0].fract() == 0.0 && !matches!(ty, ParamType::Float) => v[0] as i64,
+                        Some((v, ty, _))
+                            if v.len() == 1
+                                && v[0].fract() == 0.0
+                                && !matches!(ty, ParamType::Float) =>
+                        {
+                            v[0] as i64
+                        }
                         Some((_, ty, _)) => {
                             self.diags.push(
-                                Diagnostic::error(format!("`DEFINE.{}` needs a whole number, but `{}` is {}", d.name.node, name.node, ty.name()))
-                                    .at(d.value.span, "use an INT, BOOL or ENUM parameter"),
+                                Diagnostic::error(format!(
+                                    "`DEFINE.{}` needs a whole number, but `{}` is {}",
+                                    d.name.node,
+                                    name.node,
+                                    ty.name()
+                                ))
+                                .at(d.value.span, "use an INT, BOOL or ENUM parameter"),
                             );
                             continue;
                         }
@@ -468,17 +555,24 @@ impl Lowerer<'_> {
             return Some(*h);
         }
         let p = def.pass(pass_name)?;
-        let PassKind::Effect(effect_name) = &p.kind else { return None };
+        let PassKind::Effect(effect_name) = &p.kind else {
+            return None;
+        };
         if in_progress.iter().any(|n| n == pass_name) {
             let mut chain = in_progress.clone();
             chain.push(pass_name.to_string());
-            let mut d = Diagnostic::error(format!("dependency cycle between effect instances: {}", chain.join(" → ")));
+            let mut d = Diagnostic::error(format!(
+                "dependency cycle between effect instances: {}",
+                chain.join(" → ")
+            ));
             for n in &chain[..chain.len() - 1] {
                 if let Some(q) = def.pass(n) {
                     d = d.also(q.name.span, format!("`{n}` is part of the cycle"));
                 }
             }
-            d.labels.first_mut().map(|l| l.primary = true);
+            if let Some(l) = d.labels.first_mut() {
+                l.primary = true;
+            }
             self.diags.push(d);
             return None;
         }
@@ -490,8 +584,11 @@ impl Lowerer<'_> {
                     in_binding = Some(inp);
                 } else {
                     self.diags.push(
-                        Diagnostic::error(format!("an effect instance has one input, `IN`; `{}` is not one", inp.name.node))
-                            .at(inp.name.span, "write `IN = ...`"),
+                        Diagnostic::error(format!(
+                            "an effect instance has one input, `IN`; `{}` is not one",
+                            inp.name.node
+                        ))
+                        .at(inp.name.span, "write `IN = ...`"),
                     );
                 }
             }
@@ -504,17 +601,24 @@ impl Lowerer<'_> {
             };
             // Resolve the IN source, expanding the effect pass it names first.
             if let Source::Pass { name, .. } = &in_binding.source.node {
-                if matches!(def.pass(&name.node).map(|q| &q.kind), Some(PassKind::Effect(_))) {
+                if matches!(
+                    def.pass(&name.node).map(|q| &q.kind),
+                    Some(PassKind::Effect(_))
+                ) {
                     self.effect_pass(def, &name.node, ns, in_src, values, handles, in_progress)?;
                 }
             }
             let nested_in = self.resolve_source(&in_binding.source, in_src, handles, def)?;
-            if self.stack.iter().any(|s| *s == effect_name.node) {
+            if self.stack.contains(&effect_name.node) {
                 let mut chain = self.stack.clone();
                 chain.push(effect_name.node.clone());
                 self.diags.push(
-                    Diagnostic::error(format!("effect `{}` instantiates itself: {}", effect_name.node, chain.join(" → ")))
-                        .at(effect_name.span, "recursive instance"),
+                    Diagnostic::error(format!(
+                        "effect `{}` instantiates itself: {}",
+                        effect_name.node,
+                        chain.join(" → ")
+                    ))
+                    .at(effect_name.span, "recursive instance"),
                 );
                 return None;
             }
@@ -524,10 +628,16 @@ impl Lowerer<'_> {
                     .modules
                     .iter()
                     .flat_map(|(_, m)| m.effects.iter().map(|e| e.name.node.clone()))
-                    .chain(super::library::builtin_effects().into_iter().map(|(n, _)| n))
+                    .chain(
+                        super::library::builtin_effects()
+                            .into_iter()
+                            .map(|(n, _)| n),
+                    )
                     .collect();
-                let mut d = Diagnostic::error(format!("unknown effect `{}`", effect_name.node))
-                    .at(effect_name.span, "no effect of this name in this file, its includes or the built-in library");
+                let mut d = Diagnostic::error(format!("unknown effect `{}`", effect_name.node)).at(
+                    effect_name.span,
+                    "no effect of this name in this file, its includes or the built-in library",
+                );
                 if let Some(s) = ast::suggest(&effect_name.node, known.iter().map(|s| s.as_str())) {
                     d = d.note(format!("did you mean `{s}`?"));
                 }
@@ -538,9 +648,15 @@ impl Lowerer<'_> {
             let mut args = HashMap::new();
             for s in &p.params {
                 let Some(decl) = nested.param(&s.name.node) else {
-                    let mut d = Diagnostic::error(format!("effect `{}` has no parameter `{}`", nested.name.node, s.name.node))
-                        .at(s.name.span, "unknown parameter");
-                    if let Some(sug) = ast::suggest(&s.name.node, nested.params.iter().map(|q| q.name.node.as_str())) {
+                    let mut d = Diagnostic::error(format!(
+                        "effect `{}` has no parameter `{}`",
+                        nested.name.node, s.name.node
+                    ))
+                    .at(s.name.span, "unknown parameter");
+                    if let Some(sug) = ast::suggest(
+                        &s.name.node,
+                        nested.params.iter().map(|q| q.name.node.as_str()),
+                    ) {
                         d = d.note(format!("did you mean `{sug}`?"));
                     }
                     self.diags.push(d);
@@ -551,8 +667,15 @@ impl Lowerer<'_> {
                         Some((v, ty, _)) if *ty == decl.ty => Some(v.clone()),
                         Some((_, ty, _)) => {
                             self.diags.push(
-                                Diagnostic::error(format!("`{}` is {} but `{}` of effect `{}` is {}", outer.node, ty.name(), decl.name.node, nested.name.node, decl.ty.name()))
-                                    .at(s.value.span, "type mismatch"),
+                                Diagnostic::error(format!(
+                                    "`{}` is {} but `{}` of effect `{}` is {}",
+                                    outer.node,
+                                    ty.name(),
+                                    decl.name.node,
+                                    nested.name.node,
+                                    decl.ty.name()
+                                ))
+                                .at(s.value.span, "type mismatch"),
                             );
                             None
                         }
@@ -596,7 +719,10 @@ impl Lowerer<'_> {
                     if frame > 0 {
                         diags.push(
                             Diagnostic::error("a later frame of a pass output is not available")
-                                .at(source.span, "this effect's input is a pass output, which has no later frames"),
+                                .at(
+                                source.span,
+                                "this effect's input is a pass output, which has no later frames",
+                            ),
                         );
                         None
                     } else {
@@ -617,9 +743,7 @@ impl Lowerer<'_> {
             Source::In { frame } => shift(in_src, *frame, self.diags),
             Source::Pass { name, frame } => {
                 let h = *handles.get(&name.node)?;
-                if def.pass(&name.node).is_none() {
-                    return None;
-                }
+                def.pass(&name.node)?;
                 shift(h, *frame, self.diags)
             }
             Source::Aux { name } => {
@@ -683,9 +807,17 @@ fn report_cycles(graph: &Graph, diags: &mut Diagnostics) -> bool {
             // The input of `next` that reads `n`.
             let reader = graph.pass(next);
             let edge = g.edges_connecting(n, next).next().expect("edge in cycle");
-            let span = reader.inputs.get(edge.weight().input).map(|i| i.span).unwrap_or(reader.name_span);
+            let span = reader
+                .inputs
+                .get(edge.weight().input)
+                .map(|i| i.span)
+                .unwrap_or(reader.name_span);
             let label = format!("`{}` reads `{}` here", reader.path, graph.pass(n).path);
-            d = if i == 0 { d.at(span, label) } else { d.also(span, label) };
+            d = if i == 0 {
+                d.at(span, label)
+            } else {
+                d.also(span, label)
+            };
         }
         diags.push(d.note("a pass may read an earlier frame of another pass with `PASS.name[-1]` (feedback), which is not a dependency"));
     }
@@ -711,8 +843,11 @@ fn schedule(graph: &mut Graph, diags: &mut Diagnostics) {
         if let Node::Pass(p) = &g[n] {
             if !live[n.index()] && warned.insert(p.name_span) {
                 diags.push(
-                    Diagnostic::warning(format!("pass `{}` never reaches `OUT`; it is culled", p.path))
-                        .at(p.name_span, "its output is not used"),
+                    Diagnostic::warning(format!(
+                        "pass `{}` never reaches `OUT`; it is culled",
+                        p.path
+                    ))
+                    .at(p.name_span, "its output is not used"),
                 );
             }
         }

@@ -84,7 +84,11 @@ pub enum SizeRule {
     Absolute(u32, u32),
     /// `scale` times the size of `of` (a node of the graph: the effect input or one
     /// of the pass's inputs).
-    Scale { sx: f64, sy: f64, of: NodeIndex },
+    Scale {
+        sx: f64,
+        sy: f64,
+        of: NodeIndex,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -160,7 +164,9 @@ impl Graph {
 
     /// True if any pass uses feedback (its result depends on earlier output frames).
     pub fn has_feedback(&self) -> bool {
-        self.graph.node_weights().any(|n| matches!(n, Node::Feedback { .. }))
+        self.graph
+            .node_weights()
+            .any(|n| matches!(n, Node::Feedback { .. }))
     }
 
     /// Names of the auxiliary inputs the graph reads.

@@ -99,12 +99,17 @@ impl TextureDesc {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum Resource {
     /// The input frame `frame` frames from the current one.
-    Input { frame: i32 },
+    Input {
+        frame: i32,
+    },
     Aux(String),
     /// A transient value (index into `Plan::values`).
     Value(usize),
     /// The output of `ring`'s pass `back` frames ago (0: this frame).
-    Persistent { ring: usize, back: u32 },
+    Persistent {
+        ring: usize,
+        back: u32,
+    },
     /// The output target.
     Output,
 }
@@ -132,9 +137,13 @@ pub struct PlannedInput {
 /// What a pass runs: a shader from the script, or a built-in helper.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum PassShader {
-    Script { name: String },
+    Script {
+        name: String,
+    },
     /// Colour-space conversion inserted by the compiler.
-    Convert { to: ColorSpace },
+    Convert {
+        to: ColorSpace,
+    },
     /// Copies its input to the output target (format conversion included).
     Blit,
 }
@@ -172,11 +181,21 @@ pub struct Ring {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum Step {
     /// Bind `value` to `slot`, creating the slot's texture if `create`.
-    Alloc { value: usize, slot: usize, create: bool },
-    Run { pass: usize },
+    Alloc {
+        value: usize,
+        slot: usize,
+        create: bool,
+    },
+    Run {
+        pass: usize,
+    },
     /// `value` is dead. If `release`, the slot's texture is destroyed; otherwise it
     /// is kept for a later value of the same descriptor.
-    Free { value: usize, slot: usize, release: bool },
+    Free {
+        value: usize,
+        slot: usize,
+        release: bool,
+    },
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -216,7 +235,9 @@ impl Resolver<'_> {
         }
         self.sizes.insert(n, None); // in progress: a size that depends on itself is None
         let s = match &self.graph.graph[n] {
-            Node::Input { .. } | Node::Aux { .. } | Node::Output => Some((self.input.width, self.input.height)),
+            Node::Input { .. } | Node::Aux { .. } | Node::Output => {
+                Some((self.input.width, self.input.height))
+            }
             Node::Feedback { pass, .. } => self.size(*pass),
             Node::Pass(p) => match &p.size {
                 SizeRule::Absolute(w, h) => Some((*w, *h)),
@@ -225,8 +246,14 @@ impl Resolver<'_> {
                     match base {
                         None => {
                             self.diags.push(
-                                Diagnostic::error(format!("the size of pass `{}` depends on itself", p.path))
-                                    .at(p.name_span, "its OUT.RELATIVE_TO input is sized from this pass"),
+                                Diagnostic::error(format!(
+                                    "the size of pass `{}` depends on itself",
+                                    p.path
+                                ))
+                                .at(
+                                    p.name_span,
+                                    "its OUT.RELATIVE_TO input is sized from this pass",
+                                ),
                             );
                             None
                         }
@@ -243,7 +270,8 @@ impl Resolver<'_> {
                                 None
                             } else {
                                 let out = ((fw as u32).max(1), (fh as u32).max(1));
-                                let growth = (out.0 as f64 / self.input.width as f64).max(out.1 as f64 / self.input.height as f64);
+                                let growth = (out.0 as f64 / self.input.width as f64)
+                                    .max(out.1 as f64 / self.input.height as f64);
                                 if growth > 4.0 {
                                     self.diags.push(
                                         Diagnostic::warning(format!(
@@ -304,7 +332,11 @@ impl Resolver<'_> {
 
 /// Resolve the graph for `input` and plan texture lifetimes. Errors (an aux input
 /// not provided, an oversized pass, ...) are returned as diagnostics.
-pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Plan, Diagnostics), Diagnostics> {
+pub fn plan(
+    graph: &Graph,
+    input: &InputDesc,
+    opts: &PlanOptions,
+) -> Result<(Plan, Diagnostics), Diagnostics> {
     let mut r = Resolver {
         graph,
         input,
@@ -315,10 +347,14 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
     // Auxiliary inputs must be provided.
     for n in g.node_indices() {
         if let Node::Aux { name, span } = &g[n] {
-            let used = g.neighbors_directed(n, Direction::Outgoing).any(|m| graph.schedule.contains(&m));
+            let used = g
+                .neighbors_directed(n, Direction::Outgoing)
+                .any(|m| graph.schedule.contains(&m));
             if used && !input.aux.iter().any(|(a, _)| a == name) {
                 let avail: Vec<&str> = input.aux.iter().map(|(a, _)| a.as_str()).collect();
-                let mut d = Diagnostic::error(format!("auxiliary input `AUX.{name}` is not provided")).at(*span, "not available");
+                let mut d =
+                    Diagnostic::error(format!("auxiliary input `AUX.{name}` is not provided"))
+                        .at(*span, "not available");
                 d = if avail.is_empty() {
                     d.note("auxiliary inputs come from the deferred renderer (`--scene`) or `--aux NAME=FILE`")
                 } else {
@@ -333,7 +369,9 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
     let mut rings: Vec<Ring> = Vec::new();
     for n in g.node_indices() {
         if let Node::Feedback { pass, back } = g[n] {
-            let reads = g.neighbors_directed(n, Direction::Outgoing).any(|m| graph.schedule.contains(&m));
+            let reads = g
+                .neighbors_directed(n, Direction::Outgoing)
+                .any(|m| graph.schedule.contains(&m));
             if !reads {
                 continue;
             }
@@ -361,7 +399,9 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
             .filter(|m| graph.schedule.contains(m))
             .count()
     };
-    let output_direct = matches!(g[out_src], Node::Pass(_)) && live_readers(out_src) == 0 && !ring_of.contains_key(&out_src);
+    let output_direct = matches!(g[out_src], Node::Pass(_))
+        && live_readers(out_src) == 0
+        && !ring_of.contains_key(&out_src);
     for &n in &graph.schedule {
         let p = graph.pass(n);
         let Some(mut desc) = r.desc(n) else { continue };
@@ -375,7 +415,9 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
         let mut inputs = Vec::new();
         for (i, inp) in p.inputs.iter().enumerate() {
             let src = graph.input_source(n, i);
-            let Some(src_desc) = r.desc(src) else { continue };
+            let Some(src_desc) = r.desc(src) else {
+                continue;
+            };
             let have = r.colorspace(src);
             let mut resource = resource_of(graph, src, &produced, &ring_of);
             let mut view = View::Natural;
@@ -383,15 +425,24 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
             if have != inp.colorspace {
                 match (src_desc.format, have, inp.colorspace) {
                     (Format::Rgba8Srgb, ColorSpace::Linear, ColorSpace::Srgb) => view = View::Raw,
-                    (Format::Rgba8, ColorSpace::Srgb, ColorSpace::Linear) => view = View::SrgbDecode,
+                    (Format::Rgba8, ColorSpace::Srgb, ColorSpace::Linear) => {
+                        view = View::SrgbDecode
+                    }
                     _ => {
                         // An explicit conversion pass (once per source and target space).
                         let key = (src, inp.colorspace);
                         if let Some(res) = conversions.get(&key) {
                             resource = res.clone();
                         } else {
-                            let conv_format = if src_desc.format.is_float() { src_desc.format } else { Format::Rgba16f };
-                            let conv_desc = TextureDesc { format: conv_format, ..src_desc };
+                            let conv_format = if src_desc.format.is_float() {
+                                src_desc.format
+                            } else {
+                                Format::Rgba16f
+                            };
+                            let conv_desc = TextureDesc {
+                                format: conv_format,
+                                ..src_desc
+                            };
                             r.diags.push(
                                 Diagnostic::note_diag(format!(
                                     "`{}` is {have} but pass `{}` expects its input `{}` in {}: converting with an extra pass",
@@ -403,7 +454,12 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
                                 .at(inp.span, format!("converted from {have} to {}", inp.colorspace)),
                             );
                             let v = values.len();
-                            values.push(Value { desc: conv_desc, producer: passes.len(), last_reader: passes.len(), slot: 0 });
+                            values.push(Value {
+                                desc: conv_desc,
+                                producer: passes.len(),
+                                last_reader: passes.len(),
+                                slot: 0,
+                            });
                             passes.push(PlannedPass {
                                 node: None,
                                 path: format!("{}:{}:{}", p.path, inp.name, inp.colorspace),
@@ -446,14 +502,21 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
         } else if let Some(&ring) = ring_of.get(&n) {
             Resource::Persistent { ring, back: 0 }
         } else {
-            values.push(Value { desc, producer: passes.len(), last_reader: passes.len(), slot: 0 });
+            values.push(Value {
+                desc,
+                producer: passes.len(),
+                last_reader: passes.len(),
+                slot: 0,
+            });
             Resource::Value(values.len() - 1)
         };
         produced.insert(n, output.clone());
         passes.push(PlannedPass {
             node: Some(n),
             path: p.path.clone(),
-            shader: PassShader::Script { name: p.shader.clone() },
+            shader: PassShader::Script {
+                name: p.shader.clone(),
+            },
             inputs,
             output,
             desc,
@@ -467,7 +530,11 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
             .iter()
             .find(|p| p.output == Resource::Output)
             .map(|p| p.desc)
-            .unwrap_or(TextureDesc { width: input.width, height: input.height, format: input.format });
+            .unwrap_or(TextureDesc {
+                width: input.width,
+                height: input.height,
+                format: input.format,
+            });
     } else {
         let Some(src_desc) = r.desc(out_src) else {
             return Err(r.diags);
@@ -507,8 +574,16 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
     }
     let (slots, steps, peak, lower) = assign_slots(&mut values, passes.len(), opts.policy);
     let naive = values.iter().map(|v| v.desc.bytes()).sum();
-    let in_bytes = TextureDesc { width: input.width, height: input.height, format: input.format }.bytes();
-    let persistent = rings.iter().map(|r| r.desc.bytes() * (r.depth as u64 + 1)).sum::<u64>()
+    let in_bytes = TextureDesc {
+        width: input.width,
+        height: input.height,
+        format: input.format,
+    }
+    .bytes();
+    let persistent = rings
+        .iter()
+        .map(|r| r.desc.bytes() * (r.depth as u64 + 1))
+        .sum::<u64>()
         + in_bytes * (graph.history + graph.latency) as u64;
     let mut diags = r.diags;
     diags.sort();
@@ -532,7 +607,12 @@ pub fn plan(graph: &Graph, input: &InputDesc, opts: &PlanOptions) -> Result<(Pla
     ))
 }
 
-fn resource_of(graph: &Graph, n: NodeIndex, produced: &HashMap<NodeIndex, Resource>, ring_of: &HashMap<NodeIndex, usize>) -> Resource {
+fn resource_of(
+    graph: &Graph,
+    n: NodeIndex,
+    produced: &HashMap<NodeIndex, Resource>,
+    ring_of: &HashMap<NodeIndex, usize>,
+) -> Resource {
     match &graph.graph[n] {
         Node::Input { frame } => Resource::Input { frame: *frame },
         Node::Aux { name, .. } => Resource::Aux(name.clone()),
@@ -540,18 +620,25 @@ fn resource_of(graph: &Graph, n: NodeIndex, produced: &HashMap<NodeIndex, Resour
             ring: ring_of[pass],
             back: *back,
         },
-        Node::Pass(_) => produced.get(&n).cloned().expect("producer scheduled before reader"),
+        Node::Pass(_) => produced
+            .get(&n)
+            .cloned()
+            .expect("producer scheduled before reader"),
         Node::Output => Resource::Output,
     }
 }
 
 /// Assign values to slots and build the steps. Returns (slots, steps, peak, lower bound).
-fn assign_slots(values: &mut [Value], n_passes: usize, policy: ReusePolicy) -> (Vec<TextureDesc>, Vec<Step>, u64, u64) {
+fn assign_slots(
+    values: &mut [Value],
+    n_passes: usize,
+    policy: ReusePolicy,
+) -> (Vec<TextureDesc>, Vec<Step>, u64, u64) {
     // Bytes live at each pass.
     let mut live = vec![0u64; n_passes.max(1)];
     for v in values.iter() {
-        for t in v.producer..=v.last_reader {
-            live[t] += v.desc.bytes();
+        for l in &mut live[v.producer..=v.last_reader] {
+            *l += v.desc.bytes();
         }
     }
     let lower = live.iter().copied().max().unwrap_or(0);
@@ -581,8 +668,8 @@ fn assign_slots(values: &mut [Value], n_passes: usize, policy: ReusePolicy) -> (
         }
         let slot = match best {
             Some(s) => {
-                for t in (slots[s].1 + 1)..start {
-                    held[t] += bytes;
+                for h in &mut held[(slots[s].1 + 1)..start] {
+                    *h += bytes;
                 }
                 slots[s].1 = end;
                 first_use.push(false);
@@ -602,23 +689,42 @@ fn assign_slots(values: &mut [Value], n_passes: usize, policy: ReusePolicy) -> (
         next_user.entry(values[v].slot).or_insert(v);
     }
     let mut steps = Vec::new();
-    let created: HashMap<usize, bool> = order.iter().zip(first_use.iter()).map(|(&v, &c)| (v, c)).collect();
+    let created: HashMap<usize, bool> = order
+        .iter()
+        .zip(first_use.iter())
+        .map(|(&v, &c)| (v, c))
+        .collect();
     for t in 0..n_passes {
         for &v in &order {
             if values[v].producer == t {
-                steps.push(Step::Alloc { value: v, slot: values[v].slot, create: created[&v] });
+                steps.push(Step::Alloc {
+                    value: v,
+                    slot: values[v].slot,
+                    create: created[&v],
+                });
             }
         }
         steps.push(Step::Run { pass: t });
         for &v in &order {
             if values[v].last_reader == t {
-                let reused = order.iter().any(|&w| w != v && values[w].slot == values[v].slot && values[w].producer > t);
-                steps.push(Step::Free { value: v, slot: values[v].slot, release: !reused });
+                let reused = order
+                    .iter()
+                    .any(|&w| w != v && values[w].slot == values[v].slot && values[w].producer > t);
+                steps.push(Step::Free {
+                    value: v,
+                    slot: values[v].slot,
+                    release: !reused,
+                });
             }
         }
     }
     let peak = held.iter().copied().max().unwrap_or(0);
-    (slots.into_iter().map(|(d, _)| d).collect(), steps, peak, lower)
+    (
+        slots.into_iter().map(|(d, _)| d).collect(),
+        steps,
+        peak,
+        lower,
+    )
 }
 
 impl Plan {
@@ -634,7 +740,11 @@ impl Plan {
         let mut peak = 0u64;
         for step in &self.steps {
             match *step {
-                Step::Alloc { value, slot, create } => {
+                Step::Alloc {
+                    value,
+                    slot,
+                    create,
+                } => {
                     if done[value] || alive[value] {
                         return Err(format!("value {value} allocated twice"));
                     }
@@ -642,10 +752,15 @@ impl Plan {
                         return Err(format!("value {value} allocated in slot {slot} still holding live value {other}"));
                     }
                     if create == slot_exists[slot] {
-                        return Err(format!("slot {slot}: create={create} but exists={}", slot_exists[slot]));
+                        return Err(format!(
+                            "slot {slot}: create={create} but exists={}",
+                            slot_exists[slot]
+                        ));
                     }
                     if self.slots[slot] != self.values[value].desc {
-                        return Err(format!("value {value} does not match slot {slot}'s descriptor"));
+                        return Err(format!(
+                            "value {value} does not match slot {slot}'s descriptor"
+                        ));
                     }
                     slot_exists[slot] = true;
                     slot_holder[slot] = Some(value);
@@ -656,22 +771,35 @@ impl Plan {
                     for inp in &p.inputs {
                         if let Resource::Value(v) = inp.resource {
                             if !alive[v] {
-                                return Err(format!("pass {} reads value {v} which is not alive", p.path));
+                                return Err(format!(
+                                    "pass {} reads value {v} which is not alive",
+                                    p.path
+                                ));
                             }
                         }
                     }
                     if let Resource::Value(v) = p.output {
                         if !alive[v] || slot_holder[self.values[v].slot] != Some(v) {
-                            return Err(format!("pass {} writes value {v} that does not own its slot", p.path));
+                            return Err(format!(
+                                "pass {} writes value {v} that does not own its slot",
+                                p.path
+                            ));
                         }
                         if p.inputs.iter().any(|i| i.resource == p.output) {
                             return Err(format!("pass {} reads its own output", p.path));
                         }
                     }
-                    let held: u64 = (0..self.slots.len()).filter(|&s| slot_exists[s]).map(|s| self.slots[s].bytes()).sum();
+                    let held: u64 = (0..self.slots.len())
+                        .filter(|&s| slot_exists[s])
+                        .map(|s| self.slots[s].bytes())
+                        .sum();
                     peak = peak.max(held);
                 }
-                Step::Free { value, slot, release } => {
+                Step::Free {
+                    value,
+                    slot,
+                    release,
+                } => {
                     if !alive[value] || slot_holder[slot] != Some(value) {
                         return Err(format!("value {value} freed but not alive in slot {slot}"));
                     }
@@ -691,7 +819,10 @@ impl Plan {
             return Err("a slot is still held at the end".into());
         }
         if peak != self.peak_bytes {
-            return Err(format!("simulated peak {peak} != reported {}", self.peak_bytes));
+            return Err(format!(
+                "simulated peak {peak} != reported {}",
+                self.peak_bytes
+            ));
         }
         Ok(peak)
     }
@@ -700,10 +831,18 @@ impl Plan {
     pub fn render(&self) -> String {
         use std::fmt::Write as _;
         let mut out = String::new();
-        let _ = writeln!(out, "input {}x{} {} ({})", self.input.width, self.input.height, self.input.format, self.input.colorspace);
+        let _ = writeln!(
+            out,
+            "input {}x{} {} ({})",
+            self.input.width, self.input.height, self.input.format, self.input.colorspace
+        );
         let _ = writeln!(out, "passes:");
         for (i, p) in self.passes.iter().enumerate() {
-            let ins: Vec<String> = p.inputs.iter().map(|i| format!("{}={}", i.name, self.resource_name(&i.resource))).collect();
+            let ins: Vec<String> = p
+                .inputs
+                .iter()
+                .map(|i| format!("{}={}", i.name, self.resource_name(&i.resource)))
+                .collect();
             let _ = writeln!(
                 out,
                 "  {i:>2} {:<28} {:>5}x{:<5} {:<10} {:<6} <- {}  -> {}",
@@ -719,22 +858,67 @@ impl Plan {
         let _ = writeln!(out, "steps:");
         for s in &self.steps {
             let line = match s {
-                Step::Alloc { value, slot, create } => {
+                Step::Alloc {
+                    value,
+                    slot,
+                    create,
+                } => {
                     let d = self.values[*value].desc;
-                    format!("alloc  v{value} -> t{slot} {}x{} {}{}", d.width, d.height, d.format, if *create { " (new)" } else { " (reused)" })
+                    format!(
+                        "alloc  v{value} -> t{slot} {}x{} {}{}",
+                        d.width,
+                        d.height,
+                        d.format,
+                        if *create { " (new)" } else { " (reused)" }
+                    )
                 }
                 Step::Run { pass } => format!("run    {}", self.passes[*pass].path),
-                Step::Free { value, slot, release } => format!("free   v{value} (t{slot}{})", if *release { " released" } else { " kept for reuse" }),
+                Step::Free {
+                    value,
+                    slot,
+                    release,
+                } => format!(
+                    "free   v{value} (t{slot}{})",
+                    if *release {
+                        " released"
+                    } else {
+                        " kept for reuse"
+                    }
+                ),
             };
             let _ = writeln!(out, "  {line}");
         }
         let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
-        let _ = writeln!(out, "naive bytes:       {:>12} ({:.2} MiB)", self.naive_bytes, mib(self.naive_bytes));
-        let _ = writeln!(out, "peak bytes:        {:>12} ({:.2} MiB)", self.peak_bytes, mib(self.peak_bytes));
-        let _ = writeln!(out, "lower bound bytes: {:>12} ({:.2} MiB)", self.lower_bound_bytes, mib(self.lower_bound_bytes));
-        let _ = writeln!(out, "persistent bytes:  {:>12} ({:.2} MiB)", self.persistent_bytes, mib(self.persistent_bytes));
+        let _ = writeln!(
+            out,
+            "naive bytes:       {:>12} ({:.2} MiB)",
+            self.naive_bytes,
+            mib(self.naive_bytes)
+        );
+        let _ = writeln!(
+            out,
+            "peak bytes:        {:>12} ({:.2} MiB)",
+            self.peak_bytes,
+            mib(self.peak_bytes)
+        );
+        let _ = writeln!(
+            out,
+            "lower bound bytes: {:>12} ({:.2} MiB)",
+            self.lower_bound_bytes,
+            mib(self.lower_bound_bytes)
+        );
+        let _ = writeln!(
+            out,
+            "persistent bytes:  {:>12} ({:.2} MiB)",
+            self.persistent_bytes,
+            mib(self.persistent_bytes)
+        );
         if self.latency > 0 || self.history > 0 {
-            let _ = writeln!(out, "frames: {} before, {} after (latency {})", self.history, self.latency, self.latency);
+            let _ = writeln!(
+                out,
+                "frames: {} before, {} after (latency {})",
+                self.history, self.latency, self.latency
+            );
         }
         out
     }

@@ -149,7 +149,9 @@ pub(crate) fn to_f32_rgba(pixels: &Pixels, assume_linear: bool) -> Vec<f32> {
     match pixels {
         Pixels::F32(v) => {
             if v.iter().any(|x| x.is_nan()) {
-                v.iter().map(|&x| if x.is_nan() { 0.0 } else { x }).collect()
+                v.iter()
+                    .map(|&x| if x.is_nan() { 0.0 } else { x })
+                    .collect()
             } else {
                 v.clone()
             }

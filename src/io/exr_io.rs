@@ -55,6 +55,9 @@ fn exr_err(e: exr::error::Error) -> String {
             "the file is truncated".to_string()
         }
         exr::error::Error::NotSupported(m) => format!("unsupported feature: {m}"),
+        exr::error::Error::Invalid(m) if m == "reference to missing bytes" => {
+            "unexpected end of data (truncated or corrupt file)".to_string()
+        }
         exr::error::Error::Invalid(m) => m.into_owned(),
         exr::error::Error::Aborted => "aborted".to_string(),
         exr::error::Error::Io(io) => io.to_string(),
@@ -95,13 +98,20 @@ fn read_exr_inner(bytes: &[u8]) -> Result<ExrPixels, String> {
         return Err("deep EXR data is not supported".into());
     }
     let (mode, header) = if let Some(h) = flat.iter().find(|h| {
-        has_channel(h, "R").is_some() && has_channel(h, "G").is_some() && has_channel(h, "B").is_some()
+        has_channel(h, "R").is_some()
+            && has_channel(h, "G").is_some()
+            && has_channel(h, "B").is_some()
     }) {
         (Mode::Rgba, *h)
     } else if let Some(h) = flat.iter().find(|h| has_channel(h, "Y").is_some()) {
         (Mode::Luminance, *h)
     } else {
-        let names: Vec<String> = flat[0].channels.list.iter().map(|c| c.name.to_string()).collect();
+        let names: Vec<String> = flat[0]
+            .channels
+            .list
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
         return Err(format!(
             "no R,G,B or Y channels in the image (channels: {})",
             names.join(", ")
@@ -123,10 +133,13 @@ fn read_exr_inner(bytes: &[u8]) -> Result<ExrPixels, String> {
             let reader = exr::prelude::read()
                 .no_deep_data()
                 .largest_resolution_level()
-                .rgba_channels(create, |s: &mut Store, pos: Vec2<usize>, (r, g, b, a): (f32, f32, f32, f32)| {
-                    let i = (pos.y() * s.0 + pos.x()) * 4;
-                    s.1[i..i + 4].copy_from_slice(&[r, g, b, a]);
-                })
+                .rgba_channels(
+                    create,
+                    |s: &mut Store, pos: Vec2<usize>, (r, g, b, a): (f32, f32, f32, f32)| {
+                        let i = (pos.y() * s.0 + pos.x()) * 4;
+                        s.1[i..i + 4].copy_from_slice(&[r, g, b, a]);
+                    },
+                )
                 .first_valid_layer();
             let layer = decode_layers(bytes, &reader)?;
             (layer.size, layer.channel_data.pixels)
@@ -185,9 +198,7 @@ where
         })
         .map_err(exr_err)?;
     let meta = filtered.meta_data().clone();
-    let chunks: Vec<Chunk> = filtered
-        .collect::<Result<_, _>>()
-        .map_err(exr_err)?;
+    let chunks: Vec<Chunk> = filtered.collect::<Result<_, _>>().map_err(exr_err)?;
 
     let threads = std::thread::available_parallelism()
         .map(|n| n.get())
@@ -200,7 +211,8 @@ where
 
     if threads <= 1 || uncompressed {
         for chunk in chunks {
-            let block = UncompressedBlock::decompress_chunk(chunk, &meta, false).map_err(exr_err)?;
+            let block =
+                UncompressedBlock::decompress_chunk(chunk, &meta, false).map_err(exr_err)?;
             layers_reader
                 .read_block(&meta.headers, block)
                 .map_err(exr_err)?;
@@ -208,7 +220,8 @@ where
     } else {
         let queue = Mutex::new(chunks.into_iter());
         let stop = AtomicBool::new(false);
-        let (tx, rx) = std::sync::mpsc::sync_channel::<exr::error::Result<UncompressedBlock>>(threads * 2);
+        let (tx, rx) =
+            std::sync::mpsc::sync_channel::<exr::error::Result<UncompressedBlock>>(threads * 2);
         let meta_ref = &meta;
         std::thread::scope(|s| -> Result<(), String> {
             for _ in 0..threads {
@@ -248,7 +261,7 @@ where
     Ok(layers_reader.into_layers())
 }
 
-/// Write linear RGBA floats as a ZIP-compressed scan-line EXR, half or full float.
+/// Write linear RGBA floats as a PIZ-compressed scan-line EXR, half or full float.
 pub(crate) fn write_exr<W: std::io::Write + std::io::Seek>(
     out: W,
     width: u32,
@@ -259,13 +272,25 @@ pub(crate) fn write_exr<W: std::io::Write + std::io::Seek>(
     use exr::prelude::*;
     let w = width as usize;
     let size = (w, height as usize);
-    let encoding = Encoding::SMALL_LOSSLESS;
+    // PIZ scan lines: lossless, the smallest and about twice as fast as ZIP here (a real
+    // 1240x846 HDR photo, half: PIZ 49 ms / 3.75 MB, ZIP16 115 ms / 3.93 MB, RLE 31 ms /
+    // 5.6 MB), and read by every OpenEXR implementation.
+    let encoding = Encoding {
+        compression: Compression::PIZ,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
     if half {
         // Clamp to the largest finite half so bright values do not turn into infinity.
         let to_h = |v: f32| f16::from_f32(v.clamp(-65504.0, 65504.0));
         let channels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
             let i = (y * w + x) * 4;
-            (to_h(rgba[i]), to_h(rgba[i + 1]), to_h(rgba[i + 2]), to_h(rgba[i + 3]))
+            (
+                to_h(rgba[i]),
+                to_h(rgba[i + 1]),
+                to_h(rgba[i + 2]),
+                to_h(rgba[i + 3]),
+            )
         });
         let layer = Layer::new(size, LayerAttributes::default(), encoding, channels);
         Image::from_layer(layer).write().to_buffered(out)

@@ -362,7 +362,10 @@ fn decode_bytes(
             if FileFormat::from_image_format(f).is_none() {
                 return Err(IoError::decode(
                     path,
-                    format!("{} files are not supported", format!("{f:?}").to_uppercase()),
+                    format!(
+                        "{} files are not supported",
+                        format!("{f:?}").to_uppercase()
+                    ),
                 ));
             }
         }
@@ -382,9 +385,8 @@ fn decode_bytes(
         }
     }
     if format == FileFormat::Exr {
-        let px = exr_io::read_exr(bytes).map_err(|m| {
-            IoError::decode(path, format!("not a valid OpenEXR file: {m}"))
-        })?;
+        let px = exr_io::read_exr(bytes)
+            .map_err(|m| IoError::decode(path, format!("not a valid OpenEXR file: {m}")))?;
         return Ok(Image {
             width: px.width,
             height: px.height,
@@ -471,13 +473,9 @@ fn decode_with_image_crate(
         | DynamicImage::ImageLumaA8(_)
         | DynamicImage::ImageRgb8(_)) => Pixels::U8(img.into_rgba8().into_raw()),
         DynamicImage::ImageLuma16(b) => Pixels::F32(convert::u16_to_f32_rgba(b.as_raw(), 1, lin)),
-        DynamicImage::ImageLumaA16(b) => {
-            Pixels::F32(convert::u16_to_f32_rgba(b.as_raw(), 2, lin))
-        }
+        DynamicImage::ImageLumaA16(b) => Pixels::F32(convert::u16_to_f32_rgba(b.as_raw(), 2, lin)),
         DynamicImage::ImageRgb16(b) => Pixels::F32(convert::u16_to_f32_rgba(b.as_raw(), 3, lin)),
-        DynamicImage::ImageRgba16(b) => {
-            Pixels::F32(convert::u16_to_f32_rgba(b.as_raw(), 4, lin))
-        }
+        DynamicImage::ImageRgba16(b) => Pixels::F32(convert::u16_to_f32_rgba(b.as_raw(), 4, lin)),
         DynamicImage::ImageRgba32F(b) => Pixels::F32(b.into_raw()),
         DynamicImage::ImageRgb32F(b) => {
             let raw = b.into_raw();
@@ -509,7 +507,7 @@ fn decode_with_image_crate(
 ///
 /// - PNG: 8-bit (default) or 16-bit; RGB when every pixel is opaque, RGBA otherwise.
 /// - JPEG: 8-bit, quality 92, alpha dropped.
-/// - EXR: half (default) or float (`bit_depth: Some(32)`), RGBA, ZIP compression; U8 input
+/// - EXR: half (default) or float (`bit_depth: Some(32)`), RGBA, PIZ compression; U8 input
 ///   is sRGB-decoded to linear (unless `assume_linear`).
 /// - Others through the `image` crate (TIFF 8/16/32-bit float, PNM 8/16, HDR, BMP, TGA,
 ///   lossless WebP, QOI).
@@ -714,7 +712,11 @@ fn write_png<W: Write>(
     writer.finish()
 }
 
-/// PNG encoder speed/size trade-off (see the module's benchmark notes in `tests/io.rs`).
+/// PNG encoder speed/size trade-off. Measured on a 1920x1080 RGB crop of a real photo
+/// (release build): Fast+Adaptive 17 ms / 2.50 MB, Fast+Sub 18 ms / 2.83 MB, Fast+Up
+/// 17 ms / 2.76 MB, Fastest+Up 19-21 ms / 2.76 MB, Balanced (the default) 550 ms / 2.10 MB.
+/// Adaptive filtering costs nothing measurable over a fixed filter and gives the smallest
+/// of the fast files.
 const PNG_COMPRESSION: png::Compression = png::Compression::Fast;
 const PNG_FILTER: png::Filter = png::Filter::Adaptive;
 

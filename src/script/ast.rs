@@ -153,7 +153,8 @@ pub const MAX_FRAME_OFFSET: i32 = 16;
 /// Largest texture side accepted.
 pub const MAX_SIDE: u32 = 16384;
 
-const FORMAT_LIST: &str = "rgba8, rgba8-srgb, rgba16f, rgba32f, rgb10a2, r8, r16f, r32f, rg16f, rg32f";
+const FORMAT_LIST: &str =
+    "rgba8, rgba8-srgb, rgba16f, rgba32f, rgb10a2, r8, r16f, r32f, rg16f, rg32f";
 
 /// Check a parsed file and build its typed AST.
 pub fn check(file: FileId, items: &[Item], diags: &mut Diagnostics) -> Module {
@@ -176,9 +177,9 @@ pub fn check(file: FileId, items: &[Item], diags: &mut Diagnostics) -> Module {
                         continue;
                     }
                     match &stmt.value.node {
-                        RawValue::Block(body) => {
-                            module.effects.push(check_effect(name, body, stmt.span, diags))
-                        }
+                        RawValue::Block(body) => module
+                            .effects
+                            .push(check_effect(name, body, stmt.span, diags)),
                         other => diags.push(
                             Diagnostic::error(format!(
                                 "an effect is defined with a block, found {}",
@@ -193,7 +194,10 @@ pub fn check(file: FileId, items: &[Item], diags: &mut Diagnostics) -> Module {
                             "unknown top-level statement `{}`",
                             stmt.key.dotted()
                         ))
-                        .at(stmt.key.span, "expected `EFFECT.name = { ... }` or `INCLUDE \"file.fx\"`"),
+                        .at(
+                            stmt.key.span,
+                            "expected `EFFECT.name = { ... }` or `INCLUDE \"file.fx\"`",
+                        ),
                     );
                 }
             }
@@ -202,7 +206,12 @@ pub fn check(file: FileId, items: &[Item], diags: &mut Diagnostics) -> Module {
     module
 }
 
-fn check_effect(name: Spanned<String>, body: &[Stmt], span: Span, diags: &mut Diagnostics) -> EffectDef {
+fn check_effect(
+    name: Spanned<String>,
+    body: &[Stmt],
+    span: Span,
+    diags: &mut Diagnostics,
+) -> EffectDef {
     let mut e = EffectDef {
         name,
         description: None,
@@ -214,8 +223,11 @@ fn check_effect(name: Spanned<String>, body: &[Stmt], span: Span, diags: &mut Di
         span,
     };
     let mut seen: Vec<(String, Span)> = Vec::new();
+    // `OUT = ...` was written (even if wrongly): no "missing OUT" error then.
+    let mut out_written = false;
     for stmt in body {
         let k = stmt.key.dotted();
+        out_written |= k == "OUT";
         if let Some((_, prev)) = seen.iter().find(|(n, _)| *n == k) {
             diags.push(
                 Diagnostic::error(format!("`{k}` is set twice in effect `{}`", e.name.node))
@@ -299,10 +311,13 @@ fn check_effect(name: Spanned<String>, body: &[Stmt], span: Span, diags: &mut Di
     }
     // Every PASS/PARAM reference inside the effect must resolve.
     check_references(&e, diags);
-    if e.out.is_none() {
+    if e.out.is_none() && !out_written {
         diags.push(
             Diagnostic::error(format!("effect `{}` has no `OUT`", e.name.node))
-                .at(e.name.span, "this effect never says which pass is its result")
+                .at(
+                    e.name.span,
+                    "this effect never says which pass is its result",
+                )
                 .note("add `OUT = <pass name>` after the PASS block"),
         );
     }
@@ -312,8 +327,10 @@ fn check_effect(name: Spanned<String>, body: &[Stmt], span: Span, diags: &mut Di
 fn check_references(e: &EffectDef, diags: &mut Diagnostics) {
     let pass_names: Vec<&str> = e.passes.iter().map(|p| p.name.node.as_str()).collect();
     let unknown_pass = |name: &Spanned<String>, diags: &mut Diagnostics| {
-        let mut d = Diagnostic::error(format!("unknown pass `{}`", name.node))
-            .at(name.span, format!("no pass named `{}` in effect `{}`", name.node, e.name.node));
+        let mut d = Diagnostic::error(format!("unknown pass `{}`", name.node)).at(
+            name.span,
+            format!("no pass named `{}` in effect `{}`", name.node, e.name.node),
+        );
         if let Some(s) = suggest(&name.node, pass_names.iter().copied()) {
             d = d.note(format!("did you mean `{s}`?"));
         } else if !pass_names.is_empty() {
@@ -342,8 +359,10 @@ fn check_references(e: &EffectDef, diags: &mut Diagnostics) {
             }));
         for n in param_refs {
             if e.param(&n.node).is_none() {
-                let mut d = Diagnostic::error(format!("unknown effect parameter `{}`", n.node))
-                    .at(n.span, format!("effect `{}` declares no such parameter", e.name.node));
+                let mut d = Diagnostic::error(format!("unknown effect parameter `{}`", n.node)).at(
+                    n.span,
+                    format!("effect `{}` declares no such parameter", e.name.node),
+                );
                 if let Some(s) = suggest(&n.node, e.params.iter().map(|q| q.name.node.as_str())) {
                     d = d.note(format!("did you mean `{s}`?"));
                 } else {
@@ -355,8 +374,11 @@ fn check_references(e: &EffectDef, diags: &mut Diagnostics) {
         if let Some(rel) = &p.out.relative_to {
             if !p.inputs.iter().any(|i| i.name.node == rel.node) {
                 diags.push(
-                    Diagnostic::error(format!("`OUT.RELATIVE_TO` names `{}`, which is not an input of pass `{}`", rel.node, p.name.node))
-                        .at(rel.span, "not an input of this pass"),
+                    Diagnostic::error(format!(
+                        "`OUT.RELATIVE_TO` names `{}`, which is not an input of pass `{}`",
+                        rel.node, p.name.node
+                    ))
+                    .at(rel.span, "not an input of this pass"),
                 );
             }
         }
@@ -418,7 +440,9 @@ fn format_spec(stmt: &Stmt, diags: &mut Diagnostics) -> Option<Spanned<FormatSpe
                     .at(stmt.value.span, "not a pixel format");
                 d = match suggest(w, Format::ALL.iter().map(|f| f.name())) {
                     Some(s) => d.note(format!("did you mean `{s}`? formats: {FORMAT_LIST}, or IN")),
-                    None => d.note(format!("formats: {FORMAT_LIST}, or IN (the effect input's format)")),
+                    None => d.note(format!(
+                        "formats: {FORMAT_LIST}, or IN (the effect input's format)"
+                    )),
                 };
                 diags.push(d);
                 None
@@ -479,16 +503,22 @@ fn pair(stmt: &Stmt, diags: &mut Diagnostics, what: &str) -> Option<(f64, f64)> 
 fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
     if stmt.key.parts.len() != 1 {
         diags.push(
-            Diagnostic::error(format!("a pass name is a single word, found `{}`", stmt.key.dotted()))
-                .at(stmt.key.span, "expected `name = SHADER.shader { ... }`"),
+            Diagnostic::error(format!(
+                "a pass name is a single word, found `{}`",
+                stmt.key.dotted()
+            ))
+            .at(stmt.key.span, "expected `name = SHADER.shader { ... }`"),
         );
         return None;
     }
     let name = stmt.key.parts[0].clone();
     if ["IN", "OUT", "PASS", "AUX", "PARAM"].contains(&name.node.as_str()) {
         diags.push(
-            Diagnostic::error(format!("`{}` is a reserved word and cannot name a pass", name.node))
-                .at(name.span, "reserved"),
+            Diagnostic::error(format!(
+                "`{}` is a reserved word and cannot name a pass",
+                name.node
+            ))
+            .at(name.span, "reserved"),
         );
         return None;
     }
@@ -501,8 +531,11 @@ fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
         }
         RawValue::Ctor { kind, .. } => {
             diags.push(
-                Diagnostic::error(format!("a pass is `SHADER.name {{ ... }}` or `EFFECT.name {{ ... }}`, found `{}`", kind.dotted()))
-                    .at(kind.span, "expected SHADER.<name> or EFFECT.<name>"),
+                Diagnostic::error(format!(
+                    "a pass is `SHADER.name {{ ... }}` or `EFFECT.name {{ ... }}`, found `{}`",
+                    kind.dotted()
+                ))
+                .at(kind.span, "expected SHADER.<name> or EFFECT.<name>"),
             );
             return None;
         }
@@ -600,10 +633,17 @@ fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
     for s in sampling {
         let input_name = &s.key.parts[0];
         let attr = s.key.parts[1].node.as_str();
-        let Some(input) = pass.inputs.iter_mut().find(|i| i.name.node == input_name.node) else {
+        let Some(input) = pass
+            .inputs
+            .iter_mut()
+            .find(|i| i.name.node == input_name.node)
+        else {
             diags.push(
-                Diagnostic::error(format!("`{}` is not an input of pass `{}`", input_name.node, pass.name.node))
-                    .at(input_name.span, "bind it first, e.g. `img = IN`"),
+                Diagnostic::error(format!(
+                    "`{}` is not an input of pass `{}`",
+                    input_name.node, pass.name.node
+                ))
+                .at(input_name.span, "bind it first, e.g. `img = IN`"),
             );
             continue;
         };
@@ -618,7 +658,10 @@ fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
             "WRAP" => {
                 let w = match &s.value.node {
                     RawValue::Tuple(items) if items.len() == 2 => {
-                        match (word(&items[0]).and_then(Wrap::from_name), word(&items[1]).and_then(Wrap::from_name)) {
+                        match (
+                            word(&items[0]).and_then(Wrap::from_name),
+                            word(&items[1]).and_then(Wrap::from_name),
+                        ) {
                             (Some(u), Some(v)) => Some((u, v)),
                             _ => None,
                         }
@@ -627,10 +670,10 @@ fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
                 };
                 match w {
                     Some(w) => input.wrap = Some(Spanned::new(w, s.value.span)),
-                    None => diags.push(
-                        Diagnostic::error("unknown wrap mode")
-                            .at(s.value.span, "expected `clamp`, `repeat`, `mirror` or a pair `(u, v)` of them"),
-                    ),
+                    None => diags.push(Diagnostic::error("unknown wrap mode").at(
+                        s.value.span,
+                        "expected `clamp`, `repeat`, `mirror` or a pair `(u, v)` of them",
+                    )),
                 }
             }
             _ => input.colorspace = colorspace_value(s, diags),
@@ -652,8 +695,11 @@ fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
             if let Some(f) = frame {
                 if f.node.abs() > MAX_FRAME_OFFSET {
                     diags.push(
-                        Diagnostic::error(format!("frame offset {} is too far (at most ±{MAX_FRAME_OFFSET})", f.node))
-                            .at(f.span, "too far"),
+                        Diagnostic::error(format!(
+                            "frame offset {} is too far (at most ±{MAX_FRAME_OFFSET})",
+                            f.node
+                        ))
+                        .at(f.span, "too far"),
                     );
                     return None;
                 }
@@ -665,7 +711,10 @@ fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
                     if frame_n > 0 {
                         diags.push(
                             Diagnostic::error("a pass output of a later frame is not available")
-                                .at(frame.as_ref().map(|f| f.span).unwrap_or(span), "only earlier frames (`[-1]`) of a pass output can be read")
+                                .at(
+                                    frame.as_ref().map(|f| f.span).unwrap_or(span),
+                                    "only earlier frames (`[-1]`) of a pass output can be read",
+                                )
                                 .note("later frames can be read from `IN[+n]`"),
                         );
                         return None;
@@ -678,8 +727,10 @@ fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
                 ["AUX", _] => {
                     if let Some(f) = frame {
                         diags.push(
-                            Diagnostic::error("auxiliary scene inputs have no earlier or later frames")
-                                .at(f.span, "remove the frame offset"),
+                            Diagnostic::error(
+                                "auxiliary scene inputs have no earlier or later frames",
+                            )
+                            .at(f.span, "remove the frame offset"),
                         );
                         return None;
                     }
@@ -688,7 +739,10 @@ fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
                     }
                 }
                 ["PARAM", _] if frame.is_none() => {
-                    return Some(Binding::Param(Spanned::new(ParamArg::Param(key.parts[1].clone()), span)))
+                    return Some(Binding::Param(Spanned::new(
+                        ParamArg::Param(key.parts[1].clone()),
+                        span,
+                    )))
                 }
                 ["true"] | ["false"] if frame.is_none() => {
                     return Some(Binding::Param(Spanned::new(
@@ -699,7 +753,12 @@ fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
                         span,
                     )))
                 }
-                [w] if frame.is_none() => return Some(Binding::Param(Spanned::new(ParamArg::Word(w.to_string()), span))),
+                [w] if frame.is_none() => {
+                    return Some(Binding::Param(Spanned::new(
+                        ParamArg::Word(w.to_string()),
+                        span,
+                    )))
+                }
                 _ => {
                     diags.push(
                         Diagnostic::error(format!("`{}` is not an input or a parameter value", key.dotted()))
@@ -712,16 +771,27 @@ fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
         }
         RawValue::Number(_) | RawValue::Tuple(_) => match numbers(&s.value) {
             Some(v) if !v.is_empty() && v.len() <= 4 => Some(Binding::Param(Spanned::new(
-                ParamArg::Literal { value: v, is_bool: false },
+                ParamArg::Literal {
+                    value: v,
+                    is_bool: false,
+                },
                 span,
             ))),
             _ => {
-                diags.push(type_error(s, "a number or a tuple of 2 to 4 numbers", &s.value.node));
+                diags.push(type_error(
+                    s,
+                    "a number or a tuple of 2 to 4 numbers",
+                    &s.value.node,
+                ));
                 None
             }
         },
         other => {
-            diags.push(type_error(s, "an input (IN, PASS.name, AUX.name) or a parameter value", other));
+            diags.push(type_error(
+                s,
+                "an input (IN, PASS.name, AUX.name) or a parameter value",
+                other,
+            ));
             None
         }
     }
@@ -746,7 +816,7 @@ fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnosti
         }
         "SCALE" => {
             let Some((x, y)) = pair(s, diags, "a scale `(sx, sy)` or a single number") else { return };
-            if !(x > 0.0 && y > 0.0) || !x.is_finite() || !y.is_finite() {
+            if x.is_nan() || y.is_nan() || x <= 0.0 || y <= 0.0 || !x.is_finite() || !y.is_finite() {
                 diags.push(
                     Diagnostic::error("an output scale must be positive")
                         .at(s.value.span, "a scale of 0 or less gives an empty texture"),
@@ -771,26 +841,35 @@ fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnosti
         ),
     }
     if out.size.is_some() && out.scale.is_some() && matches!(attr, "SIZE" | "SCALE") {
-        diags.push(
-            Diagnostic::error("`OUT.SIZE` and `OUT.SCALE` both set")
-                .at(s.key.span, "an output has either an absolute size or a relative scale"),
-        );
+        diags.push(Diagnostic::error("`OUT.SIZE` and `OUT.SCALE` both set").at(
+            s.key.span,
+            "an output has either an absolute size or a relative scale",
+        ));
     }
 }
 
 fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
     if stmt.key.parts.len() != 1 {
         diags.push(
-            Diagnostic::error(format!("a parameter name is a single word, found `{}`", stmt.key.dotted()))
-                .at(stmt.key.span, "expected `name = FLOAT { DEFAULT = 1 }`"),
+            Diagnostic::error(format!(
+                "a parameter name is a single word, found `{}`",
+                stmt.key.dotted()
+            ))
+            .at(stmt.key.span, "expected `name = FLOAT { DEFAULT = 1 }`"),
         );
         return None;
     }
     let name = stmt.key.parts[0].clone();
     let RawValue::Ctor { kind, body } = &stmt.value.node else {
         diags.push(
-            Diagnostic::error(format!("parameter `{}` must be declared with a type", name.node))
-                .at(stmt.value.span, "expected e.g. `FLOAT { DEFAULT = 0.5  RANGE = (0, 1) }`"),
+            Diagnostic::error(format!(
+                "parameter `{}` must be declared with a type",
+                name.node
+            ))
+            .at(
+                stmt.value.span,
+                "expected e.g. `FLOAT { DEFAULT = 0.5  RANGE = (0, 1) }`",
+            ),
         );
         return None;
     };
@@ -804,8 +883,10 @@ fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
         "ENUM" => ParamType::Enum(Vec::new()),
         other => {
             diags.push(
-                Diagnostic::error(format!("unknown parameter type `{other}`"))
-                    .at(kind.span, "expected FLOAT, INT, BOOL, VEC2, VEC3, VEC4 or ENUM"),
+                Diagnostic::error(format!("unknown parameter type `{other}`")).at(
+                    kind.span,
+                    "expected FLOAT, INT, BOOL, VEC2, VEC3, VEC4 or ENUM",
+                ),
             );
             return None;
         }
@@ -823,7 +904,10 @@ fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
                         match word(it) {
                             Some(w) => values.push(w.to_string()),
                             None => {
-                                diags.push(Diagnostic::error("enum values are words").at(it.span, "expected a word"));
+                                diags.push(
+                                    Diagnostic::error("enum values are words")
+                                        .at(it.span, "expected a word"),
+                                );
                                 ok = false;
                             }
                         }
@@ -834,7 +918,10 @@ fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
                     ok = false;
                 }
                 _ => {
-                    diags.push(Diagnostic::error("`VALUES` is only for ENUM parameters").at(s.key.span, "not an ENUM"));
+                    diags.push(
+                        Diagnostic::error("`VALUES` is only for ENUM parameters")
+                            .at(s.key.span, "not an ENUM"),
+                    );
                     ok = false;
                 }
             }
@@ -856,7 +943,10 @@ fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
             "RANGE" => match numbers(&s.value) {
                 Some(v) if v.len() == 2 && v[0] <= v[1] => range = Some((v[0], v[1])),
                 Some(v) if v.len() == 2 => {
-                    diags.push(Diagnostic::error("an empty range: the minimum is above the maximum").at(s.value.span, "expected `(min, max)` with min <= max"));
+                    diags.push(
+                        Diagnostic::error("an empty range: the minimum is above the maximum")
+                            .at(s.value.span, "expected `(min, max)` with min <= max"),
+                    );
                     ok = false;
                 }
                 _ => {
@@ -873,8 +963,10 @@ fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
             },
             other => {
                 diags.push(
-                    Diagnostic::error(format!("unknown parameter attribute `{other}`"))
-                        .at(s.key.span, "expected DEFAULT, RANGE, DESCRIPTION or (for ENUM) VALUES"),
+                    Diagnostic::error(format!("unknown parameter attribute `{other}`")).at(
+                        s.key.span,
+                        "expected DEFAULT, RANGE, DESCRIPTION or (for ENUM) VALUES",
+                    ),
                 );
                 ok = false;
             }
@@ -890,14 +982,14 @@ fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
     let arg = match classify_binding(def, diags)? {
         Binding::Param(a) => a,
         Binding::Input(_) => {
-            diags.push(Diagnostic::error("a parameter default must be a value").at(def.value.span, "expected a number, tuple, true/false or word"));
+            diags.push(Diagnostic::error("a parameter default must be a value").at(
+                def.value.span,
+                "expected a number, tuple, true/false or word",
+            ));
             return None;
         }
     };
-    let default = match convert_arg(&arg, &ty, range, &name.node, diags) {
-        Some(v) => v,
-        None => return None,
-    };
+    let default = convert_arg(&arg, &ty, range, &name.node, diags)?;
     if !ok {
         return None;
     }
@@ -947,8 +1039,10 @@ pub fn convert_arg(
                     t => format!("a tuple of {} numbers", t.components()),
                 };
                 diags.push(
-                    Diagnostic::error(format!("wrong type for `{param_name}`: expected {expected}"))
-                        .at(arg.span, format!("`{param_name}` is {}", ty.name())),
+                    Diagnostic::error(format!(
+                        "wrong type for `{param_name}`: expected {expected}"
+                    ))
+                    .at(arg.span, format!("`{param_name}` is {}", ty.name())),
                 );
                 return None;
             }
@@ -978,7 +1072,10 @@ pub fn convert_arg(
         }
     }
     if value.iter().any(|x| !x.is_finite()) {
-        diags.push(Diagnostic::error(format!("`{param_name}` must be finite")).at(arg.span, "not a finite number"));
+        diags.push(
+            Diagnostic::error(format!("`{param_name}` must be finite"))
+                .at(arg.span, "not a finite number"),
+        );
         return None;
     }
     Some(value)

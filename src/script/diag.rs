@@ -224,11 +224,8 @@ impl Diagnostic {
     /// ```
     pub fn render(&self, sources: &SourceMap) -> String {
         let mut out = String::new();
-        match self.primary_span().or(self.labels.first().map(|l| l.span)) {
-            Some(span) => {
-                let _ = write!(out, "{}: ", sources.location(span));
-            }
-            None => {}
+        if let Some(span) = self.primary_span().or(self.labels.first().map(|l| l.span)) {
+            let _ = write!(out, "{}: ", sources.location(span));
         }
         let _ = writeln!(out, "{}: {}", self.severity.word(), self.message);
         // Width of the line-number gutter.
@@ -337,12 +334,7 @@ impl Diagnostics {
                     format!("{n} {word}s")
                 }
             };
-            let _ = writeln!(
-                out,
-                "{}, {}",
-                plural(e, "error"),
-                plural(w, "warning")
-            );
+            let _ = writeln!(out, "{}, {}", plural(e, "error"), plural(w, "warning"));
         }
         out
     }

@@ -44,7 +44,10 @@ pub enum RawValue {
     /// `{ stmt* }`
     Block(Vec<Stmt>),
     /// `SHADER.blurX { ... }`, `FLOAT { ... }`
-    Ctor { kind: Key, body: Vec<Stmt> },
+    Ctor {
+        kind: Key,
+        body: Vec<Stmt>,
+    },
     /// `(0.5, 0.5)`
     Tuple(Vec<Spanned<RawValue>>),
     Number(f64),
@@ -178,7 +181,12 @@ fn rule_words(rule: Rule) -> Option<&'static str> {
     })
 }
 
-fn syntax_error(file: FileId, text: &str, base: usize, err: &pest::error::Error<Rule>) -> Diagnostic {
+fn syntax_error(
+    file: FileId,
+    text: &str,
+    base: usize,
+    err: &pest::error::Error<Rule>,
+) -> Diagnostic {
     let mut pos = base
         + match err.location {
             pest::error::InputLocation::Pos(p) => p,
@@ -186,7 +194,12 @@ fn syntax_error(file: FileId, text: &str, base: usize, err: &pest::error::Error<
         };
     let mut expected: Vec<String> = Vec::new();
     if let pest::error::ErrorVariant::ParsingError { positives, .. } = &err.variant {
-        expected.extend(positives.iter().filter_map(|r| rule_words(*r)).map(str::to_string));
+        expected.extend(
+            positives
+                .iter()
+                .filter_map(|r| rule_words(*r))
+                .map(str::to_string),
+        );
     }
     // The furthest point the parser reached says more than the rule that failed.
     if let Some(attempts) = err.parse_attempts() {
@@ -217,7 +230,11 @@ fn syntax_error(file: FileId, text: &str, base: usize, err: &pest::error::Error<
     let what = match expected.len() {
         0 => "unexpected input".to_string(),
         1 => format!("expected {}", expected[0]),
-        n => format!("expected {} or {}", expected[..n - 1].join(", "), expected[n - 1]),
+        n => format!(
+            "expected {} or {}",
+            expected[..n - 1].join(", "),
+            expected[n - 1]
+        ),
     };
     let end = (pos + found.1).min(text.len());
     Diagnostic::error(format!("syntax error: {what}, found {}", found.0))
@@ -353,7 +370,12 @@ fn build_value(p: Pair<Rule>, file: FileId, base: usize) -> Spanned<RawValue> {
 }
 
 /// Parse `text[offset..]` as a single value (used for `--set NAME=VALUE`).
-pub fn parse_value(file: FileId, text: &str, offset: usize, diags: &mut Diagnostics) -> Option<Spanned<RawValue>> {
+pub fn parse_value(
+    file: FileId,
+    text: &str,
+    offset: usize,
+    diags: &mut Diagnostics,
+) -> Option<Spanned<RawValue>> {
     pest::set_error_detail(true);
     if let Some(d) = check_nesting(file, text) {
         diags.push(d);

@@ -73,7 +73,12 @@ impl Format {
     pub fn is_float(self) -> bool {
         matches!(
             self,
-            Format::Rgba16f | Format::Rgba32f | Format::R16f | Format::R32f | Format::Rg16f | Format::Rg32f
+            Format::Rgba16f
+                | Format::Rgba32f
+                | Format::R16f
+                | Format::R32f
+                | Format::Rg16f
+                | Format::Rg32f
         )
     }
 
@@ -179,7 +184,9 @@ pub struct Sampling {
 
 /// Auxiliary scene images the deferred renderer provides (G-buffer), plus any
 /// user-supplied image (`fxrun --aux NAME=FILE`).
-pub const AUX_GBUFFER_NAMES: [&str; 6] = ["depth", "normal", "position", "albedo", "material", "specular"];
+pub const AUX_GBUFFER_NAMES: [&str; 6] = [
+    "depth", "normal", "position", "albedo", "material", "specular",
+];
 
 /// Type of an effect parameter.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -231,6 +238,9 @@ pub fn format_value(v: &[f64]) -> String {
     if v.len() == 1 {
         one(v[0])
     } else {
-        format!("({})", v.iter().map(|&x| one(x)).collect::<Vec<_>>().join(", "))
+        format!(
+            "({})",
+            v.iter().map(|&x| one(x)).collect::<Vec<_>>().join(", ")
+        )
     }
 }

@@ -40,7 +40,11 @@ pub struct ShaderFile {
 
 /// Find `NAME.wgsl`: next to the effect file (and in its `../shaders`), then in the
 /// extra folders, then the embedded library.
-pub fn find_shader(name: &str, effect_dir: Option<&Path>, extra_dirs: &[PathBuf]) -> Option<ShaderFile> {
+pub fn find_shader(
+    name: &str,
+    effect_dir: Option<&Path>,
+    extra_dirs: &[PathBuf],
+) -> Option<ShaderFile> {
     let file = format!("{name}.wgsl");
     let mut dirs: Vec<PathBuf> = Vec::new();
     if let Some(d) = effect_dir {

@@ -28,7 +28,10 @@ struct Frame {
 /// Preprocess `source` with `defines` (from the script; they override `#define`s
 /// in the shader, which act as defaults). Returns the WGSL text and the final set
 /// of defines, sorted.
-pub fn preprocess(source: &str, defines: &[(String, i64)]) -> Result<(String, Vec<(String, i64)>), PreprocessError> {
+pub fn preprocess(
+    source: &str,
+    defines: &[(String, i64)],
+) -> Result<(String, Vec<(String, i64)>), PreprocessError> {
     let mut defs: Vec<(String, i64)> = defines.to_vec();
     let script_defined: Vec<String> = defines.iter().map(|(n, _)| n.clone()).collect();
     let mut out = String::with_capacity(source.len() + 64);
@@ -48,7 +51,9 @@ pub fn preprocess(source: &str, defines: &[(String, i64)]) -> Result<(String, Ve
             let mut words = rest.split_whitespace();
             let directive = words.next().unwrap_or("");
             let args: Vec<&str> = words.collect();
-            let lookup = |defs: &Vec<(String, i64)>, n: &str| defs.iter().find(|(d, _)| d == n).map(|(_, v)| *v);
+            let lookup = |defs: &Vec<(String, i64)>, n: &str| {
+                defs.iter().find(|(d, _)| d == n).map(|(_, v)| *v)
+            };
             match directive {
                 "ifdef" | "ifndef" | "if" => {
                     let cond = match directive {
@@ -100,9 +105,11 @@ pub fn preprocess(source: &str, defines: &[(String, i64)]) -> Result<(String, Ve
                         [name] => (*name, 1),
                         [name, value] => (
                             *name,
-                            value
-                                .parse::<i64>()
-                                .map_err(|_| err(format!("`#define {name}` takes an integer value, found `{value}`")))?,
+                            value.parse::<i64>().map_err(|_| {
+                                err(format!(
+                                    "`#define {name}` takes an integer value, found `{value}`"
+                                ))
+                            })?,
                         ),
                         _ => return Err(err("expected `#define NAME [integer]`".into())),
                     };
@@ -126,7 +133,10 @@ pub fn preprocess(source: &str, defines: &[(String, i64)]) -> Result<(String, Ve
         }
     }
     if let Some(f) = stack.last() {
-        let end = source[f.start..].find('\n').map(|i| f.start + i).unwrap_or(source.len());
+        let end = source[f.start..]
+            .find('\n')
+            .map(|i| f.start + i)
+            .unwrap_or(source.len());
         return Err(PreprocessError {
             start: f.start,
             end,
@@ -148,15 +158,30 @@ pub fn preprocess(source: &str, defines: &[(String, i64)]) -> Result<(String, Ve
 
 fn is_ident(s: &str) -> bool {
     let mut c = s.chars();
-    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
+    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_')
+        && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
 }
 
 fn declares(source: &str, name: &str) -> bool {
     source.lines().any(|l| {
         let t = l.trim_start();
-        ["const ", "override ", "var ", "let ", "fn ", "struct ", "alias "]
-            .iter()
-            .any(|kw| t.strip_prefix(kw).is_some_and(|r| r.trim_start().starts_with(name) && r.trim_start()[name.len()..].starts_with(|c: char| !c.is_ascii_alphanumeric() && c != '_')))
+        [
+            "const ",
+            "override ",
+            "var ",
+            "let ",
+            "fn ",
+            "struct ",
+            "alias ",
+        ]
+        .iter()
+        .any(|kw| {
+            t.strip_prefix(kw).is_some_and(|r| {
+                r.trim_start().starts_with(name)
+                    && r.trim_start()[name.len()..]
+                        .starts_with(|c: char| !c.is_ascii_alphanumeric() && c != '_')
+            })
+        })
     })
 }
 
@@ -174,7 +199,11 @@ fn eval(args: &[&str], defs: &[(String, i64)]) -> Result<bool, String> {
         if !is_ident(t) {
             return Err(format!("cannot evaluate `{t}` in `#if`"));
         }
-        Ok(defs.iter().find(|(d, _)| d == t).map(|(_, v)| *v).unwrap_or(0))
+        Ok(defs
+            .iter()
+            .find(|(d, _)| d == t)
+            .map(|(_, v)| *v)
+            .unwrap_or(0))
     };
     if joined.trim().is_empty() {
         return Err("`#if` needs a condition".into());

@@ -40,7 +40,13 @@ impl FieldType {
         }
     }
     pub fn wgsl(self) -> String {
-        let v = |n: u8, s: &str| if n == 1 { s.to_string() } else { format!("vec{n}<{s}>") };
+        let v = |n: u8, s: &str| {
+            if n == 1 {
+                s.to_string()
+            } else {
+                format!("vec{n}<{s}>")
+            }
+        };
         match self {
             FieldType::F32(n) => v(n, "f32"),
             FieldType::I32(n) => v(n, "i32"),
@@ -149,7 +155,9 @@ impl UniformLayout {
                 UniformSource::Param(v) => v.clone(),
                 UniformSource::Std(s) => match *s {
                     StdValue::OutSize => vec![ctx.out_size.0 as f64, ctx.out_size.1 as f64],
-                    StdValue::OutTexel => vec![1.0 / ctx.out_size.0 as f64, 1.0 / ctx.out_size.1 as f64],
+                    StdValue::OutTexel => {
+                        vec![1.0 / ctx.out_size.0 as f64, 1.0 / ctx.out_size.1 as f64]
+                    }
                     StdValue::InputSize(i) => {
                         let s = ctx.input_sizes.get(i).copied().unwrap_or((1, 1));
                         vec![s.0 as f64, s.1 as f64]
@@ -181,9 +189,12 @@ impl UniformLayout {
 
     /// True when a field changes from frame to frame.
     pub fn is_dynamic(&self) -> bool {
-        self.fields
-            .iter()
-            .any(|f| matches!(f.source, UniformSource::Std(StdValue::Frame | StdValue::Time)))
+        self.fields.iter().any(|f| {
+            matches!(
+                f.source,
+                UniformSource::Std(StdValue::Frame | StdValue::Time)
+            )
+        })
     }
 }
 
@@ -201,17 +212,28 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         let mut d = Diagnostic::error(format!("WGSL: {}", e.message()));
         let mut first = true;
         for (s, label) in e.labels() {
-            d = if first { d.at(span(file, s), label) } else { d.also(span(file, s), label) };
+            d = if first {
+                d.at(span(file, s), label)
+            } else {
+                d.also(span(file, s), label)
+            };
             first = false;
         }
         vec![d]
     })?;
-    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default());
+    let mut validator = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    );
     if let Err(e) = validator.validate(&module) {
         let mut d = Diagnostic::error(format!("WGSL validation: {}", e.as_inner()));
         let mut first = true;
         for (s, label) in e.spans() {
-            d = if first { d.at(span(file, *s), label.clone()) } else { d.also(span(file, *s), label.clone()) };
+            d = if first {
+                d.at(span(file, *s), label.clone())
+            } else {
+                d.also(span(file, *s), label.clone())
+            };
             first = false;
         }
         let mut src: &dyn std::error::Error = e.as_inner();
@@ -222,7 +244,11 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         return Err(vec![d]);
     }
     let mut diags = Vec::new();
-    let fragments: Vec<_> = module.entry_points.iter().filter(|e| e.stage == naga::ShaderStage::Fragment).collect();
+    let fragments: Vec<_> = module
+        .entry_points
+        .iter()
+        .filter(|e| e.stage == naga::ShaderStage::Fragment)
+        .collect();
     let entry_point = match fragments.as_slice() {
         [one] => one.name.clone(),
         [] => {
@@ -231,7 +257,14 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         }
         many => {
             let names: Vec<&str> = many.iter().map(|e| e.name.as_str()).collect();
-            diags.push(Diagnostic::error(format!("the shader has {} `@fragment` entry points ({}); a pass uses exactly one", many.len(), names.join(", "))).at(Span::new(file, 0, 0), ""));
+            diags.push(
+                Diagnostic::error(format!(
+                    "the shader has {} `@fragment` entry points ({}); a pass uses exactly one",
+                    many.len(),
+                    names.join(", ")
+                ))
+                .at(Span::new(file, 0, 0), ""),
+            );
             String::new()
         }
     };
@@ -281,13 +314,26 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         }
     }
     // One bind group keeps the layout simple: every resource in group 0.
-    for (g, s) in textures.iter().map(|t| (t.group, t.span)).chain(samplers.iter().map(|t| (t.group, t.span))).chain(uniform.iter().map(|u| (u.group, u.span))) {
+    for (g, s) in textures
+        .iter()
+        .map(|t| (t.group, t.span))
+        .chain(samplers.iter().map(|t| (t.group, t.span)))
+        .chain(uniform.iter().map(|u| (u.group, u.span)))
+    {
         if g != 0 {
-            diags.push(Diagnostic::error("pass shader resources must be in `@group(0)`").at(s, "not in group 0"));
+            diags.push(
+                Diagnostic::error("pass shader resources must be in `@group(0)`")
+                    .at(s, "not in group 0"),
+            );
         }
     }
     if diags.is_empty() {
-        Ok(Reflection { entry_point, textures, samplers, uniform })
+        Ok(Reflection {
+            entry_point,
+            textures,
+            samplers,
+            uniform,
+        })
     } else {
         Err(diags)
     }
@@ -303,15 +349,29 @@ fn scalar_field(s: naga::Scalar, n: u8) -> Option<FieldType> {
 }
 
 /// The span of a struct member's declaration and its `// @default(..) @range(..) text` annotations.
-fn member_annotations(decl: &str, decl_start: usize, name: &str, file: FileId) -> (Option<Span>, Option<Value>, Option<(f64, f64)>, String) {
+/// Declaration span, `@default`, `@range` and description of a uniform member.
+type MemberNotes = (Option<Span>, Option<Value>, Option<(f64, f64)>, String);
+
+fn member_annotations(
+    decl: &str,
+    decl_start: usize,
+    name: &str,
+    file: FileId,
+) -> MemberNotes {
     let mut off = 0;
     for line in decl.split_inclusive('\n') {
         let t = line.trim_start();
         let lead = line.len() - t.len();
-        let matches = t.strip_prefix(name).is_some_and(|r| r.trim_start().starts_with(':'));
+        let matches = t
+            .strip_prefix(name)
+            .is_some_and(|r| r.trim_start().starts_with(':'));
         if matches {
             let code_len = t.find("//").unwrap_or(t.trim_end().len());
-            let sp = Span::new(file, decl_start + off + lead, decl_start + off + lead + t[..code_len].trim_end().len());
+            let sp = Span::new(
+                file,
+                decl_start + off + lead,
+                decl_start + off + lead + t[..code_len].trim_end().len(),
+            );
             let mut default = None;
             let mut range = None;
             let mut desc = String::new();
@@ -320,14 +380,20 @@ fn member_annotations(decl: &str, decl_start: usize, name: &str, file: FileId) -
                 loop {
                     if let Some(r) = rest.strip_prefix("@default(") {
                         if let Some(end) = r.find(')') {
-                            default = r[..end].split(',').map(|x| x.trim().parse::<f64>().ok()).collect::<Option<Vec<_>>>();
+                            default = r[..end]
+                                .split(',')
+                                .map(|x| x.trim().parse::<f64>().ok())
+                                .collect::<Option<Vec<_>>>();
                             rest = r[end + 1..].trim_start();
                             continue;
                         }
                     }
                     if let Some(r) = rest.strip_prefix("@range(") {
                         if let Some(end) = r.find(')') {
-                            let v: Option<Vec<f64>> = r[..end].split(',').map(|x| x.trim().parse::<f64>().ok()).collect();
+                            let v: Option<Vec<f64>> = r[..end]
+                                .split(',')
+                                .map(|x| x.trim().parse::<f64>().ok())
+                                .collect();
                             if let Some([a, b]) = v.as_deref() {
                                 range = Some((*a, *b));
                             }
@@ -377,12 +443,20 @@ fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'static [Field
 
 /// Check a pass's inputs and parameters against its shader; build its uniform layout.
 /// `shader_name` is how the shader is named in messages.
-pub fn bind_pass(pass: &PassNode, refl: &Reflection, shader_name: &str) -> Result<UniformLayout, Vec<Diagnostic>> {
+pub fn bind_pass(
+    pass: &PassNode,
+    refl: &Reflection,
+    shader_name: &str,
+) -> Result<UniformLayout, Vec<Diagnostic>> {
     let mut diags = Vec::new();
     let input_names: Vec<String> = pass.inputs.iter().map(|i| i.name.clone()).collect();
     for inp in &pass.inputs {
         if !refl.textures.iter().any(|t| t.name == inp.name) {
-            let mut d = Diagnostic::error(format!("shader `{shader_name}` has no texture input `{}`", inp.name)).at(inp.span, "not declared by the shader");
+            let mut d = Diagnostic::error(format!(
+                "shader `{shader_name}` has no texture input `{}`",
+                inp.name
+            ))
+            .at(inp.span, "not declared by the shader");
             let names: Vec<&str> = refl.textures.iter().map(|t| t.name.as_str()).collect();
             d = match crate::script::ast::suggest(&inp.name, names.iter().copied()) {
                 Some(s) => d.note(format!("did you mean `{s}`?")),
@@ -395,21 +469,39 @@ pub fn bind_pass(pass: &PassNode, refl: &Reflection, shader_name: &str) -> Resul
     for t in &refl.textures {
         if !pass.inputs.iter().any(|i| i.name == t.name) {
             diags.push(
-                Diagnostic::error(format!("pass `{}` does not bind the shader's texture `{}`", pass.path, t.name))
-                    .at(pass.name_span, format!("add `{} = IN` (or PASS.name, AUX.name)", t.name))
-                    .also(t.span, "declared here"),
+                Diagnostic::error(format!(
+                    "pass `{}` does not bind the shader's texture `{}`",
+                    pass.path, t.name
+                ))
+                .at(
+                    pass.name_span,
+                    format!("add `{} = IN` (or PASS.name, AUX.name)", t.name),
+                )
+                .also(t.span, "declared here"),
             );
         }
     }
     let mut layout = UniformLayout::default();
-    let members: &[UniformMember] = refl.uniform.as_ref().map(|u| u.members.as_slice()).unwrap_or(&[]);
+    let members: &[UniformMember] = refl
+        .uniform
+        .as_ref()
+        .map(|u| u.members.as_slice())
+        .unwrap_or(&[]);
     if let Some(u) = &refl.uniform {
         layout.size = u.size.max(16);
     }
     for p in &pass.params {
         let Some(m) = members.iter().find(|m| m.name == p.name) else {
-            let mut d = Diagnostic::error(format!("shader `{shader_name}` has no parameter `{}`", p.name)).at(p.span, "not a field of the shader's uniform struct");
-            let names: Vec<&str> = members.iter().filter(|m| std_value(&m.name, &input_names).is_none()).map(|m| m.name.as_str()).collect();
+            let mut d = Diagnostic::error(format!(
+                "shader `{shader_name}` has no parameter `{}`",
+                p.name
+            ))
+            .at(p.span, "not a field of the shader's uniform struct");
+            let names: Vec<&str> = members
+                .iter()
+                .filter(|m| std_value(&m.name, &input_names).is_none())
+                .map(|m| m.name.as_str())
+                .collect();
             d = match crate::script::ast::suggest(&p.name, names.iter().copied()) {
                 Some(s) => d.note(format!("did you mean `{s}`?")),
                 None if names.is_empty() => d.note("the shader takes no parameters"),
@@ -419,57 +511,111 @@ pub fn bind_pass(pass: &PassNode, refl: &Reflection, shader_name: &str) -> Resul
             continue;
         };
         if std_value(&m.name, &input_names).is_some() {
-            diags.push(Diagnostic::error(format!("`{}` is a standard value set by the runtime", p.name)).at(p.span, "cannot be set").also(m.span, "declared here"));
+            diags.push(
+                Diagnostic::error(format!(
+                    "`{}` is a standard value set by the runtime",
+                    p.name
+                ))
+                .at(p.span, "cannot be set")
+                .also(m.span, "declared here"),
+            );
             continue;
         }
         let n = m.ty.components();
-        let type_ok = p.value.len() == n && match m.ty {
-            FieldType::F32(_) | FieldType::Mat4 => true,
-            FieldType::I32(_) => p.value.iter().all(|x| x.fract() == 0.0),
-            FieldType::U32(_) => p.value.iter().all(|x| x.fract() == 0.0 && *x >= 0.0),
-        };
+        let type_ok = p.value.len() == n
+            && match m.ty {
+                FieldType::F32(_) | FieldType::Mat4 => true,
+                FieldType::I32(_) => p.value.iter().all(|x| x.fract() == 0.0),
+                FieldType::U32(_) => p.value.iter().all(|x| x.fract() == 0.0 && *x >= 0.0),
+            };
         if !type_ok {
             diags.push(
-                Diagnostic::error(format!("wrong type for `{}`: the shader declares {}, found {}", p.name, m.ty.wgsl(), format_value(&p.value)))
-                    .at(p.span, format!("expected {}", m.ty.wgsl()))
-                    .also(m.span, "declared here"),
+                Diagnostic::error(format!(
+                    "wrong type for `{}`: the shader declares {}, found {}",
+                    p.name,
+                    m.ty.wgsl(),
+                    format_value(&p.value)
+                ))
+                .at(p.span, format!("expected {}", m.ty.wgsl()))
+                .also(m.span, "declared here"),
             );
             continue;
         }
         if let Some((lo, hi)) = m.range {
             if p.value.iter().any(|&x| !(x >= lo && x <= hi)) {
                 diags.push(
-                    Diagnostic::error(format!("value {} of `{}` is out of range [{}, {}]", format_value(&p.value), p.name, format_value(&[lo]), format_value(&[hi])))
-                        .at(p.span, "out of range")
-                        .also(m.span, "range declared here"),
+                    Diagnostic::error(format!(
+                        "value {} of `{}` is out of range [{}, {}]",
+                        format_value(&p.value),
+                        p.name,
+                        format_value(&[lo]),
+                        format_value(&[hi])
+                    ))
+                    .at(p.span, "out of range")
+                    .also(m.span, "range declared here"),
                 );
                 continue;
             }
         }
-        layout.fields.push(UniformField { name: m.name.clone(), offset: m.offset, ty: m.ty, source: UniformSource::Param(p.value.clone()) });
+        layout.fields.push(UniformField {
+            name: m.name.clone(),
+            offset: m.offset,
+            ty: m.ty,
+            source: UniformSource::Param(p.value.clone()),
+        });
     }
     for m in members {
-        if layout.fields.iter().any(|f| f.name == m.name) || pass.params.iter().any(|p| p.name == m.name) {
+        if layout.fields.iter().any(|f| f.name == m.name)
+            || pass.params.iter().any(|p| p.name == m.name)
+        {
             continue;
         }
         if let Some((sv, types)) = std_value(&m.name, &input_names) {
             if !types.contains(&m.ty) {
                 let want: Vec<String> = types.iter().map(|t| t.wgsl()).collect();
-                diags.push(Diagnostic::error(format!("standard value `{}` must be declared as {}", m.name, want.join(" or "))).at(m.span, "wrong type"));
+                diags.push(
+                    Diagnostic::error(format!(
+                        "standard value `{}` must be declared as {}",
+                        m.name,
+                        want.join(" or ")
+                    ))
+                    .at(m.span, "wrong type"),
+                );
                 continue;
             }
-            layout.fields.push(UniformField { name: m.name.clone(), offset: m.offset, ty: m.ty, source: UniformSource::Std(sv) });
+            layout.fields.push(UniformField {
+                name: m.name.clone(),
+                offset: m.offset,
+                ty: m.ty,
+                source: UniformSource::Std(sv),
+            });
         } else if let Some(def) = &m.default {
             if def.len() != m.ty.components() {
-                diags.push(Diagnostic::error(format!("`@default` of `{}` has {} values, the field has {}", m.name, def.len(), m.ty.components())).at(m.span, "wrong default"));
+                diags.push(
+                    Diagnostic::error(format!(
+                        "`@default` of `{}` has {} values, the field has {}",
+                        m.name,
+                        def.len(),
+                        m.ty.components()
+                    ))
+                    .at(m.span, "wrong default"),
+                );
                 continue;
             }
-            layout.fields.push(UniformField { name: m.name.clone(), offset: m.offset, ty: m.ty, source: UniformSource::Param(def.clone()) });
+            layout.fields.push(UniformField {
+                name: m.name.clone(),
+                offset: m.offset,
+                ty: m.ty,
+                source: UniformSource::Param(def.clone()),
+            });
         } else {
             diags.push(
-                Diagnostic::error(format!("pass `{}` does not set the shader parameter `{}`", pass.path, m.name))
-                    .at(pass.name_span, format!("add `{} = ...`", m.name))
-                    .also(m.span, "declared here without a `// @default(...)`"),
+                Diagnostic::error(format!(
+                    "pass `{}` does not set the shader parameter `{}`",
+                    pass.path, m.name
+                ))
+                .at(pass.name_span, format!("add `{} = ...`", m.name))
+                .also(m.span, "declared here without a `// @default(...)`"),
             );
         }
     }

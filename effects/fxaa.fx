@@ -1,0 +1,50 @@
+// fxaa: fast approximate anti-aliasing (FXAA 3.11 "quality" style).
+//
+// What it does
+//   Smooths jagged (aliased) edges of a rendered or upscaled image in one pass, by
+//   finding the edge through each high-contrast pixel and resampling the pixel a
+//   fraction of a texel across the edge. Flat and low-contrast pixels are left
+//   exactly as they are.
+//
+// Algorithm (shaders/fxaa.wgsl), after T. Lottes' published FXAA 3.11 description
+//   luma L = sqrt(Rec.709 luminance) of the linear colour (a perceptual curve).
+//   1. Contrast: with the 4-neighbourhood N, S, E, W of the centre M,
+//      range = max - min; if range < max(absolute_threshold, contrast_threshold * max)
+//      the pixel is returned unchanged.
+//   2. Sub-pixel amount: a = |(2 (N+S+E+W) + NW+NE+SW+SE) / 12 - M| / range,
+//      sub = subpix * smoothstep(a)^2 (isolated pixels, thin lines).
+//   3. Orientation: sums of absolute second differences along rows vs. columns of
+//      the 3x3 (centre row/column weighted 2) say whether the edge is horizontal or
+//      vertical; the side is the neighbour across it with the larger gradient.
+//   4. End search: from the point half a texel towards that neighbour, step along
+//      the edge both ways (1, 1.5, 2, 2, 2, 2, 2, 4, 8 texels; bilinear taps average
+//      the two pixels across the edge) until the luma departs from the pair's mean
+//      by a quarter of the gradient: the ends of the staircase step.
+//   5. Offset: 0.5 - (distance to the nearer end) / (span length), used only when
+//      the luma at that end turns away from the centre's side (otherwise 0);
+//      offset = max(that, sub). The colour is resampled bilinearly `offset` texels
+//      across the edge (linear light, alpha included).
+//   The result is a convex combination of input pixels: it stays within the
+//   input's range.
+//
+// Parameters: contrast_threshold, absolute_threshold, subpix (below); defaults are
+// FXAA's "high quality" settings.
+// Passes: one, `fxaa`; output in the input's format (8-bit stays 8-bit).
+EFFECT.fxaa = {
+    DESCRIPTION = "FXAA anti-aliasing (3.11 quality style): edge search and sub-pixel blend, one pass.\nPixels below the contrast threshold are unchanged."
+    FORMAT = IN
+    PARAM = {
+        contrast_threshold = FLOAT { DEFAULT = 0.125  RANGE = (0.01, 1)  DESCRIPTION = "minimum local contrast, relative to the brightest neighbour, for a pixel to be processed (0.063: overkill, 0.333: too little)" }
+        absolute_threshold = FLOAT { DEFAULT = 0.0312  RANGE = (0, 1)  DESCRIPTION = "minimum local contrast in luma units (skips dark noise)" }
+        subpix = FLOAT { DEFAULT = 0.75  RANGE = (0, 1)  DESCRIPTION = "amount of sub-pixel aliasing removal (0: edges only, 1: softer)" }
+    }
+    PASS = {
+        fxaa = SHADER.fxaa {
+            img = IN
+            contrast_threshold = PARAM.contrast_threshold
+            absolute_threshold = PARAM.absolute_threshold
+            subpix = PARAM.subpix
+        }
+    }
+    OUT = fxaa
+}

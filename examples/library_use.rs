@@ -1,0 +1,96 @@
+//! Using fxgraph from a Rust program on its own wgpu device and textures.
+//!
+//! The program creates the device itself (as a renderer would), wraps it with
+//! `GpuContext::from_existing`, compiles an effect chain, binds its input to one
+//! of its own textures and renders into its own output texture, frame after frame.
+//!
+//! Run: `cargo run --release --example library_use [EFFECT...]` (default: glow).
+
+use fxgraph::gpu::context::GpuContext;
+use fxgraph::gpu::executor::{wgpu_format, Engine, FrameInputs};
+use fxgraph::gpu::runner::Effect;
+use fxgraph::graph::plan::InputDesc;
+use fxgraph::script::types::Format;
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        // Silences a harmless warning of the Vulkan loader on headless machines.
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    let effects: Vec<String> = std::env::args().skip(1).collect();
+    let effects = if effects.is_empty() { vec!["glow".to_string()] } else { effects };
+    let (width, height) = (640u32, 360u32);
+
+    // 1. The application's own device.
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))?;
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("application device"),
+        required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+        ..Default::default()
+    }))?;
+    println!("adapter: {}", adapter.get_info().name);
+
+    // 2. The application's own input (a gradient with bright spots) and output textures.
+    let input = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("application scene"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let mut texels = Vec::with_capacity((width * height * 4) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let spot = ((x % 160) as f32 - 80.0).hypot((y % 120) as f32 - 60.0) < 6.0;
+            let v = if spot { 8.0 } else { 0.2 * x as f32 / width as f32 };
+            texels.extend([v, v * 0.8, 0.1, 1.0].map(|c| half::f16::from_f32(c).to_bits()));
+        }
+    }
+    queue.write_texture(
+        input.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * 8), rows_per_image: None },
+        input.size(),
+    );
+    let output = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("application output"),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu_format(Format::Rgba8Srgb),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+
+    // 3. Compile the effect and prepare it for this input, on the application's device.
+    let mut engine = Engine::new(GpuContext::from_existing(adapter, device.clone(), queue.clone()));
+    let mut effect = Effect::compile(&effects, &[])?;
+    let desc = InputDesc {
+        width,
+        height,
+        format: Format::Rgba16f,
+        colorspace: fxgraph::script::types::ColorSpace::Linear,
+        aux: Vec::new(),
+    };
+    let mut prepared = effect.prepare(&mut engine, &desc, Some(Format::Rgba8Srgb))?;
+    println!("passes: {:?}", prepared.plan.passes.iter().map(|p| p.path.as_str()).collect::<Vec<_>>());
+
+    // 4. Frame after frame.
+    for frame in 0..5 {
+        let t = Instant::now();
+        let timings = prepared.run(&mut engine, &FrameInputs::single(&input), &output, true)?;
+        engine.ctx.wait_idle()?;
+        let gpu: f64 = timings.iter().filter_map(|t| t.gpu_ms).sum();
+        println!("frame {frame}: {:.2} ms wall, {:.2} ms GPU (timestamps)", t.elapsed().as_secs_f64() * 1e3, gpu);
+    }
+    let pixels = engine.ctx.read_texture(&output)?;
+    let centre = ((60 * width + 80) * 4) as usize;
+    println!("output pixel at a light: {:?}", &pixels[centre..centre + 4]);
+    Ok(())
+}

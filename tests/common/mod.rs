@@ -1,0 +1,215 @@
+//! Shared helpers of the GPU tests: one engine per test binary, CPU images, metrics.
+#![allow(dead_code)]
+
+use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
+use fxgraph::gpu::executor::Engine;
+use fxgraph::gpu::runner::{apply_in_memory, RunError};
+use fxgraph::io::{FileFormat, Image, Pixels, SourceInfo};
+use fxgraph::script::types::Format;
+use std::sync::{Mutex, OnceLock};
+
+/// The test engine, or `None` (test skipped) when there is no adapter and
+/// FX_REQUIRE_GPU is not set. With FX_REQUIRE_GPU=1 a missing adapter panics.
+pub fn engine() -> Option<std::sync::MutexGuard<'static, Engine>> {
+    static ENGINE: OnceLock<Option<Mutex<Engine>>> = OnceLock::new();
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    let e = ENGINE.get_or_init(|| match GpuContext::new(&AdapterChoice::Auto) {
+        Ok(ctx) => Some(Mutex::new(Engine::new(ctx))),
+        Err(e) => {
+            if require_gpu() {
+                panic!("FX_REQUIRE_GPU=1 but no GPU adapter: {e}");
+            }
+            eprintln!("skipping GPU test: no adapter ({e})");
+            None
+        }
+    });
+    e.as_ref()
+        .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
+}
+
+/// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
+pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
+    let mut v = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            v.extend_from_slice(&f(x, y));
+        }
+    }
+    Image {
+        width: w,
+        height: h,
+        pixels: Pixels::U8(v),
+        source: SourceInfo {
+            format: FileFormat::Png,
+            bit_depth: 8,
+            has_alpha: true,
+            float: false,
+        },
+    }
+}
+
+/// A linear float RGBA image from a closure.
+pub fn image_f32(w: u32, h: u32, f: impl Fn(u32, u32) -> [f32; 4]) -> Image {
+    let mut v = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            v.extend_from_slice(&f(x, y));
+        }
+    }
+    Image {
+        width: w,
+        height: h,
+        pixels: Pixels::F32(v),
+        source: SourceInfo {
+            format: FileFormat::Exr,
+            bit_depth: 32,
+            has_alpha: true,
+            float: true,
+        },
+    }
+}
+
+/// A deterministic test pattern with edges, gradients and colour (8-bit).
+pub fn pattern_u8(w: u32, h: u32) -> Image {
+    image_u8(w, h, |x, y| {
+        let checker = ((x / 7 + y / 5) % 2) as u8;
+        let r = ((x * 255) / w.max(1)) as u8;
+        let g = ((y * 255) / h.max(1)) as u8;
+        let b = if checker == 1 { 220 } else { 30 };
+        let spot = if (x as i32 - w as i32 / 2).pow(2) + (y as i32 - h as i32 / 2).pow(2)
+            < (w.min(h) as i32 / 6).pow(2)
+        {
+            255
+        } else {
+            0
+        };
+        [r.max(spot), g, b, 255]
+    })
+}
+
+/// Run `effects` with `overrides` on `img`; output read back in `out`.
+pub fn run(
+    engine: &mut Engine,
+    effects: &[&str],
+    overrides: &[&str],
+    img: &Image,
+    out: Format,
+) -> Result<(u32, u32, Pixels), RunError> {
+    let e: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    apply_in_memory(engine, &e, &o, img, &[], out, false)
+}
+
+/// Like [`run`] with `--assume-linear` (8-bit values are used as they are).
+pub fn run_raw(
+    engine: &mut Engine,
+    effects: &[&str],
+    overrides: &[&str],
+    img: &Image,
+    out: Format,
+) -> Result<(u32, u32, Pixels), RunError> {
+    let e: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    apply_in_memory(engine, &e, &o, img, &[], out, true)
+}
+
+/// Largest absolute difference between two sample arrays.
+pub fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
+    assert_eq!(a.len(), b.len(), "sample counts differ");
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f32::max)
+}
+
+/// PSNR in dB of `a` against `b`, samples in [0, peak].
+pub fn psnr(a: &[f32], b: &[f32], peak: f32) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let mse: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| ((x - y) as f64).powi(2))
+        .sum::<f64>()
+        / a.len() as f64;
+    if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * ((peak as f64).powi(2) / mse).log10()
+    }
+}
+
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+pub fn linear_to_srgb(c: f32) -> f32 {
+    let c = c.max(0.0);
+    if c <= 0.0031308 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Pixels as linear floats (U8 sRGB-decoded, alpha / 255).
+pub fn linear(p: &Pixels) -> Vec<f32> {
+    match p {
+        Pixels::F32(v) => v.clone(),
+        Pixels::U8(v) => v
+            .iter()
+            .enumerate()
+            .map(|(i, &b)| {
+                if i % 4 == 3 {
+                    b as f32 / 255.0
+                } else {
+                    srgb_to_linear(b as f32 / 255.0)
+                }
+            })
+            .collect(),
+    }
+}
+
+/// Sample at (x, y, channel) of an RGBA buffer.
+pub fn at(v: &[f32], w: u32, x: u32, y: u32, c: usize) -> f32 {
+    v[((y * w + x) * 4) as usize + c]
+}
+
+/// Write `pixels` next to the test outputs for review (tests/output/NAME.png).
+pub fn save_for_review(name: &str, w: u32, h: u32, p: &Pixels) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/output");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.png"));
+    fxgraph::io::save_image(&path, w, h, p, &Default::default()).unwrap();
+    path
+}
+
+/// Compare against a committed reference PNG (tests/reference/NAME.png) with a PSNR
+/// floor. A missing reference fails and writes the actual image for review
+/// (tests/output/NAME.png); it is never created silently.
+pub fn check_reference(name: &str, w: u32, h: u32, p: &Pixels, min_psnr: f64) {
+    let reference = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("tests/reference/{name}.png"));
+    let actual = save_for_review(name, w, h, p);
+    let Ok(img) = fxgraph::io::load_image(&reference, &Default::default()) else {
+        panic!(
+            "missing reference {}; the actual image is at {} — review it and copy it there to accept",
+            reference.display(),
+            actual.display()
+        );
+    };
+    assert_eq!((img.width, img.height), (w, h), "reference size differs");
+    let a = linear(p);
+    let b = linear(&img.pixels);
+    let q = psnr(&a, &b, 1.0);
+    assert!(
+        q >= min_psnr,
+        "{name}: PSNR {q:.2} dB against the reference < {min_psnr} dB (actual image: {})",
+        actual.display()
+    );
+}

@@ -1,0 +1,7 @@
+EFFECT.e = {
+    PASS = {
+        used = SHADER.s { img = IN }
+        forgotten = SHADER.s { img = PASS.used }
+    }
+    OUT = used
+}

@@ -1,0 +1,3 @@
+INCLUDE "no_such_file.fx"
+
+EFFECT.e = { OUT = IN }

@@ -1,0 +1,5 @@
+EFFECT.e = {
+    PASS = {
+        a = SHADER.s { img = IN }
+    }
+}

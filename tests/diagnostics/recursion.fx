@@ -1,0 +1,6 @@
+EFFECT.again = {
+    PASS = {
+        a = EFFECT.again { IN = IN }
+    }
+    OUT = a
+}

@@ -1,0 +1,6 @@
+EFFECT.e = {
+    PASS = {
+        a = EFFECT.gaussian_blurr { IN = IN }
+    }
+    OUT = a
+}

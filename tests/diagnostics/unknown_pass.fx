@@ -1,0 +1,7 @@
+EFFECT.glow = {
+    PASS = {
+        brightPass = SHADER.brightPass { img = IN }
+        blurX = SHADER.blurX { img = PASS.brightPas }
+    }
+    OUT = blurY
+}

@@ -1,0 +1,382 @@
+//! Graph compiler and lifetime plan: schedule, culling, namespaces, temporal
+//! references, chains, and property tests of the plan on random DAGs.
+
+use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, Resource, ReusePolicy, Step};
+use fxgraph::graph::{compile, library, CompileRequest, Graph, Override};
+use fxgraph::script::{Diagnostics, SourceMap};
+use proptest::prelude::*;
+use std::path::PathBuf;
+
+const SEED_GLOW: &str = "EFFECT.glow = {
+    PASS = {
+        brightPass = SHADER.brightPass {
+            img = IN
+        }
+        blurX = SHADER.blurX {
+            img = PASS.brightPass
+            OUT.SCALE = (0.5, 0.5)
+        }
+        blurY = SHADER.blurY {
+            img = PASS.blurX
+            OUT.SCALE = (0.5, 0.5)
+        }
+        final = SHADER.add {
+            img1 = IN
+            img2 = PASS.blurY
+        }
+    }
+    OUT = final
+}
+";
+
+fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
+    let p = dir.path().join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn compile_text(text: &str) -> (Option<Graph>, Diagnostics, SourceMap) {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "t.fx", text);
+    compile(&CompileRequest {
+        effects: vec![p.display().to_string()],
+        ..Default::default()
+    })
+}
+
+fn ok(text: &str) -> Graph {
+    let (g, d, s) = compile_text(text);
+    assert!(!d.has_errors(), "{}", d.render(&s));
+    g.unwrap()
+}
+
+fn names(g: &Graph) -> Vec<String> {
+    g.schedule.iter().map(|&n| g.pass(n).path.clone()).collect()
+}
+
+#[test]
+fn shipped_glow_is_the_seed_text_byte_for_byte() {
+    let shipped =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/effects/glow.fx")).unwrap();
+    assert_eq!(shipped, SEED_GLOW);
+    assert_eq!(library::embedded_effect("glow.fx"), Some(SEED_GLOW));
+}
+
+#[test]
+fn glow_compiles_schedules_and_sizes_as_the_paper_intends() {
+    let g = ok(SEED_GLOW);
+    assert_eq!(
+        names(&g),
+        ["glow/brightPass", "glow/blurX", "glow/blurY", "glow/final"]
+    );
+    let (p, _) = plan(
+        &g,
+        &InputDesc::rgba8_srgb(1920, 1080),
+        &PlanOptions::default(),
+    )
+    .unwrap();
+    let sizes: Vec<(u32, u32)> = p
+        .passes
+        .iter()
+        .map(|p| (p.desc.width, p.desc.height))
+        .collect();
+    // Both blurs are half of IN (each scale is relative to the effect input).
+    assert_eq!(sizes, [(1920, 1080), (960, 540), (960, 540), (1920, 1080)]);
+    assert_eq!(p.passes[3].output, Resource::Output);
+    p.validate().unwrap();
+    // brightPass (rgba16f, 8 B/px) and blurX are live together at the peak.
+    let full = 1920 * 1080 * 8u64;
+    let half = 960 * 540 * 8u64;
+    assert_eq!(p.lower_bound_bytes, full + half);
+    assert_eq!(p.peak_bytes, p.lower_bound_bytes);
+    assert_eq!(p.naive_bytes, full + 2 * half);
+}
+
+#[test]
+fn schedule_follows_dependencies_and_breaks_ties_by_declaration() {
+    let g = ok("EFFECT.e = { PASS = {
+        d = SHADER.s { a = PASS.b  b = PASS.c }
+        c = SHADER.s { a = IN }
+        b = SHADER.s { a = IN }
+        a = SHADER.s { a = IN }
+        z = SHADER.s { a = PASS.d  b = PASS.a }
+    } OUT = z }");
+    assert_eq!(names(&g), ["e/c", "e/b", "e/d", "e/a", "e/z"]);
+}
+
+#[test]
+fn unused_passes_are_culled_with_a_warning() {
+    let (g, d, s) = compile_text("EFFECT.e = { PASS = { a = SHADER.s { img = IN } unused = SHADER.s { img = PASS.a } } OUT = a }");
+    let g = g.unwrap();
+    assert_eq!(names(&g), ["e/a"]);
+    let text = d.render(&s);
+    assert!(
+        text.contains("warning: pass `e/unused` never reaches `OUT`; it is culled"),
+        "{text}"
+    );
+    assert!(!d.has_errors());
+}
+
+#[test]
+fn feedback_is_not_a_cycle_and_gets_a_ring() {
+    let g = ok("EFFECT.acc = { PASS = { a = SHADER.s { cur = IN  prev = PASS.a[-1] } } OUT = a }");
+    assert!(g.has_feedback());
+    let (p, _) = plan(&g, &InputDesc::rgba8_srgb(64, 32), &PlanOptions::default()).unwrap();
+    assert_eq!(p.rings.len(), 1);
+    assert_eq!(p.rings[0].depth, 1);
+    // The pass writes into its ring; the output gets a copy.
+    assert_eq!(
+        p.passes[0].output,
+        Resource::Persistent { ring: 0, back: 0 }
+    );
+    assert_eq!(
+        p.passes[0].inputs[1].resource,
+        Resource::Persistent { ring: 0, back: 1 }
+    );
+    assert_eq!(p.passes.last().unwrap().output, Resource::Output);
+    assert_eq!(p.persistent_bytes, 2 * 64 * 32 * 8);
+    p.validate().unwrap();
+}
+
+#[test]
+fn temporal_inputs_set_latency_and_history() {
+    let g = ok("EFFECT.t = { PASS = { a = SHADER.s { p = IN[-2]  c = IN  n = IN[+1] } } OUT = a }");
+    assert_eq!((g.history, g.latency), (2, 1));
+    let (p, _) = plan(&g, &InputDesc::rgba8_srgb(10, 10), &PlanOptions::default()).unwrap();
+    assert_eq!(p.persistent_bytes, 3 * 10 * 10 * 4);
+}
+
+#[test]
+fn nested_effects_expand_in_their_namespace_with_their_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        &dir,
+        "outer.fx",
+        "EFFECT.inner = {
+            PARAM = { k = FLOAT { DEFAULT = 1  RANGE = (0, 10) } }
+            PASS = { x = SHADER.s { img = IN  k = PARAM.k  OUT.SCALE = 0.5 } }
+            OUT = x
+        }
+        EFFECT.outer = {
+            PARAM = { strength = FLOAT { DEFAULT = 3  RANGE = (0, 10) } }
+            PASS = {
+                a = EFFECT.inner { IN = IN  k = 2 }
+                b = EFFECT.inner { IN = PASS.a  k = PARAM.strength }
+                c = SHADER.s { img = PASS.b  prev = PASS.b[-1] }
+            }
+            OUT = c
+        }",
+    );
+    let (g, d, s) = compile(&CompileRequest {
+        effects: vec![p.display().to_string()],
+        overrides: vec![Override {
+            arg: "strength=7".into(),
+        }],
+        ..Default::default()
+    });
+    assert!(d.is_empty(), "{}", d.render(&s));
+    let g = g.unwrap();
+    assert_eq!(names(&g), ["outer/a/x", "outer/b/x", "outer/c"]);
+    let k: Vec<f64> = g.schedule[..2]
+        .iter()
+        .map(|&n| g.pass(n).params[0].value[0])
+        .collect();
+    assert_eq!(k, [2.0, 7.0]);
+    let (pl, _) = plan(&g, &InputDesc::rgba8_srgb(100, 60), &PlanOptions::default()).unwrap();
+    // inner's scale is relative to its own IN: 100 -> 50 -> 25.
+    assert_eq!(
+        (
+            pl.passes[0].desc.width,
+            pl.passes[1].desc.width,
+            pl.passes[2].desc.width
+        ),
+        (50, 25, 100)
+    );
+}
+
+#[test]
+fn chains_share_one_graph_and_namespace_repeats() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = write(
+        &dir,
+        "a.fx",
+        "EFFECT.a = { PASS = { p = SHADER.s { img = IN } } OUT = p }",
+    );
+    let (g, d, s) = compile(&CompileRequest {
+        effects: vec![
+            a.display().to_string(),
+            "glow".into(),
+            a.display().to_string(),
+        ],
+        ..Default::default()
+    });
+    assert!(d.is_empty(), "{}", d.render(&s));
+    let g = g.unwrap();
+    assert_eq!(
+        names(&g),
+        [
+            "a/p",
+            "glow/brightPass",
+            "glow/blurX",
+            "glow/blurY",
+            "glow/final",
+            "a#2/p"
+        ]
+    );
+}
+
+#[test]
+fn output_may_be_the_input() {
+    let g = ok("EFFECT.id = { OUT = IN }");
+    let (p, _) = plan(&g, &InputDesc::rgba8_srgb(8, 8), &PlanOptions::default()).unwrap();
+    assert_eq!(p.passes.len(), 1);
+    assert_eq!(p.passes[0].inputs[0].resource, Resource::Input { frame: 0 });
+}
+
+#[test]
+fn colour_space_mismatch_on_float_inserts_a_conversion_pass_and_says_so() {
+    let g = ok("EFFECT.c = { PASS = {
+        enc = SHADER.s { img = IN  OUT.COLORSPACE = srgb }
+        use = SHADER.s { img = PASS.enc }
+    } OUT = use }");
+    let (p, notes) = plan(&g, &InputDesc::rgba8_srgb(16, 16), &PlanOptions::default()).unwrap();
+    let paths: Vec<&str> = p.passes.iter().map(|p| p.path.as_str()).collect();
+    assert_eq!(paths, ["c/enc", "c/use:img:linear", "c/use"]);
+    assert_eq!(notes.list.len(), 1);
+    assert!(
+        notes.list[0].message.contains("converting"),
+        "{:?}",
+        notes.list[0]
+    );
+    p.validate().unwrap();
+}
+
+#[test]
+fn colour_space_mismatch_on_8_bit_is_a_free_view() {
+    use fxgraph::graph::plan::View;
+    let g = ok("EFFECT.c = { PASS = {
+        enc = SHADER.s { img = IN  OUT.COLORSPACE = srgb  OUT.FORMAT = rgba8 }
+        use = SHADER.s { img = PASS.enc }
+        raw = SHADER.s { img = IN  img.COLORSPACE = srgb  other = PASS.use }
+    } OUT = raw }");
+    let (p, notes) = plan(&g, &InputDesc::rgba8_srgb(16, 16), &PlanOptions::default()).unwrap();
+    assert!(notes.list.is_empty());
+    assert_eq!(p.passes.len(), 3);
+    assert_eq!(p.passes[1].inputs[0].view, View::SrgbDecode);
+    assert_eq!(p.passes[2].inputs[0].view, View::Raw);
+}
+
+#[test]
+fn every_shipped_effect_plans_at_the_lower_bound() {
+    for (name, _) in library::builtin_effects() {
+        let (g, d, s) = compile(&CompileRequest {
+            effects: vec![name.clone()],
+            ..Default::default()
+        });
+        assert!(!d.has_errors(), "{name}: {}", d.render(&s));
+        let g = g.unwrap();
+        for (w, h) in [(1920, 1080), (67, 41), (1, 1)] {
+            let input = InputDesc::rgba8_srgb(w, h).with_gbuffer();
+            let (p, _) = plan(&g, &input, &PlanOptions::default())
+                .unwrap_or_else(|d| panic!("{name}: {}", d.render(&s)));
+            p.validate()
+                .unwrap_or_else(|e| panic!("{name} {w}x{h}: {e}"));
+            assert_eq!(p.peak_bytes, p.lower_bound_bytes, "{name} at {w}x{h}");
+            assert!(p.naive_bytes >= p.peak_bytes);
+        }
+    }
+}
+
+/// A random DAG of `n` passes as a script: each pass reads 1-3 earlier passes or IN,
+/// with a random scale and format; some read feedback.
+fn random_script(spec: &[(Vec<usize>, usize, usize, bool)]) -> String {
+    let scales = [
+        "",
+        "OUT.SCALE = 0.5",
+        "OUT.SCALE = (0.25, 0.5)",
+        "OUT.SIZE = (7, 3)",
+        "OUT.SCALE = 2",
+    ];
+    let formats = [
+        "",
+        "OUT.FORMAT = rgba8",
+        "OUT.FORMAT = r16f",
+        "OUT.FORMAT = rgba32f",
+        "OUT.FORMAT = IN",
+    ];
+    let mut s = String::from("EFFECT.r = {\n  PASS = {\n");
+    for (i, (reads, scale, format, fb)) in spec.iter().enumerate() {
+        s.push_str(&format!("    p{i} = SHADER.s {{"));
+        for (k, &r) in reads.iter().enumerate() {
+            if r >= i {
+                s.push_str(&format!(" i{k} = IN"));
+            } else {
+                s.push_str(&format!(" i{k} = PASS.p{r}"));
+            }
+        }
+        if *fb {
+            s.push_str(&format!(" fb = PASS.p{i}[-1]"));
+        }
+        s.push_str(&format!(" {} {} }}\n", scales[*scale], formats[*format]));
+    }
+    s.push_str(&format!("  }}\n  OUT = p{}\n}}\n", spec.len() - 1));
+    s
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// On random DAGs: the plan never reads a freed value, never writes a slot that
+    /// holds a live value, frees everything; MinPeak's peak equals the lower bound;
+    /// Pool's peak is at least the lower bound.
+    #[test]
+    fn plans_of_random_dags_are_sound(
+        spec in prop::collection::vec((prop::collection::vec(0usize..12, 1..4), 0usize..5, 0usize..5, prop::bool::weighted(0.1)), 1..12),
+        w in 1u32..300, h in 1u32..300,
+    ) {
+        let text = random_script(&spec);
+        let (g, d, s) = compile_text(&text);
+        prop_assert!(!d.has_errors(), "{}\n{}", text, d.render(&s));
+        let g = g.unwrap();
+        for policy in [ReusePolicy::MinPeak, ReusePolicy::Pool] {
+            let (p, _) = plan(&g, &InputDesc::rgba8_srgb(w, h), &PlanOptions { policy, output_format: None }).unwrap();
+            let simulated = p.validate().map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
+            prop_assert_eq!(simulated, p.peak_bytes);
+            prop_assert!(p.peak_bytes >= p.lower_bound_bytes);
+            prop_assert!(p.naive_bytes >= p.peak_bytes);
+            if policy == ReusePolicy::MinPeak {
+                prop_assert_eq!(p.peak_bytes, p.lower_bound_bytes, "{}", text);
+            }
+            // Every value is written by exactly one pass before it is read.
+            let mut written = vec![false; p.values.len()];
+            for step in &p.steps {
+                if let Step::Run { pass } = step {
+                    for i in &p.passes[*pass].inputs {
+                        if let Resource::Value(v) = i.resource { prop_assert!(written[v]); }
+                    }
+                    if let Resource::Value(v) = p.passes[*pass].output { prop_assert!(!written[v]); written[v] = true; }
+                }
+            }
+        }
+    }
+
+    /// The parser and compiler never panic, whatever the text.
+    #[test]
+    fn compiler_does_not_panic_on_arbitrary_text(text in "\\PC{0,300}") {
+        let _ = compile_text(&text);
+    }
+
+    /// ... nor on scripts made of the language's own tokens in random order.
+    #[test]
+    fn compiler_does_not_panic_on_token_soup(tokens in prop::collection::vec(prop::sample::select(vec![
+        "EFFECT", ".", "glow", "=", "{", "}", "PASS", "SHADER", "a", "b", "IN", "OUT", "(", ")", ",", "0.5", "-1", "[", "]",
+        "PARAM", "FLOAT", "DEFAULT", "RANGE", "AUX", "depth", "OUT.SCALE", "OUT.SIZE", "OUT.FORMAT", "rgba8", "EFFECT.a", "PASS.a",
+        "INCLUDE", "\"x.fx\"", "// c\n", "\n", "DEFINE.X", "true", "ENUM", "VALUES", "0", "99999999999", "IN[-1]", "PASS.a[-1]",
+    ]), 0..80)) {
+        let text = tokens.join(" ");
+        let (g, _, _) = compile_text(&text);
+        if let Some(g) = g {
+            let _ = plan(&g, &InputDesc::rgba8_srgb(33, 17).with_gbuffer(), &PlanOptions::default());
+        }
+    }
+}
