@@ -1,0 +1,265 @@
+//! The real `fxrun` binary: exit codes, atomic writes, rejected inputs, analysis
+//! modes, and snapshots of shader diagnostics.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn fxrun(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("run fxrun")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().unwrap_or(-1)
+}
+
+/// True when GPU tests should run (an adapter, or FX_REQUIRE_GPU=1 which makes
+/// its absence fail).
+fn gpu() -> bool {
+    common::engine().is_some()
+}
+
+fn small_png(dir: &Path) -> PathBuf {
+    let p = dir.join("in.png");
+    let img = common::pattern_u8(48, 32);
+    fxgraph::io::save_image(&p, img.width, img.height, &img.pixels, &Default::default()).unwrap();
+    p
+}
+
+#[test]
+fn check_accepts_the_seed_glow() {
+    let o = fxrun(&["effects/glow.fx", "--check"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(stderr(&o).is_empty(), "{}", stderr(&o));
+    let o = fxrun(&["glow", "--check"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
+#[test]
+fn check_rejects_a_bad_script_with_exit_1_and_all_errors() {
+    let o = fxrun(&["tests/diagnostics/unknown_pass.fx", "--check"]);
+    assert_eq!(code(&o), 1);
+    let e = stderr(&o);
+    assert!(e.contains("tests/diagnostics/unknown_pass.fx:4:43: error: unknown pass `brightPas`"), "{e}");
+    assert!(e.contains("tests/diagnostics/unknown_pass.fx:6:11: error: unknown pass `blurY`"), "{e}");
+    assert!(e.contains("2 errors, 0 warnings"), "{e}");
+}
+
+#[test]
+fn check_passes_with_warnings_only() {
+    let o = fxrun(&["tests/diagnostics/culled.fx", "--check"]);
+    assert_eq!(code(&o), 0);
+    assert!(stderr(&o).contains("warning: pass `e/forgotten` never reaches `OUT`"));
+}
+
+#[test]
+fn plan_json_has_the_documented_keys() {
+    let o = fxrun(&["glow", "--plan", "--size", "1920x1080", "--json"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    assert_eq!(v["passes"], serde_json::json!(["glow/brightPass", "glow/blurX", "glow/blurY", "glow/final"]));
+    let full = 1920u64 * 1080 * 8;
+    let half = 960u64 * 540 * 8;
+    assert_eq!(v["naive_bytes"], full + 2 * half);
+    assert_eq!(v["peak_bytes"], full + half);
+    assert_eq!(v["lower_bound_bytes"], full + half);
+    let o = fxrun(&["glow", "--plan", "--size", "640x480"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("alloc  v0") && text.contains("run    glow/blurX") && text.contains("lower bound bytes"), "{text}");
+    let o = fxrun(&["glow", "--plan", "--size", "64by64"]);
+    assert_eq!(code(&o), 1);
+}
+
+#[test]
+fn dot_draws_passes_with_sizes_and_dashed_feedback() {
+    let o = fxrun(&["glow", "--dot", "-", "--size", "100x50"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.starts_with("digraph fxgraph {"));
+    assert!(text.contains("glow/blurX\\nSHADER.blurX\\n50x25 rgba16f linear"), "{text}");
+    let dir = tempfile::tempdir().unwrap();
+    let fx = dir.path().join("fb.fx");
+    std::fs::write(&fx, "EFFECT.fb = { PASS = { a = SHADER.s { img = IN  prev = PASS.a[-1] } } OUT = a }").unwrap();
+    let o = fxrun(&[fx.to_str().unwrap(), "--dot", "-"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("style=dashed"));
+}
+
+#[test]
+fn list_and_describe() {
+    let o = fxrun(&["--list"]);
+    assert_eq!(code(&o), 0);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.lines().any(|l| l.starts_with("glow")), "{text}");
+    let o = fxrun(&["glow", "--describe"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("glow/brightPass") && text.contains("SHADER.brightPass"), "{text}");
+}
+
+#[test]
+fn bad_arguments_are_rejected_with_exit_1() {
+    assert_eq!(code(&fxrun(&["--no-such-flag"])), 1);
+    assert_eq!(code(&fxrun(&[])), 1);
+    assert_eq!(code(&fxrun(&["glow"])), 1, "no input/output");
+    let o = fxrun(&["no_such_effect", "--check"]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("no effect file or built-in effect named `no_such_effect`"));
+    assert_eq!(code(&fxrun(&["--help"])), 0);
+}
+
+#[test]
+fn set_errors_point_into_the_argument() {
+    let o = fxrun(&["tests/diagnostics/nested_params.fx", "--check"]);
+    assert_eq!(code(&o), 1);
+    let dir = tempfile::tempdir().unwrap();
+    let fx = dir.path().join("p.fx");
+    std::fs::write(&fx, "EFFECT.p = { PARAM = { sigma = FLOAT { DEFAULT = 2  RANGE = (0.1, 64) } } PASS = { a = SHADER.s { img = IN  s = PARAM.sigma } } OUT = a }").unwrap();
+    let f = fx.to_str().unwrap();
+    let o = fxrun(&[f, "--check", "--set", "sigma=100"]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("--set:1:7: error: value 100 of `sigma` is out of range [0.1, 64]"), "{}", stderr(&o));
+    let o = fxrun(&[f, "--check", "--set", "sigmaa=3"]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("error: `--set sigmaa`: no effect or pass parameter of that name"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("did you mean `sigma`?"), "{}", stderr(&o));
+    let o = fxrun(&[f, "--check", "--set", "sigma=(1,"]);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("--set:1:10: error: syntax error"), "{}", stderr(&o));
+    let o = fxrun(&[f, "--check", "--set", "sigma=3"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
+#[test]
+fn applies_glow_to_an_image() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_png(dir.path());
+    let out = dir.path().join("out.png");
+    let json = dir.path().join("t.json");
+    let o = fxrun(&["glow", "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--timings", "--timings-json", json.to_str().unwrap()]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let img = fxgraph::io::load_image(&out, &Default::default()).unwrap();
+    assert_eq!((img.width, img.height), (48, 32));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("glow/blurX") && stdout.contains("total"), "{stdout}");
+    let t: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(t["passes"].as_array().unwrap().len(), 4);
+    assert!(t["total_ms"].as_f64().unwrap() > 0.0);
+    // No temporary files are left beside the output.
+    let names: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    assert!(names.iter().all(|n| !n.contains("fxtmp")), "{names:?}");
+}
+
+#[test]
+fn a_failed_run_leaves_the_existing_output_untouched() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_png(dir.path());
+    let out = dir.path().join("out.png");
+    std::fs::write(&out, b"precious").unwrap();
+    // A shader error (exit 1), a missing input (exit 2), a corrupt input (exit 1).
+    let o = fxrun(&["tests/shader_errors/bindings.fx", "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let o = fxrun(&["glow", "-i", "no/such/file.png", "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("no/such/file.png"), "{}", stderr(&o));
+    let corrupt = dir.path().join("corrupt.png");
+    let bytes = std::fs::read(&input).unwrap();
+    std::fs::write(&corrupt, &bytes[..bytes.len() / 2]).unwrap();
+    let o = fxrun(&["glow", "-i", corrupt.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("corrupt.png"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), b"precious");
+    let names: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    assert!(names.iter().all(|n| !n.contains("fxtmp")), "{names:?}");
+}
+
+#[test]
+fn truncated_exr_and_unknown_output_type_are_rejected() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("t.exr");
+    let img = common::image_f32(16, 8, |x, _| [x as f32 * 10.0, 1.0, 0.5, 1.0]);
+    fxgraph::io::save_image(&exr, 16, 8, &img.pixels, &Default::default()).unwrap();
+    let bytes = std::fs::read(&exr).unwrap();
+    std::fs::write(&exr, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    let out = dir.path().join("o.exr");
+    let o = fxrun(&["glow", "-i", exr.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(!out.exists());
+    let input = small_png(dir.path());
+    let o = fxrun(&["glow", "-i", input.to_str().unwrap(), "-o", dir.path().join("o.xyz").to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let o = fxrun(&["glow", "-i", input.to_str().unwrap(), "-o", dir.path().join("o.jpg").to_str().unwrap(), "--bit-depth", "16"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+}
+
+#[test]
+fn hdr_values_survive_an_exr_round_trip_through_an_identity_chain() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("hdr.exr");
+    let img = common::image_f32(9, 5, |x, y| [x as f32 * 50.0, y as f32 * 0.25, 413.0, 1.0]);
+    fxgraph::io::save_image(&exr, 9, 5, &img.pixels, &Default::default()).unwrap();
+    let id = dir.path().join("id.fx");
+    std::fs::write(&id, "EFFECT.id = { OUT = IN }").unwrap();
+    let out = dir.path().join("out.exr");
+    let o = fxrun(&[id.to_str().unwrap(), "-i", exr.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let back = fxgraph::io::load_image(&out, &Default::default()).unwrap();
+    let (a, b) = (common::linear(&img.pixels), common::linear(&back.pixels));
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() <= x.abs() * 1e-3 + 1e-3, "{x} vs {y}");
+    }
+    assert!(b.iter().any(|&v| v == 413.0));
+}
+
+/// Shader diagnostics: rendered text equals the snapshot (`tests/shader_errors/NAME.expected`).
+#[test]
+fn shader_diagnostics_match_their_snapshots() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_png(dir.path());
+    let out = dir.path().join("o.png");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bless = std::env::var("FX_BLESS").is_ok_and(|v| v == "1");
+    let mut failures = Vec::new();
+    for case in ["bindings", "wgsl_syntax", "missing_shader"] {
+        let fx = format!("tests/shader_errors/{case}.fx");
+        let o = fxrun(&[&fx, "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert_eq!(code(&o), 1, "{case}: {}", stderr(&o));
+        let actual = stderr(&o);
+        let expected_path = root.join(format!("tests/shader_errors/{case}.expected"));
+        if bless {
+            std::fs::write(&expected_path, &actual).unwrap();
+            continue;
+        }
+        match std::fs::read_to_string(&expected_path) {
+            Ok(e) if e == actual => {}
+            _ => {
+                std::fs::write(expected_path.with_extension("actual"), &actual).unwrap();
+                failures.push(format!("{case}: differs from {} (see .actual)", expected_path.display()));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

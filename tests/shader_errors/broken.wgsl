@@ -1,0 +1,7 @@
+@group(0) @binding(0) var img: texture_2d<f32>;
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let c = textureLoad(img, vec2<i32>(pos.xy), 0)
+    return c;
+}

@@ -1,0 +1,6 @@
+EFFECT.missing_shader = {
+    PASS = {
+        a = SHADER.does_not_exist { img = IN }
+    }
+    OUT = a
+}

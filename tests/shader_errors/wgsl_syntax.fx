@@ -1,0 +1,6 @@
+EFFECT.wgsl_syntax = {
+    PASS = {
+        a = SHADER.broken { img = IN }
+    }
+    OUT = a
+}
