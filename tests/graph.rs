@@ -276,7 +276,7 @@ fn every_shipped_effect_plans_at_the_lower_bound() {
         assert!(!d.has_errors(), "{name}: {}", d.render(&s));
         let g = g.unwrap();
         for (w, h) in [(1920, 1080), (67, 41), (1, 1)] {
-            let input = InputDesc::rgba8_srgb(w, h).with_gbuffer();
+            let input = InputDesc::rgba8_srgb(w, h).with_gbuffer().with_aux_of(&g);
             let (p, _) = plan(&g, &input, &PlanOptions::default())
                 .unwrap_or_else(|d| panic!("{name}: {}", d.render(&s)));
             p.validate()

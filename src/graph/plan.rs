@@ -43,6 +43,17 @@ impl InputDesc {
         }
     }
 
+    /// Adds every other auxiliary input `graph` reads, as an 8-bit sRGB image
+    /// (what `fxrun --aux NAME=photo.png` provides).
+    pub fn with_aux_of(mut self, graph: &super::Graph) -> Self {
+        for name in graph.aux_inputs() {
+            if !self.aux.iter().any(|(a, _)| *a == name) {
+                self.aux.push((name, Format::Rgba8Srgb));
+            }
+        }
+        self
+    }
+
     /// Adds the deferred renderer's G-buffer images as auxiliary inputs.
     pub fn with_gbuffer(mut self) -> Self {
         self.aux = gbuffer_aux();
