@@ -122,11 +122,23 @@ pub struct PassTiming {
     pub cpu_ms: f64,
 }
 
+/// The camera of a rendered input, for the standard values `near`, `far`, `proj`
+/// and `inv_proj` (column-major matrices, as WGSL reads them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraStd {
+    pub near: f32,
+    pub far: f32,
+    pub proj: [f32; 16],
+    pub inv_proj: [f32; 16],
+}
+
 /// Textures the caller provides for one frame.
 pub struct FrameInputs<'a> {
     /// Input frames by offset (0 = current; others for `IN[-n]`/`IN[+n]`).
     pub frames: HashMap<i32, &'a wgpu::Texture>,
     pub aux: HashMap<String, &'a wgpu::Texture>,
+    /// The camera, when the input comes from the renderer.
+    pub camera: Option<CameraStd>,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -134,6 +146,7 @@ impl<'a> FrameInputs<'a> {
         FrameInputs {
             frames: HashMap::from([(0, input)]),
             aux: HashMap::new(),
+            camera: None,
         }
     }
 }
@@ -615,13 +628,14 @@ impl Prepared {
             }
         }
         let ctx = engine.ctx.clone();
+        let camera = inputs.camera.unwrap_or(CameraStd { near: 0.1, far: 100.0, proj: IDENTITY, inv_proj: IDENTITY });
         let std_base = StdContext {
             frame: self.frame,
             time: self.frame as f64 / self.fps,
-            near: 0.1,
-            far: 100.0,
-            proj: IDENTITY,
-            inv_proj: IDENTITY,
+            near: camera.near,
+            far: camera.far,
+            proj: camera.proj,
+            inv_proj: camera.inv_proj,
             ..Default::default()
         };
         let timer = if want_timings {
