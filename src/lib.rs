@@ -13,6 +13,8 @@ pub mod script;
 pub mod shader;
 
 #[cfg(feature = "gpu")]
+pub mod deferred;
+#[cfg(feature = "gpu")]
 pub mod gpu;
 #[cfg(feature = "gpu")]
 pub mod io;
