@@ -1,3 +1,4 @@
 pub mod context;
 pub mod executor;
 pub mod runner;
+pub mod stream;

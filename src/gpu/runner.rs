@@ -97,7 +97,18 @@ impl Effect {
             output_format,
             ..Default::default()
         };
-        let (p, notes) = plan(&self.graph, input, &opts).map_err(|d| RunError::Rejected {
+        self.prepare_with(engine, input, &opts)
+    }
+
+    /// [`Effect::prepare`] with explicit plan options (e.g. `ReusePolicy::Pool` for
+    /// streams, which keep their textures across frames).
+    pub fn prepare_with(
+        &mut self,
+        engine: &mut Engine,
+        input: &InputDesc,
+        opts: &PlanOptions,
+    ) -> Result<Prepared, RunError> {
+        let (p, notes) = plan(&self.graph, input, opts).map_err(|d| RunError::Rejected {
             rendered: d.render(&self.sources),
         })?;
         self.warnings.extend(notes);

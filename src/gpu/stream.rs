@@ -1,0 +1,200 @@
+//! Streaming frames through a prepared effect: `push` a frame, get an output when
+//! the graph's latency allows; `flush` at the end.
+//!
+//! Semantics (docs/language.md, "Temporal references"):
+//! - `IN[-n]` / `IN[+n]` read the input `n` frames earlier / later; at the first
+//!   and last frames they clamp to the nearest frame that exists.
+//! - With later-frame references (latency `L`), output `t` is produced when input
+//!   `t + L` is pushed, or by `flush` for the last `L` frames. There is exactly one
+//!   output per input, in order.
+//! - `PASS.x[-n]` (feedback) reads the persistent ring of the pass, zero before the
+//!   first frame.
+//!
+//! Each input frame is uploaded once into a texture that stays in a ring of
+//! `history + latency + 1` textures (recycled, never re-uploaded), and transient
+//! textures are kept across frames (the plan's `Pool` policy), so a stream
+//! allocates nothing per frame after the first.
+
+use super::context::GpuError;
+use super::executor::{wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared};
+use super::runner::create_output;
+use crate::graph::plan::{Resource, ReusePolicy};
+use crate::io::{Image, Pixels};
+use crate::script::types::Format;
+use std::collections::{HashMap, VecDeque};
+
+/// A prepared effect run over a sequence of frames.
+pub struct Stream {
+    pub prepared: Prepared,
+    offsets: Vec<i32>,
+    history: u32,
+    latency: u32,
+    frames: VecDeque<(u64, wgpu::Texture)>,
+    spare: Vec<wgpu::Texture>,
+    pushed: u64,
+    emitted: u64,
+    output: wgpu::Texture,
+    input_format: Format,
+    /// Auxiliary images, the same for every frame.
+    pub aux: HashMap<String, wgpu::Texture>,
+    pub camera: Option<CameraStd>,
+    /// Collect per-pass timings of every frame.
+    pub want_timings: bool,
+    /// Timings of the last frame run (when `want_timings`).
+    pub last_timings: Vec<PassTiming>,
+}
+
+impl Stream {
+    /// `prepared` should come from a plan with [`ReusePolicy::Pool`] so transient
+    /// textures are created once; `input_format` is the format pushed images are
+    /// uploaded as.
+    pub fn new(engine: &Engine, mut prepared: Prepared, input_format: Format) -> Self {
+        prepared.policy = ReusePolicy::Pool;
+        let mut offsets: Vec<i32> = prepared
+            .plan
+            .passes
+            .iter()
+            .flat_map(|p| p.inputs.iter())
+            .filter_map(|i| match i.resource {
+                Resource::Input { frame } => Some(frame),
+                _ => None,
+            })
+            .collect();
+        offsets.sort();
+        offsets.dedup();
+        let out = prepared.plan.output;
+        let output = create_output(&engine.ctx, out.width, out.height, out.format);
+        Stream {
+            history: prepared.plan.history,
+            latency: prepared.plan.latency,
+            offsets,
+            frames: VecDeque::new(),
+            spare: Vec::new(),
+            pushed: 0,
+            emitted: 0,
+            output,
+            input_format,
+            prepared,
+            aux: HashMap::new(),
+            camera: None,
+            want_timings: false,
+            last_timings: Vec::new(),
+        }
+    }
+
+    /// Frames of delay between an input and its output.
+    pub fn latency(&self) -> u32 {
+        self.latency
+    }
+
+    /// Input frames kept (the memory bound of the input ring).
+    pub fn ring_len(&self) -> usize {
+        (self.history + self.latency + 1) as usize
+    }
+
+    /// The output texture, holding the last output produced.
+    pub fn output(&self) -> &wgpu::Texture {
+        &self.output
+    }
+
+    /// Frames pushed so far.
+    pub fn pushed(&self) -> u64 {
+        self.pushed
+    }
+
+    /// Upload an image (into a recycled texture) and push it.
+    pub fn push_image(&mut self, engine: &mut Engine, img: &Image) -> Result<Option<u64>, ExecError> {
+        let input = self.input_texture(engine, img)?;
+        self.push_texture(engine, input)
+    }
+
+    fn input_texture(&mut self, engine: &Engine, img: &Image) -> Result<wgpu::Texture, GpuError> {
+        let ctx = &engine.ctx;
+        let (w, h) = (self.prepared.plan.input.width, self.prepared.plan.input.height);
+        if (img.width, img.height) != (w, h) {
+            return Err(GpuError::Validation {
+                what: "sequence frame".into(),
+                message: format!("frame is {}x{}, the sequence started at {w}x{h}", img.width, img.height),
+            });
+        }
+        let bytes: Vec<u8> = match (&img.pixels, self.input_format) {
+            (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
+            (p, Format::Rgba16f) => p.to_f32_linear(false).iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect(),
+            (p, _) => p.to_f32_linear(false).iter().flat_map(|&x| x.to_le_bytes()).collect(),
+        };
+        match self.spare.pop() {
+            Some(tex) => {
+                let texel = (bytes.len() / (w as usize * h as usize)) as u32;
+                ctx.queue.write_texture(
+                    tex.as_image_copy(),
+                    &bytes,
+                    wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * texel), rows_per_image: None },
+                    tex.size(),
+                );
+                Ok(tex)
+            }
+            None => ctx.upload_texture(
+                &format!("sequence input {}", self.pushed),
+                w,
+                h,
+                wgpu_format(self.input_format),
+                &bytes,
+                wgpu::TextureUsages::empty(),
+            ),
+        }
+    }
+
+    /// Push the next input frame. Returns the index of the output frame now in
+    /// [`Stream::output`], if one was produced.
+    pub fn push_texture(&mut self, engine: &mut Engine, input: wgpu::Texture) -> Result<Option<u64>, ExecError> {
+        self.frames.push_back((self.pushed, input));
+        self.pushed += 1;
+        if self.pushed > self.emitted + self.latency as u64 {
+            self.produce(engine).map(Some)
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// After the last push: produce the remaining outputs, one per call; `None`
+    /// when every input has its output.
+    pub fn flush(&mut self, engine: &mut Engine) -> Result<Option<u64>, ExecError> {
+        if self.emitted < self.pushed {
+            self.produce(engine).map(Some)
+        } else {
+            Ok(None)
+        }
+    }
+
+    fn produce(&mut self, engine: &mut Engine) -> Result<u64, ExecError> {
+        let t = self.emitted;
+        let last = self.pushed - 1;
+        let mut inputs = FrameInputs {
+            frames: HashMap::new(),
+            aux: self.aux.iter().map(|(n, t)| (n.clone(), t)).collect(),
+            camera: self.camera,
+        };
+        for &k in &self.offsets {
+            let idx = (t as i64 + k as i64).clamp(0, last as i64) as u64;
+            let tex = self
+                .frames
+                .iter()
+                .find(|(i, _)| *i == idx)
+                .map(|(_, tex)| tex)
+                .ok_or_else(|| ExecError::Input(format!("input frame {idx} is no longer held")))?;
+            inputs.frames.insert(k, tex);
+        }
+        let timings = self.prepared.run(engine, &inputs, &self.output, self.want_timings)?;
+        if self.want_timings {
+            self.last_timings = timings;
+        }
+        self.emitted += 1;
+        // Output t+1 needs frames from t+1-history on.
+        let keep_from = (t + 1).saturating_sub(self.history as u64);
+        while self.frames.front().is_some_and(|(i, _)| *i < keep_from) {
+            let (_, tex) = self.frames.pop_front().expect("front exists");
+            self.spare.push(tex);
+        }
+        Ok(t)
+    }
+}

@@ -1,0 +1,123 @@
+//! Temporal references through the streaming runtime: frames whose pixels encode
+//! their index prove which frame each reference reads at the start, middle and end.
+
+mod common;
+
+use fxgraph::gpu::runner::{read_pixels, Effect};
+use fxgraph::gpu::stream::Stream;
+use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use fxgraph::io::Pixels;
+use fxgraph::script::types::{ColorSpace, Format};
+
+const PICK: &str = "// r: IN[-2], g: IN, b: IN[+1], a: frames seen so far (feedback + 1/64).
+@group(0) @binding(0) var p2: texture_2d<f32>;
+@group(0) @binding(1) var c: texture_2d<f32>;
+@group(0) @binding(2) var n: texture_2d<f32>;
+@group(0) @binding(3) var fb: texture_2d<f32>;
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let q = vec2<i32>(pos.xy);
+    return vec4<f32>(textureLoad(p2, q, 0).r, textureLoad(c, q, 0).r, textureLoad(n, q, 0).r,
+                     textureLoad(fb, q, 0).a + 1.0 / 64.0);
+}
+";
+
+const PROBE: &str = "EFFECT.probe = { PASS = {
+    a = SHADER.pick { p2 = IN[-2]  c = IN  n = IN[+1]  fb = PASS.a[-1] }
+} OUT = a }";
+
+/// Frame i has the value (i + 1) / 64 in every channel (exact in half floats).
+fn frame(i: u64) -> fxgraph::io::Image {
+    let v = (i + 1) as f32 / 64.0;
+    common::image_f32(5, 3, |_, _| [v, v, v, 1.0])
+}
+
+fn index_of(v: f32) -> i64 {
+    (v * 64.0).round() as i64 - 1
+}
+
+#[test]
+fn history_future_and_feedback_read_the_right_frames() {
+    let Some(mut engine) = common::engine() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("pick.wgsl"), PICK).unwrap();
+    let fx = dir.path().join("probe.fx");
+    std::fs::write(&fx, PROBE).unwrap();
+    let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
+    assert_eq!((effect.graph.history, effect.graph.latency), (2, 1));
+    let input = InputDesc { width: 5, height: 3, format: Format::Rgba16f, colorspace: ColorSpace::Linear, aux: vec![] };
+    let opts = PlanOptions { policy: ReusePolicy::Pool, output_format: Some(Format::Rgba32f) };
+    let prepared = effect.prepare_with(&mut engine, &input, &opts).unwrap();
+    let mut stream = Stream::new(&engine, prepared, Format::Rgba16f);
+    assert_eq!(stream.ring_len(), 4);
+    let n = 6u64;
+    let mut seen = Vec::new();
+    let mut check = |t: u64, engine: &mut fxgraph::gpu::executor::Engine, stream: &Stream| {
+        let Pixels::F32(px) = read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap() else { panic!() };
+        let got = [index_of(px[0]), index_of(px[1]), index_of(px[2]), index_of(px[3])];
+        let last = n as i64 - 1;
+        let t = t as i64;
+        // r = IN[-2] clamped at the start, g = IN, b = IN[+1] clamped at the end,
+        // a = frames seen so far - 1 (feedback starts from zero).
+        assert_eq!(got, [(t - 2).max(0), t, (t + 1).min(last), t], "output frame {t}");
+        seen.push(t);
+    };
+    for i in 0..n {
+        let out = stream.push_image(&mut engine, &frame(i)).unwrap();
+        // Latency 1: the first push produces nothing, then output i-1 per push.
+        assert_eq!(out, i.checked_sub(1));
+        if let Some(t) = out {
+            check(t, &mut engine, &stream);
+        }
+    }
+    while let Some(t) = stream.flush(&mut engine).unwrap() {
+        check(t, &mut engine, &stream);
+    }
+    assert_eq!(seen, (0..n as i64).collect::<Vec<_>>(), "one output per input, in order");
+}
+
+/// A sequence processed in slices with the context frames each slice needs gives
+/// the same outputs as one run (no feedback).
+#[test]
+fn slices_with_context_frames_equal_one_run() {
+    let Some(mut engine) = common::engine() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("pick.wgsl"), PICK).unwrap();
+    let fx = dir.path().join("noback.fx");
+    // Same shader, no feedback (fb reads the current input instead).
+    std::fs::write(&fx, "EFFECT.noback = { PASS = { a = SHADER.pick { p2 = IN[-2]  c = IN  n = IN[+1]  fb = IN } } OUT = a }").unwrap();
+    let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
+    let input = InputDesc { width: 5, height: 3, format: Format::Rgba16f, colorspace: ColorSpace::Linear, aux: vec![] };
+    let opts = PlanOptions { policy: ReusePolicy::Pool, output_format: Some(Format::Rgba32f) };
+    let n = 9u64;
+    let run = |engine: &mut fxgraph::gpu::executor::Engine, effect: &mut Effect, frames: std::ops::Range<u64>, keep: std::ops::Range<u64>| {
+        let prepared = effect.prepare_with(engine, &input, &opts).unwrap();
+        let mut s = Stream::new(engine, prepared, Format::Rgba16f);
+        let mut outs = Vec::new();
+        let base = frames.start;
+        let mut take = |t: u64, engine: &mut fxgraph::gpu::executor::Engine, s: &Stream| {
+            let global = base + t;
+            if keep.contains(&global) {
+                outs.push((global, read_pixels(&engine.ctx, s.output(), Format::Rgba32f).unwrap()));
+            }
+        };
+        for i in frames.clone() {
+            if let Some(t) = s.push_image(engine, &frame(i)).unwrap() {
+                take(t, engine, &s);
+            }
+        }
+        while let Some(t) = s.flush(engine).unwrap() {
+            take(t, engine, &s);
+        }
+        outs
+    };
+    let whole = run(&mut engine, &mut effect, 0..n, 0..n);
+    // Slices [0,3), [3,6), [6,9), each given 2 frames of history and 1 of future.
+    let mut sliced = Vec::new();
+    for (a, b) in [(0u64, 3u64), (3, 6), (6, 9)] {
+        let frames = a.saturating_sub(2)..(b + 1).min(n);
+        sliced.extend(run(&mut engine, &mut effect, frames, a..b));
+    }
+    assert_eq!(whole.len(), n as usize);
+    assert_eq!(whole, sliced);
+}
