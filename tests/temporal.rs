@@ -38,59 +38,169 @@ fn index_of(v: f32) -> i64 {
 
 #[test]
 fn history_future_and_feedback_read_the_right_frames() {
-    let Some(mut engine) = common::engine() else { return };
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("pick.wgsl"), PICK).unwrap();
     let fx = dir.path().join("probe.fx");
     std::fs::write(&fx, PROBE).unwrap();
     let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
     assert_eq!((effect.graph.history, effect.graph.latency), (2, 1));
-    let input = InputDesc { width: 5, height: 3, format: Format::Rgba16f, colorspace: ColorSpace::Linear, aux: vec![] };
-    let opts = PlanOptions { policy: ReusePolicy::Pool, output_format: Some(Format::Rgba32f) };
+    let input = InputDesc {
+        width: 5,
+        height: 3,
+        format: Format::Rgba16f,
+        colorspace: ColorSpace::Linear,
+        aux: vec![],
+    };
+    let opts = PlanOptions {
+        policy: ReusePolicy::Pool,
+        output_format: Some(Format::Rgba32f),
+    };
     let prepared = effect.prepare_with(&mut engine, &input, &opts).unwrap();
     let mut stream = Stream::new(&engine, prepared, Format::Rgba16f);
     assert_eq!(stream.ring_len(), 4);
     let n = 6u64;
     let mut seen = Vec::new();
     let mut check = |t: u64, engine: &mut fxgraph::gpu::executor::Engine, stream: &Stream| {
-        let Pixels::F32(px) = read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap() else { panic!() };
-        let got = [index_of(px[0]), index_of(px[1]), index_of(px[2]), index_of(px[3])];
+        let Pixels::F32(px) = read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap()
+        else {
+            panic!()
+        };
+        let got = [
+            index_of(px[0]),
+            index_of(px[1]),
+            index_of(px[2]),
+            index_of(px[3]),
+        ];
         let last = n as i64 - 1;
         let t = t as i64;
         // r = IN[-2] clamped at the start, g = IN, b = IN[+1] clamped at the end,
         // a = frames seen so far - 1 (feedback starts from zero).
-        assert_eq!(got, [(t - 2).max(0), t, (t + 1).min(last), t], "output frame {t}");
+        assert_eq!(
+            got,
+            [(t - 2).max(0), t, (t + 1).min(last), t],
+            "output frame {t}"
+        );
         seen.push(t);
     };
     for i in 0..n {
-        let out = stream.push_image(&mut engine, &frame(i)).unwrap();
-        // Latency 1: the first push produces nothing, then output i-1 per push.
+        stream.push_image(&engine, &frame(i)).unwrap();
+        // Latency 1: the first push makes nothing ready, then output i-1 per push.
+        let out = stream.next(&mut engine).unwrap();
         assert_eq!(out, i.checked_sub(1));
         if let Some(t) = out {
             check(t, &mut engine, &stream);
         }
+        assert_eq!(stream.next(&mut engine).unwrap(), None);
     }
-    while let Some(t) = stream.flush(&mut engine).unwrap() {
+    stream.end();
+    while let Some(t) = stream.next(&mut engine).unwrap() {
         check(t, &mut engine, &stream);
     }
-    assert_eq!(seen, (0..n as i64).collect::<Vec<_>>(), "one output per input, in order");
+    assert_eq!(
+        seen,
+        (0..n as i64).collect::<Vec<_>>(),
+        "one output per input, in order"
+    );
+}
+
+/// With `rate = 2` every input frame gives two outputs; shaders see `subframe`.
+#[test]
+fn rate_two_gives_two_outputs_per_frame_with_subframe() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("sub.wgsl"),
+        "@group(0) @binding(0) var c: texture_2d<f32>;
+struct P { subframe: f32, frame: f32 }
+@group(0) @binding(1) var<uniform> p: P;
+@fragment fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(textureLoad(c, vec2<i32>(pos.xy), 0).r, p.subframe, p.frame, 1.0);
+}
+",
+    )
+    .unwrap();
+    let fx = dir.path().join("sub.fx");
+    std::fs::write(
+        &fx,
+        "EFFECT.s = { PASS = { a = SHADER.sub { c = IN } } OUT = a }",
+    )
+    .unwrap();
+    let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
+    let input = InputDesc {
+        width: 5,
+        height: 3,
+        format: Format::Rgba16f,
+        colorspace: ColorSpace::Linear,
+        aux: vec![],
+    };
+    let opts = PlanOptions {
+        policy: ReusePolicy::Pool,
+        output_format: Some(Format::Rgba32f),
+    };
+    let prepared = effect.prepare_with(&mut engine, &input, &opts).unwrap();
+    let mut stream = Stream::new(&engine, prepared, Format::Rgba16f);
+    stream.rate = 2;
+    let mut got = Vec::new();
+    for i in 0..3 {
+        stream.push_image(&engine, &frame(i)).unwrap();
+        while let Some(o) = stream.next(&mut engine).unwrap() {
+            let Pixels::F32(px) =
+                read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap()
+            else {
+                panic!()
+            };
+            got.push((o, index_of(px[0]), px[1] as u32, px[2] as u32));
+        }
+    }
+    stream.end();
+    assert_eq!(stream.next(&mut engine).unwrap(), None);
+    assert_eq!(
+        got,
+        [
+            (0, 0, 0, 0),
+            (1, 0, 1, 0),
+            (2, 1, 0, 1),
+            (3, 1, 1, 1),
+            (4, 2, 0, 2),
+            (5, 2, 1, 2)
+        ]
+    );
 }
 
 /// A sequence processed in slices with the context frames each slice needs gives
 /// the same outputs as one run (no feedback).
 #[test]
 fn slices_with_context_frames_equal_one_run() {
-    let Some(mut engine) = common::engine() else { return };
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("pick.wgsl"), PICK).unwrap();
     let fx = dir.path().join("noback.fx");
     // Same shader, no feedback (fb reads the current input instead).
     std::fs::write(&fx, "EFFECT.noback = { PASS = { a = SHADER.pick { p2 = IN[-2]  c = IN  n = IN[+1]  fb = IN } } OUT = a }").unwrap();
     let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
-    let input = InputDesc { width: 5, height: 3, format: Format::Rgba16f, colorspace: ColorSpace::Linear, aux: vec![] };
-    let opts = PlanOptions { policy: ReusePolicy::Pool, output_format: Some(Format::Rgba32f) };
+    let input = InputDesc {
+        width: 5,
+        height: 3,
+        format: Format::Rgba16f,
+        colorspace: ColorSpace::Linear,
+        aux: vec![],
+    };
+    let opts = PlanOptions {
+        policy: ReusePolicy::Pool,
+        output_format: Some(Format::Rgba32f),
+    };
     let n = 9u64;
-    let run = |engine: &mut fxgraph::gpu::executor::Engine, effect: &mut Effect, frames: std::ops::Range<u64>, keep: std::ops::Range<u64>| {
+    let run = |engine: &mut fxgraph::gpu::executor::Engine,
+               effect: &mut Effect,
+               frames: std::ops::Range<u64>,
+               keep: std::ops::Range<u64>| {
         let prepared = effect.prepare_with(engine, &input, &opts).unwrap();
         let mut s = Stream::new(engine, prepared, Format::Rgba16f);
         let mut outs = Vec::new();
@@ -98,15 +208,20 @@ fn slices_with_context_frames_equal_one_run() {
         let mut take = |t: u64, engine: &mut fxgraph::gpu::executor::Engine, s: &Stream| {
             let global = base + t;
             if keep.contains(&global) {
-                outs.push((global, read_pixels(&engine.ctx, s.output(), Format::Rgba32f).unwrap()));
+                outs.push((
+                    global,
+                    read_pixels(&engine.ctx, s.output(), Format::Rgba32f).unwrap(),
+                ));
             }
         };
         for i in frames.clone() {
-            if let Some(t) = s.push_image(engine, &frame(i)).unwrap() {
+            s.push_image(engine, &frame(i)).unwrap();
+            while let Some(t) = s.next(engine).unwrap() {
                 take(t, engine, &s);
             }
         }
-        while let Some(t) = s.flush(engine).unwrap() {
+        s.end();
+        while let Some(t) = s.next(engine).unwrap() {
             take(t, engine, &s);
         }
         outs

@@ -103,6 +103,8 @@ pub struct Prepared {
     ring_head: Vec<usize>,
     pub policy: ReusePolicy,
     pub frame: u64,
+    /// Index of the output produced for the current input frame (see `Stream::rate`).
+    pub subframe: u32,
     pub fps: f64,
     timer: Option<GpuTimer>,
     /// Time spent creating shader modules and pipelines.
@@ -420,6 +422,7 @@ impl Engine {
             passes,
             policy: ReusePolicy::MinPeak,
             frame: 0,
+            subframe: 0,
             fps: 25.0,
             timer,
             pipeline_build: start.elapsed(),
@@ -628,10 +631,16 @@ impl Prepared {
             }
         }
         let ctx = engine.ctx.clone();
-        let camera = inputs.camera.unwrap_or(CameraStd { near: 0.1, far: 100.0, proj: IDENTITY, inv_proj: IDENTITY });
+        let camera = inputs.camera.unwrap_or(CameraStd {
+            near: 0.1,
+            far: 100.0,
+            proj: IDENTITY,
+            inv_proj: IDENTITY,
+        });
         let std_base = StdContext {
             frame: self.frame,
             time: self.frame as f64 / self.fps,
+            subframe: self.subframe,
             near: camera.near,
             far: camera.far,
             proj: camera.proj,

@@ -1,12 +1,12 @@
-//! Streaming frames through a prepared effect: `push` a frame, get an output when
-//! the graph's latency allows; `flush` at the end.
+//! Streaming frames through a prepared effect: `push` frames, run the outputs that
+//! are ready with `next`, and `end` the input so the last ones become ready.
 //!
 //! Semantics (docs/language.md, "Temporal references"):
 //! - `IN[-n]` / `IN[+n]` read the input `n` frames earlier / later; at the first
 //!   and last frames they clamp to the nearest frame that exists.
-//! - With later-frame references (latency `L`), output `t` is produced when input
-//!   `t + L` is pushed, or by `flush` for the last `L` frames. There is exactly one
-//!   output per input, in order.
+//! - With later-frame references (latency `L`), output `t` is ready when input
+//!   `t + L` is pushed, or after `end` for the last `L` frames. There is exactly
+//!   one output per input (`rate` outputs with `rate > 1`), in order.
 //! - `PASS.x[-n]` (feedback) reads the persistent ring of the pass, zero before the
 //!   first frame.
 //!
@@ -16,7 +16,9 @@
 //! allocates nothing per frame after the first.
 
 use super::context::GpuError;
-use super::executor::{wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared};
+use super::executor::{
+    wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
+};
 use super::runner::create_output;
 use crate::graph::plan::{Resource, ReusePolicy};
 use crate::io::{Image, Pixels};
@@ -33,6 +35,11 @@ pub struct Stream {
     spare: Vec<wgpu::Texture>,
     pushed: u64,
     emitted: u64,
+    ended: bool,
+    subframe: u32,
+    /// Outputs per input frame (2 for field-rate deinterlacing); shaders see the
+    /// index as the standard value `subframe`. Default 1.
+    pub rate: u32,
     output: wgpu::Texture,
     input_format: Format,
     /// Auxiliary images, the same for every frame.
@@ -72,6 +79,9 @@ impl Stream {
             spare: Vec::new(),
             pushed: 0,
             emitted: 0,
+            ended: false,
+            subframe: 0,
+            rate: 1,
             output,
             input_format,
             prepared,
@@ -102,25 +112,40 @@ impl Stream {
         self.pushed
     }
 
-    /// Upload an image (into a recycled texture) and push it.
-    pub fn push_image(&mut self, engine: &mut Engine, img: &Image) -> Result<Option<u64>, ExecError> {
+    /// Upload an image (into a recycled texture) and queue it.
+    pub fn push_image(&mut self, engine: &Engine, img: &Image) -> Result<(), GpuError> {
         let input = self.input_texture(engine, img)?;
-        self.push_texture(engine, input)
+        self.push_texture(input);
+        Ok(())
     }
 
     fn input_texture(&mut self, engine: &Engine, img: &Image) -> Result<wgpu::Texture, GpuError> {
         let ctx = &engine.ctx;
-        let (w, h) = (self.prepared.plan.input.width, self.prepared.plan.input.height);
+        let (w, h) = (
+            self.prepared.plan.input.width,
+            self.prepared.plan.input.height,
+        );
         if (img.width, img.height) != (w, h) {
             return Err(GpuError::Validation {
                 what: "sequence frame".into(),
-                message: format!("frame is {}x{}, the sequence started at {w}x{h}", img.width, img.height),
+                message: format!(
+                    "frame is {}x{}, the sequence started at {w}x{h}",
+                    img.width, img.height
+                ),
             });
         }
         let bytes: Vec<u8> = match (&img.pixels, self.input_format) {
             (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
-            (p, Format::Rgba16f) => p.to_f32_linear(false).iter().flat_map(|&x| half::f16::from_f32(x).to_le_bytes()).collect(),
-            (p, _) => p.to_f32_linear(false).iter().flat_map(|&x| x.to_le_bytes()).collect(),
+            (p, Format::Rgba16f) => p
+                .to_f32_linear(false)
+                .iter()
+                .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
+                .collect(),
+            (p, _) => p
+                .to_f32_linear(false)
+                .iter()
+                .flat_map(|&x| x.to_le_bytes())
+                .collect(),
         };
         match self.spare.pop() {
             Some(tex) => {
@@ -128,7 +153,11 @@ impl Stream {
                 ctx.queue.write_texture(
                     tex.as_image_copy(),
                     &bytes,
-                    wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * texel), rows_per_image: None },
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(w * texel),
+                        rows_per_image: None,
+                    },
                     tex.size(),
                 );
                 Ok(tex)
@@ -144,29 +173,50 @@ impl Stream {
         }
     }
 
-    /// Push the next input frame. Returns the index of the output frame now in
-    /// [`Stream::output`], if one was produced.
-    pub fn push_texture(&mut self, engine: &mut Engine, input: wgpu::Texture) -> Result<Option<u64>, ExecError> {
+    /// Queue the next input frame (uploaded once). Outputs become ready as the
+    /// graph's latency allows: run them with [`Stream::next`].
+    pub fn push_texture(&mut self, input: wgpu::Texture) {
         self.frames.push_back((self.pushed, input));
         self.pushed += 1;
-        if self.pushed > self.emitted + self.latency as u64 {
-            self.produce(engine).map(Some)
-        } else {
-            Ok(None)
-        }
     }
 
-    /// After the last push: produce the remaining outputs, one per call; `None`
-    /// when every input has its output.
-    pub fn flush(&mut self, engine: &mut Engine) -> Result<Option<u64>, ExecError> {
-        if self.emitted < self.pushed {
-            self.produce(engine).map(Some)
-        } else {
-            Ok(None)
-        }
+    /// Mark the end of the input: the last `latency` outputs become ready.
+    pub fn end(&mut self) {
+        self.ended = true;
     }
 
-    fn produce(&mut self, engine: &mut Engine) -> Result<u64, ExecError> {
+    /// Run the next ready output into [`Stream::output`]; returns its index
+    /// (`input frame * rate + subframe`), or `None` when no output is ready (push
+    /// more frames, or call [`Stream::end`]).
+    pub fn next(&mut self, engine: &mut Engine) -> Result<Option<u64>, ExecError> {
+        let t = self.emitted;
+        let ready = if self.ended {
+            t < self.pushed
+        } else {
+            self.pushed > t + self.latency as u64
+        };
+        if !ready {
+            return Ok(None);
+        }
+        let s = self.subframe;
+        self.prepared.frame = t;
+        self.prepared.subframe = s;
+        self.produce(engine)?;
+        self.subframe += 1;
+        if self.subframe == self.rate {
+            self.subframe = 0;
+            self.emitted += 1;
+            // Output t+1 needs frames from t+1-history on.
+            let keep_from = (t + 1).saturating_sub(self.history as u64);
+            while self.frames.front().is_some_and(|(i, _)| *i < keep_from) {
+                let (_, tex) = self.frames.pop_front().expect("front exists");
+                self.spare.push(tex);
+            }
+        }
+        Ok(Some(t * self.rate as u64 + s as u64))
+    }
+
+    fn produce(&mut self, engine: &mut Engine) -> Result<(), ExecError> {
         let t = self.emitted;
         let last = self.pushed - 1;
         let mut inputs = FrameInputs {
@@ -184,17 +234,12 @@ impl Stream {
                 .ok_or_else(|| ExecError::Input(format!("input frame {idx} is no longer held")))?;
             inputs.frames.insert(k, tex);
         }
-        let timings = self.prepared.run(engine, &inputs, &self.output, self.want_timings)?;
+        let timings = self
+            .prepared
+            .run(engine, &inputs, &self.output, self.want_timings)?;
         if self.want_timings {
             self.last_timings = timings;
         }
-        self.emitted += 1;
-        // Output t+1 needs frames from t+1-history on.
-        let keep_from = (t + 1).saturating_sub(self.history as u64);
-        while self.frames.front().is_some_and(|(i, _)| *i < keep_from) {
-            let (_, tex) = self.frames.pop_front().expect("front exists");
-            self.spare.push(tex);
-        }
-        Ok(t)
+        Ok(())
     }
 }

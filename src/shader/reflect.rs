@@ -104,6 +104,9 @@ pub enum StdValue {
     Frame,
     /// `time`: seconds (frame / fps).
     Time,
+    /// `subframe`: which of the outputs of one input frame is being produced
+    /// (0 unless the stream's rate is above 1, e.g. field-rate deinterlacing).
+    Subframe,
     /// `near`, `far`: camera planes (renderer input; 0.1 and 100 otherwise).
     Near,
     Far,
@@ -140,6 +143,7 @@ pub struct StdContext {
     pub input_sizes: Vec<(u32, u32)>,
     pub frame: u64,
     pub time: f64,
+    pub subframe: u32,
     pub near: f32,
     pub far: f32,
     pub proj: [f32; 16],
@@ -168,6 +172,7 @@ impl UniformLayout {
                     }
                     StdValue::Frame => vec![ctx.frame as f64],
                     StdValue::Time => vec![ctx.time],
+                    StdValue::Subframe => vec![ctx.subframe as f64],
                     StdValue::Near => vec![ctx.near as f64],
                     StdValue::Far => vec![ctx.far as f64],
                     StdValue::Proj => ctx.proj.iter().map(|&x| x as f64).collect(),
@@ -192,7 +197,7 @@ impl UniformLayout {
         self.fields.iter().any(|f| {
             matches!(
                 f.source,
-                UniformSource::Std(StdValue::Frame | StdValue::Time)
+                UniformSource::Std(StdValue::Frame | StdValue::Time | StdValue::Subframe)
             )
         })
     }
@@ -352,12 +357,7 @@ fn scalar_field(s: naga::Scalar, n: u8) -> Option<FieldType> {
 /// Declaration span, `@default`, `@range` and description of a uniform member.
 type MemberNotes = (Option<Span>, Option<Value>, Option<(f64, f64)>, String);
 
-fn member_annotations(
-    decl: &str,
-    decl_start: usize,
-    name: &str,
-    file: FileId,
-) -> MemberNotes {
+fn member_annotations(decl: &str, decl_start: usize, name: &str, file: FileId) -> MemberNotes {
     let mut off = 0;
     for line in decl.split_inclusive('\n') {
         let t = line.trim_start();
@@ -423,6 +423,7 @@ fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'static [Field
         "out_texel" => (StdValue::OutTexel, V2),
         "frame" => (StdValue::Frame, SCALAR),
         "time" => (StdValue::Time, F1),
+        "subframe" => (StdValue::Subframe, SCALAR),
         "near" => (StdValue::Near, F1),
         "far" => (StdValue::Far, F1),
         "proj" => (StdValue::Proj, M4),
