@@ -200,29 +200,17 @@ pub fn output_format_for(
 }
 
 /// Read a texture back as pixels (U8 for 8-bit formats, linear F32 otherwise).
-pub fn read_pixels(
-    ctx: &GpuContext,
-    texture: &wgpu::Texture,
-    format: Format,
-) -> Result<Pixels, GpuError> {
-    let raw = ctx.read_texture(texture)?;
+pub fn read_pixels(ctx: &GpuContext, texture: &wgpu::Texture, format: Format) -> Result<Pixels, GpuError> {
+    pixels_from_bytes(ctx.read_texture(texture)?, format)
+}
+
+/// Tightly packed texel bytes of `format` as pixels.
+pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuError> {
     Ok(match format {
         Format::Rgba8 | Format::Rgba8Srgb => Pixels::U8(raw),
-        Format::Rgba16f => Pixels::F32(
-            raw.chunks_exact(2)
-                .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
-                .collect(),
-        ),
-        Format::Rgba32f => Pixels::F32(
-            raw.chunks_exact(4)
-                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-                .collect(),
-        ),
-        other => {
-            return Err(GpuError::Map(format!(
-                "cannot read back {other} as an image"
-            )))
-        }
+        Format::Rgba16f => Pixels::F32(raw.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect()),
+        Format::Rgba32f => Pixels::F32(raw.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()),
+        other => return Err(GpuError::Map(format!("cannot read back {other} as an image"))),
     })
 }
 
