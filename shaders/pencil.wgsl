@@ -1,7 +1,8 @@
 // pencil: colour-dodge pencil sketch (the last pass of the `pencil` effect).
 //
 // `img` is read sRGB-encoded (COLORSPACE = srgb), `blurred` holds G = blur(Y'),
-// the Gaussian-blurred luma from pencil_blur + blurY. With Y' the Rec.709 luma:
+// the Gaussian-blurred luma from the two pencil_blur passes, at any resolution
+// (sampled bilinearly at this pixel's centre). With Y' the Rec.709 luma:
 //   dodge(Y', blur(1 - Y')) = Y' / (1 - blur(1 - Y')) = Y' / G
 //   s = clamp((Y' + eps) / (G + eps), 0, 1)             eps = 0.01
 // eps keeps flat black areas white (the classic formula is 0/0 there) and tames
@@ -11,6 +12,7 @@
 // level; it is decoded to linear light, so an 8-bit output file holds 255 s.
 @group(0) @binding(0) var img: texture_2d<f32>;
 @group(0) @binding(1) var blurred: texture_2d<f32>;
+@group(0) @binding(3) var blurred_sampler: sampler;
 
 struct Params {
     darkness: f32, // @default(1) @range(0.1, 10) exponent on the sketch: > 1 darkens the strokes
@@ -46,11 +48,11 @@ fn to_linear(c: vec3<f32>) -> vec3<f32> {
 }
 
 @fragment
-fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_main(@builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(pos.xy);
     let c = textureLoad(img, p, 0);
     let y = dot(c.rgb, vec3<f32>(0.2126, 0.7152, 0.0722));
-    let g = textureLoad(blurred, p, 0).r;
+    let g = textureSampleLevel(blurred, blurred_sampler, uv, 0.0).r;
     var s = clamp((y + EPS) / (max(g, 0.0) + EPS), 0.0, 1.0);
     s = pow(s, params.darkness);
     if (params.paper > 0.0) {

@@ -50,8 +50,14 @@ fn check_rejects_a_bad_script_with_exit_1_and_all_errors() {
     let o = fxrun(&["tests/diagnostics/unknown_pass.fx", "--check"]);
     assert_eq!(code(&o), 1);
     let e = stderr(&o);
-    assert!(e.contains("tests/diagnostics/unknown_pass.fx:4:43: error: unknown pass `brightPas`"), "{e}");
-    assert!(e.contains("tests/diagnostics/unknown_pass.fx:6:11: error: unknown pass `blurY`"), "{e}");
+    assert!(
+        e.contains("tests/diagnostics/unknown_pass.fx:4:43: error: unknown pass `brightPas`"),
+        "{e}"
+    );
+    assert!(
+        e.contains("tests/diagnostics/unknown_pass.fx:6:11: error: unknown pass `blurY`"),
+        "{e}"
+    );
     assert!(e.contains("2 errors, 0 warnings"), "{e}");
 }
 
@@ -67,7 +73,10 @@ fn plan_json_has_the_documented_keys() {
     let o = fxrun(&["glow", "--plan", "--size", "1920x1080", "--json"]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
-    assert_eq!(v["passes"], serde_json::json!(["glow/brightPass", "glow/blurX", "glow/blurY", "glow/final"]));
+    assert_eq!(
+        v["passes"],
+        serde_json::json!(["glow/brightPass", "glow/blurX", "glow/blurY", "glow/final"])
+    );
     let full = 1920u64 * 1080 * 8;
     let half = 960u64 * 540 * 8;
     assert_eq!(v["naive_bytes"], full + 2 * half);
@@ -75,7 +84,12 @@ fn plan_json_has_the_documented_keys() {
     assert_eq!(v["lower_bound_bytes"], full + half);
     let o = fxrun(&["glow", "--plan", "--size", "640x480"]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("alloc  v0") && text.contains("run    glow/blurX") && text.contains("lower bound bytes"), "{text}");
+    assert!(
+        text.contains("alloc  v0")
+            && text.contains("run    glow/blurX")
+            && text.contains("lower bound bytes"),
+        "{text}"
+    );
     let o = fxrun(&["glow", "--plan", "--size", "64by64"]);
     assert_eq!(code(&o), 1);
 }
@@ -86,10 +100,17 @@ fn dot_draws_passes_with_sizes_and_dashed_feedback() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.starts_with("digraph fxgraph {"));
-    assert!(text.contains("glow/blurX\\nSHADER.blurX\\n50x25 rgba16f linear"), "{text}");
+    assert!(
+        text.contains("glow/blurX\\nSHADER.blurX\\n50x25 rgba16f linear"),
+        "{text}"
+    );
     let dir = tempfile::tempdir().unwrap();
     let fx = dir.path().join("fb.fx");
-    std::fs::write(&fx, "EFFECT.fb = { PASS = { a = SHADER.s { img = IN  prev = PASS.a[-1] } } OUT = a }").unwrap();
+    std::fs::write(
+        &fx,
+        "EFFECT.fb = { PASS = { a = SHADER.s { img = IN  prev = PASS.a[-1] } } OUT = a }",
+    )
+    .unwrap();
     let o = fxrun(&[fx.to_str().unwrap(), "--dot", "-"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("style=dashed"));
 }
@@ -102,7 +123,10 @@ fn list_and_describe() {
     assert!(text.lines().any(|l| l.starts_with("glow")), "{text}");
     let o = fxrun(&["glow", "--describe"]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("glow/brightPass") && text.contains("SHADER.brightPass"), "{text}");
+    assert!(
+        text.contains("glow/brightPass") && text.contains("SHADER.brightPass"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -126,14 +150,30 @@ fn set_errors_point_into_the_argument() {
     let f = fx.to_str().unwrap();
     let o = fxrun(&[f, "--check", "--set", "sigma=100"]);
     assert_eq!(code(&o), 1);
-    assert!(stderr(&o).contains("--set:1:7: error: value 100 of `sigma` is out of range [0.1, 64]"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--set:1:7: error: value 100 of `sigma` is out of range [0.1, 64]"),
+        "{}",
+        stderr(&o)
+    );
     let o = fxrun(&[f, "--check", "--set", "sigmaa=3"]);
     assert_eq!(code(&o), 1);
-    assert!(stderr(&o).contains("error: `--set sigmaa`: no effect or pass parameter of that name"), "{}", stderr(&o));
-    assert!(stderr(&o).contains("did you mean `sigma`?"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("error: `--set sigmaa`: no effect or pass parameter of that name"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("did you mean `sigma`?"),
+        "{}",
+        stderr(&o)
+    );
     let o = fxrun(&[f, "--check", "--set", "sigma=(1,"]);
     assert_eq!(code(&o), 1);
-    assert!(stderr(&o).contains("--set:1:10: error: syntax error"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--set:1:10: error: syntax error"),
+        "{}",
+        stderr(&o)
+    );
     let o = fxrun(&[f, "--check", "--set", "sigma=3"]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
 }
@@ -147,17 +187,33 @@ fn applies_glow_to_an_image() {
     let input = small_png(dir.path());
     let out = dir.path().join("out.png");
     let json = dir.path().join("t.json");
-    let o = fxrun(&["glow", "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--timings", "--timings-json", json.to_str().unwrap()]);
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--timings",
+        "--timings-json",
+        json.to_str().unwrap(),
+    ]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let img = fxgraph::io::load_image(&out, &Default::default()).unwrap();
     assert_eq!((img.width, img.height), (48, 32));
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("glow/blurX") && stdout.contains("total"), "{stdout}");
-    let t: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(
+        stdout.contains("glow/blurX") && stdout.contains("total"),
+        "{stdout}"
+    );
+    let t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(t["passes"].as_array().unwrap().len(), 4);
     assert!(t["total_ms"].as_f64().unwrap() > 0.0);
     // No temporary files are left beside the output.
-    let names: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
     assert!(names.iter().all(|n| !n.contains("fxtmp")), "{names:?}");
 }
 
@@ -171,19 +227,40 @@ fn a_failed_run_leaves_the_existing_output_untouched() {
     let out = dir.path().join("out.png");
     std::fs::write(&out, b"precious").unwrap();
     // A shader error (exit 1), a missing input (exit 2), a corrupt input (exit 1).
-    let o = fxrun(&["tests/shader_errors/bindings.fx", "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = fxrun(&[
+        "tests/shader_errors/bindings.fx",
+        "-i",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
-    let o = fxrun(&["glow", "-i", "no/such/file.png", "-o", out.to_str().unwrap()]);
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        "no/such/file.png",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code(&o), 2, "{}", stderr(&o));
     assert!(stderr(&o).contains("no/such/file.png"), "{}", stderr(&o));
     let corrupt = dir.path().join("corrupt.png");
     let bytes = std::fs::read(&input).unwrap();
     std::fs::write(&corrupt, &bytes[..bytes.len() / 2]).unwrap();
-    let o = fxrun(&["glow", "-i", corrupt.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        corrupt.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(stderr(&o).contains("corrupt.png"), "{}", stderr(&o));
     assert_eq!(std::fs::read(&out).unwrap(), b"precious");
-    let names: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
     assert!(names.iter().all(|n| !n.contains("fxtmp")), "{names:?}");
 }
 
@@ -199,13 +276,33 @@ fn truncated_exr_and_unknown_output_type_are_rejected() {
     let bytes = std::fs::read(&exr).unwrap();
     std::fs::write(&exr, &bytes[..bytes.len() * 2 / 3]).unwrap();
     let out = dir.path().join("o.exr");
-    let o = fxrun(&["glow", "-i", exr.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        exr.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(!out.exists());
     let input = small_png(dir.path());
-    let o = fxrun(&["glow", "-i", input.to_str().unwrap(), "-o", dir.path().join("o.xyz").to_str().unwrap()]);
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        input.to_str().unwrap(),
+        "-o",
+        dir.path().join("o.xyz").to_str().unwrap(),
+    ]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
-    let o = fxrun(&["glow", "-i", input.to_str().unwrap(), "-o", dir.path().join("o.jpg").to_str().unwrap(), "--bit-depth", "16"]);
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        input.to_str().unwrap(),
+        "-o",
+        dir.path().join("o.jpg").to_str().unwrap(),
+        "--bit-depth",
+        "16",
+    ]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
 }
 
@@ -221,7 +318,13 @@ fn hdr_values_survive_an_exr_round_trip_through_an_identity_chain() {
     let id = dir.path().join("id.fx");
     std::fs::write(&id, "EFFECT.id = { OUT = IN }").unwrap();
     let out = dir.path().join("out.exr");
-    let o = fxrun(&[id.to_str().unwrap(), "-i", exr.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = fxrun(&[
+        id.to_str().unwrap(),
+        "-i",
+        exr.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let back = fxgraph::io::load_image(&out, &Default::default()).unwrap();
     let (a, b) = (common::linear(&img.pixels), common::linear(&back.pixels));
@@ -245,7 +348,13 @@ fn shader_diagnostics_match_their_snapshots() {
     let mut failures = Vec::new();
     for case in ["bindings", "wgsl_syntax", "missing_shader"] {
         let fx = format!("tests/shader_errors/{case}.fx");
-        let o = fxrun(&[&fx, "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        let o = fxrun(&[
+            &fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
         assert_eq!(code(&o), 1, "{case}: {}", stderr(&o));
         let actual = stderr(&o);
         let expected_path = root.join(format!("tests/shader_errors/{case}.expected"));
@@ -257,9 +366,48 @@ fn shader_diagnostics_match_their_snapshots() {
             Ok(e) if e == actual => {}
             _ => {
                 std::fs::write(expected_path.with_extension("actual"), &actual).unwrap();
-                failures.push(format!("{case}: differs from {} (see .actual)", expected_path.display()));
+                failures.push(format!(
+                    "{case}: differs from {} (see .actual)",
+                    expected_path.display()
+                ));
             }
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// A final pass that writes sRGB-encoded values (OUT.COLORSPACE = srgb) is not
+/// encoded a second time into an 8-bit file, and is decoded for a float file.
+#[test]
+fn srgb_labelled_output_is_encoded_once() {
+    let Some(mut engine) = common::engine() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("half.wgsl"),
+        "@group(0) @binding(0) var img: texture_2d<f32>;
+@fragment fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(0.5, 0.5, textureLoad(img, vec2<i32>(pos.xy), 0).b * 0.0 + 0.5, 1.0);
+}
+",
+    )
+    .unwrap();
+    let fx = dir.path().join("enc.fx");
+    std::fs::write(&fx, "EFFECT.enc = { PASS = { a = SHADER.half { img = IN  OUT.FORMAT = rgba8  OUT.COLORSPACE = srgb } } OUT = a }").unwrap();
+    let img = common::pattern_u8(6, 4);
+    let f = fx.to_str().unwrap();
+    let (_, _, px) = common::run(&mut engine, &[f], &[], &img, fxgraph::script::types::Format::Rgba8Srgb).unwrap();
+    let fxgraph::io::Pixels::U8(v) = px else { panic!() };
+    assert_eq!(&v[..4], &[128, 128, 128, 255], "encoded values are stored as they are");
+    let (_, _, px) = common::run(&mut engine, &[f], &[], &img, fxgraph::script::types::Format::Rgba32f).unwrap();
+    let lin = common::linear(&px);
+    assert!((lin[0] - common::srgb_to_linear(0.5)).abs() < 2e-3, "{}", lin[0]);
+}
+
+#[test]
+fn analysis_modes_know_the_aux_images_given() {
+    let o = fxrun(&["chroma_composite", "--check", "--aux", "background=x.png"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let o = fxrun(&["chroma_composite", "--check"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("auxiliary input `AUX.background` is not provided"), "{}", stderr(&o));
 }

@@ -225,7 +225,13 @@ fn run(cli: Cli) -> Result<(), Fail> {
             Some(s) => parse_size(s)?,
             None => (1920, 1080),
         };
-        let desc = InputDesc::rgba8_srgb(w, h).with_gbuffer();
+        let mut desc = InputDesc::rgba8_srgb(w, h).with_gbuffer();
+        // `--aux NAME=FILE` images are 8-bit sRGB for planning purposes.
+        for a in &cli.aux {
+            let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);
+            desc.aux.retain(|(n, _)| n != name);
+            desc.aux.push((name.to_string(), fxgraph::script::types::Format::Rgba8Srgb));
+        }
         let policy = match cli.policy.as_str() {
             "min-peak" => ReusePolicy::MinPeak,
             "pool" => ReusePolicy::Pool,

@@ -203,7 +203,15 @@ impl Engine {
                 ))));
                 continue;
             }
-            let target = wgpu_format(p.desc.format);
+            let target = view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format));
+            if p.target_view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
+                diags.push(at(Diagnostic::error(format!(
+                    "pass `{}` writes sRGB-encoded values to an sRGB target, which needs a texture view the GL backend cannot make",
+                    p.path
+                ))
+                .note("use the Vulkan backend (lavapipe) or write linear values")));
+                continue;
+            }
             if !self.ctx.format_support(target).render {
                 diags.push(at(Diagnostic::error(format!(
                     "pass `{}` renders to {}, which this adapter ({adapter}) cannot render to",
@@ -331,10 +339,7 @@ impl Engine {
                     });
                     ok = false;
                 }
-                if inp.view != View::Natural
-                    && !self.ctx.device.features().contains(wgpu::Features::empty())
-                    && self.ctx.info.backend == wgpu::Backend::Gl
-                {
+                if inp.view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
                     diags.push(at(Diagnostic::error(format!(
                         "pass `{}` needs to view `{}` in another colour space, which the GL backend cannot do",
                         p.path, inp.name
@@ -834,7 +839,7 @@ impl Prepared {
             });
             let target_view = target.create_view(&wgpu::TextureViewDescriptor {
                 label: Some(&format!("{} target", gp.path)),
-                format: Some(wgpu_format(p.desc.format)),
+                format: Some(view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format))),
                 ..Default::default()
             });
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {

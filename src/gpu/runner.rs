@@ -230,7 +230,12 @@ pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) 
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::COPY_SRC
             | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
+        // An sRGB output may be written through a raw 8-bit view (View::Raw).
+        view_formats: if format == Format::Rgba8Srgb && ctx.info.backend != wgpu::Backend::Gl {
+            &[wgpu::TextureFormat::Rgba8Unorm]
+        } else {
+            &[]
+        },
     })
 }
 

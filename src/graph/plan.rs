@@ -170,6 +170,9 @@ pub struct PlannedPass {
     pub output: Resource,
     pub desc: TextureDesc,
     pub colorspace: ColorSpace,
+    /// How the output texture is viewed when rendering: `Raw` writes sRGB-encoded
+    /// values into an `rgba8-srgb` target as they are (no second encoding).
+    pub target_view: View,
 }
 
 /// A transient value: the output of one pass, alive from its producer to its last reader.
@@ -410,9 +413,21 @@ pub fn plan(
             .filter(|m| graph.schedule.contains(m))
             .count()
     };
+    // sRGB-encoded results go to a float output only through a conversion to linear.
+    let srgb_to_float = r.colorspace(out_src) == ColorSpace::Srgb
+        && opts.output_format.unwrap_or_else(|| r.format(out_src, 0)).is_float();
     let output_direct = matches!(g[out_src], Node::Pass(_))
         && live_readers(out_src) == 0
-        && !ring_of.contains_key(&out_src);
+        && !ring_of.contains_key(&out_src)
+        && !srgb_to_float;
+    // Encoded values into an sRGB target are written through a raw 8-bit view.
+    let output_view = |format: Format, cs: ColorSpace| {
+        if format == Format::Rgba8Srgb && cs == ColorSpace::Srgb {
+            View::Raw
+        } else {
+            View::Natural
+        }
+    };
     for &n in &graph.schedule {
         let p = graph.pass(n);
         let Some(mut desc) = r.desc(n) else { continue };
@@ -485,6 +500,7 @@ pub fn plan(
                                 output: Resource::Value(v),
                                 desc: conv_desc,
                                 colorspace: inp.colorspace,
+                                target_view: View::Natural,
                             });
                             resource = Resource::Value(v);
                             conversions.insert(key, resource.clone());
@@ -505,10 +521,12 @@ pub fn plan(
                 desc: in_desc,
             });
         }
+        let mut target_view = View::Natural;
         let output = if n == out_src && output_direct {
             if let Some(f) = opts.output_format {
                 desc.format = f;
             }
+            target_view = output_view(desc.format, p.colorspace);
             Resource::Output
         } else if let Some(&ring) = ring_of.get(&n) {
             Resource::Persistent { ring, back: 0 }
@@ -532,6 +550,7 @@ pub fn plan(
             output,
             desc,
             colorspace: p.colorspace,
+            target_view,
         });
     }
     // The output target, when the output pass could not write it directly.
@@ -555,10 +574,16 @@ pub fn plan(
             format: opts.output_format.unwrap_or(src_desc.format),
             ..src_desc
         };
+        let src_cs = r.colorspace(out_src);
+        let (shader, colorspace) = if srgb_to_float {
+            (PassShader::Convert { to: ColorSpace::Linear }, ColorSpace::Linear)
+        } else {
+            (PassShader::Blit, src_cs)
+        };
         passes.push(PlannedPass {
             node: None,
             path: "OUT".into(),
-            shader: PassShader::Blit,
+            shader,
             inputs: vec![PlannedInput {
                 name: "img".into(),
                 resource,
@@ -568,7 +593,8 @@ pub fn plan(
             }],
             output: Resource::Output,
             desc: output_desc,
-            colorspace: r.colorspace(out_src),
+            colorspace,
+            target_view: output_view(output_desc.format, colorspace),
         });
     }
     if r.diags.has_errors() {

@@ -14,7 +14,9 @@
 
 mod convert;
 mod exr_io;
+pub mod sequence;
 pub mod srgb;
+pub mod y4m;
 
 use std::fmt;
 use std::fs::{self, File, OpenOptions};
