@@ -313,3 +313,116 @@ fn exec_error(e: ExecError) -> RunError {
         ExecError::Input(s) => RunError::Other(s),
     }
 }
+
+/// Numbered image files read in order.
+pub struct FilesSource {
+    pub frames: Vec<(u64, std::path::PathBuf)>,
+    pub load: crate::io::LoadOptions,
+    pos: usize,
+}
+
+impl FilesSource {
+    pub fn new(frames: Vec<(u64, std::path::PathBuf)>, load: crate::io::LoadOptions) -> Self {
+        FilesSource { frames, load, pos: 0 }
+    }
+}
+
+impl FrameSource for FilesSource {
+    fn len(&self) -> Option<u64> {
+        Some(self.frames.len() as u64)
+    }
+    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
+        let Some((n, path)) = self.frames.get(self.pos) else { return Ok(None) };
+        self.pos += 1;
+        Ok(Some((*n, crate::io::load_image(path, &self.load)?)))
+    }
+}
+
+/// Numbered image files written atomically.
+pub struct FilesSink {
+    pub pattern: crate::io::sequence::OutputPattern,
+    pub save: crate::io::SaveOptions,
+}
+
+impl FrameSink for FilesSink {
+    fn write(&mut self, number: u64, width: u32, height: u32, pixels: Pixels) -> Result<(), IoError> {
+        crate::io::save_image(&self.pattern.path_for(number), width, height, &pixels, &self.save)
+    }
+}
+
+fn y4m_error(e: crate::io::y4m::Y4mError) -> IoError {
+    IoError::Decode { path: e.name().into(), message: e.to_string() }
+}
+
+/// A YUV4MPEG2 stream (e.g. stdin) decoded to 8-bit sRGB frames.
+pub struct Y4mSource<R: std::io::Read + Send> {
+    pub reader: crate::io::y4m::Y4mReader<R>,
+    pub conversion: crate::io::y4m::YuvConversion,
+    /// Frames to skip before the first one produced (a shard's start).
+    pub skip: u64,
+    /// Last frame number to read (a shard's end plus its context), if any.
+    pub last: Option<u64>,
+}
+
+impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
+    fn len(&self) -> Option<u64> {
+        None
+    }
+    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
+        use crate::io::y4m::{yuv_to_image, RgbKind};
+        loop {
+            let n = self.reader.frames_read();
+            if self.last.is_some_and(|l| n > l) {
+                return Ok(None);
+            }
+            let Some(frame) = self.reader.next_frame().map_err(y4m_error)? else { return Ok(None) };
+            if n < self.skip {
+                continue;
+            }
+            let header = self.reader.header().clone();
+            let img = yuv_to_image(&frame, &header, &self.conversion, RgbKind::SrgbU8)
+                .map_err(|m| IoError::Decode { path: self.reader.name().into(), message: format!("y4m frame {n}: {m}") })?;
+            return Ok(Some((n, img)));
+        }
+    }
+}
+
+/// A YUV4MPEG2 stream (e.g. stdout) written from the output frames; the header is
+/// written with the first frame (its size is the output's).
+pub struct Y4mSink<W: std::io::Write + Send> {
+    pub inner: Option<W>,
+    pub writer: Option<crate::io::y4m::Y4mWriter<W>>,
+    /// Header fields to pass on (frame rate, interlacing, aspect, chroma).
+    pub template: crate::io::y4m::Y4mHeader,
+    pub conversion: crate::io::y4m::YuvConversion,
+    pub name: String,
+}
+
+impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
+    fn write(&mut self, _number: u64, width: u32, height: u32, pixels: Pixels) -> Result<(), IoError> {
+        use crate::io::y4m::{image_to_yuv, Y4mWriter};
+        if self.writer.is_none() {
+            let mut header = self.template.clone();
+            header.width = width;
+            header.height = height;
+            let inner = self.inner.take().expect("sink not started yet");
+            self.writer = Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
+        }
+        let w = self.writer.as_mut().expect("writer created");
+        let header = w.header().clone();
+        let img = Image {
+            width,
+            height,
+            pixels,
+            source: crate::io::SourceInfo { format: crate::io::FileFormat::Png, bit_depth: 8, has_alpha: false, float: false },
+        };
+        let frame = image_to_yuv(&img, &header, &self.conversion).map_err(|m| IoError::Decode { path: self.name.clone().into(), message: m })?;
+        w.write_frame(&frame).map_err(y4m_error)
+    }
+    fn finish(&mut self) -> Result<(), IoError> {
+        if let Some(w) = self.writer.as_mut() {
+            w.flush().map_err(y4m_error)?;
+        }
+        Ok(())
+    }
+}
