@@ -1,19 +1,39 @@
 // gaussian_blur: separable Gaussian blur.
+//
+// Weights exp(-i^2 / (2 sigma^2)) over [-r, r], normalised to a sum of 1, with
+// r = (ksize - 1) / 2 and ksize = round(6 sigma + 1) | 1: OpenCV's kernel size for
+// 8-bit images, so that on values used as stored (`--assume-linear`) the result
+// matches cv2.GaussianBlur(img, (0, 0), sigma, borderType=cv2.BORDER_REPLICATE)
+// within 1 LSB. The border is replicated (clamp-to-edge). Colour inputs are
+// blurred in linear light (the runtime decodes sRGB); all four channels are blurred.
+//
+// Parameters:
+//   sigma  standard deviation in pixels (0.1 .. 128, default 2)
+//   exact  false (default): bilinear-pair taps, r + 1 fetches per pixel and pass;
+//          true: one textureLoad per texel, 2r + 1 fetches (does not depend on
+//          the sampler's sub-texel precision; a little slower on lavapipe)
+//
+// Passes (both at the input's size, in the input's format: 8-bit stays 8-bit):
+//   horizontal  SHADER.gauss            IN -> horizontal blur
+//   vertical    SHADER.gauss VERTICAL   horizontal -> output
 EFFECT.gaussian_blur = {
-    DESCRIPTION = "Gaussian blur (separable, exact normalised weights, replicated border).\nMatches OpenCV's GaussianBlur(img, (0,0), sigma, borderType=BORDER_REPLICATE)."
+    DESCRIPTION = "Gaussian blur (separable, exact normalised weights, replicated border).\nKernel radius as OpenCV's GaussianBlur for 8-bit images: r = (round(6 sigma + 1) | 1 - 1) / 2."
     FORMAT = IN
     PARAM = {
         sigma = FLOAT { DEFAULT = 2  RANGE = (0.1, 128)  DESCRIPTION = "standard deviation in pixels" }
+        exact = BOOL { DEFAULT = false  DESCRIPTION = "one textureLoad per texel instead of bilinear-pair taps (slower)" }
     }
     PASS = {
         horizontal = SHADER.gauss {
             img = IN
             sigma = PARAM.sigma
+            DEFINE.EXACT = PARAM.exact
         }
         vertical = SHADER.gauss {
             img = PASS.horizontal
             sigma = PARAM.sigma
             DEFINE.VERTICAL = 1
+            DEFINE.EXACT = PARAM.exact
         }
     }
     OUT = vertical

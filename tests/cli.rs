@@ -331,7 +331,7 @@ fn hdr_values_survive_an_exr_round_trip_through_an_identity_chain() {
     for (x, y) in a.iter().zip(&b) {
         assert!((x - y).abs() <= x.abs() * 1e-3 + 1e-3, "{x} vs {y}");
     }
-    assert!(b.iter().any(|&v| v == 413.0));
+    assert!(b.contains(&413.0));
 }
 
 /// Shader diagnostics: rendered text equals the snapshot (`tests/shader_errors/NAME.expected`).
@@ -348,14 +348,18 @@ fn shader_diagnostics_match_their_snapshots() {
     let mut failures = Vec::new();
     for case in ["bindings", "wgsl_syntax", "missing_shader"] {
         let fx = format!("tests/shader_errors/{case}.fx");
-        let o = fxrun(&[
+        // Running it and checking it (no GPU needed) report the same diagnostics.
+        let run = fxrun(&[
             &fx,
             "-i",
             input.to_str().unwrap(),
             "-o",
             out.to_str().unwrap(),
         ]);
+        assert_eq!(code(&run), 1, "{case}: {}", stderr(&run));
+        let o = fxrun(&[&fx, "--check"]);
         assert_eq!(code(&o), 1, "{case}: {}", stderr(&o));
+        assert_eq!(stderr(&o), stderr(&run), "{case}: --check and a run differ");
         let actual = stderr(&o);
         let expected_path = root.join(format!("tests/shader_errors/{case}.expected"));
         if bless {
@@ -380,7 +384,9 @@ fn shader_diagnostics_match_their_snapshots() {
 /// encoded a second time into an 8-bit file, and is decoded for a float file.
 #[test]
 fn srgb_labelled_output_is_encoded_once() {
-    let Some(mut engine) = common::engine() else { return };
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(
         dir.path().join("half.wgsl"),
@@ -395,12 +401,36 @@ fn srgb_labelled_output_is_encoded_once() {
     std::fs::write(&fx, "EFFECT.enc = { PASS = { a = SHADER.half { img = IN  OUT.FORMAT = rgba8  OUT.COLORSPACE = srgb } } OUT = a }").unwrap();
     let img = common::pattern_u8(6, 4);
     let f = fx.to_str().unwrap();
-    let (_, _, px) = common::run(&mut engine, &[f], &[], &img, fxgraph::script::types::Format::Rgba8Srgb).unwrap();
-    let fxgraph::io::Pixels::U8(v) = px else { panic!() };
-    assert_eq!(&v[..4], &[128, 128, 128, 255], "encoded values are stored as they are");
-    let (_, _, px) = common::run(&mut engine, &[f], &[], &img, fxgraph::script::types::Format::Rgba32f).unwrap();
+    let (_, _, px) = common::run(
+        &mut engine,
+        &[f],
+        &[],
+        &img,
+        fxgraph::script::types::Format::Rgba8Srgb,
+    )
+    .unwrap();
+    let fxgraph::io::Pixels::U8(v) = px else {
+        panic!()
+    };
+    assert_eq!(
+        &v[..4],
+        &[128, 128, 128, 255],
+        "encoded values are stored as they are"
+    );
+    let (_, _, px) = common::run(
+        &mut engine,
+        &[f],
+        &[],
+        &img,
+        fxgraph::script::types::Format::Rgba32f,
+    )
+    .unwrap();
     let lin = common::linear(&px);
-    assert!((lin[0] - common::srgb_to_linear(0.5)).abs() < 2e-3, "{}", lin[0]);
+    assert!(
+        (lin[0] - common::srgb_to_linear(0.5)).abs() < 2e-3,
+        "{}",
+        lin[0]
+    );
 }
 
 #[test]
@@ -409,5 +439,31 @@ fn analysis_modes_know_the_aux_images_given() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let o = fxrun(&["chroma_composite", "--check"]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(stderr(&o).contains("auxiliary input `AUX.background` is not provided"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("auxiliary input `AUX.background` is not provided"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// A still image is a one-frame sequence: temporal effects run on it.
+#[test]
+fn temporal_effects_run_on_a_still_image() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_png(dir.path());
+    for effect in ["deinterlace", "frame_blend", "temporal_denoise"] {
+        let out = dir.path().join(format!("{effect}.png"));
+        let o = fxrun(&[
+            effect,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code(&o), 0, "{effect}: {}", stderr(&o));
+        assert!(out.exists());
+    }
 }

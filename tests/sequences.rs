@@ -37,14 +37,27 @@ fn write_frames(dir: &Path, n: u32) {
     for i in 0..n {
         let img = common::image_u8(40, 24, |x, y| {
             let bar = x / 3 == i;
-            [if bar { 250 } else { (x * 5) as u8 }, (y * 9) as u8, (i * 20) as u8, 255]
+            [
+                if bar { 250 } else { (x * 5) as u8 },
+                (y * 9) as u8,
+                (i * 20) as u8,
+                255,
+            ]
         });
-        fxgraph::io::save_image(&dir.join(format!("f{:03}.png", i + 1)), 40, 24, &img.pixels, &Default::default()).unwrap();
+        fxgraph::io::save_image(
+            &dir.join(format!("f{:03}.png", i + 1)),
+            40,
+            24,
+            &img.pixels,
+            &Default::default(),
+        )
+        .unwrap();
     }
 }
 
 /// A temporal effect without feedback, using history and future frames.
-const TEMPORAL_FX: &str = "EFFECT.tmean = { PASS = { m = SHADER.tmean { a = IN[-1]  b = IN  c = IN[+1] } } OUT = m }";
+const TEMPORAL_FX: &str =
+    "EFFECT.tmean = { PASS = { m = SHADER.tmean { a = IN[-1]  b = IN  c = IN[+1] } } OUT = m }";
 const TEMPORAL_WGSL: &str = "@group(0) @binding(0) var a: texture_2d<f32>;
 @group(0) @binding(1) var b: texture_2d<f32>;
 @group(0) @binding(2) var c: texture_2d<f32>;
@@ -65,7 +78,12 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).unwrap()))
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&p).unwrap(),
+            )
+        })
         .collect();
     v.sort();
     v
@@ -81,17 +99,47 @@ fn three_slices_concatenate_to_one_run_byte_for_byte() {
     write_frames(&dir.path().join("in"), 9);
     let input = dir.path().join("in/f%03d.png");
     let whole = dir.path().join("whole/o%03d.png");
-    let o = fxrun(&[&fx, "-i", input.to_str().unwrap(), "-o", whole.to_str().unwrap()], None);
+    let o = fxrun(
+        &[
+            &fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            whole.to_str().unwrap(),
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(o.stderr.is_empty(), "quiet when not a terminal: {}", stderr(&o));
+    assert!(
+        o.stderr.is_empty(),
+        "quiet when not a terminal: {}",
+        stderr(&o)
+    );
     let sliced = dir.path().join("sliced/o%03d.png");
     for range in ["1..3", "4..6", "7..9"] {
-        let o = fxrun(&[&fx, "-i", input.to_str().unwrap(), "-o", sliced.to_str().unwrap(), "--frames", range], None);
+        let o = fxrun(
+            &[
+                &fx,
+                "-i",
+                input.to_str().unwrap(),
+                "-o",
+                sliced.to_str().unwrap(),
+                "--frames",
+                range,
+            ],
+            None,
+        );
         assert_eq!(o.status.code(), Some(0), "{range}: {}", stderr(&o));
     }
-    let (a, b) = (files(&dir.path().join("whole")), files(&dir.path().join("sliced")));
+    let (a, b) = (
+        files(&dir.path().join("whole")),
+        files(&dir.path().join("sliced")),
+    );
     assert_eq!(a.len(), 9);
-    assert_eq!(a.iter().map(|x| &x.0).collect::<Vec<_>>(), b.iter().map(|x| &x.0).collect::<Vec<_>>());
+    assert_eq!(
+        a.iter().map(|x| &x.0).collect::<Vec<_>>(),
+        b.iter().map(|x| &x.0).collect::<Vec<_>>()
+    );
     assert!(a == b, "sliced outputs differ from the single run");
     // Output numbering follows the input's (f001 -> o001).
     assert_eq!(a[0].0, "o001.png");
@@ -107,26 +155,81 @@ fn skip_existing_resumes_and_feedback_slices_warn() {
     write_frames(&dir.path().join("in"), 6);
     let input = dir.path().join("in/f%03d.png");
     let out = dir.path().join("out/o%03d.png");
-    let o = fxrun(&[&fx, "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--frames", "1..3"], None);
+    let o = fxrun(
+        &[
+            &fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--frames",
+            "1..3",
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let before = files(&dir.path().join("out"));
     assert_eq!(before.len(), 3);
     // A stale temporary of a killed run is cleaned up.
     std::fs::write(dir.path().join("out/.o004.png.fxtmp-999999-0"), b"partial").unwrap();
-    let o = fxrun(&[&fx, "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--skip-existing"], None);
+    let o = fxrun(
+        &[
+            &fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--skip-existing",
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let after = files(&dir.path().join("out"));
-    assert_eq!(after.len(), 6, "{:?}", after.iter().map(|f| &f.0).collect::<Vec<_>>());
+    assert_eq!(
+        after.len(),
+        6,
+        "{:?}",
+        after.iter().map(|f| &f.0).collect::<Vec<_>>()
+    );
     assert_eq!(&after[..3], &before[..]);
     // Resuming again does nothing.
-    let o = fxrun(&[&fx, "-i", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--skip-existing"], None);
-    assert!(stderr(&o).contains("every output frame exists"), "{}", stderr(&o));
+    let o = fxrun(
+        &[
+            &fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--skip-existing",
+        ],
+        None,
+    );
+    assert!(
+        stderr(&o).contains("every output frame exists"),
+        "{}",
+        stderr(&o)
+    );
     // An effect with feedback warns when sliced.
     let fb = dir.path().join("fb.fx");
-    std::fs::write(&fb, "EFFECT.fb = { PASS = { m = SHADER.tmean { a = PASS.m[-1]  b = IN  c = IN } } OUT = m }").unwrap();
+    std::fs::write(
+        &fb,
+        "EFFECT.fb = { PASS = { m = SHADER.tmean { a = PASS.m[-1]  b = IN  c = IN } } OUT = m }",
+    )
+    .unwrap();
     let o = fxrun(&[fb.to_str().unwrap(), "--describe"], None);
     assert!(String::from_utf8_lossy(&o.stdout).contains("uses feedback"));
-    let o = fxrun(&[fb.to_str().unwrap(), "-i", input.to_str().unwrap(), "-o", dir.path().join("fbo/%d.png").to_str().unwrap(), "--frames", "3..4"], None);
+    let o = fxrun(
+        &[
+            fb.to_str().unwrap(),
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            dir.path().join("fbo/%d.png").to_str().unwrap(),
+            "--frames",
+            "3..4",
+        ],
+        None,
+    );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("uses feedback"), "{}", stderr(&o));
 }
@@ -165,10 +268,19 @@ fn y4m_round_trip_through_an_identity_effect() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let out = o.stdout;
     let header_end = out.iter().position(|&b| b == b'\n').unwrap();
-    assert_eq!(&out[..header_end], &input[..input.iter().position(|&b| b == b'\n').unwrap()], "header passed on");
+    assert_eq!(
+        &out[..header_end],
+        &input[..input.iter().position(|&b| b == b'\n').unwrap()],
+        "header passed on"
+    );
     assert_eq!(out.len(), input.len());
     // Within the YCbCr quantisation (8-bit RGB in between).
-    let max = out.iter().zip(&input).map(|(a, b)| (*a as i32 - *b as i32).abs()).max().unwrap();
+    let max = out
+        .iter()
+        .zip(&input)
+        .map(|(a, b)| (*a as i32 - *b as i32).abs())
+        .max()
+        .unwrap();
     assert!(max <= 2, "max difference {max}");
 }
 
@@ -182,9 +294,21 @@ fn truncated_y4m_is_an_error_naming_the_frame() {
     std::fs::write(&id, "EFFECT.id = { OUT = IN }").unwrap();
     let mut input = y4m_stream(32, 16, 3);
     input.truncate(input.len() - 100);
-    let o = fxrun(&[id.to_str().unwrap(), "-i", "-", "-o", dir.path().join("o%02d.png").to_str().unwrap()], Some(&input));
+    let o = fxrun(
+        &[
+            id.to_str().unwrap(),
+            "-i",
+            "-",
+            "-o",
+            dir.path().join("o%02d.png").to_str().unwrap(),
+        ],
+        Some(&input),
+    );
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("frame 2"), "{}", stderr(&o));
-    let o = fxrun(&[id.to_str().unwrap(), "-i", "-", "-o", "-"], Some(b"NOT A Y4M\n"));
+    let o = fxrun(
+        &[id.to_str().unwrap(), "-i", "-", "-o", "-"],
+        Some(b"NOT A Y4M\n"),
+    );
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
 }

@@ -40,21 +40,39 @@ fn preprocessor_selects_branches_and_keeps_line_numbers() {
     assert_eq!(out.lines().count(), UBER.lines().count() + defs.len());
     assert!(out.contains("const DIR = vec2<i32>(1, 0);"));
     assert!(!out.contains("vec2<i32>(0, 1)"));
-    assert!(out.contains("const GAIN = 1.0;") && !out.contains("GAIN = 2.0") && !out.contains("GAIN = 0.5"));
+    assert!(
+        out.contains("const GAIN = 1.0;")
+            && !out.contains("GAIN = 2.0")
+            && !out.contains("GAIN = 0.5")
+    );
     // Lines keep their numbers: `fn fs_main` is on the same line as in the source.
     let line_of = |text: &str, pat: &str| text.lines().position(|l| l.contains(pat)).unwrap();
     assert_eq!(line_of(&out, "fn fs_main"), line_of(UBER, "fn fs_main"));
     // Defines become abstract constants at the end; the shader's #define is a default.
-    assert_eq!(defs, defines(&[("HORIZONTAL", 1), ("MODE", 1), ("TAPS", 3)]));
-    assert!(out.ends_with("const HORIZONTAL = 1;\nconst MODE = 1;\nconst TAPS = 3;\n"), "{out}");
+    assert_eq!(
+        defs,
+        defines(&[("HORIZONTAL", 1), ("MODE", 1), ("TAPS", 3)])
+    );
+    assert!(
+        out.ends_with("const HORIZONTAL = 1;\nconst MODE = 1;\nconst TAPS = 3;\n"),
+        "{out}"
+    );
     let (out, _) = preprocess(UBER, &defines(&[("TAPS", 7)])).unwrap();
-    assert!(out.contains("const TAPS = 7;") && out.contains("const DIR = vec2<i32>(0, 1);") && out.contains("GAIN = 0.5"));
+    assert!(
+        out.contains("const TAPS = 7;")
+            && out.contains("const DIR = vec2<i32>(0, 1);")
+            && out.contains("GAIN = 0.5")
+    );
 }
 
 #[test]
 fn preprocessed_variants_are_valid_wgsl() {
     let mut sm = SourceMap::new();
-    for d in [vec![], vec![("HORIZONTAL", 1)], vec![("MODE", 2), ("TAPS", 9)]] {
+    for d in [
+        vec![],
+        vec![("HORIZONTAL", 1)],
+        vec![("MODE", 2), ("TAPS", 9)],
+    ] {
         let (out, _) = preprocess(UBER, &defines(&d)).unwrap();
         let id = sm.add("uber.wgsl", out.clone());
         let r = reflect(&out, id).unwrap_or_else(|e| panic!("{:?}\n{out}", e));
@@ -75,7 +93,12 @@ fn preprocessor_errors_point_at_the_directive() {
     ] {
         let e = preprocess(src, &[]).unwrap_err();
         assert!(e.message.contains(msg), "{src:?}: {}", e.message);
-        assert!(src[e.start..e.end].starts_with('#'), "{src:?}: span {}..{}", e.start, e.end);
+        assert!(
+            src[e.start..e.end].starts_with('#'),
+            "{src:?}: span {}..{}",
+            e.start,
+            e.end
+        );
     }
 }
 
@@ -95,11 +118,25 @@ struct P {
 ";
     let r = reflect(src, FileId(0)).unwrap();
     assert_eq!(r.entry_point, "main");
-    assert_eq!((r.textures[0].name.as_str(), r.textures[0].binding), ("img", 0));
-    assert_eq!((r.samplers[0].name.as_str(), r.samplers[0].binding), ("img_sampler", 3));
+    assert_eq!(
+        (r.textures[0].name.as_str(), r.textures[0].binding),
+        ("img", 0)
+    );
+    assert_eq!(
+        (r.samplers[0].name.as_str(), r.samplers[0].binding),
+        ("img_sampler", 3)
+    );
     let u = r.uniform.unwrap();
     let gain = &u.members[0];
-    assert_eq!((gain.name.as_str(), gain.default.clone(), gain.range, gain.description.as_str()), ("gain", Some(vec![2.0]), Some((0.0, 8.0)), "how much"));
+    assert_eq!(
+        (
+            gain.name.as_str(),
+            gain.default.clone(),
+            gain.range,
+            gain.description.as_str()
+        ),
+        ("gain", Some(vec![2.0]), Some((0.0, 8.0)), "how much")
+    );
     assert_eq!(u.members[1].offset, 16);
     let err = reflect("@group(1) @binding(0) var t: texture_2d<f32>; @fragment fn f() -> @location(0) vec4<f32> { return vec4<f32>(0.0); }", FileId(0)).unwrap_err();
     assert!(err[0].message.contains("@group(0)"), "{:?}", err);
@@ -111,7 +148,9 @@ struct P {
 /// different define set compiles another.
 #[test]
 fn each_define_set_compiles_once() {
-    let Some(mut engine) = common::engine() else { return };
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("uber.wgsl"), UBER).unwrap();
     let fx = dir.path().join("cache.fx");
@@ -127,11 +166,20 @@ fn each_define_set_compiles_once() {
     .unwrap();
     let before = engine.pipelines_created;
     let img = common::image_u8(8, 4, |x, y| [x as u8 * 30, y as u8 * 60, 0, 255]);
-    let (_, _, px) = common::run(&mut engine, &[fx.to_str().unwrap()], &[], &img, fxgraph::script::types::Format::Rgba8).unwrap();
+    let (_, _, px) = common::run(
+        &mut engine,
+        &[fx.to_str().unwrap()],
+        &[],
+        &img,
+        fxgraph::script::types::Format::Rgba8,
+    )
+    .unwrap();
     // a, b share one pipeline; c has other defines; d renders to the output's
     // format (rgba8 too), so it reuses a/b's: 2 pipelines.
     assert_eq!(engine.pipelines_created - before, 2);
     // Vertical taps at MODE 2 (gain 2) over horizontal taps: the result is not the input.
-    let fxgraph::io::Pixels::U8(v) = px else { panic!() };
+    let fxgraph::io::Pixels::U8(v) = px else {
+        panic!()
+    };
     assert_eq!(v.len(), 8 * 4 * 4);
 }

@@ -6,19 +6,22 @@
 use anyhow::Context as _;
 use clap::Parser;
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
+use fxgraph::gpu::executor::Engine;
 use fxgraph::gpu::runner::{apply_to_image, ImageJob, JobReport, RunError};
+use fxgraph::gpu::runner::{output_format_for, Effect};
+use fxgraph::gpu::sequence::{
+    run_sequence, FilesSink, FilesSource, FrameSink, FrameSource, Progress, SequenceOptions,
+    Y4mSink, Y4mSource,
+};
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::graph::{compile, dot, library, CompileRequest, Override};
-use fxgraph::script::types::format_value;
-use fxgraph::gpu::executor::Engine;
-use fxgraph::gpu::runner::{output_format_for, Effect};
-use fxgraph::gpu::sequence::{run_sequence, FilesSink, FilesSource, FrameSink, FrameSource, Progress, SequenceOptions, Y4mSink, Y4mSource};
 use fxgraph::io::sequence::{parse_frames, InputSequence, OutputPattern, SequenceSpec};
+use fxgraph::script::types::format_value;
 use std::io::{IsTerminal, Write as _};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -234,7 +237,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
     };
     let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
     if analysis {
-        let (graph, diags, sources) = compile(&req);
+        let (graph, diags, mut sources) = compile(&req);
         if !diags.is_empty() {
             eprint!("{}", diags.render(&sources));
         }
@@ -256,7 +259,8 @@ fn run(cli: Cli) -> Result<(), Fail> {
         for a in &cli.aux {
             let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);
             desc.aux.retain(|(n, _)| n != name);
-            desc.aux.push((name.to_string(), fxgraph::script::types::Format::Rgba8Srgb));
+            desc.aux
+                .push((name.to_string(), fxgraph::script::types::Format::Rgba8Srgb));
         }
         let policy = match cli.policy.as_str() {
             "min-peak" => ReusePolicy::MinPeak,
@@ -285,8 +289,20 @@ fn run(cli: Cli) -> Result<(), Fail> {
                 });
             }
         };
-        if !notes.is_empty() && !cli.json {
+        // Shaders are found, preprocessed, reflected and checked against the
+        // script too (no GPU needed).
+        let (_, shader_diags) = fxgraph::shader::load_plan_shaders(&graph, &p, &mut sources, &[]);
+        let mut notes = notes;
+        notes.extend(shader_diags);
+        notes.sort();
+        if !notes.is_empty() && (!cli.json || notes.has_errors()) {
             eprint!("{}", notes.render(&sources));
+        }
+        if notes.has_errors() {
+            return Err(Fail {
+                code: 1,
+                message: String::new(),
+            });
         }
         if let Some(target) = &cli.dot {
             let text = dot::to_dot(&graph, Some(&p));
@@ -316,7 +332,10 @@ fn run(cli: Cli) -> Result<(), Fail> {
         return Ok(());
     }
     if let (Some(i), Some(o)) = (&cli.input, &cli.output) {
-        let (ispec, ospec) = (SequenceSpec::parse_input(&i.to_string_lossy()), SequenceSpec::parse_output(&o.to_string_lossy()));
+        let (ispec, ospec) = (
+            SequenceSpec::parse_input(&i.to_string_lossy()),
+            SequenceSpec::parse_output(&o.to_string_lossy()),
+        );
         if ispec.is_sequence() || ispec.is_stream() || ospec.is_sequence() || ospec.is_stream() {
             return run_sequence_cli(&cli, ispec, ospec);
         }
@@ -471,28 +490,39 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
         None => None,
     };
     let mut fps = cli.fps.unwrap_or(25.0);
-    let load = fxgraph::io::LoadOptions { assume_linear: cli.assume_linear };
+    let load = fxgraph::io::LoadOptions {
+        assume_linear: cli.assume_linear,
+    };
     // Source: files (with the context frames a slice needs) or a y4m stream.
     let mut y4m_template = None;
     let mut emit = None;
     let source: Box<dyn FrameSource> = match &ispec {
         SequenceSpec::Stdin => {
             let stdin = std::io::BufReader::with_capacity(1 << 20, std::io::stdin());
-            let reader = fxgraph::io::y4m::Y4mReader::new(stdin, "stdin").map_err(|e| rejected(e.to_string()))?;
+            let reader = fxgraph::io::y4m::Y4mReader::new(stdin, "stdin")
+                .map_err(|e| rejected(e.to_string()))?;
             let header = reader.header().clone();
             if cli.fps.is_none() && header.fps.1 > 0 {
                 fps = header.fps.0 as f64 / header.fps.1 as f64;
             }
             let conversion = fxgraph::io::y4m::YuvConversion::for_header(&header);
-            y4m_template = Some((header, conversion.clone()));
+            y4m_template = Some((header, conversion));
             let (skip, last) = match range {
                 Some(r) => {
                     emit = Some((r.start, r.end));
-                    (r.start.saturating_sub(history + cli.warmup), r.end.checked_add(latency))
+                    (
+                        r.start.saturating_sub(history + cli.warmup),
+                        r.end.checked_add(latency),
+                    )
                 }
                 None => (0, None),
             };
-            Box::new(Y4mSource { reader, conversion, skip, last })
+            Box::new(Y4mSource {
+                reader,
+                conversion,
+                skip,
+                last,
+            })
         }
         SequenceSpec::Stdout => return Err(rejected("`-` as an input reads stdin; use -i - ")),
         spec => {
@@ -500,15 +530,28 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
             let all = &seq.frames;
             let (lo, hi) = match range {
                 Some(r) => {
-                    let r = seq.resolve(r).ok_or_else(|| rejected(format!("--frames {}: no frame of the sequence is in that range", cli.frames.clone().unwrap_or_default())))?;
+                    let r = seq.resolve(r).ok_or_else(|| {
+                        rejected(format!(
+                            "--frames {}: no frame of the sequence is in that range",
+                            cli.frames.clone().unwrap_or_default()
+                        ))
+                    })?;
                     (r.start, r.end)
                 }
-                None => (seq.first_number().unwrap_or(0), seq.last_number().unwrap_or(0)),
+                None => (
+                    seq.first_number().unwrap_or(0),
+                    seq.last_number().unwrap_or(0),
+                ),
             };
             let mut lo = lo;
             if cli.skip_existing {
                 if let Ok(out) = OutputPattern::new(&ospec) {
-                    match all.iter().map(|f| f.0).filter(|n| *n >= lo && *n <= hi).find(|n| !out.exists(*n)) {
+                    match all
+                        .iter()
+                        .map(|f| f.0)
+                        .filter(|n| *n >= lo && *n <= hi)
+                        .find(|n| !out.exists(*n))
+                    {
                         Some(first_missing) => lo = first_missing,
                         None => {
                             eprintln!("fxrun: every output frame exists already (--skip-existing)");
@@ -520,7 +563,10 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
             emit = Some((lo, hi));
             // Positions of the slice in the sequence, widened by the context frames.
             let first = all.iter().position(|f| f.0 >= lo).unwrap_or(0);
-            let last = all.iter().rposition(|f| f.0 <= hi).unwrap_or(all.len().saturating_sub(1));
+            let last = all
+                .iter()
+                .rposition(|f| f.0 <= hi)
+                .unwrap_or(all.len().saturating_sub(1));
             let from = first.saturating_sub((history + cli.warmup) as usize);
             let to = (last + latency as usize).min(all.len() - 1);
             if effect.graph.has_feedback() && first > 0 && (cli.warmup as usize) < first {
@@ -537,7 +583,8 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
             let (mut header, conversion) = match y4m_template.clone() {
                 Some(t) => t,
                 None => {
-                    let h = fxgraph::io::y4m::Y4mHeader::new(1, 1, fxgraph::io::y4m::Chroma::C420Jpeg);
+                    let h =
+                        fxgraph::io::y4m::Y4mHeader::new(1, 1, fxgraph::io::y4m::Chroma::C420Jpeg);
                     let c = fxgraph::io::y4m::YuvConversion::for_header(&h);
                     (h, c)
                 }
@@ -546,17 +593,36 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
             if cli.rate > 1 || effect.graph.params.iter().any(|p| p.name == "field_order") {
                 header.interlace = fxgraph::io::y4m::Interlace::Progressive;
             }
-            let sink = Y4mSink { inner: Some(std::io::BufWriter::with_capacity(1 << 20, std::io::stdout())), writer: None, template: header, conversion, name: "stdout".into() };
-            (Box::new(sink) as Box<dyn FrameSink>, fxgraph::script::types::Format::Rgba8Srgb)
+            let sink = Y4mSink {
+                inner: Some(std::io::BufWriter::with_capacity(
+                    1 << 20,
+                    std::io::stdout(),
+                )),
+                writer: None,
+                template: header,
+                conversion,
+                name: "stdout".into(),
+            };
+            (
+                Box::new(sink) as Box<dyn FrameSink>,
+                fxgraph::script::types::Format::Rgba8Srgb,
+            )
         }
         SequenceSpec::Stdin => return Err(rejected("`-` as an output writes stdout; use -o -")),
         spec => {
             let pattern = OutputPattern::new(spec).map_err(RunError::from)?;
             let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
             let probe = pattern.path_for(0);
-            let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear).map_err(RunError::from)?;
-            let save = fxgraph::io::SaveOptions { bit_depth: cli.bit_depth, assume_linear: cli.assume_linear };
-            (Box::new(FilesSink { pattern, save }) as Box<dyn FrameSink>, format)
+            let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear)
+                .map_err(RunError::from)?;
+            let save = fxgraph::io::SaveOptions {
+                bit_depth: cli.bit_depth,
+                assume_linear: cli.assume_linear,
+            };
+            (
+                Box::new(FilesSink { pattern, save }) as Box<dyn FrameSink>,
+                format,
+            )
         }
     };
     // An interlaced y4m input sets the field order of effects that take one.
@@ -568,7 +634,11 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
             _ => None,
         };
         let has_param = effect.graph.params.iter().any(|p| p.name == "field_order");
-        let user_set = cli.set.iter().any(|s| s.split('=').next().is_some_and(|k| k.ends_with("field_order")));
+        let user_set = cli.set.iter().any(|s| {
+            s.split('=')
+                .next()
+                .is_some_and(|k| k.ends_with("field_order"))
+        });
         if let (Some(order), true, false) = (order, has_param, user_set) {
             let mut set = cli.set.clone();
             set.push(format!("field_order={order}"));
@@ -589,7 +659,10 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
         queue: cli.queue.max(1),
         timings: cli.timings,
     };
-    let mut engine = Engine::new(fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter)).map_err(RunError::from)?);
+    let mut engine = Engine::new(
+        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
+            .map_err(RunError::from)?,
+    );
     let tty = std::io::stderr().is_terminal();
     let progress = |p: Progress| {
         if !tty {
@@ -600,15 +673,31 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
         let line = match p.total {
             Some(t) if t > 0 => {
                 let frac = p.done as f64 / t as f64;
-                let bar: String = (0..30).map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' }).collect();
+                let bar: String = (0..30)
+                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
+                    .collect();
                 let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
-                format!("\r[{bar}] {}/{t} frames  {rate:.1} fps  ETA {:02}:{:02} ", p.done, (eta as u64) / 60, (eta as u64) % 60)
+                format!(
+                    "\r[{bar}] {}/{t} frames  {rate:.1} fps  ETA {:02}:{:02} ",
+                    p.done,
+                    (eta as u64) / 60,
+                    (eta as u64) % 60
+                )
             }
             _ => format!("\r{} frames  {rate:.1} fps ", p.done),
         };
         let _ = std::io::stderr().write_all(line.as_bytes());
     };
-    let result = run_sequence(&mut engine, &mut effect, source, sink, &opts, None, stop.clone(), progress);
+    let result = run_sequence(
+        &mut engine,
+        &mut effect,
+        source,
+        sink,
+        &opts,
+        None,
+        stop.clone(),
+        progress,
+    );
     if tty {
         eprintln!();
     }
@@ -624,14 +713,32 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
             report.decode_busy_ms, d * 100.0, report.gpu_busy_ms, g * 100.0, report.encode_busy_ms, e * 100.0, report.frames_held_max
         );
         for p in &report.passes {
-            let gpu = p.gpu_ms.map(|g| format!("{g:.2}")).unwrap_or_else(|| "-".into());
-            eprintln!("  {:<32} {:>11} {:<10} gpu {:>8} ms", p.path, format!("{}x{}", p.width, p.height), p.format, gpu);
+            let gpu = p
+                .gpu_ms
+                .map(|g| format!("{g:.2}"))
+                .unwrap_or_else(|| "-".into());
+            eprintln!(
+                "  {:<32} {:>11} {:<10} gpu {:>8} ms",
+                p.path,
+                format!("{}x{}", p.width, p.height),
+                p.format,
+                gpu
+            );
         }
     }
     if let Some(path) = &cli.timings_json {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Fail { code: 2, message: e.to_string() })?;
-        fxgraph::io::write_atomic(path, |w| w.write_all(text.as_bytes()).map_err(|e| fxgraph::io::IoError::Io { path: path.clone(), source: e }))
-            .map_err(RunError::from)?;
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Fail {
+            code: 2,
+            message: e.to_string(),
+        })?;
+        fxgraph::io::write_atomic(path, |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| fxgraph::io::IoError::Io {
+                    path: path.clone(),
+                    source: e,
+                })
+        })
+        .map_err(RunError::from)?;
     }
     if report.interrupted {
         return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });

@@ -1561,7 +1561,7 @@ impl Renderer {
                 }
                 LightKind::Point | LightKind::Spot { .. } => {
                     let radius = l.radius();
-                    if !(radius > 0.0) {
+                    if radius.is_nan() || radius <= 0.0 {
                         continue;
                     }
                     let radius = radius.min(1e7);

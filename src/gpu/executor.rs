@@ -2,14 +2,12 @@
 //! and runs it frame after frame, interpreting the plan's `Alloc / Run / Free` steps.
 
 use super::context::{GpuContext, GpuError, GpuTimer};
-use crate::graph::plan::{
-    PassShader, Plan, PlannedPass, Resource, ReusePolicy, Step, TextureDesc, View,
-};
+use crate::graph::plan::{Plan, PlannedPass, Resource, ReusePolicy, Step, TextureDesc, View};
 use crate::graph::Graph;
 use crate::script::types::{Filter, Format, Sampling, Wrap};
-use crate::script::{Diagnostic, Diagnostics, SourceMap, Span};
-use crate::shader::reflect::{bind_pass, StdContext};
-use crate::shader::{find_shader, preprocess, reflect, Reflection, UniformLayout, FULLSCREEN_VS};
+use crate::script::{Diagnostic, Diagnostics, SourceMap};
+use crate::shader::reflect::StdContext;
+use crate::shader::{load_plan_shaders, Reflection, UniformLayout, FULLSCREEN_VS};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -51,9 +49,6 @@ fn view_format(f: Format, view: View) -> Option<wgpu::TextureFormat> {
         _ => None,
     }
 }
-
-/// A shader file (as shown) and its defines.
-type ShaderKey = (String, Vec<(String, i64)>);
 
 /// A render pipeline with its bind group layout, shared by passes with the same
 /// shader text, target format and input filterability.
@@ -144,6 +139,20 @@ pub struct FrameInputs<'a> {
 }
 
 impl<'a> FrameInputs<'a> {
+    /// A still image as a one-frame sequence: every `IN[n]` the plan reads is the
+    /// image itself (history and future clamp to the only frame).
+    pub fn still(input: &'a wgpu::Texture, plan: &Plan) -> Self {
+        let mut f = Self::single(input);
+        for p in &plan.passes {
+            for i in &p.inputs {
+                if let Resource::Input { frame } = i.resource {
+                    f.frames.insert(frame, input);
+                }
+            }
+        }
+        f
+    }
+
     pub fn single(input: &'a wgpu::Texture) -> Self {
         FrameInputs {
             frames: HashMap::from([(0, input)]),
@@ -187,8 +196,8 @@ impl Engine {
         let mut diags = Diagnostics::default();
         let max = self.ctx.device.limits().max_texture_dimension_2d;
         let adapter = self.ctx.info.name.clone();
-        let mut shader_files: HashMap<String, crate::script::FileId> = HashMap::new();
-        let mut reflections: HashMap<ShaderKey, Option<(Arc<str>, Reflection)>> = HashMap::new();
+        let (shaders, shader_diags) = load_plan_shaders(graph, &plan, sources, &self.shader_dirs);
+        diags.extend(shader_diags);
         let mut passes = Vec::new();
         for (pi, p) in plan.passes.iter().enumerate() {
             let span = p.node.map(|n| graph.pass(n).name_span);
@@ -203,7 +212,8 @@ impl Engine {
                 ))));
                 continue;
             }
-            let target = view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format));
+            let target =
+                view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format));
             if p.target_view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
                 diags.push(at(Diagnostic::error(format!(
                     "pass `{}` writes sRGB-encoded values to an sRGB target, which needs a texture view the GL backend cannot make",
@@ -220,93 +230,10 @@ impl Engine {
                 .note("choose another OUT.FORMAT, e.g. rgba16f")));
                 continue;
             }
-            // Shader text, preprocessed, and its reflection.
-            let (key_name, file_text, shown, defines, node) = match &p.shader {
-                PassShader::Script { name } => {
-                    let n = p.node.expect("script pass has a node");
-                    let pn = graph.pass(n);
-                    let Some(file) = find_shader(name, pn.shader_dir.as_deref(), &self.shader_dirs)
-                    else {
-                        diags.push(
-                            Diagnostic::error(format!("no shader `{name}.wgsl`"))
-                                .at(pn.shader_span, "not found next to the effect file, in its shaders/ folder, or in the built-in library"),
-                        );
-                        continue;
-                    };
-                    (
-                        file.shown.clone(),
-                        file.text,
-                        file.shown,
-                        pn.defines.clone(),
-                        Some(n),
-                    )
-                }
-                PassShader::Convert { to } => {
-                    let f = find_shader("_colorspace", None, &[]).expect("built-in shader");
-                    let to_linear = i64::from(*to == crate::script::types::ColorSpace::Linear);
-                    (
-                        f.shown.clone(),
-                        f.text,
-                        f.shown,
-                        vec![("TO_LINEAR".to_string(), to_linear)],
-                        None,
-                    )
-                }
-                PassShader::Blit => {
-                    let f = find_shader("_blit", None, &[]).expect("built-in shader");
-                    (f.shown.clone(), f.text, f.shown, Vec::new(), None)
-                }
-            };
-            let file_id = *shader_files
-                .entry(key_name.clone())
-                .or_insert_with(|| sources.add(shown, file_text.clone()));
-            let cache_key = (key_name.clone(), defines.clone());
-            if !reflections.contains_key(&cache_key) {
-                let result = match preprocess(&file_text, &defines) {
-                    Err(e) => {
-                        diags.push(
-                            Diagnostic::error(e.message).at(Span::new(file_id, e.start, e.end), ""),
-                        );
-                        None
-                    }
-                    Ok((wgsl, _)) => {
-                        // Reflect the preprocessed text: it has the same lines and columns,
-                        // plus constants appended at the end.
-                        let pre_id = if wgsl.starts_with(&*file_text)
-                            || defines.is_empty() && wgsl.trim_end() == file_text.trim_end()
-                        {
-                            file_id
-                        } else {
-                            sources.add(sources.get(file_id).name.clone(), wgsl.clone())
-                        };
-                        match reflect(&wgsl, pre_id) {
-                            Ok(r) => Some((Arc::<str>::from(wgsl), r)),
-                            Err(ds) => {
-                                for d in ds {
-                                    diags.push(d);
-                                }
-                                None
-                            }
-                        }
-                    }
-                };
-                reflections.insert(cache_key.clone(), result);
-            }
-            let Some((wgsl, refl)) = reflections[&cache_key].clone() else {
+            let Some(loaded) = shaders[pi].clone() else {
                 continue;
             };
-            let layout = match node {
-                Some(n) => match bind_pass(graph.pass(n), &refl, &key_name) {
-                    Ok(l) => l,
-                    Err(ds) => {
-                        for d in ds {
-                            diags.push(d);
-                        }
-                        continue;
-                    }
-                },
-                None => UniformLayout::default(),
-            };
+            let (wgsl, refl, layout) = (loaded.wgsl, loaded.reflection, loaded.layout);
             // Textures and samplers by name; filterability from the bound formats.
             let mut textures = Vec::new();
             let mut filterable = Vec::new();
@@ -839,7 +766,9 @@ impl Prepared {
             });
             let target_view = target.create_view(&wgpu::TextureViewDescriptor {
                 label: Some(&format!("{} target", gp.path)),
-                format: Some(view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format))),
+                format: Some(
+                    view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format)),
+                ),
                 ..Default::default()
             });
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {

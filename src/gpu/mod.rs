@@ -1,5 +1,5 @@
 pub mod context;
 pub mod executor;
 pub mod runner;
-pub mod stream;
 pub mod sequence;
+pub mod stream;

@@ -200,7 +200,11 @@ pub fn output_format_for(
 }
 
 /// Read a texture back as pixels (U8 for 8-bit formats, linear F32 otherwise).
-pub fn read_pixels(ctx: &GpuContext, texture: &wgpu::Texture, format: Format) -> Result<Pixels, GpuError> {
+pub fn read_pixels(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    format: Format,
+) -> Result<Pixels, GpuError> {
     pixels_from_bytes(ctx.read_texture(texture)?, format)
 }
 
@@ -208,9 +212,21 @@ pub fn read_pixels(ctx: &GpuContext, texture: &wgpu::Texture, format: Format) ->
 pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuError> {
     Ok(match format {
         Format::Rgba8 | Format::Rgba8Srgb => Pixels::U8(raw),
-        Format::Rgba16f => Pixels::F32(raw.chunks_exact(2).map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32()).collect()),
-        Format::Rgba32f => Pixels::F32(raw.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect()),
-        other => return Err(GpuError::Map(format!("cannot read back {other} as an image"))),
+        Format::Rgba16f => Pixels::F32(
+            raw.chunks_exact(2)
+                .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
+                .collect(),
+        ),
+        Format::Rgba32f => Pixels::F32(
+            raw.chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        ),
+        other => {
+            return Err(GpuError::Map(format!(
+                "cannot read back {other} as an image"
+            )))
+        }
     })
 }
 
@@ -372,7 +388,7 @@ pub fn apply_to_image(
     let output_tex = create_output(&ctx, out.width, out.height, out.format);
     report.upload_ms = ms(t.elapsed());
     let t = Instant::now();
-    let mut inputs = FrameInputs::single(&input_tex);
+    let mut inputs = FrameInputs::still(&input_tex, &prepared.plan);
     for (n, tex) in &aux_tex {
         inputs.aux.insert(n.clone(), tex);
     }
@@ -447,7 +463,7 @@ pub fn apply_in_memory(
         .collect::<Result<_, GpuError>>()?;
     let out = prepared.plan.output;
     let output_tex = create_output(&ctx, out.width, out.height, out.format);
-    let mut inputs = FrameInputs::single(&input_tex);
+    let mut inputs = FrameInputs::still(&input_tex, &prepared.plan);
     for (n, t) in &aux_tex {
         inputs.aux.insert(n.clone(), t);
     }

@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 /// Where frames come from (runs on the decode thread).
 pub trait FrameSource: Send {
     /// Number of frames, if known (for the progress bar).
-    fn len(&self) -> Option<u64>;
+    fn frame_count(&self) -> Option<u64>;
     /// The next frame and its frame number, or `None` at the end.
     fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError>;
 }
@@ -31,7 +31,13 @@ pub trait FrameSource: Send {
 /// Where output frames go (runs on the encode thread).
 pub trait FrameSink: Send {
     /// Write output frame `number`.
-    fn write(&mut self, number: u64, width: u32, height: u32, pixels: Pixels) -> Result<(), IoError>;
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<(), IoError>;
     /// Called once after the last frame.
     fn finish(&mut self) -> Result<(), IoError> {
         Ok(())
@@ -100,7 +106,11 @@ impl SequenceReport {
     /// Busy fraction of each stage over the wall time: (decode, gpu, encode).
     pub fn utilisation(&self) -> (f64, f64, f64) {
         let w = self.wall_ms.max(1e-9);
-        (self.decode_busy_ms / w, self.gpu_busy_ms / w, self.encode_busy_ms / w)
+        (
+            self.decode_busy_ms / w,
+            self.gpu_busy_ms / w,
+            self.encode_busy_ms / w,
+        )
     }
 }
 
@@ -125,7 +135,7 @@ pub fn run_sequence(
     mut progress: impl FnMut(Progress),
 ) -> Result<SequenceReport, RunError> {
     let start = Instant::now();
-    let total = source.len();
+    let total = source.frame_count();
     let queue = opts.queue.max(1);
     let (dec_tx, dec_rx): (SyncSender<Decoded>, Receiver<Decoded>) = sync_channel(queue);
     let (enc_tx, enc_rx): (SyncSender<Encoded>, Receiver<Encoded>) = sync_channel(queue);
@@ -182,7 +192,10 @@ pub fn run_sequence(
         })
         .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))?;
 
-    let mut report = SequenceReport { adapter: engine.ctx.info.name.clone(), ..Default::default() };
+    let mut report = SequenceReport {
+        adapter: engine.ctx.info.name.clone(),
+        ..Default::default()
+    };
     let mut gpu_busy = Duration::ZERO;
     let mut stream: Option<Stream> = None;
     let mut numbers: VecDeque<u64> = VecDeque::new();
@@ -191,11 +204,11 @@ pub fn run_sequence(
     let mut emitted = 0u64;
     // Sends ready outputs to the encoder; returns false when the encoder is gone.
     let drain = |engine: &mut Engine,
-                     stream: &mut Stream,
-                     numbers: &mut VecDeque<u64>,
-                     first: u64,
-                     gpu_busy: &mut Duration,
-                     emitted: &mut u64|
+                 stream: &mut Stream,
+                 numbers: &mut VecDeque<u64>,
+                 first: u64,
+                 gpu_busy: &mut Duration,
+                 emitted: &mut u64|
      -> Result<bool, RunError> {
         loop {
             let t = Instant::now();
@@ -206,19 +219,35 @@ pub fn run_sequence(
             let rate = stream.rate as u64;
             let input_index = out / rate;
             let sub = out % rate;
-            let input_number = numbers.get(input_index as usize).copied().unwrap_or(first + input_index);
+            let input_number = numbers
+                .get(input_index as usize)
+                .copied()
+                .unwrap_or(first + input_index);
             let pending = {
                 let ctx: &GpuContext = &engine.ctx;
-                let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sequence readback") });
+                let mut enc = ctx
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("sequence readback"),
+                    });
                 let p = ctx.encode_readback(&mut enc, stream.output())?;
                 ctx.queue.submit([enc.finish()]);
                 p
             };
             *gpu_busy += t.elapsed();
-            let keep = opts.emit.is_none_or(|(lo, hi)| input_number >= lo && input_number <= hi);
+            let keep = opts
+                .emit
+                .is_none_or(|(lo, hi)| input_number >= lo && input_number <= hi);
             if keep {
-                let number = if rate == 1 { input_number } else { first * rate + input_index * rate + sub };
-                if enc_tx.send((number, pending, stream.prepared.plan.output.format)).is_err() {
+                let number = if rate == 1 {
+                    input_number
+                } else {
+                    first * rate + input_index * rate + sub
+                };
+                if enc_tx
+                    .send((number, pending, stream.prepared.plan.output.format))
+                    .is_err()
+                {
                     return Ok(false);
                 }
                 *emitted += 1;
@@ -237,8 +266,17 @@ pub fn run_sequence(
         if stream.is_none() {
             first_number = Some(number);
             let (fmt, cs) = input_format(&img, opts.assume_linear);
-            let desc = InputDesc { width: img.width, height: img.height, format: fmt, colorspace: cs, aux: Vec::new() };
-            let plan_opts = PlanOptions { policy: ReusePolicy::Pool, output_format: Some(opts.output_format) };
+            let desc = InputDesc {
+                width: img.width,
+                height: img.height,
+                format: fmt,
+                colorspace: cs,
+                aux: Vec::new(),
+            };
+            let plan_opts = PlanOptions {
+                policy: ReusePolicy::Pool,
+                output_format: Some(opts.output_format),
+            };
             let mut prepared = match effect.prepare_with(engine, &desc, &plan_opts) {
                 Ok(p) => p,
                 Err(e) => {
@@ -262,7 +300,14 @@ pub fn run_sequence(
         }
         report.frames_in += 1;
         gpu_busy += t.elapsed();
-        match drain(engine, s, &mut numbers, first_number.unwrap_or(0), &mut gpu_busy, &mut emitted) {
+        match drain(
+            engine,
+            s,
+            &mut numbers,
+            first_number.unwrap_or(0),
+            &mut gpu_busy,
+            &mut emitted,
+        ) {
             Ok(true) => {}
             Ok(false) => break,
             Err(e) => {
@@ -270,7 +315,11 @@ pub fn run_sequence(
                 break;
             }
         }
-        progress(Progress { done: report.frames_in, total, elapsed: start.elapsed() });
+        progress(Progress {
+            done: report.frames_in,
+            total,
+            elapsed: start.elapsed(),
+        });
         if stop.load(Ordering::Relaxed) {
             report.interrupted = true;
             break;
@@ -279,7 +328,14 @@ pub fn run_sequence(
     if failure.is_none() && !report.interrupted {
         if let Some(s) = stream.as_mut() {
             s.end();
-            if let Err(e) = drain(engine, s, &mut numbers, first_number.unwrap_or(0), &mut gpu_busy, &mut emitted) {
+            if let Err(e) = drain(
+                engine,
+                s,
+                &mut numbers,
+                first_number.unwrap_or(0),
+                &mut gpu_busy,
+                &mut emitted,
+            ) {
                 failure = Some(e);
             }
         }
@@ -290,7 +346,10 @@ pub fn run_sequence(
     drop(enc_tx);
     drop(dec_rx);
     let decode_busy = decoder.join().unwrap_or_default();
-    let (encode_busy, written) = encoder.join().unwrap_or((Duration::ZERO, Err(RunError::Other("the encode thread panicked".into()))));
+    let (encode_busy, written) = encoder.join().unwrap_or((
+        Duration::ZERO,
+        Err(RunError::Other("the encode thread panicked".into())),
+    ));
     report.decode_busy_ms = ms(decode_busy);
     report.gpu_busy_ms = ms(gpu_busy);
     report.encode_busy_ms = ms(encode_busy);
@@ -300,7 +359,10 @@ pub fn run_sequence(
     }
     report.frames_out = written?;
     if report.frames_in == 0 && !report.interrupted {
-        return Err(RunError::BadInput(IoError::Decode { path: "sequence".into(), message: "no frames".into() }));
+        return Err(RunError::BadInput(IoError::Decode {
+            path: "sequence".into(),
+            message: "no frames".into(),
+        }));
     }
     report.fps = report.frames_out as f64 / (report.wall_ms / 1e3).max(1e-9);
     Ok(report)
@@ -323,16 +385,22 @@ pub struct FilesSource {
 
 impl FilesSource {
     pub fn new(frames: Vec<(u64, std::path::PathBuf)>, load: crate::io::LoadOptions) -> Self {
-        FilesSource { frames, load, pos: 0 }
+        FilesSource {
+            frames,
+            load,
+            pos: 0,
+        }
     }
 }
 
 impl FrameSource for FilesSource {
-    fn len(&self) -> Option<u64> {
+    fn frame_count(&self) -> Option<u64> {
         Some(self.frames.len() as u64)
     }
     fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
-        let Some((n, path)) = self.frames.get(self.pos) else { return Ok(None) };
+        let Some((n, path)) = self.frames.get(self.pos) else {
+            return Ok(None);
+        };
         self.pos += 1;
         Ok(Some((*n, crate::io::load_image(path, &self.load)?)))
     }
@@ -345,13 +413,28 @@ pub struct FilesSink {
 }
 
 impl FrameSink for FilesSink {
-    fn write(&mut self, number: u64, width: u32, height: u32, pixels: Pixels) -> Result<(), IoError> {
-        crate::io::save_image(&self.pattern.path_for(number), width, height, &pixels, &self.save)
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<(), IoError> {
+        crate::io::save_image(
+            &self.pattern.path_for(number),
+            width,
+            height,
+            &pixels,
+            &self.save,
+        )
     }
 }
 
 fn y4m_error(e: crate::io::y4m::Y4mError) -> IoError {
-    IoError::Decode { path: e.name().into(), message: e.to_string() }
+    IoError::Decode {
+        path: e.name().into(),
+        message: e.to_string(),
+    }
 }
 
 /// A YUV4MPEG2 stream (e.g. stdin) decoded to 8-bit sRGB frames.
@@ -365,7 +448,7 @@ pub struct Y4mSource<R: std::io::Read + Send> {
 }
 
 impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
-    fn len(&self) -> Option<u64> {
+    fn frame_count(&self) -> Option<u64> {
         None
     }
     fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
@@ -375,13 +458,20 @@ impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
             if self.last.is_some_and(|l| n > l) {
                 return Ok(None);
             }
-            let Some(frame) = self.reader.next_frame().map_err(y4m_error)? else { return Ok(None) };
+            let Some(frame) = self.reader.next_frame().map_err(y4m_error)? else {
+                return Ok(None);
+            };
             if n < self.skip {
                 continue;
             }
             let header = self.reader.header().clone();
-            let img = yuv_to_image(&frame, &header, &self.conversion, RgbKind::SrgbU8)
-                .map_err(|m| IoError::Decode { path: self.reader.name().into(), message: format!("y4m frame {n}: {m}") })?;
+            let img =
+                yuv_to_image(&frame, &header, &self.conversion, RgbKind::SrgbU8).map_err(|m| {
+                    IoError::Decode {
+                        path: self.reader.name().into(),
+                        message: format!("y4m frame {n}: {m}"),
+                    }
+                })?;
             return Ok(Some((n, img)));
         }
     }
@@ -399,14 +489,21 @@ pub struct Y4mSink<W: std::io::Write + Send> {
 }
 
 impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
-    fn write(&mut self, _number: u64, width: u32, height: u32, pixels: Pixels) -> Result<(), IoError> {
+    fn write(
+        &mut self,
+        _number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<(), IoError> {
         use crate::io::y4m::{image_to_yuv, Y4mWriter};
         if self.writer.is_none() {
             let mut header = self.template.clone();
             header.width = width;
             header.height = height;
             let inner = self.inner.take().expect("sink not started yet");
-            self.writer = Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
+            self.writer =
+                Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
         }
         let w = self.writer.as_mut().expect("writer created");
         let header = w.header().clone();
@@ -414,9 +511,17 @@ impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
             width,
             height,
             pixels,
-            source: crate::io::SourceInfo { format: crate::io::FileFormat::Png, bit_depth: 8, has_alpha: false, float: false },
+            source: crate::io::SourceInfo {
+                format: crate::io::FileFormat::Png,
+                bit_depth: 8,
+                has_alpha: false,
+                float: false,
+            },
         };
-        let frame = image_to_yuv(&img, &header, &self.conversion).map_err(|m| IoError::Decode { path: self.name.clone().into(), message: m })?;
+        let frame = image_to_yuv(&img, &header, &self.conversion).map_err(|m| IoError::Decode {
+            path: self.name.clone().into(),
+            message: m,
+        })?;
         w.write_frame(&frame).map_err(y4m_error)
     }
     fn finish(&mut self) -> Result<(), IoError> {

@@ -415,7 +415,10 @@ pub fn plan(
     };
     // sRGB-encoded results go to a float output only through a conversion to linear.
     let srgb_to_float = r.colorspace(out_src) == ColorSpace::Srgb
-        && opts.output_format.unwrap_or_else(|| r.format(out_src, 0)).is_float();
+        && opts
+            .output_format
+            .unwrap_or_else(|| r.format(out_src, 0))
+            .is_float();
     let output_direct = matches!(g[out_src], Node::Pass(_))
         && live_readers(out_src) == 0
         && !ring_of.contains_key(&out_src)
@@ -576,7 +579,12 @@ pub fn plan(
         };
         let src_cs = r.colorspace(out_src);
         let (shader, colorspace) = if srgb_to_float {
-            (PassShader::Convert { to: ColorSpace::Linear }, ColorSpace::Linear)
+            (
+                PassShader::Convert {
+                    to: ColorSpace::Linear,
+                },
+                ColorSpace::Linear,
+            )
         } else {
             (PassShader::Blit, src_cs)
         };

@@ -415,9 +415,8 @@ pub fn parse_frames(arg: &str) -> Result<FrameRange, String> {
                 "invalid {what} `{t}` in frame range `{arg}` ({FORMS})"
             ));
         }
-        t.parse().map_err(|_| {
-            format!("{what} `{t}` in frame range `{arg}` is too large")
-        })
+        t.parse()
+            .map_err(|_| format!("{what} `{t}` in frame range `{arg}` is too large"))
     };
     let Some((a, b)) = s.split_once("..") else {
         let n = number(s, "frame number")?;
@@ -474,7 +473,8 @@ impl InputSequence {
         match spec {
             SequenceSpec::Pattern { pattern } => {
                 let path = Path::new(pattern);
-                let pat = FramePattern::parse(pattern).map_err(|m| IoError::unsupported(path, m))?;
+                let pat =
+                    FramePattern::parse(pattern).map_err(|m| IoError::unsupported(path, m))?;
                 let mut frames = Vec::new();
                 for (name, _) in list_files(pat.dir())? {
                     if let Some(n) = pat.match_file_name(&name) {
@@ -493,10 +493,15 @@ impl InputSequence {
             SequenceSpec::Dir(dir) => {
                 let files: Vec<(String, PathBuf)> = list_files(dir)?
                     .into_iter()
-                    .filter(|(name, p)| !name.starts_with('.') && FileFormat::from_path(p).is_some())
+                    .filter(|(name, p)| {
+                        !name.starts_with('.') && FileFormat::from_path(p).is_some()
+                    })
                     .collect();
                 if files.is_empty() {
-                    return Err(not_found(dir, "the folder holds no image files".to_string()));
+                    return Err(not_found(
+                        dir,
+                        "the folder holds no image files".to_string(),
+                    ));
                 }
                 Ok(InputSequence {
                     frames: number_files(files),
@@ -854,9 +859,9 @@ impl OutputPattern {
                 format!("unknown image file extension `{extension}`"),
             ));
         }
-        let dir_str = dir.to_str().ok_or_else(|| {
-            IoError::unsupported(dir, "the folder name is not valid UTF-8")
-        })?;
+        let dir_str = dir
+            .to_str()
+            .ok_or_else(|| IoError::unsupported(dir, "the folder name is not valid UTF-8"))?;
         let mut pattern = dir_str.replace('%', "%%");
         if !ends_with_separator(&pattern) {
             pattern.push(std::path::MAIN_SEPARATOR);
@@ -918,7 +923,9 @@ fn process_alive(pid: u32) -> bool {
         return true;
     }
     let proc_root = Path::new("/proc");
-    cfg!(target_os = "linux") && proc_root.join("self").exists() && proc_root.join(pid.to_string()).exists()
+    cfg!(target_os = "linux")
+        && proc_root.join("self").exists()
+        && proc_root.join(pid.to_string()).exists()
 }
 
 /// Delete the temporaries that [`super::write_atomic`] leaves in `dir` when a process is

@@ -64,9 +64,11 @@
 //!
 //! # Speed
 //!
-//! The conversions are per-row f32 loops without allocation per pixel (a few row buffers
-//! per thread), split over threads by row bands for frames of 65536 pixels or more; the
-//! sRGB curve goes through interpolated tables (error below 1e-6).
+//! The conversions are branch-free per-row f32 loops over planar rows, which the compiler
+//! vectorises, without allocation per pixel (a few row buffers per thread), split over
+//! threads by row bands for frames of 65536 pixels or more. The sRGB curve is a fitted
+//! polynomial (error below 4e-6, exact linear segment near black). For the GPU pipeline
+//! [`RgbKind::SrgbU8`] is the cheaper choice: 8-bit sRGB textures are decoded by the GPU.
 
 use std::fmt;
 use std::io::{self, BufRead, BufReader, Read, Write};
@@ -407,7 +409,10 @@ impl Y4mHeader {
                 return Err(format!("{what} {v} is out of range (1 to {MAX_SIDE})"));
             }
         }
-        for ((n, d), what) in [(self.fps, "frame rate"), (self.aspect, "pixel aspect ratio")] {
+        for ((n, d), what) in [
+            (self.fps, "frame rate"),
+            (self.aspect, "pixel aspect ratio"),
+        ] {
             if (n == 0) != (d == 0) {
                 return Err(format!("invalid {what} {n}:{d}"));
             }
@@ -551,8 +556,7 @@ impl YuvFrame {
     /// Whether this frame's 4:2:0 chroma is stored per field under `conv` (see the module
     /// documentation): always false for layouts other than `420jpeg`, `420mpeg2`, `420`.
     pub fn field_chroma(&self, header: &Y4mHeader, conv: &YuvConversion) -> bool {
-        if !header.colorspace.is_420() || header.colorspace.vertical_siting() != Siting::Between
-        {
+        if !header.colorspace.is_420() || header.colorspace.vertical_siting() != Siting::Between {
             return false;
         }
         match conv.chroma_fields {
@@ -613,8 +617,8 @@ impl<R: Read> Y4mReader<R> {
                 "the stream is empty (no YUV4MPEG2 header)".into(),
             ));
         }
-        let magic_ok = line.starts_with(MAGIC)
-            && matches!(line.get(MAGIC.len()), None | Some(b' ' | b'\n'));
+        let magic_ok =
+            line.starts_with(MAGIC) && matches!(line.get(MAGIC.len()), None | Some(b' ' | b'\n'));
         if !magic_ok || line.last() != Some(&b'\n') {
             let message = if !magic_ok {
                 format!(
@@ -1081,11 +1085,7 @@ fn vertical_down_taps(h: usize, ch: usize, siting: Siting, fields: bool) -> Vec<
             }
             let r = 2 * c;
             match siting {
-                Siting::Between => [
-                    (r as u32, 0.5),
-                    ((r + 1).min(last) as u32, 0.5),
-                    (0, 0.0),
-                ],
+                Siting::Between => [(r as u32, 0.5), ((r + 1).min(last) as u32, 0.5), (0, 0.0)],
                 _ => [
                     (r.saturating_sub(1) as u32, 0.25),
                     (r as u32, 0.5),
@@ -1096,123 +1096,185 @@ fn vertical_down_taps(h: usize, ch: usize, siting: Siting, fields: bool) -> Vec<
         .collect()
 }
 
-/// Upsample one chroma row (`src`, chroma width) to luma width (`dst`).
+/// Upsample one chroma row (`src`, chroma width `n`) to luma width (`dst`, `2n - 1` or
+/// `2n`): bilinear at the siting's sample positions, edges clamped.
 #[inline]
 fn upsample_row(src: &[f32], dst: &mut [f32], siting: Siting) {
     let n = src.len();
-    match siting {
-        Siting::Full => dst.copy_from_slice(src),
-        Siting::Between => {
-            for (i, pair) in dst.chunks_mut(2).enumerate() {
-                let c = src[i];
-                let prev = src[i.saturating_sub(1)];
-                pair[0] = 0.75 * c + 0.25 * prev;
-                if let Some(o) = pair.get_mut(1) {
-                    let next = src[(i + 1).min(n - 1)];
-                    *o = 0.75 * c + 0.25 * next;
+    if siting == Siting::Full {
+        dst.copy_from_slice(src);
+        return;
+    }
+    // Pairs (2i, 2i+1) for i in 1..n-1 from src[i-1], src[i], src[i+1]; the first and
+    // the last pair below.
+    if n >= 3 {
+        let inner = dst[2..2 * (n - 1)].chunks_exact_mut(2);
+        let it = inner.zip(src.iter().zip(&src[1..]).zip(&src[2..]));
+        match siting {
+            Siting::Between => {
+                for (d, ((&p, &c), &nx)) in it {
+                    d[0] = 0.75 * c + 0.25 * p;
+                    d[1] = 0.75 * c + 0.25 * nx;
                 }
             }
-        }
-        Siting::CoSited => {
-            for (i, pair) in dst.chunks_mut(2).enumerate() {
-                let c = src[i];
-                pair[0] = c;
-                if let Some(o) = pair.get_mut(1) {
-                    let next = src[(i + 1).min(n - 1)];
-                    *o = 0.5 * (c + next);
+            _ => {
+                for (d, ((_, &c), &nx)) in it {
+                    d[0] = c;
+                    d[1] = 0.5 * (c + nx);
                 }
             }
         }
     }
+    for i in [0, n - 1] {
+        let c = src[i];
+        let (p, nx) = (src[i.saturating_sub(1)], src[(i + 1).min(n - 1)]);
+        let (even, odd) = match siting {
+            Siting::Between => (0.75 * c + 0.25 * p, 0.75 * c + 0.25 * nx),
+            _ => (c, 0.5 * (c + nx)),
+        };
+        dst[2 * i] = even;
+        if let Some(o) = dst.get_mut(2 * i + 1) {
+            *o = odd;
+        }
+    }
 }
 
-/// Downsample one full-width row (`src`) to chroma width (`dst`).
+/// Downsample one full-width row (`src`) to chroma width (`dst`): a 2-tap box for
+/// chroma between columns, [1 2 1]/4 for co-sited chroma, edges clamped.
 #[inline]
 fn downsample_row(src: &[f32], dst: &mut [f32], siting: Siting) {
+    let n = dst.len();
     let last = src.len() - 1;
     match siting {
         Siting::Full => dst.copy_from_slice(src),
         Siting::Between => {
-            for (i, d) in dst.iter_mut().enumerate() {
-                let x = 2 * i;
-                *d = 0.5 * (src[x] + src[(x + 1).min(last)]);
+            for (d, pair) in dst.iter_mut().zip(src.chunks_exact(2)) {
+                *d = 0.5 * (pair[0] + pair[1]);
+            }
+            if src.len() % 2 == 1 {
+                dst[n - 1] = src[last];
             }
         }
         Siting::CoSited => {
-            for (i, d) in dst.iter_mut().enumerate() {
-                let x = 2 * i;
-                *d = 0.25 * src[x.saturating_sub(1)] + 0.5 * src[x] + 0.25 * src[(x + 1).min(last)];
+            dst[0] = 0.75 * src[0] + 0.25 * src[1.min(last)];
+            if n >= 2 {
+                // dst[i] from src[2i-1], src[2i], src[2i+1] for i in 1..
+                // (the last one clamped when the width is odd: src[2i+1] missing).
+                let pairs = src[1..].chunks_exact(2).zip(src[2..].chunks(2));
+                for (d, (ab, next)) in dst[1..].iter_mut().zip(pairs) {
+                    let (a, b) = (ab[0], ab[1]);
+                    let c = next.get(1).copied().unwrap_or(b);
+                    *d = 0.25 * a + 0.5 * b + 0.25 * c;
+                }
             }
         }
     }
 }
 
-/// Number of sRGB decode table intervals over [0, 1].
-const DEC_N: usize = 4096;
-/// Number of sRGB encode table intervals over [0, 1].
-const ENC_N: usize = 8192;
+// The sRGB curve, vectorisable: below the knee the exact linear segment, above it a
+// polynomial fitted (least squares on Chebyshev nodes, evaluated in f32 on t in [-1, 1]).
+// Errors against the exact formula: decode below 3e-6, encode below 4e-6 (0.001 of an
+// 8-bit code); see the unit test.
 
-/// `srgb_to_linear(i / DEC_N)` for i in 0..=DEC_N, plus one guard entry.
-fn dec_table() -> &'static [f32] {
-    static T: OnceLock<Vec<f32>> = OnceLock::new();
-    T.get_or_init(|| {
-        (0..=DEC_N + 1)
-            .map(|i| srgb::srgb_to_linear_f64((i.min(DEC_N)) as f64 / DEC_N as f64) as f32)
-            .collect()
-    })
+/// Decode: `((x + 0.055) / 1.055)^2.4` on [0.04045, 1], t = (2x - 1.04045) / 0.95955.
+const DEC_POLY: [f32; 9] = [
+    0.2332408,
+    0.46688867,
+    0.27259746,
+    0.030351264,
+    -0.0038336907,
+    0.0008825551,
+    -0.0002557971,
+    0.00031066535,
+    -0.00018283911,
+];
+const DEC_T_SCALE: f32 = 2.0 / (1.0 - 0.04045);
+const DEC_T_OFFSET: f32 = -(1.0 + 0.04045) / (1.0 - 0.04045);
+
+/// Encode: `1.055 x^(1/2.4) - 0.055` as a polynomial in s = x^(1/4) on
+/// [0.0031308^(1/4), 1], t = (2s - 1 - s0) / (1 - s0).
+const ENC_POLY: [f32; 8] = [
+    0.41838986,
+    0.48712528,
+    0.10025644,
+    -0.00687218,
+    0.0013879355,
+    -0.0004124164,
+    0.00018937996,
+    -0.0000644815,
+];
+const ENC_S0: f32 = 0.236_545_03;
+const ENC_T_SCALE: f32 = 2.0 / (1.0 - ENC_S0);
+const ENC_T_OFFSET: f32 = -(1.0 + ENC_S0) / (1.0 - ENC_S0);
+
+#[inline(always)]
+fn horner<const N: usize>(c: &[f32; N], t: f32) -> f32 {
+    let mut acc = c[N - 1];
+    for i in (0..N - 1).rev() {
+        acc = acc * t + c[i];
+    }
+    acc
 }
 
-/// `linear_to_srgb(i / ENC_N)` for i in 0..=ENC_N, plus one guard entry.
-fn enc_table() -> &'static [f32] {
-    static T: OnceLock<Vec<f32>> = OnceLock::new();
-    T.get_or_init(|| {
-        (0..=ENC_N + 1)
-            .map(|i| srgb::linear_to_srgb_f64((i.min(ENC_N)) as f64 / ENC_N as f64) as f32)
-            .collect()
-    })
-}
-
-/// sRGB-encoded value to linear light: the exact formula's linear segment below the
-/// knee (and for negatives), the power law above 1, an interpolated table between.
-#[inline]
-fn srgb_decode(x: f32, t: &[f32]) -> f32 {
-    if x <= 0.04045 {
-        x * (1.0 / 12.92)
-    } else if x < 1.0 {
-        let p = x * DEC_N as f32;
-        let i = p as usize;
-        let f = p - i as f32;
-        t[i] + f * (t[i + 1] - t[i])
-    } else if x == 1.0 {
+/// sRGB-encoded value in [0, 1] to linear light. Branch-free (both sides are computed
+/// and one selected), so loops over it vectorise.
+#[inline(always)]
+fn srgb_decode_unit(x: f32) -> f32 {
+    let p = horner(&DEC_POLY, x * DEC_T_SCALE + DEC_T_OFFSET);
+    let lin = x * (1.0 / 12.92);
+    let v = if x <= 0.04045 { lin } else { p };
+    // Exactly 1 at 1 (the polynomial is 1.2e-6 short).
+    if x >= 1.0 {
         1.0
     } else {
+        v
+    }
+}
+
+/// sRGB-encoded value to linear light for any `x`: [`srgb_decode_unit`] in [0, 1], the
+/// formula's linear segment below 0, its power law above 1.
+#[inline]
+fn srgb_decode(x: f32) -> f32 {
+    if x > 1.0 {
         srgb::srgb_to_linear(x)
-    }
-}
-
-/// Linear light to an sRGB-encoded value (see [`srgb_decode`]); NaN gives 0.
-#[inline]
-fn srgb_encode(x: f32, t: &[f32]) -> f32 {
-    if x <= 0.003_130_8 {
-        x * 12.92
-    } else if x < 1.0 {
-        let p = x * ENC_N as f32;
-        let i = p as usize;
-        let f = p - i as f32;
-        t[i] + f * (t[i + 1] - t[i])
-    } else if x == 1.0 {
-        1.0
-    } else if x > 1.0 {
-        srgb::linear_to_srgb(x)
     } else {
-        0.0 // NaN
+        srgb_decode_unit(x)
     }
 }
 
-/// Round to an 8-bit code, saturating (NaN gives 0).
+/// Linear light in [0, 1] to an sRGB-encoded value, branch-free like
+/// [`srgb_decode_unit`]; NaN gives NaN.
+#[inline(always)]
+fn srgb_encode_unit(x: f32) -> f32 {
+    let s = x.sqrt().sqrt();
+    let p = horner(&ENC_POLY, s * ENC_T_SCALE + ENC_T_OFFSET);
+    let lin = x * 12.92;
+    let v = if x <= 0.003_130_8 { lin } else { p };
+    if x >= 1.0 {
+        1.0
+    } else {
+        v
+    }
+}
+
+/// Linear light to an sRGB-encoded value for any `x` (see [`srgb_decode`]).
 #[inline]
+fn srgb_encode(x: f32) -> f32 {
+    if x > 1.0 {
+        srgb::linear_to_srgb(x)
+    } else if x < 0.0 {
+        x * 12.92
+    } else {
+        srgb_encode_unit(x)
+    }
+}
+
+/// Round to an 8-bit code (ties to even), saturating; NaN gives 0. Branch-free: adding
+/// 1.5 * 2^23 leaves the rounded integer in the low mantissa bits.
+#[inline(always)]
+#[allow(clippy::manual_clamp)] // `max` first maps NaN to 0; `clamp` would keep it.
 fn to_code(v: f32) -> u8 {
-    (v + 0.5) as u8
+    ((v.max(0.0).min(255.0) + 12_582_912.0).to_bits() & 0xff) as u8
 }
 
 /// Threads for a job of `pixels` pixels over `rows` rows.
@@ -1242,14 +1304,17 @@ fn check_rgba(header: &Y4mHeader, len: usize) -> Result<(), String> {
     Ok(())
 }
 
-/// Convert a frame to RGBA pixels of any type: `emit(out_pixel, r, g, b)` stores one
-/// pixel from R'G'B' (unclipped).
+/// Convert a frame to RGBA pixels of any type. For each output row,
+/// `emit(out_row, r, g, b)` stores the row from its R'G'B' values (unclipped, scaled by
+/// `scale`: 1.0 is the unit range), given as three planar rows (structure of arrays, so
+/// that the per-pixel arithmetic vectorises; `emit` may overwrite them).
 fn yuv_to_rgba<T: Send>(
     frame: &YuvFrame,
     header: &Y4mHeader,
     conv: &YuvConversion,
     out: &mut [T],
-    emit: impl Fn(&mut [T], f32, f32, f32) + Sync,
+    scale: f32,
+    emit: impl Fn(&mut [T], &mut [f32], &mut [f32], &mut [f32]) + Sync,
 ) -> Result<(), String> {
     check_rgba(header, out.len())?;
     frame.check_size(header)?;
@@ -1257,14 +1322,10 @@ fn yuv_to_rgba<T: Send>(
     let chroma = header.colorspace;
     let (cw, ch) = chroma.chroma_size(header.width, header.height);
     let k = Coeffs::new(conv);
-    let mut ylut = [0f32; 256];
-    for (i, v) in ylut.iter_mut().enumerate() {
-        *v = (i as f32 - k.y_off) / k.y_scale;
-    }
-    let mut clut = [0f32; 256];
-    for (i, v) in clut.iter_mut().enumerate() {
-        *v = (i as f32 - 128.0) / k.c_scale;
-    }
+    // Y' = (Y - y_off) * ys; Pb = (Cb - 128) * cs, both times `scale`.
+    let ys = scale / k.y_scale;
+    let y0s = -k.y_off * ys;
+    let cs = scale / k.c_scale;
     let vtaps = if chroma.has_chroma() {
         vertical_up_taps(
             h,
@@ -1283,42 +1344,46 @@ fn yuv_to_rgba<T: Send>(
         let mut cv = vec![0f32; cw];
         let mut fu = vec![0f32; w];
         let mut fv = vec![0f32; w];
+        let mut rr = vec![0f32; w];
+        let mut gg = vec![0f32; w];
+        let mut bb = vec![0f32; w];
         for (dy, orow) in out.chunks_exact_mut(w * 4).enumerate() {
             let y = y0 + dy;
             let yrow = &frame.y[y * w..(y + 1) * w];
             if !chroma.has_chroma() {
-                for (px, &l) in orow.chunks_exact_mut(4).zip(yrow) {
-                    let v = ylut[l as usize];
-                    emit(px, v, v, v);
+                for (d, &l) in rr.iter_mut().zip(yrow) {
+                    *d = l as f32 * ys + y0s;
                 }
+                gg.copy_from_slice(&rr);
+                bb.copy_from_slice(&rr);
+                emit(orow, &mut rr, &mut gg, &mut bb);
                 continue;
             }
             let t = vtaps[y];
             for (plane, crow) in [(&frame.u, &mut cu), (&frame.v, &mut cv)] {
                 let r0 = &plane[t.i0 as usize * cw..][..cw];
-                if t.w == 0.0 {
-                    for (d, &a) in crow.iter_mut().zip(r0) {
-                        *d = clut[a as usize];
-                    }
-                } else {
-                    let r1 = &plane[t.i1 as usize * cw..][..cw];
-                    for ((d, &a), &b) in crow.iter_mut().zip(r0).zip(r1) {
-                        let (a, b) = (clut[a as usize], clut[b as usize]);
-                        *d = a + t.w * (b - a);
-                    }
+                let r1 = &plane[t.i1 as usize * cw..][..cw];
+                let (w0, w1) = ((1.0 - t.w) * cs, t.w * cs);
+                for ((d, &a), &b) in crow.iter_mut().zip(r0).zip(r1) {
+                    *d = a as f32 * w0 + b as f32 * w1 - 128.0 * cs;
                 }
             }
             upsample_row(&cu, &mut fu, hsiting);
             upsample_row(&cv, &mut fv, hsiting);
-            for (((px, &l), &pb), &pr) in orow.chunks_exact_mut(4).zip(yrow).zip(&fu).zip(&fv) {
-                let yv = ylut[l as usize];
-                emit(
-                    px,
-                    yv + k.rv * pr,
-                    yv + k.gu * pb + k.gv * pr,
-                    yv + k.bu * pb,
-                );
+            for (((((r, g), b), &l), &pb), &pr) in rr
+                .iter_mut()
+                .zip(gg.iter_mut())
+                .zip(bb.iter_mut())
+                .zip(yrow)
+                .zip(&fu)
+                .zip(&fv)
+            {
+                let yv = l as f32 * ys + y0s;
+                *r = yv + k.rv * pr;
+                *g = yv + k.gu * pb + k.gv * pr;
+                *b = yv + k.bu * pb;
             }
+            emit(orow, &mut rr, &mut gg, &mut bb);
         }
     };
     if threads == 1 {
@@ -1342,11 +1407,11 @@ pub fn yuv_to_rgba_u8(
     conv: &YuvConversion,
     out: &mut [u8],
 ) -> Result<(), String> {
-    yuv_to_rgba(frame, header, conv, out, |px, r, g, b| {
-        px[0] = to_code(r * 255.0);
-        px[1] = to_code(g * 255.0);
-        px[2] = to_code(b * 255.0);
-        px[3] = 255;
+    yuv_to_rgba(frame, header, conv, out, 255.0, |row, r, g, b| {
+        for (((px, &r), &g), &b) in row.chunks_exact_mut(4).zip(&*r).zip(&*g).zip(&*b) {
+            let rgba = u32::from_le_bytes([to_code(r), to_code(g), to_code(b), 255]);
+            px.copy_from_slice(&rgba.to_le_bytes());
+        }
     })
 }
 
@@ -1358,22 +1423,23 @@ pub fn yuv_to_rgba_f32(
     conv: &YuvConversion,
     out: &mut [f32],
 ) -> Result<(), String> {
-    let t = dec_table();
-    if conv.clip {
-        yuv_to_rgba(frame, header, conv, out, |px, r, g, b| {
-            px[0] = srgb_decode(r.clamp(0.0, 1.0), t);
-            px[1] = srgb_decode(g.clamp(0.0, 1.0), t);
-            px[2] = srgb_decode(b.clamp(0.0, 1.0), t);
-            px[3] = 1.0;
-        })
-    } else {
-        yuv_to_rgba(frame, header, conv, out, |px, r, g, b| {
-            px[0] = srgb_decode(r, t);
-            px[1] = srgb_decode(g, t);
-            px[2] = srgb_decode(b, t);
-            px[3] = 1.0;
-        })
-    }
+    let clip = conv.clip;
+    yuv_to_rgba(frame, header, conv, out, 1.0, |row, r, g, b| {
+        for plane in [&mut *r, &mut *g, &mut *b] {
+            if clip {
+                for v in plane.iter_mut() {
+                    *v = srgb_decode_unit(v.clamp(0.0, 1.0));
+                }
+            } else {
+                for v in plane.iter_mut() {
+                    *v = srgb_decode(*v);
+                }
+            }
+        }
+        for (((px, &r), &g), &b) in row.chunks_exact_mut(4).zip(&*r).zip(&*g).zip(&*b) {
+            px.copy_from_slice(&[r, g, b, 1.0]);
+        }
+    })
 }
 
 /// Convert a frame to an [`Image`] of `kind`. The image's [`SourceInfo`] says 8-bit,
@@ -1412,15 +1478,15 @@ pub fn yuv_to_image(
     })
 }
 
-/// Convert RGBA pixels of any type to a frame: `load(in_pixel) -> [r', g', b']` gives
-/// the R'G'B' values of one pixel. Alpha is ignored. `frame.params` are kept (they decide
+/// Convert RGBA pixels of any type to a frame: `load(in_row, r, g, b)` stores the R'G'B'
+/// values of one input row into three planar rows (alpha is ignored). `frame.params` are kept (they decide
 /// the chroma fields of `Im` streams).
 fn rgba_to_yuv<T: Sync>(
     rgba: &[T],
     header: &Y4mHeader,
     conv: &YuvConversion,
     frame: &mut YuvFrame,
-    load: impl Fn(&[T]) -> [f32; 3] + Sync,
+    load: impl Fn(&[T], &mut [f32], &mut [f32], &mut [f32]) + Sync,
 ) -> Result<(), String> {
     check_rgba(header, rgba.len())?;
     let (w, h) = (header.width as usize, header.height as usize);
@@ -1443,32 +1509,31 @@ fn rgba_to_yuv<T: Sync>(
     {
         let band = h.div_ceil(threads);
         let pass1 = |y0: usize, yout: &mut [u8], pbo: &mut [f32], pro: &mut [f32]| {
-            let mut fb = vec![0f32; if chroma.has_chroma() { w } else { 0 }];
-            let mut fr = vec![0f32; fb.len()];
+            let mut rr = vec![0f32; w];
+            let mut gg = vec![0f32; w];
+            let mut bb = vec![0f32; w];
             for (dy, yrow) in yout.chunks_exact_mut(w).enumerate() {
                 let y = y0 + dy;
-                let src = &rgba[y * w * 4..(y + 1) * w * 4];
+                load(&rgba[y * w * 4..(y + 1) * w * 4], &mut rr, &mut gg, &mut bb);
                 if !chroma.has_chroma() {
-                    for (d, px) in yrow.iter_mut().zip(src.chunks_exact(4)) {
-                        let [r, g, b] = load(px);
+                    for (((d, &r), &g), &b) in yrow.iter_mut().zip(&rr).zip(&gg).zip(&bb) {
                         *d = to_code(k.y_off + ky_r * r + ky_g * g + ky_b * b);
                     }
                     continue;
                 }
-                for (((d, px), fb), fr) in yrow
+                // Y' into the luma row; Pb and Pr in place of B' and R'.
+                for ((d, r), (g, b)) in yrow
                     .iter_mut()
-                    .zip(src.chunks_exact(4))
-                    .zip(fb.iter_mut())
-                    .zip(fr.iter_mut())
+                    .zip(rr.iter_mut())
+                    .zip(gg.iter().zip(bb.iter_mut()))
                 {
-                    let [r, g, b] = load(px);
-                    let yl = k.kr * r + k.kg * g + k.kb * b;
+                    let yl = k.kr * *r + k.kg * *g + k.kb * *b;
                     *d = to_code(k.y_off + k.y_scale * yl);
-                    *fb = k.c_scale * pb_s * (b - yl);
-                    *fr = k.c_scale * pr_s * (r - yl);
+                    *b = k.c_scale * pb_s * (*b - yl);
+                    *r = k.c_scale * pr_s * (*r - yl);
                 }
-                downsample_row(&fb, &mut pbo[dy * cw..(dy + 1) * cw], hsiting);
-                downsample_row(&fr, &mut pro[dy * cw..(dy + 1) * cw], hsiting);
+                downsample_row(&bb, &mut pbo[dy * cw..(dy + 1) * cw], hsiting);
+                downsample_row(&rr, &mut pro[dy * cw..(dy + 1) * cw], hsiting);
             }
         };
         if threads == 1 {
@@ -1494,15 +1559,19 @@ fn rgba_to_yuv<T: Sync>(
     let taps = vertical_down_taps(h, ch, chroma.vertical_siting(), fields);
     let band = ch.div_ceil(threads);
     let pass2 = |c0: usize, uo: &mut [u8], vo: &mut [u8]| {
-        for (dc, (urow, vrow)) in uo.chunks_exact_mut(cw).zip(vo.chunks_exact_mut(cw)).enumerate() {
+        for (dc, (urow, vrow)) in uo
+            .chunks_exact_mut(cw)
+            .zip(vo.chunks_exact_mut(cw))
+            .enumerate()
+        {
             let t = taps[c0 + dc];
             for (src, dst) in [(&pb, urow), (&pr, vrow)] {
                 let r0 = &src[t[0].0 as usize * cw..][..cw];
                 let r1 = &src[t[1].0 as usize * cw..][..cw];
                 let r2 = &src[t[2].0 as usize * cw..][..cw];
                 let (w0, w1, w2) = (t[0].1, t[1].1, t[2].1);
-                for (i, d) in dst.iter_mut().enumerate() {
-                    *d = to_code(128.0 + w0 * r0[i] + w1 * r1[i] + w2 * r2[i]);
+                for (d, ((&a, &b), &c)) in dst.iter_mut().zip(r0.iter().zip(r1).zip(r2)) {
+                    *d = to_code(128.0 + w0 * a + w1 * b + w2 * c);
                 }
             }
         }
@@ -1534,8 +1603,15 @@ pub fn rgba_u8_to_yuv(
     frame: &mut YuvFrame,
 ) -> Result<(), String> {
     const INV: f32 = 1.0 / 255.0;
-    rgba_to_yuv(rgba, header, conv, frame, |p| {
-        [p[0] as f32 * INV, p[1] as f32 * INV, p[2] as f32 * INV]
+    rgba_to_yuv(rgba, header, conv, frame, |row, r, g, b| {
+        for (px, (r, (g, b))) in row
+            .chunks_exact(4)
+            .zip(r.iter_mut().zip(g.iter_mut().zip(b.iter_mut())))
+        {
+            *r = px[0] as f32 * INV;
+            *g = px[1] as f32 * INV;
+            *b = px[2] as f32 * INV;
+        }
     })
 }
 
@@ -1548,22 +1624,29 @@ pub fn rgba_f32_to_yuv(
     conv: &YuvConversion,
     frame: &mut YuvFrame,
 ) -> Result<(), String> {
-    let t = enc_table();
-    if conv.clip {
-        rgba_to_yuv(rgba, header, conv, frame, |p| {
-            // NaN stays NaN through `clamp` and is encoded as 0.
-            let c = |v: f32| srgb_encode(v.clamp(0.0, 1.0), t);
-            [c(p[0]), c(p[1]), c(p[2])]
-        })
-    } else {
-        rgba_to_yuv(rgba, header, conv, frame, |p| {
-            [
-                srgb_encode(p[0], t),
-                srgb_encode(p[1], t),
-                srgb_encode(p[2], t),
-            ]
-        })
-    }
+    let clip = conv.clip;
+    rgba_to_yuv(rgba, header, conv, frame, |row, r, g, b| {
+        for (px, (r, (g, b))) in row
+            .chunks_exact(4)
+            .zip(r.iter_mut().zip(g.iter_mut().zip(b.iter_mut())))
+        {
+            (*r, *g, *b) = (px[0], px[1], px[2]);
+        }
+        for plane in [r, g, b] {
+            if clip {
+                for v in plane.iter_mut() {
+                    // `max` first: NaN becomes 0 (`clamp` would keep it).
+                    #[allow(clippy::manual_clamp)]
+                    let c = v.max(0.0).min(1.0);
+                    *v = srgb_encode_unit(c);
+                }
+            } else {
+                for v in plane.iter_mut() {
+                    *v = srgb_encode(*v);
+                }
+            }
+        }
+    })
 }
 
 /// Convert an [`Image`] (U8: sRGB bytes; F32: linear light) to a new frame for `header`
@@ -1592,36 +1675,65 @@ mod tests {
     use super::*;
 
     #[test]
-    fn srgb_tables_are_accurate() {
-        let (d, e) = (dec_table(), enc_table());
+    fn srgb_curves_are_accurate() {
         let mut worst_d = 0f64;
         let mut worst_e = 0f64;
-        for i in 0..=200_000 {
-            let x = i as f32 / 200_000.0;
+        for i in 0..=1_000_000 {
+            let x = i as f32 / 1_000_000.0;
             let exact_d = srgb::srgb_to_linear_f64(x as f64);
             let exact_e = srgb::linear_to_srgb_f64(x as f64);
-            worst_d = worst_d.max((srgb_decode(x, d) as f64 - exact_d).abs());
-            worst_e = worst_e.max((srgb_encode(x, e) as f64 - exact_e).abs());
+            worst_d = worst_d.max((srgb_decode(x) as f64 - exact_d).abs());
+            worst_e = worst_e.max((srgb_encode(x) as f64 - exact_e).abs());
         }
-        assert!(worst_d < 1e-6, "decode error {worst_d:e}");
-        assert!(worst_e < 1e-5, "encode error {worst_e:e}");
-        assert_eq!(srgb_encode(f32::NAN, e), 0.0);
-        assert!((srgb_decode(1.5, d) - srgb::srgb_to_linear(1.5)).abs() < 1e-6);
-        assert!((srgb_decode(-0.5, d) + 0.5 / 12.92).abs() < 1e-7);
+        assert!(worst_d < 3e-6, "decode error {worst_d:e}");
+        assert!(worst_e < 4e-6, "encode error {worst_e:e}");
+        assert_eq!(srgb_decode(0.0), 0.0);
+        assert_eq!(srgb_encode(0.0), 0.0);
+        assert_eq!(srgb_decode(1.0), 1.0);
+        assert_eq!(srgb_encode(1.0), 1.0);
+        assert!((srgb_decode(1.5) - srgb::srgb_to_linear(1.5)).abs() < 1e-6);
+        assert!((srgb_decode(-0.5) + 0.5 / 12.92).abs() < 1e-7);
+        assert!((srgb_encode(-0.5) + 0.5 * 12.92).abs() < 1e-6);
+        // Every 8-bit code survives decode, encode and rounding.
+        for v in 0..=255u8 {
+            let back = srgb_encode_unit(srgb_decode_unit(v as f32 / 255.0)) * 255.0;
+            assert_eq!(to_code(back), v);
+        }
+    }
+
+    #[test]
+    fn rounding_to_codes() {
+        assert_eq!(to_code(-3.0), 0);
+        assert_eq!(to_code(0.49), 0);
+        assert_eq!(to_code(0.51), 1);
+        assert_eq!(to_code(254.6), 255);
+        assert_eq!(to_code(1e9), 255);
+        assert_eq!(to_code(f32::NAN), 0);
+        assert_eq!(to_code(f32::INFINITY), 255);
+        assert_eq!(to_code(f32::NEG_INFINITY), 0);
+        for v in 0..=255u8 {
+            assert_eq!(to_code(v as f32), v);
+        }
     }
 
     #[test]
     fn field_taps_stay_in_their_field() {
         for h in [1usize, 2, 3, 4, 5, 8, 9, 576] {
             let ch = h.div_ceil(2);
-            for (y, t) in vertical_up_taps(h, ch, Siting::Between, true).iter().enumerate() {
+            for (y, t) in vertical_up_taps(h, ch, Siting::Between, true)
+                .iter()
+                .enumerate()
+            {
                 assert!((t.i0 as usize) < ch && (t.i1 as usize) < ch, "h {h} y {y}");
                 if ch >= 2 {
                     assert_eq!(t.i0 as usize & 1, y & 1, "h {h} y {y}");
                     assert_eq!(t.i1 as usize & 1, y & 1, "h {h} y {y}");
                 }
             }
-            for (c, t) in vertical_down_taps(h, ch, Siting::Between, true).iter().enumerate() {
+            for (c, t) in vertical_down_taps(h, ch, Siting::Between, true)
+                .iter()
+                .enumerate()
+            {
                 for &(r, w) in t {
                     if w > 0.0 {
                         assert!((r as usize) < h);

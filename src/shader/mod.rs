@@ -3,9 +3,11 @@
 //!
 //! The conventions are documented in `docs/shaders.md`.
 
+pub mod load;
 pub mod preprocess;
 pub mod reflect;
 
+pub use load::{load_plan_shaders, LoadedShader};
 pub use preprocess::preprocess;
 pub use reflect::{reflect, Reflection, StdValue, UniformField, UniformLayout, UniformSource};
 

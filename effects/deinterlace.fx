@@ -1,0 +1,84 @@
+// deinterlace: turns interlaced frames (two fields woven together) into progressive
+// frames, at frame rate or at field rate.
+//
+// Fields
+//   Rows y = 0, 2, 4, ... are the top field, rows 1, 3, 5, ... the bottom field. The
+//   two fields of a frame were captured half a frame apart: with field_order = tff
+//   the top field first (frame k: top at field time 2k, bottom at 2k + 1), with bff
+//   the bottom field first.
+//
+// Output rate
+//   At rate 1 (the default; one output per frame) the first field in time is kept
+//   and the other one is reconstructed. At rate 2 (a stream with `rate = 2`, the
+//   CLI's `--rate 2`) every frame gives two outputs, one per field, in time order:
+//   the standard value `subframe` is 0 for the first field, 1 for the second. The
+//   kept field's parity is p = field_order XOR subframe (tff = 0, bff = 1); its rows
+//   are copied exactly (bob, adaptive) and the rows of the other parity, the
+//   "missing" rows, are reconstructed.
+//
+// Modes (shaders/deint.wgsl, DEFINE.MODE)
+//   bob       missing row y = (cur[y-1] + cur[y+1]) / 2: line doubling of the kept
+//             field with linear vertical interpolation. Never combs, halves the
+//             vertical resolution everywhere.
+//   blend     every row y = (cur[y-1] + 2 cur[y] + cur[y+1]) / 4: a vertical [1 2 1]
+//             blur of the woven frame, i.e. the average of the two fields (each
+//             output row is half one field, half the other). No combing, moving
+//             objects show both field positions (ghosting). Both subframes of a
+//             frame give the same image.
+//   adaptive  in the spirit of yadif / bwdif (written from their published
+//             description): for a missing row y, per channel, with
+//               c = cur[y-1], e = cur[y+1]  (kept rows above and below, output time)
+//               a, b = the missing row in the two fields of that parity nearest in
+//                      time: (IN[-1], IN) when the first field is kept, (IN, IN[+1])
+//                      when the second is
+//               d = (a + b) / 2                           temporal prediction
+//               motion = max(|a - b| / 2,
+//                            (|IN[-1][y-1] - c| + |IN[-1][y+1] - e|) / 2,
+//                            (|IN[+1][y-1] - c| + |IN[+1][y+1] - e|) / 2)
+//             If motion <= threshold (still), the output is d: in still areas the
+//             missing row is the real row of the other field, so the image keeps its
+//             full vertical resolution (exactly, for identical frames). Otherwise the
+//             spatial prediction s (edge-directed: the mean of row y-1 at x+j and row
+//             y+1 at x-j for the slope j in {-2..2} whose 3-pixel match score is
+//             lowest, vertical preferred; then limited to [min(c, e), max(c, e)], so
+//             a wrong slope across an object's edge cannot invent a value) is clamped
+//             to [d - m, d + m], where m is the motion widened by the
+//             spatial-temporal check
+//               B = temporal prediction of row y-2, F = of row y+2,
+//               m = max(motion, min(d-e, d-c, max(B-c, F-e)), -max(d-e, d-c, min(B-c, F-e)))
+//             so a temporal prediction that sticks out of its vertical neighbours
+//             (combing) is not trusted, while slow motion keeps temporal detail.
+//
+// Rows outside the image reflect onto rows of the same parity; columns clamp. IN[-1]
+// and IN[+1] clamp at the ends of the sequence (the first frame's missing rows use
+// the first frame itself). The effect reads IN[+1], so output t is produced when
+// input t + 1 has arrived (latency 1), in every mode. A single image is a one-frame
+// sequence (IN[-1] = IN[+1] = IN): bob and blend work as on any frame, but adaptive
+// sees no motion and returns the woven image unchanged; use bob for stills.
+//
+// Values are processed in linear light, per channel (alpha too); the edge direction
+// is chosen on r + g + b so colours do not separate.
+//
+// Parameters: mode, field_order, threshold (below).
+// Passes: one, `deint` (SHADER.deint with IN, IN[-1], IN[+1]), at the input's size;
+// FORMAT = IN (8-bit stays 8-bit).
+EFFECT.deinterlace = {
+    DESCRIPTION = "Deinterlace: bob, blend or motion-adaptive (yadif-like) field reconstruction.\nField-rate output at rate 2 (subframe 0/1 = first/second field); at rate 1 the first field is kept."
+    FORMAT = IN
+    PARAM = {
+        mode = ENUM { VALUES = (bob, blend, adaptive)  DEFAULT = adaptive  DESCRIPTION = "bob: line doubling; blend: average of the fields; adaptive: temporal where still, edge-directed spatial where moving" }
+        field_order = ENUM { VALUES = (tff, bff)  DEFAULT = tff  DESCRIPTION = "which field was captured first: top (even rows) or bottom (odd rows)" }
+        threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "adaptive: temporal difference (linear units) at or below which a pixel counts as still" }
+    }
+    PASS = {
+        deint = SHADER.deint {
+            cur = IN
+            prev = IN[-1]
+            next = IN[+1]
+            field_order = PARAM.field_order
+            threshold = PARAM.threshold
+            DEFINE.MODE = PARAM.mode
+        }
+    }
+    OUT = deint
+}

@@ -1,0 +1,101 @@
+// ssao_blur: depth- and normal-aware (bilateral) blur of the raw AO from
+// shaders/ssao.wgsl, then the composite (used by the `ssao` effect).
+//
+// Over the 5x5 neighbourhood q of the pixel p (border pixels outside the image are
+// skipped), with spatial weights w_s = a(dx) a(dy), a = [0.5, 1, 1, 1, 0.5] (every
+// phase of the 4x4 rotation noise gets the same total weight, so the noise pattern
+// averages out on a flat surface):
+//   w_q = w_s * exp(-(dot(Q - P, n_p) / (depth_tolerance * d_p))^2) * max(dot(n_p, n_q), 0)^8
+// i.e. a tap counts when it lies on the tangent plane of p (a step in depth, measured
+// relative to p's depth, cuts it off; a continuous slanted or grazing surface does
+// not) and faces the same way. Taps without geometry are skipped.
+//   ao = sum(w_q ao_q) / sum(w_q)   (the centre always has weight 1)
+//   BLUR = 0: no blur, ao = ao_p.
+// OUTPUT = 0: out = vec4(img.rgb * ao, img.a); OUTPUT = 1: out = vec4(ao, ao, ao, 1).
+#define BLUR 1
+#define OUTPUT 0
+
+@group(0) @binding(0) var img: texture_2d<f32>;
+@group(0) @binding(1) var ao: texture_2d<f32>;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var normal: texture_2d<f32>;
+
+struct Params {
+    depth_tolerance: f32, // @default(0.02) @range(0.00001, 10) plane distance (relative to depth) where a tap's weight falls to 1/e
+    inv_proj: mat4x4<f32>,
+}
+@group(0) @binding(4) var<uniform> params: Params;
+
+fn unproject(uv: vec2<f32>, z: f32) -> vec3<f32> {
+    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, z, 1.0);
+    let h = params.inv_proj * ndc;
+    return h.xyz / h.w;
+}
+
+// View-space position at `uv` with linear depth `d` (as in shaders/ssao.wgsl).
+fn view_pos(uv: vec2<f32>, d: f32) -> vec3<f32> {
+    let a = unproject(uv, 0.25);
+    let b = unproject(uv, 0.75);
+    let s = select(-1.0, 1.0, a.z >= 0.0);
+    let t = (s * d - a.z) / (b.z - a.z);
+    return a + t * (b - a);
+}
+
+fn valid(d: f32) -> bool {
+    return d > 0.0 && d < 3.0e38;
+}
+
+fn blurred(p: vec2<i32>) -> f32 {
+    let centre = textureLoad(ao, p, 0).r;
+#if BLUR
+    let size = vec2<i32>(textureDimensions(depth));
+    let sizef = vec2<f32>(size);
+    let d = textureLoad(depth, p, 0).r;
+    var n = textureLoad(normal, p, 0).xyz;
+    if (!valid(d) || !(length(n) > 1e-6)) {
+        return centre;
+    }
+    n = normalize(n);
+    let P = view_pos((vec2<f32>(p) + 0.5) / sizef, d);
+    let tol = params.depth_tolerance * d;
+    var sum = centre;
+    var total = 1.0;
+    for (var dy = -2; dy <= 2; dy++) {
+        for (var dx = -2; dx <= 2; dx++) {
+            let q = p + vec2<i32>(dx, dy);
+            if ((dx == 0 && dy == 0) || any(q < vec2<i32>(0)) || any(q >= size)) {
+                continue;
+            }
+            let dq = textureLoad(depth, q, 0).r;
+            let nq = textureLoad(normal, q, 0).xyz;
+            if (!valid(dq) || !(length(nq) > 1e-6)) {
+                continue;
+            }
+            let Q = view_pos((vec2<f32>(q) + 0.5) / sizef, dq);
+            let e = dot(Q - P, n) / tol;
+            let facing = max(dot(n, normalize(nq)), 0.0);
+            let f2 = facing * facing;
+            let f4 = f2 * f2;
+            let ws = select(1.0, 0.5, abs(dx) == 2) * select(1.0, 0.5, abs(dy) == 2);
+            let w = ws * exp(-e * e) * f4 * f4;
+            sum += w * textureLoad(ao, q, 0).r;
+            total += w;
+        }
+    }
+    return sum / total;
+#else
+    return centre;
+#endif
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(pos.xy);
+    let a = blurred(p);
+#if OUTPUT == 1
+    return vec4<f32>(a, a, a, 1.0);
+#else
+    let c = textureLoad(img, p, 0);
+    return vec4<f32>(c.rgb * a, c.a);
+#endif
+}

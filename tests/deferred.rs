@@ -1,0 +1,676 @@
+//! Tests of the deferred renderer (src/deferred): scene loading, normal encodings,
+//! agreement of the three techniques, light volumes, aux images, G-buffer files.
+//!
+//! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1. glTF tests skip with a
+//! message when ../shared/corpus is absent.
+
+use fxgraph::deferred::builtin::{box_mesh, grid_plane};
+use fxgraph::deferred::gbuffer::read_rgba_f32;
+use fxgraph::deferred::normal::{self, NormalEncoding};
+use fxgraph::deferred::renderer::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
+use fxgraph::deferred::scene::look_to_rh;
+use fxgraph::deferred::{
+    AlphaMode, Camera, Instance, Light, Material, RenderOutput, RenderStats, Renderer,
+    RendererOptions, Scene, Technique,
+};
+use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
+use glam::{Mat4, Vec3};
+use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard, OnceLock};
+
+const W: u32 = 128;
+const H: u32 = 96;
+
+/// The test device, or `None` (test skipped) when there is no adapter and
+/// FX_REQUIRE_GPU is not set.
+fn gpu() -> Option<MutexGuard<'static, GpuContext>> {
+    static CTX: OnceLock<Option<Mutex<GpuContext>>> = OnceLock::new();
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    let c = CTX.get_or_init(|| match GpuContext::new(&AdapterChoice::Auto) {
+        Ok(ctx) => Some(Mutex::new(ctx)),
+        Err(e) => {
+            if require_gpu() {
+                panic!("FX_REQUIRE_GPU=1 but no GPU adapter: {e}");
+            }
+            eprintln!("skipping GPU test: no adapter ({e})");
+            None
+        }
+    });
+    c.as_ref()
+        .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
+}
+
+fn corpus() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/gltf");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("skipping: {} is absent", dir.display());
+        None
+    }
+}
+
+/// Renders and reads back the HDR scene image.
+fn render(
+    ctx: &GpuContext,
+    r: &mut Renderer,
+    camera: &Camera,
+    technique: Technique,
+) -> (Vec<[f32; 4]>, RenderOutput, RenderStats) {
+    let (out, stats) = r
+        .render(ctx, camera, W, H, technique, None)
+        .unwrap_or_else(|e| panic!("{technique}: {e}"));
+    let pixels = read_rgba_f32(ctx, &out.scene).unwrap();
+    (pixels, out, stats)
+}
+
+fn save_review(name: &str, pixels: &[[f32; 4]]) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
+    std::fs::create_dir_all(&dir).unwrap();
+    let data: Vec<f32> = pixels
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2], 1.0])
+        .collect();
+    fxgraph::io::save_image(
+        &dir.join(format!("deferred_{name}.png")),
+        W,
+        H,
+        &fxgraph::io::Pixels::F32(data),
+        &Default::default(),
+    )
+    .unwrap();
+}
+
+/// PSNR (dB) over RGB clamped to [0, 1], and the largest absolute RGB difference.
+fn compare(a: &[[f32; 4]], b: &[[f32; 4]]) -> (f64, f32) {
+    let mut mse = 0.0f64;
+    let mut max = 0.0f32;
+    for (p, q) in a.iter().zip(b) {
+        for c in 0..3 {
+            let d = p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0);
+            mse += f64::from(d * d);
+            max = max.max((p[c] - q[c]).abs());
+        }
+    }
+    mse /= (a.len() * 3) as f64;
+    let psnr = if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (1.0 / mse).log10()
+    };
+    (psnr, max)
+}
+
+fn mean_rgb(p: &[[f32; 4]]) -> f32 {
+    p.iter().map(|v| v[0] + v[1] + v[2]).sum::<f32>() / (p.len() * 3) as f32
+}
+
+fn opaque_room() -> Scene {
+    let mut s = Scene::load("builtin:room").unwrap();
+    let blend: Vec<bool> = s
+        .materials
+        .iter()
+        .map(|m| m.alpha_mode == AlphaMode::Blend)
+        .collect();
+    s.instances.retain(|i| !blend[i.material]);
+    s
+}
+
+// ------------------------------------------------------------------ CPU tests
+
+#[test]
+fn normal_encodings_round_trip_over_the_sphere() {
+    let oct = normal::measure_error(NormalEncoding::Octahedral, 10, 200_000);
+    let sph = normal::measure_error(NormalEncoding::Spheremap, 10, 200_000);
+    for e in [&oct, &sph] {
+        eprintln!(
+            "{:>10} 10-bit: max {:.4}° (front hemisphere {:.4}°), mean {:.4}°, worst at {:?}",
+            e.encoding.name(),
+            e.max_deg,
+            e.max_front_deg,
+            e.mean_deg,
+            e.worst
+        );
+    }
+    assert!(oct.max_deg < 0.25, "octahedral max error {}°", oct.max_deg);
+    assert!(
+        oct.mean_deg < 0.1,
+        "octahedral mean error {}°",
+        oct.mean_deg
+    );
+    assert!(
+        sph.max_front_deg < 0.25,
+        "spheremap front max error {}°",
+        sph.max_front_deg
+    );
+    // the default is the encoding with the smaller worst case
+    assert!(oct.max_deg < sph.max_deg);
+    assert_eq!(NormalEncoding::default(), NormalEncoding::Octahedral);
+}
+
+#[test]
+fn compressed_gbuffer_is_smaller_than_the_traditional_one() {
+    assert_eq!(GBUFFER_BYTES_COMPRESSED, 12);
+    assert_eq!(GBUFFER_BYTES_TRADITIONAL, 28);
+}
+
+#[test]
+fn random_point_lights_are_deterministic_and_inside_the_bounds() {
+    let mut a = Scene::load("builtin:bench").unwrap();
+    let base = a.lights.len();
+    let mut b = a.clone();
+    a.add_random_point_lights(50, 42);
+    b.add_random_point_lights(50, 42);
+    assert_eq!(a.lights, b.lights);
+    let mut c = Scene::load("builtin:bench").unwrap();
+    c.add_random_point_lights(50, 43);
+    assert_ne!(a.lights, c.lights);
+    let bounds = a.bounds();
+    let diag = bounds.diagonal();
+    for l in &a.lights[base..] {
+        assert!(l.position.cmpge(bounds.min).all() && l.position.cmple(bounds.max).all());
+        let r = l.radius();
+        assert!(r >= 0.039 * diag && r <= 0.101 * diag, "radius {r}");
+    }
+}
+
+#[test]
+fn camera_specs_parse() {
+    let scene = Scene::load("builtin:room").unwrap();
+    let c = Camera::parse_spec("eye=1,2,3;target=0,1,0;fov=60", &scene).unwrap();
+    assert_eq!(c.eye, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(c.target, Vec3::new(0.0, 1.0, 0.0));
+    assert!((c.fov_y.to_degrees() - 60.0).abs() < 1e-4);
+    assert!(c.near > 0.0 && c.far > c.near);
+    let named = Camera::parse_spec("room", &scene).unwrap();
+    assert_eq!(named, scene.cameras[0].camera);
+    assert_eq!(Camera::parse_spec("0", &scene).unwrap(), named);
+    for bad in [
+        "eye=1,2",
+        "fov=500",
+        "7",
+        "nosuchcamera",
+        "eye=0,4,11;zoom=2",
+        "eye=a,b,c",
+    ] {
+        let e = Camera::parse_spec(bad, &scene).unwrap_err().to_string();
+        assert!(
+            e.contains(bad.split(';').next().unwrap()) || e.contains("camera"),
+            "{bad}: {e}"
+        );
+    }
+}
+
+#[test]
+fn scene_without_lights_gets_the_default_lights() {
+    let mut s = Scene::load("builtin:room").unwrap();
+    s.lights.clear();
+    s.ensure_lights();
+    assert_eq!(s.lights, Scene::default_lights());
+    assert!(Scene::load("builtin:nothing").is_err());
+}
+
+#[test]
+fn gltf_corpus_models_load() {
+    let Some(dir) = corpus() else { return };
+    for (file, min_tris) in [
+        ("FlightHelmet/FlightHelmet.gltf", 90_000),
+        ("CornellBox.glb", 10),
+        ("assimp/BoxTextured-glTF/BoxTextured.gltf", 12),
+        (
+            "assimp/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
+            1000,
+        ),
+    ] {
+        let path = dir.join(file);
+        let scene = Scene::load(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{file}: {e}"));
+        eprintln!(
+            "{file}: {} triangles, {} instances, {} materials, {} textures, {} lights, {} cameras",
+            scene.triangle_count(),
+            scene.instances.len(),
+            scene.materials.len(),
+            scene.textures.len(),
+            scene.lights.len(),
+            scene.cameras.len()
+        );
+        assert!(scene.triangle_count() >= min_tris, "{file}");
+        assert!(!scene.lights.is_empty(), "{file}: default lights expected");
+        assert!(!scene.bounds().is_empty());
+    }
+}
+
+#[test]
+fn gltf_broken_files_give_errors_not_panics() {
+    let Some(dir) = corpus() else { return };
+    let mut files = Vec::new();
+    let mut stack = vec![dir.join("broken")];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "gltf" || x == "glb") {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    assert!(files.len() >= 15, "only {} broken files found", files.len());
+    for f in files {
+        let name = f.to_str().unwrap().to_string();
+        let result = std::panic::catch_unwind(|| Scene::load(&name));
+        let result = result.unwrap_or_else(|_| panic!("{name}: panicked"));
+        match result {
+            Ok(s) => panic!(
+                "{name}: loaded ({} triangles) but should fail",
+                s.triangle_count()
+            ),
+            Err(e) => {
+                let msg = e.to_string();
+                eprintln!("{msg}");
+                assert!(
+                    msg.contains(f.file_name().unwrap().to_str().unwrap()),
+                    "{msg}"
+                );
+            }
+        }
+    }
+}
+
+// ------------------------------------------------------------------ GPU tests
+
+#[test]
+fn techniques_render_the_same_opaque_room() {
+    let Some(ctx) = gpu() else { return };
+    let scene = opaque_room();
+    let camera = scene.default_camera();
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    let (deferred, _, stats) = render(&ctx, &mut r, &camera, Technique::Deferred);
+    save_review("room_deferred", &deferred);
+    assert!(mean_rgb(&deferred) > 0.05, "image is too dark");
+    assert!(
+        stats.volumes_outside + stats.volumes_inside > 10,
+        "{stats:?}"
+    );
+    for t in [Technique::LightPrepass, Technique::Forward] {
+        let (img, _, _) = render(&ctx, &mut r, &camera, t);
+        save_review(&format!("room_{t}"), &img);
+        let (psnr, max) = compare(&deferred, &img);
+        eprintln!("deferred vs {t}: PSNR {psnr:.2} dB, max |diff| {max:.4}");
+        assert!(psnr > 40.0, "deferred vs {t}: PSNR {psnr:.2} dB");
+    }
+}
+
+#[test]
+fn light_outside_the_frustum_changes_nothing() {
+    let Some(ctx) = gpu() else { return };
+    let scene = opaque_room();
+    let camera = scene.default_camera();
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    for t in Technique::ALL {
+        let (before, _, s0) = render(&ctx, &mut r, &camera, t);
+        let mut lights = scene.lights.clone();
+        // behind the camera, radius 2: the sphere is entirely outside the frustum
+        lights.push(Light::point(
+            camera.eye + (camera.eye - camera.target).normalize() * 3.0,
+            Vec3::ONE,
+            5.0,
+            2.0,
+        ));
+        r.set_lights(lights);
+        let (after, _, s1) = render(&ctx, &mut r, &camera, t);
+        r.set_lights(scene.lights.clone());
+        assert_eq!(s1.lights_visible, s0.lights_visible, "{t}: not culled");
+        assert!(before == after, "{t}: the image changed");
+    }
+}
+
+#[test]
+fn light_volume_without_geometry_changes_nothing() {
+    let Some(ctx) = gpu() else { return };
+    let scene = opaque_room();
+    let camera = scene.default_camera();
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    for t in Technique::ALL {
+        let (before, _, s0) = render(&ctx, &mut r, &camera, t);
+        let mut lights = scene.lights.clone();
+        // in the air in front of the camera, 3 units from the nearest surface
+        lights.push(Light::point(Vec3::new(0.0, 3.0, 6.0), Vec3::ONE, 5.0, 0.5));
+        r.set_lights(lights);
+        let (after, _, s1) = render(&ctx, &mut r, &camera, t);
+        r.set_lights(scene.lights.clone());
+        assert_eq!(s1.lights_visible, s0.lights_visible + 1, "{t}: culled");
+        assert!(before == after, "{t}: the image changed");
+    }
+}
+
+#[test]
+fn camera_inside_a_light_volume_still_lights() {
+    let Some(ctx) = gpu() else { return };
+    let mut scene = opaque_room();
+    let camera =
+        Camera::parse_spec("eye=0,2,4;target=0,1,-2;fov=70;near=0.05;far=40", &scene).unwrap();
+    scene.lights = vec![
+        Light::point(
+            Vec3::new(0.0, 2.2, 3.0),
+            Vec3::new(1.0, 0.9, 0.8),
+            3.0,
+            12.0,
+        ),
+        Light::spot(
+            Vec3::new(0.3, 2.0, 4.2),
+            Vec3::new(0.0, -0.3, -1.0),
+            Vec3::new(0.6, 0.8, 1.0),
+            3.0,
+            12.0,
+            0.3,
+            0.6,
+        ),
+    ];
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    let (deferred, _, stats) = render(&ctx, &mut r, &camera, Technique::Deferred);
+    assert_eq!(stats.volumes_inside, 2, "{stats:?}");
+    let (forward, _, _) = render(&ctx, &mut r, &camera, Technique::Forward);
+    let (lpp, _, _) = render(&ctx, &mut r, &camera, Technique::LightPrepass);
+    save_review("inside_deferred", &deferred);
+    save_review("inside_forward", &forward);
+    assert!(mean_rgb(&deferred) > 0.02, "dark: {}", mean_rgb(&deferred));
+    for (name, img) in [("forward", &forward), ("light-prepass", &lpp)] {
+        let (psnr, max) = compare(&deferred, img);
+        eprintln!("camera inside volumes, deferred vs {name}: PSNR {psnr:.2} dB, max {max:.4}");
+        assert!(psnr > 40.0, "deferred vs {name}: {psnr:.2} dB");
+    }
+}
+
+#[test]
+fn depth_aux_is_the_linear_depth_of_a_plane() {
+    let Some(ctx) = gpu() else { return };
+    let distance = 5.0;
+    let mut scene = Scene {
+        name: "plane test".into(),
+        ..Default::default()
+    };
+    scene.meshes.push(grid_plane(4));
+    scene
+        .materials
+        .push(Material::phong("grey", Vec3::splat(0.5), 0.5, 32.0));
+    // the XZ plane rotated to face +Z, at z = -distance, much larger than the view
+    scene.instances.push(Instance {
+        name: "wall".into(),
+        mesh: 0,
+        material: 0,
+        transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -distance))
+            * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+            * Mat4::from_scale(Vec3::splat(100.0)),
+    });
+    scene.ensure_lights();
+    let camera = Camera {
+        eye: Vec3::ZERO,
+        target: Vec3::NEG_Z,
+        up: Vec3::Y,
+        fov_y: 60f32.to_radians(),
+        near: 0.1,
+        far: 100.0,
+    };
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    for t in Technique::ALL {
+        let (_, out, _) = render(&ctx, &mut r, &camera, t);
+        let depth = read_rgba_f32(&ctx, out.aux("depth").unwrap()).unwrap();
+        let pos = read_rgba_f32(&ctx, out.aux("position").unwrap()).unwrap();
+        let nrm = read_rgba_f32(&ctx, out.aux("normal").unwrap()).unwrap();
+        let max_err = depth
+            .iter()
+            .map(|d| (d[0] - distance).abs())
+            .fold(0.0f32, f32::max);
+        eprintln!("{t}: max |linear depth - {distance}| = {max_err:e}");
+        assert!(max_err < 2e-3, "{t}: depth error {max_err}");
+        for (i, (p, n)) in pos.iter().zip(&nrm).enumerate() {
+            // Rgba16Float: 1e-3 relative is about two f16 steps
+            assert!(
+                (p[2] + distance).abs() < distance * 1e-3,
+                "{t}: position.z {} at {i}",
+                p[2]
+            );
+            assert!(n[2] > 0.999 && n[3] == 1.0, "{t}: normal {n:?} at {i}");
+        }
+        // x, y from the inverse projection: the centre pixel is on the axis
+        let c = pos[((H / 2) * W + W / 2) as usize];
+        let half = (30f32.to_radians()).tan() * distance / H as f32;
+        assert!(
+            c[0].abs() < 2.0 * half * 1.5 && c[1].abs() < 2.0 * half,
+            "{c:?}"
+        );
+        let camera_std = out.camera;
+        assert_eq!((camera_std.near, camera_std.far), (0.1, 100.0));
+    }
+}
+
+#[test]
+fn aux_images_have_the_planned_names_and_formats() {
+    let Some(ctx) = gpu() else { return };
+    let scene = Scene::load("builtin:room").unwrap();
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    let (out, _) = r
+        .render(
+            &ctx,
+            &scene.default_camera(),
+            W,
+            H,
+            Technique::Deferred,
+            None,
+        )
+        .unwrap();
+    let planned = fxgraph::graph::plan::gbuffer_aux();
+    assert_eq!(out.aux.len(), planned.len());
+    for ((name, tex), (pname, pformat)) in out.aux.iter().zip(&planned) {
+        assert_eq!(name, pname);
+        assert_eq!(
+            tex.format(),
+            fxgraph::gpu::executor::wgpu_format(*pformat),
+            "{name}"
+        );
+        assert!(tex
+            .usage()
+            .contains(wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC));
+        assert_eq!((tex.width(), tex.height()), (W, H));
+    }
+    assert_eq!(out.scene.format(), wgpu::TextureFormat::Rgba16Float);
+    // material ids: the floor's id is 0, every drawn pixel has a valid id
+    let material = read_rgba_f32(&ctx, out.aux("material").unwrap()).unwrap();
+    let albedo = read_rgba_f32(&ctx, out.aux("albedo").unwrap()).unwrap();
+    for (m, a) in material.iter().zip(&albedo) {
+        if a[3] > 0.5 {
+            assert!((m[0] * 255.0).round() < scene.materials.len() as f32);
+        }
+    }
+}
+
+#[test]
+fn normal_encodings_agree_through_the_gpu() {
+    let Some(ctx) = gpu() else { return };
+    // A sphere filling the view: the G-buffer normal decoded by the resolve pass
+    // against the same scene rendered with the other encoding and the forward
+    // technique (which writes the same target from unencoded normals).
+    let mut scene = Scene {
+        name: "sphere".into(),
+        ..Default::default()
+    };
+    scene
+        .meshes
+        .push(fxgraph::deferred::builtin::uv_sphere(64, 32));
+    scene
+        .materials
+        .push(Material::phong("white", Vec3::ONE, 0.5, 32.0));
+    scene.instances.push(Instance {
+        name: "sphere".into(),
+        mesh: 0,
+        material: 0,
+        transform: Mat4::IDENTITY,
+    });
+    scene.ensure_lights();
+    let camera = Camera::parse_spec("eye=0,0,2.2;target=0,0,0;fov=60", &scene).unwrap();
+    let mut results = Vec::new();
+    for enc in [NormalEncoding::Octahedral, NormalEncoding::Spheremap] {
+        let mut r = Renderer::new(
+            &ctx,
+            &scene,
+            &RendererOptions {
+                normal_encoding: enc,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let (_, out, _) = render(&ctx, &mut r, &camera, Technique::Deferred);
+        let n = read_rgba_f32(&ctx, out.aux("normal").unwrap()).unwrap();
+        let g = read_rgba_f32(&ctx, &out.gbuffer.normal).unwrap();
+        // CPU decode of the stored channels must equal the GPU decode
+        let mut max_cpu_gpu = 0.0f64;
+        for (stored, decoded) in g.iter().zip(&n) {
+            if decoded[3] < 0.5 {
+                continue;
+            }
+            let cpu = enc.decode(glam::Vec2::new(stored[0], stored[1]));
+            let gpu = Vec3::new(decoded[0], decoded[1], decoded[2]);
+            max_cpu_gpu = max_cpu_gpu.max(normal::angle_deg(cpu, gpu));
+        }
+        eprintln!("{}: CPU vs GPU decode max {max_cpu_gpu:.4}°", enc.name());
+        assert!(max_cpu_gpu < 0.05, "{}: {max_cpu_gpu}°", enc.name());
+        results.push(n);
+    }
+    let mut max = 0.0f64;
+    for (a, b) in results[0].iter().zip(&results[1]) {
+        if a[3] > 0.5 {
+            max = max.max(normal::angle_deg(
+                Vec3::new(a[0], a[1], a[2]),
+                Vec3::new(b[0], b[1], b[2]),
+            ));
+        }
+    }
+    eprintln!("octahedral vs spheremap through the GPU: max {max:.4}°");
+    assert!(max < 0.5, "{max}°");
+}
+
+#[test]
+fn gbuffer_files_are_written() {
+    let Some(ctx) = gpu() else { return };
+    let scene = Scene::load("builtin:room").unwrap();
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    let (out, _) = r
+        .render(
+            &ctx,
+            &scene.default_camera(),
+            W,
+            H,
+            Technique::Deferred,
+            None,
+        )
+        .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let files = fxgraph::deferred::write_gbuffer(dir.path(), &out, &ctx).unwrap();
+    for name in [
+        "depth.png",
+        "depth.exr",
+        "normal.png",
+        "albedo.png",
+        "material_id.png",
+        "specular.png",
+        "light_diffuse.exr",
+        "light_specular.exr",
+        "scene.exr",
+    ] {
+        let p = dir.path().join(name);
+        assert!(files.contains(&p), "{name} not reported");
+        let img = fxgraph::io::load_image(&p, &Default::default()).unwrap();
+        assert_eq!((img.width, img.height), (W, H), "{name}");
+    }
+}
+
+#[test]
+fn default_light_makes_an_unlit_scene_visible() {
+    let Some(ctx) = gpu() else { return };
+    let mut scene = Scene {
+        name: "unlit box".into(),
+        ..Default::default()
+    };
+    scene.meshes.push(box_mesh(Vec3::ONE));
+    scene
+        .materials
+        .push(Material::phong("grey", Vec3::splat(0.7), 0.2, 16.0));
+    scene.instances.push(Instance {
+        name: "box".into(),
+        mesh: 0,
+        material: 0,
+        transform: Mat4::IDENTITY,
+    });
+    assert!(scene.lights.is_empty());
+    scene.ensure_lights();
+    let camera = scene.default_camera();
+    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+    let (img, _, _) = render(&ctx, &mut r, &camera, Technique::Deferred);
+    assert!(mean_rgb(&img) > 0.02, "black image: {}", mean_rgb(&img));
+    let _ = look_to_rh;
+}
+
+#[test]
+fn gltf_scenes_render() {
+    let Some(dir) = corpus() else { return };
+    let Some(ctx) = gpu() else { return };
+    for file in [
+        "CornellBox.glb",
+        "assimp/BoxTextured-glTF/BoxTextured.gltf",
+        "FlightHelmet/FlightHelmet.gltf",
+        "assimp/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
+    ] {
+        let scene = Scene::load(dir.join(file).to_str().unwrap()).unwrap();
+        let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
+        let (img, _, _) = render(&ctx, &mut r, &scene.default_camera(), Technique::Deferred);
+        save_review(&file.replace('/', "_"), &img);
+        assert!(mean_rgb(&img) > 0.01, "{file}: black image");
+    }
+}
+
+/// The benchmark (not a test): `bash bench/renderer.sh`, or
+/// `cargo test --release --test deferred -- --ignored renderer_benchmark --nocapture`.
+/// Environment: FX_BENCH_SIZE=WxH, FX_BENCH_LIGHTS=1,8,..., FX_BENCH_FRAMES=N,
+/// FX_BENCH_WARMUP=N,
+/// FX_BENCH_TECHNIQUES=deferred,light-prepass,forward, FX_BENCH_OUT=report.md.
+#[test]
+#[ignore]
+fn renderer_benchmark() {
+    use fxgraph::deferred::bench::{run_benchmark, BenchConfig};
+    let Some(ctx) = gpu() else { return };
+    let mut cfg = BenchConfig::default();
+    if let Ok(s) = std::env::var("FX_BENCH_SIZE") {
+        let (w, h) = s.split_once('x').expect("FX_BENCH_SIZE=WxH");
+        cfg.width = w.parse().unwrap();
+        cfg.height = h.parse().unwrap();
+    }
+    if let Ok(s) = std::env::var("FX_BENCH_LIGHTS") {
+        cfg.light_counts = s.split(',').map(|v| v.trim().parse().unwrap()).collect();
+    }
+    if let Ok(s) = std::env::var("FX_BENCH_FRAMES") {
+        cfg.frames = s.parse().unwrap();
+    }
+    if let Ok(s) = std::env::var("FX_BENCH_WARMUP") {
+        cfg.warmup = s.parse().unwrap();
+    }
+    if let Ok(s) = std::env::var("FX_BENCH_TECHNIQUES") {
+        cfg.techniques = s.split(',').map(|v| v.parse().unwrap()).collect();
+    }
+    let report = run_benchmark(&ctx, &cfg, |row| {
+        eprintln!(
+            "  {:>13} {:>5} lights ({} visible): {:.1} ms",
+            row.technique.to_string(),
+            row.lights,
+            row.visible,
+            row.ms
+        )
+    })
+    .unwrap();
+    println!("{report}");
+    if let Ok(out) = std::env::var("FX_BENCH_OUT") {
+        std::fs::write(&out, report.to_string()).unwrap();
+    }
+}

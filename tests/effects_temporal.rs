@@ -1,0 +1,988 @@
+//! GPU tests of the temporal effects: deinterlace, temporal_denoise, frame_blend,
+//! motion_trail and chroma_key_temporal, driven through the streaming runtime
+//! (`Stream`) like tests/temporal.rs.
+//!
+//! Run with `FX_REQUIRE_GPU=1 XDG_RUNTIME_DIR=/tmp cargo test --test effects_temporal`;
+//! without an adapter (and without FX_REQUIRE_GPU) the GPU tests skip. Measured
+//! values are printed (`-- --nocapture`).
+
+mod common;
+
+use common::*;
+use fxgraph::gpu::executor::Engine;
+use fxgraph::gpu::runner::{input_format, read_pixels, Effect};
+use fxgraph::gpu::stream::Stream;
+use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use fxgraph::io::{Image, Pixels};
+use fxgraph::script::types::Format;
+
+// ---------------------------------------------------------------- helpers
+
+fn effect_path(name: &str) -> String {
+    format!("{}/effects/{name}.fx", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Run `effect` (a file in effects/) with `overrides` over `frames` at `rate`
+/// outputs per frame; returns every output, in order, as linear RGBA f32.
+fn run_stream(
+    engine: &mut Engine,
+    effect: &str,
+    overrides: &[&str],
+    frames: &[Image],
+    rate: u32,
+) -> Vec<Vec<f32>> {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let mut fx = Effect::compile(&[effect_path(effect)], &o).unwrap_or_else(|e| panic!("{e}"));
+    let (format, colorspace) = input_format(&frames[0], false);
+    let input = InputDesc {
+        width: frames[0].width,
+        height: frames[0].height,
+        format,
+        colorspace,
+        aux: vec![],
+    };
+    let opts = PlanOptions {
+        policy: ReusePolicy::Pool,
+        output_format: Some(Format::Rgba32f),
+    };
+    let prepared = fx
+        .prepare_with(engine, &input, &opts)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut stream = Stream::new(engine, prepared, format);
+    stream.rate = rate;
+    let mut outs = Vec::new();
+    let take = |i: u64, engine: &mut Engine, stream: &Stream, outs: &mut Vec<Vec<f32>>| {
+        assert_eq!(i, outs.len() as u64, "outputs in order");
+        let Pixels::F32(px) = read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap()
+        else {
+            panic!("float output expected")
+        };
+        outs.push(px);
+    };
+    for f in frames {
+        stream.push_image(engine, f).unwrap();
+        while let Some(i) = stream.next(engine).unwrap() {
+            take(i, engine, &stream, &mut outs);
+        }
+    }
+    stream.end();
+    while let Some(i) = stream.next(engine).unwrap() {
+        take(i, engine, &stream, &mut outs);
+    }
+    assert_eq!(
+        outs.len(),
+        frames.len() * rate as usize,
+        "{rate} output(s) per input frame"
+    );
+    outs
+}
+
+/// `x` rounded to the nearest half float (what an rgba16f input texture holds).
+fn f16r(x: f32) -> f32 {
+    half::f16::from_f32(x).to_f32()
+}
+
+fn float_image(w: u32, h: u32, px: Vec<f32>) -> Image {
+    let mut img = image_f32(w, h, |_, _| [0.0; 4]);
+    img.pixels = Pixels::F32(px);
+    img
+}
+
+/// RGB samples (alpha left out) of the pixels where `keep(x, y)`.
+fn select_rgb(v: &[f32], w: u32, h: u32, keep: impl Fn(u32, u32) -> bool) -> Vec<f32> {
+    let mut out = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            if keep(x, y) {
+                let i = ((y * w + x) * 4) as usize;
+                out.extend_from_slice(&v[i..i + 3]);
+            }
+        }
+    }
+    out
+}
+
+/// Deterministic pseudo-random numbers in [0, 1) (xorshift-multiply hash).
+fn hash01(mut k: u64) -> f32 {
+    k ^= k >> 33;
+    k = k.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    k ^= k >> 33;
+    k = k.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    k ^= k >> 33;
+    (k >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// Deterministic zero-mean noise with standard deviation `sigma` (sum of 4 uniforms).
+fn noise(seed: u64, sigma: f32) -> f32 {
+    let s: f32 = (0..4).map(|i| hash01(seed * 4 + i)).sum::<f32>() - 2.0;
+    // Var of a sum of 4 U(0,1) is 4/12 = 1/3.
+    s * sigma * 3f32.sqrt()
+}
+
+fn mean(v: &[f32]) -> f64 {
+    v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64
+}
+
+fn std_dev(v: &[f32]) -> f64 {
+    let m = mean(v);
+    (v.iter().map(|&x| (x as f64 - m).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
+}
+
+// ---------------------------------------------------------------- deinterlace
+
+const DW: u32 = 96;
+const DH: u32 = 64;
+/// Rows of the moving box; everything outside rows [BOX_Y0, BOX_Y1) is static.
+const BOX_Y0: u32 = 18;
+const BOX_Y1: u32 = 46;
+const BOX_W: u32 = 36;
+
+/// Left edge of the moving box at field time `t` (2 px per field, rightwards).
+fn box_x(t: u32) -> u32 {
+    8 + 2 * t
+}
+
+/// Progressive frame at field time `t`: a static textured background with
+/// vertical detail up to near the vertical Nyquist frequency, and a box moving
+/// right by 2 px per field, textured with 45-degree stripes (period 9 px) over a
+/// slow horizontal ramp. Values are rounded to f16.
+fn progressive(t: u32) -> Vec<f32> {
+    let mut v = Vec::with_capacity((DW * DH * 4) as usize);
+    for y in 0..DH {
+        for x in 0..DW {
+            let (xf, yf) = (x as f32, y as f32);
+            let bx = box_x(t);
+            let c = if (BOX_Y0..BOX_Y1).contains(&y) && (bx..bx + BOX_W).contains(&x) {
+                let u = (x - bx) as f32;
+                let s = 0.5 + 0.3 * (0.7 * (u + yf)).sin() + 0.1 * (0.3 * u).cos();
+                [0.9 * s + 0.05, 0.95 - 0.9 * s, 0.3 + 0.4 * s]
+            } else {
+                let s =
+                    0.5 + 0.25 * (1.7 * yf + 0.4 * xf).sin() + 0.15 * (0.6 * xf - 1.1 * yf).cos();
+                [s, 0.6 * s + 0.2, 1.0 - s]
+            };
+            v.extend_from_slice(&[f16r(c[0]), f16r(c[1]), f16r(c[2]), 1.0]);
+        }
+    }
+    v
+}
+
+/// Interlaced frame `k` woven from progressive frames 2k (first field) and 2k+1
+/// (second field): tff = the first field is the top one (even rows); bff = the
+/// bottom one (odd rows).
+fn weave(p: &[Vec<f32>], k: usize, tff: bool) -> Vec<f32> {
+    let (first, second) = (&p[2 * k], &p[2 * k + 1]);
+    let mut v = first.clone();
+    let second_parity = if tff { 1 } else { 0 };
+    for y in (second_parity..DH).step_by(2) {
+        let r = (y * DW * 4) as usize..((y + 1) * DW * 4) as usize;
+        v[r.clone()].copy_from_slice(&second[r]);
+    }
+    v
+}
+
+/// The box at field time `t`.
+fn in_box(t: u32, x: u32, y: u32) -> bool {
+    let bx = box_x(t);
+    (BOX_Y0..BOX_Y1).contains(&y) && (bx..bx + BOX_W).contains(&x)
+}
+
+/// The box at field time `t` and what is around it: 3 rows above and below, 5
+/// columns left and right (the background it covers and uncovers within a frame).
+fn near_box(t: u32, x: u32, y: u32) -> bool {
+    let bx = box_x(t);
+    (BOX_Y0 - 3..BOX_Y1 + 3).contains(&y) && x + 5 >= bx && x < bx + BOX_W + 5
+}
+
+fn is_static(y: u32) -> bool {
+    !(BOX_Y0 - 4..BOX_Y1 + 4).contains(&y)
+}
+
+/// Pooled PSNR of the deinterlaced outputs against the progressive truth over the
+/// whole image, the moving box at the output's time, its neighbourhood (the box
+/// and the background it covers and uncovers, 3-5 px around it) and the static
+/// rows.
+struct DeintScore {
+    full: f64,
+    moving: f64,
+    near: f64,
+    fixed: f64,
+    static_max_err: f32,
+}
+
+fn score_deint(
+    outs: &[Vec<f32>],
+    truth: &[Vec<f32>],
+    time_of: impl Fn(usize) -> u32,
+) -> DeintScore {
+    let regions: [&dyn Fn(u32, u32, u32) -> bool; 4] = [
+        &|_, _, _| true,
+        &|t, x, y| in_box(t, x, y),
+        &|t, x, y| near_box(t, x, y),
+        &|_, _, y| is_static(y),
+    ];
+    let mut o: Vec<Vec<f32>> = vec![vec![]; 4];
+    let mut p: Vec<Vec<f32>> = vec![vec![]; 4];
+    for (i, out) in outs.iter().enumerate() {
+        let t = time_of(i);
+        for (r, keep) in regions.iter().enumerate() {
+            o[r].extend(select_rgb(out, DW, DH, |x, y| keep(t, x, y)));
+            p[r].extend(select_rgb(&truth[t as usize], DW, DH, |x, y| keep(t, x, y)));
+        }
+    }
+    DeintScore {
+        full: psnr(&o[0], &p[0], 1.0),
+        moving: psnr(&o[1], &p[1], 1.0),
+        near: psnr(&o[2], &p[2], 1.0),
+        fixed: psnr(&o[3], &p[3], 1.0),
+        static_max_err: max_abs_diff(&o[3], &p[3]),
+    }
+}
+
+/// Synthetic ground truth: 16 progressive frames (field times), woven into 8
+/// interlaced frames (frame k = first field from progressive 2k, second field from
+/// 2k + 1), deinterlaced by each mode at rate 1 (compared with progressive 2k) and
+/// rate 2 (output 2k + s compared with progressive 2k + s).
+#[test]
+fn deinterlace_synthetic_ground_truth() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let truth: Vec<Vec<f32>> = (0..16).map(progressive).collect();
+    let mut table = Vec::new();
+    let mut scores = std::collections::HashMap::new();
+    for (order, tff) in [("tff", true), ("bff", false)] {
+        let frames: Vec<Image> = (0..8)
+            .map(|k| float_image(DW, DH, weave(&truth, k, tff)))
+            .collect();
+        for rate in [1u32, 2] {
+            for mode in ["bob", "blend", "adaptive"] {
+                if !tff && mode != "adaptive" {
+                    continue;
+                }
+                let set_mode = format!("mode={mode}");
+                let set_order = format!("field_order={order}");
+                let outs = run_stream(
+                    &mut engine,
+                    "deinterlace",
+                    &[&set_mode, &set_order],
+                    &frames,
+                    rate,
+                );
+                let s = score_deint(&outs, &truth, |i| {
+                    if rate == 1 {
+                        2 * i as u32
+                    } else {
+                        i as u32
+                    }
+                });
+                table.push(format!(
+                    "{order} rate {rate} {mode:>8}: full {:6.2}  box {:6.2}  box+around {:6.2}  static {:6.2} dB (max err {:.1e})",
+                    s.full, s.moving, s.near, s.fixed, s.static_max_err
+                ));
+                scores.insert((order, rate, mode), s);
+            }
+        }
+    }
+    // Wrong field order: bff material deinterlaced as tff.
+    let frames: Vec<Image> = (0..8)
+        .map(|k| float_image(DW, DH, weave(&truth, k, false)))
+        .collect();
+    let outs = run_stream(
+        &mut engine,
+        "deinterlace",
+        &["mode=adaptive", "field_order=tff"],
+        &frames,
+        2,
+    );
+    let wrong = score_deint(&outs, &truth, |i| i as u32);
+    table.push(format!(
+        "bff material as tff, rate 2 adaptive: full {:6.2}  box {:6.2}  box+around {:6.2} dB",
+        wrong.full, wrong.moving, wrong.near
+    ));
+    println!(
+        "deinterlace PSNR against the progressive frames:\n  {}",
+        table.join("\n  ")
+    );
+
+    for rate in [1u32, 2] {
+        let bob = &scores[&("tff", rate, "bob")];
+        let blend = &scores[&("tff", rate, "blend")];
+        let ad = &scores[&("tff", rate, "adaptive")];
+        // Static content: the adaptive output is the source, exactly.
+        assert_eq!(ad.static_max_err, 0.0, "rate {rate}: static rows not exact");
+        assert!(ad.fixed.is_infinite());
+        // Moving content: adaptive beats bob and blend on the box, around it and
+        // overall.
+        for (name, other) in [("bob", bob), ("blend", blend)] {
+            assert!(
+                ad.moving > other.moving && ad.near > other.near + 2.0 && ad.full > other.full + 6.0,
+                "rate {rate}: adaptive {:.2}/{:.2}/{:.2} dB vs {name} {:.2}/{:.2}/{:.2} dB (box/around/full)",
+                ad.moving, ad.near, ad.full, other.moving, other.near, other.full
+            );
+        }
+        assert!(ad.moving > blend.moving + 6.0);
+        // bob and blend lose the static vertical detail.
+        assert!(bob.fixed < 30.0 && blend.fixed < 30.0);
+        // bff material with field_order = bff scores like tff material with tff.
+        let bff = &scores[&("bff", rate, "adaptive")];
+        assert_eq!(bff.static_max_err, 0.0);
+        assert!(
+            (bff.moving - ad.moving).abs() < 1.5,
+            "bff {:.2} vs tff {:.2}",
+            bff.moving,
+            ad.moving
+        );
+    }
+    // The wrong field order reconstructs the fields in the wrong time order.
+    assert!(wrong.moving < scores[&("bff", 2, "adaptive")].moving - 3.0);
+}
+
+/// Rate 2: two outputs per interlaced frame, one per field, in time order; on the
+/// moving box they differ (the box moved 2 px between the fields), on the static
+/// rows they are the same (the exact source).
+#[test]
+fn deinterlace_rate_two_outputs_one_image_per_field() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let truth: Vec<Vec<f32>> = (0..16).map(progressive).collect();
+    let frames: Vec<Image> = (0..8)
+        .map(|k| float_image(DW, DH, weave(&truth, k, true)))
+        .collect();
+    let outs = run_stream(&mut engine, "deinterlace", &["mode=adaptive"], &frames, 2);
+    assert_eq!(outs.len(), 16);
+    let rate1 = run_stream(&mut engine, "deinterlace", &["mode=adaptive"], &frames, 1);
+    let mut min_box_diff = f64::MAX;
+    for k in 0..8 {
+        let (a, b) = (&outs[2 * k], &outs[2 * k + 1]);
+        // Subframe 0 is the rate-1 output (the first field).
+        assert_eq!(
+            a, &rate1[k],
+            "frame {k}: subframe 0 differs from the rate-1 output"
+        );
+        let t = 2 * k as u32;
+        let keep = |x: u32, y: u32| in_box(t, x, y) || in_box(t + 1, x, y);
+        let (ba, bb) = (select_rgb(a, DW, DH, keep), select_rgb(b, DW, DH, keep));
+        let d = ba
+            .iter()
+            .zip(&bb)
+            .map(|(p, q)| (p - q).abs() as f64)
+            .sum::<f64>()
+            / ba.len() as f64;
+        min_box_diff = min_box_diff.min(d);
+        let (sa, sb) = (
+            select_rgb(a, DW, DH, |_, y| is_static(y)),
+            select_rgb(b, DW, DH, |_, y| is_static(y)),
+        );
+        assert_eq!(sa, sb, "frame {k}: static rows differ between the fields");
+        // Each subframe is closer to its own progressive frame than to the other.
+        let own = psnr(&bb, &select_rgb(&truth[2 * k + 1], DW, DH, keep), 1.0);
+        let other = psnr(&bb, &select_rgb(&truth[2 * k], DW, DH, keep), 1.0);
+        assert!(
+            own > other + 3.0,
+            "frame {k}: subframe 1 {own:.2} dB vs {other:.2} dB"
+        );
+    }
+    println!("rate 2: smallest mean |field 0 - field 1| on the moving box: {min_box_diff:.4}");
+    assert!(min_box_diff > 0.05, "{min_box_diff}");
+}
+
+// ----------------------------------------------- deinterlace: a real PAL clip
+
+const PAL_DIR: &str = "/work/shared/corpus/interlaced/pal_bff";
+
+/// Luma of sRGB-encoded r, g, b (Rec.709 weights).
+fn luma_encoded(r: f32, g: f32, b: f32) -> f32 {
+    0.2126 * r + 0.7152 * g + 0.0722 * b
+}
+
+/// Combing index of an encoded luma plane: the mean absolute vertical second
+/// difference |Y(y-1) - 2Y(y) + Y(y+1)| / 4 (a filter whose gain is 1 at the
+/// vertical Nyquist frequency, where weaving two fields of a moving scene puts
+/// its energy) divided by the same measure taken horizontally. For progressive
+/// natural images (square-ish pixels) it is about 1; combing raises it, vertical
+/// softening lowers it.
+fn comb_index(y: &[f32], w: usize, h: usize) -> (f64, f64, f64) {
+    let (mut v, mut hz, mut n) = (0f64, 0f64, 0f64);
+    for r in 1..h - 1 {
+        for c in 1..w - 1 {
+            let at = |rr: usize, cc: usize| y[rr * w + cc] as f64;
+            v += (at(r - 1, c) - 2.0 * at(r, c) + at(r + 1, c)).abs() / 4.0;
+            hz += (at(r, c - 1) - 2.0 * at(r, c) + at(r, c + 1)).abs() / 4.0;
+            n += 1.0;
+        }
+    }
+    (v / n, hz / n, v / hz)
+}
+
+fn luma_of_linear(px: &[f32]) -> Vec<f32> {
+    px.chunks_exact(4)
+        .map(|p| {
+            luma_encoded(
+                linear_to_srgb(p[0]),
+                linear_to_srgb(p[1]),
+                linear_to_srgb(p[2]),
+            )
+        })
+        .collect()
+}
+
+fn luma_of_u8(px: &[u8]) -> Vec<f32> {
+    px.chunks_exact(4)
+        .map(|p| {
+            luma_encoded(
+                p[0] as f32 / 255.0,
+                p[1] as f32 / 255.0,
+                p[2] as f32 / 255.0,
+            )
+        })
+        .collect()
+}
+
+/// The real 720x576 bottom-field-first clip: the combing index of the woven frames
+/// drops to about the progressive level after adaptive deinterlacing (bff).
+#[test]
+fn deinterlace_real_pal_clip_removes_combing() {
+    let paths: Vec<_> = (0..12)
+        .map(|i| std::path::PathBuf::from(format!("{PAL_DIR}/f{i:03}.png")))
+        .collect();
+    if !paths.iter().all(|p| p.exists()) {
+        eprintln!("skipping: the interlaced clip {PAL_DIR}/f000-f011.png is not present");
+        return;
+    }
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let frames: Vec<Image> = paths
+        .iter()
+        .map(|p| fxgraph::io::load_image(p, &Default::default()).unwrap())
+        .collect();
+    let (w, h) = (frames[0].width as usize, frames[0].height as usize);
+    assert_eq!((w, h), (720, 576));
+    let woven: Vec<(f64, f64, f64)> = frames
+        .iter()
+        .map(|f| {
+            let Pixels::U8(px) = &f.pixels else {
+                panic!("8-bit clip expected")
+            };
+            comb_index(&luma_of_u8(px), w, h)
+        })
+        .collect();
+    let mut rows = vec![("woven input".to_string(), woven)];
+    let mut adaptive_out = Vec::new();
+    for (mode, order) in [
+        ("adaptive", "bff"),
+        ("bob", "bff"),
+        ("blend", "bff"),
+        ("adaptive", "tff"),
+    ] {
+        let set_mode = format!("mode={mode}");
+        let set_order = format!("field_order={order}");
+        let outs = run_stream(
+            &mut engine,
+            "deinterlace",
+            &[&set_mode, &set_order],
+            &frames,
+            1,
+        );
+        let ci = outs
+            .iter()
+            .map(|o| comb_index(&luma_of_linear(o), w, h))
+            .collect();
+        if (mode, order) == ("adaptive", "bff") {
+            adaptive_out = outs;
+        }
+        rows.push((format!("{mode} {order}"), ci));
+    }
+    let pooled = |v: &[(f64, f64, f64)]| {
+        let (a, b) = v.iter().fold((0.0, 0.0), |(a, b), x| (a + x.0, b + x.1));
+        a / b
+    };
+    println!("combing index (vertical / horizontal second difference; progressive ~ 1):");
+    for (name, v) in &rows {
+        let per: Vec<String> = v.iter().map(|x| format!("{:.2}", x.2)).collect();
+        println!(
+            "  {name:>13}: pooled {:5.2}  per frame [{}]  (vertical {:.4})",
+            pooled(v),
+            per.join(" "),
+            v.iter().map(|x| x.0).sum::<f64>() / v.len() as f64
+        );
+    }
+    let woven = pooled(&rows[0].1);
+    let adaptive = pooled(&rows[1].1);
+    let bob = pooled(&rows[2].1);
+    assert!(woven > 5.0, "the clip should be visibly combed: {woven:.2}");
+    assert!(
+        adaptive < 0.2 * woven,
+        "adaptive {adaptive:.2} vs woven {woven:.2}"
+    );
+    assert!(
+        adaptive < 1.5,
+        "adaptive {adaptive:.2} not near the progressive level"
+    );
+    // Every frame (the odd frames of this clip have fields close in time and comb
+    // less: index about 2.2).
+    for (i, x) in rows[1].1.iter().enumerate() {
+        let woven_i = rows[0].1[i].2;
+        assert!(
+            x.2 < 1.3 && x.2 < 0.6 * woven_i,
+            "frame {i}: {:.2} (woven {woven_i:.2})",
+            x.2
+        );
+    }
+    // bob cannot comb but halves the vertical detail; adaptive keeps more vertical
+    // high frequencies (a higher index than bob, still below the progressive ~1).
+    assert!(
+        bob < 0.7 && adaptive > bob + 0.2,
+        "bob {bob:.2}, adaptive {adaptive:.2}"
+    );
+    let saved = save_for_review(
+        "deinterlace_pal_bff_f004_adaptive",
+        w as u32,
+        h as u32,
+        &Pixels::F32(adaptive_out[4].clone()),
+    );
+    println!("review image: {}", saved.display());
+}
+
+// ---------------------------------------------------------------- temporal_denoise
+
+const NW: u32 = 64;
+const NH: u32 = 64;
+const NOISE: f32 = 0.05;
+
+/// A clean textured scene with a vertical edge at `edge_x`: dark (about 0.25) to
+/// the left of it, bright (about 0.7) from it on.
+fn clean_scene(edge_x: u32) -> Vec<f32> {
+    let mut v = Vec::new();
+    for y in 0..NH {
+        for x in 0..NW {
+            let base = if x >= edge_x { 0.7 } else { 0.25 };
+            let t = 0.06 * ((0.4 * x as f32).sin() + (0.3 * y as f32).cos());
+            v.extend_from_slice(&[base + t, base - t, base + 0.5 * t, 1.0]);
+        }
+    }
+    v
+}
+
+/// `clean` plus deterministic noise of standard deviation NOISE (frame `t`), f16-rounded.
+fn noisy(clean: &[f32], t: u64) -> Vec<f32> {
+    clean
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| {
+            if i % 4 == 3 {
+                c
+            } else {
+                f16r(c + noise(t * 1_000_003 + i as u64, NOISE))
+            }
+        })
+        .collect()
+}
+
+fn rgb_residual(out: &[f32], clean: &[f32], keep: impl Fn(u32, u32) -> bool) -> Vec<f32> {
+    let a = select_rgb(out, NW, NH, &keep);
+    let b = select_rgb(clean, NW, NH, &keep);
+    a.iter().zip(&b).map(|(p, q)| p - q).collect()
+}
+
+/// A static noisy scene: the residual noise falls by a large factor within 10
+/// frames (and further by 24); the first frame (no history) is the input itself.
+#[test]
+fn temporal_denoise_reduces_static_noise() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let clean = clean_scene(32);
+    let inputs: Vec<Vec<f32>> = (0..24).map(|t| noisy(&clean, t)).collect();
+    let frames: Vec<Image> = inputs
+        .iter()
+        .map(|v| float_image(NW, NH, v.clone()))
+        .collect();
+    let outs = run_stream(&mut engine, "temporal_denoise", &["sigma=0.05"], &frames, 1);
+    // Frame 0: the input, exactly.
+    assert_eq!(outs[0], inputs[0]);
+    // Away from the (static) edge.
+    let keep = |x: u32, _y: u32| !(30..34).contains(&x);
+    let in_std = std_dev(&rgb_residual(&inputs[9], &clean, keep));
+    let stds: Vec<f64> = outs
+        .iter()
+        .map(|o| std_dev(&rgb_residual(o, &clean, keep)))
+        .collect();
+    let (f9, f23) = (in_std / stds[9], in_std / stds[23]);
+    println!(
+        "temporal_denoise: input noise std {in_std:.4}; output std per frame {:?}; reduction {f9:.2}x at frame 9, {f23:.2}x at frame 23",
+        stds.iter().map(|s| format!("{s:.4}")).collect::<Vec<_>>()
+    );
+    assert!((in_std - NOISE as f64).abs() < 0.005, "{in_std}");
+    assert!(f9 > 2.5, "noise only reduced {f9:.2}x by frame 9");
+    assert!(f23 > 3.0, "noise only reduced {f23:.2}x by frame 23");
+    // Monotonic convergence, and no bias.
+    assert!(stds.windows(2).all(|w| w[1] < w[0] + 1e-3), "{stds:?}");
+    assert!(mean(&rgb_residual(&outs[23], &clean, keep)).abs() < 0.005);
+}
+
+/// A moving edge: the edge jumps 12 px at frame 6. The output follows the current
+/// frame in that frame (no ghost of the old edge), while a run without motion
+/// rejection (sigma huge) ghosts.
+#[test]
+fn temporal_denoise_does_not_ghost_a_moving_edge() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let edge = |t: u64| if t < 6 { 20 } else { 32 };
+    let inputs: Vec<Vec<f32>> = (0..9).map(|t| noisy(&clean_scene(edge(t)), t)).collect();
+    let frames: Vec<Image> = inputs
+        .iter()
+        .map(|v| float_image(NW, NH, v.clone()))
+        .collect();
+    // The pixels that changed: 20 <= x < 32 (dark before, bright after).
+    let changed = |x: u32, _y: u32| (20..32).contains(&x);
+    let worst = |a: &[f32], b: &[f32]| {
+        max_abs_diff(
+            &select_rgb(a, NW, NH, changed),
+            &select_rgb(b, NW, NH, changed),
+        )
+    };
+    let outs = run_stream(&mut engine, "temporal_denoise", &["sigma=0.05"], &frames, 1);
+    let err6 = worst(&outs[6], &inputs[6]);
+    let clean7 = clean_scene(32);
+    let err7 = worst(&outs[7], &clean7);
+    // Without motion rejection: h = strength everywhere.
+    let ghost = run_stream(&mut engine, "temporal_denoise", &["sigma=10"], &frames, 1);
+    let ghost6 = worst(&ghost[6], &inputs[6]);
+    println!(
+        "temporal_denoise edge jump: max |out - in| on the changed pixels at the jump {err6:.4} (no motion rejection: {ghost6:.3}); max |out - clean| one frame later {err7:.4}"
+    );
+    assert!(err6 < 0.01, "ghost at the jump: {err6}");
+    assert!(err7 < 4.0 * NOISE, "one frame after: {err7}");
+    assert!(
+        ghost6 > 0.3,
+        "the test should be able to see a ghost: {ghost6}"
+    );
+    // Static parts keep being denoised through the jump.
+    let far = |x: u32, _y: u32| x >= 40;
+    let s = std_dev(&rgb_residual(&outs[6], &clean7, far));
+    assert!(s < 0.5 * NOISE as f64, "{s}");
+}
+
+// ---------------------------------------------------------------- frame_blend
+
+/// Frame i has the value (i + 1) / 64 in every channel (exact in half floats).
+fn index_frame(i: u64) -> Image {
+    let v = (i + 1) as f32 / 64.0;
+    image_f32(6, 4, |_, _| [v, v, v, 1.0])
+}
+
+fn index_value(i: i64) -> f64 {
+    (i + 1) as f64 / 64.0
+}
+
+/// frame_blend against the analytic weighted mean, with IN[-i] clamped to frame 0:
+/// every output of a 12-frame sequence (start, middle, end), for several settings.
+#[test]
+fn frame_blend_equals_the_weighted_mean() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let n = 12u64;
+    let frames: Vec<Image> = (0..n).map(index_frame).collect();
+    let cases: [(&[&str], &[f64], f64); 5] = [
+        (&[], &[1.0, 1.0, 1.0], 0.0),
+        (&["frames=1"], &[1.0], 0.0),
+        (
+            &[
+                "frames=5",
+                "weights=(5, 4, 3, 2)",
+                "weights_more=(1, 0, 0, 0)",
+            ],
+            &[5.0, 4.0, 3.0, 2.0, 1.0],
+            0.0,
+        ),
+        (
+            &[
+                "frames=8",
+                "weights=(1, 2, 3, 4)",
+                "weights_more=(5, 6, 7, 8)",
+                "scale=0.01",
+            ],
+            &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
+            0.01,
+        ),
+        // A temporal second difference (ffmpeg's example weights), scale 1.
+        (
+            &["weights=(-1, 2, -1, 0)", "scale=1"],
+            &[-1.0, 2.0, -1.0],
+            1.0,
+        ),
+    ];
+    for (overrides, w, scale) in cases {
+        let outs = run_stream(&mut engine, "frame_blend", overrides, &frames, 1);
+        let k = if scale == 0.0 {
+            1.0 / w.iter().sum::<f64>()
+        } else {
+            scale
+        };
+        let mut got = Vec::new();
+        for (t, o) in outs.iter().enumerate() {
+            let want: f64 = k * w
+                .iter()
+                .enumerate()
+                .map(|(i, wi)| wi * index_value((t as i64 - i as i64).max(0)))
+                .sum::<f64>();
+            let alpha = k * w.iter().sum::<f64>();
+            for px in o.chunks_exact(4) {
+                for v in &px[..3] {
+                    assert!(
+                        (*v as f64 - want).abs() < 1e-5,
+                        "{overrides:?} t={t}: {v} vs {want}"
+                    );
+                }
+                assert!((px[3] as f64 - alpha).abs() < 1e-5);
+            }
+            got.push(o[0]);
+        }
+        println!(
+            "frame_blend {overrides:?}: outputs x64 {:?}",
+            got.iter()
+                .map(|v| format!("{:.3}", v * 64.0))
+                .collect::<Vec<_>>()
+        );
+    }
+}
+
+// ---------------------------------------------------------------- motion_trail
+
+/// A bright 1-px dot moving 5 px per frame over black: the trail it leaves holds
+/// decay^k k frames later (both modes); a static grey stripe is unchanged by max and
+/// brightened to grey * (1 - decay^(t+1)) / (1 - decay) by add.
+#[test]
+fn motion_trail_decays_geometrically() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let n = 10u32;
+    let (w, h) = (64u32, 16u32);
+    let dot_x = |t: u32| 4 + 5 * t;
+    let frames: Vec<Image> = (0..n)
+        .map(|t| {
+            image_f32(w, h, |x, y| {
+                let v = if y == 5 && x == dot_x(t) {
+                    1.0
+                } else if y >= 12 {
+                    0.25
+                } else {
+                    0.0
+                };
+                [v, v, v, 1.0]
+            })
+        })
+        .collect();
+    let decay = 0.7f64;
+    for mode in ["max", "add"] {
+        let set_mode = format!("mode={mode}");
+        let outs = run_stream(
+            &mut engine,
+            "motion_trail",
+            &[&set_mode, "decay=0.7"],
+            &frames,
+            1,
+        );
+        let last = &outs[(n - 1) as usize];
+        let trail: Vec<f64> = (0..n)
+            .map(|k| at(last, w, dot_x(n - 1 - k), 5, 0) as f64)
+            .collect();
+        println!(
+            "motion_trail {mode}: trail values at k = 0..9 frames back {:?}",
+            trail.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>()
+        );
+        for (k, v) in trail.iter().enumerate() {
+            let want = decay.powi(k as i32);
+            assert!(
+                (v - want).abs() < 0.01 * want + 1e-3,
+                "{mode} k={k}: {v} vs {want}"
+            );
+        }
+        for k in 0..(n - 1) as usize {
+            let ratio = trail[k + 1] / trail[k];
+            assert!((ratio - decay).abs() < 0.01, "{mode}: ratio {ratio}");
+        }
+        // Nothing else on the dot's row lights up; alpha stays 1.
+        for x in 0..w {
+            if (x as i64 - 4) % 5 != 0 || x > dot_x(n - 1) {
+                assert_eq!(at(last, w, x, 5, 0), 0.0, "{mode} x={x}");
+            }
+            assert!((at(last, w, x, 5, 3) - 1.0).abs() < 1e-6);
+        }
+        let grey = at(last, w, 10, 13, 0) as f64;
+        let want = if mode == "max" {
+            0.25
+        } else {
+            0.25 * (1.0 - decay.powi(n as i32)) / (1.0 - decay)
+        };
+        assert!(
+            (grey - want).abs() < 0.005,
+            "{mode}: static grey {grey} vs {want}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------- chroma_key_temporal
+
+const KW: u32 = 64;
+const KH: u32 = 64;
+
+/// Frame `t` of a green-screen shot: a backdrop slightly off the key colour with
+/// per-frame noise (8 codes per channel), which makes chroma_key's soft band
+/// flicker; a static red square; a blue square moving 4 px per frame.
+fn green_screen(t: u32) -> Image {
+    image_u8(KW, KH, |x, y| {
+        let moving_x = 2 + 4 * t;
+        if (4..20).contains(&x) && (4..20).contains(&y) {
+            [200, 50, 40, 255]
+        } else if (40..52).contains(&y) && (moving_x..moving_x + 12).contains(&x) {
+            [50, 70, 200, 255]
+        } else {
+            let seed = ((t as u64 * KH as u64 + y as u64) * KW as u64 + x as u64) * 3;
+            let px =
+                |base: f32, c: u64| (base + noise(seed + c, 8.0)).round().clamp(0.0, 255.0) as u8;
+            [px(95.0, 0), px(196.0, 1), px(74.0, 2), 255]
+        }
+    })
+}
+
+fn alphas(v: &[f32], keep: impl Fn(u32, u32) -> bool) -> Vec<f32> {
+    let mut out = Vec::new();
+    for y in 0..KH {
+        for x in 0..KW {
+            if keep(x, y) {
+                out.push(at(v, KW, x, y, 3));
+            }
+        }
+    }
+    out
+}
+
+/// Mean squared frame-to-frame change of the alpha over `keep`, frames `from..`.
+fn alpha_flicker(outs: &[Vec<f32>], from: usize, keep: impl Fn(u32, u32) -> bool + Copy) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0.0;
+    for t in from..outs.len() {
+        let (a, b) = (alphas(&outs[t], keep), alphas(&outs[t - 1], keep));
+        sum += a
+            .iter()
+            .zip(&b)
+            .map(|(p, q)| ((p - q) as f64).powi(2))
+            .sum::<f64>();
+        n += a.len() as f64;
+    }
+    sum / n
+}
+
+/// Mean over the pixels of `keep` of the alpha's variance over the frames `outs`.
+fn alpha_temporal_variance(outs: &[Vec<f32>], keep: impl Fn(u32, u32) -> bool + Copy) -> f64 {
+    let series: Vec<Vec<f32>> = outs.iter().map(|o| alphas(o, keep)).collect();
+    let n = series[0].len();
+    (0..n)
+        .map(|i| {
+            let v: Vec<f32> = series.iter().map(|s| s[i]).collect();
+            std_dev(&v).powi(2)
+        })
+        .sum::<f64>()
+        / n as f64
+}
+
+/// The temporally smoothed matte flickers much less than chroma_key's on a noisy
+/// backdrop, starts equal to it, and follows a moving foreground at once.
+#[test]
+fn chroma_key_temporal_stabilises_a_flickering_matte() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let n = 12u32;
+    let frames: Vec<Image> = (0..n).map(green_screen).collect();
+    let plain = run_stream(&mut engine, "chroma_key", &[], &frames, 1);
+    let temporal = run_stream(&mut engine, "chroma_key_temporal", &[], &frames, 1);
+    // Frame 0: chroma_key's matte (8-bit alpha inside the effect) and colour.
+    let d0 = max_abs_diff(
+        &alphas(&temporal[0], |_, _| true),
+        &alphas(&plain[0], |_, _| true),
+    );
+    // 8-bit alpha inside the effect, then the r16f matte.
+    assert!(d0 <= 1.0 / 255.0, "frame 0 alpha differs by {d0}");
+    let c0 = max_abs_diff(
+        &select_rgb(&temporal[0], KW, KH, |_, _| true),
+        &select_rgb(&plain[0], KW, KH, |_, _| true),
+    );
+    assert!(c0 < 0.01, "frame 0 colour differs by {c0}");
+    // Backdrop only: away from the squares.
+    let backdrop = |x: u32, y: u32| !((x < 23 && y < 23) || (37..55).contains(&y));
+    let bg_alpha = mean(&alphas(&plain[5], backdrop));
+    let f_plain = alpha_flicker(&plain, 4, backdrop);
+    let f_temporal = alpha_flicker(&temporal, 4, backdrop);
+    let (v_plain, v_temporal) = (
+        alpha_temporal_variance(&plain[4..], backdrop),
+        alpha_temporal_variance(&temporal[4..], backdrop),
+    );
+    println!(
+        "chroma_key_temporal: backdrop mean alpha {bg_alpha:.3}; frames 4-11: mean squared frame-to-frame alpha change chroma_key {f_plain:.5}, temporal {f_temporal:.5} (ratio {:.3}); per-pixel alpha variance over time {v_plain:.5} vs {v_temporal:.5} (ratio {:.3})",
+        f_temporal / f_plain,
+        v_temporal / v_plain
+    );
+    assert!(
+        f_plain > 0.002,
+        "the test backdrop should flicker: {f_plain}"
+    );
+    assert!(f_temporal < 0.25 * f_plain, "{f_temporal} vs {f_plain}");
+    assert!(v_temporal < 0.5 * v_plain, "{v_temporal} vs {v_plain}");
+    // The static red square stays opaque.
+    let red = |x: u32, y: u32| (5..19).contains(&x) && (5..19).contains(&y);
+    for out in &temporal {
+        assert!(alphas(out, red).iter().all(|&a| a > 0.999));
+    }
+    // The moving square: opaque where it arrives, the current matte where it left.
+    let mut worst_left = 0f32;
+    for t in 1..n {
+        let (x0, x1) = (2 + 4 * (t - 1), 2 + 4 * t);
+        let arrived = alphas(&temporal[t as usize], |x, y| {
+            (41..51).contains(&y) && (x1 + 1..x1 + 11).contains(&x)
+        });
+        assert!(arrived.iter().all(|&a| a > 0.98), "frame {t}: {arrived:?}");
+        let left = |x: u32, y: u32| (41..51).contains(&y) && (x0 + 1..x1 - 1).contains(&x);
+        let d = max_abs_diff(
+            &alphas(&temporal[t as usize], left),
+            &alphas(&plain[t as usize], left),
+        );
+        worst_left = worst_left.max(d);
+    }
+    println!("chroma_key_temporal: max |alpha - chroma_key alpha| where the square just left: {worst_left:.4}");
+    assert!(worst_left < 0.02, "{worst_left}");
+    // The other output forms carry the same smoothed matte.
+    let short = &frames[..4];
+    let pre = run_stream(
+        &mut engine,
+        "chroma_key_temporal",
+        &["output=premultiplied"],
+        short,
+        1,
+    );
+    let matte = run_stream(
+        &mut engine,
+        "chroma_key_temporal",
+        &["output=matte"],
+        short,
+        1,
+    );
+    for t in 0..short.len() {
+        for (i, px) in temporal[t].chunks_exact(4).enumerate() {
+            let a = px[3];
+            let (p, m) = (&pre[t][i * 4..i * 4 + 4], &matte[t][i * 4..i * 4 + 4]);
+            for c in 0..3 {
+                assert!((p[c] - px[c] * a).abs() < 1e-3, "premultiplied");
+                assert!((m[c] - srgb_to_linear(a)).abs() < 1e-3, "matte");
+            }
+            assert!((p[3] - a).abs() < 1e-6 && m[3] == 1.0);
+        }
+    }
+}
