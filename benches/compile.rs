@@ -8,9 +8,14 @@ use std::hint::black_box;
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("compile+plan");
     for (name, _) in library::builtin_effects() {
-        let req = CompileRequest { effects: vec![name.clone()], ..Default::default() };
+        let req = CompileRequest {
+            effects: vec![name.clone()],
+            ..Default::default()
+        };
         let (g, _, _) = compile(&req);
-        let input = InputDesc::rgba8_srgb(1920, 1080).with_gbuffer().with_aux_of(&g.expect("shipped effect compiles"));
+        let input = InputDesc::rgba8_srgb(1920, 1080)
+            .with_gbuffer()
+            .with_aux_of(&g.expect("shipped effect compiles"));
         group.bench_function(&name, |b| {
             b.iter(|| {
                 let (g, _, _) = compile(black_box(&req));

@@ -40,13 +40,26 @@ fn bench(c: &mut Criterion) {
     let mut effect = Effect::compile(&[path.display().to_string()], &[]).unwrap();
     for (w, h) in [(64u32, 64u32), (640, 360)] {
         let input = InputDesc::rgba8_srgb(w, h);
-        let mut prepared = effect.prepare(&mut engine, &input, Some(Format::Rgba8Srgb)).unwrap();
+        let mut prepared = effect
+            .prepare(&mut engine, &input, Some(Format::Rgba8Srgb))
+            .unwrap();
         let ctx = engine.ctx.clone();
         let data = vec![128u8; (w * h * 4) as usize];
-        let tex = ctx.upload_texture("bench input", w, h, wgpu::TextureFormat::Rgba8UnormSrgb, &data, wgpu::TextureUsages::empty()).unwrap();
+        let tex = ctx
+            .upload_texture(
+                "bench input",
+                w,
+                h,
+                wgpu::TextureFormat::Rgba8UnormSrgb,
+                &data,
+                wgpu::TextureUsages::empty(),
+            )
+            .unwrap();
         let out = create_output(&ctx, w, h, Format::Rgba8Srgb);
         // Warm up: the first frame pays the software rasteriser's shader compilation.
-        prepared.run(&mut engine, &FrameInputs::single(&tex), &out, false).unwrap();
+        prepared
+            .run(&mut engine, &FrameInputs::single(&tex), &out, false)
+            .unwrap();
         ctx.wait_idle().unwrap();
         let mut gpu_total = Duration::ZERO;
         let mut cpu_total = Duration::ZERO;
@@ -54,9 +67,18 @@ fn bench(c: &mut Criterion) {
         c.bench_function(&format!("executor/10 passes {w}x{h} ({adapter})"), |b| {
             b.iter(|| {
                 let t = Instant::now();
-                let timings = prepared.run(&mut engine, &FrameInputs::single(&tex), &out, true).unwrap();
-                cpu_total += timings.iter().map(|p| Duration::from_secs_f64(p.cpu_ms / 1e3)).sum::<Duration>();
-                gpu_total += timings.iter().filter_map(|p| p.gpu_ms).map(|g| Duration::from_secs_f64(g / 1e3)).sum::<Duration>();
+                let timings = prepared
+                    .run(&mut engine, &FrameInputs::single(&tex), &out, true)
+                    .unwrap();
+                cpu_total += timings
+                    .iter()
+                    .map(|p| Duration::from_secs_f64(p.cpu_ms / 1e3))
+                    .sum::<Duration>();
+                gpu_total += timings
+                    .iter()
+                    .filter_map(|p| p.gpu_ms)
+                    .map(|g| Duration::from_secs_f64(g / 1e3))
+                    .sum::<Duration>();
                 frames += 1;
                 ctx.wait_idle().unwrap();
                 t.elapsed()

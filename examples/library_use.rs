@@ -19,12 +19,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
     }
     let effects: Vec<String> = std::env::args().skip(1).collect();
-    let effects = if effects.is_empty() { vec!["glow".to_string()] } else { effects };
+    let effects = if effects.is_empty() {
+        vec!["glow".to_string()]
+    } else {
+        effects
+    };
     let (width, height) = (640u32, 360u32);
 
     // 1. The application's own device.
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))?;
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter =
+        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))?;
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("application device"),
         required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
@@ -35,7 +41,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 2. The application's own input (a gradient with bright spots) and output textures.
     let input = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("application scene"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -47,19 +57,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for y in 0..height {
         for x in 0..width {
             let spot = ((x % 160) as f32 - 80.0).hypot((y % 120) as f32 - 60.0) < 6.0;
-            let v = if spot { 8.0 } else { 0.2 * x as f32 / width as f32 };
+            let v = if spot {
+                8.0
+            } else {
+                0.2 * x as f32 / width as f32
+            };
             texels.extend([v, v * 0.8, 0.1, 1.0].map(|c| half::f16::from_f32(c).to_bits()));
         }
     }
     queue.write_texture(
         input.as_image_copy(),
         bytemuck::cast_slice(&texels),
-        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * 8), rows_per_image: None },
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(width * 8),
+            rows_per_image: None,
+        },
         input.size(),
     );
     let output = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("application output"),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -69,7 +91,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
 
     // 3. Compile the effect and prepare it for this input, on the application's device.
-    let mut engine = Engine::new(GpuContext::from_existing(adapter, device.clone(), queue.clone()));
+    let mut engine = Engine::new(GpuContext::from_existing(
+        adapter,
+        device.clone(),
+        queue.clone(),
+    ));
     let mut effect = Effect::compile(&effects, &[])?;
     let desc = InputDesc {
         width,
@@ -79,7 +105,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         aux: Vec::new(),
     };
     let mut prepared = effect.prepare(&mut engine, &desc, Some(Format::Rgba8Srgb))?;
-    println!("passes: {:?}", prepared.plan.passes.iter().map(|p| p.path.as_str()).collect::<Vec<_>>());
+    println!(
+        "passes: {:?}",
+        prepared
+            .plan
+            .passes
+            .iter()
+            .map(|p| p.path.as_str())
+            .collect::<Vec<_>>()
+    );
 
     // 4. Frame after frame.
     for frame in 0..5 {
@@ -87,7 +121,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let timings = prepared.run(&mut engine, &FrameInputs::single(&input), &output, true)?;
         engine.ctx.wait_idle()?;
         let gpu: f64 = timings.iter().filter_map(|t| t.gpu_ms).sum();
-        println!("frame {frame}: {:.2} ms wall, {:.2} ms GPU (timestamps)", t.elapsed().as_secs_f64() * 1e3, gpu);
+        println!(
+            "frame {frame}: {:.2} ms wall, {:.2} ms GPU (timestamps)",
+            t.elapsed().as_secs_f64() * 1e3,
+            gpu
+        );
     }
     let pixels = engine.ctx.read_texture(&output)?;
     let centre = ((60 * width + 80) * 4) as usize;

@@ -58,9 +58,12 @@
 //! stream) stores each field's chroma in alternate chroma rows: chroma row `2k + f`
 //! belongs to field `f` and sits between that field's lines (top field: a quarter of the
 //! way, bottom field: three quarters). With [`ChromaFields::Auto`] such frames are
-//! resampled within each field (no chroma mixing across fields, which a deinterlacer needs);
-//! this applies to `420jpeg`, `420mpeg2` and `420` (not `420paldv`). Columns at the edges
-//! are clamped.
+//! resampled within each field (no chroma mixing across fields, which a deinterlacer needs):
+//! upsampling interpolates between the field's chroma rows, downsampling weights the two
+//! field lines around each chroma row 3:1 (top field) or 1:3 (bottom field). This applies
+//! to `420jpeg`, `420mpeg2` and `420` (not `420paldv`). At the picture edges the nearest
+//! chroma sample is repeated. ffmpeg's default RGB conversion ignores interlacing (and
+//! replicates chroma); its `scale=interl=1` does the same as here (see the tests).
 //!
 //! # Speed
 //!
