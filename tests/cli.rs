@@ -147,6 +147,17 @@ fn set_errors_point_into_the_argument() {
     let dir = tempfile::tempdir().unwrap();
     let fx = dir.path().join("p.fx");
     std::fs::write(&fx, "EFFECT.p = { PARAM = { sigma = FLOAT { DEFAULT = 2  RANGE = (0.1, 64) } } PASS = { a = SHADER.s { img = IN  s = PARAM.sigma } } OUT = a }").unwrap();
+    std::fs::write(
+        dir.path().join("s.wgsl"),
+        "@group(0) @binding(0) var img: texture_2d<f32>;
+struct P { s: f32 }
+@group(0) @binding(1) var<uniform> p: P;
+@fragment fn fs_main(@builtin(position) q: vec4<f32>) -> @location(0) vec4<f32> {
+    return textureLoad(img, vec2<i32>(q.xy), 0) * p.s;
+}
+",
+    )
+    .unwrap();
     let f = fx.to_str().unwrap();
     let o = fxrun(&[f, "--check", "--set", "sigma=100"]);
     assert_eq!(code(&o), 1);

@@ -291,9 +291,13 @@ fn run(cli: Cli) -> Result<(), Fail> {
         };
         // Shaders are found, preprocessed, reflected and checked against the
         // script too (no GPU needed).
-        let (_, shader_diags) = fxgraph::shader::load_plan_shaders(&graph, &p, &mut sources, &[]);
+        // (--plan and --dot show the graph whatever its shaders say.)
         let mut notes = notes;
-        notes.extend(shader_diags);
+        if cli.check {
+            let (_, shader_diags) =
+                fxgraph::shader::load_plan_shaders(&graph, &p, &mut sources, &[]);
+            notes.extend(shader_diags);
+        }
         notes.sort();
         if !notes.is_empty() && (!cli.json || notes.has_errors()) {
             eprint!("{}", notes.render(&sources));

@@ -431,10 +431,7 @@ impl FrameSink for FilesSink {
 }
 
 fn y4m_error(e: crate::io::y4m::Y4mError) -> IoError {
-    IoError::Decode {
-        path: e.name().into(),
-        message: e.to_string(),
-    }
+    IoError::from(e)
 }
 
 /// A YUV4MPEG2 stream (e.g. stdin) decoded to 8-bit sRGB frames.
