@@ -324,7 +324,11 @@ fn random_script(spec: &[(Vec<usize>, usize, usize, bool)]) -> String {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    // 256 cases per property in the test suite; PROPTEST_CASES=N for a long fuzz run.
+    #![proptest_config(ProptestConfig {
+        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256),
+        ..ProptestConfig::default()
+    })]
 
     /// On random DAGs: the plan never reads a freed value, never writes a slot that
     /// holds a live value, frees everything; MinPeak's peak equals the lower bound;
