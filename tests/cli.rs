@@ -478,3 +478,94 @@ fn temporal_effects_run_on_a_still_image() {
         assert!(out.exists());
     }
 }
+
+#[test]
+fn renders_the_built_in_scene_through_the_default_chain() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scene.png");
+    let gb = dir.path().join("gbuffer");
+    let o = fxrun(&[
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "96x54",
+        "--gbuffer",
+        gb.to_str().unwrap(),
+        "--lights",
+        "16",
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let img = fxgraph::io::load_image(&out, &Default::default()).unwrap();
+    assert_eq!((img.width, img.height), (96, 54));
+    let v = common::linear(&img.pixels);
+    let mean: f32 = v.iter().sum::<f32>() / v.len() as f32;
+    assert!(
+        mean > 0.05 && mean < 0.95,
+        "a lit, not blank, image: mean {mean}"
+    );
+    for f in ["depth.png", "normal.png", "albedo.png", "scene.exr"] {
+        assert!(gb.join(f).exists(), "missing G-buffer image {f}");
+    }
+    // Each technique renders.
+    for r in ["forward", "light-prepass"] {
+        let o = fxrun(&[
+            "fog",
+            "--scene",
+            "builtin:room",
+            "--renderer",
+            r,
+            "--size",
+            "48x27",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code(&o), 0, "{r}: {}", stderr(&o));
+    }
+    assert_eq!(
+        code(&fxrun(&[
+            "--scene",
+            "builtin:room",
+            "--renderer",
+            "raytraced",
+            "-o",
+            out.to_str().unwrap()
+        ])),
+        1
+    );
+}
+
+#[test]
+fn malformed_gltf_is_rejected_with_exit_1() {
+    if !gpu() {
+        return;
+    }
+    let broken = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/gltf/broken");
+    let Ok(entries) = std::fs::read_dir(&broken) else {
+        eprintln!("skipping: {} is absent", broken.display());
+        return;
+    };
+    // Each broken model is in a folder of its own.
+    let file = entries
+        .map(|e| e.unwrap().path())
+        .filter(|d| d.is_dir())
+        .flat_map(|d| std::fs::read_dir(d).unwrap().map(|e| e.unwrap().path()))
+        .find(|p| {
+            p.extension().is_some_and(|e| e == "gltf")
+                && p.to_string_lossy().contains("IndexOutOfRange")
+        })
+        .expect("a broken .gltf");
+    let dir = tempfile::tempdir().unwrap();
+    let o = fxrun(&[
+        "--scene",
+        file.to_str().unwrap(),
+        "-o",
+        dir.path().join("o.png").to_str().unwrap(),
+        "--size",
+        "32x32",
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+}

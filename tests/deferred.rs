@@ -8,7 +8,6 @@ use fxgraph::deferred::builtin::{box_mesh, grid_plane};
 use fxgraph::deferred::gbuffer::read_rgba_f32;
 use fxgraph::deferred::normal::{self, NormalEncoding};
 use fxgraph::deferred::renderer::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
-use fxgraph::deferred::scene::look_to_rh;
 use fxgraph::deferred::{
     AlphaMode, Camera, Instance, Light, Material, RenderOutput, RenderStats, Renderer,
     RendererOptions, Scene, Technique,
@@ -610,7 +609,6 @@ fn default_light_makes_an_unlit_scene_visible() {
     let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
     let (img, _, _) = render(&ctx, &mut r, &camera, Technique::Deferred);
     assert!(mean_rgb(&img) > 0.02, "black image: {}", mean_rgb(&img));
-    let _ = look_to_rh;
 }
 
 #[test]

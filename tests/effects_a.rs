@@ -238,7 +238,8 @@ fn gaussian_blur_float_matches_oracle() {
             let want = blur_f64(&src, w, h, sigma);
             let d = max_diff(f32s(&px), &want);
             eprintln!("gaussian_blur float sigma {sigma} exact={exact}: max abs diff {d:.2e}");
-            // The intermediate is rgba16f (the input's format): half a 2^-11 step.
+            // The intermediate is rgba16f, written with round-towards-zero on
+            // lavapipe: up to one 2^-11 step.
             assert!(d < 1e-3, "sigma {sigma} exact={exact}: max abs diff {d}");
         }
     }
@@ -284,8 +285,9 @@ fn gaussian_blur_srgb_blurs_linear_light() {
             .collect();
         let d = u8_diff(u8s(&px), &want);
         eprintln!("gaussian_blur sRGB sigma {sigma}: {d:?}");
-        // The intermediate is rgba8-srgb: one more 8-bit rounding (in sRGB steps).
-        assert!(d.max_lsb <= 2, "sigma {sigma}: {d:?}");
+        // lavapipe's sRGB decode and encode are approximations (measured: up to
+        // 0.34 of a code step, and 0.63 LSB instead of 0.5); still within 1 LSB.
+        assert!(d.max_lsb <= 1, "sigma {sigma}: {d:?}");
     }
 }
 
@@ -976,8 +978,8 @@ fn sharpen_matches_oracle_8bit() {
             let want = sharpen_f64(&stored_u8(img), w, h, amount, sigma, 0.0);
             let d = u8_diff(u8s(&px), &want);
             eprintln!("sharpen {name} amount {amount} sigma {sigma}: {d:?}");
-            // The blur may be 1 LSB off (8-bit intermediate); amount scales that.
-            let tol = if amount > 1.0 { 3 } else { 2 };
+            // Errors of the blur are scaled by the amount.
+            let tol = if amount > 1.0 { 2 } else { 1 };
             assert!(
                 d.max_lsb <= tol,
                 "{name} amount {amount} sigma {sigma}: {d:?}"

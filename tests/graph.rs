@@ -384,3 +384,30 @@ proptest! {
         }
     }
 }
+
+/// `--set e.k=v` on an effect `e` with a pass also named `e` sets the effect
+/// parameter only (not a pass parameter `k` of pass `e`).
+#[test]
+fn effect_parameter_override_is_not_also_a_pass_override() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        &dir,
+        "e.fx",
+        "EFFECT.e = { PARAM = { mode = ENUM { VALUES = (a, b)  DEFAULT = a } } PASS = { e = SHADER.s { img = IN  m = PARAM.mode } } OUT = e }",
+    );
+    let (g, d, s) = compile(&CompileRequest {
+        effects: vec![p.display().to_string()],
+        overrides: vec![Override {
+            arg: "e.mode=b".into(),
+        }],
+        ..Default::default()
+    });
+    assert!(d.is_empty(), "{}", d.render(&s));
+    let g = g.unwrap();
+    let pass = g.pass(g.schedule[0]);
+    assert_eq!(pass.params.len(), 1);
+    assert_eq!(
+        (pass.params[0].name.as_str(), pass.params[0].value[0]),
+        ("m", 1.0)
+    );
+}

@@ -109,6 +109,25 @@ struct Cli {
     /// Sequences: frames queued between decode, GPU and encode.
     #[arg(long, default_value_t = 3)]
     queue: usize,
+    /// Render a scene with the deferred renderer as the effect input:
+    /// builtin:room, builtin:bench, or a .gltf/.glb file (size from --size).
+    #[arg(long)]
+    scene: Option<String>,
+    /// Scene camera: a glTF camera index or name, or eye=x,y,z;target=x,y,z;fov=deg.
+    #[arg(long)]
+    camera: Option<String>,
+    /// Scene: add N random point lights.
+    #[arg(long, default_value_t = 0)]
+    lights: usize,
+    /// Scene: seed of the random lights.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Scene: deferred (default), light-prepass or forward.
+    #[arg(long, default_value = "deferred")]
+    renderer: String,
+    /// Scene: write every G-buffer image into DIR.
+    #[arg(long, value_name = "DIR")]
+    gbuffer: Option<PathBuf>,
 }
 
 /// An error with its exit code, already reported or to be printed.
@@ -220,6 +239,12 @@ fn run(cli: Cli) -> Result<(), Fail> {
             println!("{name:<16} {desc}");
         }
         return Ok(());
+    }
+    // The renderer as the input: `--scene`, or `-o OUT` alone (the built-in scene
+    // through the default chain).
+    let default_render = cli.effects.is_empty() && cli.input.is_none() && cli.output.is_some();
+    if cli.scene.is_some() || default_render {
+        return run_scene_cli(&cli);
     }
     if cli.effects.is_empty() {
         return Err(rejected(
@@ -746,6 +771,100 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
     }
     if report.interrupted {
         return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });
+    }
+    Ok(())
+}
+
+fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
+    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN, DEFAULT_CHAIN_SETTINGS};
+    if cli.input.is_some() {
+        return Err(rejected("--scene renders the input: give no -i"));
+    }
+    if cli.output.is_none() && cli.gbuffer.is_none() {
+        return Err(rejected("--scene needs -o OUTPUT or --gbuffer DIR"));
+    }
+    let (width, height) = match &cli.size {
+        Some(s) => parse_size(s)?,
+        None => (1280, 720),
+    };
+    let technique = cli
+        .renderer
+        .parse()
+        .map_err(|e: String| rejected(format!("--renderer {}: {e}", cli.renderer)))?;
+    let default_chain = cli.effects.is_empty() && cli.output.is_some();
+    let effects = if default_chain {
+        DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
+    } else {
+        cli.effects.clone()
+    };
+    let mut overrides: Vec<String> = if default_chain {
+        DEFAULT_CHAIN_SETTINGS
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    } else {
+        Vec::new()
+    };
+    overrides.extend(cli.set.iter().cloned());
+    let job = SceneJob {
+        scene: cli.scene.clone().unwrap_or_else(|| "builtin:room".into()),
+        width,
+        height,
+        camera: cli.camera.clone(),
+        lights: cli.lights,
+        seed: cli.seed,
+        technique,
+        effects,
+        overrides,
+        output: cli.output.clone(),
+        bit_depth: cli.bit_depth,
+        gbuffer: cli.gbuffer.clone(),
+        timings: cli.timings,
+    };
+    let mut engine = Engine::new(
+        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
+            .map_err(RunError::from)?,
+    );
+    let report = run_scene_job(&job, &mut engine)?;
+    if cli.timings {
+        println!(
+            "adapter: {}  scene {} ({} triangles, {} lights visible)  {}x{}",
+            report.adapter, job.scene, report.triangles, report.lights_visible, width, height
+        );
+        for (name, ms) in &report.render_passes {
+            println!("  render {name:<26} gpu {ms:>8.2} ms");
+        }
+        for p in &report.effect_passes {
+            let gpu = p
+                .gpu_ms
+                .map(|g| format!("{g:.2}"))
+                .unwrap_or_else(|| "-".into());
+            println!("  effect {:<26} gpu {:>8} ms", p.path, gpu);
+        }
+        println!(
+            "load {:.1} ms | render cpu {:.1} gpu {} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
+            report.load_ms,
+            report.render_cpu_ms,
+            report.render_gpu_ms.map(|g| format!("{g:.1}")).unwrap_or_else(|| "-".into()),
+            report.effects_ms,
+            report.readback_ms,
+            report.encode_ms,
+            report.total_ms
+        );
+    }
+    if let Some(path) = &cli.timings_json {
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Fail {
+            code: 2,
+            message: e.to_string(),
+        })?;
+        fxgraph::io::write_atomic(path, |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| fxgraph::io::IoError::Io {
+                    path: path.clone(),
+                    source: e,
+                })
+        })
+        .map_err(RunError::from)?;
     }
     Ok(())
 }

@@ -29,6 +29,7 @@ pub mod bench;
 pub mod builtin;
 pub mod gbuffer;
 pub mod gltf_load;
+pub mod job;
 pub mod normal;
 pub mod renderer;
 pub mod scene;

@@ -51,6 +51,9 @@ struct ParsedOverride {
     value: Spanned<RawValue>,
     key_span: Span,
     used: bool,
+    /// Matched an effect parameter: not a pass parameter too (an effect `fog` may
+    /// have a pass `fog`).
+    effect_param: bool,
 }
 
 struct Lowerer<'a> {
@@ -212,6 +215,7 @@ fn parse_overrides(
                 value,
                 key_span,
                 used: false,
+                effect_param: false,
             });
         }
     }
@@ -285,6 +289,7 @@ impl Lowerer<'_> {
             for o in self.overrides.iter_mut() {
                 if o.name == decl.name.node && (o.path.is_empty() || o.path == ns) {
                     o.used = true;
+                    o.effect_param = true;
                     let Some(arg) = raw_to_arg(&o.value) else {
                         self.diags.push(
                             Diagnostic::error(format!(
@@ -463,7 +468,9 @@ impl Lowerer<'_> {
             }
             // `--set pass.name=value`
             for o in self.overrides.iter_mut() {
-                let matches_path = !o.path.is_empty() && (o.path == path || o.path == p.name.node);
+                let matches_path = !o.effect_param
+                    && !o.path.is_empty()
+                    && (o.path == path || o.path == p.name.node);
                 if !matches_path {
                     continue;
                 }

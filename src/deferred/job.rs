@@ -1,0 +1,194 @@
+//! `fxrun EFFECT... --scene SCENE -o OUT`: render a scene with the deferred
+//! renderer and run an effect chain on it, with the G-buffer as `AUX.*` inputs and
+//! the camera as the standard values `near`, `far`, `proj`, `inv_proj`.
+
+use super::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
+use super::scene::{Camera, Scene, SceneError};
+use crate::gpu::executor::{Engine, ExecError, FrameInputs, PassTiming};
+use crate::gpu::runner::{create_output, output_format_for, read_pixels, Effect, RunError};
+use crate::graph::plan::{gbuffer_aux, InputDesc};
+use crate::io::{self, IoError, SaveOptions};
+use crate::script::types::{ColorSpace, Format};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// The effect chain of `fxrun -o OUT` with no effect and no input: the built-in
+/// scene through SSAO, fog, glow, tone mapping and FXAA.
+pub const DEFAULT_CHAIN: [&str; 5] = ["ssao", "fog", "glow", "tonemap", "fxaa"];
+
+/// Settings of the default chain for the built-in scene's scale (a user's `--set`
+/// comes after them and wins).
+pub const DEFAULT_CHAIN_SETTINGS: [&str; 1] = ["fog.density=0.01"];
+
+/// What to render and where to write it.
+#[derive(Debug, Clone)]
+pub struct SceneJob {
+    /// `builtin:room`, `builtin:bench` or a `.gltf`/`.glb` path.
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    /// A camera spec (see [`Camera::parse_spec`]); `None`: the scene's first camera
+    /// or a framing of its bounds.
+    pub camera: Option<String>,
+    /// Random point lights to add, and their seed.
+    pub lights: usize,
+    pub seed: u64,
+    pub technique: Technique,
+    /// Effects to run (empty: write the rendered scene itself).
+    pub effects: Vec<String>,
+    pub overrides: Vec<String>,
+    pub output: Option<PathBuf>,
+    pub bit_depth: Option<u8>,
+    /// Write every G-buffer image into this folder.
+    pub gbuffer: Option<PathBuf>,
+    pub timings: bool,
+}
+
+/// Timings of a scene job.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct SceneReport {
+    pub adapter: String,
+    pub load_ms: f64,
+    pub render_cpu_ms: f64,
+    pub render_gpu_ms: Option<f64>,
+    pub render_passes: Vec<(String, f64)>,
+    pub triangles: usize,
+    pub lights_visible: usize,
+    pub effect_passes: Vec<PassTiming>,
+    pub effects_ms: f64,
+    pub readback_ms: f64,
+    pub encode_ms: f64,
+    pub total_ms: f64,
+}
+
+fn scene_error(e: SceneError) -> RunError {
+    RunError::BadInput(IoError::Decode {
+        path: PathBuf::new(),
+        message: e.to_string(),
+    })
+}
+
+fn render_error(e: RenderError) -> RunError {
+    match e {
+        RenderError::Gpu(g) => RunError::Gpu(g),
+        RenderError::Scene(s) => scene_error(s),
+        RenderError::Io(i) => RunError::from(i),
+        RenderError::Invalid(m) => RunError::BadInput(IoError::Unsupported {
+            path: PathBuf::new(),
+            message: m,
+        }),
+    }
+}
+
+/// Render the scene, run the effects, write the output (and the G-buffer).
+pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport, RunError> {
+    let t_all = Instant::now();
+    let mut report = SceneReport {
+        adapter: engine.ctx.info.name.clone(),
+        ..Default::default()
+    };
+    // Check everything the user wrote before rendering.
+    let mut effect = if job.effects.is_empty() {
+        None
+    } else {
+        Some(Effect::compile(&job.effects, &job.overrides)?)
+    };
+    let out_format = match &job.output {
+        Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
+        None => None,
+    };
+    let t = Instant::now();
+    let mut scene = Scene::load(&job.scene).map_err(scene_error)?;
+    if job.lights > 0 {
+        scene.add_random_point_lights(job.lights, job.seed);
+    }
+    scene.ensure_lights();
+    let camera = match &job.camera {
+        Some(spec) => Camera::parse_spec(spec, &scene).map_err(scene_error)?,
+        None => scene.default_camera(),
+    };
+    report.load_ms = t.elapsed().as_secs_f64() * 1e3;
+    let ctx = engine.ctx.clone();
+    let mut renderer =
+        Renderer::new(&ctx, &scene, &RendererOptions::default()).map_err(render_error)?;
+    let timer = if job.timings {
+        crate::gpu::context::GpuTimer::new(&ctx, 64)
+    } else {
+        None
+    };
+    let (out, stats): (_, RenderStats) = renderer
+        .render(
+            &ctx,
+            &camera,
+            job.width,
+            job.height,
+            job.technique,
+            timer.as_ref(),
+        )
+        .map_err(render_error)?;
+    report.render_cpu_ms = stats.cpu_ms;
+    report.render_gpu_ms = stats.gpu_ms;
+    report.render_passes = stats.pass_ms.clone();
+    report.triangles = stats.triangles;
+    report.lights_visible = stats.lights_visible;
+    if let Some(dir) = &job.gbuffer {
+        super::write_gbuffer(dir, &out, &ctx).map_err(render_error)?;
+    }
+    let Some(path) = &job.output else {
+        report.total_ms = t_all.elapsed().as_secs_f64() * 1e3;
+        return Ok(report);
+    };
+    let out_format = out_format.expect("output format checked");
+    let (result_tex, result_format) = match effect.as_mut() {
+        None => (None, Format::Rgba16f),
+        Some(effect) => {
+            let desc = InputDesc {
+                width: job.width,
+                height: job.height,
+                format: Format::Rgba16f,
+                colorspace: ColorSpace::Linear,
+                aux: gbuffer_aux(),
+            };
+            let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
+            let o = prepared.plan.output;
+            let target = create_output(&ctx, o.width, o.height, o.format);
+            let t = Instant::now();
+            let mut inputs = FrameInputs::still(&out.scene, &prepared.plan);
+            inputs.aux = out.aux_map();
+            inputs.camera = Some(out.camera);
+            report.effect_passes = prepared
+                .run(engine, &inputs, &target, job.timings)
+                .map_err(|e| match e {
+                    ExecError::Gpu(g) => RunError::Gpu(g),
+                    other => RunError::Other(other.to_string()),
+                })?;
+            report.effects_ms = t.elapsed().as_secs_f64() * 1e3;
+            (Some(target), o.format)
+        }
+    };
+    let t = Instant::now();
+    let (w, h) = result_tex
+        .as_ref()
+        .map(|t| (t.width(), t.height()))
+        .unwrap_or((job.width, job.height));
+    let pixels = read_pixels(
+        &ctx,
+        result_tex.as_ref().unwrap_or(&out.scene),
+        result_format,
+    )?;
+    report.readback_ms = t.elapsed().as_secs_f64() * 1e3;
+    let t = Instant::now();
+    io::save_image(
+        path,
+        w,
+        h,
+        &pixels,
+        &SaveOptions {
+            bit_depth: job.bit_depth,
+            assume_linear: false,
+        },
+    )?;
+    report.encode_ms = t.elapsed().as_secs_f64() * 1e3;
+    report.total_ms = t_all.elapsed().as_secs_f64() * 1e3;
+    Ok(report)
+}
