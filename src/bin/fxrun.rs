@@ -236,7 +236,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
     }
     if cli.list {
         for (name, desc) in library::builtin_effects() {
-            println!("{name:<16} {desc}");
+            println!("{name:<20} {desc}");
         }
         return Ok(());
     }

@@ -17,10 +17,22 @@ pub fn builtin_effects() -> Vec<(String, String)> {
         let m = parse_module(&sources, id, &mut diags);
         let stem = file.trim_end_matches(".fx");
         if let Some(e) = main_effect(&m, stem) {
-            out.push((
-                e.name.node.clone(),
-                first_line(e.description.as_deref().unwrap_or("")),
-            ));
+            // An effect without a DESCRIPTION (the seed's glow is kept verbatim) is
+            // described by its shaders.
+            let desc = match &e.description {
+                Some(d) => first_line(d),
+                None => {
+                    let shaders: Vec<String> = e
+                        .passes
+                        .iter()
+                        .map(|p| match &p.kind {
+                            crate::script::ast::PassKind::Shader(s) | crate::script::ast::PassKind::Effect(s) => s.node.clone(),
+                        })
+                        .collect();
+                    format!("passes: {}", shaders.join(" -> "))
+                }
+            };
+            out.push((e.name.node.clone(), desc));
         }
     }
     out.sort();
