@@ -13,9 +13,15 @@
 //          true: one textureLoad per texel, 2r + 1 fetches (does not depend on
 //          the sampler's sub-texel precision; a little slower on lavapipe)
 //
-// Passes (both at the input's size, in the input's format: 8-bit stays 8-bit):
-//   horizontal  SHADER.gauss            IN -> horizontal blur
-//   vertical    SHADER.gauss VERTICAL   horizontal -> output
+// Passes (both at the input's size):
+//   horizontal  SHADER.gauss            IN -> horizontal blur, rgba16f
+//   vertical    SHADER.gauss VERTICAL   horizontal -> output, in the input's format
+//                                       (8-bit stays 8-bit)
+// The intermediate is rgba16f rather than the input's format: on lavapipe
+// sampling an rgba8-srgb texture with bilinear filtering costs more than sampling
+// rgba16f (the sRGB decode), so for 8-bit photos this is ~10% faster overall
+// (1920x1080, sigma 8: 328 vs 362 ms), and it saves an 8-bit rounding between the
+// passes. (With --assume-linear, plain rgba8 would be ~20% faster.)
 EFFECT.gaussian_blur = {
     DESCRIPTION = "Gaussian blur (separable, exact normalised weights, replicated border).\nKernel radius as OpenCV's GaussianBlur for 8-bit images: r = (round(6 sigma + 1) | 1 - 1) / 2."
     FORMAT = IN
@@ -28,6 +34,7 @@ EFFECT.gaussian_blur = {
             img = IN
             sigma = PARAM.sigma
             DEFINE.EXACT = PARAM.exact
+            OUT.FORMAT = rgba16f
         }
         vertical = SHADER.gauss {
             img = PASS.horizontal

@@ -14,10 +14,12 @@
 //   threshold  per-channel differences |d| below this are not sharpened, so
 //              noise and smooth areas stay as they are (0 .. 1, default 0)
 //
-// Passes (both at the input's size, in the input's format):
-//   blur     SHADER.gauss                     IN -> horizontal blur
+// Passes (both at the input's size):
+//   blur     SHADER.gauss                     IN -> horizontal blur, rgba16f (see
+//                                             gaussian_blur.fx for why)
 //   sharpen  SHADER.gauss VERTICAL UNSHARP    vertical blur of `blur`, combined
-//                                             with IN in the same pass -> output
+//                                             with IN in the same pass -> output,
+//                                             in the input's format
 EFFECT.sharpen = {
     DESCRIPTION = "Unsharp mask: in + amount * (in - gaussian_blur(in, sigma)), with a threshold."
     FORMAT = IN
@@ -30,6 +32,7 @@ EFFECT.sharpen = {
         blur = SHADER.gauss {
             img = IN
             sigma = PARAM.sigma
+            OUT.FORMAT = rgba16f
         }
         sharpen = SHADER.gauss {
             img = PASS.blur

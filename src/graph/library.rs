@@ -26,7 +26,8 @@ pub fn builtin_effects() -> Vec<(String, String)> {
                         .passes
                         .iter()
                         .map(|p| match &p.kind {
-                            crate::script::ast::PassKind::Shader(s) | crate::script::ast::PassKind::Effect(s) => s.node.clone(),
+                            crate::script::ast::PassKind::Shader(s)
+                            | crate::script::ast::PassKind::Effect(s) => s.node.clone(),
                         })
                         .collect();
                     format!("passes: {}", shaders.join(" -> "))
