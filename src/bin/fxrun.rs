@@ -738,8 +738,8 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
             report.adapter, report.frames_in, report.frames_out, report.wall_ms, report.fps
         );
         eprintln!(
-            "stage busy: decode {:.0} ms ({:.0}%), gpu {:.0} ms ({:.0}%), encode {:.0} ms ({:.0}%)  (frames held at most: {})",
-            report.decode_busy_ms, d * 100.0, report.gpu_busy_ms, g * 100.0, report.encode_busy_ms, e * 100.0, report.frames_held_max
+            "stage busy: decode {:.0} ms ({:.0}%), gpu {:.0} ms ({:.0}%), encode {:.0} ms ({:.0}%); the encoder waited {:.0} ms for the GPU  (frames held at most: {})",
+            report.decode_busy_ms, d * 100.0, report.gpu_busy_ms, g * 100.0, report.encode_busy_ms, e * 100.0, report.readback_wait_ms, report.frames_held_max
         );
         for p in &report.passes {
             let gpu = p

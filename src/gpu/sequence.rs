@@ -95,6 +95,8 @@ pub struct SequenceReport {
     pub decode_busy_ms: f64,
     pub gpu_busy_ms: f64,
     pub encode_busy_ms: f64,
+    /// Time the encode thread waited for the GPU to finish frames (not busy).
+    pub readback_wait_ms: f64,
     /// Per-pass timings of the last frame (with `timings`).
     pub passes: Vec<PassTiming>,
     pub interrupted: bool,
@@ -169,26 +171,32 @@ pub fn run_sequence(
         .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
     let encoder = std::thread::Builder::new()
         .name("fxgraph encode".into())
-        .spawn(move || -> (Duration, Result<u64, RunError>) {
+        .spawn(move || -> (Duration, Duration, Result<u64, RunError>) {
+            // `wait`: blocked until the GPU finished the frame; `busy`: converting and
+            // writing it.
             let mut busy = Duration::ZERO;
+            let mut wait = Duration::ZERO;
             let mut written = 0u64;
             for (number, pending, format) in enc_rx {
                 let t = Instant::now();
                 let (w, h) = (pending.width(), pending.height());
-                let result = pending.finish().map_err(RunError::from).and_then(|raw| {
+                let raw = pending.finish().map_err(RunError::from);
+                wait += t.elapsed();
+                let t = Instant::now();
+                let result = raw.and_then(|raw| {
                     let pixels = super::runner::pixels_from_bytes(raw, format)?;
                     sink.write(number, w, h, pixels).map_err(RunError::from)
                 });
                 busy += t.elapsed();
                 if let Err(e) = result {
-                    return (busy, Err(e));
+                    return (busy, wait, Err(e));
                 }
                 written += 1;
             }
             let t = Instant::now();
             let r = sink.finish().map_err(RunError::from).map(|_| written);
             busy += t.elapsed();
-            (busy, r)
+            (busy, wait, r)
         })
         .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))?;
 
@@ -346,10 +354,12 @@ pub fn run_sequence(
     drop(enc_tx);
     drop(dec_rx);
     let decode_busy = decoder.join().unwrap_or_default();
-    let (encode_busy, written) = encoder.join().unwrap_or((
+    let (encode_busy, readback_wait, written) = encoder.join().unwrap_or((
+        Duration::ZERO,
         Duration::ZERO,
         Err(RunError::Other("the encode thread panicked".into())),
     ));
+    report.readback_wait_ms = ms(readback_wait);
     report.decode_busy_ms = ms(decode_busy);
     report.gpu_busy_ms = ms(gpu_busy);
     report.encode_busy_ms = ms(encode_busy);
