@@ -446,13 +446,22 @@ fn describe(graph: &fxgraph::graph::Graph) {
                 fxgraph::script::types::ParamType::Enum(v) => format!(" one of {}", v.join("|")),
                 _ => String::new(),
             };
+            // ENUM values by name, BOOL as true/false.
+            let show = |v: &[f64]| match &p.ty {
+                fxgraph::script::types::ParamType::Enum(names) => names
+                    .get(v[0] as usize)
+                    .cloned()
+                    .unwrap_or_else(|| format_value(v)),
+                fxgraph::script::types::ParamType::Bool => (v[0] != 0.0).to_string(),
+                _ => format_value(v),
+            };
             println!(
                 "  {}.{:<14} {:<5} = {:<10} (default {}){range}{choices}  {}",
                 p.effect,
                 p.name,
                 p.ty.name(),
-                format_value(&p.value),
-                format_value(&p.default),
+                show(&p.value),
+                show(&p.default),
                 p.description
             );
         }
