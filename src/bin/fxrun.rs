@@ -3,7 +3,6 @@
 //! Exit codes: 0 ok, 1 input rejected (script, shader, image or argument), 2 I/O,
 //! GPU or internal error.
 
-use anyhow::Context as _;
 use clap::Parser;
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
 use fxgraph::gpu::executor::Engine;
@@ -397,15 +396,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
         print_timings(&report);
     }
     if let Some(path) = &cli.timings_json {
-        let text = serde_json::to_string_pretty(&report).context("serializing timings")?;
-        fxgraph::io::write_atomic(path, |w| {
-            w.write_all(text.as_bytes())
-                .map_err(|e| fxgraph::io::IoError::Io {
-                    path: path.clone(),
-                    source: e,
-                })
-        })
-        .map_err(RunError::from)?;
+        write_json(path, &report)?;
     }
     Ok(())
 }
@@ -765,18 +756,7 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
         }
     }
     if let Some(path) = &cli.timings_json {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Fail {
-            code: 2,
-            message: e.to_string(),
-        })?;
-        fxgraph::io::write_atomic(path, |w| {
-            w.write_all(text.as_bytes())
-                .map_err(|e| fxgraph::io::IoError::Io {
-                    path: path.clone(),
-                    source: e,
-                })
-        })
-        .map_err(RunError::from)?;
+        write_json(path, &report)?;
     }
     if report.interrupted {
         return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });
@@ -862,18 +842,24 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         );
     }
     if let Some(path) = &cli.timings_json {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Fail {
-            code: 2,
-            message: e.to_string(),
-        })?;
-        fxgraph::io::write_atomic(path, |w| {
-            w.write_all(text.as_bytes())
-                .map_err(|e| fxgraph::io::IoError::Io {
-                    path: path.clone(),
-                    source: e,
-                })
-        })
-        .map_err(RunError::from)?;
+        write_json(path, &report)?;
     }
+    Ok(())
+}
+
+/// Write `value` as pretty JSON to `path`, atomically (`--timings-json`).
+fn write_json(path: &std::path::Path, value: &impl serde::Serialize) -> Result<(), Fail> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| Fail {
+        code: 2,
+        message: e.to_string(),
+    })?;
+    fxgraph::io::write_atomic(path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(|e| fxgraph::io::IoError::Io {
+                path: path.to_path_buf(),
+                source: e,
+            })
+    })
+    .map_err(RunError::from)?;
     Ok(())
 }
