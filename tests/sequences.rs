@@ -312,3 +312,79 @@ fn truncated_y4m_is_an_error_naming_the_frame() {
     );
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
 }
+
+/// Ctrl-C (SIGINT) mid-sequence: exit 130, every written frame complete, no
+/// temporary left, and `--skip-existing` finishes the rest.
+#[cfg(unix)]
+#[test]
+fn interrupt_leaves_complete_frames_and_resumes() {
+    if common::engine().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let fx = setup(dir.path());
+    let n = 60;
+    write_frames(&dir.path().join("in"), n);
+    let input = dir.path().join("in/f%03d.png");
+    let out_dir = dir.path().join("out");
+    let out = out_dir.join("o%03d.png");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args([
+            &fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--queue",
+            "1",
+        ])
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for the first frames, then interrupt.
+    let t0 = std::time::Instant::now();
+    while std::fs::read_dir(&out_dir).map(|d| d.count()).unwrap_or(0) < 3 {
+        assert!(t0.elapsed().as_secs() < 60, "no output appeared");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let status = child.wait().unwrap();
+    let written: Vec<_> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(
+        written
+            .iter()
+            .all(|p| !p.to_string_lossy().contains("fxtmp")),
+        "temporary left: {written:?}"
+    );
+    for p in &written {
+        fxgraph::io::load_image(p, &Default::default())
+            .unwrap_or_else(|e| panic!("incomplete frame {}: {e}", p.display()));
+    }
+    eprintln!(
+        "interrupted after {} of {n} frames, status {status:?}",
+        written.len()
+    );
+    if written.len() < n as usize {
+        assert_eq!(status.code(), Some(130), "an interrupted run exits 130");
+    }
+    let o = fxrun(
+        &[
+            &fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--skip-existing",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), n as usize);
+}
