@@ -6,7 +6,7 @@ use super::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Techn
 use super::scene::{Camera, Scene, SceneError};
 use crate::gpu::executor::{Engine, ExecError, FrameInputs, PassTiming};
 use crate::gpu::runner::{create_output, output_format_for, read_pixels, Effect, RunError};
-use crate::graph::plan::{gbuffer_aux, InputDesc};
+use crate::graph::plan::InputDesc;
 use crate::io::{self, IoError, SaveOptions};
 use crate::script::types::{ColorSpace, Format};
 use std::path::PathBuf;
@@ -147,7 +147,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
                 height: job.height,
                 format: Format::Rgba16f,
                 colorspace: ColorSpace::Linear,
-                aux: gbuffer_aux(),
+                aux: renderer.aux_formats().to_vec(),
             };
             let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
             let o = prepared.plan.output;

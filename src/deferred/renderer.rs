@@ -426,6 +426,9 @@ struct LightLists {
 /// GPU resources of one scene; renders frames of any size, camera and technique.
 pub struct Renderer {
     opts: RendererOptions,
+    /// The auxiliary images' names and formats: `gbuffer_aux()`, except that depth is
+    /// R16Float where R32Float cannot be rendered (GL on llvmpipe).
+    aux_formats: Vec<(String, crate::script::types::Format)>,
     name: String,
     lights: Vec<Light>,
     background: Vec3,
@@ -524,6 +527,16 @@ impl Renderer {
         opts: &RendererOptions,
     ) -> Result<Renderer, RenderError> {
         let start = Instant::now();
+        if ctx.info.backend == wgpu::Backend::Gl {
+            // Its shaders read the depth buffer with textureLoad, which naga cannot
+            // translate to GLSL.
+            return Err(RenderError::Gpu(GpuError::UnsupportedFormat {
+                what: "the deferred renderer".into(),
+                format: "Depth32Float read in shaders".into(),
+                adapter: ctx.info.name.clone(),
+                reason: "the GL backend cannot read depth textures in shaders; use Vulkan (software: apt-get install mesa-vulkan-drivers)".into(),
+            }));
+        }
         scene.validate()?;
         let device = &ctx.device;
         let name = scene.name.clone();
@@ -1038,7 +1051,21 @@ impl Renderer {
             scene.materials.len(),
             gpu_textures.len()
         );
+        let depth_renderable = ctx.format_support(wgpu::TextureFormat::R32Float).render;
+        if !depth_renderable {
+            log::warn!(
+                "this adapter cannot render to R32Float: AUX.depth is R16Float (half precision)"
+            );
+        }
+        let aux_formats = crate::graph::plan::gbuffer_aux()
+            .into_iter()
+            .map(|(n, f)| match (n.as_str(), depth_renderable) {
+                ("depth", false) => (n, crate::script::types::Format::R16f),
+                _ => (n, f),
+            })
+            .collect();
         Ok(Renderer {
+            aux_formats,
             opts: opts.clone(),
             name,
             lights: scene.lights.clone(),
@@ -1327,7 +1354,7 @@ impl Renderer {
                 "fs_aux_a",
                 &[],
                 vec![
-                    target(F::R32Float),
+                    target(crate::gpu::executor::wgpu_format(self.aux_format("depth"))),
                     target(F::Rgba16Float),
                     target(F::Rgba16Float),
                 ],
@@ -1383,6 +1410,20 @@ impl Renderer {
         Ok(())
     }
 
+    /// The auxiliary images this renderer produces, with their formats (plan effects
+    /// with these).
+    pub fn aux_formats(&self) -> &[(String, crate::script::types::Format)] {
+        &self.aux_formats
+    }
+
+    fn aux_format(&self, name: &str) -> crate::script::types::Format {
+        self.aux_formats
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, f)| *f)
+            .expect("known aux image")
+    }
+
     fn pipeline(&self, which: Pipe) -> &wgpu::RenderPipeline {
         &self.pipelines[&which]
     }
@@ -1432,7 +1473,9 @@ impl Renderer {
             let (diffuse, diffuse_view) = make("deferred light buffer diffuse", LIGHT_FORMAT);
             let (specular, specular_view) = make("deferred light buffer specular", LIGHT_FORMAT);
             let (scene, scene_view) = make("deferred scene (HDR)", SCENE_FORMAT);
-            let aux = crate::graph::plan::gbuffer_aux()
+            let aux = self
+                .aux_formats
+                .clone()
                 .into_iter()
                 .map(|(name, format)| {
                     let (t, v) = make(
