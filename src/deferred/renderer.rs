@@ -927,58 +927,38 @@ impl Renderer {
                 gpu_textures.insert((index, srgb), view.clone());
                 Ok(view)
             };
-        let white = ctx
-            .upload_texture(
-                "deferred default white texture",
-                1,
-                1,
-                wgpu::TextureFormat::Rgba8UnormSrgb,
-                &[255, 255, 255, 255],
-                wgpu::TextureUsages::empty(),
-            )?
-            .create_view(&wgpu::TextureViewDescriptor {
-                label: Some("deferred default white texture view"),
-                ..Default::default()
-            });
-        let flat = ctx
-            .upload_texture(
-                "deferred default flat normal texture",
-                1,
-                1,
-                wgpu::TextureFormat::Rgba8Unorm,
-                &[128, 128, 255, 255],
-                wgpu::TextureUsages::empty(),
-            )?
-            .create_view(&wgpu::TextureViewDescriptor {
-                label: Some("deferred default flat normal texture view"),
-                ..Default::default()
-            });
-        let dummy_rgba8 = ctx
-            .upload_texture(
-                "deferred dummy rgba8",
-                1,
-                1,
-                wgpu::TextureFormat::Rgba8Unorm,
-                &[0, 0, 0, 0],
-                wgpu::TextureUsages::empty(),
-            )?
-            .create_view(&wgpu::TextureViewDescriptor {
-                label: Some("deferred dummy rgba8 view"),
-                ..Default::default()
-            });
-        let dummy_rgba16 = ctx
-            .upload_texture(
-                "deferred dummy rgba16f",
-                1,
-                1,
-                wgpu::TextureFormat::Rgba16Float,
-                &[0; 8],
-                wgpu::TextureUsages::empty(),
-            )?
-            .create_view(&wgpu::TextureViewDescriptor {
-                label: Some("deferred dummy rgba16f view"),
-                ..Default::default()
-            });
+        // 1x1 textures: defaults for missing material maps and placeholders.
+        let one_texel = |label: &str,
+                         format: wgpu::TextureFormat,
+                         texel: &[u8]|
+         -> Result<wgpu::TextureView, GpuError> {
+            Ok(ctx
+                .upload_texture(label, 1, 1, format, texel, wgpu::TextureUsages::empty())?
+                .create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(&format!("{label} view")),
+                    ..Default::default()
+                }))
+        };
+        let white = one_texel(
+            "deferred default white texture",
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            &[255, 255, 255, 255],
+        )?;
+        let flat = one_texel(
+            "deferred default flat normal texture",
+            wgpu::TextureFormat::Rgba8Unorm,
+            &[128, 128, 255, 255],
+        )?;
+        let dummy_rgba8 = one_texel(
+            "deferred dummy rgba8",
+            wgpu::TextureFormat::Rgba8Unorm,
+            &[0, 0, 0, 0],
+        )?;
+        let dummy_rgba16 = one_texel(
+            "deferred dummy rgba16f",
+            wgpu::TextureFormat::Rgba16Float,
+            &[0; 8],
+        )?;
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("deferred material sampler"),
             address_mode_u: wgpu::AddressMode::Repeat,
