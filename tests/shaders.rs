@@ -177,9 +177,9 @@ fn each_define_set_compiles_once() {
     // a, b share one pipeline; c has other defines; d renders to the output's
     // format (rgba8 too), so it reuses a/b's: 2 pipelines.
     assert_eq!(engine.pipelines_created - before, 2);
-    // Vertical taps at MODE 2 (gain 2) over horizontal taps: the result is not the input.
+    // The four passes ran into an 8x4 output.
     let fxgraph::io::Pixels::U8(v) = px else {
-        panic!()
+        panic!("rgba8 output reads back as bytes")
     };
     assert_eq!(v.len(), 8 * 4 * 4);
 }

@@ -4,7 +4,7 @@
 
 use super::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
 use super::scene::{Camera, Scene, SceneError};
-use crate::gpu::executor::{Engine, ExecError, FrameInputs, PassTiming};
+use crate::gpu::executor::{Engine, FrameInputs, PassTiming};
 use crate::gpu::runner::{create_output, output_format_for, read_pixels, Effect, RunError};
 use crate::graph::plan::InputDesc;
 use crate::io::{self, IoError, SaveOptions};
@@ -156,12 +156,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             let mut inputs = FrameInputs::still(&out.scene, &prepared.plan);
             inputs.aux = out.aux_map();
             inputs.camera = Some(out.camera);
-            report.effect_passes = prepared
-                .run(engine, &inputs, &target, job.timings)
-                .map_err(|e| match e {
-                    ExecError::Gpu(g) => RunError::Gpu(g),
-                    other => RunError::Other(other.to_string()),
-                })?;
+            report.effect_passes = prepared.run(engine, &inputs, &target, job.timings)?;
             report.effects_ms = t.elapsed().as_secs_f64() * 1e3;
             (Some(target), o.format)
         }

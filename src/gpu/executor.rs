@@ -2,7 +2,7 @@
 //! and runs it frame after frame, interpreting the plan's `Alloc / Run / Free` steps.
 
 use super::context::{GpuContext, GpuError, GpuTimer};
-use crate::graph::plan::{Plan, PlannedPass, Resource, ReusePolicy, Step, TextureDesc, View};
+use crate::graph::plan::{Plan, Resource, ReusePolicy, Step, TextureDesc, View};
 use crate::graph::Graph;
 use crate::script::types::{Filter, Format, Sampling, Wrap};
 use crate::script::{Diagnostic, Diagnostics, SourceMap};
@@ -323,7 +323,6 @@ impl Engine {
                 });
                 (u.binding, layout.clone(), buffer)
             });
-            let _ = pi;
             passes.push(GpuPass {
                 path: p.path.clone(),
                 pipeline,
@@ -588,8 +587,8 @@ impl Prepared {
         let mut to_release: Vec<wgpu::Texture> = Vec::new();
         let mut pass_i = 0usize;
         let result: Result<(), ExecError> = (|| {
-            for step in self.plan.steps.clone() {
-                match step {
+            for si in 0..self.plan.steps.len() {
+                match self.plan.steps[si] {
                     Step::Alloc { slot, .. } => {
                         if self.slots[slot].is_none() {
                             let d = self.plan.slots[slot];
@@ -608,22 +607,22 @@ impl Prepared {
                     }
                     Step::Run { pass } => {
                         let t0 = Instant::now();
-                        let p = self.plan.passes[pass].clone();
                         self.encode_pass(
                             engine,
                             &ctx,
                             pass,
-                            &p,
                             inputs,
                             output,
                             &std_base,
                             timer.as_ref().map(|t| (t, pass_i as u32)),
                         )?;
                         pass_i += 1;
-                        // Textures whose last reader was this pass go back now.
+                        // Textures released by the steps after the previous pass:
+                        // its work is submitted, so they go back now.
                         for t in to_release.drain(..) {
                             t.destroy();
                         }
+                        let p = &self.plan.passes[pass];
                         timings.push(PassTiming {
                             path: p.path.clone(),
                             width: p.desc.width,
@@ -705,13 +704,13 @@ impl Prepared {
         engine: &mut Engine,
         ctx: &GpuContext,
         index: usize,
-        p: &PlannedPass,
         inputs: &FrameInputs,
         output: &wgpu::Texture,
         std_base: &StdContext,
         timer: Option<(&GpuTimer, u32)>,
     ) -> Result<(), ExecError> {
         let gp = &self.passes[index];
+        let p = &self.plan.passes[index];
         let target = self.texture_for(&p.output, inputs, output)?;
         let samplers: Vec<(u32, wgpu::Sampler)> = gp
             .samplers
@@ -802,12 +801,6 @@ impl Prepared {
             Ok(())
         })??;
         Ok(())
-    }
-
-    /// The texture a persistent ring holds `back` frames ago (for tests and tools).
-    pub fn ring_texture(&self, ring: usize, back: u32) -> &wgpu::Texture {
-        let n = self.rings[ring].len();
-        &self.rings[ring][(self.ring_head[ring] + back as usize) % n]
     }
 }
 

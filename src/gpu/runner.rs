@@ -43,6 +43,21 @@ impl RunError {
     }
 }
 
+/// Errors of running a prepared effect (its diagnostics were reported when it
+/// was prepared, so a rejection here is internal).
+impl From<ExecError> for RunError {
+    fn from(e: ExecError) -> Self {
+        match e {
+            ExecError::Gpu(g) => RunError::Gpu(g),
+            ExecError::Rejected(d) => RunError::Other(format!(
+                "{} error(s) in the effect or its shaders",
+                d.error_count()
+            )),
+            ExecError::Input(s) => RunError::Other(s),
+        }
+    }
+}
+
 impl From<IoError> for RunError {
     fn from(e: IoError) -> Self {
         if e.is_input_error() {
@@ -312,20 +327,13 @@ pub fn apply_to_image(
     // Fail on the output path before doing the work.
     let out_format = output_format_for(&job.output, job.bit_depth, job.assume_linear)?;
     let t = Instant::now();
-    let img = io::load_image(
-        &job.input,
-        &LoadOptions {
-            assume_linear: job.assume_linear,
-        },
-    )?;
+    let load = LoadOptions {
+        assume_linear: job.assume_linear,
+    };
+    let img = io::load_image(&job.input, &load)?;
     let mut aux_imgs = Vec::new();
     for (name, path) in &job.aux {
-        let a = io::load_image(
-            path,
-            &LoadOptions {
-                assume_linear: job.assume_linear,
-            },
-        )?;
+        let a = io::load_image(path, &load)?;
         if (a.width, a.height) != (img.width, img.height) {
             return Err(RunError::BadInput(IoError::Unsupported {
                 path: path.clone(),
@@ -350,63 +358,27 @@ pub fn apply_to_image(
     report.device_ms = ms(t.elapsed());
     report.adapter = engine.ctx.info.name.clone();
     report.backend = format!("{:?}", engine.ctx.info.backend);
-    let (in_format, in_cs) = input_format(&img, job.assume_linear);
-    let aux_desc: Vec<(String, Format)> = aux_imgs
-        .iter()
-        .map(|(n, a)| (n.clone(), input_format(a, job.assume_linear).0))
-        .collect();
-    let desc = InputDesc {
-        width: img.width,
-        height: img.height,
-        format: in_format,
-        colorspace: in_cs,
-        aux: aux_desc,
-    };
-    let t = Instant::now();
-    let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
-    report.pipeline_ms = ms(t.elapsed());
+    let aux: Vec<(String, &Image)> = aux_imgs.iter().map(|(n, a)| (n.clone(), a)).collect();
+    let (width, height, pixels) = run_on_image(
+        engine,
+        &mut effect,
+        &img,
+        &aux,
+        out_format,
+        job.assume_linear,
+        job.timings,
+        &mut report,
+    )?;
     report.warnings = if effect.warnings.is_empty() {
         String::new()
     } else {
         effect.warnings.render(&effect.sources)
     };
-    report.peak_bytes = prepared.plan.peak_bytes;
-    report.lower_bound_bytes = prepared.plan.lower_bound_bytes;
-    report.naive_bytes = prepared.plan.naive_bytes;
-    let t = Instant::now();
-    let ctx = engine.ctx.clone();
-    let input_tex = upload_image(&ctx, "fxgraph input", &img, in_format)?;
-    let mut aux_tex = Vec::new();
-    for (name, a) in &aux_imgs {
-        let f = input_format(a, job.assume_linear).0;
-        aux_tex.push((
-            name.clone(),
-            upload_image(&ctx, &format!("aux {name}"), a, f)?,
-        ));
-    }
-    let out = prepared.plan.output;
-    let output_tex = create_output(&ctx, out.width, out.height, out.format);
-    report.upload_ms = ms(t.elapsed());
-    let t = Instant::now();
-    let mut inputs = FrameInputs::still(&input_tex, &prepared.plan);
-    for (n, tex) in &aux_tex {
-        inputs.aux.insert(n.clone(), tex);
-    }
-    report.passes = prepared
-        .run(engine, &inputs, &output_tex, job.timings)
-        .map_err(|e| match e {
-            ExecError::Gpu(g) => RunError::Gpu(g),
-            other => RunError::Other(other.to_string()),
-        })?;
-    report.passes_ms = ms(t.elapsed());
-    let t = Instant::now();
-    let pixels = read_pixels(&ctx, &output_tex, out.format)?;
-    report.readback_ms = ms(t.elapsed());
     let t = Instant::now();
     io::save_image(
         &job.output,
-        out.width,
-        out.height,
+        width,
+        height,
         &pixels,
         &SaveOptions {
             bit_depth: job.bit_depth,
@@ -414,8 +386,8 @@ pub fn apply_to_image(
         },
     )?;
     report.encode_ms = ms(t.elapsed());
-    report.width = out.width;
-    report.height = out.height;
+    report.width = width;
+    report.height = height;
     report.total_ms = ms(t_all.elapsed());
     Ok(report)
 }
@@ -433,6 +405,31 @@ pub fn apply_in_memory(
     assume_linear: bool,
 ) -> Result<(u32, u32, Pixels), RunError> {
     let mut effect = Effect::compile(effects, overrides)?;
+    run_on_image(
+        engine,
+        &mut effect,
+        img,
+        aux,
+        out_format,
+        assume_linear,
+        false,
+        &mut JobReport::default(),
+    )
+}
+
+/// Plan `effect` for `img`, upload it, run it once and read the output back,
+/// recording the stage times (pipelines, upload, passes, readback) in `report`.
+#[allow(clippy::too_many_arguments)]
+fn run_on_image(
+    engine: &mut Engine,
+    effect: &mut Effect,
+    img: &Image,
+    aux: &[(String, &Image)],
+    out_format: Format,
+    assume_linear: bool,
+    timings: bool,
+    report: &mut JobReport,
+) -> Result<(u32, u32, Pixels), RunError> {
     let (in_format, in_cs) = input_format(img, assume_linear);
     let desc = InputDesc {
         width: img.width,
@@ -444,7 +441,13 @@ pub fn apply_in_memory(
             .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
             .collect(),
     };
+    let t = Instant::now();
     let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
+    report.pipeline_ms = ms(t.elapsed());
+    report.peak_bytes = prepared.plan.peak_bytes;
+    report.lower_bound_bytes = prepared.plan.lower_bound_bytes;
+    report.naive_bytes = prepared.plan.naive_bytes;
+    let t = Instant::now();
     let ctx = engine.ctx.clone();
     let input_tex = upload_image(&ctx, "fxgraph input", img, in_format)?;
     let aux_tex: Vec<(String, wgpu::Texture)> = aux
@@ -463,19 +466,16 @@ pub fn apply_in_memory(
         .collect::<Result<_, GpuError>>()?;
     let out = prepared.plan.output;
     let output_tex = create_output(&ctx, out.width, out.height, out.format);
+    report.upload_ms = ms(t.elapsed());
+    let t = Instant::now();
     let mut inputs = FrameInputs::still(&input_tex, &prepared.plan);
-    for (n, t) in &aux_tex {
-        inputs.aux.insert(n.clone(), t);
+    for (n, tex) in &aux_tex {
+        inputs.aux.insert(n.clone(), tex);
     }
-    prepared
-        .run(engine, &inputs, &output_tex, false)
-        .map_err(|e| match e {
-            ExecError::Gpu(g) => RunError::Gpu(g),
-            other => RunError::Other(other.to_string()),
-        })?;
-    Ok((
-        out.width,
-        out.height,
-        read_pixels(&ctx, &output_tex, out.format)?,
-    ))
+    report.passes = prepared.run(engine, &inputs, &output_tex, timings)?;
+    report.passes_ms = ms(t.elapsed());
+    let t = Instant::now();
+    let pixels = read_pixels(&ctx, &output_tex, out.format)?;
+    report.readback_ms = ms(t.elapsed());
+    Ok((out.width, out.height, pixels))
 }

@@ -8,7 +8,7 @@
 //! read-back frames wait for the encoder.
 
 use super::context::GpuContext;
-use super::executor::{CameraStd, Engine, ExecError, PassTiming};
+use super::executor::{CameraStd, Engine, PassTiming};
 use super::runner::{input_format, Effect, RunError};
 use super::stream::Stream;
 use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
@@ -220,7 +220,7 @@ pub fn run_sequence(
      -> Result<bool, RunError> {
         loop {
             let t = Instant::now();
-            let Some(out) = stream.next(engine).map_err(exec_error)? else {
+            let Some(out) = stream.next(engine)? else {
                 *gpu_busy += t.elapsed();
                 return Ok(true);
             };
@@ -376,14 +376,6 @@ pub fn run_sequence(
     }
     report.fps = report.frames_out as f64 / (report.wall_ms / 1e3).max(1e-9);
     Ok(report)
-}
-
-fn exec_error(e: ExecError) -> RunError {
-    match e {
-        ExecError::Gpu(g) => RunError::Gpu(g),
-        ExecError::Rejected(d) => RunError::Other(format!("{} diagnostics", d.error_count())),
-        ExecError::Input(s) => RunError::Other(s),
-    }
 }
 
 /// Numbered image files read in order.

@@ -104,8 +104,8 @@ pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) 
     let mut current = SourceRef::Input(0);
     let mut namespaces: HashMap<String, usize> = HashMap::new();
     let mut descriptions = Vec::new();
-    let input0 = lw.input_node(0);
-    let _ = input0;
+    // IN exists even when no pass reads it (`OUT = IN`, or scales relative to it).
+    lw.input_node(0);
     for (_, name) in &entries {
         let at = lw
             .loader

@@ -12,7 +12,7 @@
 use super::{FormatRule, Graph, Node, SizeRule};
 use crate::script::ast::MAX_SIDE;
 use crate::script::types::{ColorSpace, Format, Sampling};
-use crate::script::{Diagnostic, Diagnostics, Span};
+use crate::script::{Diagnostic, Diagnostics};
 use petgraph::graph::NodeIndex;
 use petgraph::Direction;
 use serde::Serialize;
@@ -192,7 +192,7 @@ pub struct Ring {
     pub depth: u32,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub enum Step {
     /// Bind `value` to `slot`, creating the slot's texture if `create`.
     Alloc {
@@ -407,7 +407,6 @@ pub fn plan(
     let mut produced: HashMap<NodeIndex, Resource> = HashMap::new();
     let mut conversions: HashMap<(NodeIndex, ColorSpace), Resource> = HashMap::new();
     let mut values: Vec<Value> = Vec::new();
-    let mut resource_desc: HashMap<String, TextureDesc> = HashMap::new();
     let live_readers = |n: NodeIndex| -> usize {
         g.neighbors_directed(n, Direction::Outgoing)
             .filter(|m| graph.schedule.contains(m))
@@ -515,7 +514,6 @@ pub fn plan(
                     }
                 }
             }
-            resource_desc.insert(format!("{resource:?}"), in_desc);
             inputs.push(PlannedInput {
                 name: inp.name.clone(),
                 resource,
@@ -1000,9 +998,4 @@ impl Plan {
             "history": self.history,
         })
     }
-}
-
-/// Span of a pass for diagnostics raised after planning.
-pub fn pass_span(graph: &Graph, p: &PlannedPass) -> Option<Span> {
-    p.node.map(|n| graph.pass(n).name_span)
 }
