@@ -181,6 +181,7 @@ pub fn icosphere(subdivisions: u32) -> Mesh {
         positions: pos,
         indices: tris.into_iter().flatten().collect(),
         tangents: None,
+        ..Default::default()
     };
     m.name = format!("icosphere{subdivisions}");
     m
@@ -290,7 +291,7 @@ pub fn room() -> Scene {
         0.6,
         128.0,
     ));
-    let gold = b.material(Material::from_metallic_roughness(
+    let gold = b.material(Material::metallic_roughness(
         "gold",
         Vec4::new(1.0, 0.77, 0.34, 1.0),
         1.0,
@@ -304,10 +305,10 @@ pub fn room() -> Scene {
         16.0,
     ));
     let mut lamp = Material::phong("lamp", Vec3::new(1.0, 0.6, 0.2), 0.0, 1.0);
-    lamp.emissive = Vec3::new(4.0, 2.0, 0.6);
+    lamp.surface.set("emissive", &[4.0, 2.0, 0.6]);
     let lamp = b.material(lamp);
     let mut glass = Material::phong("glass", Vec3::new(0.6, 0.85, 1.0), 0.9, 512.0);
-    glass.base_color.w = 0.35;
+    glass.surface.set("base_color", &[0.6, 0.85, 1.0, 0.35]);
     glass.alpha_mode = AlphaMode::Blend;
     let glass = b.material(glass);
 

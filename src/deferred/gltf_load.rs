@@ -620,7 +620,7 @@ impl Converter<'_> {
         if !base.is_finite() || !metallic.is_finite() || !roughness.is_finite() {
             return Err(format!("{name}: non-finite material factors"));
         }
-        let mut m = Material::from_metallic_roughness(&name, base, metallic, roughness);
+        let mut m = Material::metallic_roughness(&name, base, metallic, roughness);
         if let Some(info) = pbr.base_color_texture() {
             if info.tex_coord() != 0 {
                 log::warn!(
@@ -629,23 +629,24 @@ impl Converter<'_> {
                     info.tex_coord()
                 );
             }
-            m.base_color_texture = Some(self.texture(info.texture(), "base colour")?);
+            let t = self.texture(info.texture(), "base colour")?;
+            m.surface.set_texture("base_color_map", t);
         }
         if let Some(n) = mat.normal_texture() {
-            m.normal_texture = Some(self.texture(n.texture(), "normal map")?);
-            m.normal_scale = if n.scale().is_finite() {
-                n.scale()
-            } else {
-                1.0
-            };
+            let t = self.texture(n.texture(), "normal map")?;
+            m.surface.set_texture("normal_map", t);
+            let scale = if n.scale().is_finite() { n.scale() } else { 1.0 };
+            m.surface.set("normal_scale", &[f64::from(scale)]);
         }
         let strength = mat.emissive_strength().unwrap_or(1.0);
-        m.emissive = Vec3::from(mat.emissive_factor()) * strength;
-        if !m.emissive.is_finite() {
+        let emissive = Vec3::from(mat.emissive_factor()) * strength;
+        if !emissive.is_finite() {
             return Err(format!("{name}: non-finite emissive"));
         }
+        m.surface.set("emissive", &emissive.to_array().map(f64::from));
         if let Some(info) = mat.emissive_texture() {
-            m.emissive_texture = Some(self.texture(info.texture(), "emissive")?);
+            let t = self.texture(info.texture(), "emissive")?;
+            m.surface.set_texture("emissive_map", t);
         }
         m.alpha_mode = match mat.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,

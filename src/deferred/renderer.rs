@@ -655,19 +655,35 @@ impl Renderer {
                 if m.double_sided {
                     flags |= FLAG_DOUBLE_SIDED;
                 }
-                if m.normal_texture.is_some() {
+                if m.surface.texture("normal_map").is_some() {
                     flags |= FLAG_NORMAL_MAP;
                 }
+                // Transitional: the fixed Blinn-Phong pipeline reads the standard
+                // surface's factors.
+                let base = m.surface_param("base_color", [1.0; 4]);
+                let emissive = m.surface_param("emissive", [0.0; 4]);
+                let spec = m.surface_param("specular", [0.04; 4]);
+                let roughness = m.surface_param("roughness", [0.5; 4])[0];
+                let metallic = m.surface_param("metallic", [0.0; 4])[0];
+                let shininess = m
+                    .lighting
+                    .param("specular_power")
+                    .or(m.lighting.param("shininess"))
+                    .map(|v| v[0] as f32)
+                    .unwrap_or_else(|| {
+                        let r = roughness.max(0.03);
+                        (2.0 / (r * r * r * r) - 2.0).clamp(1.0, 2048.0)
+                    });
                 GpuMaterial {
-                    base_color: m.base_color.into(),
-                    emissive: m.emissive.into(),
-                    specular: m.specular,
-                    shininess: m.shininess.max(1.0),
+                    base_color: base,
+                    emissive: [emissive[0], emissive[1], emissive[2]],
+                    specular: spec[0] * (1.0 - metallic) + metallic,
+                    shininess: shininess.max(1.0),
                     alpha_cutoff: m.alpha_cutoff,
-                    normal_scale: m.normal_scale,
+                    normal_scale: m.surface_param("normal_scale", [1.0; 4])[0],
                     flags,
-                    roughness: m.roughness,
-                    metallic: m.metallic,
+                    roughness,
+                    metallic,
                     _pad: [0.0; 2],
                 }
             })
@@ -971,15 +987,15 @@ impl Renderer {
         });
         let mut material_groups = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
-            let base = match m.base_color_texture {
+            let base = match m.surface.texture("base_color_map") {
                 Some(i) => texture_view(i, true)?,
                 None => white.clone(),
             };
-            let normal = match m.normal_texture {
+            let normal = match m.surface.texture("normal_map") {
                 Some(i) => texture_view(i, false)?,
                 None => flat.clone(),
             };
-            let emissive = match m.emissive_texture {
+            let emissive = match m.surface.texture("emissive_map") {
                 Some(i) => texture_view(i, true)?,
                 None => white.clone(),
             };

@@ -98,6 +98,10 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Texture coordinates (set 0); zeros when the source has none.
     pub uvs: Vec<Vec2>,
+    /// Texture coordinates, set 1 (`TEXCOORD_1`); empty when the source has none.
+    pub uvs1: Vec<Vec2>,
+    /// Linear vertex colours (`COLOR_0`); empty when the source has none.
+    pub colors: Vec<Vec4>,
     /// Tangents (xyz, w = handedness ±1); `None` when there are neither source
     /// tangents nor UVs to derive them from (normal maps are then ignored).
     pub tangents: Option<Vec<Vec4>>,
@@ -215,80 +219,153 @@ pub enum AlphaMode {
     Blend,
 }
 
-/// A Blinn-Phong material (seed 001 eq. 8) with the glTF inputs it came from.
-#[derive(Debug, Clone)]
+/// A material (seed 003, section 2): a *surface shader* that computes the
+/// surface's colours, normal, roughness, emission and coverage, and a *lighting
+/// shader* that turns one light into reflected diffuse and specular light. Both are
+/// WGSL files (`shaders/materials/*.wgsl` or the user's) with the parameter values
+/// and textures given here; the renderer generates every full shader from them
+/// (see `docs/materials.md`).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     pub name: String,
-    /// Linear base colour and alpha (multiplied by the texture).
-    pub base_color: Vec4,
-    /// Index into [`Scene::textures`], sampled as sRGB.
-    pub base_color_texture: Option<usize>,
-    /// Tangent-space normal map (linear), with its scale.
-    pub normal_texture: Option<usize>,
-    pub normal_scale: f32,
-    /// Linear emitted radiance (glTF emissive factor × `emissiveStrength`).
-    pub emissive: Vec3,
-    /// Index into [`Scene::textures`], sampled as sRGB, multiplies `emissive`.
-    pub emissive_texture: Option<usize>,
+    pub surface: ShaderBinding,
+    pub lighting: ShaderBinding,
     pub alpha_mode: AlphaMode,
+    /// Coverage below which MASK fragments are discarded.
     pub alpha_cutoff: f32,
+    /// Both faces are drawn; back faces see the flipped normal.
     pub double_sided: bool,
-    /// glTF metallic and roughness factors (kept for the `material` aux image).
-    pub metallic: f32,
-    pub roughness: f32,
-    /// Blinn-Phong specular coefficient `k_s` (0..1).
-    pub specular: f32,
-    /// Blinn-Phong exponent α.
-    pub shininess: f32,
 }
 
-impl Material {
-    /// A plain Blinn-Phong material.
-    pub fn phong(name: &str, base_color: Vec3, specular: f32, shininess: f32) -> Material {
-        Material {
-            name: name.to_string(),
-            base_color: base_color.extend(1.0),
-            base_color_texture: None,
-            normal_texture: None,
-            normal_scale: 1.0,
-            emissive: Vec3::ZERO,
-            emissive_texture: None,
-            alpha_mode: AlphaMode::Opaque,
-            alpha_cutoff: 0.5,
-            double_sided: false,
-            metallic: 0.0,
-            roughness: roughness_from_shininess(shininess),
-            specular: specular.clamp(0.0, 1.0),
-            shininess: shininess.clamp(1.0, 2048.0),
+/// A material shader with its settings.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ShaderBinding {
+    /// The shader's name: `standard`, `triplanar`, `lambert`, `phong`,
+    /// `blinn_phong`, `cook_torrance`, or a user's `NAME` (`NAME.wgsl`).
+    pub shader: String,
+    /// The folder a user's shader is looked up in first (the material file's).
+    pub dir: Option<std::path::PathBuf>,
+    /// Parameter values by uniform field name (numbers; vectors as several).
+    pub params: Vec<(String, Vec<f64>)>,
+    /// Textures by the shader's texture variable name: indices into
+    /// [`Scene::textures`].
+    pub textures: Vec<(String, usize)>,
+}
+
+impl ShaderBinding {
+    /// A shader with no settings (its defaults).
+    pub fn new(shader: &str) -> ShaderBinding {
+        ShaderBinding {
+            shader: shader.to_string(),
+            ..Default::default()
         }
     }
 
-    /// Blinn-Phong parameters derived from glTF metallic-roughness:
-    /// `k_s = mix(0.04, 1, metallic) · (1 − 0.9·roughness)` and
-    /// `α = 2 / r⁴ − 2` with `r = max(roughness, 0.03)` (the usual Beckmann-to-Phong
-    /// mapping with α_beckmann = roughness²), clamped to [1, 2048].
-    pub fn from_metallic_roughness(
+    /// Sets parameter `name` (replacing an earlier value).
+    pub fn set(&mut self, name: &str, value: &[f64]) -> &mut Self {
+        self.params.retain(|(n, _)| n != name);
+        self.params.push((name.to_string(), value.to_vec()));
+        self
+    }
+
+    /// Builder form of [`ShaderBinding::set`].
+    pub fn with(mut self, name: &str, value: &[f64]) -> Self {
+        self.set(name, value);
+        self
+    }
+
+    /// Binds texture variable `name` to scene texture `index`.
+    pub fn set_texture(&mut self, name: &str, index: usize) -> &mut Self {
+        self.textures.retain(|(n, _)| n != name);
+        self.textures.push((name.to_string(), index));
+        self
+    }
+
+    /// The value set for `name`, if any.
+    pub fn param(&self, name: &str) -> Option<&[f64]> {
+        self.params
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+
+    /// The scene texture bound to `name`, if any.
+    pub fn texture(&self, name: &str) -> Option<usize> {
+        self.textures
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, t)| *t)
+    }
+}
+
+impl Material {
+    /// A material of `surface` and `lighting` shaders, opaque and one-sided.
+    pub fn new(name: &str, surface: ShaderBinding, lighting: ShaderBinding) -> Material {
+        Material {
+            name: name.to_string(),
+            surface,
+            lighting,
+            alpha_mode: AlphaMode::Opaque,
+            alpha_cutoff: 0.5,
+            double_sided: false,
+        }
+    }
+
+    /// The standard surface with a diffuse colour and a grey specular reflectance
+    /// `specular` (F0), lit by the paper's Phong model with exponent `shininess`
+    /// (`SPECULAR_POWER`).
+    pub fn phong(name: &str, diffuse: Vec3, specular: f32, shininess: f32) -> Material {
+        let s = f64::from(specular.clamp(0.0, 1.0));
+        let c = diffuse.to_array().map(f64::from);
+        Material::new(
+            name,
+            ShaderBinding::new("standard")
+                .with("base_color", &[c[0], c[1], c[2], 1.0])
+                .with("specular", &[s, s, s])
+                .with("metallic", &[0.0])
+                .with(
+                    "roughness",
+                    &[f64::from(roughness_from_shininess(shininess))],
+                ),
+            ShaderBinding::new("phong")
+                .with("specular_power", &[f64::from(shininess.clamp(1.0, 4096.0))]),
+        )
+    }
+
+    /// glTF 2.0 metallic-roughness: the standard surface with these factors, lit by
+    /// Cook-Torrance (GGX, height-correlated Smith, Schlick) as in the glTF
+    /// specification's Appendix B.
+    pub fn metallic_roughness(
         name: &str,
         base_color: Vec4,
         metallic: f32,
         roughness: f32,
     ) -> Material {
-        let metallic = metallic.clamp(0.0, 1.0);
-        let roughness = roughness.clamp(0.0, 1.0);
-        let r = roughness.max(0.03);
-        let specular = (0.04 + 0.96 * metallic) * (1.0 - 0.9 * roughness);
-        let shininess = (2.0 / (r * r * r * r) - 2.0).clamp(1.0, 2048.0);
-        Material {
-            metallic,
-            roughness,
-            base_color,
-            ..Material::phong(name, base_color.truncate(), specular, shininess)
+        Material::new(
+            name,
+            ShaderBinding::new("standard")
+                .with("base_color", &base_color.to_array().map(f64::from))
+                .with("metallic", &[f64::from(metallic.clamp(0.0, 1.0))])
+                .with("roughness", &[f64::from(roughness.clamp(0.0, 1.0))]),
+            ShaderBinding::new("cook_torrance"),
+        )
+    }
+
+    /// The surface's `name` parameter as up to four floats (`default` where unset).
+    pub fn surface_param(&self, name: &str, default: [f32; 4]) -> [f32; 4] {
+        let mut out = default;
+        if let Some(v) = self.surface.param(name) {
+            for (o, x) in out.iter_mut().zip(v) {
+                *o = *x as f32;
+            }
         }
+        out
     }
 }
 
-/// The inverse of the roughness → shininess mapping of [`Material::from_metallic_roughness`].
-fn roughness_from_shininess(shininess: f32) -> f32 {
+/// Perceptual roughness with the highlight width of a Phong exponent: the usual
+/// Beckmann-to-Phong mapping `α = 2 / r⁴ − 2` inverted (α_beckmann = r²).
+pub fn roughness_from_shininess(shininess: f32) -> f32 {
     (2.0 / (shininess.max(1.0) + 2.0))
         .powf(0.25)
         .clamp(0.0, 1.0)
