@@ -127,6 +127,22 @@ struct Cli {
     /// Scene: write every G-buffer image into DIR.
     #[arg(long, value_name = "DIR")]
     gbuffer: Option<PathBuf>,
+    /// Scene: a file of MATERIAL definitions; a definition named like a scene
+    /// material replaces it (docs/materials.md).
+    #[arg(long, value_name = "FILE")]
+    materials: Option<PathBuf>,
+    /// Scene: SCENE_MATERIAL=DEFINITION: use a definition of --materials for a scene
+    /// material (`*` for all of them). Repeatable.
+    #[arg(long = "material", value_name = "NAME=DEF")]
+    material: Vec<String>,
+    /// Scene: how material features select code: preprocess (#ifdef variants,
+    /// default), override (pipeline constants) or branch (run-time branches).
+    #[arg(long, default_value = "preprocess")]
+    variants: String,
+    /// Scene: list each material (surface and lighting shader, variant features)
+    /// and the pipelines compiled.
+    #[arg(long)]
+    describe_materials: bool,
 }
 
 /// An error with its exit code, already reported or to be printed.
@@ -769,8 +785,10 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     if cli.input.is_some() {
         return Err(rejected("--scene renders the input: give no -i"));
     }
-    if cli.output.is_none() && cli.gbuffer.is_none() {
-        return Err(rejected("--scene needs -o OUTPUT or --gbuffer DIR"));
+    if cli.output.is_none() && cli.gbuffer.is_none() && !cli.describe_materials {
+        return Err(rejected(
+            "--scene needs -o OUTPUT, --gbuffer DIR or --describe-materials",
+        ));
     }
     let (width, height) = match &cli.size {
         Some(s) => parse_size(s)?,
@@ -780,6 +798,20 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         .renderer
         .parse()
         .map_err(|e: String| rejected(format!("--renderer {}: {e}", cli.renderer)))?;
+    let variants = cli
+        .variants
+        .parse()
+        .map_err(|e: String| rejected(format!("--variants {}: {e}", cli.variants)))?;
+    let material_map = cli
+        .material
+        .iter()
+        .map(|m| {
+            m.split_once('=')
+                .map(|(a, b)| (a.trim().to_string(), b.trim().to_string()))
+                .filter(|(a, b)| !a.is_empty() && !b.is_empty())
+                .ok_or_else(|| rejected(format!("--material {m}: expected SCENE_MATERIAL=DEFINITION")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let default_chain = cli.effects.is_empty() && cli.output.is_some();
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
@@ -809,12 +841,26 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         bit_depth: cli.bit_depth,
         gbuffer: cli.gbuffer.clone(),
         timings: cli.timings,
+        materials: cli.materials.clone(),
+        material_map,
+        variants,
+        describe_materials: cli.describe_materials,
     };
     let mut engine = Engine::new(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
             .map_err(RunError::from)?,
     );
     let report = run_scene_job(&job, &mut engine)?;
+    if cli.describe_materials {
+        println!("materials ({} variants mode):", job.variants);
+        for line in &report.materials {
+            println!("{line}");
+        }
+        println!(
+            "pipelines compiled: {}, shader modules: {}",
+            report.pipelines, report.shader_modules
+        );
+    }
     if cli.timings {
         println!(
             "adapter: {}  scene {} ({} triangles, {} lights visible)  {}x{}",

@@ -1,10 +1,10 @@
 //! Built-in procedural scenes (`builtin:room`, `builtin:bench`) and the mesh
 //! generators they and the light volumes use.
 
-use super::scene::{
-    AlphaMode, Camera, Instance, Light, Material, Mesh, NamedCamera, Scene, SceneError,
-};
+use super::scene::{Camera, Instance, Light, Material, Mesh, NamedCamera, Scene, SceneError};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use std::collections::HashMap;
+use std::f32::consts::PI;
 
 /// The built-in scene `name` (`room` or `bench`).
 pub fn builtin(name: &str) -> Result<Scene, SceneError> {
@@ -249,6 +249,26 @@ impl Builder {
         self.scene.meshes.len() - 1
     }
 
+    /// Adds every material of an embedded material file (and its textures); the
+    /// built-in files are tested to load, so a failure here is a bug.
+    fn materials_from(&mut self, text: &str, shown: &str) -> HashMap<String, usize> {
+        let file = super::material::script::load_materials(
+            shown,
+            text,
+            None,
+            self.scene.textures.len(),
+        )
+        .unwrap_or_else(|report| panic!("built-in materials do not load:\n{report}"));
+        self.scene.textures.extend(file.textures);
+        file.materials
+            .into_iter()
+            .map(|m| {
+                let name = m.name.clone();
+                (name, self.material(m))
+            })
+            .collect()
+    }
+
     fn material(&mut self, m: Material) -> usize {
         self.scene.materials.push(m);
         self.scene.materials.len() - 1
@@ -268,50 +288,27 @@ impl Builder {
 /// materials (one emissive, one transparent), 24 coloured point lights (intensity
 /// 4, radius 6..9), a spot
 /// light, a dim directional light and ambient light. One camera, "room".
+/// The material definitions of the built-in scenes.
+pub const ROOM_MATERIALS: &str = include_str!("../../materials/room.fx");
+pub const BENCH_MATERIALS: &str = include_str!("../../materials/bench.fx");
+
 pub fn room() -> Scene {
     let mut b = Builder::new("room");
     let cube = b.mesh(box_mesh(Vec3::ONE));
     let sphere = b.mesh(uv_sphere(48, 24));
-    let floor_m = b.material(Material::phong(
-        "floor",
-        Vec3::new(0.6, 0.58, 0.55),
-        0.3,
-        32.0,
-    ));
-    let wall_m = b.material(Material::phong(
-        "wall",
-        Vec3::new(0.7, 0.7, 0.72),
-        0.05,
-        8.0,
-    ));
-    let red = b.material(Material::phong("red", Vec3::new(0.8, 0.1, 0.08), 0.5, 64.0));
-    let blue = b.material(Material::phong(
-        "blue",
-        Vec3::new(0.1, 0.2, 0.8),
-        0.6,
-        128.0,
-    ));
-    let gold = b.material(Material::metallic_roughness(
-        "gold",
-        Vec4::new(1.0, 0.77, 0.34, 1.0),
-        1.0,
-        0.3,
-    ));
-    let white = b.material(Material::phong("white", Vec3::splat(0.85), 0.8, 256.0));
-    let green = b.material(Material::phong(
-        "green",
-        Vec3::new(0.15, 0.7, 0.2),
-        0.2,
-        16.0,
-    ));
-    let mut lamp = Material::phong("lamp", Vec3::new(1.0, 0.6, 0.2), 0.0, 1.0);
-    lamp.surface.set("emissive", &[4.0, 2.0, 0.6]);
-    let lamp = b.material(lamp);
-    let mut glass = Material::phong("glass", Vec3::new(0.6, 0.85, 1.0), 0.9, 512.0);
-    glass.surface.set("base_color", &[0.6, 0.85, 1.0, 0.35]);
-    glass.alpha_mode = AlphaMode::Blend;
-    let glass = b.material(glass);
-
+    let mats = b.materials_from(ROOM_MATERIALS, "<builtin>/materials/room.fx");
+    let m = |name: &str| mats[name];
+    let (floor_m, wall_m, red, blue, gold, white, green, lamp, glass) = (
+        m("floor"),
+        m("wall"),
+        m("red"),
+        m("blue"),
+        m("gold"),
+        m("white"),
+        m("green"),
+        m("lamp"),
+        m("glass"),
+    );
     let s = |x: f32, y: f32, z: f32| Mat4::from_scale(Vec3::new(x, y, z));
     let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
     b.place(
@@ -399,7 +396,7 @@ pub fn room() -> Scene {
         );
         lights.push(Light {
             name: format!("room point {i}"),
-            ..Light::point(pos, color, 4.0, 6.0 + (i % 4) as f32)
+            ..Light::point(pos, color, 4.0 * PI, 6.0 + (i % 4) as f32)
         });
     }
     lights.push(Light {
@@ -408,7 +405,7 @@ pub fn room() -> Scene {
             Vec3::new(0.0, 4.8, 0.5),
             Vec3::new(0.1, -1.0, -0.2),
             Vec3::new(1.0, 0.95, 0.8),
-            3.0,
+            3.0 * PI,
             7.0,
             0.35,
             0.5,
@@ -416,7 +413,7 @@ pub fn room() -> Scene {
     });
     lights.push(Light {
         name: "room directional".into(),
-        ..Light::directional(Vec3::new(0.3, -1.0, -0.4), Vec3::new(0.9, 0.9, 1.0), 0.25)
+        ..Light::directional(Vec3::new(0.3, -1.0, -0.4), Vec3::new(0.9, 0.9, 1.0), 0.25 * PI)
     });
     lights.push(Light {
         name: "room ambient".into(),
@@ -444,23 +441,9 @@ pub fn bench() -> Scene {
     let mut b = Builder::new("bench");
     let sphere = b.mesh(uv_sphere(32, 16));
     let floor = b.mesh(grid_plane(40));
-    let floor_m = b.material(Material::phong("floor", Vec3::splat(0.5), 0.2, 16.0));
-    let mats: Vec<usize> = (0..8)
-        .map(|i| {
-            let h = i as f32 / 8.0 * std::f32::consts::TAU;
-            let c = Vec3::new(
-                0.55 + 0.35 * h.cos(),
-                0.55 + 0.35 * (h + 2.1).cos(),
-                0.55 + 0.35 * (h + 4.2).cos(),
-            );
-            b.material(Material::phong(
-                &format!("bench {i}"),
-                c,
-                0.2 + 0.1 * i as f32,
-                8.0 * (1 << i) as f32,
-            ))
-        })
-        .collect();
+    let mats = b.materials_from(BENCH_MATERIALS, "<builtin>/materials/bench.fx");
+    let floor_m = mats["floor"];
+    let mats: Vec<usize> = (0..8).map(|i| mats[&format!("bench_{i}")]).collect();
     b.place(
         "floor",
         floor,

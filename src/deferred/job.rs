@@ -42,6 +42,15 @@ pub struct SceneJob {
     /// Write every G-buffer image into this folder.
     pub gbuffer: Option<PathBuf>,
     pub timings: bool,
+    /// A file of `MATERIAL` definitions: those named like a scene material
+    /// replace it.
+    pub materials: Option<PathBuf>,
+    /// `SCENE_MATERIAL=DEFINITION` pairs (`*` for every scene material).
+    pub material_map: Vec<(String, String)>,
+    /// How material features select shader code.
+    pub variants: super::material::VariantMode,
+    /// Print each material, its shaders and variant, and the pipelines compiled.
+    pub describe_materials: bool,
 }
 
 /// Timings of a scene job.
@@ -54,6 +63,10 @@ pub struct SceneReport {
     pub render_passes: Vec<(String, f64)>,
     pub triangles: usize,
     pub lights_visible: usize,
+    /// One line per material (with `describe_materials`).
+    pub materials: Vec<String>,
+    pub pipelines: usize,
+    pub shader_modules: usize,
     pub effect_passes: Vec<PassTiming>,
     pub effects_ms: f64,
     pub readback_ms: f64,
@@ -73,10 +86,12 @@ fn render_error(e: RenderError) -> RunError {
         RenderError::Gpu(g) => RunError::Gpu(g),
         RenderError::Scene(s) => scene_error(s),
         RenderError::Io(i) => RunError::from(i),
-        RenderError::Invalid(m) => RunError::BadInput(IoError::Unsupported {
-            path: PathBuf::new(),
-            message: m,
-        }),
+        RenderError::Invalid(m) | RenderError::Material(m) => {
+            RunError::BadInput(IoError::Unsupported {
+                path: PathBuf::new(),
+                message: m,
+            })
+        }
     }
 }
 
@@ -99,6 +114,30 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     };
     let t = Instant::now();
     let mut scene = Scene::load(&job.scene).map_err(scene_error)?;
+    if let Some(path) = &job.materials {
+        let bad = |message: String| {
+            RunError::BadInput(IoError::Unsupported {
+                path: path.clone(),
+                message,
+            })
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+        let file = super::material::script::load_materials(
+            &path.display().to_string(),
+            &text,
+            path.parent(),
+            scene.textures.len(),
+        )
+        .map_err(bad)?;
+        let replaced = super::material::script::apply_materials(&mut scene, file, &job.material_map)
+            .map_err(bad)?;
+        log::info!("{}: materials replaced: {}", path.display(), replaced.join(", "));
+    } else if !job.material_map.is_empty() {
+        return Err(RunError::BadInput(IoError::Unsupported {
+            path: PathBuf::new(),
+            message: "--material needs --materials FILE (the file that defines them)".into(),
+        }));
+    }
     if job.lights > 0 {
         scene.add_random_point_lights(job.lights, job.seed);
     }
@@ -110,7 +149,15 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     report.load_ms = t.elapsed().as_secs_f64() * 1e3;
     let ctx = engine.ctx.clone();
     let mut renderer =
-        Renderer::new(&ctx, &scene, &RendererOptions::default()).map_err(render_error)?;
+        Renderer::new(
+            &ctx,
+            &scene,
+            &RendererOptions {
+                variants: job.variants,
+                ..Default::default()
+            },
+        )
+        .map_err(render_error)?;
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {
@@ -131,6 +178,11 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     report.render_passes = stats.pass_ms.clone();
     report.triangles = stats.triangles;
     report.lights_visible = stats.lights_visible;
+    report.pipelines = stats.pipelines;
+    report.shader_modules = stats.shader_modules;
+    if job.describe_materials {
+        report.materials = renderer.materials().describe();
+    }
     if let Some(dir) = &job.gbuffer {
         super::write_gbuffer(dir, &out, &ctx).map_err(render_error)?;
     }

@@ -27,12 +27,19 @@
 
 pub mod bench;
 pub mod builtin;
+mod frame;
+mod gpu_types;
 pub mod gbuffer;
 pub mod gltf_load;
 pub mod job;
+mod lights;
+pub mod material;
 pub mod normal;
+mod pipelines;
 pub mod renderer;
 pub mod scene;
+pub mod targets;
+mod upload;
 
 pub use gbuffer::write_gbuffer;
 pub use normal::NormalEncoding;
@@ -41,6 +48,7 @@ pub use renderer::{
     Technique,
 };
 pub use scene::{
-    AlphaMode, Camera, Instance, Light, LightKind, Material, Mesh, Scene, SceneError, TextureImage,
+    AlphaMode, Camera, Instance, Light, LightKind, Material, Mesh, Scene, SceneError, ShaderBinding,
+    TextureImage,
     ATTENUATION_THRESHOLD,
 };

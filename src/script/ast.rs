@@ -4,6 +4,7 @@
 //! lowering to the graph.
 
 use super::diag::{Diagnostic, Diagnostics, FileId, Span, Spanned};
+use super::material::{self, MaterialDef};
 use super::parse::{Item, Key, RawValue, Stmt};
 use super::types::*;
 
@@ -13,6 +14,8 @@ pub struct Module {
     pub file: FileId,
     pub includes: Vec<Spanned<String>>,
     pub effects: Vec<EffectDef>,
+    /// `MATERIAL.name = { ... }` definitions, in file order (see [`material`]).
+    pub materials: Vec<MaterialDef>,
 }
 
 #[derive(Debug, Clone)]
@@ -162,11 +165,17 @@ pub fn check(file: FileId, items: &[Item], diags: &mut Diagnostics) -> Module {
         file,
         ..Default::default()
     };
+    // Names of every `MATERIAL.name` seen, including ones whose body had errors.
+    let mut material_names: Vec<Spanned<String>> = Vec::new();
     for item in items {
         match item {
             Item::Include(path) => module.includes.push(path.clone()),
             Item::Stmt(stmt) => {
-                if stmt.key.first() == "EFFECT" && stmt.key.parts.len() == 2 {
+                if stmt.key.first() == "MATERIAL" {
+                    if let Some(m) = material::check_top_level(stmt, &mut material_names, diags) {
+                        module.materials.push(m);
+                    }
+                } else if stmt.key.first() == "EFFECT" && stmt.key.parts.len() == 2 {
                     let name = stmt.key.parts[1].clone();
                     if let Some(prev) = module.effects.iter().find(|e| e.name.node == name.node) {
                         diags.push(
@@ -189,16 +198,23 @@ pub fn check(file: FileId, items: &[Item], diags: &mut Diagnostics) -> Module {
                         ),
                     }
                 } else {
-                    diags.push(
-                        Diagnostic::error(format!(
-                            "unknown top-level statement `{}`",
-                            stmt.key.dotted()
-                        ))
-                        .at(
-                            stmt.key.span,
-                            "expected `EFFECT.name = { ... }` or `INCLUDE \"file.fx\"`",
-                        ),
+                    let mut d = Diagnostic::error(format!(
+                        "unknown top-level statement `{}`",
+                        stmt.key.dotted()
+                    ))
+                    .at(
+                        stmt.key.span,
+                        "expected `EFFECT.name = { ... }` or `INCLUDE \"file.fx\"`",
                     );
+                    // `MATERAIL.brick = ...`: a misspelt definition keyword.
+                    if stmt.key.parts.len() == 2 {
+                        if let Some(s) =
+                            suggest(stmt.key.first(), ["EFFECT", "MATERIAL"].into_iter())
+                        {
+                            d = d.note(format!("did you mean `{s}.{}`?", stmt.key.parts[1].node));
+                        }
+                    }
+                    diags.push(d);
                 }
             }
         }
@@ -414,7 +430,7 @@ fn edit_distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
-fn type_error(stmt: &Stmt, expected: &str, found: &RawValue) -> Diagnostic {
+pub(super) fn type_error(stmt: &Stmt, expected: &str, found: &RawValue) -> Diagnostic {
     Diagnostic::error(format!(
         "`{}` expects {expected}, found {}",
         stmt.key.dotted(),
@@ -423,7 +439,7 @@ fn type_error(stmt: &Stmt, expected: &str, found: &RawValue) -> Diagnostic {
     .at(stmt.value.span, format!("expected {expected}"))
 }
 
-fn word(v: &Spanned<RawValue>) -> Option<&str> {
+pub(super) fn word(v: &Spanned<RawValue>) -> Option<&str> {
     match &v.node {
         RawValue::Ref { key, frame: None } if key.parts.len() == 1 => Some(key.first()),
         _ => None,

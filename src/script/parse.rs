@@ -1,8 +1,8 @@
 //! pest parser: source text → generic statement tree ([`Item`], [`Stmt`], [`RawValue`]).
 //!
 //! Syntax errors are reported in user terms ("expected `=` after `img`"), and parsing
-//! resumes at the next top-level `EFFECT.`/`INCLUDE` line, so several broken items in
-//! one file are all reported.
+//! resumes at the next top-level `EFFECT.`/`MATERIAL.`/`INCLUDE` line, so several
+//! broken items in one file are all reported.
 
 use super::diag::{Diagnostic, Diagnostics, FileId, Span, Spanned};
 use pest::iterators::Pair;
@@ -123,7 +123,8 @@ pub fn parse(file: FileId, text: &str, diags: &mut Diagnostics) -> Vec<Item> {
     }
 }
 
-/// The next line at or after `pos` that starts (in column 1) with `EFFECT` or `INCLUDE`.
+/// The next line at or after `pos` that starts (in column 1) with `EFFECT`, `MATERIAL`
+/// or `INCLUDE`.
 fn next_item_start(text: &str, pos: usize) -> Option<usize> {
     let mut line_start = text[..pos.min(text.len())]
         .rfind('\n')
@@ -134,7 +135,10 @@ fn next_item_start(text: &str, pos: usize) -> Option<usize> {
         let nl = text[line_start..].find('\n')?;
         line_start += nl + 1;
         let line = &text[line_start..];
-        if line.starts_with("EFFECT") || line.to_ascii_uppercase().starts_with("INCLUDE") {
+        if line.starts_with("EFFECT")
+            || line.starts_with("MATERIAL")
+            || line.to_ascii_uppercase().starts_with("INCLUDE")
+        {
             return Some(line_start);
         }
     }

@@ -3,13 +3,23 @@
 //!
 //! The conventions are documented in `docs/shaders.md`.
 
+pub mod features;
+pub mod include;
 pub mod load;
+pub mod material;
 pub mod preprocess;
 pub mod reflect;
+pub mod rename;
 
+pub use features::{convert_features, feature_flags_used, FeatureMode};
 pub use load::{load_plan_shaders, LoadedShader};
+pub use material::{
+    find_material_shader, load_material_shader, MaterialParams, MaterialSampler,
+    MaterialShader as MaterialShaderCode, MaterialShaderKind, MaterialTexture, MATERIAL_INTERFACE,
+};
 pub use preprocess::preprocess;
 pub use reflect::{reflect, Reflection, StdValue, UniformField, UniformLayout, UniformSource};
+pub use rename::prefix_module_names;
 
 use crate::graph::library::embedded_shader;
 use std::path::{Path, PathBuf};

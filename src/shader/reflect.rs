@@ -355,9 +355,14 @@ fn scalar_field(s: naga::Scalar, n: u8) -> Option<FieldType> {
 
 /// The span of a struct member's declaration and its `// @default(..) @range(..) text` annotations.
 /// Declaration span, `@default`, `@range` and description of a uniform member.
-type MemberNotes = (Option<Span>, Option<Value>, Option<(f64, f64)>, String);
+pub(crate) type MemberNotes = (Option<Span>, Option<Value>, Option<(f64, f64)>, String);
 
-fn member_annotations(decl: &str, decl_start: usize, name: &str, file: FileId) -> MemberNotes {
+pub(crate) fn member_annotations(
+    decl: &str,
+    decl_start: usize,
+    name: &str,
+    file: FileId,
+) -> MemberNotes {
     let mut off = 0;
     for line in decl.split_inclusive('\n') {
         let t = line.trim_start();

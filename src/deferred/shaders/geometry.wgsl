@@ -1,0 +1,219 @@
+// Geometry template: the vertex stage and every geometry fragment stage (G-buffer,
+// light pre-pass depth+normals and final pass, forward, forward transparency).
+// The generator appends the material's surface shader (`fn surface`), its
+// lighting shader renamed `lmK_*` with the dispatch `fx_lighting`, and the
+// interface types; `#ifdef` on feature flags here and in the surface shader is
+// resolved per compilation mode (preprocessor, override constants or uniform
+// branches). FX_LIGHT_COUNT is the forward light loop's bound.
+
+// Light buffers, read by the light pre-pass final geometry pass.
+@group(1) @binding(0) var fx_light_diffuse: texture_2d<f32>;
+@group(1) @binding(1) var fx_light_specular: texture_2d<f32>;
+
+struct FxVsIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv0: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
+    @location(4) tangent: vec4<f32>,
+    @location(5) color: vec4<f32>,
+}
+
+struct FxVsOut {
+    // invariant: the light pre-pass final pass tests depth EQUAL-or-less against
+    // the first pass
+    @builtin(position) @invariant clip: vec4<f32>,
+    @location(0) view_pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv0: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
+    @location(4) tangent: vec4<f32>,
+    @location(5) color: vec4<f32>,
+    @location(6) world_pos: vec3<f32>,
+    @location(7) world_normal: vec3<f32>,
+    @location(8) @interpolate(flat) material: u32,
+}
+
+@vertex
+fn fx_vs_geometry(v: FxVsIn, @builtin(instance_index) ii: u32) -> FxVsOut {
+    let inst = fx_instances[ii];
+    let wp = inst.model * vec4<f32>(v.position, 1.0);
+    let vp = fx_frame.view * wp;
+    let view3 = mat3x3<f32>(fx_frame.view[0].xyz, fx_frame.view[1].xyz, fx_frame.view[2].xyz);
+    let nrm3 = mat3x3<f32>(inst.normal[0].xyz, inst.normal[1].xyz, inst.normal[2].xyz);
+    let model3 = mat3x3<f32>(inst.model[0].xyz, inst.model[1].xyz, inst.model[2].xyz);
+    var out: FxVsOut;
+    out.clip = fx_frame.proj * vp;
+    out.view_pos = vp.xyz;
+    out.world_pos = wp.xyz;
+    out.world_normal = nrm3 * v.normal;
+    out.normal = view3 * out.world_normal;
+    out.uv0 = v.uv0;
+    out.uv1 = v.uv1;
+    out.tangent = vec4<f32>(view3 * (model3 * v.tangent.xyz), v.tangent.w);
+    out.color = v.color;
+    out.material = inst.material;
+    return out;
+}
+
+// The surface shader's input for this fragment.
+fn fx_surface_input(in: FxVsOut, front: bool) -> SurfaceInput {
+    var si: SurfaceInput;
+    si.view_position = in.view_pos;
+    si.world_position = in.world_pos;
+    si.normal = fx_safe_normalize(in.normal);
+    si.world_normal = fx_safe_normalize(in.world_normal);
+#ifdef DOUBLE_SIDED
+    if !front {
+        si.normal = -si.normal;
+        si.world_normal = -si.world_normal;
+    }
+#endif
+    let tl = length(in.tangent.xyz);
+    si.tangent = vec4<f32>(0.0);
+    if tl > 1e-6 && in.tangent.w != 0.0 {
+        si.tangent = vec4<f32>(in.tangent.xyz / tl, select(1.0, -1.0, in.tangent.w < 0.0));
+    }
+    si.uv0 = in.uv0;
+    si.uv1 = in.uv1;
+    si.color = in.color;
+    si.front_facing = front;
+    si.view_from_world = mat3x3<f32>(fx_frame.view[0].xyz, fx_frame.view[1].xyz, fx_frame.view[2].xyz);
+    return si;
+}
+
+// The surface with the engine's post-conditions (unit normal, clamped ranges).
+fn fx_surface(in: FxVsOut, front: bool) -> SurfaceOutput {
+    var s = surface(fx_surface_input(in, front));
+    s.normal = fx_safe_normalize(s.normal);
+    s.roughness = clamp(s.roughness, 0.0, 1.0);
+    s.diffuse = max(s.diffuse, vec3<f32>(0.0));
+    s.specular = clamp(s.specular, vec3<f32>(0.0), vec3<f32>(1.0));
+    s.occlusion = clamp(s.occlusion, 0.0, 1.0);
+    return s;
+}
+
+// MASK coverage test.
+fn fx_masked(in: FxVsOut, s: SurfaceOutput) -> bool {
+    var masked = false;
+#ifdef ALPHA_MASK
+    masked = s.alpha < fx_materials[in.material].alpha_cutoff;
+#endif
+    return masked;
+}
+
+// Light that needs no lighting shader: emission and ambient × occlusion.
+fn fx_unlit(s: SurfaceOutput) -> vec3<f32> {
+    return s.emission + s.diffuse * fx_frame.ambient.rgb * s.occlusion;
+}
+
+struct FxGBufferOut {
+    // rgb diffuse colour, a = material id / 255 (seed 001 table 2)
+    @location(0) albedo: vec4<f32>,
+    // rg = encoded normal, b = roughness
+    @location(1) normal: vec4<f32>,
+    // rgb specular colour F0 (sRGB storage), a = lighting model id / 255
+    @location(2) specular: vec4<f32>,
+    // the specular light buffer starts with emission + ambient
+    @location(3) light: vec4<f32>,
+}
+
+@fragment
+fn fx_fs_gbuffer(in: FxVsOut, @builtin(front_facing) front: bool) -> FxGBufferOut {
+    let s = fx_surface(in, front);
+    if fx_masked(in, s) {
+        discard;
+    }
+    var out: FxGBufferOut;
+    out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
+    out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
+    out.light = vec4<f32>(fx_unlit(s), 0.0);
+    return out;
+}
+
+struct FxPrepassOut {
+    // only alpha (the material id) is written: colour writes are masked
+    @location(0) albedo: vec4<f32>,
+    @location(1) normal: vec4<f32>,
+    @location(2) specular: vec4<f32>,
+}
+
+@fragment
+fn fx_fs_prepass(in: FxVsOut, @builtin(front_facing) front: bool) -> FxPrepassOut {
+    let s = fx_surface(in, front);
+    if fx_masked(in, s) {
+        discard;
+    }
+    var out: FxPrepassOut;
+    out.albedo = vec4<f32>(0.0, 0.0, 0.0, f32(in.material) / 255.0);
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
+    out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
+    return out;
+}
+
+struct FxFinalOut {
+    @location(0) scene: vec4<f32>,
+    @location(1) albedo: vec4<f32>,
+}
+
+// Light pre-pass, third pass: the geometry again, reading the light buffers.
+@fragment
+fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOut {
+    let s = fx_surface(in, front);
+    if fx_masked(in, s) {
+        discard;
+    }
+    let c = vec2<i32>(in.clip.xy);
+    let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
+    let specular = textureLoad(fx_light_specular, c, 0).rgb;
+    var out: FxFinalOut;
+    out.scene = vec4<f32>(s.diffuse * diffuse + specular + fx_unlit(s), 1.0);
+    out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
+    return out;
+}
+
+// Every visible light per fragment, the loop bound a compile-time constant in the
+// preprocessor and override modes (lights past the visible ones are black).
+fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
+    let v = fx_safe_normalize(-p);
+    var diffuse = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
+    for (var i = 0u; i < FX_LIGHT_COUNT; i++) {
+        let ls = fx_light_sample(fx_lights[fx_visible[i]], p);
+        if ls.lit {
+            let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
+            diffuse += lo.diffuse;
+            specular += lo.specular;
+        }
+    }
+    return s.diffuse * diffuse + specular + fx_unlit(s);
+}
+
+struct FxForwardOut {
+    @location(0) scene: vec4<f32>,
+    @location(1) albedo: vec4<f32>,
+    @location(2) normal: vec4<f32>,
+    @location(3) specular: vec4<f32>,
+}
+
+@fragment
+fn fx_fs_forward(in: FxVsOut, @builtin(front_facing) front: bool) -> FxForwardOut {
+    let s = fx_surface(in, front);
+    if fx_masked(in, s) {
+        discard;
+    }
+    var out: FxForwardOut;
+    out.scene = vec4<f32>(fx_forward_color(s, in.view_pos, in.material), 1.0);
+    out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
+    out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
+    return out;
+}
+
+// Transparent (BLEND) surfaces, blended over the composed image.
+@fragment
+fn fx_fs_forward_blend(in: FxVsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let s = fx_surface(in, front);
+    return vec4<f32>(fx_forward_color(s, in.view_pos, in.material), s.alpha);
+}

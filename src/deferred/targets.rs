@@ -1,0 +1,172 @@
+//! The frame's render targets: the compressed G-buffer (seed 001, table 2, plus
+//! the Cook-Torrance inputs and the lighting-model id), the light buffers, the HDR
+//! scene and the AUX images, with the bind groups that read them.
+//!
+//! | target | format | content |
+//! |---|---|---|
+//! | albedo | `Rgba8UnormSrgb` | rgb diffuse colour, a = material id / 255 |
+//! | normal | `Rgb10a2Unorm` | rg = view-space normal in two channels ([`super::NormalEncoding`]), b = roughness |
+//! | specular | `Rgba8UnormSrgb` | rgb specular colour F0, a = lighting model id / 255 |
+//! | depth | `Depth32Float` | hardware depth; positions come from the inverse projection |
+//!
+//! 16 bytes per pixel ([`GBUFFER_BYTES_COMPRESSED`]), against 28 for the
+//! traditional layout of seed 001 table 1 ([`GBUFFER_BYTES_TRADITIONAL`]).
+
+use crate::gpu::context::GpuContext;
+
+/// Bytes per pixel of the compressed G-buffer: RGBA8 diffuse + material id (4),
+/// RGB10A2 normal + roughness (4), RGBA8 specular + model id (4), 32-bit depth (4).
+pub const GBUFFER_BYTES_COMPRESSED: u32 = 16;
+/// Bytes per pixel of the traditional layout of seed 001 table 1: RGBA16 colour +
+/// specular (8) + RGBA16 normal (8) + RGBA16 position (8) + 32-bit depth (4; the
+/// paper's DEPTH24 occupies a 32-bit D24S8 texel).
+pub const GBUFFER_BYTES_TRADITIONAL: u32 = 28;
+
+pub(crate) const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(crate) const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgb10a2Unorm;
+pub(crate) const SPECULAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub(crate) const LIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+pub(crate) const SCENE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// A texture with its default view.
+pub(crate) struct Target {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+}
+
+pub(crate) struct Targets {
+    pub width: u32,
+    pub height: u32,
+    pub depth: Target,
+    pub albedo: Target,
+    pub normal: Target,
+    pub specular: Target,
+    pub light_diffuse: Target,
+    pub light_specular: Target,
+    pub scene: Target,
+    pub aux: Vec<(String, Target)>,
+    /// group 1 of the light pass: no light buffers bound.
+    pub bg_light: wgpu::BindGroup,
+    /// group 1 with everything (composition, resolve).
+    pub bg_all: wgpu::BindGroup,
+    /// group 1 of the light pre-pass final geometry pass: the light buffers.
+    pub bg_final: wgpu::BindGroup,
+}
+
+/// Layouts of the group-1 bind groups.
+pub(crate) struct TargetLayouts<'a> {
+    /// depth, albedo, normal, specular, light diffuse, light specular.
+    pub gbuffer: &'a wgpu::BindGroupLayout,
+    /// light diffuse, light specular.
+    pub light_buffers: &'a wgpu::BindGroupLayout,
+    /// 1x1 Rgba16Float stand-in for the light buffers while they are targets.
+    pub dummy_light: &'a wgpu::TextureView,
+}
+
+impl Targets {
+    /// Creates every target of a `width`×`height` frame.
+    pub fn new(
+        ctx: &GpuContext,
+        width: u32,
+        height: u32,
+        aux_formats: &[(String, wgpu::TextureFormat)],
+        layouts: &TargetLayouts,
+    ) -> Result<Targets, crate::gpu::context::GpuError> {
+        ctx.check_size(width, height, "deferred render target")?;
+        ctx.scoped("deferred render targets", |device| {
+            let make = |label: &str, format: wgpu::TextureFormat| {
+                let texture = device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                });
+                let view = texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(label),
+                    ..Default::default()
+                });
+                Target { texture, view }
+            };
+            let depth = make("deferred depth", DEPTH_FORMAT);
+            let albedo = make("deferred G-buffer diffuse+material", ALBEDO_FORMAT);
+            let normal = make("deferred G-buffer normal+roughness", NORMAL_FORMAT);
+            let specular = make("deferred G-buffer specular+model", SPECULAR_FORMAT);
+            let light_diffuse = make("deferred light buffer diffuse", LIGHT_FORMAT);
+            let light_specular = make("deferred light buffer specular", LIGHT_FORMAT);
+            let scene = make("deferred scene (HDR)", SCENE_FORMAT);
+            let aux = aux_formats
+                .iter()
+                .map(|(name, format)| (name.clone(), make(&format!("deferred aux {name}"), *format)))
+                .collect();
+            let group = |label: &str, layout: &wgpu::BindGroupLayout, views: &[&wgpu::TextureView]| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(label),
+                    layout,
+                    entries: &views
+                        .iter()
+                        .enumerate()
+                        .map(|(i, v)| wgpu::BindGroupEntry {
+                            binding: i as u32,
+                            resource: wgpu::BindingResource::TextureView(v),
+                        })
+                        .collect::<Vec<_>>(),
+                })
+            };
+            let bg_light = group(
+                "deferred group 1 (light pass)",
+                layouts.gbuffer,
+                &[
+                    &depth.view,
+                    &albedo.view,
+                    &normal.view,
+                    &specular.view,
+                    layouts.dummy_light,
+                    layouts.dummy_light,
+                ],
+            );
+            let bg_all = group(
+                "deferred group 1 (composition, resolve)",
+                layouts.gbuffer,
+                &[
+                    &depth.view,
+                    &albedo.view,
+                    &normal.view,
+                    &specular.view,
+                    &light_diffuse.view,
+                    &light_specular.view,
+                ],
+            );
+            let bg_final = group(
+                "deferred group 1 (light pre-pass final)",
+                layouts.light_buffers,
+                &[&light_diffuse.view, &light_specular.view],
+            );
+            Targets {
+                width,
+                height,
+                depth,
+                albedo,
+                normal,
+                specular,
+                light_diffuse,
+                light_specular,
+                scene,
+                aux,
+                bg_light,
+                bg_all,
+                bg_final,
+            }
+        })
+    }
+}
