@@ -151,7 +151,7 @@ fn normal_encodings_round_trip_over_the_sphere() {
 
 #[test]
 fn compressed_gbuffer_is_smaller_than_the_traditional_one() {
-    assert_eq!(GBUFFER_BYTES_COMPRESSED, 12);
+    assert_eq!(GBUFFER_BYTES_COMPRESSED, 16);
     assert_eq!(GBUFFER_BYTES_TRADITIONAL, 28);
 }
 

@@ -812,13 +812,14 @@ impl Scene {
     }
 
     /// The lights used when a scene has none: a white directional key light from
-    /// above-front-left (direction (−0.4, −1, −0.6), intensity 1) plus white ambient
-    /// light of intensity 0.15.
+    /// above-front-left (direction (−0.4, −1, −0.6)) of π lux, under which a white
+    /// Lambertian surface facing it has radiance 1, plus white ambient light of
+    /// radiance 0.15. A scene with lights of its own gets none of these.
     pub fn default_lights() -> Vec<Light> {
         vec![
             Light {
                 name: "default key light".into(),
-                ..Light::directional(Vec3::new(-0.4, -1.0, -0.6), Vec3::ONE, 1.0)
+                ..Light::directional(Vec3::new(-0.4, -1.0, -0.6), Vec3::ONE, std::f32::consts::PI)
             },
             Light {
                 name: "default ambient".into(),
@@ -830,8 +831,8 @@ impl Scene {
     /// Adds [`Scene::default_lights`] when the scene has no lights.
     pub fn ensure_lights(&mut self) {
         if self.lights.is_empty() {
-            log::info!(
-                "{}: no lights in the scene; adding the default key + ambient light",
+            log::warn!(
+                "{}: no lights in the scene; adding the default key light (π lux) and ambient (0.15)",
                 self.name
             );
             self.lights = Scene::default_lights();

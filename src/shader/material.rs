@@ -20,7 +20,7 @@ use super::features::{self, convert_features, texture_flag, FeatureMode, ENGINE_
 use super::include::{self, assemble, Assembly, IncludeFs, IncludeOrigin, LineMap, RealFs};
 use super::preprocess::{preprocess, PreprocessError};
 use super::reflect::{member_annotations, FieldType, UniformMember};
-use super::rename::{module_declarations, prefix_module_names};
+use super::rename::{find_attributes, module_declarations, prefix_module_names};
 use super::ShaderFile;
 use crate::graph::library::EMBEDDED_MATERIAL_SHADERS;
 use crate::script::{Diagnostic, FileId, SourceMap, Span};
@@ -360,8 +360,17 @@ impl Checker<'_> {
             Err(e) => {
                 let mut d = Diagnostic::error(format!("WGSL: {}", sanitize(e.message())));
                 let mut first = true;
-                for (s, label) in e.labels() {
-                    let sp = map(s).unwrap_or(fallback);
+                let mut labels: Vec<(Span, &str)> = e
+                    .labels()
+                    .map(|(s, l)| (map(s).unwrap_or(fallback), l))
+                    .collect();
+                // A clash with the interface (`redefinition of SurfaceInput`) is
+                // the user's mistake: point at the user's text first.
+                if let Some(i) = labels.iter().position(|(s, _)| s.file != iface) {
+                    let user = labels.remove(i);
+                    labels.insert(0, user);
+                }
+                for (sp, label) in labels {
                     d = if first {
                         d.at(sp, sanitize(label))
                     } else {
@@ -438,6 +447,20 @@ impl Checker<'_> {
                         .at(sp, "reserved name"),
                     );
                 }
+            }
+        }
+        // Entry points: naga would complain about the interface's missing
+        // `@location`s first.
+        if let Ok(attrs) = find_attributes(&text, &["vertex", "fragment", "compute"]) {
+            for (a, s, e) in attrs {
+                let sp = self.asm_span(s, e);
+                self.diags.push(
+                    Diagnostic::error(format!(
+                        "a material shader has no entry points: remove `@{a}`"
+                    ))
+                    .at(sp, "not allowed in a material shader")
+                    .note("the engine generates the entry points around `surface` and `lighting`"),
+                );
             }
         }
         if !self.diags.is_empty() {
@@ -617,19 +640,6 @@ impl Checker<'_> {
             samplers: Vec::new(),
             lighting_takes_params: false,
         };
-        for ep in &m.entry_points {
-            let sp = self
-                .fn_span_by_text(&ep.name)
-                .unwrap_or_else(|| self.file_start());
-            self.diags.push(
-                Diagnostic::error(format!(
-                    "a material shader has no entry points: `{}` is one",
-                    ep.name
-                ))
-                .at(sp, "remove its `@vertex`/`@fragment`/`@compute` attribute")
-                .note("the engine generates the entry points around `surface` and `lighting`"),
-            );
-        }
         // The function.
         let fname = kind.function();
         let expected = match kind {
@@ -1009,15 +1019,6 @@ impl Checker<'_> {
             .map(|i| s + text[s..s + i].trim_end().len())
             .unwrap_or(e);
         Span::new(sp.file, s, cut.max(s))
-    }
-
-    /// `fn name` found by the tokenizer (for entry points, which have no span).
-    fn fn_span_by_text(&self, name: &str) -> Option<Span> {
-        let decls = module_declarations(&self.asm.text).ok()?;
-        decls
-            .into_iter()
-            .find(|(n, _, _)| n == name)
-            .map(|(_, s, e)| self.asm_span(s, e))
     }
 }
 
@@ -1475,6 +1476,28 @@ mod tests {
         let (r, sources) = load_mem(MaterialShaderKind::Lighting, &fs, "/m/l.wgsl");
         assert!(errors(r, &sources)
             .contains("found `fn lighting(in: LightingInput, k: f32) -> LightingOutput`"));
+    }
+
+    #[test]
+    fn interface_clash_and_entry_points() {
+        let src = format!("struct SurfaceInput {{ a: f32 }}\n{GOOD_SURFACE}");
+        let fs = MemFs::default().file("/m/s.wgsl", &src);
+        let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
+        let text = errors(r, &sources);
+        assert!(
+            text.starts_with("s.wgsl:1:8: error: WGSL: redefinition of `SurfaceInput`"),
+            "{text}"
+        );
+        let src = format!("@fragment\n{GOOD_SURFACE}");
+        let fs = MemFs::default().file("/m/s.wgsl", &src);
+        let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
+        let text = errors(r, &sources);
+        assert!(
+            text.starts_with(
+                "s.wgsl:1:1: error: a material shader has no entry points: remove `@fragment`"
+            ),
+            "{text}"
+        );
     }
 
     #[test]

@@ -14,8 +14,8 @@ pub mod rename;
 pub use features::{convert_features, feature_flags_used, FeatureMode};
 pub use load::{load_plan_shaders, LoadedShader};
 pub use material::{
-    find_material_shader, load_material_shader, MaterialParams, MaterialSampler,
-    MaterialShader as MaterialShaderCode, MaterialShaderKind, MaterialTexture, MATERIAL_INTERFACE,
+    find_material_shader, load_material_shader, MaterialParams, MaterialSampler, MaterialShader,
+    MaterialShaderKind, MaterialTexture, MATERIAL_INTERFACE,
 };
 pub use preprocess::preprocess;
 pub use reflect::{reflect, Reflection, StdValue, UniformField, UniformLayout, UniformSource};

@@ -143,6 +143,21 @@ pub fn module_declarations(text: &str) -> Result<Vec<(String, usize, usize)>, St
     Ok(out)
 }
 
+/// The byte ranges of the attributes `@name` (for `name` in `names`) in `text`,
+/// outside comments, e.g. `@fragment`.
+pub fn find_attributes(text: &str, names: &[&str]) -> Result<Vec<(String, usize, usize)>, String> {
+    let toks = tokenize(text)?;
+    let mut out = Vec::new();
+    for w in toks.windows(2) {
+        if let [Tok::Punct(b'@'), Tok::Ident(s, e)] = *w {
+            if names.contains(&&text[s..e]) {
+                out.push((text[s..e].to_string(), s - 1, e));
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// Prefix every module-scope name defined in `wgsl` (except those in `keep`) with
 /// `prefix`, in declarations and references alike.
 pub fn prefix_module_names(wgsl: &str, prefix: &str, keep: &[&str]) -> Result<String, String> {
