@@ -307,7 +307,7 @@ fn texture_transform_follows_the_published_example() {
         j["materials"][3]["emissiveTexture"] = serde_json::json!({
             "index": 0,
             "extensions": {"KHR_texture_transform": {
-                "offset": [0, 1], "rotation": 1.57079632679, "scale": [0.5, 0.5]
+                "offset": [0, 1], "rotation": std::f64::consts::FRAC_PI_2, "scale": [0.5, 0.5]
             }}
         });
     });
