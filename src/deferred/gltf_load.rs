@@ -8,12 +8,17 @@
 //! `catch_unwind` as a last defence.
 //!
 //! Supported: triangle lists, strips and fans; node hierarchy transforms;
-//! perspective cameras; `KHR_lights_punctual`; metallic-roughness materials
-//! (base colour factor and texture, normal map, emissive with
-//! `KHR_materials_emissive_strength`, alpha mode, double-sided), texture
-//! coordinate set 0. Ignored with a log message: points and lines, orthographic
-//! cameras, skins, morph targets, metallic-roughness / occlusion textures, texture
-//! transforms and sampler wrap modes (textures always repeat).
+//! perspective cameras; `KHR_lights_punctual` (see `convert_light`);
+//! metallic-roughness materials mapped exactly onto the `standard` surface and the
+//! `cook_torrance` lighting shader (every core factor and texture, alpha mode,
+//! double-sided, `KHR_materials_emissive_strength`, `KHR_materials_ior`,
+//! `KHR_materials_specular` factors, `KHR_texture_transform` on every texture;
+//! see [`UvTransform`]); texture coordinate sets 0 and 1 (`TEXCOORD_1` is loaded
+//! into [`Mesh::uvs1`]; a texture reading a higher set reads set 0, with a
+//! warning) and vertex colours (`COLOR_0` into [`Mesh::colors`]). Ignored with a
+//! log message: points and lines, orthographic cameras, `KHR_materials_specular`
+//! textures; ignored silently: skins, morph targets, animations and sampler
+//! settings (textures always repeat).
 
 use super::scene::{
     AlphaMode, Camera, Instance, Light, LightKind, Material, Mesh, NamedCamera, Scene, SceneError,
@@ -293,47 +298,9 @@ impl Converter<'_> {
             }
         }
         if let Some(light) = node.light() {
-            let color = Vec3::from(light.color());
-            let intensity = light.intensity();
-            if !color.is_finite() || !intensity.is_finite() || intensity < 0.0 {
-                return Err(format!(
-                    "light {}: non-finite colour or intensity",
-                    light.index()
-                ));
-            }
-            let position = world.transform_point3(Vec3::ZERO);
-            let direction = world
-                .transform_vector3(Vec3::NEG_Z)
-                .normalize_or(Vec3::NEG_Z);
-            let range = light.range().filter(|r| r.is_finite() && *r > 0.0);
-            // glTF punctual lights fall off with the inverse square; a = 0.01 keeps
-            // the value finite at the light.
-            let attenuation = [0.01, 0.0, 1.0];
-            let name = light
-                .name()
-                .map(str::to_string)
-                .unwrap_or_else(|| format!("light {}", light.index()));
-            let kind = match light.kind() {
-                gltf::khr_lights_punctual::Kind::Directional => LightKind::Directional,
-                gltf::khr_lights_punctual::Kind::Point => LightKind::Point,
-                gltf::khr_lights_punctual::Kind::Spot {
-                    inner_cone_angle,
-                    outer_cone_angle,
-                } => LightKind::Spot {
-                    inner: inner_cone_angle.clamp(0.0, outer_cone_angle),
-                    outer: outer_cone_angle.clamp(1e-3, std::f32::consts::FRAC_PI_2),
-                },
-            };
-            self.scene.lights.push(Light {
-                name,
-                kind,
-                color,
-                intensity,
-                position,
-                direction,
-                attenuation,
-                range,
-            });
+            self.scene
+                .lights
+                .push(convert_light(self.name, &light, &world)?);
         }
         stack.push(index);
         for child in node.children() {
@@ -563,6 +530,34 @@ impl Converter<'_> {
                 false
             }
         };
+        if let Some(t) = reader.read_tex_coords(1) {
+            m.uvs1 = t.into_f32().map(Vec2::from).collect();
+            if m.uvs1.len() != count {
+                return Err(format!("{label}: TEXCOORD_1 count differs from POSITION"));
+            }
+            if m.uvs1.iter().any(|u| !u.is_finite()) {
+                return Err(format!("{label}: TEXCOORD_1 has non-finite values"));
+            }
+        }
+        if let Some(c) = reader.read_colors(0) {
+            // Normalised integers become 0..1, RGB gets alpha 1.
+            m.colors = c.into_rgba_f32().map(Vec4::from).collect();
+            if m.colors.len() != count {
+                return Err(format!("{label}: COLOR_0 count differs from POSITION"));
+            }
+            if m.colors.iter().any(|c| !c.is_finite()) {
+                return Err(format!("{label}: COLOR_0 has non-finite values"));
+            }
+        }
+        let material = prim.material();
+        let refs = texture_refs(&material).unwrap_or_default();
+        if m.uvs1.is_empty() && refs.iter().any(|r| r.set() == 1) {
+            log::warn!(
+                "{}: {label}: its material reads TEXCOORD_1, which the primitive lacks \
+                 (zeros)",
+                self.name
+            );
+        }
         match reader.read_tangents() {
             Some(t) => {
                 let t: Vec<Vec4> = t.map(Vec4::from).collect();
@@ -571,8 +566,18 @@ impl Converter<'_> {
                 }
                 m.tangents = Some(t);
             }
-            None if has_uv && prim.material().normal_texture().is_some() => m.compute_tangents(),
-            None => {}
+            None => {
+                // Derived from the texture coordinates the normal map reads.
+                match refs.iter().find(|r| r.var == "normal_map").map(TexRef::set) {
+                    Some(1) if !m.uvs1.is_empty() => {
+                        std::mem::swap(&mut m.uvs, &mut m.uvs1);
+                        m.compute_tangents();
+                        std::mem::swap(&mut m.uvs, &mut m.uvs1);
+                    }
+                    Some(_) if has_uv => m.compute_tangents(),
+                    _ => {}
+                }
+            }
         }
         self.scene.meshes.push(m);
         Ok(Some(self.scene.meshes.len() - 1))
@@ -588,12 +593,16 @@ impl Converter<'_> {
             .get(image)
             .ok_or_else(|| format!("texture {} refers to missing image {image}", tex.index()))?;
         let rgba8 = to_rgba8(data).map_err(|e| format!("image {image} ({what}): {e}"))?;
+        let source = tex.source();
+        let name = match (source.name(), source.source()) {
+            (Some(n), _) => n.to_string(),
+            (None, gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => {
+                uri.to_string()
+            }
+            _ => format!("image {image}"),
+        };
         self.scene.textures.push(TextureImage {
-            name: tex
-                .source()
-                .name()
-                .map(str::to_string)
-                .unwrap_or_else(|| format!("image {image}")),
+            name,
             width: data.width,
             height: data.height,
             rgba8,
@@ -603,6 +612,63 @@ impl Converter<'_> {
         Ok(t)
     }
 
+    /// Binds one texture reference to the standard surface: the texture variable,
+    /// `VAR_uv` (the KHR_texture_transform matrix, columns) and `VAR_uv_offset`
+    /// (offset, texture coordinate set).
+    fn bind_map(&mut self, m: &mut Material, r: &TexRef) -> Result<(), String> {
+        let t = self.texture(r.texture.clone(), r.what)?;
+        let set = self.uv_set(&m.name, r);
+        let [c0x, c0y, c1x, c1y] = r.transform.matrix_columns();
+        let [ox, oy] = r.transform.offset;
+        m.surface.set_texture(r.var, t);
+        m.surface.set(
+            &format!("{}_uv", r.var),
+            &[c0x, c0y, c1x, c1y].map(f64::from),
+        );
+        m.surface.set(
+            &format!("{}_uv_offset", r.var),
+            &[f64::from(ox), f64::from(oy), f64::from(set), 0.0],
+        );
+        Ok(())
+    }
+
+    /// The texture coordinate set a reference reads (0 or 1; larger sets are read
+    /// as set 0 with a warning: only `TEXCOORD_0` and `TEXCOORD_1` are loaded).
+    fn uv_set(&self, material: &str, r: &TexRef) -> u32 {
+        let set = r.set();
+        if set > 1 {
+            log::warn!(
+                "{}: {material}: the {} texture uses TEXCOORD_{set}; only sets 0 and 1 are \
+                 supported, reading TEXCOORD_0",
+                self.name,
+                r.what
+            );
+            0
+        } else {
+            set
+        }
+    }
+
+    /// Maps a glTF material onto the `standard` surface lit by `cook_torrance`
+    /// (glTF 2.0 section 3.9 and Appendix B):
+    ///
+    /// - `base_color` = baseColorFactor, `base_color_map` = baseColorTexture (sRGB;
+    ///   the surface multiplies factor, texture and `COLOR_0`);
+    /// - `metallic` / `roughness` = metallicFactor / roughnessFactor,
+    ///   `metallic_roughness_map` = metallicRoughnessTexture (B = metallic,
+    ///   G = roughness, linear);
+    /// - `normal_map` = normalTexture with `normal_scale` = its scale;
+    /// - `occlusion_map` = occlusionTexture (R) with `occlusion_strength` = its
+    ///   strength;
+    /// - `emissive` = emissiveFactor × `KHR_materials_emissive_strength`,
+    ///   `emissive_map` = emissiveTexture (sRGB);
+    /// - `specular` = the dielectric F0: 0.04, or from `KHR_materials_ior`
+    ///   (((ior − 1)/(ior + 1))²) and `KHR_materials_specular` factors
+    ///   (min(F0_ior · specularColorFactor, 1) · specularFactor; the extension's
+    ///   textures and its scaling of F90 are not supported and logged);
+    /// - every map's texCoord and `KHR_texture_transform` become `MAP_uv` and
+    ///   `MAP_uv_offset` (see [`UvTransform`]);
+    /// - alphaMode, alphaCutoff, doubleSided.
     fn material(&mut self, mat: gltf::Material) -> Result<usize, String> {
         if let Some(&m) = self.materials.get(&mat.index()) {
             return Ok(m);
@@ -621,32 +687,33 @@ impl Converter<'_> {
             return Err(format!("{name}: non-finite material factors"));
         }
         let mut m = Material::metallic_roughness(&name, base, metallic, roughness);
-        if let Some(info) = pbr.base_color_texture() {
-            if info.tex_coord() != 0 {
-                log::warn!(
-                    "{}: {name}: texture coordinate set {} read as set 0",
-                    self.name,
-                    info.tex_coord()
-                );
-            }
-            let t = self.texture(info.texture(), "base colour")?;
-            m.surface.set_texture("base_color_map", t);
-        }
-        if let Some(n) = mat.normal_texture() {
-            let t = self.texture(n.texture(), "normal map")?;
-            m.surface.set_texture("normal_map", t);
-            let scale = if n.scale().is_finite() { n.scale() } else { 1.0 };
-            m.surface.set("normal_scale", &[f64::from(scale)]);
-        }
+        let f0 = self.dielectric_f0(&mat, &name)?;
+        m.surface.set("specular", &f0.to_array().map(f64::from));
         let strength = mat.emissive_strength().unwrap_or(1.0);
         let emissive = Vec3::from(mat.emissive_factor()) * strength;
-        if !emissive.is_finite() {
-            return Err(format!("{name}: non-finite emissive"));
+        if !emissive.is_finite() || strength < 0.0 {
+            return Err(format!(
+                "{name}: invalid emissive (factor {:?}, strength {strength})",
+                mat.emissive_factor()
+            ));
         }
-        m.surface.set("emissive", &emissive.to_array().map(f64::from));
-        if let Some(info) = mat.emissive_texture() {
-            let t = self.texture(info.texture(), "emissive")?;
-            m.surface.set_texture("emissive_map", t);
+        m.surface
+            .set("emissive", &emissive.to_array().map(f64::from));
+        for r in texture_refs(&mat).map_err(|e| format!("{name}: {e}"))? {
+            self.bind_map(&mut m, &r)?;
+        }
+        if let Some(n) = mat.normal_texture() {
+            if !n.scale().is_finite() {
+                return Err(format!("{name}: non-finite normalTexture scale"));
+            }
+            m.surface.set("normal_scale", &[f64::from(n.scale())]);
+        }
+        if let Some(o) = mat.occlusion_texture() {
+            if !o.strength().is_finite() {
+                return Err(format!("{name}: non-finite occlusionTexture strength"));
+            }
+            m.surface
+                .set("occlusion_strength", &[f64::from(o.strength())]);
         }
         m.alpha_mode = match mat.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
@@ -654,12 +721,318 @@ impl Converter<'_> {
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         };
         m.alpha_cutoff = mat.alpha_cutoff().unwrap_or(0.5);
+        if !(m.alpha_cutoff.is_finite() && m.alpha_cutoff >= 0.0) {
+            return Err(format!(
+                "{name}: alphaCutoff {} must be a number >= 0",
+                m.alpha_cutoff
+            ));
+        }
         m.double_sided = mat.double_sided();
         self.scene.materials.push(m);
         let index = self.scene.materials.len() - 1;
         self.materials.insert(mat.index(), index);
         Ok(index)
     }
+
+    /// The dielectric specular reflectance F0: 0.04 (ior 1.5) unless
+    /// `KHR_materials_ior` / `KHR_materials_specular` say otherwise.
+    fn dielectric_f0(&self, mat: &gltf::Material, name: &str) -> Result<Vec3, String> {
+        let ior = mat.ior().unwrap_or(1.5);
+        if !(ior.is_finite() && (ior == 0.0 || ior >= 1.0)) {
+            return Err(format!(
+                "{name}: KHR_materials_ior ior {ior} must be 0 or >= 1"
+            ));
+        }
+        // (The extension allows ior = 0, which gives F0 = 1.)
+        let f0_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
+        let Some(s) = mat.specular() else {
+            return Ok(Vec3::splat(f0_ior));
+        };
+        let color = Vec3::from(s.specular_color_factor());
+        let factor = s.specular_factor();
+        if !color.is_finite() || !factor.is_finite() || factor < 0.0 || color.min_element() < 0.0 {
+            return Err(format!("{name}: invalid KHR_materials_specular factors"));
+        }
+        if s.specular_texture().is_some() || s.specular_color_texture().is_some() {
+            log::warn!(
+                "{}: {name}: KHR_materials_specular textures are not supported (factors only)",
+                self.name
+            );
+        }
+        Ok((color * f0_ior).min(Vec3::ONE) * factor)
+    }
+}
+
+/// A `KHR_lights_punctual` light placed by the node's world transform: colour and
+/// intensity as given (directional: lux; point, spot: candela), falling off with
+/// the inverse square of the distance (attenuation `[0, 0, 1]`; the renderer keeps
+/// `d` away from 0) inside the optional `range`, spot cones as given (half-angles).
+/// A negative or non-finite intensity or colour, or a range that is not positive,
+/// is an error; a light of intensity 0 is kept with a warning.
+fn convert_light(
+    file: &str,
+    light: &gltf::khr_lights_punctual::Light,
+    world: &Mat4,
+) -> Result<Light, String> {
+    let name = light
+        .name()
+        .map(str::to_string)
+        .unwrap_or_else(|| format!("light {}", light.index()));
+    let label = format!("light {} ({name})", light.index());
+    let color = Vec3::from(light.color());
+    let intensity = light.intensity();
+    if !color.is_finite() || color.min_element() < 0.0 {
+        return Err(format!(
+            "{label}: colour {color} must be finite and not negative"
+        ));
+    }
+    if !intensity.is_finite() || intensity < 0.0 {
+        return Err(format!(
+            "{label}: intensity {intensity} must be finite and not negative"
+        ));
+    }
+    if intensity == 0.0 || color.max_element() == 0.0 {
+        log::warn!("{file}: {label} has intensity 0 (it lights nothing)");
+    }
+    let range = match light.range() {
+        Some(r) if !(r.is_finite() && r > 0.0) => {
+            return Err(format!("{label}: range {r} must be a positive number"))
+        }
+        r => r,
+    };
+    let kind = match light.kind() {
+        gltf::khr_lights_punctual::Kind::Directional => LightKind::Directional,
+        gltf::khr_lights_punctual::Kind::Point => LightKind::Point,
+        gltf::khr_lights_punctual::Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => {
+            if !(inner_cone_angle.is_finite() && outer_cone_angle.is_finite()) {
+                return Err(format!("{label}: non-finite spot cone angles"));
+            }
+            let outer = outer_cone_angle.clamp(1e-3, std::f32::consts::FRAC_PI_2);
+            let inner = inner_cone_angle.clamp(0.0, outer);
+            if inner != inner_cone_angle || outer != outer_cone_angle || inner >= outer {
+                log::warn!(
+                    "{file}: {label}: spot cone angles (inner {inner_cone_angle}, outer \
+                     {outer_cone_angle}) outside 0 <= inner < outer <= pi/2; using inner \
+                     {inner}, outer {outer}"
+                );
+            }
+            LightKind::Spot { inner, outer }
+        }
+    };
+    let range = match kind {
+        LightKind::Point | LightKind::Spot { .. } => range,
+        _ => None,
+    };
+    Ok(Light {
+        name,
+        kind,
+        color,
+        intensity,
+        position: world.transform_point3(Vec3::ZERO),
+        direction: world
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or(Vec3::NEG_Z),
+        attenuation: [0.0, 0.0, 1.0],
+        range,
+    })
+}
+
+/// A `KHR_texture_transform` (identity when absent): `uv' = M · uv + offset` with
+/// `M = R(rotation) · S(scale)`.
+///
+/// The rotation turns the UVs by `rotation` radians "counter-clockwise" as seen in
+/// glTF's UV space, whose V axis points *down*:
+///
+/// ```text
+/// R = | cos r   sin r |      u' = cos r · sx · u + sin r · sy · v + offset.x
+///     |-sin r   cos r |      v' = −sin r · sx · u + cos r · sy · v + offset.y
+/// ```
+///
+/// This is the matrix of the extension's published example (offset (0, 1),
+/// rotation π/2, scale 0.5 selects the lower-left quadrant of the image, rotated
+/// clockwise 90°), of its sample model `TextureTransformTest` and of the common
+/// implementations (three.js, Babylon.js, Blender). The GLSL listing in the
+/// extension's README builds the transpose (a known mistake in the text,
+/// KhronosGroup/glTF issue #1563), which would rotate the other way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UvTransform {
+    pub offset: [f32; 2],
+    /// Radians.
+    pub rotation: f32,
+    pub scale: [f32; 2],
+    /// The extension's `texCoord` override.
+    pub tex_coord: Option<u32>,
+}
+
+impl UvTransform {
+    /// No transform.
+    pub const IDENTITY: UvTransform = UvTransform {
+        offset: [0.0, 0.0],
+        rotation: 0.0,
+        scale: [1.0, 1.0],
+        tex_coord: None,
+    };
+
+    /// `M = R · S` as its columns: `[m00, m10, m01, m11]` (first column in x, y,
+    /// second in z, w).
+    pub fn matrix_columns(&self) -> [f32; 4] {
+        let (s, c) = self.rotation.sin_cos();
+        let [sx, sy] = self.scale;
+        [c * sx, -s * sx, s * sy, c * sy]
+    }
+
+    /// Applies the transform to one texture coordinate.
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        let [a, b, c, d] = self.matrix_columns();
+        Vec2::new(a * uv.x + c * uv.y, b * uv.x + d * uv.y) + Vec2::from(self.offset)
+    }
+
+    fn check(self, what: &str) -> Result<UvTransform, String> {
+        let finite = self.offset.iter().chain(&self.scale).all(|v| v.is_finite())
+            && self.rotation.is_finite();
+        if finite {
+            Ok(self)
+        } else {
+            Err(format!(
+                "{what}: KHR_texture_transform has non-finite values"
+            ))
+        }
+    }
+
+    /// From a texture info's typed extension.
+    fn from_info(info: &gltf::texture::Info, what: &str) -> Result<UvTransform, String> {
+        match info.texture_transform() {
+            None => Ok(UvTransform::IDENTITY),
+            Some(t) => UvTransform {
+                offset: t.offset(),
+                rotation: t.rotation(),
+                scale: t.scale(),
+                tex_coord: t.tex_coord(),
+            }
+            .check(what),
+        }
+    }
+
+    /// From the raw JSON of the extension (normal and occlusion texture infos,
+    /// which the `gltf` crate leaves untyped).
+    fn from_json(value: Option<&serde_json::Value>, what: &str) -> Result<UvTransform, String> {
+        let Some(value) = value else {
+            return Ok(UvTransform::IDENTITY);
+        };
+        let obj = value
+            .as_object()
+            .ok_or_else(|| format!("{what}: KHR_texture_transform must be an object"))?;
+        let pair = |key: &str, default: [f32; 2]| -> Result<[f32; 2], String> {
+            match obj.get(key) {
+                None => Ok(default),
+                Some(v) => match v.as_array().map(|a| a.as_slice()) {
+                    Some([x, y]) => match (x.as_f64(), y.as_f64()) {
+                        (Some(x), Some(y)) => Ok([x as f32, y as f32]),
+                        _ => Err(format!(
+                            "{what}: KHR_texture_transform {key} must be two numbers"
+                        )),
+                    },
+                    _ => Err(format!(
+                        "{what}: KHR_texture_transform {key} must be two numbers"
+                    )),
+                },
+            }
+        };
+        let rotation = match obj.get("rotation") {
+            None => 0.0,
+            Some(v) => v
+                .as_f64()
+                .ok_or_else(|| format!("{what}: KHR_texture_transform rotation must be a number"))?
+                as f32,
+        };
+        let tex_coord =
+            match obj.get("texCoord") {
+                None => None,
+                Some(v) => Some(v.as_u64().and_then(|n| u32::try_from(n).ok()).ok_or_else(
+                    || format!("{what}: KHR_texture_transform texCoord must be an integer >= 0"),
+                )?),
+            };
+        UvTransform {
+            offset: pair("offset", [0.0, 0.0])?,
+            rotation,
+            scale: pair("scale", [1.0, 1.0])?,
+            tex_coord,
+        }
+        .check(what)
+    }
+}
+
+/// One texture reference of a material.
+struct TexRef<'a> {
+    /// The standard surface's texture variable.
+    var: &'static str,
+    /// For messages.
+    what: &'static str,
+    texture: gltf::Texture<'a>,
+    /// The texture info's `texCoord`.
+    tex_coord: u32,
+    transform: UvTransform,
+}
+
+impl TexRef<'_> {
+    /// The set read: the extension's override, else the info's `texCoord`.
+    fn set(&self) -> u32 {
+        self.transform.tex_coord.unwrap_or(self.tex_coord)
+    }
+}
+
+/// The texture references of a material that the standard surface uses.
+fn texture_refs<'a>(mat: &gltf::Material<'a>) -> Result<Vec<TexRef<'a>>, String> {
+    let mut out = Vec::new();
+    let pbr = mat.pbr_metallic_roughness();
+    let infos = [
+        (
+            "base_color_map",
+            "baseColorTexture",
+            pbr.base_color_texture(),
+        ),
+        (
+            "metallic_roughness_map",
+            "metallicRoughnessTexture",
+            pbr.metallic_roughness_texture(),
+        ),
+        ("emissive_map", "emissiveTexture", mat.emissive_texture()),
+    ];
+    for (var, what, info) in infos {
+        if let Some(info) = info {
+            out.push(TexRef {
+                var,
+                what,
+                texture: info.texture(),
+                tex_coord: info.tex_coord(),
+                transform: UvTransform::from_info(&info, what)?,
+            });
+        }
+    }
+    if let Some(n) = mat.normal_texture() {
+        let what = "normalTexture";
+        out.push(TexRef {
+            var: "normal_map",
+            what,
+            texture: n.texture(),
+            tex_coord: n.tex_coord(),
+            transform: UvTransform::from_json(n.extension_value("KHR_texture_transform"), what)?,
+        });
+    }
+    if let Some(o) = mat.occlusion_texture() {
+        let what = "occlusionTexture";
+        out.push(TexRef {
+            var: "occlusion_map",
+            what,
+            texture: o.texture(),
+            tex_coord: o.tex_coord(),
+            transform: UvTransform::from_json(o.extension_value("KHR_texture_transform"), what)?,
+        });
+    }
+    Ok(out)
 }
 
 /// Any decoded glTF image as RGBA8 (16-bit and float channels are scaled/clamped).

@@ -1,6 +1,9 @@
 //! Shared helpers of the GPU tests: one engine per test binary, CPU images, metrics.
 #![allow(dead_code)]
 
+pub mod brdf;
+pub mod gltf_gen;
+
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::Engine;
 use fxgraph::gpu::runner::{apply_in_memory, RunError};
