@@ -54,14 +54,25 @@ pub fn load_materials(
     Ok(out)
 }
 
-/// A procedural texture named `builtin:NAME` (so built-in materials need no files):
-/// `checker` (256×256, 8×8 squares of sRGB 200 / 60 grey), `bricks`.
+/// A procedural texture named `builtin:NAME` (so built-in materials and tests
+/// need no files), 256×256: `checker` (8×8 squares of sRGB 200 / 60 grey),
+/// `bricks` (colour), `bumps` (a tangent-space normal map of 8×8 round bumps).
 pub fn builtin_texture(name: &str) -> Option<TextureImage> {
     let (w, h) = (256u32, 256u32);
     let mut rgba8 = Vec::with_capacity((w * h * 4) as usize);
     for y in 0..h {
         for x in 0..w {
             let v: [u8; 3] = match name {
+                "bumps" => {
+                    // height = cos bumps of period 32 px; normal = (-dh/dx, -dh/dy, 1)
+                    let k = std::f32::consts::TAU / 32.0;
+                    let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
+                    let dx = -0.6 * (k * fx).sin() * (k * fy).cos();
+                    let dy = -0.6 * (k * fx).cos() * (k * fy).sin();
+                    let n = glam::Vec3::new(-dx, -dy, 1.0).normalize();
+                    let e = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
+                    [e(n.x), e(n.y), e(n.z)]
+                }
                 "checker" => {
                     if ((x / 32) + (y / 32)) % 2 == 0 {
                         [200, 200, 200]
@@ -137,7 +148,11 @@ fn confined(dir: Option<&Path>, path: &str) -> Result<PathBuf, String> {
 fn load_texture(dir: Option<&Path>, path: &str) -> Result<TextureImage, String> {
     if let Some(name) = path.strip_prefix("builtin:") {
         return builtin_texture(name)
-            .ok_or_else(|| format!("unknown built-in texture `{path}` (builtin:checker, builtin:bricks)"));
+            .ok_or_else(|| {
+                format!(
+                    "unknown built-in texture `{path}` (builtin:checker, builtin:bricks, builtin:bumps)"
+                )
+            });
     }
     let full = confined(dir, path)?;
     let img = crate::io::load_image(&full, &crate::io::LoadOptions::default())

@@ -1,0 +1,478 @@
+//! The material system on lavapipe: every lighting shader against the CPU oracle
+//! (tests/common/brdf.rs) on an analytic sphere, glTF metallic-roughness spheres
+//! against the glTF 2.0 specification, forward = deferred = light pre-pass for
+//! every (surface, lighting) pair of the library and a user pair, identical images
+//! in the three variant modes, and the variant cache counts.
+
+mod common;
+
+use common::brdf::{self, Model, OracleCamera, Surface};
+use common::gltf_gen;
+use fxgraph::deferred::builtin::{box_mesh, uv_sphere};
+use fxgraph::deferred::gbuffer::read_rgba_f32;
+use fxgraph::deferred::material::script::{apply_materials, load_materials};
+use fxgraph::deferred::material::VariantMode;
+use fxgraph::deferred::{
+    Camera, Instance, Light, Material, Renderer, RendererOptions, Scene, ShaderBinding, Technique,
+};
+use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
+use glam::{Mat4, Vec3, Vec4};
+use std::sync::{Mutex, MutexGuard, OnceLock};
+
+fn gpu() -> Option<MutexGuard<'static, GpuContext>> {
+    static CTX: OnceLock<Option<Mutex<GpuContext>>> = OnceLock::new();
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
+    }
+    let c = CTX.get_or_init(|| match GpuContext::new(&AdapterChoice::Auto) {
+        Ok(ctx) => Some(Mutex::new(ctx)),
+        Err(e) => {
+            if require_gpu() {
+                panic!("FX_REQUIRE_GPU=1 but no GPU adapter: {e}");
+            }
+            eprintln!("skipping GPU test: no adapter ({e})");
+            None
+        }
+    });
+    c.as_ref()
+        .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
+}
+
+fn render(
+    ctx: &GpuContext,
+    scene: &Scene,
+    camera: &Camera,
+    (w, h): (u32, u32),
+    technique: Technique,
+    variants: VariantMode,
+) -> Vec<[f32; 4]> {
+    let mut r = Renderer::new(
+        ctx,
+        scene,
+        &RendererOptions {
+            variants,
+            ..Default::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", scene.name));
+    let (out, _) = r
+        .render(ctx, camera, w, h, technique, None)
+        .unwrap_or_else(|e| panic!("{technique}: {e}"));
+    read_rgba_f32(ctx, &out.scene).unwrap()
+}
+
+/// PSNR over RGB clamped to [0, 1] (the techniques' agreement metric).
+fn psnr(a: &[[f32; 4]], b: &[[f32; 4]]) -> f64 {
+    let mut mse = 0.0f64;
+    for (p, q) in a.iter().zip(b) {
+        for c in 0..3 {
+            let d = f64::from(p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0));
+            mse += d * d;
+        }
+    }
+    mse /= (a.len() * 3) as f64;
+    if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (1.0 / mse).log10()
+    }
+}
+
+fn save(name: &str, (w, h): (u32, u32), pixels: &[[f32; 4]]) {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
+    std::fs::create_dir_all(&dir).unwrap();
+    let data: Vec<f32> = pixels.iter().flat_map(|p| [p[0], p[1], p[2], 1.0]).collect();
+    fxgraph::io::save_image(
+        &dir.join(format!("materials_{name}.png")),
+        w,
+        h,
+        &fxgraph::io::Pixels::F32(data),
+        &Default::default(),
+    )
+    .unwrap();
+}
+
+/// Per-pixel comparison with the oracle over the sphere's interior (pixels whose
+/// four neighbours also hit, so silhouette coverage does not count): the error
+/// relative to max(reference, `floor`), per channel. Returns (99th percentile,
+/// mean, pixels compared).
+fn oracle_error(
+    gpu: &[[f32; 4]],
+    oracle: &[Option<Vec3>],
+    (w, h): (u32, u32),
+    floor: f32,
+) -> (f32, f32, usize) {
+    let mut errs = Vec::new();
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let i = (y * w + x) as usize;
+            let inside = [i, i - 1, i + 1, i - w as usize, i + w as usize]
+                .iter()
+                .all(|&j| oracle[j].is_some());
+            if !inside {
+                continue;
+            }
+            let r = oracle[i].unwrap();
+            for c in 0..3 {
+                errs.push((gpu[i][c] - r[c]).abs() / r[c].max(floor));
+            }
+        }
+    }
+    errs.sort_by(f32::total_cmp);
+    let p99 = errs[(errs.len() as f64 * 0.99) as usize];
+    let mean = errs.iter().sum::<f32>() / errs.len() as f32;
+    (p99, mean, errs.len() / 3)
+}
+
+const SPHERE_SIZE: (u32, u32) = (160, 160);
+
+fn sphere_scene(material: Material, lights: Vec<Light>) -> Scene {
+    let mut scene = Scene {
+        name: format!("sphere ({})", material.lighting.shader),
+        ..Default::default()
+    };
+    scene.meshes.push(uv_sphere(192, 96));
+    scene.materials.push(material);
+    scene.instances.push(Instance {
+        name: "sphere".into(),
+        mesh: 0,
+        material: 0,
+        transform: Mat4::IDENTITY,
+    });
+    scene.lights = lights;
+    scene
+}
+
+fn sphere_camera() -> (Camera, OracleCamera) {
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 3.2),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 45f32.to_radians(),
+        near: 0.5,
+        far: 10.0,
+    };
+    let o = OracleCamera {
+        eye: cam.eye,
+        target: cam.target,
+        up: cam.up,
+        fov_y: cam.fov_y,
+        aspect: 1.0,
+        width: SPHERE_SIZE.0,
+        height: SPHERE_SIZE.1,
+    };
+    (cam, o)
+}
+
+/// A directional key light, a glTF-style point light (inverse square) and a dim
+/// ambient light.
+fn test_lights() -> Vec<Light> {
+    let mut point = Light::point(Vec3::new(-2.0, 1.5, 2.5), Vec3::new(1.0, 0.8, 0.6), 12.0, 1.0);
+    point.attenuation = [0.0, 0.0, 1.0];
+    vec![
+        Light::directional(Vec3::new(0.5, -0.6, -0.6), Vec3::new(0.9, 0.95, 1.0), 2.5),
+        point,
+        Light::ambient(Vec3::ONE, 0.05),
+    ]
+}
+
+#[test]
+fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
+    let Some(ctx) = gpu() else { return };
+    let (camera, ocam) = sphere_camera();
+    let base = Vec3::new(0.7, 0.45, 0.3);
+    let cases: Vec<(&str, Material, Surface, Model)> = vec![
+        (
+            "lambert",
+            Material::new(
+                "lambert",
+                ShaderBinding::new("standard").with("base_color", &[0.7, 0.45, 0.3, 1.0]),
+                ShaderBinding::new("lambert"),
+            ),
+            Surface::new(base, Vec3::splat(0.04), 0.5),
+            Model::Lambert,
+        ),
+        (
+            "phong",
+            Material::phong("phong", base, 0.3, 24.0),
+            Surface::new(base, Vec3::splat(0.3), fxgraph::deferred::scene::roughness_from_shininess(24.0)),
+            Model::Phong(24.0),
+        ),
+        (
+            "blinn_phong",
+            Material::new(
+                "blinn",
+                ShaderBinding::new("standard")
+                    .with("base_color", &[0.7, 0.45, 0.3, 1.0])
+                    .with("specular", &[0.25, 0.25, 0.25]),
+                ShaderBinding::new("blinn_phong").with("shininess", &[48.0]),
+            ),
+            Surface::new(base, Vec3::splat(0.25), 0.5),
+            Model::BlinnPhong(48.0),
+        ),
+        (
+            "cook_torrance dielectric",
+            Material::metallic_roughness("ct", base.extend(1.0), 0.0, 0.35),
+            Surface::metallic_roughness(base, 0.0, 0.35),
+            Model::CookTorrance,
+        ),
+        (
+            "cook_torrance metal",
+            Material::metallic_roughness("gold", Vec4::new(1.0, 0.77, 0.34, 1.0), 1.0, 0.5),
+            Surface::metallic_roughness(Vec3::new(1.0, 0.77, 0.34), 1.0, 0.5),
+            Model::CookTorrance,
+        ),
+    ];
+    let lights = test_lights();
+    for (name, material, surface, model) in cases {
+        let scene = sphere_scene(material, lights.clone());
+        let oracle =
+            brdf::render_sphere_oracle(&ocam, Vec3::ZERO, 1.0, &surface, model, &scene.lights);
+        for technique in Technique::ALL {
+            let img = render(&ctx, &scene, &camera, SPHERE_SIZE, technique, VariantMode::Preprocess);
+            if technique == Technique::Deferred {
+                save(&format!("oracle_{}", name.replace(' ', "_")), SPHERE_SIZE, &img);
+            }
+            let (p99, mean, n) = oracle_error(&img, &oracle, SPHERE_SIZE, 0.05);
+            eprintln!(
+                "{name:>24} {technique:>13}: {n} px, relative error p99 {:.2} %, mean {:.3} %",
+                p99 * 100.0,
+                mean * 100.0
+            );
+            // Forward shades in f32 from interpolated normals; deferred and the
+            // light pre-pass read 8-bit sRGB colours and 10-bit normals.
+            let (p99_max, mean_max) = match technique {
+                Technique::Forward => (0.02, 0.005),
+                _ => (0.04, 0.01),
+            };
+            assert!(
+                p99 <= p99_max && mean <= mean_max,
+                "{name} ({technique}): p99 {p99}, mean {mean}"
+            );
+        }
+    }
+}
+
+#[test]
+fn gltf_metallic_roughness_spheres_follow_the_specification() {
+    let Some(ctx) = gpu() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let path = gltf_gen::write_spheres_gltf(dir.path());
+    let scene = Scene::load(path.to_str().unwrap()).unwrap();
+    assert_eq!(scene.lights.len(), 1, "the file's light and no other");
+    let (w, h) = (480, 192);
+    let camera = Camera {
+        eye: gltf_gen::CAMERA_EYE,
+        target: gltf_gen::CAMERA_TARGET,
+        up: Vec3::Y,
+        fov_y: gltf_gen::CAMERA_FOV_Y,
+        near: gltf_gen::CAMERA_ZNEAR,
+        far: gltf_gen::CAMERA_ZFAR,
+    };
+    let ocam = OracleCamera {
+        eye: camera.eye,
+        target: camera.target,
+        up: camera.up,
+        fov_y: camera.fov_y,
+        aspect: w as f32 / h as f32,
+        width: w,
+        height: h,
+    };
+    for technique in [Technique::Deferred, Technique::Forward] {
+        let img = render(&ctx, &scene, &camera, (w, h), technique, VariantMode::Preprocess);
+        save(&format!("gltf_spheres_{technique}"), (w, h), &img);
+        for (i, m) in gltf_gen::SPHERE_MATERIALS.iter().enumerate() {
+            let base = Vec3::new(m.base_color[0], m.base_color[1], m.base_color[2]);
+            let surface = Surface::metallic_roughness(base, m.metallic, m.roughness);
+            let oracle = brdf::render_sphere_oracle(
+                &ocam,
+                gltf_gen::SPHERE_CENTRES[i],
+                gltf_gen::SPHERE_RADIUS,
+                &surface,
+                Model::CookTorrance,
+                &scene.lights,
+            );
+            let (p99, mean, n) = oracle_error(&img, &oracle, (w, h), 0.05);
+            eprintln!(
+                "{:>18} {technique:>9}: {n} px, error vs the glTF spec p99 {:.2} %, mean {:.3} %",
+                m.name,
+                p99 * 100.0,
+                mean * 100.0
+            );
+            assert!(n > 2000, "{}: sphere not in view", m.name);
+            // The generator's spheres have 64 segments: interpolated normals and
+            // flat facets move a smooth highlight by a few per cent at its edge.
+            assert!(p99 <= 0.05 && mean <= 0.01, "{}: p99 {p99}, mean {mean}", m.name);
+        }
+    }
+}
+
+/// A user's surface and lighting shader, the pair `docs/materials.md` shows.
+const USER_SURFACE: &str = include_str!("../docs/examples/stripes.wgsl");
+const USER_LIGHTING: &str = include_str!("../docs/examples/wrap_lambert.wgsl");
+const USER_MATERIALS: &str = include_str!("../docs/examples/stripes.fx");
+
+/// Eight objects: the library's two surfaces (standard with colour and normal
+/// maps, triplanar with a colour map) × four lighting shaders, plus the user pair.
+fn pairs_scene() -> (Scene, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("stripes.wgsl"), USER_SURFACE).unwrap();
+    std::fs::write(dir.path().join("wrap_lambert.wgsl"), USER_LIGHTING).unwrap();
+    let mut scene = Scene {
+        name: "pairs".into(),
+        ..Default::default()
+    };
+    scene.meshes.push(uv_sphere(48, 24));
+    scene.meshes.push(box_mesh(Vec3::ONE));
+    let mut text = String::new();
+    for surface in ["standard", "triplanar"] {
+        for (lighting, settings) in [
+            ("lambert", ""),
+            ("phong", "SPECULAR_POWER = 40"),
+            ("blinn_phong", "shininess = 90"),
+            ("cook_torrance", ""),
+        ] {
+            let maps = if surface == "standard" {
+                "base_color_map = \"builtin:checker\" normal_map = \"builtin:bumps\" roughness = 0.4 specular = (0.2, 0.2, 0.2)"
+            } else {
+                "base_color_map = \"builtin:bricks\" scale = 0.5 roughness = 0.4"
+            };
+            text.push_str(&format!(
+                "MATERIAL.{surface}_{lighting} = {{ SURFACE = SHADER.{surface} {{ {maps} }} LIGHTING = SHADER.{lighting} {{ {settings} }} }}\n"
+            ));
+        }
+    }
+    text.push_str(USER_MATERIALS);
+    let file = load_materials("pairs.fx", &text, Some(dir.path()), 0).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(file.materials.len(), 9);
+    scene.textures = file.textures;
+    for (i, m) in file.materials.into_iter().enumerate() {
+        let (x, z) = ((i % 3) as f32 * 2.4 - 2.4, (i / 3) as f32 * 2.4 - 2.4);
+        scene.instances.push(Instance {
+            name: m.name.clone(),
+            mesh: i % 2,
+            material: i,
+            transform: Mat4::from_translation(Vec3::new(x, 0.0, z))
+                * Mat4::from_rotation_y(0.4 + i as f32)
+                * Mat4::from_scale(Vec3::splat(0.9)),
+        });
+        scene.materials.push(m);
+    }
+    scene.lights = vec![
+        Light::directional(Vec3::new(-0.4, -1.0, -0.5), Vec3::ONE, 3.0),
+        Light::point(Vec3::new(1.0, 2.0, 2.0), Vec3::new(1.0, 0.6, 0.3), 40.0, 8.0),
+        Light::spot(
+            Vec3::new(-2.0, 3.0, 1.0),
+            Vec3::new(0.3, -1.0, -0.2),
+            Vec3::new(0.4, 0.7, 1.0),
+            60.0,
+            9.0,
+            0.3,
+            0.6,
+        ),
+        Light::ambient(Vec3::ONE, 0.05),
+    ];
+    (scene, dir)
+}
+
+#[test]
+fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
+    let Some(ctx) = gpu() else { return };
+    let (scene, _dir) = pairs_scene();
+    let size = (192, 144);
+    let camera = Camera::parse_spec("eye=0,6,7;target=0,0,0;fov=50", &scene).unwrap();
+    let reference = render(&ctx, &scene, &camera, size, Technique::Deferred, VariantMode::Preprocess);
+    save("pairs_deferred", size, &reference);
+    assert!(
+        reference.iter().filter(|p| p[0] + p[1] + p[2] > 0.05).count() > reference.len() / 6,
+        "the scene is mostly dark"
+    );
+    for technique in Technique::ALL {
+        let per_mode: Vec<Vec<[f32; 4]>> = VariantMode::ALL
+            .iter()
+            .map(|&mode| render(&ctx, &scene, &camera, size, technique, mode))
+            .collect();
+        let p = psnr(&reference, &per_mode[0]);
+        eprintln!("deferred vs {technique}: PSNR {p:.2} dB");
+        assert!(p >= 40.0, "deferred vs {technique}: {p:.2} dB");
+        for (mode, img) in VariantMode::ALL.iter().zip(&per_mode).skip(1) {
+            let p = psnr(&per_mode[0], img);
+            eprintln!("{technique}: preprocess vs {mode}: PSNR {p:.2} dB");
+            assert!(p >= 60.0, "{technique}: preprocess vs {mode}: {p:.2} dB");
+        }
+    }
+}
+
+#[test]
+fn variants_are_compiled_once_and_counted_by_mode() {
+    let Some(ctx) = gpu() else { return };
+    let scene = Scene::load("builtin:room").unwrap();
+    let camera = scene.default_camera();
+    let mut counts = Vec::new();
+    for mode in VariantMode::ALL {
+        let mut r = Renderer::new(
+            &ctx,
+            &scene,
+            &RendererOptions {
+                variants: mode,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let (_, first) = r.render(&ctx, &camera, 64, 48, Technique::Deferred, None).unwrap();
+        let (_, second) = r.render(&ctx, &camera, 64, 48, Technique::Deferred, None).unwrap();
+        assert_eq!(
+            (second.pipelines, second.shader_modules),
+            (first.pipelines, first.shader_modules),
+            "{mode}: the second frame compiled again"
+        );
+        let set = r.materials();
+        // distinct (surface, lighting) pairs and (pair, features) keys in use
+        let mut pairs: Vec<(usize, usize)> = set.materials.iter().map(|m| (m.surface, m.lighting)).collect();
+        pairs.sort();
+        pairs.dedup();
+        eprintln!(
+            "{mode}: {} pipelines, {} shader modules for {} materials ({} surface/lighting pairs)",
+            first.pipelines,
+            first.shader_modules,
+            set.materials.len(),
+            pairs.len()
+        );
+        counts.push((mode, first.pipelines, first.shader_modules, pairs.len()));
+    }
+    let (_, pre_p, pre_m, pairs) = counts[0];
+    let (_, ovr_p, ovr_m, _) = counts[1];
+    let (_, br_p, br_m, _) = counts[2];
+    // one module per pair (+ the light module) unless preprocessing
+    assert_eq!(ovr_m, pairs + 1);
+    assert_eq!(br_m, pairs + 1);
+    assert!(pre_m > pairs + 1, "preprocessing compiles a module per feature set");
+    // override and preprocess specialise the same pipelines; branching shares them
+    assert_eq!(ovr_p, pre_p);
+    assert!(br_p < pre_p, "branching: {br_p} pipelines, preprocess {pre_p}");
+}
+
+#[test]
+fn user_materials_replace_scene_materials_by_name_and_star() {
+    let Some(ctx) = gpu() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("stripes.wgsl"), USER_SURFACE).unwrap();
+    std::fs::write(dir.path().join("wrap_lambert.wgsl"), USER_LIGHTING).unwrap();
+    let mut scene = Scene::load("builtin:room").unwrap();
+    let first = scene.textures.len();
+    let file = load_materials("stripes.fx", USER_MATERIALS, Some(dir.path()), first).unwrap();
+    let replaced = apply_materials(&mut scene, file.clone(), &[("red".into(), "stripes".into())]).unwrap();
+    assert_eq!(replaced, vec!["red".to_string()]);
+    let red = scene.materials.iter().find(|m| m.name == "red").unwrap();
+    assert_eq!(red.surface.shader, "stripes");
+    let mut all = Scene::load("builtin:room").unwrap();
+    let n = all.materials.len();
+    let file = load_materials("stripes.fx", USER_MATERIALS, Some(dir.path()), all.textures.len()).unwrap();
+    let replaced = apply_materials(&mut all, file, &[("*".into(), "stripes".into())]).unwrap();
+    assert_eq!(replaced.len(), n);
+    let camera = all.default_camera();
+    let img = render(&ctx, &all, &camera, (96, 64), Technique::Deferred, VariantMode::Preprocess);
+    assert!(img.iter().any(|p| p[0] > 0.01));
+    let err = apply_materials(&mut scene, Default::default(), &[("nope".into(), "stripes".into())]).unwrap_err();
+    assert!(err.contains("no MATERIAL.stripes"), "{err}");
+}
