@@ -628,8 +628,15 @@ fn gltf_scenes_render() {
         let (img, _, _) = render(&ctx, &mut r, &scene.default_camera(), Technique::Deferred);
         save_review(&file.replace('/', "_"), &img);
         let lit = img.iter().filter(|p| p[0] + p[1] + p[2] > 0.03).count();
-        eprintln!("{file}: mean {:.4}, {lit} lit pixels of {}", mean_rgb(&img), img.len());
-        assert!(lit * 20 > img.len(), "{file}: black image ({lit} lit pixels)");
+        eprintln!(
+            "{file}: mean {:.4}, {lit} lit pixels of {}",
+            mean_rgb(&img),
+            img.len()
+        );
+        assert!(
+            lit * 20 > img.len(),
+            "{file}: black image ({lit} lit pixels)"
+        );
     }
 }
 

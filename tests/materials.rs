@@ -81,7 +81,10 @@ fn psnr(a: &[[f32; 4]], b: &[[f32; 4]]) -> f64 {
 fn save(name: &str, (w, h): (u32, u32), pixels: &[[f32; 4]]) {
     let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
     std::fs::create_dir_all(&dir).unwrap();
-    let data: Vec<f32> = pixels.iter().flat_map(|p| [p[0], p[1], p[2], 1.0]).collect();
+    let data: Vec<f32> = pixels
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2], 1.0])
+        .collect();
     fxgraph::io::save_image(
         &dir.join(format!("materials_{name}.png")),
         w,
@@ -167,7 +170,12 @@ fn sphere_camera() -> (Camera, OracleCamera) {
 /// A directional key light, a glTF-style point light (inverse square) and a dim
 /// ambient light.
 fn test_lights() -> Vec<Light> {
-    let mut point = Light::point(Vec3::new(-2.0, 1.5, 2.5), Vec3::new(1.0, 0.8, 0.6), 12.0, 1.0);
+    let mut point = Light::point(
+        Vec3::new(-2.0, 1.5, 2.5),
+        Vec3::new(1.0, 0.8, 0.6),
+        12.0,
+        1.0,
+    );
     point.attenuation = [0.0, 0.0, 1.0];
     vec![
         Light::directional(Vec3::new(0.5, -0.6, -0.6), Vec3::new(0.9, 0.95, 1.0), 2.5),
@@ -195,7 +203,11 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
         (
             "phong",
             Material::phong("phong", base, 0.3, 24.0),
-            Surface::new(base, Vec3::splat(0.3), fxgraph::deferred::scene::roughness_from_shininess(24.0)),
+            Surface::new(
+                base,
+                Vec3::splat(0.3),
+                fxgraph::deferred::scene::roughness_from_shininess(24.0),
+            ),
             Model::Phong(24.0),
         ),
         (
@@ -229,9 +241,20 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
         let oracle =
             brdf::render_sphere_oracle(&ocam, Vec3::ZERO, 1.0, &surface, model, &scene.lights);
         for technique in Technique::ALL {
-            let img = render(&ctx, &scene, &camera, SPHERE_SIZE, technique, VariantMode::Preprocess);
+            let img = render(
+                &ctx,
+                &scene,
+                &camera,
+                SPHERE_SIZE,
+                technique,
+                VariantMode::Preprocess,
+            );
             if technique == Technique::Deferred {
-                save(&format!("oracle_{}", name.replace(' ', "_")), SPHERE_SIZE, &img);
+                save(
+                    &format!("oracle_{}", name.replace(' ', "_")),
+                    SPHERE_SIZE,
+                    &img,
+                );
             }
             let (p99, mean, n) = oracle_error(&img, &oracle, SPHERE_SIZE, 0.05);
             eprintln!(
@@ -279,7 +302,14 @@ fn gltf_metallic_roughness_spheres_follow_the_specification() {
         height: h,
     };
     for technique in [Technique::Deferred, Technique::Forward] {
-        let img = render(&ctx, &scene, &camera, (w, h), technique, VariantMode::Preprocess);
+        let img = render(
+            &ctx,
+            &scene,
+            &camera,
+            (w, h),
+            technique,
+            VariantMode::Preprocess,
+        );
         save(&format!("gltf_spheres_{technique}"), (w, h), &img);
         for (i, m) in gltf_gen::SPHERE_MATERIALS.iter().enumerate() {
             let base = Vec3::new(m.base_color[0], m.base_color[1], m.base_color[2]);
@@ -302,7 +332,11 @@ fn gltf_metallic_roughness_spheres_follow_the_specification() {
             assert!(n > 2000, "{}: sphere not in view", m.name);
             // The generator's spheres have 64 segments: interpolated normals and
             // flat facets move a smooth highlight by a few per cent at its edge.
-            assert!(p99 <= 0.05 && mean <= 0.01, "{}: p99 {p99}, mean {mean}", m.name);
+            assert!(
+                p99 <= 0.05 && mean <= 0.01,
+                "{}: p99 {p99}, mean {mean}",
+                m.name
+            );
         }
     }
 }
@@ -343,7 +377,8 @@ fn pairs_scene() -> (Scene, tempfile::TempDir) {
         }
     }
     text.push_str(USER_MATERIALS);
-    let file = load_materials("pairs.fx", &text, Some(dir.path()), 0).unwrap_or_else(|e| panic!("{e}"));
+    let file =
+        load_materials("pairs.fx", &text, Some(dir.path()), 0).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(file.materials.len(), 9);
     scene.textures = file.textures;
     for (i, m) in file.materials.into_iter().enumerate() {
@@ -360,7 +395,12 @@ fn pairs_scene() -> (Scene, tempfile::TempDir) {
     }
     scene.lights = vec![
         Light::directional(Vec3::new(-0.4, -1.0, -0.5), Vec3::ONE, 3.0),
-        Light::point(Vec3::new(1.0, 2.0, 2.0), Vec3::new(1.0, 0.6, 0.3), 40.0, 8.0),
+        Light::point(
+            Vec3::new(1.0, 2.0, 2.0),
+            Vec3::new(1.0, 0.6, 0.3),
+            40.0,
+            8.0,
+        ),
         Light::spot(
             Vec3::new(-2.0, 3.0, 1.0),
             Vec3::new(0.3, -1.0, -0.2),
@@ -381,10 +421,21 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
     let (scene, _dir) = pairs_scene();
     let size = (192, 144);
     let camera = Camera::parse_spec("eye=0,6,7;target=0,0,0;fov=50", &scene).unwrap();
-    let reference = render(&ctx, &scene, &camera, size, Technique::Deferred, VariantMode::Preprocess);
+    let reference = render(
+        &ctx,
+        &scene,
+        &camera,
+        size,
+        Technique::Deferred,
+        VariantMode::Preprocess,
+    );
     save("pairs_deferred", size, &reference);
     assert!(
-        reference.iter().filter(|p| p[0] + p[1] + p[2] > 0.05).count() > reference.len() / 6,
+        reference
+            .iter()
+            .filter(|p| p[0] + p[1] + p[2] > 0.05)
+            .count()
+            > reference.len() / 6,
         "the scene is mostly dark"
     );
     for technique in Technique::ALL {
@@ -419,8 +470,12 @@ fn variants_are_compiled_once_and_counted_by_mode() {
             },
         )
         .unwrap();
-        let (_, first) = r.render(&ctx, &camera, 64, 48, Technique::Deferred, None).unwrap();
-        let (_, second) = r.render(&ctx, &camera, 64, 48, Technique::Deferred, None).unwrap();
+        let (_, first) = r
+            .render(&ctx, &camera, 64, 48, Technique::Deferred, None)
+            .unwrap();
+        let (_, second) = r
+            .render(&ctx, &camera, 64, 48, Technique::Deferred, None)
+            .unwrap();
         assert_eq!(
             (second.pipelines, second.shader_modules),
             (first.pipelines, first.shader_modules),
@@ -428,7 +483,11 @@ fn variants_are_compiled_once_and_counted_by_mode() {
         );
         let set = r.materials();
         // distinct (surface, lighting) pairs and (pair, features) keys in use
-        let mut pairs: Vec<(usize, usize)> = set.materials.iter().map(|m| (m.surface, m.lighting)).collect();
+        let mut pairs: Vec<(usize, usize)> = set
+            .materials
+            .iter()
+            .map(|m| (m.surface, m.lighting))
+            .collect();
         pairs.sort();
         pairs.dedup();
         eprintln!(
@@ -446,10 +505,16 @@ fn variants_are_compiled_once_and_counted_by_mode() {
     // one module per pair (+ the light module) unless preprocessing
     assert_eq!(ovr_m, pairs + 1);
     assert_eq!(br_m, pairs + 1);
-    assert!(pre_m > pairs + 1, "preprocessing compiles a module per feature set");
+    assert!(
+        pre_m > pairs + 1,
+        "preprocessing compiles a module per feature set"
+    );
     // override and preprocess specialise the same pipelines; branching shares them
     assert_eq!(ovr_p, pre_p);
-    assert!(br_p < pre_p, "branching: {br_p} pipelines, preprocess {pre_p}");
+    assert!(
+        br_p < pre_p,
+        "branching: {br_p} pipelines, preprocess {pre_p}"
+    );
 }
 
 #[test]
@@ -461,18 +526,41 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
     let mut scene = Scene::load("builtin:room").unwrap();
     let first = scene.textures.len();
     let file = load_materials("stripes.fx", USER_MATERIALS, Some(dir.path()), first).unwrap();
-    let replaced = apply_materials(&mut scene, file.clone(), &[("red".into(), "stripes".into())]).unwrap();
+    let replaced = apply_materials(
+        &mut scene,
+        file.clone(),
+        &[("red".into(), "stripes".into())],
+    )
+    .unwrap();
     assert_eq!(replaced, vec!["red".to_string()]);
     let red = scene.materials.iter().find(|m| m.name == "red").unwrap();
     assert_eq!(red.surface.shader, "stripes");
     let mut all = Scene::load("builtin:room").unwrap();
     let n = all.materials.len();
-    let file = load_materials("stripes.fx", USER_MATERIALS, Some(dir.path()), all.textures.len()).unwrap();
+    let file = load_materials(
+        "stripes.fx",
+        USER_MATERIALS,
+        Some(dir.path()),
+        all.textures.len(),
+    )
+    .unwrap();
     let replaced = apply_materials(&mut all, file, &[("*".into(), "stripes".into())]).unwrap();
     assert_eq!(replaced.len(), n);
     let camera = all.default_camera();
-    let img = render(&ctx, &all, &camera, (96, 64), Technique::Deferred, VariantMode::Preprocess);
+    let img = render(
+        &ctx,
+        &all,
+        &camera,
+        (96, 64),
+        Technique::Deferred,
+        VariantMode::Preprocess,
+    );
     assert!(img.iter().any(|p| p[0] > 0.01));
-    let err = apply_materials(&mut scene, Default::default(), &[("nope".into(), "stripes".into())]).unwrap_err();
+    let err = apply_materials(
+        &mut scene,
+        Default::default(),
+        &[("nope".into(), "stripes".into())],
+    )
+    .unwrap_err();
     assert!(err.contains("no MATERIAL.stripes"), "{err}");
 }

@@ -809,7 +809,11 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
             m.split_once('=')
                 .map(|(a, b)| (a.trim().to_string(), b.trim().to_string()))
                 .filter(|(a, b)| !a.is_empty() && !b.is_empty())
-                .ok_or_else(|| rejected(format!("--material {m}: expected SCENE_MATERIAL=DEFINITION")))
+                .ok_or_else(|| {
+                    rejected(format!(
+                        "--material {m}: expected SCENE_MATERIAL=DEFINITION"
+                    ))
+                })
         })
         .collect::<Result<Vec<_>, _>>()?;
     let default_chain = cli.effects.is_empty() && cli.output.is_some();

@@ -252,13 +252,9 @@ impl Builder {
     /// Adds every material of an embedded material file (and its textures); the
     /// built-in files are tested to load, so a failure here is a bug.
     fn materials_from(&mut self, text: &str, shown: &str) -> HashMap<String, usize> {
-        let file = super::material::script::load_materials(
-            shown,
-            text,
-            None,
-            self.scene.textures.len(),
-        )
-        .unwrap_or_else(|report| panic!("built-in materials do not load:\n{report}"));
+        let file =
+            super::material::script::load_materials(shown, text, None, self.scene.textures.len())
+                .unwrap_or_else(|report| panic!("built-in materials do not load:\n{report}"));
         self.scene.textures.extend(file.textures);
         file.materials
             .into_iter()
@@ -413,7 +409,11 @@ pub fn room() -> Scene {
     });
     lights.push(Light {
         name: "room directional".into(),
-        ..Light::directional(Vec3::new(0.3, -1.0, -0.4), Vec3::new(0.9, 0.9, 1.0), 0.25 * PI)
+        ..Light::directional(
+            Vec3::new(0.3, -1.0, -0.4),
+            Vec3::new(0.9, 0.9, 1.0),
+            0.25 * PI,
+        )
     });
     lights.push(Light {
         name: "room ambient".into(),

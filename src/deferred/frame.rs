@@ -63,7 +63,10 @@ pub(crate) fn ensure_pipelines(
     let mut keys: Vec<(GeoKey, usize)> = Vec::new();
     for b in &r.geometry.batches {
         for &pass in opaque_passes(technique) {
-            keys.push((geo_key(r, pass, b, lights), r.materials.materials[b.material].surface));
+            keys.push((
+                geo_key(r, pass, b, lights),
+                r.materials.materials[b.material].surface,
+            ));
         }
     }
     for item in &r.geometry.blend_items {
@@ -247,9 +250,8 @@ pub(crate) fn encode(
     let background = clear_to(r.background_color().extend(1.0));
     let zero = clear_to(Vec4::ZERO);
     ctx.scoped(label, |device| {
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some(label),
-        });
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
         let light_pass = |encoder: &mut wgpu::CommandEncoder,
                           names: &mut Vec<String>,
                           specular_ops: wgpu::Operations<wgpu::Color>,
@@ -325,7 +327,14 @@ pub(crate) fn encode(
                         ],
                         Depth::Clear,
                     );
-                    draw_batches(r, &mut rp, r.geometry.batches.iter(), GeoPass::GBuffer, lights, &mut draws);
+                    draw_batches(
+                        r,
+                        &mut rp,
+                        r.geometry.batches.iter(),
+                        GeoPass::GBuffer,
+                        lights,
+                        &mut draws,
+                    );
                 }
                 light_pass(&mut encoder, &mut names, LOAD, &mut draws);
                 fullscreen(
@@ -352,7 +361,14 @@ pub(crate) fn encode(
                         ],
                         Depth::Clear,
                     );
-                    draw_batches(r, &mut rp, r.geometry.batches.iter(), GeoPass::Prepass, lights, &mut draws);
+                    draw_batches(
+                        r,
+                        &mut rp,
+                        r.geometry.batches.iter(),
+                        GeoPass::Prepass,
+                        lights,
+                        &mut draws,
+                    );
                 }
                 light_pass(&mut encoder, &mut names, zero, &mut draws);
                 {
@@ -362,11 +378,21 @@ pub(crate) fn encode(
                         &mut names,
                         timer,
                         "final geometry",
-                        &[attach(&t.scene.view, background), attach(&t.albedo.view, LOAD)],
+                        &[
+                            attach(&t.scene.view, background),
+                            attach(&t.albedo.view, LOAD),
+                        ],
                         Depth::Read,
                     );
                     rp.set_bind_group(1, &t.bg_final, &[]);
-                    draw_batches(r, &mut rp, r.geometry.batches.iter(), GeoPass::LppFinal, lights, &mut draws);
+                    draw_batches(
+                        r,
+                        &mut rp,
+                        r.geometry.batches.iter(),
+                        GeoPass::LppFinal,
+                        lights,
+                        &mut draws,
+                    );
                 }
             }
             Technique::Forward => {
@@ -384,7 +410,14 @@ pub(crate) fn encode(
                     ],
                     Depth::Clear,
                 );
-                draw_batches(r, &mut rp, r.geometry.batches.iter(), GeoPass::Forward, lights, &mut draws);
+                draw_batches(
+                    r,
+                    &mut rp,
+                    r.geometry.batches.iter(),
+                    GeoPass::Forward,
+                    lights,
+                    &mut draws,
+                );
             }
         }
         if !blend.is_empty() {
@@ -397,14 +430,31 @@ pub(crate) fn encode(
                 &[attach(&t.scene.view, LOAD)],
                 Depth::Read,
             );
-            draw_batches(r, &mut rp, blend.iter().map(|(_, b)| *b), GeoPass::ForwardBlend, lights, &mut draws);
+            draw_batches(
+                r,
+                &mut rp,
+                blend.iter().map(|(_, b)| *b),
+                GeoPass::ForwardBlend,
+                lights,
+                &mut draws,
+            );
         }
         for (pipe, range, name) in [
             (LightPipe::AuxA, 0..3, "aux depth/normal/position"),
             (LightPipe::AuxB, 3..6, "aux albedo/material/specular"),
         ] {
-            let attachments: Vec<_> = t.aux[range].iter().map(|(_, a)| attach(&a.view, zero)).collect();
-            fullscreen(&mut encoder, &mut names, name, pipe, &attachments, &mut draws);
+            let attachments: Vec<_> = t.aux[range]
+                .iter()
+                .map(|(_, a)| attach(&a.view, zero))
+                .collect();
+            fullscreen(
+                &mut encoder,
+                &mut names,
+                name,
+                pipe,
+                &attachments,
+                &mut draws,
+            );
         }
         if let Some(timer) = timer {
             timer.resolve(&mut encoder, names.len() as u32);

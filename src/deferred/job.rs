@@ -86,12 +86,11 @@ fn render_error(e: RenderError) -> RunError {
         RenderError::Gpu(g) => RunError::Gpu(g),
         RenderError::Scene(s) => scene_error(s),
         RenderError::Io(i) => RunError::from(i),
-        RenderError::Invalid(m) | RenderError::Material(m) => {
-            RunError::BadInput(IoError::Unsupported {
-                path: PathBuf::new(),
-                message: m,
-            })
-        }
+        RenderError::Invalid(m) => RunError::BadInput(IoError::Unsupported {
+            path: PathBuf::new(),
+            message: m,
+        }),
+        RenderError::Material(rendered) => RunError::Rejected { rendered },
     }
 }
 
@@ -115,28 +114,32 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     let t = Instant::now();
     let mut scene = Scene::load(&job.scene).map_err(scene_error)?;
     if let Some(path) = &job.materials {
-        let bad = |message: String| {
-            RunError::BadInput(IoError::Unsupported {
+        let text = std::fs::read_to_string(path).map_err(|source| {
+            RunError::Io(IoError::Io {
                 path: path.clone(),
-                message,
+                source,
             })
-        };
-        let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+        })?;
+        let rejected = |rendered: String| RunError::Rejected { rendered };
         let file = super::material::script::load_materials(
             &path.display().to_string(),
             &text,
             path.parent(),
             scene.textures.len(),
         )
-        .map_err(bad)?;
-        let replaced = super::material::script::apply_materials(&mut scene, file, &job.material_map)
-            .map_err(bad)?;
-        log::info!("{}: materials replaced: {}", path.display(), replaced.join(", "));
+        .map_err(rejected)?;
+        let replaced =
+            super::material::script::apply_materials(&mut scene, file, &job.material_map)
+                .map_err(|m| rejected(format!("{m}\n")))?;
+        log::info!(
+            "{}: materials replaced: {}",
+            path.display(),
+            replaced.join(", ")
+        );
     } else if !job.material_map.is_empty() {
-        return Err(RunError::BadInput(IoError::Unsupported {
-            path: PathBuf::new(),
-            message: "--material needs --materials FILE (the file that defines them)".into(),
-        }));
+        return Err(RunError::Rejected {
+            rendered: "--material needs --materials FILE (the file that defines them)\n".into(),
+        });
     }
     if job.lights > 0 {
         scene.add_random_point_lights(job.lights, job.seed);
@@ -148,16 +151,15 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     };
     report.load_ms = t.elapsed().as_secs_f64() * 1e3;
     let ctx = engine.ctx.clone();
-    let mut renderer =
-        Renderer::new(
-            &ctx,
-            &scene,
-            &RendererOptions {
-                variants: job.variants,
-                ..Default::default()
-            },
-        )
-        .map_err(render_error)?;
+    let mut renderer = Renderer::new(
+        &ctx,
+        &scene,
+        &RendererOptions {
+            variants: job.variants,
+            ..Default::default()
+        },
+    )
+    .map_err(render_error)?;
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {

@@ -27,122 +27,121 @@ pub(crate) struct LightLists {
 }
 
 impl LightLists {
-/// Frustum culling and volume classification of the lights for one frame.
-pub(crate) fn classify(
-    lights: &[Light],
-    sphere_scale: f32,
-    cone_poly_scale: f32,
-    camera: &Camera,
-    view: &Mat4,
-    proj: &Mat4,
-    aspect: f32,
-) -> LightLists {
-    let mut lists = LightLists::default();
-    let planes = frustum_planes(proj);
-    let half_fov = (camera.fov_y * 0.5).tan();
-    // distance from the eye to a corner of the near plane rectangle
-    let near_margin =
-        camera.near * (1.0 + half_fov * half_fov * (1.0 + aspect * aspect)).sqrt();
-    for l in lights {
-        let color = l.color * l.intensity;
-        if color.max_element() <= 0.0 || !color.is_finite() {
-            continue;
-        }
-        let dir_view = view
-            .transform_vector3(l.direction)
-            .normalize_or(Vec3::NEG_Z);
-        let mut g = GpuLight {
-            position: [0.0; 3],
-            radius: 0.0,
-            color: color.into(),
-            kind: KIND_DIRECTIONAL,
-            direction: dir_view.into(),
-            volume_scale: 1.0,
-            atten: l.attenuation,
-            cos_outer: -1.0,
-            cos_inner: 1.0,
-            cone_radius: 0.0,
-            volume: VOLUME_FULLSCREEN,
-            range: l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
-        };
-        let index = lists.gpu.len() as u32;
-        match l.kind {
-            LightKind::Ambient => {
-                lists.ambient += color;
+    /// Frustum culling and volume classification of the lights for one frame.
+    pub(crate) fn classify(
+        lights: &[Light],
+        sphere_scale: f32,
+        cone_poly_scale: f32,
+        camera: &Camera,
+        view: &Mat4,
+        proj: &Mat4,
+        aspect: f32,
+    ) -> LightLists {
+        let mut lists = LightLists::default();
+        let planes = frustum_planes(proj);
+        let half_fov = (camera.fov_y * 0.5).tan();
+        // distance from the eye to a corner of the near plane rectangle
+        let near_margin =
+            camera.near * (1.0 + half_fov * half_fov * (1.0 + aspect * aspect)).sqrt();
+        for l in lights {
+            let color = l.color * l.intensity;
+            if color.max_element() <= 0.0 || !color.is_finite() {
+                continue;
             }
-            LightKind::Directional => {
-                lists.gpu.push(g);
-                lists.forward.push(index);
-                lists.fullscreen.push(index);
-            }
-            LightKind::Point | LightKind::Spot { .. } => {
-                let radius = l.radius();
-                if radius.is_nan() || radius <= 0.0 {
-                    continue;
+            let dir_view = view
+                .transform_vector3(l.direction)
+                .normalize_or(Vec3::NEG_Z);
+            let mut g = GpuLight {
+                position: [0.0; 3],
+                radius: 0.0,
+                color: color.into(),
+                kind: KIND_DIRECTIONAL,
+                direction: dir_view.into(),
+                volume_scale: 1.0,
+                atten: l.attenuation,
+                cos_outer: -1.0,
+                cos_inner: 1.0,
+                cone_radius: 0.0,
+                volume: VOLUME_FULLSCREEN,
+                range: l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
+            };
+            let index = lists.gpu.len() as u32;
+            match l.kind {
+                LightKind::Ambient => {
+                    lists.ambient += color;
                 }
-                let radius = radius.min(1e7);
-                let pos = view.transform_point3(l.position);
-                g.position = pos.into();
-                g.radius = radius;
-                // bounding sphere of the lit region (for culling) and of the proxy
-                let (mut cull_center, mut cull_radius) = (pos, radius);
-                let (proxy_center, proxy_radius);
-                if let LightKind::Spot { inner, outer } = l.kind {
-                    let outer = outer.clamp(1e-3, std::f32::consts::FRAC_PI_2);
-                    let inner = inner.clamp(0.0, outer);
-                    g.kind = KIND_SPOT;
-                    g.cos_outer = outer.cos();
-                    g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
-                    if outer <= MAX_CONE_ANGLE {
-                        g.volume = VOLUME_CONE;
-                        g.cone_radius = radius * outer.tan() * cone_poly_scale;
-                        let (c, r) =
-                            cone_bounding_sphere(pos, dir_view, radius, radius * outer.tan());
-                        if r < cull_radius {
-                            cull_center = c;
-                            cull_radius = r;
+                LightKind::Directional => {
+                    lists.gpu.push(g);
+                    lists.forward.push(index);
+                    lists.fullscreen.push(index);
+                }
+                LightKind::Point | LightKind::Spot { .. } => {
+                    let radius = l.radius();
+                    if radius.is_nan() || radius <= 0.0 {
+                        continue;
+                    }
+                    let radius = radius.min(1e7);
+                    let pos = view.transform_point3(l.position);
+                    g.position = pos.into();
+                    g.radius = radius;
+                    // bounding sphere of the lit region (for culling) and of the proxy
+                    let (mut cull_center, mut cull_radius) = (pos, radius);
+                    let (proxy_center, proxy_radius);
+                    if let LightKind::Spot { inner, outer } = l.kind {
+                        let outer = outer.clamp(1e-3, std::f32::consts::FRAC_PI_2);
+                        let inner = inner.clamp(0.0, outer);
+                        g.kind = KIND_SPOT;
+                        g.cos_outer = outer.cos();
+                        g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
+                        if outer <= MAX_CONE_ANGLE {
+                            g.volume = VOLUME_CONE;
+                            g.cone_radius = radius * outer.tan() * cone_poly_scale;
+                            let (c, r) =
+                                cone_bounding_sphere(pos, dir_view, radius, radius * outer.tan());
+                            if r < cull_radius {
+                                cull_center = c;
+                                cull_radius = r;
+                            }
+                            let (pc, pr) =
+                                cone_bounding_sphere(pos, dir_view, radius, g.cone_radius);
+                            proxy_center = pc;
+                            proxy_radius = pr;
+                        } else {
+                            g.volume = VOLUME_SPHERE;
+                            g.volume_scale = sphere_scale;
+                            proxy_center = pos;
+                            proxy_radius = radius * sphere_scale;
                         }
-                        let (pc, pr) =
-                            cone_bounding_sphere(pos, dir_view, radius, g.cone_radius);
-                        proxy_center = pc;
-                        proxy_radius = pr;
                     } else {
+                        g.kind = KIND_POINT;
                         g.volume = VOLUME_SPHERE;
                         g.volume_scale = sphere_scale;
                         proxy_center = pos;
                         proxy_radius = radius * sphere_scale;
                     }
-                } else {
-                    g.kind = KIND_POINT;
-                    g.volume = VOLUME_SPHERE;
-                    g.volume_scale = sphere_scale;
-                    proxy_center = pos;
-                    proxy_radius = radius * sphere_scale;
+                    let outside = planes
+                        .iter()
+                        .any(|p| p.truncate().dot(cull_center) + p.w < -cull_radius);
+                    if outside {
+                        continue;
+                    }
+                    let inside = proxy_center.length() < proxy_radius + near_margin;
+                    let crosses_far = -proxy_center.z + proxy_radius > camera.far * 0.999;
+                    lists.gpu.push(g);
+                    lists.forward.push(index);
+                    let list = match (inside, crosses_far, g.volume) {
+                        (true, true, _) => &mut lists.fullscreen,
+                        (true, false, VOLUME_CONE) => &mut lists.cone_in,
+                        (true, false, _) => &mut lists.sphere_in,
+                        (false, _, VOLUME_CONE) => &mut lists.cone_out,
+                        (false, _, _) => &mut lists.sphere_out,
+                    };
+                    list.push(index);
                 }
-                let outside = planes
-                    .iter()
-                    .any(|p| p.truncate().dot(cull_center) + p.w < -cull_radius);
-                if outside {
-                    continue;
-                }
-                let inside = proxy_center.length() < proxy_radius + near_margin;
-                let crosses_far = -proxy_center.z + proxy_radius > camera.far * 0.999;
-                lists.gpu.push(g);
-                lists.forward.push(index);
-                let list = match (inside, crosses_far, g.volume) {
-                    (true, true, _) => &mut lists.fullscreen,
-                    (true, false, VOLUME_CONE) => &mut lists.cone_in,
-                    (true, false, _) => &mut lists.sphere_in,
-                    (false, _, VOLUME_CONE) => &mut lists.cone_out,
-                    (false, _, _) => &mut lists.sphere_out,
-                };
-                list.push(index);
             }
         }
+        lists
     }
-    lists
-}
-
 }
 
 /// The six view-space frustum planes `(n, d)` with `n·p + d >= 0` inside, for a

@@ -28,9 +28,9 @@
 pub mod bench;
 pub mod builtin;
 mod frame;
-mod gpu_types;
 pub mod gbuffer;
 pub mod gltf_load;
+mod gpu_types;
 pub mod job;
 mod lights;
 pub mod material;
@@ -48,7 +48,6 @@ pub use renderer::{
     Technique,
 };
 pub use scene::{
-    AlphaMode, Camera, Instance, Light, LightKind, Material, Mesh, Scene, SceneError, ShaderBinding,
-    TextureImage,
-    ATTENUATION_THRESHOLD,
+    AlphaMode, Camera, Instance, Light, LightKind, Material, Mesh, Scene, SceneError,
+    ShaderBinding, TextureImage, ATTENUATION_THRESHOLD,
 };

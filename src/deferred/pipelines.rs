@@ -51,7 +51,7 @@ pub(crate) struct Layouts {
 pub(crate) struct Pipelines {
     pub mode: VariantMode,
     normal_encoding: u32,
-    modules: HashMap<(VariantKey, u32), (wgpu::ShaderModule, Vec<(String, f64)>)>,
+    modules: HashMap<(VariantKey, u32), wgpu::ShaderModule>,
     light_module: Option<wgpu::ShaderModule>,
     geo: HashMap<GeoKey, wgpu::RenderPipeline>,
     light: HashMap<LightPipe, wgpu::RenderPipeline>,
@@ -98,14 +98,23 @@ fn depth(write: bool, compare: wgpu::CompareFunction) -> Option<wgpu::DepthStenc
 /// material shaders were checked on their own), reported with the module text's
 /// line so it can be found in the log.
 fn check(label: &str, wgsl: &str) -> Result<(), String> {
-    let module = naga::front::wgsl::parse_str(wgsl)
-        .map_err(|e| format!("{label}: generated WGSL does not parse: {}", e.emit_to_string(wgsl)))?;
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
+        format!(
+            "{label}: generated WGSL does not parse: {}",
+            e.emit_to_string(wgsl)
+        )
+    })?;
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::all(),
     )
     .validate(&module)
-    .map_err(|e| format!("{label}: generated WGSL is invalid: {}", e.emit_to_string(wgsl)))?;
+    .map_err(|e| {
+        format!(
+            "{label}: generated WGSL is invalid: {}",
+            e.emit_to_string(wgsl)
+        )
+    })?;
     Ok(())
 }
 
@@ -168,10 +177,9 @@ impl Pipelines {
                 })
                 .map_err(|e| e.to_string())?;
             self.modules_created += 1;
-            self.modules
-                .insert((module_key, light_key), (module, Vec::new()));
+            self.modules.insert((module_key, light_key), module);
         }
-        let module = self.modules[&(module_key, light_key)].0.clone();
+        let module = self.modules[&(module_key, light_key)].clone();
         // The constants of this variant (override mode).
         let constants = match self.mode {
             VariantMode::Override => {
@@ -183,7 +191,11 @@ impl Pipelines {
                     .map(|(i, f)| {
                         (
                             f.clone(),
-                            if variant.features & (1 << i) != 0 { 1.0 } else { 0.0 },
+                            if variant.features & (1 << i) != 0 {
+                                1.0
+                            } else {
+                                0.0
+                            },
                         )
                     })
                     .collect();
@@ -327,6 +339,7 @@ impl Pipelines {
             let aux = |i: usize| target(aux_formats[i].1);
             let lights_targets = vec![additive(LIGHT_FORMAT), additive(LIGHT_FORMAT)];
             use wgpu::CompareFunction as C;
+            #[allow(clippy::type_complexity)]
             let (vs, fs, buffers, targets, depth_state, primitive): (
                 &str,
                 &str,

@@ -27,6 +27,7 @@
 //! surface shader again and reads the light buffers; [`Technique::Forward`] runs
 //! the surface shader and every visible light's lighting shader per fragment.
 
+use super::builtin;
 use super::frame::{self, FrameLists};
 use super::gpu_types::*;
 use super::lights::{LightLists, CONE_SEGMENTS};
@@ -36,7 +37,6 @@ use super::pipelines::{Layouts, Pipelines};
 use super::scene::{Camera, Light, Scene, SceneError};
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
-use super::builtin;
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use crate::gpu::executor::CameraStd;
 use glam::Vec3;
@@ -350,14 +350,8 @@ impl Renderer {
             wgpu::TextureFormat::Rgba16Float,
             &[0; 8],
         )?;
-        let material_gpu = MaterialResources::upload(
-            ctx,
-            scene,
-            &materials,
-            opts.variants,
-            opts.mipmaps,
-            &white,
-        )?;
+        let material_gpu =
+            MaterialResources::upload(ctx, scene, &materials, opts.variants, opts.mipmaps, &white)?;
 
         // Light volume proxies.
         let sphere = builtin::icosphere(2);
@@ -761,8 +755,7 @@ impl Renderer {
             ctx.queue
                 .write_buffer(&self.visible_buffer, 0, bytemuck::cast_slice(&visible));
         }
-        frame::ensure_pipelines(self, ctx, technique, loop_count)
-            .map_err(RenderError::Material)?;
+        frame::ensure_pipelines(self, ctx, technique, loop_count).map_err(RenderError::Material)?;
 
         let mut stats = RenderStats {
             technique,

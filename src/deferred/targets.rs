@@ -107,22 +107,25 @@ impl Targets {
             let scene = make("deferred scene (HDR)", SCENE_FORMAT);
             let aux = aux_formats
                 .iter()
-                .map(|(name, format)| (name.clone(), make(&format!("deferred aux {name}"), *format)))
-                .collect();
-            let group = |label: &str, layout: &wgpu::BindGroupLayout, views: &[&wgpu::TextureView]| {
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some(label),
-                    layout,
-                    entries: &views
-                        .iter()
-                        .enumerate()
-                        .map(|(i, v)| wgpu::BindGroupEntry {
-                            binding: i as u32,
-                            resource: wgpu::BindingResource::TextureView(v),
-                        })
-                        .collect::<Vec<_>>(),
+                .map(|(name, format)| {
+                    (name.clone(), make(&format!("deferred aux {name}"), *format))
                 })
-            };
+                .collect();
+            let group =
+                |label: &str, layout: &wgpu::BindGroupLayout, views: &[&wgpu::TextureView]| {
+                    device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some(label),
+                        layout,
+                        entries: &views
+                            .iter()
+                            .enumerate()
+                            .map(|(i, v)| wgpu::BindGroupEntry {
+                                binding: i as u32,
+                                resource: wgpu::BindingResource::TextureView(v),
+                            })
+                            .collect::<Vec<_>>(),
+                    })
+                };
             let bg_light = group(
                 "deferred group 1 (light pass)",
                 layouts.gbuffer,

@@ -19,8 +19,8 @@ pub use variant::{VariantKey, VariantMode, ENGINE_FLAGS};
 use super::scene::{AlphaMode, Material, Scene, ShaderBinding};
 use crate::script::diag::{Diagnostics, SourceMap};
 use crate::shader::material::{MaterialShader, MaterialShaderKind};
-use std::path::{Path, PathBuf};
 use crate::shader::reflect::FieldType;
+use std::path::{Path, PathBuf};
 
 /// A surface or lighting shader as the renderer uses it.
 #[derive(Debug, Clone)]
@@ -59,9 +59,8 @@ pub fn load_shader(
         ));
     };
     let mut sources = SourceMap::new();
-    crate::shader::material::load_material_shader(kind, name, file, &mut sources).map_err(|d| {
-        Diagnostics { list: d }.render(&sources)
-    })
+    crate::shader::material::load_material_shader(kind, name, file, &mut sources)
+        .map_err(|d| Diagnostics { list: d }.render(&sources))
 }
 
 impl ShaderInfo {

@@ -3,10 +3,10 @@
 //! texture files loaded (relative to the material file, confined to its folder),
 //! and every setting checked against its shader with the setting's span.
 
+use super::kind_name;
 use crate::deferred::scene::{AlphaMode, Material, ShaderBinding, TextureImage};
 use crate::script::diag::{Diagnostic, Diagnostics, SourceMap};
 use crate::script::material::{AlphaSpec, MaterialDef, MaterialShader, MaterialValue};
-use super::kind_name;
 use crate::shader::material::{self as shader_material, MaterialShaderKind};
 use std::path::{Path, PathBuf};
 
@@ -40,12 +40,18 @@ pub fn load_materials(
     }
     let mut out = MaterialFile::default();
     for def in &module.materials {
-        if let Some(m) = material(def, dir, first_texture, &mut out.textures, &sources, &mut diags) {
+        if let Some(m) = material(
+            def,
+            dir,
+            first_texture,
+            &mut out.textures,
+            &mut sources,
+            &mut diags,
+        ) {
             out.materials.push(m);
         }
     }
     if diags.has_errors() {
-        diags.sort();
         return Err(diags.render(&sources));
     }
     for d in &diags.list {
@@ -109,9 +115,12 @@ pub fn builtin_texture(name: &str) -> Option<TextureImage> {
 fn confined(dir: Option<&Path>, path: &str) -> Result<PathBuf, String> {
     let rel = Path::new(path);
     if rel.is_absolute()
-        || rel
-            .components()
-            .any(|c| matches!(c, std::path::Component::ParentDir | std::path::Component::Prefix(_)))
+        || rel.components().any(|c| {
+            matches!(
+                c,
+                std::path::Component::ParentDir | std::path::Component::Prefix(_)
+            )
+        })
     {
         return Err(format!(
             "`{path}` must be a relative path inside the material file's folder"
@@ -172,10 +181,11 @@ fn binding(
     dir: Option<&Path>,
     first_texture: usize,
     textures: &mut Vec<TextureImage>,
+    sources: &mut SourceMap,
     diags: &mut Diagnostics,
 ) -> Option<ShaderBinding> {
     let name = &use_.shader.node;
-    if shader_material::find_material_shader(name, dir).is_none() {
+    let Some(file) = shader_material::find_material_shader(name, dir) else {
         diags.push(
             Diagnostic::error(format!("unknown {} shader `{name}`", kind_name(kind)))
                 .at(use_.shader.span, "no such shader")
@@ -185,16 +195,24 @@ fn binding(
                 )),
         );
         return None;
-    }
-    let shader = match super::load_shader(kind, name, dir) {
-        Ok(s) if s.kind == kind => s,
-        Ok(_) => unreachable!("loaded as asked"),
-        Err(report) => {
+    };
+    let shader = match shader_material::load_material_shader(kind, name, file, sources) {
+        Ok(s) => s,
+        Err(errors) => {
+            // The shader's own diagnostics point into its file; this one says
+            // which material uses it.
             diags.push(
-                Diagnostic::error(format!("{} shader `{name}` has errors", kind_name(kind)))
-                    .at(use_.shader.span, "used here")
-                    .note(report.trim_end().to_string()),
+                Diagnostic::error(format!(
+                    "{} shader `{name}` has {} error{}",
+                    kind_name(kind),
+                    errors.len(),
+                    if errors.len() == 1 { "" } else { "s" }
+                ))
+                .at(use_.shader.span, "used here"),
             );
+            for d in errors {
+                diags.push(d);
+            }
             return None;
         }
     };
@@ -210,7 +228,10 @@ fn binding(
             .params
             .as_ref()
             .and_then(|p| p.members.iter().find(|m| m.name.eq_ignore_ascii_case(key)));
-        let texture = shader.textures.iter().find(|t| t.name.eq_ignore_ascii_case(key));
+        let texture = shader
+            .textures
+            .iter()
+            .find(|t| t.name.eq_ignore_ascii_case(key));
         match (&s.value.node, param, texture) {
             (MaterialValue::Numbers(v), Some(p), _) => {
                 let n = p.ty.components();
@@ -281,13 +302,16 @@ fn binding(
                     .collect();
                 known.extend(shader.textures.iter().map(|t| t.name.as_str()));
                 diags.push(
-                    Diagnostic::error(format!("{} shader `{name}` has no setting `{key}`", kind_name(kind)))
-                        .at(s.name.span, "unknown setting")
-                        .note(if known.is_empty() {
-                            "this shader takes no settings".to_string()
-                        } else {
-                            format!("its settings: {}", known.join(", "))
-                        }),
+                    Diagnostic::error(format!(
+                        "{} shader `{name}` has no setting `{key}`",
+                        kind_name(kind)
+                    ))
+                    .at(s.name.span, "unknown setting")
+                    .note(if known.is_empty() {
+                        "this shader takes no settings".to_string()
+                    } else {
+                        format!("its settings: {}", known.join(", "))
+                    }),
                 );
                 ok = false;
             }
@@ -301,7 +325,7 @@ fn material(
     dir: Option<&Path>,
     first_texture: usize,
     textures: &mut Vec<TextureImage>,
-    _sources: &SourceMap,
+    sources: &mut SourceMap,
     diags: &mut Diagnostics,
 ) -> Option<Material> {
     let surface = binding(
@@ -310,6 +334,7 @@ fn material(
         dir,
         first_texture,
         textures,
+        sources,
         diags,
     );
     let lighting = binding(
@@ -318,6 +343,7 @@ fn material(
         dir,
         first_texture,
         textures,
+        sources,
         diags,
     );
     let (surface, lighting) = (surface?, lighting?);
@@ -389,4 +415,3 @@ pub fn apply_materials(
     }
     Ok(replaced)
 }
-

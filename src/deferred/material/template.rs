@@ -113,12 +113,7 @@ pub fn light_module(set: &MaterialSet, normal_encoding: u32) -> Result<Generated
         text.push_str(&renamed_lighting(k, l)?);
         text.push('\n');
         text.push_str(&params_decl(k, l));
-        writeln!(
-            dispatch,
-            "        case {k}u: {{ return {}; }}",
-            call(k, l)
-        )
-        .unwrap();
+        writeln!(dispatch, "        case {k}u: {{ return {}; }}", call(k, l)).unwrap();
     }
     dispatch.push_str(
         "        default: { return LightingOutput(vec3<f32>(0.0), vec3<f32>(0.0)); }\n    }\n}\n",
@@ -174,7 +169,11 @@ fn resolve(
         VariantMode::Branch => {
             let converted = convert_features(&text, &flag_refs, |f| {
                 let bit = flags.iter().position(|x| x == f).unwrap_or(63);
-                format!("((fx_features[{}] & {}u) != 0u)", bit / 32, 1u64 << (bit % 32))
+                format!(
+                    "((fx_features[{}] & {}u) != 0u)",
+                    bit / 32,
+                    1u64 << (bit % 32)
+                )
             })
             .map_err(|e| e.message)?;
             let (mut wgsl, _) = preprocess(&converted, &[]).map_err(|e| e.message)?;

@@ -1,0 +1,246 @@
+//! Material diagnostics (CPU only): what a user sees for each kind of mistake in a
+//! material file or a material shader, as file:line:col snapshots, all in one
+//! report; mutated material files are errors, never panics; `fxrun` exits 1.
+
+use fxgraph::deferred::material::script::load_materials;
+use proptest::prelude::*;
+use std::path::Path;
+use std::process::Command;
+
+/// Loads `text` as `bad.fx` in `dir` and returns the rendered report with the
+/// folder replaced by `<dir>`.
+fn report(dir: &Path, text: &str) -> String {
+    let err = load_materials("bad.fx", text, Some(dir), 0).expect_err("the file has mistakes");
+    err.replace(&dir.display().to_string(), "<dir>")
+}
+
+fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    dir
+}
+
+#[test]
+fn unknown_shader() {
+    let dir = dir_with(&[]);
+    let got = report(
+        dir.path(),
+        "MATERIAL.a = {\n    SURFACE = SHADER.standrd\n    LIGHTING = SHADER.phong\n}\n",
+    );
+    assert_eq!(
+        got,
+        "bad.fx:2:22: error: unknown surface shader `standrd`
+  |
+2 |     SURFACE = SHADER.standrd
+  |                      ^^^^^^^ no such shader
+  = note: built-in shaders: blinn_phong, cook_torrance, lambert, phong, standard, triplanar; a user's shader is `standrd.wgsl` next to the material file
+
+1 error, 0 warnings
+"
+    );
+}
+
+#[test]
+fn missing_texture_and_wrong_parameter_types() {
+    let dir = dir_with(&[]);
+    let got = report(
+        dir.path(),
+        r#"MATERIAL.b = {
+    SURFACE = SHADER.standard { base_color_map = "missing.png" roughness = (1, 2) metallic = 3 }
+    LIGHTING = SHADER.phong { SPECULAR_POWER = "x.png" shine = 3 }
+}
+"#,
+    );
+    assert_eq!(
+        got,
+        r#"bad.fx:2:50: error: texture `base_color_map`: <dir>/missing.png: No such file or directory (os error 2)
+  |
+2 |     SURFACE = SHADER.standard { base_color_map = "missing.png" roughness = (1, 2) metallic = 3 }
+  |                                                  ^^^^^^^^^^^^^ cannot load this texture
+
+bad.fx:2:76: error: `roughness` is f32 (1 value), got 2 values
+  |
+2 |     SURFACE = SHADER.standard { base_color_map = "missing.png" roughness = (1, 2) metallic = 3 }
+  |                                                                            ^^^^^^ wrong number of values
+
+bad.fx:2:94: error: `metallic` = 3 is outside its range 0..1
+  |
+2 |     SURFACE = SHADER.standard { base_color_map = "missing.png" roughness = (1, 2) metallic = 3 }
+  |                                                                                              ^ out of range
+
+bad.fx:3:48: error: `specular_power` is a parameter (f32), not a texture
+  |
+3 |     LIGHTING = SHADER.phong { SPECULAR_POWER = "x.png" shine = 3 }
+  |                                                ^^^^^^^ expected a number or a tuple
+
+bad.fx:3:56: error: lighting shader `phong` has no setting `shine`
+  |
+3 |     LIGHTING = SHADER.phong { SPECULAR_POWER = "x.png" shine = 3 }
+  |                                                        ^^^^^ unknown setting
+  = note: its settings: specular_power
+
+5 errors, 0 warnings
+"#
+    );
+}
+
+#[test]
+fn surface_shader_with_the_wrong_signature() {
+    let dir = dir_with(&[(
+        "flat.wgsl",
+        "fn surface(in: SurfaceInput) -> vec4<f32> {\n    return vec4<f32>(1.0);\n}\n",
+    )]);
+    let got = report(
+        dir.path(),
+        "MATERIAL.c = {\n    SURFACE = SHADER.flat\n    LIGHTING = SHADER.lambert\n}\n",
+    );
+    assert_eq!(
+        got,
+        "bad.fx:2:22: error: surface shader `flat` has 1 error
+  |
+2 |     SURFACE = SHADER.flat
+  |                      ^^^^ used here
+
+<dir>/flat.wgsl:1:1: error: `surface` must be `fn surface(in: SurfaceInput) -> SurfaceOutput`; found `fn surface(in: SurfaceInput) -> vec4<f32>`
+  |
+1 | fn surface(in: SurfaceInput) -> vec4<f32> {
+  | ^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^ wrong signature
+
+2 errors, 0 warnings
+"
+    );
+}
+
+#[test]
+fn wgsl_type_error_points_into_the_users_file() {
+    let dir = dir_with(&[(
+        "tinted.wgsl",
+        "struct SurfaceParams {\n    tint: vec3<f32>, // @default(1, 1, 1)\n}\n@group(2) @binding(0) var<uniform> p: SurfaceParams;\n\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var out: SurfaceOutput;\n    out.diffuse = p.tint * 2;\n    out.normal = in.normal;\n    out.alpha = vec2<f32>(1.0);\n    return out;\n}\n",
+    )]);
+    let got = report(
+        dir.path(),
+        "MATERIAL.d = {\n    SURFACE = SHADER.tinted\n    LIGHTING = SHADER.lambert\n}\n",
+    );
+    assert!(
+        got.starts_with("bad.fx:2:22: error: surface shader `tinted` has 1 error"),
+        "{got}"
+    );
+    assert!(got.contains("<dir>/tinted.wgsl:10:"), "{got}");
+    // WGSL type names, not naga internals
+    assert!(
+        !got.contains("Vector {") && !got.contains("Scalar {"),
+        "{got}"
+    );
+    assert!(got.contains("vec2<f32>"), "{got}");
+}
+
+#[test]
+fn lighting_shader_may_not_declare_textures() {
+    let dir = dir_with(&[(
+        "lit.wgsl",
+        "@group(2) @binding(0) var t: texture_2d<f32>;\nfn lighting(in: LightingInput) -> LightingOutput {\n    return LightingOutput(in.light, vec3<f32>(0.0));\n}\n",
+    )]);
+    let got = report(
+        dir.path(),
+        "MATERIAL.e = {\n    SURFACE = SHADER.standard\n    LIGHTING = SHADER.lit\n}\n",
+    );
+    assert!(
+        got.starts_with("bad.fx:3:23: error: lighting shader `lit` has 1 error"),
+        "{got}"
+    );
+    assert!(got.contains("<dir>/lit.wgsl:1:"), "{got}");
+}
+
+#[test]
+fn three_materials_three_mistakes_one_report() {
+    let dir = dir_with(&[]);
+    let got = report(
+        dir.path(),
+        "MATERIAL.a = { SURFACE = SHADER.nope LIGHTING = SHADER.lambert }\nMATERIAL.b = { SURFACE = SHADER.standard { roughness = 7 } LIGHTING = SHADER.lambert }\nMATERIAL.c = { SURFACE = SHADER.standard LIGHTING = SHADER.lambert ALPHA = sometimes }\n",
+    );
+    assert!(
+        got.contains("bad.fx:1:33: error: unknown surface shader `nope`"),
+        "{got}"
+    );
+    assert!(
+        got.contains("bad.fx:2:56: error: `roughness` = 7 is outside its range 0..1"),
+        "{got}"
+    );
+    assert!(got.contains("bad.fx:3:"), "{got}");
+    assert!(got.ends_with("3 errors, 0 warnings\n"), "{got}");
+}
+
+#[test]
+fn a_texture_outside_the_material_folder_is_refused_unread() {
+    let outer = tempfile::tempdir().unwrap();
+    std::fs::write(outer.path().join("secret.png"), "not an image: secret").unwrap();
+    let inner = outer.path().join("mats");
+    std::fs::create_dir(&inner).unwrap();
+    for path in ["../secret.png", "/etc/passwd"] {
+        let got = report(
+            &inner,
+            &format!("MATERIAL.x = {{ SURFACE = SHADER.standard {{ base_color_map = \"{path}\" }} LIGHTING = SHADER.lambert }}\n"),
+        );
+        assert!(
+            got.contains("must be a relative path inside the material file's folder"),
+            "{got}"
+        );
+        assert!(
+            !got.contains("secret") || got.contains("../secret.png"),
+            "{got}"
+        );
+        assert!(!got.contains("root:"), "{got}");
+    }
+}
+
+const VALID: &str = r#"MATERIAL.m = {
+    SURFACE = SHADER.standard { base_color = (0.8, 0.2, 0.1, 1) roughness = 0.4 base_color_map = "builtin:checker" }
+    LIGHTING = SHADER.phong { SPECULAR_POWER = 32 }
+    ALPHA = mask
+    ALPHA_CUTOFF = 0.4
+    DOUBLE_SIDED = true
+}
+"#;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(
+        std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64)
+    ))]
+    /// Random byte edits of a valid material file: accepted or an error report,
+    /// never a panic.
+    #[test]
+    fn mutated_material_files_never_panic(edits in proptest::collection::vec((0usize..400, any::<u8>()), 1..6)) {
+        let mut bytes = VALID.as_bytes().to_vec();
+        for (pos, b) in edits {
+            let i = pos % bytes.len();
+            bytes[i] = b;
+        }
+        let text = String::from_utf8_lossy(&bytes);
+        let dir = tempfile::tempdir().unwrap();
+        if let Err(report) = load_materials("m.fx", &text, Some(dir.path()), 0) {
+            prop_assert!(report.contains("error"), "{}", report);
+        }
+    }
+}
+
+#[test]
+fn fxrun_rejects_a_bad_material_file_with_exit_1() {
+    let dir = dir_with(&[("bad.fx", "MATERIAL.red = { SURFACE = SHADER.standard { roughness = 9 } LIGHTING = SHADER.lambert }\n")]);
+    let out = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args(["--scene", "builtin:room", "--size", "32x32", "--materials"])
+        .arg(dir.path().join("bad.fx"))
+        .arg("-o")
+        .arg(dir.path().join("out.png"))
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("bad.fx:1:58: error: `roughness` = 9 is outside its range 0..1"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out.png").exists());
+}
