@@ -463,7 +463,7 @@ fn aux_images_have_the_planned_names_and_formats() {
             None,
         )
         .unwrap();
-    let planned = fxgraph::graph::plan::gbuffer_aux();
+    let planned = fxgraph::deferred::published_aux(true);
     assert_eq!(out.aux.len(), planned.len());
     for ((name, tex), (pname, pformat)) in out.aux.iter().zip(&planned) {
         assert_eq!(name, pname);
@@ -577,6 +577,7 @@ fn gbuffer_files_are_written() {
         "albedo.png",
         "material_id.png",
         "specular.png",
+        "gbuffer_specular_model.png",
         "light_diffuse.exr",
         "light_specular.exr",
         "scene.exr",

@@ -3,7 +3,7 @@
 //!
 //! Two ways of feeding the G-buffer are exercised:
 //! - `run_gbuffer`: what the deferred renderer will do: `Effect::prepare` with the
-//!   G-buffer formats of `gbuffer_aux()` (depth r32f, normal rgba16f, ...), textures
+//!   G-buffer formats of `published_aux()` (depth r32f, normal rgba16f, ...), textures
 //!   uploaded in those formats and a perspective camera in `FrameInputs::camera`;
 //! - `run_aux`: `apply_in_memory` with float images (uploaded as rgba16f) and no
 //!   camera (identity matrices: an orthographic view with x, y = ndc x, y).
@@ -14,11 +14,12 @@
 mod common;
 
 use common::*;
+use fxgraph::deferred::published_aux;
 use fxgraph::gpu::executor::{wgpu_format, CameraStd, Engine, FrameInputs};
 use fxgraph::gpu::runner::{
     apply_in_memory, create_output, input_format, read_pixels, upload_image, Effect,
 };
-use fxgraph::graph::plan::{gbuffer_aux, InputDesc};
+use fxgraph::graph::plan::InputDesc;
 use fxgraph::io::{Image, Pixels};
 use fxgraph::script::types::{ColorSpace, Format};
 use glam::{DMat4, DVec3, DVec4, Mat4};
@@ -203,7 +204,7 @@ fn f16_bytes(v: impl Iterator<Item = f32>) -> Vec<u8> {
         .collect()
 }
 
-/// The bytes of G-buffer image `name` in its renderer format (gbuffer_aux()).
+/// The bytes of G-buffer image `name` in its renderer format (published_aux()).
 fn gbuffer_bytes(g: &GBuffer, name: &str, format: Format) -> Vec<u8> {
     match (name, format) {
         ("depth", Format::R32f) => g.depth.iter().flat_map(|d| d.to_le_bytes()).collect(),
@@ -218,7 +219,7 @@ fn gbuffer_bytes(g: &GBuffer, name: &str, format: Format) -> Vec<u8> {
 }
 
 /// Run an effect as the deferred renderer will: G-buffer textures in the formats of
-/// `gbuffer_aux()`, the camera in `FrameInputs`. The scene is uploaded as rgba16f;
+/// `published_aux()`, the camera in `FrameInputs`. The scene is uploaded as rgba16f;
 /// the output is read back as rgba32f.
 fn run_gbuffer(
     engine: &mut Engine,
@@ -231,7 +232,7 @@ fn run_gbuffer(
 ) -> Vec<f32> {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let mut e = Effect::compile(&[effect_path(effect)], &overrides).unwrap();
-    let formats: HashMap<String, Format> = gbuffer_aux().into_iter().collect();
+    let formats: HashMap<String, Format> = published_aux(true).into_iter().collect();
     let desc = InputDesc {
         width: scene.width,
         height: scene.height,

@@ -244,3 +244,63 @@ fn fxrun_rejects_a_bad_material_file_with_exit_1() {
     );
     assert!(!dir.path().join("out.png").exists());
 }
+
+/// The fenced blocks of `lang` in `docs/materials.md`.
+fn doc_blocks(lang: &str) -> Vec<String> {
+    let doc =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/materials.md")).unwrap();
+    let mut out = Vec::new();
+    let mut current: Option<String> = None;
+    for line in doc.lines() {
+        match &mut current {
+            None if line.trim() == format!("```{lang}") => current = Some(String::new()),
+            Some(block) if line.trim() == "```" => {
+                out.push(std::mem::take(block));
+                current = None;
+            }
+            Some(block) => {
+                block.push_str(line);
+                block.push('\n');
+            }
+            None => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn every_material_example_in_the_docs_loads() {
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples");
+    let blocks = doc_blocks("fx");
+    assert!(
+        blocks.len() >= 2,
+        "docs/materials.md has {} fx blocks",
+        blocks.len()
+    );
+    let mut count = 0;
+    for (i, block) in blocks.iter().enumerate() {
+        let file = load_materials(
+            &format!("docs/materials.md block {i}"),
+            block,
+            Some(&examples),
+            0,
+        )
+        .unwrap_or_else(|e| panic!("block {i}:\n{block}\n{e}"));
+        count += file.materials.len();
+    }
+    assert!(count >= 4, "{count} materials");
+    // the WGSL shown is the tested example files' code
+    for block in doc_blocks("wgsl") {
+        if block.contains("fn surface(") || block.contains("fn lighting(") {
+            let found = ["stripes.wgsl", "wrap_lambert.wgsl"].iter().any(|f| {
+                std::fs::read_to_string(examples.join(f))
+                    .unwrap()
+                    .contains(block.trim())
+            });
+            assert!(
+                found,
+                "a shader in docs/materials.md is not a tested example:\n{block}"
+            );
+        }
+    }
+}

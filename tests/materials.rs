@@ -564,3 +564,59 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
     .unwrap_err();
     assert!(err.contains("no MATERIAL.stripes"), "{err}");
 }
+
+/// The benchmark (not a test): `bash bench/materials.sh`, or
+/// `cargo test --release --test materials -- --ignored variant_benchmark --nocapture`.
+/// builtin:bench with its materials replaced by the standard surface in nine map
+/// combinations (bench/materials_maps.fx) and `FX_BENCH_LIGHTS` random point
+/// lights (default 16). Environment: FX_BENCH_SIZE=WxH (1920x1080),
+/// FX_BENCH_FRAMES (5), FX_BENCH_OUT=report.md.
+#[test]
+#[ignore]
+fn variant_benchmark() {
+    use fxgraph::deferred::variant_bench::run_variant_benchmark;
+    let Some(ctx) = gpu() else { return };
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
+    let size = env("FX_BENCH_SIZE", "1920x1080");
+    let (w, h) = size.split_once('x').expect("FX_BENCH_SIZE=WxH");
+    let (w, h): (u32, u32) = (w.parse().unwrap(), h.parse().unwrap());
+    let frames: usize = env("FX_BENCH_FRAMES", "5").parse().unwrap();
+    let lights: usize = env("FX_BENCH_LIGHTS", "16").parse().unwrap();
+    let mut scene = Scene::load("builtin:bench").unwrap();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("bench");
+    let text = std::fs::read_to_string(dir.join("materials_maps.fx")).unwrap();
+    let file = load_materials(
+        "bench/materials_maps.fx",
+        &text,
+        Some(&dir),
+        scene.textures.len(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let replaced = apply_materials(&mut scene, file, &[]).unwrap();
+    assert_eq!(replaced.len(), 9, "{replaced:?}");
+    scene.add_random_point_lights_sized(lights, 4, 0.05, 0.12);
+    let camera = scene.default_camera();
+    let report = run_variant_benchmark(
+        &ctx,
+        &scene,
+        &camera,
+        (w, h),
+        &VariantMode::ALL,
+        &[Technique::Forward, Technique::Deferred],
+        (1, frames),
+        |r| {
+            eprintln!(
+                "  {:>9} {:>10}: surface pass {:.1} ms, frame {:.1} ms",
+                r.technique.to_string(),
+                r.mode.to_string(),
+                r.surface_pass_ms,
+                r.frame_ms
+            )
+        },
+    )
+    .unwrap();
+    println!("{report}");
+    if let Ok(out) = std::env::var("FX_BENCH_OUT") {
+        std::fs::write(&out, report.to_string()).unwrap();
+    }
+}

@@ -294,7 +294,8 @@ fn run(cli: Cli) -> Result<(), Fail> {
             Some(s) => parse_size(s)?,
             None => (1920, 1080),
         };
-        let mut desc = InputDesc::rgba8_srgb(w, h).with_gbuffer();
+        let mut desc =
+            InputDesc::rgba8_srgb(w, h).with_aux(&fxgraph::deferred::published_aux(true));
         // `--aux NAME=FILE` images are 8-bit sRGB for planning purposes.
         for a in &cli.aux {
             let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);

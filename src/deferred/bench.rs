@@ -224,7 +224,7 @@ impl fmt::Display for BenchReport {
         }
         writeln!(
             f,
-            "G-buffer bytes per pixel: compressed {GBUFFER_BYTES_COMPRESSED} (RGBA8 albedo+id, RGB10A2 normal+specular, D32 depth) vs traditional {GBUFFER_BYTES_TRADITIONAL} (RGBA16F colour+specular, RGBA16F normal, RGBA16F position, D32/D24S8 depth): {:.0} % less",
+            "G-buffer bytes per pixel: compressed {GBUFFER_BYTES_COMPRESSED} (RGBA8 diffuse+material id, RGB10A2 normal+roughness, RGBA8 specular+model id, D32 depth) vs traditional {GBUFFER_BYTES_TRADITIONAL} (RGBA16F colour+specular, RGBA16F normal, RGBA16F position, D32/D24S8 depth): {:.0} % less",
             100.0 * (1.0 - f64::from(GBUFFER_BYTES_COMPRESSED) / f64::from(GBUFFER_BYTES_TRADITIONAL))
         )?;
         let with_passes: Vec<&BenchRow> =

@@ -276,8 +276,8 @@ pub(crate) fn encode(
                 rp.draw(0..3, fl.fullscreen.clone());
                 *draws += 1;
             }
-            rp.set_vertex_buffer(0, r.volume_vertices.slice(..));
-            rp.set_index_buffer(r.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
+            rp.set_vertex_buffer(0, r.volumes.vertices.slice(..));
+            rp.set_index_buffer(r.volumes.indices.slice(..), wgpu::IndexFormat::Uint32);
             for (pipe, spheres, cones) in [
                 (LightPipe::VolumeFront, &fl.sphere_out, &fl.cone_out),
                 (LightPipe::VolumeBack, &fl.sphere_in, &fl.cone_in),
@@ -287,11 +287,15 @@ pub(crate) fn encode(
                 }
                 rp.set_pipeline(r.pipelines.light_cached(pipe));
                 if !spheres.is_empty() {
-                    rp.draw_indexed(r.sphere_indices.clone(), 0, spheres.clone());
+                    rp.draw_indexed(r.volumes.sphere_indices.clone(), 0, spheres.clone());
                     *draws += 1;
                 }
                 if !cones.is_empty() {
-                    rp.draw_indexed(r.cone_indices.clone(), r.cone_base_vertex, cones.clone());
+                    rp.draw_indexed(
+                        r.volumes.cone_indices.clone(),
+                        r.volumes.cone_base_vertex,
+                        cones.clone(),
+                    );
                     *draws += 1;
                 }
             }

@@ -101,10 +101,11 @@ fn id_colour(id: u32) -> [u8; 3] {
 ///   white; background white) and `depth.exr` (raw linear view depth);
 /// - `normal.png` (view-space normal as `n·0.5 + 0.5`), `position.exr`;
 /// - `albedo.png`, `material_id.png` (false colour per id), `material.png`
-///   (the material aux image's g, b, a: log shininess, roughness, metallic),
-///   `specular.png` (`k_s`);
-/// - `gbuffer_normal_rgb10a2.png` (the raw target: encoded normal in rg, `k_s` in b)
-///   and `gbuffer_albedo_id.png` (raw albedo target, rgb);
+///   (the material aux image's r, g, b: material id, lighting model id,
+///   roughness), `specular.png` (mean F0);
+/// - `gbuffer_normal_rgb10a2.png` (the raw target: encoded normal in rg,
+///   roughness in b), `gbuffer_albedo_id.png` (raw diffuse target, rgb) and
+///   `gbuffer_specular_model.png` (raw specular target: F0 in rgb);
 /// - `light_diffuse.exr`, `light_specular.exr` (light accumulation buffers),
 ///   `scene.exr` (linear HDR) and `scene.png` (clamped, sRGB).
 pub fn write_gbuffer(
@@ -223,7 +224,7 @@ pub fn write_gbuffer(
         Pixels::U8(
             material
                 .chunks_exact(4)
-                .flat_map(|m| [m[1], m[2], m[3], 255])
+                .flat_map(|m| [m[0], m[1], m[2], 255])
                 .collect(),
         ),
         true,
@@ -258,6 +259,11 @@ pub fn write_gbuffer(
         px[3] = 255;
     }
     save("gbuffer_albedo_id.png", Pixels::U8(galbedo), false)?;
+    let mut gspecular = ctx.read_texture(&output.gbuffer.specular)?;
+    for px in gspecular.chunks_exact_mut(4) {
+        px[3] = 255;
+    }
+    save("gbuffer_specular_model.png", Pixels::U8(gspecular), false)?;
     for (name, tex) in [
         ("light_diffuse.exr", &output.gbuffer.light_diffuse),
         ("light_specular.exr", &output.gbuffer.light_specular),

@@ -12,6 +12,62 @@ pub(crate) const CONE_SEGMENTS: u32 = 16;
 /// Spot lights wider than this (half-angle) use a sphere volume.
 pub(crate) const MAX_CONE_ANGLE: f32 = 1.40;
 
+/// The light volume proxies: a unit icosphere and a unit cone in one vertex and
+/// one index buffer.
+pub(crate) struct LightVolumes {
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub sphere_indices: std::ops::Range<u32>,
+    pub cone_indices: std::ops::Range<u32>,
+    pub cone_base_vertex: i32,
+    /// Scale of the icosphere so that it circumscribes the true sphere.
+    pub sphere_scale: f32,
+    /// Scale of the cone's polygonal base so that it circumscribes the circle.
+    pub cone_poly_scale: f32,
+}
+
+impl LightVolumes {
+    pub fn new(
+        ctx: &crate::gpu::context::GpuContext,
+    ) -> Result<LightVolumes, crate::gpu::context::GpuError> {
+        use wgpu::util::DeviceExt;
+        let sphere = super::builtin::icosphere(2);
+        let cone = super::builtin::cone(CONE_SEGMENTS);
+        let sphere_scale = 1.0 / super::builtin::inradius(&sphere);
+        let cone_poly_scale = 1.0 / (std::f32::consts::PI / CONE_SEGMENTS as f32).cos();
+        let mut vol_v: Vec<[f32; 3]> = sphere.positions.iter().map(|p| (*p).into()).collect();
+        let cone_base_vertex = vol_v.len() as i32;
+        vol_v.extend(cone.positions.iter().map(|p| <[f32; 3]>::from(*p)));
+        let mut vol_i = sphere.indices.clone();
+        let sphere_indices = 0..vol_i.len() as u32;
+        vol_i.extend_from_slice(&cone.indices);
+        let cone_indices = sphere_indices.end..vol_i.len() as u32;
+        let (vertices, indices) = ctx.scoped("deferred light volumes", |device| {
+            (
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("deferred light volume vertices"),
+                    contents: bytemuck::cast_slice(&vol_v),
+                    usage: wgpu::BufferUsages::VERTEX,
+                }),
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("deferred light volume indices"),
+                    contents: bytemuck::cast_slice(&vol_i),
+                    usage: wgpu::BufferUsages::INDEX,
+                }),
+            )
+        })?;
+        Ok(LightVolumes {
+            vertices,
+            indices,
+            sphere_indices,
+            cone_indices,
+            cone_base_vertex,
+            sphere_scale,
+            cone_poly_scale,
+        })
+    }
+}
+
 /// Per-frame light lists (indices into the GPU light array).
 #[derive(Debug, Default)]
 pub(crate) struct LightLists {

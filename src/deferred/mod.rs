@@ -1,9 +1,13 @@
 //! The built-in deferred renderer: scenes in, a linear HDR image plus the G-buffer
 //! images that effects read as `AUX.*` out.
 //!
-//! - [`scene`]: the scene model ([`Scene`], [`Camera`], [`Light`], [`Material`]),
-//!   random lights and camera specs; [`builtin`] procedural scenes; [`gltf_load`]
-//!   validated glTF 2.0 loading.
+//! - [`scene`]: the scene model ([`Scene`], meshes, instances, textures, random
+//!   lights), its other parts in files of their own and re-exported there:
+//!   `light.rs` ([`Light`]), `camera.rs` ([`Camera`], camera specs) and
+//!   `material_model.rs` ([`Material`], [`ShaderBinding`]); [`builtin`] procedural
+//!   scenes; [`gltf_load`] validated glTF 2.0 loading (nodes, meshes), with
+//!   `gltf_material.rs` (materials, textures, `KHR_texture_transform`) and
+//!   `gltf_lights_cameras.rs` (lights, cameras).
 //! - [`renderer`]: [`Renderer`] with three techniques ([`Technique`]): deferred
 //!   shading with the compressed G-buffer and light volumes (seed 001), light
 //!   pre-pass (seed 000) and forward shading, plus forward transparency.
@@ -27,22 +31,31 @@
 
 pub mod bench;
 pub mod builtin;
+mod camera;
 mod frame;
 pub mod gbuffer;
+mod gltf_lights_cameras;
 pub mod gltf_load;
+mod gltf_material;
 mod gpu_types;
 pub mod job;
+mod light;
 mod lights;
 pub mod material;
+mod material_model;
 pub mod normal;
+mod output;
 mod pipelines;
 pub mod renderer;
 pub mod scene;
 pub mod targets;
+mod technique;
 mod upload;
+pub mod variant_bench;
 
 pub use gbuffer::write_gbuffer;
 pub use normal::NormalEncoding;
+pub use output::published_aux;
 pub use renderer::{
     render, GBufferTextures, RenderError, RenderOutput, RenderStats, Renderer, RendererOptions,
     Technique,

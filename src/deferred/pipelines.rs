@@ -48,6 +48,83 @@ pub(crate) struct Layouts {
     pub g1_light_buffers: wgpu::BindGroupLayout,
 }
 
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+impl Layouts {
+    /// Group 0 (frame, material info, instances, lights, visible light indices),
+    /// group 1 of the light passes (G-buffer) and of the light pre-pass final pass
+    /// (light buffers).
+    pub fn new(device: &wgpu::Device) -> Layouts {
+        let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred group 0 (frame, materials, instances, lights)"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                storage_entry(1),
+                storage_entry(2),
+                storage_entry(3),
+                storage_entry(4),
+            ],
+        });
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let g1_gbuffer = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred group 1 (G-buffer)"),
+            entries: &[
+                texture_entry(0, wgpu::TextureSampleType::Depth),
+                texture_entry(1, unfilterable),
+                texture_entry(2, unfilterable),
+                texture_entry(3, unfilterable),
+                texture_entry(4, unfilterable),
+                texture_entry(5, unfilterable),
+            ],
+        });
+        let g1_light_buffers = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred group 1 (light buffers)"),
+            entries: &[
+                texture_entry(0, unfilterable),
+                texture_entry(1, unfilterable),
+            ],
+        });
+        Layouts {
+            g0,
+            g1_gbuffer,
+            g1_light_buffers,
+        }
+    }
+}
+
 pub(crate) struct Pipelines {
     pub mode: VariantMode,
     normal_encoding: u32,

@@ -27,10 +27,9 @@
 //! surface shader again and reads the light buffers; [`Technique::Forward`] runs
 //! the surface shader and every visible light's lighting shader per fragment.
 
-use super::builtin;
 use super::frame::{self, FrameLists};
 use super::gpu_types::*;
-use super::lights::{LightLists, CONE_SEGMENTS};
+use super::lights::{LightLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
 use super::normal::NormalEncoding;
 use super::pipelines::{Layouts, Pipelines};
@@ -38,16 +37,14 @@ use super::scene::{Camera, Light, Scene, SceneError};
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
-use crate::gpu::executor::CameraStd;
 use glam::Vec3;
-use std::collections::HashMap;
-use std::fmt;
 use std::ops::Range;
-use std::str::FromStr;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
+pub use super::output::{GBufferTextures, RenderOutput, RenderStats};
 pub use super::targets::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
+pub use super::technique::Technique;
 
 /// Errors of rendering.
 #[derive(Debug, thiserror::Error)]
@@ -64,59 +61,6 @@ pub enum RenderError {
     /// A material that cannot be used (unknown shader, bad parameter, ...).
     #[error("{0}")]
     Material(String),
-}
-
-/// How a frame is shaded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Technique {
-    /// Deferred shading with the compressed G-buffer and light volumes (seed 001).
-    #[default]
-    Deferred,
-    /// Light pre-pass (seed 000): depth + normals, light buffer, final geometry pass.
-    LightPrepass,
-    /// Forward shading: every visible light per fragment.
-    Forward,
-}
-
-impl Technique {
-    pub const ALL: [Technique; 3] = [
-        Technique::Deferred,
-        Technique::LightPrepass,
-        Technique::Forward,
-    ];
-
-    /// The CLI name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Technique::Deferred => "deferred",
-            Technique::LightPrepass => "light-prepass",
-            Technique::Forward => "forward",
-        }
-    }
-}
-
-impl fmt::Display for Technique {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Technique {
-    type Err = String;
-
-    /// `deferred`, `light-prepass` (or `lpp`, `prepass`), `forward`.
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s.trim().to_ascii_lowercase().replace('_', "-").as_str() {
-            "deferred" => Ok(Technique::Deferred),
-            "light-prepass" | "lightprepass" | "lpp" | "prepass" | "light-pre-pass" => {
-                Ok(Technique::LightPrepass)
-            }
-            "forward" => Ok(Technique::Forward),
-            other => Err(format!(
-                "unknown renderer `{other}` (use deferred, light-prepass or forward)"
-            )),
-        }
-    }
 }
 
 /// Options fixed when a [`Renderer`] is created.
@@ -140,93 +84,6 @@ impl Default for RendererOptions {
     }
 }
 
-/// The G-buffer and light buffers of the last frame (for inspection and
-/// [`super::write_gbuffer`]).
-#[derive(Debug, Clone)]
-pub struct GBufferTextures {
-    /// `Depth32Float` (0 near .. 1 far; 1 = no geometry).
-    pub depth: wgpu::Texture,
-    /// `Rgba8UnormSrgb`: diffuse colour, a = material id / 255.
-    pub albedo: wgpu::Texture,
-    /// `Rgb10a2Unorm`: encoded normal (rg), roughness (b).
-    pub normal: wgpu::Texture,
-    /// `Rgba8UnormSrgb`: specular colour F0, a = lighting model id / 255.
-    pub specular: wgpu::Texture,
-    /// `Rgba16Float`: accumulated diffuse light (ambient included).
-    pub light_diffuse: wgpu::Texture,
-    /// `Rgba16Float`: accumulated specular light (deferred: plus emission).
-    pub light_specular: wgpu::Texture,
-}
-
-/// What a frame produces. The textures belong to the [`Renderer`]: the next
-/// `render` call of the same size draws into the same textures.
-#[derive(Debug, Clone)]
-pub struct RenderOutput {
-    pub width: u32,
-    pub height: u32,
-    /// `Rgba16Float`, linear HDR.
-    pub scene: wgpu::Texture,
-    /// The `AUX.*` images, named and formatted as
-    /// [`crate::graph::plan::gbuffer_aux`]: `depth` R32Float linear view depth
-    /// (`far` where nothing was drawn), `normal` Rgba16Float view-space normal (w = 1
-    /// on geometry, 0 elsewhere), `position` Rgba16Float view-space position (w as
-    /// for normal), `albedo` Rgba8UnormSrgb (a = coverage), `material` Rgba8Unorm
-    /// (r = material id / 255, g = lighting model id / 255, b = roughness, a = 1),
-    /// `specular` R16Float mean F0. Usage: TEXTURE_BINDING | COPY_SRC |
-    /// RENDER_ATTACHMENT.
-    pub aux: Vec<(String, wgpu::Texture)>,
-    pub camera: CameraStd,
-    pub gbuffer: GBufferTextures,
-}
-
-impl RenderOutput {
-    /// The aux image `name`.
-    pub fn aux(&self, name: &str) -> Option<&wgpu::Texture> {
-        self.aux.iter().find(|(n, _)| n == name).map(|(_, t)| t)
-    }
-
-    /// The aux images as `FrameInputs::aux` wants them.
-    pub fn aux_map(&self) -> HashMap<String, &wgpu::Texture> {
-        self.aux.iter().map(|(n, t)| (n.clone(), t)).collect()
-    }
-}
-
-/// Statistics of one frame.
-#[derive(Debug, Clone, Default)]
-pub struct RenderStats {
-    pub technique: Technique,
-    pub width: u32,
-    pub height: u32,
-    /// Triangles submitted per geometry pass.
-    pub triangles: usize,
-    pub draw_calls: usize,
-    pub lights_total: usize,
-    /// Lights left after frustum culling (forward shades all of these per fragment).
-    pub lights_visible: usize,
-    /// Full-screen light passes (ambient, directional, volumes that hold the camera
-    /// and cross the far plane).
-    pub lights_fullscreen: usize,
-    /// Volumes drawn as front faces (camera outside).
-    pub volumes_outside: usize,
-    /// Volumes drawn as back faces (camera inside).
-    pub volumes_inside: usize,
-    /// Pipelines and shader modules compiled so far by this renderer.
-    pub pipelines: usize,
-    pub shader_modules: usize,
-    /// GPU milliseconds per pass (timestamp queries), when a timer was given.
-    pub pass_ms: Vec<(String, f64)>,
-    /// Sum of `pass_ms`.
-    pub gpu_ms: Option<f64>,
-    /// CPU milliseconds to prepare, encode and submit the frame.
-    pub cpu_ms: f64,
-    /// G-buffer bytes per pixel written by the technique's geometry pass(es):
-    /// deferred 16 (diffuse+material id, normal+roughness, specular+model id,
-    /// depth), light pre-pass 13 (normal+roughness, specular+model id, material id,
-    /// depth), forward 4 (depth; the G-buffer targets it also fills only feed the
-    /// aux images).
-    pub gbuffer_bytes_per_pixel: u32,
-}
-
 /// Renders `scene` once (creating a [`Renderer`] for it). Use a [`Renderer`] to
 /// render several frames without uploading the scene again.
 pub fn render(
@@ -245,8 +102,8 @@ pub fn render(
 /// GPU resources of one scene; renders frames of any size, camera and technique.
 pub struct Renderer {
     opts: RendererOptions,
-    /// The auxiliary images' names and formats: `gbuffer_aux()`, except that depth is
-    /// R16Float where R32Float cannot be rendered (GL on llvmpipe).
+    /// The auxiliary images and formats: [`super::published_aux`] (depth is
+    /// R16Float where R32Float cannot be rendered: GL on llvmpipe).
     aux_formats: Vec<(String, crate::script::types::Format)>,
     name: String,
     lights: Vec<Light>,
@@ -255,13 +112,7 @@ pub struct Renderer {
     pub(crate) materials: MaterialSet,
     pub(crate) geometry: Geometry,
     pub(crate) material_gpu: MaterialResources,
-    pub(crate) volume_vertices: wgpu::Buffer,
-    pub(crate) volume_indices: wgpu::Buffer,
-    pub(crate) sphere_indices: Range<u32>,
-    pub(crate) cone_indices: Range<u32>,
-    pub(crate) cone_base_vertex: i32,
-    sphere_scale: f32,
-    cone_poly_scale: f32,
+    pub(crate) volumes: LightVolumes,
     frame_buffer: wgpu::Buffer,
     material_info_buffer: wgpu::Buffer,
     light_buffer: wgpu::Buffer,
@@ -271,32 +122,6 @@ pub struct Renderer {
     pub(crate) pipelines: Pipelines,
     dummy_light: wgpu::TextureView,
     pub(crate) targets: Option<Targets>,
-}
-
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
 }
 
 /// A 1x1 texture view with one texel.
@@ -353,19 +178,6 @@ impl Renderer {
         let material_gpu =
             MaterialResources::upload(ctx, scene, &materials, opts.variants, opts.mipmaps, &white)?;
 
-        // Light volume proxies.
-        let sphere = builtin::icosphere(2);
-        let cone = builtin::cone(CONE_SEGMENTS);
-        let sphere_scale = 1.0 / builtin::inradius(&sphere);
-        let cone_poly_scale = 1.0 / (std::f32::consts::PI / CONE_SEGMENTS as f32).cos();
-        let mut vol_v: Vec<[f32; 3]> = sphere.positions.iter().map(|p| (*p).into()).collect();
-        let cone_base_vertex = vol_v.len() as i32;
-        vol_v.extend(cone.positions.iter().map(|p| <[f32; 3]>::from(*p)));
-        let mut vol_i = sphere.indices.clone();
-        let sphere_indices = 0..vol_i.len() as u32;
-        vol_i.extend_from_slice(&cone.indices);
-        let cone_indices = sphere_indices.end..vol_i.len() as u32;
-
         let mut infos: Vec<GpuMaterialInfo> = materials
             .materials
             .iter()
@@ -386,16 +198,6 @@ impl Renderer {
                     usage,
                 })
             };
-            let volume_vertices = init(
-                "deferred light volume vertices",
-                bytemuck::cast_slice(&vol_v),
-                wgpu::BufferUsages::VERTEX,
-            );
-            let volume_indices = init(
-                "deferred light volume indices",
-                bytemuck::cast_slice(&vol_i),
-                wgpu::BufferUsages::INDEX,
-            );
             let material_info_buffer = init(
                 "deferred material info",
                 bytemuck::cast_slice(&infos),
@@ -407,58 +209,10 @@ impl Renderer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("deferred group 0 (frame, materials, instances, lights)"),
-                entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                    storage_entry(1),
-                    storage_entry(2),
-                    storage_entry(3),
-                    storage_entry(4),
-                ],
-            });
-            let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-            let g1_gbuffer = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("deferred group 1 (G-buffer)"),
-                entries: &[
-                    texture_entry(0, wgpu::TextureSampleType::Depth),
-                    texture_entry(1, unfilterable),
-                    texture_entry(2, unfilterable),
-                    texture_entry(3, unfilterable),
-                    texture_entry(4, unfilterable),
-                    texture_entry(5, unfilterable),
-                ],
-            });
-            let g1_light_buffers =
-                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("deferred group 1 (light buffers)"),
-                    entries: &[
-                        texture_entry(0, unfilterable),
-                        texture_entry(1, unfilterable),
-                    ],
-                });
-            (
-                volume_vertices,
-                volume_indices,
-                material_info_buffer,
-                frame_buffer,
-                Layouts {
-                    g0,
-                    g1_gbuffer,
-                    g1_light_buffers,
-                },
-            )
+            (material_info_buffer, frame_buffer, Layouts::new(device))
         })?;
-        let (volume_vertices, volume_indices, material_info_buffer, frame_buffer, layouts) = built;
+        let (material_info_buffer, frame_buffer, layouts) = built;
+        let volumes = LightVolumes::new(ctx)?;
         let (light_buffer, visible_buffer) = Self::light_buffers(device, 64, 64 * 6);
         let g0 = Self::make_g0(
             device,
@@ -490,13 +244,7 @@ impl Renderer {
                 "this adapter cannot render to R32Float: AUX.depth is R16Float (half precision)"
             );
         }
-        let aux_formats = crate::graph::plan::gbuffer_aux()
-            .into_iter()
-            .map(|(n, f)| match (n.as_str(), depth_renderable) {
-                ("depth", false) => (n, crate::script::types::Format::R16f),
-                _ => (n, f),
-            })
-            .collect();
+        let aux_formats = super::output::published_aux(depth_renderable);
         Ok(Renderer {
             aux_formats,
             opts: opts.clone(),
@@ -508,13 +256,7 @@ impl Renderer {
             materials,
             geometry,
             material_gpu,
-            volume_vertices,
-            volume_indices,
-            sphere_indices,
-            cone_indices,
-            cone_base_vertex,
-            sphere_scale,
-            cone_poly_scale,
+            volumes,
             frame_buffer,
             material_info_buffer,
             light_buffer,
@@ -669,8 +411,8 @@ impl Renderer {
         let proj = camera.proj(aspect);
         let mut lists = LightLists::classify(
             &self.lights,
-            self.sphere_scale,
-            self.cone_poly_scale,
+            self.volumes.sphere_scale,
+            self.volumes.cone_poly_scale,
             camera,
             &view,
             &proj,

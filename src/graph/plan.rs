@@ -54,26 +54,12 @@ impl InputDesc {
         self
     }
 
-    /// Adds the deferred renderer's G-buffer images as auxiliary inputs.
-    pub fn with_gbuffer(mut self) -> Self {
-        self.aux = gbuffer_aux();
+    /// Sets the auxiliary inputs to `aux` (names and formats), e.g. the images
+    /// the deferred renderer publishes (`deferred::published_aux`).
+    pub fn with_aux(mut self, aux: &[(String, Format)]) -> Self {
+        self.aux = aux.to_vec();
         self
     }
-}
-
-/// The auxiliary inputs the deferred renderer provides, with their formats.
-pub fn gbuffer_aux() -> Vec<(String, Format)> {
-    [
-        ("depth", Format::R32f),
-        ("normal", Format::Rgba16f),
-        ("position", Format::Rgba16f),
-        ("albedo", Format::Rgba8Srgb),
-        ("material", Format::Rgba8),
-        ("specular", Format::R16f),
-    ]
-    .into_iter()
-    .map(|(n, f)| (n.to_string(), f))
-    .collect()
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]

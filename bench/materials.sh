@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Feature-selection benchmark (seed 003: "conditional compilation made rendering
+# 1.5-2x faster than shaders with branches"): builtin:bench with the standard
+# surface in nine map combinations (bench/materials_maps.fx) under random point
+# lights, rendered with preprocessor variants, override constants and run-time
+# branching, forward and deferred, at 1920x1080. Runs the ignored test
+# `variant_benchmark` in release mode; the Markdown report goes to stdout and
+# target/materials-bench.md.
+#
+# Environment (optional): FX_BENCH_SIZE=1920x1080, FX_BENCH_FRAMES=5,
+# FX_BENCH_LIGHTS=16.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+export FX_BENCH_OUT="${FX_BENCH_OUT:-$PWD/target/materials-bench.md}"
+mkdir -p "$(dirname "$FX_BENCH_OUT")"
+cargo test --release --test materials -- --ignored --exact variant_benchmark --nocapture

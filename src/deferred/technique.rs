@@ -1,0 +1,57 @@
+//! The shading techniques a [`super::Renderer`] draws a frame with.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// How a frame is shaded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Technique {
+    /// Deferred shading with the compressed G-buffer and light volumes (seed 001).
+    #[default]
+    Deferred,
+    /// Light pre-pass (seed 000): depth + normals, light buffer, final geometry pass.
+    LightPrepass,
+    /// Forward shading: every visible light per fragment.
+    Forward,
+}
+
+impl Technique {
+    pub const ALL: [Technique; 3] = [
+        Technique::Deferred,
+        Technique::LightPrepass,
+        Technique::Forward,
+    ];
+
+    /// The CLI name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Deferred => "deferred",
+            Technique::LightPrepass => "light-prepass",
+            Technique::Forward => "forward",
+        }
+    }
+}
+
+impl fmt::Display for Technique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Technique {
+    type Err = String;
+
+    /// `deferred`, `light-prepass` (or `lpp`, `prepass`), `forward`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().replace('_', "-").as_str() {
+            "deferred" => Ok(Technique::Deferred),
+            "light-prepass" | "lightprepass" | "lpp" | "prepass" | "light-pre-pass" => {
+                Ok(Technique::LightPrepass)
+            }
+            "forward" => Ok(Technique::Forward),
+            other => Err(format!(
+                "unknown renderer `{other}` (use deferred, light-prepass or forward)"
+            )),
+        }
+    }
+}
