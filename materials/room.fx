@@ -31,7 +31,7 @@ MATERIAL.blue = {
 
 MATERIAL.gold = {
     DESCRIPTION = "a metal: glTF metallic-roughness under Cook-Torrance"
-    SURFACE = SHADER.standard { base_color = (1, 0.77, 0.34, 1) metallic = 1 roughness = 0.3 }
+    SURFACE = SHADER.standard { base_color = (1, 0.77, 0.34, 1) metallic = 1 roughness = 0.45 }
     LIGHTING = SHADER.cook_torrance
 }
 

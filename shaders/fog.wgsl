@@ -25,19 +25,15 @@ struct Params {
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
+#include "lib/view.wgsl"
+
 fn unproject(uv: vec2<f32>, z: f32) -> vec3<f32> {
-    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, z, 1.0);
-    let h = params.inv_proj * ndc;
-    return h.xyz / h.w;
+    return lib_unproject(params.inv_proj, uv, z);
 }
 
-// View-space position at `uv` with linear depth `d` (as in shaders/ssao.wgsl).
+// View-space position at `uv` with linear depth `d` (see lib/view.wgsl).
 fn view_pos(uv: vec2<f32>, d: f32) -> vec3<f32> {
-    let a = unproject(uv, 0.25);
-    let b = unproject(uv, 0.75);
-    let s = select(-1.0, 1.0, a.z >= 0.0);
-    let t = (s * d - a.z) / (b.z - a.z);
-    return a + t * (b - a);
+    return lib_view_pos(params.inv_proj, uv, d);
 }
 
 // (1 - exp(-x)) / x, the mean of exp(-x t) over t in [0, 1]; 1 at x = 0.

@@ -39,25 +39,15 @@ struct Params {
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
-// A point of the pixel's view ray: unproject ndc depths 0.25 and 0.75 (finite for
-// standard, reversed, infinite-far and [-1, 1] projections and for orthographic
-// ones). Returns the point at ndc z 0.25 and the direction towards 0.75.
+#include "lib/view.wgsl"
+
 fn unproject(uv: vec2<f32>, z: f32) -> vec3<f32> {
-    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, z, 1.0);
-    let h = params.inv_proj * ndc;
-    return h.xyz / h.w;
+    return lib_unproject(params.inv_proj, uv, z);
 }
 
-// View-space position of the surface at `uv` with linear depth `d`: the point of the
-// pixel's ray whose coordinate along the view axis is d. The view axis points to +z
-// or -z depending on the camera (sign of z of a point inside the frustum); with the
-// identity matrices of a run without a renderer, P = (ndc.x, ndc.y, d).
+// View-space position at `uv` with linear depth `d` (see lib/view.wgsl).
 fn view_pos(uv: vec2<f32>, d: f32) -> vec3<f32> {
-    let a = unproject(uv, 0.25);
-    let b = unproject(uv, 0.75);
-    let s = select(-1.0, 1.0, a.z >= 0.0);
-    let t = (s * d - a.z) / (b.z - a.z);
-    return a + t * (b - a);
+    return lib_view_pos(params.inv_proj, uv, d);
 }
 
 fn forward_sign() -> f32 {

@@ -183,3 +183,43 @@ fn each_define_set_compiles_once() {
     };
     assert_eq!(v.len(), 8 * 4 * 4);
 }
+
+/// `#include` in a pass shader: the built-in `lib/view.wgsl` and a file beside the
+/// shader; an error inside the included file is reported at its own line.
+#[test]
+fn pass_shaders_include_the_library_and_report_errors_in_included_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let fx = "EFFECT.inc = { PASS = { p = SHADER.inc { img = IN } } OUT = p }\n";
+    std::fs::write(dir.path().join("inc.fx"), fx).unwrap();
+    let shader = "#include \"lib/view.wgsl\"\n#include \"helper.wgsl\"\n@group(0) @binding(0) var img: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let p = lib_view_pos(mat4x4<f32>(), vec2<f32>(0.5), 1.0);\n    return textureLoad(img, vec2<i32>(pos.xy), 0) * helper(p.z);\n}\n";
+    std::fs::write(dir.path().join("inc.wgsl"), shader).unwrap();
+    let run = || {
+        std::process::Command::new(env!("CARGO_BIN_EXE_fxrun"))
+            .arg(dir.path().join("inc.fx"))
+            .arg("--check")
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .output()
+            .unwrap()
+    };
+    std::fs::write(
+        dir.path().join("helper.wgsl"),
+        "fn helper(x: f32) -> f32 {\n    return x * 0.0 + 1.0;\n}\n",
+    )
+    .unwrap();
+    let ok = run();
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    std::fs::write(
+        dir.path().join("helper.wgsl"),
+        "fn helper(x: f32) -> f32 {\n    return vec2<f32>(x);\n}\n",
+    )
+    .unwrap();
+    let bad = run();
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("helper.wgsl:2:"), "{stderr}");
+}

@@ -1,6 +1,7 @@
 //! Loading every shader of a plan: find, preprocess, reflect and check the script's
 //! bindings against it. Needs no GPU, so `fxrun --check` runs it too.
 
+use super::include::{assemble, IncludeOrigin, RealFs};
 use super::reflect::{bind_pass, Reflection, UniformLayout};
 use super::{find_shader, preprocess, reflect};
 use crate::graph::plan::{PassShader, Plan};
@@ -75,7 +76,30 @@ pub fn load_plan_shaders(
             .or_insert_with(|| sources.add(label.clone(), file.text.clone()));
         let key = (label.clone(), defines.clone());
         if !cache.contains_key(&key) {
-            let loaded = match preprocess(&file.text, &defines) {
+            // `#include "lib/..."` (the built-in library) or a file beside the
+            // shader: included text is appended, so the file's own lines and
+            // columns stay as they are.
+            let assembly = if file.text.contains("#include") {
+                let origin = match &file.path {
+                    Some(p) => IncludeOrigin::Disk(p.clone()),
+                    None => IncludeOrigin::Memory,
+                };
+                match assemble(file_id, &label, &file.text, origin, &RealFs, sources) {
+                    Ok(a) => Some(a),
+                    Err(ds) => {
+                        ds.into_iter().for_each(|d| diags.push(d));
+                        cache.insert(key.clone(), None);
+                        out.push(None);
+                        continue;
+                    }
+                }
+            } else {
+                None
+            };
+            let text = assembly
+                .as_ref()
+                .map_or(file.text.as_str(), |a| a.text.as_str());
+            let loaded = match preprocess(text, &defines) {
                 Err(e) => {
                     diags.push(
                         Diagnostic::error(e.message).at(Span::new(file_id, e.start, e.end), ""),
@@ -93,7 +117,25 @@ pub fn load_plan_shaders(
                     match reflect(&wgsl, id) {
                         Ok(r) => Some((Arc::<str>::from(wgsl), r)),
                         Err(ds) => {
-                            ds.into_iter().for_each(|d| diags.push(d));
+                            for mut d in ds {
+                                // Spans past the file's own text lie in an
+                                // included file: point there.
+                                if let Some(a) = &assembly {
+                                    for l in &mut d.labels {
+                                        if l.span.file == id
+                                            && l.span.start as usize >= file.text.len()
+                                        {
+                                            if let Some(sp) = a.map_span(
+                                                l.span.start as usize,
+                                                l.span.end as usize,
+                                            ) {
+                                                l.span = sp;
+                                            }
+                                        }
+                                    }
+                                }
+                                diags.push(d);
+                            }
                             None
                         }
                     }
