@@ -15,28 +15,8 @@ use fxgraph::deferred::material::VariantMode;
 use fxgraph::deferred::{
     Camera, Instance, Light, Material, Renderer, RendererOptions, Scene, ShaderBinding, Technique,
 };
-use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
+use fxgraph::gpu::context::GpuContext;
 use glam::{Mat4, Vec3, Vec4};
-use std::sync::{Mutex, MutexGuard, OnceLock};
-
-fn gpu() -> Option<MutexGuard<'static, GpuContext>> {
-    static CTX: OnceLock<Option<Mutex<GpuContext>>> = OnceLock::new();
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
-    }
-    let c = CTX.get_or_init(|| match GpuContext::new(&AdapterChoice::Auto) {
-        Ok(ctx) => Some(Mutex::new(ctx)),
-        Err(e) => {
-            if require_gpu() {
-                panic!("FX_REQUIRE_GPU=1 but no GPU adapter: {e}");
-            }
-            eprintln!("skipping GPU test: no adapter ({e})");
-            None
-        }
-    });
-    c.as_ref()
-        .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
-}
 
 fn render(
     ctx: &GpuContext,
@@ -186,7 +166,10 @@ fn test_lights() -> Vec<Light> {
 
 #[test]
 fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
-    let Some(ctx) = gpu() else { return };
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
     let (camera, ocam) = sphere_camera();
     let base = Vec3::new(0.7, 0.45, 0.3);
     let cases: Vec<(&str, Material, Surface, Model)> = vec![
@@ -242,7 +225,7 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
             brdf::render_sphere_oracle(&ocam, Vec3::ZERO, 1.0, &surface, model, &scene.lights);
         for technique in Technique::ALL {
             let img = render(
-                &ctx,
+                ctx,
                 &scene,
                 &camera,
                 SPHERE_SIZE,
@@ -278,7 +261,10 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
 
 #[test]
 fn gltf_metallic_roughness_spheres_follow_the_specification() {
-    let Some(ctx) = gpu() else { return };
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
     let dir = tempfile::tempdir().unwrap();
     let path = gltf_gen::write_spheres_gltf(dir.path());
     let scene = Scene::load(path.to_str().unwrap()).unwrap();
@@ -303,7 +289,7 @@ fn gltf_metallic_roughness_spheres_follow_the_specification() {
     };
     for technique in [Technique::Deferred, Technique::Forward] {
         let img = render(
-            &ctx,
+            ctx,
             &scene,
             &camera,
             (w, h),
@@ -417,12 +403,15 @@ fn pairs_scene() -> (Scene, tempfile::TempDir) {
 
 #[test]
 fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
-    let Some(ctx) = gpu() else { return };
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
     let (scene, _dir) = pairs_scene();
     let size = (192, 144);
     let camera = Camera::parse_spec("eye=0,6,7;target=0,0,0;fov=50", &scene).unwrap();
     let reference = render(
-        &ctx,
+        ctx,
         &scene,
         &camera,
         size,
@@ -441,7 +430,7 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
     for technique in Technique::ALL {
         let per_mode: Vec<Vec<[f32; 4]>> = VariantMode::ALL
             .iter()
-            .map(|&mode| render(&ctx, &scene, &camera, size, technique, mode))
+            .map(|&mode| render(ctx, &scene, &camera, size, technique, mode))
             .collect();
         let p = psnr(&reference, &per_mode[0]);
         eprintln!("deferred vs {technique}: PSNR {p:.2} dB");
@@ -456,13 +445,16 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
 
 #[test]
 fn variants_are_compiled_once_and_counted_by_mode() {
-    let Some(ctx) = gpu() else { return };
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
     let scene = Scene::load("builtin:room").unwrap();
     let camera = scene.default_camera();
     let mut counts = Vec::new();
     for mode in VariantMode::ALL {
         let mut r = Renderer::new(
-            &ctx,
+            ctx,
             &scene,
             &RendererOptions {
                 variants: mode,
@@ -471,10 +463,10 @@ fn variants_are_compiled_once_and_counted_by_mode() {
         )
         .unwrap();
         let (_, first) = r
-            .render(&ctx, &camera, 64, 48, Technique::Deferred, None)
+            .render(ctx, &camera, 64, 48, Technique::Deferred, None)
             .unwrap();
         let (_, second) = r
-            .render(&ctx, &camera, 64, 48, Technique::Deferred, None)
+            .render(ctx, &camera, 64, 48, Technique::Deferred, None)
             .unwrap();
         assert_eq!(
             (second.pipelines, second.shader_modules),
@@ -519,7 +511,10 @@ fn variants_are_compiled_once_and_counted_by_mode() {
 
 #[test]
 fn user_materials_replace_scene_materials_by_name_and_star() {
-    let Some(ctx) = gpu() else { return };
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("stripes.wgsl"), USER_SURFACE).unwrap();
     std::fs::write(dir.path().join("wrap_lambert.wgsl"), USER_LIGHTING).unwrap();
@@ -548,7 +543,7 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
     assert_eq!(replaced.len(), n);
     let camera = all.default_camera();
     let img = render(
-        &ctx,
+        ctx,
         &all,
         &camera,
         (96, 64),
@@ -575,7 +570,10 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
 #[ignore]
 fn variant_benchmark() {
     use fxgraph::deferred::variant_bench::run_variant_benchmark;
-    let Some(ctx) = gpu() else { return };
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
     let size = env("FX_BENCH_SIZE", "1920x1080");
     let (w, h) = size.split_once('x').expect("FX_BENCH_SIZE=WxH");
@@ -597,7 +595,7 @@ fn variant_benchmark() {
     scene.add_random_point_lights_sized(lights, 4, 0.05, 0.12);
     let camera = scene.default_camera();
     let report = run_variant_benchmark(
-        &ctx,
+        ctx,
         &scene,
         &camera,
         (w, h),

@@ -314,132 +314,112 @@ pub(crate) fn encode(
             rp.draw(0..3, 0..1);
             *draws += 1;
         };
+        // A geometry pass: every batch (opaque) or the sorted transparent ones.
+        let geometry = |encoder: &mut wgpu::CommandEncoder,
+                        names: &mut Vec<String>,
+                        name: &str,
+                        colors: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+                        depth: Depth,
+                        pass: GeoPass,
+                        draws: &mut usize| {
+            let mut rp = begin(encoder, r, names, timer, name, colors, depth);
+            if pass == GeoPass::LppFinal {
+                rp.set_bind_group(1, &t.bg_final, &[]);
+            }
+            if pass == GeoPass::ForwardBlend {
+                draw_batches(
+                    r,
+                    &mut rp,
+                    blend.iter().map(|(_, b)| *b),
+                    pass,
+                    lights,
+                    draws,
+                );
+            } else {
+                draw_batches(r, &mut rp, r.geometry.batches.iter(), pass, lights, draws);
+            }
+        };
+        let (albedo, normal, specular) = (
+            attach(&t.albedo.view, zero),
+            attach(&t.normal.view, zero),
+            attach(&t.specular.view, zero),
+        );
         match technique {
             Technique::Deferred => {
-                {
-                    let mut rp = begin(
-                        &mut encoder,
-                        r,
-                        &mut names,
-                        timer,
-                        "geometry",
-                        &[
-                            attach(&t.albedo.view, zero),
-                            attach(&t.normal.view, zero),
-                            attach(&t.specular.view, zero),
-                            attach(&t.light_specular.view, zero),
-                        ],
-                        Depth::Clear,
-                    );
-                    draw_batches(
-                        r,
-                        &mut rp,
-                        r.geometry.batches.iter(),
-                        GeoPass::GBuffer,
-                        lights,
-                        &mut draws,
-                    );
-                }
+                let colors = [
+                    albedo,
+                    normal,
+                    specular,
+                    attach(&t.light_specular.view, zero),
+                ];
+                geometry(
+                    &mut encoder,
+                    &mut names,
+                    "geometry",
+                    &colors,
+                    Depth::Clear,
+                    GeoPass::GBuffer,
+                    &mut draws,
+                );
                 light_pass(&mut encoder, &mut names, LOAD, &mut draws);
+                let colors = [attach(&t.scene.view, zero)];
                 fullscreen(
                     &mut encoder,
                     &mut names,
                     "composition",
                     LightPipe::Compose,
-                    &[attach(&t.scene.view, zero)],
+                    &colors,
                     &mut draws,
                 );
             }
             Technique::LightPrepass => {
-                {
-                    let mut rp = begin(
-                        &mut encoder,
-                        r,
-                        &mut names,
-                        timer,
-                        "depth+normals",
-                        &[
-                            attach(&t.albedo.view, zero),
-                            attach(&t.normal.view, zero),
-                            attach(&t.specular.view, zero),
-                        ],
-                        Depth::Clear,
-                    );
-                    draw_batches(
-                        r,
-                        &mut rp,
-                        r.geometry.batches.iter(),
-                        GeoPass::Prepass,
-                        lights,
-                        &mut draws,
-                    );
-                }
+                let colors = [albedo, normal, specular];
+                geometry(
+                    &mut encoder,
+                    &mut names,
+                    "depth+normals",
+                    &colors,
+                    Depth::Clear,
+                    GeoPass::Prepass,
+                    &mut draws,
+                );
                 light_pass(&mut encoder, &mut names, zero, &mut draws);
-                {
-                    let mut rp = begin(
-                        &mut encoder,
-                        r,
-                        &mut names,
-                        timer,
-                        "final geometry",
-                        &[
-                            attach(&t.scene.view, background),
-                            attach(&t.albedo.view, LOAD),
-                        ],
-                        Depth::Read,
-                    );
-                    rp.set_bind_group(1, &t.bg_final, &[]);
-                    draw_batches(
-                        r,
-                        &mut rp,
-                        r.geometry.batches.iter(),
-                        GeoPass::LppFinal,
-                        lights,
-                        &mut draws,
-                    );
-                }
+                let colors = [
+                    attach(&t.scene.view, background),
+                    attach(&t.albedo.view, LOAD),
+                ];
+                geometry(
+                    &mut encoder,
+                    &mut names,
+                    "final geometry",
+                    &colors,
+                    Depth::Read,
+                    GeoPass::LppFinal,
+                    &mut draws,
+                );
             }
             Technique::Forward => {
-                let mut rp = begin(
+                let colors = [attach(&t.scene.view, background), albedo, normal, specular];
+                geometry(
                     &mut encoder,
-                    r,
                     &mut names,
-                    timer,
                     "forward",
-                    &[
-                        attach(&t.scene.view, background),
-                        attach(&t.albedo.view, zero),
-                        attach(&t.normal.view, zero),
-                        attach(&t.specular.view, zero),
-                    ],
+                    &colors,
                     Depth::Clear,
-                );
-                draw_batches(
-                    r,
-                    &mut rp,
-                    r.geometry.batches.iter(),
                     GeoPass::Forward,
-                    lights,
                     &mut draws,
                 );
             }
         }
         if !blend.is_empty() {
-            let mut rp = begin(
+            let colors = [attach(&t.scene.view, LOAD)];
+            geometry(
                 &mut encoder,
-                r,
                 &mut names,
-                timer,
                 "transparency",
-                &[attach(&t.scene.view, LOAD)],
+                &colors,
                 Depth::Read,
-            );
-            draw_batches(
-                r,
-                &mut rp,
-                blend.iter().map(|(_, b)| *b),
                 GeoPass::ForwardBlend,
-                lights,
                 &mut draws,
             );
         }

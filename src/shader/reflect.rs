@@ -298,12 +298,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
                 let mut out = Vec::new();
                 for m in members {
                     let mname = m.name.clone().unwrap_or_default();
-                    let ty = match module.types[m.ty].inner {
-                        TypeInner::Scalar(s) => scalar_field(s, 1),
-                        TypeInner::Vector { size, scalar } => scalar_field(scalar, size as u8),
-                        TypeInner::Matrix { columns: naga::VectorSize::Quad, rows: naga::VectorSize::Quad, scalar } if scalar.kind == ScalarKind::Float && scalar.width == 4 => Some(FieldType::Mat4),
-                        _ => None,
-                    };
+                    let ty = field_type(&module, m.ty);
                     let (mspan, default, range, description) = member_annotations(decl_text, decl_start, &mname, file);
                     match ty {
                         Some(ty) => out.push(UniformMember { name: mname, offset: m.offset, ty, span: mspan.unwrap_or(gspan), default, range, description }),
@@ -341,6 +336,21 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         })
     } else {
         Err(diags)
+    }
+}
+
+/// The parameter type of a struct member's WGSL type (f32, i32, u32, their
+/// vectors, mat4x4<f32>), if it is one.
+pub(crate) fn field_type(module: &naga::Module, ty: naga::Handle<naga::Type>) -> Option<FieldType> {
+    match module.types[ty].inner {
+        TypeInner::Scalar(s) => scalar_field(s, 1),
+        TypeInner::Vector { size, scalar } => scalar_field(scalar, size as u8),
+        TypeInner::Matrix {
+            columns: naga::VectorSize::Quad,
+            rows: naga::VectorSize::Quad,
+            scalar,
+        } if scalar.kind == ScalarKind::Float && scalar.width == 4 => Some(FieldType::Mat4),
+        _ => None,
     }
 }
 

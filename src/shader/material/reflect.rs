@@ -11,7 +11,7 @@ use super::{
 use crate::script::{Diagnostic, Span};
 use crate::shader::features::{texture_flag, ENGINE_FLAGS};
 use crate::shader::include::Assembly;
-use crate::shader::reflect::{member_annotations, FieldType, UniformMember};
+use crate::shader::reflect::{member_annotations, UniformMember};
 use naga::common::wgsl::TypeContext as _;
 use naga::{ImageClass, ImageDimension, ScalarKind, TypeInner};
 
@@ -319,16 +319,7 @@ impl Checker<'_> {
         let mut out = Vec::new();
         for mem in members {
             let mname = mem.name.clone().unwrap_or_default();
-            let ty = match m.types[mem.ty].inner {
-                TypeInner::Scalar(s) => scalar_field(s, 1),
-                TypeInner::Vector { size, scalar } => scalar_field(scalar, size as u8),
-                TypeInner::Matrix {
-                    columns: naga::VectorSize::Quad,
-                    rows: naga::VectorSize::Quad,
-                    scalar,
-                } if scalar.kind == ScalarKind::Float && scalar.width == 4 => Some(FieldType::Mat4),
-                _ => None,
-            };
+            let ty = crate::shader::reflect::field_type(m, mem.ty);
             let (mspan, default, range, description) =
                 member_annotations(decl_text, decl.start as usize, &mname, decl.file);
             let span = mspan.unwrap_or(decl);
@@ -421,14 +412,5 @@ impl Checker<'_> {
             .map(|i| s + text[s..s + i].trim_end().len())
             .unwrap_or(e);
         Span::new(sp.file, s, cut.max(s))
-    }
-}
-
-fn scalar_field(s: naga::Scalar, n: u8) -> Option<FieldType> {
-    match (s.kind, s.width) {
-        (ScalarKind::Float, 4) => Some(FieldType::F32(n)),
-        (ScalarKind::Sint, 4) => Some(FieldType::I32(n)),
-        (ScalarKind::Uint, 4) => Some(FieldType::U32(n)),
-        _ => None,
     }
 }
