@@ -143,6 +143,10 @@ struct Cli {
     /// and the pipelines compiled.
     #[arg(long)]
     describe_materials: bool,
+    /// Scene: add ambient light of this radiance (V or R,G,B, linear); a scene
+    /// otherwise renders only the lights it has.
+    #[arg(long, value_name = "RGB")]
+    ambient: Option<String>,
 }
 
 /// An error with its exit code, already reported or to be printed.
@@ -817,6 +821,27 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
                 })
         })
         .collect::<Result<Vec<_>, _>>()?;
+    let ambient = match &cli.ambient {
+        None => None,
+        Some(a) => {
+            let v: Vec<f32> = a
+                .split(',')
+                .map(|x| x.trim().parse::<f32>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| rejected(format!("--ambient {a}: expected V or R,G,B (numbers)")))?;
+            let rgb = match v.as_slice() {
+                [x] => [*x; 3],
+                [r, g, b] => [*r, *g, *b],
+                _ => return Err(rejected(format!("--ambient {a}: expected V or R,G,B"))),
+            };
+            if rgb.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                return Err(rejected(format!(
+                    "--ambient {a}: values must be finite and not negative"
+                )));
+            }
+            Some(rgb)
+        }
+    };
     let default_chain = cli.effects.is_empty() && cli.output.is_some();
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
@@ -850,6 +875,7 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         material_map,
         variants,
         describe_materials: cli.describe_materials,
+        ambient,
     };
     let mut engine = Engine::new(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))

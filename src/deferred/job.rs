@@ -51,6 +51,9 @@ pub struct SceneJob {
     pub variants: super::material::VariantMode,
     /// Print each material, its shaders and variant, and the pipelines compiled.
     pub describe_materials: bool,
+    /// An ambient light to add (linear RGB radiance); scenes otherwise render
+    /// only the lights they have.
+    pub ambient: Option<[f32; 3]>,
 }
 
 /// Timings of a scene job.
@@ -143,6 +146,12 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     }
     if job.lights > 0 {
         scene.add_random_point_lights(job.lights, job.seed);
+    }
+    if let Some([r, g, b]) = job.ambient {
+        scene.lights.push(super::scene::Light {
+            name: "--ambient".into(),
+            ..super::scene::Light::ambient(glam::Vec3::new(r, g, b), 1.0)
+        });
     }
     scene.ensure_lights();
     let camera = match &job.camera {
