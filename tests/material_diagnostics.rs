@@ -315,24 +315,53 @@ fn fxrun(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn fxrun_describes_materials_and_checks_scene_options() {
-    let out = fxrun(&["--scene", "builtin:room", "--size", "32x32", "--describe-materials"]);
+    let out = fxrun(&[
+        "--scene",
+        "builtin:room",
+        "--size",
+        "32x32",
+        "--describe-materials",
+    ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains("materials (preprocess variants mode):"), "{stdout}");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("materials (preprocess variants mode):"),
+        "{stdout}"
+    );
     assert!(
         stdout.contains("floor: surface triplanar + lighting cook_torrance (model 0), variant [HAS_BASE_COLOR_MAP]"),
         "{stdout}"
     );
-    assert!(stdout.contains("glass: surface standard + lighting cook_torrance (model 0), variant [ALPHA_BLEND]"), "{stdout}");
+    assert!(
+        stdout.contains(
+            "glass: surface standard + lighting cook_torrance (model 0), variant [ALPHA_BLEND]"
+        ),
+        "{stdout}"
+    );
     assert!(stdout.contains("pipelines compiled: "), "{stdout}");
     for (args, needle) in [
         (vec!["--variants", "fast"], "--variants fast"),
         (vec!["--ambient=-1"], "--ambient -1"),
         (vec!["--ambient", "1,2"], "--ambient 1,2"),
         (vec!["--material", "red"], "--material red"),
-        (vec!["--material", "red=gold"], "--material needs --materials"),
+        (
+            vec!["--material", "red=gold"],
+            "--material needs --materials",
+        ),
     ] {
-        let mut all = vec!["--scene", "builtin:room", "--size", "32x32", "-o", "/nonexistent/x.png"];
+        let mut all = vec![
+            "--scene",
+            "builtin:room",
+            "--size",
+            "32x32",
+            "-o",
+            "/nonexistent/x.png",
+        ];
         all.extend(args.iter().copied());
         let out = fxrun(&all);
         let stderr = String::from_utf8_lossy(&out.stderr);
@@ -350,7 +379,12 @@ fn ambient_is_added_only_when_asked() {
         let mut args = vec!["--scene", "builtin:bench", "--size", "48x32", "-o", &path_s];
         args.extend_from_slice(extra);
         let out = fxrun(&args);
-        assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let img = fxgraph::io::load_image(&path, &Default::default()).unwrap();
         let px = img.pixels.to_f32_linear(false);
         px.chunks_exact(4).map(|p| p[0] + p[1] + p[2]).sum::<f32>() / (px.len() / 4) as f32

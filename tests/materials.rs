@@ -618,3 +618,46 @@ fn variant_benchmark() {
         std::fs::write(&out, report.to_string()).unwrap();
     }
 }
+
+/// The glTF sphere that uses every core texture, KHR_texture_transform, texture
+/// coordinate set 1, vertex colours, MASK and double-sided: the three techniques
+/// and the three variant modes give the same image.
+#[test]
+fn textured_gltf_material_agrees_across_techniques_and_modes() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let dir = tempfile::tempdir().unwrap();
+    let path = gltf_gen::write_spheres_gltf_textured(dir.path());
+    let scene = Scene::load(path.to_str().unwrap()).unwrap();
+    let textured = scene
+        .materials
+        .iter()
+        .find(|m| m.name == gltf_gen::textured::NAME)
+        .expect("the textured material");
+    assert!(
+        textured.surface.textures.len() >= 5,
+        "{:?}",
+        textured.surface.textures
+    );
+    let camera = Camera::parse_spec("eye=0,-1.2,7;target=0,-1.2,0;fov=55", &scene).unwrap();
+    let size = (160, 160);
+    let reference = render(
+        ctx,
+        &scene,
+        &camera,
+        size,
+        Technique::Deferred,
+        VariantMode::Preprocess,
+    );
+    save("gltf_textured", size, &reference);
+    for technique in Technique::ALL {
+        for mode in VariantMode::ALL {
+            let img = render(ctx, &scene, &camera, size, technique, mode);
+            let p = psnr(&reference, &img);
+            eprintln!("textured glTF: deferred/preprocess vs {technique}/{mode}: PSNR {p:.2} dB");
+            assert!(p >= 40.0, "{technique}/{mode}: {p:.2} dB");
+        }
+    }
+}

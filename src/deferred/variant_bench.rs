@@ -3,8 +3,9 @@
 //! preprocessor variants, override constants and run-time branches, per
 //! technique; run by `bench/materials.sh`.
 //!
-//! Each configuration renders `warmup` frames (pipelines are compiled then), then
-//! `frames` frames; the median of the GPU time of the pass that runs the surface
+//! One renderer per mode; each technique renders `warmup` frames per mode
+//! (pipelines are compiled then), then `frames` rounds of one frame per mode in
+//! turn; the median of the GPU time of the pass that runs the surface
 //! shaders (deferred: `geometry`, forward: `forward`) and of the whole frame are
 //! reported (GPU timestamps; CPU wall time to idle where the device has none).
 
@@ -58,44 +59,54 @@ pub fn run_variant_benchmark(
     mut progress: impl FnMut(&VariantRow),
 ) -> Result<VariantReport, RenderError> {
     let timer = GpuTimer::new(ctx, 16);
+    let mut renderers = modes
+        .iter()
+        .map(|&mode| {
+            Renderer::new(
+                ctx,
+                scene,
+                &RendererOptions {
+                    variants: mode,
+                    ..Default::default()
+                },
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
-    for &mode in modes {
-        let mut renderer = Renderer::new(
-            ctx,
-            scene,
-            &RendererOptions {
-                variants: mode,
-                ..Default::default()
-            },
-        )?;
-        for &technique in techniques {
-            let pass = match technique {
-                Technique::Deferred => "geometry",
-                Technique::LightPrepass => "final geometry",
-                Technique::Forward => "forward",
-            };
-            let (mut surface, mut frame) = (Vec::new(), Vec::new());
-            let mut last = None;
-            for i in 0..warmup + frames {
+    for &technique in techniques {
+        let pass = match technique {
+            Technique::Deferred => "geometry",
+            Technique::LightPrepass => "final geometry",
+            Technique::Forward => "forward",
+        };
+        let mut surface = vec![Vec::new(); modes.len()];
+        let mut frame = vec![Vec::new(); modes.len()];
+        let mut last = vec![None; modes.len()];
+        // Round-robin over the modes, so that drifts of the machine (other load,
+        // clock) fall on every mode alike.
+        for i in 0..warmup + frames {
+            for (m, renderer) in renderers.iter_mut().enumerate() {
                 let start = Instant::now();
                 let (_, stats) =
                     renderer.render(ctx, camera, width, height, technique, timer.as_ref())?;
                 ctx.wait_idle()?;
                 let wall = start.elapsed().as_secs_f64() * 1e3;
                 if i >= warmup {
-                    frame.push(stats.gpu_ms.unwrap_or(wall));
+                    frame[m].push(stats.gpu_ms.unwrap_or(wall));
                     if let Some((_, ms)) = stats.pass_ms.iter().find(|(n, _)| n == pass) {
-                        surface.push(*ms);
+                        surface[m].push(*ms);
                     }
                 }
-                last = Some(stats);
+                last[m] = Some(stats);
             }
-            let stats = last.expect("at least one frame");
+        }
+        for (m, &mode) in modes.iter().enumerate() {
+            let stats = last[m].take().expect("at least one frame");
             let row = VariantRow {
                 mode,
                 technique,
-                surface_pass_ms: median(&mut surface),
-                frame_ms: median(&mut frame),
+                surface_pass_ms: median(&mut surface[m]),
+                frame_ms: median(&mut frame[m]),
                 pipelines: stats.pipelines,
                 modules: stats.shader_modules,
             };
