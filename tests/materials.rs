@@ -661,3 +661,76 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
         }
     }
 }
+
+/// Mesh flags (here HAS_VERTEX_COLOR) follow the mesh in every mode: a surface
+/// that uses the vertex colour only where the mesh has one renders alike with
+/// preprocessor variants and run-time branches.
+#[test]
+fn mesh_flags_follow_the_mesh_in_every_mode() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("vcolor.wgsl"),
+        "fn surface(in: SurfaceInput) -> SurfaceOutput {\n    var c = vec3<f32>(0.2, 0.4, 0.8);\n#ifdef HAS_VERTEX_COLOR\n    c = in.color.rgb;\n#endif\n    var out: SurfaceOutput;\n    out.diffuse = c;\n    out.specular = vec3<f32>(0.04);\n    out.roughness = 0.5;\n    out.alpha = 1.0;\n    out.normal = in.normal;\n    out.emission = vec3<f32>(0.0);\n    out.occlusion = 1.0;\n    return out;\n}\n",
+    )
+    .unwrap();
+    let file = load_materials(
+        "v.fx",
+        "MATERIAL.v = { SURFACE = SHADER.vcolor LIGHTING = SHADER.lambert }\n",
+        Some(dir.path()),
+        0,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let mut scene = Scene {
+        name: "vertex colours".into(),
+        ..Default::default()
+    };
+    let plain = box_mesh(Vec3::ONE);
+    let mut coloured = box_mesh(Vec3::ONE);
+    coloured.colors = vec![Vec4::new(1.0, 0.2, 0.1, 1.0); coloured.positions.len()];
+    scene.meshes = vec![plain, coloured];
+    scene.materials = file.materials;
+    for (i, x) in [-0.8f32, 0.8].iter().enumerate() {
+        scene.instances.push(Instance {
+            name: format!("box {i}"),
+            mesh: i,
+            material: 0,
+            transform: Mat4::from_translation(Vec3::new(*x, 0.0, 0.0)),
+        });
+    }
+    scene.lights = vec![Light::directional(
+        Vec3::new(-0.3, -0.5, -1.0),
+        Vec3::ONE,
+        3.0,
+    )];
+    let camera = Camera::parse_spec("eye=0,0.5,4;target=0,0,0;fov=45", &scene).unwrap();
+    let size = (96, 64);
+    let pre = render(
+        ctx,
+        &scene,
+        &camera,
+        size,
+        Technique::Forward,
+        VariantMode::Preprocess,
+    );
+    let branch = render(
+        ctx,
+        &scene,
+        &camera,
+        size,
+        Technique::Forward,
+        VariantMode::Branch,
+    );
+    let p = psnr(&pre, &branch);
+    assert!(p >= 60.0, "preprocess vs branch: {p:.2} dB");
+    // the two boxes differ: blue (no colours) and red (vertex colours)
+    let left = pre[(32 * 96 + 24) as usize];
+    let right = pre[(32 * 96 + 72) as usize];
+    assert!(
+        left[2] > left[0] && right[0] > right[2],
+        "{left:?} {right:?}"
+    );
+}

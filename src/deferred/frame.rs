@@ -209,16 +209,16 @@ fn draw_batches<'a>(
     rp.set_vertex_buffer(0, r.geometry.vertex_buffer.slice(..));
     rp.set_index_buffer(r.geometry.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
     let mut current_key: Option<GeoKey> = None;
-    let mut current_material: Option<usize> = None;
+    let mut current_material: Option<(usize, u64)> = None;
     for b in batches {
         let key = geo_key(r, pass, b, lights);
         if current_key != Some(key) {
             rp.set_pipeline(r.pipelines.geo_cached(&key));
             current_key = Some(key);
         }
-        if current_material != Some(b.material) {
-            rp.set_bind_group(2, &r.material_gpu.groups[b.material], &[]);
-            current_material = Some(b.material);
+        if current_material != Some((b.material, b.features)) {
+            rp.set_bind_group(2, r.material_gpu.group(b.material, b.features), &[]);
+            current_material = Some((b.material, b.features));
         }
         rp.draw_indexed(b.indices.clone(), b.base_vertex, b.instances.clone());
         *draws += 1;

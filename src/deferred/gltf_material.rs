@@ -90,7 +90,7 @@ impl Converter<'_> {
     /// - `specular` = the dielectric F0: 0.04, or from `KHR_materials_ior`
     ///   (((ior − 1)/(ior + 1))²) and `KHR_materials_specular` factors
     ///   (min(F0_ior · specularColorFactor, 1) · specularFactor; the extension's
-    ///   textures and its scaling of F90 are not supported and logged);
+    ///   textures (logged) and its scaling of F90 (not modelled) are not supported);
     /// - every map's texCoord and `KHR_texture_transform` become `MAP_uv` and
     ///   `MAP_uv_offset` (see [`UvTransform`]);
     /// - alphaMode, alphaCutoff, doubleSided.

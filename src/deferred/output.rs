@@ -86,9 +86,9 @@ pub struct RenderStats {
     pub cpu_ms: f64,
     /// G-buffer bytes per pixel written by the technique's geometry pass(es):
     /// deferred 16 (diffuse+material id, normal+roughness, specular+model id,
-    /// depth), light pre-pass 13 (normal+roughness, specular+model id, material id,
-    /// depth), forward 4 (depth; the G-buffer targets it also fills only feed the
-    /// aux images).
+    /// depth), light pre-pass 13 (normal+roughness, specular+model id, material
+    /// id, depth), forward 16 (it shades with depth alone, 4, and fills the
+    /// three colour targets for the AUX images).
     pub gbuffer_bytes_per_pixel: u32,
 }
 

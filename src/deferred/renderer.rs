@@ -176,7 +176,7 @@ impl Renderer {
             &[0; 8],
         )?;
         let material_gpu =
-            MaterialResources::upload(ctx, scene, &materials, opts.variants, opts.mipmaps, &white)?;
+            MaterialResources::upload(ctx, scene, &materials, &geometry, opts.mipmaps, &white)?;
 
         let mut infos: Vec<GpuMaterialInfo> = materials
             .materials
@@ -512,7 +512,8 @@ impl Renderer {
             gbuffer_bytes_per_pixel: match technique {
                 Technique::Deferred => GBUFFER_BYTES_COMPRESSED,
                 Technique::LightPrepass => 13,
-                Technique::Forward => 4,
+                // depth for shading + the three colour targets for the AUX images
+                Technique::Forward => GBUFFER_BYTES_COMPRESSED,
             },
             ..Default::default()
         };

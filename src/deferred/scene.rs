@@ -142,7 +142,8 @@ impl Mesh {
     }
 
     /// Per-vertex tangents from UV derivatives (accumulated per triangle,
-    /// Gram-Schmidt orthogonalised against the normal).
+    /// Gram-Schmidt orthogonalised against the normal), with the glTF handedness:
+    /// the bitangent `cross(n, t) · w` points towards decreasing v.
     pub fn compute_tangents(&mut self) {
         let count = self.positions.len();
         let mut tan = vec![Vec3::ZERO; count];
@@ -172,7 +173,10 @@ impl Mesh {
                 let t = (tan[i] - n * n.dot(tan[i])).try_normalize();
                 match t {
                     Some(t) => {
-                        let w = if n.cross(t).dot(bit[i]) < 0.0 {
+                        // glTF: bitangent = cross(n, t) · w points to image "up"
+                        // (+Y of a normal map), which is decreasing v, since v
+                        // grows downwards in glTF texture space.
+                        let w = if n.cross(t).dot(bit[i]) > 0.0 {
                             -1.0
                         } else {
                             1.0
@@ -407,6 +411,22 @@ impl Rng {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn derived_tangents_follow_the_gltf_convention() {
+        // The built-in plane's hand-written frame: t = +X (increasing u), and the
+        // bitangent cross(+Y, +X) = -Z points to decreasing v (v grows with z).
+        let mut m = crate::deferred::builtin::grid_plane(2);
+        let given = m.tangents.clone().unwrap();
+        m.compute_tangents();
+        for (a, b) in given.iter().zip(m.tangents.as_ref().unwrap()) {
+            assert!((*a - *b).length() < 1e-5, "{a} vs {b}");
+        }
+        // and image-up (decreasing v) is the bitangent's direction
+        let t = m.tangents.as_ref().unwrap()[0];
+        let b = m.normals[0].cross(t.truncate()) * t.w;
+        assert!(b.dot(Vec3::NEG_Z) > 0.99, "{b}");
+    }
 
     #[test]
     fn rng_is_deterministic() {

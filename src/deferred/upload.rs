@@ -5,7 +5,7 @@
 
 use super::gpu_types::*;
 use super::material::template::{feature_words, FEATURES_BINDING};
-use super::material::{variant, MaterialSet, VariantMode};
+use super::material::{variant, MaterialSet};
 use super::renderer::RenderError;
 use super::scene::{AlphaMode, Scene};
 use crate::gpu::context::{GpuContext, GpuError};
@@ -19,6 +19,9 @@ use wgpu::util::DeviceExt;
 pub(crate) enum Cull {
     /// Double-sided material.
     None,
+    /// Double-sided material under a mirroring transform: nothing is culled, but
+    /// clockwise triangles are the front faces (so `front_facing` stays right).
+    NoneCw,
     /// Back faces culled, counter-clockwise front (glTF).
     BackCcw,
     /// Back faces culled for a mirroring transform (negative determinant).
@@ -29,11 +32,11 @@ impl Cull {
     pub fn primitive(self) -> wgpu::PrimitiveState {
         wgpu::PrimitiveState {
             cull_mode: match self {
-                Cull::None => None,
+                Cull::None | Cull::NoneCw => None,
                 _ => Some(wgpu::Face::Back),
             },
             front_face: match self {
-                Cull::BackCw => wgpu::FrontFace::Cw,
+                Cull::BackCw | Cull::NoneCw => wgpu::FrontFace::Cw,
                 _ => wgpu::FrontFace::Ccw,
             },
             ..Default::default()
@@ -69,6 +72,17 @@ pub(crate) struct Geometry {
     pub blend_items: Vec<BlendItem>,
     pub vertices: usize,
 }
+
+/// The feature bits a mesh sets (texture coordinates 1, vertex colours, tangents).
+#[cfg(test)]
+fn mesh_flags() -> u64 {
+    variant::engine_bit("HAS_UV1")
+        | variant::engine_bit("HAS_VERTEX_COLOR")
+        | variant::engine_bit("HAS_TANGENTS")
+}
+
+/// [`mesh_flags`] as a constant (bits 3..5 of the engine flags).
+const MESH_FLAGS: u64 = 0b111000;
 
 fn mesh_features(m: &super::scene::Mesh) -> u64 {
     let mut f = 0;
@@ -131,12 +145,12 @@ impl Geometry {
             }
         }
         let cull_of = |inst: &super::scene::Instance| -> Cull {
-            if scene.materials[inst.material].double_sided {
-                Cull::None
-            } else if inst.transform.determinant() < 0.0 {
-                Cull::BackCw
-            } else {
-                Cull::BackCcw
+            let mirrored = inst.transform.determinant() < 0.0;
+            match (scene.materials[inst.material].double_sided, mirrored) {
+                (true, false) => Cull::None,
+                (true, true) => Cull::NoneCw,
+                (false, true) => Cull::BackCw,
+                (false, false) => Cull::BackCcw,
             }
         };
         // Sorted so that runs of (cull, material, mesh) become batches.
@@ -234,8 +248,17 @@ impl Geometry {
     }
 }
 
-/// A box-filtered mip chain of RGBA8 data (level 0 first).
-fn mip_chain(width: u32, height: u32, data: &[u8], levels: u32) -> Vec<(u32, u32, Vec<u8>)> {
+/// A box-filtered mip chain of RGBA8 data (level 0 first). With `srgb` the
+/// colour channels are averaged in linear light (averaging the encoded values
+/// would darken every level); alpha is always linear.
+fn mip_chain(
+    width: u32,
+    height: u32,
+    data: &[u8],
+    levels: u32,
+    srgb: bool,
+) -> Vec<(u32, u32, Vec<u8>)> {
+    let lut = crate::io::srgb::decode_lut_u8();
     let mut out = vec![(width, height, data.to_vec())];
     for _ in 1..levels {
         let (pw, ph, prev) = out.last().expect("level 0 exists");
@@ -244,13 +267,18 @@ fn mip_chain(width: u32, height: u32, data: &[u8], levels: u32) -> Vec<(u32, u32
         for y in 0..h {
             for x in 0..w {
                 for c in 0..4 {
-                    let mut sum = 0u32;
-                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let texel = |dx: u32, dy: u32| {
                         let sx = (x * 2 + dx).min(pw - 1);
                         let sy = (y * 2 + dy).min(ph - 1);
-                        sum += u32::from(prev[((sy * pw + sx) * 4 + c) as usize]);
-                    }
-                    next[((y * w + x) * 4 + c) as usize] = ((sum + 2) / 4) as u8;
+                        prev[((sy * pw + sx) * 4 + c) as usize]
+                    };
+                    let quad = [texel(0, 0), texel(1, 0), texel(0, 1), texel(1, 1)];
+                    next[((y * w + x) * 4 + c) as usize] = if srgb && c < 3 {
+                        let mean = quad.iter().map(|&v| lut[v as usize]).sum::<f32>() / 4.0;
+                        crate::io::srgb::encode_u8(mean)
+                    } else {
+                        ((quad.iter().map(|&v| u32::from(v)).sum::<u32>() + 2) / 4) as u8
+                    };
                 }
             }
         }
@@ -263,8 +291,8 @@ fn mip_chain(width: u32, height: u32, data: &[u8], levels: u32) -> Vec<(u32, u32
 pub(crate) struct MaterialResources {
     /// One layout per surface shader.
     pub layouts: Vec<wgpu::BindGroupLayout>,
-    /// One bind group per material.
-    pub groups: Vec<wgpu::BindGroup>,
+    /// One bind group per (material, mesh flags) drawn; see [`MaterialResources::group`].
+    groups: HashMap<(usize, u64), wgpu::BindGroup>,
     pub params_layout: wgpu::BindGroupLayout,
     pub params_group: wgpu::BindGroup,
     /// GPU textures created (each image once per colour space).
@@ -285,11 +313,16 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 }
 
 impl MaterialResources {
+    /// The bind group of a batch of `material` with feature bits `features`.
+    pub fn group(&self, material: usize, features: u64) -> &wgpu::BindGroup {
+        &self.groups[&(material, features & MESH_FLAGS)]
+    }
+
     pub fn upload(
         ctx: &GpuContext,
         scene: &Scene,
         set: &MaterialSet,
-        mode: VariantMode,
+        geometry: &Geometry,
         mipmaps: bool,
         white: &wgpu::TextureView,
     ) -> Result<MaterialResources, RenderError> {
@@ -394,7 +427,7 @@ impl MaterialResources {
                     usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                     view_formats: &[],
                 });
-                for (level, (w, h, data)) in mip_chain(t.width, t.height, &t.rgba8, levels)
+                for (level, (w, h, data)) in mip_chain(t.width, t.height, &t.rgba8, levels, srgb)
                     .iter()
                     .enumerate()
                 {
@@ -426,15 +459,21 @@ impl MaterialResources {
             views.insert((index, srgb), view.clone());
             Ok(view)
         };
-        let mut groups = Vec::with_capacity(set.materials.len());
-        // Mesh flags are always on in the branching mode: the vertex data carries
-        // neutral values (UV1 = 0, colour = 1, tangent w = 0) where a mesh has none.
-        let mesh_bits = variant::engine_bit("HAS_UV1")
-            | variant::engine_bit("HAS_VERTEX_COLOR")
-            | variant::engine_bit("HAS_TANGENTS");
-        for (mi, m) in set.materials.iter().enumerate() {
+        // One bind group per (material, mesh flags) pair drawn: the branching
+        // mode reads the exact feature bits (material's and mesh's) from it.
+        let mut pairs: Vec<(usize, u64)> = geometry
+            .batches
+            .iter()
+            .chain(geometry.blend_items.iter().map(|b| &b.batch))
+            .map(|b| (b.material, b.features & MESH_FLAGS))
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut groups = HashMap::new();
+        for (mi, mesh_bits) in pairs {
+            let m = &set.materials[mi];
             let s = &set.surfaces[m.surface];
-            let label = format!("deferred material {}", m.name);
+            let label = format!("deferred material {} (mesh flags {mesh_bits:#x})", m.name);
             let mut slot_views = Vec::with_capacity(m.textures.len());
             for (slot, tex) in m.textures.iter().enumerate() {
                 slot_views.push(match tex {
@@ -449,13 +488,9 @@ impl MaterialResources {
                     usage: wgpu::BufferUsages::UNIFORM,
                 })
             });
-            let features = match mode {
-                VariantMode::Branch => m.features | mesh_bits,
-                _ => m.features,
-            };
             let feature_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(&format!("{label} feature bits")),
-                contents: bytemuck::cast_slice(&feature_words(features)),
+                contents: bytemuck::cast_slice(&feature_words(m.features | mesh_bits)),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
             let mut entries = Vec::new();
@@ -482,14 +517,14 @@ impl MaterialResources {
                 resource: feature_buffer.as_entire_binding(),
             });
             let layout = &layouts[m.surface];
-            groups.push(ctx.scoped(&label, |device| {
+            let group = ctx.scoped(&label, |device| {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some(&label),
                     layout,
                     entries: &entries,
                 })
-            })?);
-            let _ = mi;
+            })?;
+            groups.insert((mi, mesh_bits), group);
         }
         // Group 3: per lighting model with parameters, an array over all material
         // ids (entries of other models stay zero).
@@ -548,5 +583,31 @@ impl MaterialResources {
             params_group,
             textures: views.len(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn mesh_flag_mask_matches_the_engine_flags() {
+        assert_eq!(super::MESH_FLAGS, super::mesh_flags());
+    }
+
+    #[test]
+    fn srgb_mips_average_in_linear_light() {
+        // a black/white checker: the linear mean is 0.5, sRGB-encoded 188
+        let data: Vec<u8> = (0..4)
+            .flat_map(|i| {
+                if i == 0 || i == 3 {
+                    [255u8; 4]
+                } else {
+                    [0, 0, 0, 255]
+                }
+            })
+            .collect();
+        let srgb = super::mip_chain(2, 2, &data, 2, true);
+        assert_eq!(srgb[1].2, vec![188, 188, 188, 255]);
+        let linear = super::mip_chain(2, 2, &data, 2, false);
+        assert_eq!(linear[1].2, vec![128, 128, 128, 255]);
     }
 }

@@ -254,9 +254,10 @@ impl MaterialSet {
                 m.name
             ));
         }
-        if !(0.0..=1.0).contains(&m.alpha_cutoff) {
+        // glTF bounds the cut-off below only: above 1, MASK discards everything.
+        if !(m.alpha_cutoff >= 0.0) {
             errors.push(format!(
-                "material `{}`: alpha cut-off {} is outside 0..1",
+                "material `{}`: alpha cut-off {} is negative or not a number",
                 m.name, m.alpha_cutoff
             ));
         }

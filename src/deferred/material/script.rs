@@ -70,12 +70,13 @@ pub fn builtin_texture(name: &str) -> Option<TextureImage> {
         for x in 0..w {
             let v: [u8; 3] = match name {
                 "bumps" => {
-                    // height = cos bumps of period 32 px; normal = (-dh/dx, -dh/dy, 1)
+                    // height = cos bumps of period 32 px (y down the image)
                     let k = std::f32::consts::TAU / 32.0;
                     let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
                     let dx = -0.6 * (k * fx).sin() * (k * fy).cos();
                     let dy = -0.6 * (k * fx).cos() * (k * fy).sin();
-                    let n = glam::Vec3::new(-dx, -dy, 1.0).normalize();
+                    // +Y of a normal map is image up: -dh/d(up) = +dh/dy
+                    let n = glam::Vec3::new(-dx, dy, 1.0).normalize();
                     let e = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
                     [e(n.x), e(n.y), e(n.z)]
                 }

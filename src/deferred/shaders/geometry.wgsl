@@ -50,7 +50,9 @@ fn fx_vs_geometry(v: FxVsIn, @builtin(instance_index) ii: u32) -> FxVsOut {
     out.normal = view3 * out.world_normal;
     out.uv0 = v.uv0;
     out.uv1 = v.uv1;
-    out.tangent = vec4<f32>(view3 * (model3 * v.tangent.xyz), v.tangent.w);
+    // a mirroring transform turns the bitangent round
+    let handedness = select(1.0, -1.0, determinant(model3) < 0.0);
+    out.tangent = vec4<f32>(view3 * (model3 * v.tangent.xyz), v.tangent.w * handedness);
     out.color = v.color;
     out.material = inst.material;
     return out;
@@ -87,7 +89,9 @@ fn fx_surface(in: FxVsOut, front: bool) -> SurfaceOutput {
     var s = surface(fx_surface_input(in, front));
     s.normal = fx_safe_normalize(s.normal);
     s.roughness = clamp(s.roughness, 0.0, 1.0);
-    s.diffuse = max(s.diffuse, vec3<f32>(0.0));
+    // what the 8-bit G-buffer can hold, in every technique alike
+    s.diffuse = clamp(s.diffuse, vec3<f32>(0.0), vec3<f32>(1.0));
+    s.alpha = clamp(s.alpha, 0.0, 1.0);
     s.specular = clamp(s.specular, vec3<f32>(0.0), vec3<f32>(1.0));
     s.occlusion = clamp(s.occlusion, 0.0, 1.0);
     return s;
@@ -174,14 +178,15 @@ fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOu
 }
 
 // Every visible light per fragment, the loop bound a compile-time constant in the
-// preprocessor and override modes (lights past the visible ones are black).
+// preprocessor and override modes (the padding past the visible lights is skipped).
 fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
     let v = fx_safe_normalize(-p);
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
     for (var i = 0u; i < FX_LIGHT_COUNT; i++) {
         let ls = fx_light_sample(fx_lights[fx_visible[i]], p);
-        if ls.lit {
+        // lights past the visible ones pad the constant loop: not shaded
+        if ls.lit && i < fx_frame.light_count {
             let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
             diffuse += lo.diffuse;
             specular += lo.specular;
