@@ -255,7 +255,7 @@ impl MaterialSet {
             ));
         }
         // glTF bounds the cut-off below only: above 1, MASK discards everything.
-        if !(m.alpha_cutoff >= 0.0) {
+        if m.alpha_cutoff.is_nan() || m.alpha_cutoff < 0.0 {
             errors.push(format!(
                 "material `{}`: alpha cut-off {} is negative or not a number",
                 m.name, m.alpha_cutoff
