@@ -473,6 +473,7 @@ impl Converter<'_> {
             indices,
             ..Default::default()
         };
+        let mut flat = false;
         match reader.read_normals() {
             Some(n) => {
                 m.normals = n
@@ -485,7 +486,8 @@ impl Converter<'_> {
                     return Err(format!("{label}: normal {bad} is not finite"));
                 }
             }
-            None => m.compute_normals(),
+            // glTF: without normals, flat normals (and no given tangents)
+            None => flat = true,
         }
         let has_uv = match reader.read_tex_coords(0) {
             Some(t) => {
@@ -522,6 +524,9 @@ impl Converter<'_> {
                 return Err(format!("{label}: COLOR_0 has non-finite values"));
             }
         }
+        if flat {
+            m.make_flat();
+        }
         let material = prim.material();
         let refs = texture_refs(&material).unwrap_or_default();
         if m.uvs1.is_empty() && refs.iter().any(|r| r.set() == 1) {
@@ -531,7 +536,7 @@ impl Converter<'_> {
                 self.name
             );
         }
-        match reader.read_tangents() {
+        match reader.read_tangents().filter(|_| !flat) {
             Some(t) => {
                 let t: Vec<Vec4> = t.map(Vec4::from).collect();
                 if t.len() != count || t.iter().any(|v| !v.is_finite()) {

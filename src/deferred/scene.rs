@@ -141,6 +141,39 @@ impl Mesh {
             .collect();
     }
 
+    /// Flat shading, as glTF requires for primitives without normals: every
+    /// triangle gets its own three vertices (all attributes copied) with the
+    /// face normal; tangents are dropped (derive them again if needed).
+    pub fn make_flat(&mut self) {
+        let idx = std::mem::take(&mut self.indices);
+        fn gather<T: Copy>(v: &[T], idx: &[u32]) -> Vec<T> {
+            idx.iter().map(|&i| v[i as usize]).collect()
+        }
+        self.positions = gather(&self.positions, &idx);
+        if !self.uvs.is_empty() {
+            self.uvs = gather(&self.uvs, &idx);
+        }
+        if !self.uvs1.is_empty() {
+            self.uvs1 = gather(&self.uvs1, &idx);
+        }
+        if !self.colors.is_empty() {
+            self.colors = gather(&self.colors, &idx);
+        }
+        self.tangents = None;
+        self.normals = self
+            .positions
+            .chunks_exact(3)
+            .flat_map(|t| {
+                let n = (t[1] - t[0])
+                    .cross(t[2] - t[0])
+                    .try_normalize()
+                    .unwrap_or(Vec3::Y);
+                [n; 3]
+            })
+            .collect();
+        self.indices = (0..self.positions.len() as u32).collect();
+    }
+
     /// Per-vertex tangents from UV derivatives (accumulated per triangle,
     /// Gram-Schmidt orthogonalised against the normal), with the glTF handedness:
     /// the bitangent `cross(n, t) · w` points towards decreasing v.
@@ -411,6 +444,19 @@ impl Rng {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn flat_meshes_have_face_normals_and_own_vertices() {
+        let mut m = crate::deferred::builtin::icosphere(1);
+        let tris = m.triangle_count();
+        m.make_flat();
+        assert_eq!(m.positions.len(), tris * 3);
+        assert_eq!(m.normals.len(), tris * 3);
+        for (t, n) in m.positions.chunks_exact(3).zip(m.normals.chunks_exact(3)) {
+            let face = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+            assert!(n.iter().all(|v| (*v - face).length() < 1e-5));
+        }
+    }
 
     #[test]
     fn derived_tangents_follow_the_gltf_convention() {
