@@ -1319,7 +1319,7 @@ fn fxaa_keeps_a_straight_horizontal_edge_without_subpixel_blend() {
 /// weights, bilinear sampling, clamp to edge),
 /// then add with a bilinear upsample. rgba16f intermediates are rounded to half.
 fn glow_oracle(src: &[f64], w: u32, h: u32) -> Vec<f64> {
-    let (threshold, knee, sigma): (f64, f64, f64) = (0.7, 0.2, 4.0);
+    let (threshold, knee, sigma): (f64, f64, f64) = (0.4, 0.3, 4.0);
     let bright: Vec<f64> = src
         .chunks(4)
         .flat_map(|c| {
