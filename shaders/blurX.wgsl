@@ -1,17 +1,63 @@
-// blurX: horizontal Gaussian blur, sampled at the output's resolution (so reading a
-// larger input also downsamples it). Exact normalised Gaussian weights over
-// [-r, r], r = ceil(3 sigma), taken two at a time with one bilinear tap.
+// blurX: horizontal Gaussian blur with the standard deviation in output pixels.
+//
+// Same size as the input: exact normalised Gaussian weights over [-r, r],
+// r = ceil(3 sigma), taken two at a time with one bilinear tap.
+//
+// Smaller than the input (a downsampling blur, e.g. glow's half-size pass): the
+// input is first box-filtered over the texels each output texel covers (2x2
+// texels per bilinear fetch at a texel-pair centre, ceil(ratio / 2) fetches per
+// axis), then blurred with the exact weights at every output column in [-r, r]
+// (edge columns repeated). Taking the bilinear-pair taps at output spacing there
+// would skip input columns and leave stripes in the halo.
 @group(0) @binding(0) var img: texture_2d<f32>;
 @group(0) @binding(1) var img_sampler: sampler;
 
 struct Params {
     sigma: f32, // @default(4) @range(0.1, 256) standard deviation in output pixels
     out_texel: vec2<f32>,
+    out_size: vec2<f32>,
+    img_size: vec2<f32>,
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
+// The mean of the input texels under the output texel whose centre is `p`
+// (pixel coordinates of the output).
+fn prefiltered(p: vec2<f32>, m: vec2<i32>) -> vec4<f32> {
+    let uv = p * params.out_texel;
+    let spacing = 2.0 / params.img_size;
+    var box = vec4<f32>(0.0);
+    for (var j = 0; j < m.y; j++) {
+        for (var k = 0; k < m.x; k++) {
+            let o = (vec2<f32>(f32(k), f32(j)) - 0.5 * vec2<f32>(m - 1)) * spacing;
+            box += textureSampleLevel(img, img_sampler, uv + o, 0.0);
+        }
+    }
+    return box / f32(m.x * m.y);
+}
+
+fn downsampling_blur(pos: vec2<f32>, ratio: vec2<f32>) -> vec4<f32> {
+    let m = max(vec2<i32>(ceil(ratio * 0.5 - 1e-4)), vec2<i32>(1));
+    let r = i32(ceil(3.0 * params.sigma));
+    let k = -0.5 / (params.sigma * params.sigma);
+    let last = params.out_size.x - 1.0;
+    var sum = vec4<f32>(0.0);
+    var total = 0.0;
+    for (var i = -r; i <= r; i++) {
+        var p = pos + vec2<f32>(f32(i), 0.0);
+        p.x = clamp(floor(p.x), 0.0, last) + 0.5;
+        let w = exp(k * f32(i * i));
+        sum += w * prefiltered(p, m);
+        total += w;
+    }
+    return sum / total;
+}
+
 @fragment
-fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
+fn fs_main(@builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
+    let ratio = params.img_size / params.out_size;
+    if (any(ratio > vec2<f32>(1.0))) {
+        return downsampling_blur(pos.xy, ratio);
+    }
     let dir = vec2<f32>(params.out_texel.x, 0.0);
     let r = i32(ceil(3.0 * params.sigma));
     // w(i) = q^(i*i), q = exp(-1 / (2 sigma^2)); w(i+1) = w(i) * q^(2i+1).

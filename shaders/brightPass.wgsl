@@ -4,8 +4,8 @@
 @group(0) @binding(1) var img_sampler: sampler;
 
 struct Params {
-    threshold: f32, // @default(0.7) @range(0, 1000) luminance above which light glows
-    knee: f32,      // @default(0.2) @range(0, 10) width of the soft transition
+    threshold: f32, // @default(0.4) @range(0, 1000) luminance above which light glows
+    knee: f32,      // @default(0.3) @range(0, 10) width of the soft transition
 }
 @group(0) @binding(2) var<uniform> params: Params;
 

@@ -130,6 +130,65 @@ fn list_and_describe() {
 }
 
 #[test]
+fn describe_and_list_show_pass_parameters() {
+    // The seed glow has no effect parameters: its settings are the pass
+    // parameters, described by the shaders' field annotations.
+    let o = fxrun(&["glow", "--describe"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let line = |key: &str| {
+        text.lines()
+            .find(|l| l.trim_start().starts_with(key))
+            .unwrap_or_else(|| panic!("no `{key}` line in\n{text}"))
+            .to_string()
+    };
+    let sigma = line("blurX.sigma ");
+    assert!(
+        sigma.contains("f32")
+            && sigma.contains("(default 4)")
+            && sigma.contains("range [0.1, 256]")
+            && sigma.contains("standard deviation"),
+        "{sigma}"
+    );
+    for key in [
+        "brightPass.threshold ",
+        "brightPass.knee ",
+        "blurY.sigma ",
+        "final.intensity ",
+    ] {
+        assert!(line(key).contains("(default "), "{key}");
+    }
+    assert!(
+        text.contains("pass parameters (--set PASS.NAME=VALUE):"),
+        "{text}"
+    );
+    // Standard values are not parameters.
+    assert!(!text.contains("out_texel"), "{text}");
+    // `--set` shows in the current value.
+    let o = fxrun(&["glow", "--describe", "--set", "blurX.sigma=8"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    let sigma = text.lines().find(|l| l.contains("blurX.sigma")).unwrap();
+    assert!(
+        sigma.contains("= 8") && sigma.contains("(default 4)"),
+        "{sigma}"
+    );
+    // A pass parameter named like an effect parameter is shown by its full path
+    // (`--set vignette.strength` sets the effect parameter).
+    let o = fxrun(&["vignette", "--describe"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("  vignette/vignette.strength "), "{text}");
+    // --list: the names, short.
+    let o = fxrun(&["--list"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines.iter().position(|l| l.starts_with("glow ")).unwrap();
+    assert!(
+        lines[at + 1].contains("pass parameters: brightPass.threshold brightPass.knee blurX.sigma blurY.sigma final.intensity"),
+        "{text}"
+    );
+}
+
+#[test]
 fn bad_arguments_are_rejected_with_exit_1() {
     assert_eq!(code(&fxrun(&["--no-such-flag"])), 1);
     assert_eq!(code(&fxrun(&[])), 1);

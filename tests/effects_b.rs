@@ -432,6 +432,30 @@ fn blur_pass(
     out
 }
 
+/// blurX reading a larger input (at most twice as large): each output texel's
+/// input footprint box-filtered by one bilinear fetch at its centre, then the exact
+/// weights exp(-i^2 / (2 sigma^2)), |i| <= ceil(3 sigma), at every output column
+/// (edge columns repeated). Rounded to half floats.
+fn down_blur_x(src: &[f64], (iw, ih): (u32, u32), (ow, oh): (u32, u32), sigma: f64) -> Vec<f64> {
+    let r = (3.0 * sigma).ceil() as i64;
+    let mut out = vec![0.0; (ow * oh * 4) as usize];
+    for y in 0..oh {
+        for x in 0..ow as i64 {
+            for c in 0..4 {
+                let (mut sum, mut total) = (0.0, 0.0);
+                for i in -r..=r {
+                    let px = (x + i).clamp(0, ow as i64 - 1) as u32;
+                    let w = (-((i * i) as f64) / (2.0 * sigma * sigma)).exp();
+                    sum += w * upsample(src, (iw, ih), px, y, (ow, oh), c);
+                    total += w;
+                }
+                out[((y * ow + x as u32) * 4) as usize + c] = f16r(sum / total);
+            }
+        }
+    }
+    out
+}
+
 /// Bilinear upsample of `src` (`sw` x `sh`) at the pixel centres of a `w` x `h` image.
 fn upsample(
     src: &[f64],
@@ -1290,11 +1314,12 @@ fn fxaa_keeps_a_straight_horizontal_edge_without_subpixel_blend() {
 // ---------------------------------------------------------------- glow
 
 /// CPU model of the seed `glow` (effects/glow.fx) on a float image: brightPass at
-/// full size, blurX and blurY at half size (sigma 4 in half-size pixels, the
-/// shaders' tap positions and paired weights, bilinear sampling, clamp to edge),
+/// full size, blurX at half size (a prefiltering downsampling blur, sigma 4 in
+/// half-size pixels) and blurY at half size (the shader's tap positions and paired
+/// weights, bilinear sampling, clamp to edge),
 /// then add with a bilinear upsample. rgba16f intermediates are rounded to half.
 fn glow_oracle(src: &[f64], w: u32, h: u32) -> Vec<f64> {
-    let (threshold, knee, sigma): (f64, f64, f64) = (0.7, 0.2, 4.0);
+    let (threshold, knee, sigma): (f64, f64, f64) = (0.4, 0.3, 4.0);
     let bright: Vec<f64> = src
         .chunks(4)
         .flat_map(|c| {
@@ -1311,7 +1336,7 @@ fn glow_oracle(src: &[f64], w: u32, h: u32) -> Vec<f64> {
         })
         .collect();
     let hs = half_size(w, h);
-    let bx = blur_pass(&bright, (w, h), hs, sigma, true);
+    let bx = down_blur_x(&bright, (w, h), hs, sigma);
     let by = blur_pass(&bx, hs, hs, sigma, false);
     let mut out = Vec::with_capacity(src.len());
     for y in 0..h {

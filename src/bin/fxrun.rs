@@ -256,6 +256,25 @@ fn run(cli: Cli) -> Result<(), Fail> {
     if cli.list {
         for (name, desc) in library::builtin_effects() {
             println!("{name:<20} {desc}");
+            // The pass parameters `--set PASS.NAME=VALUE` takes, by name.
+            let req = CompileRequest {
+                effects: vec![name.clone()],
+                ..Default::default()
+            };
+            if let (Some(graph), _, _) = compile(&req) {
+                // Those the effect sets (mostly from its parameters) by count.
+                let (bound, free): (Vec<_>, Vec<_>) = pass_param_rows(&graph)
+                    .into_iter()
+                    .partition(|(_, p)| p.set.is_some());
+                let free: Vec<String> = free.into_iter().map(|(key, _)| key).collect();
+                let line = match (free.is_empty(), bound.len()) {
+                    (true, 0) => continue,
+                    (false, 0) => free.join(" "),
+                    (false, n) => format!("{} (and {n} set by the effect)", free.join(" ")),
+                    (true, n) => format!("{n}, set by the effect (see --describe)"),
+                };
+                println!("{:<20}   pass parameters: {line}", "");
+            }
         }
         return Ok(());
     }
@@ -422,6 +441,38 @@ fn run(cli: Cli) -> Result<(), Fail> {
     Ok(())
 }
 
+/// The settable pass parameters of `graph` with the `--set` key of each:
+/// `PASS.NAME`, or `EFFECT/PASS.NAME` where passes of two effects share a name.
+fn pass_param_rows(graph: &fxgraph::graph::Graph) -> Vec<(String, fxgraph::shader::PassParamInfo)> {
+    let infos = fxgraph::shader::pass_parameters(graph, &[]);
+    let shared = |short: &str| {
+        graph
+            .schedule
+            .iter()
+            .filter(|&&n| graph.pass(n).path.rsplit('/').next() == Some(short))
+            .count()
+            > 1
+    };
+    // `--set EFFECT.NAME` goes to an effect parameter of that name first.
+    let effect_keys: Vec<String> = graph
+        .params
+        .iter()
+        .map(|p| format!("{}.{}", p.effect, p.name))
+        .collect();
+    infos
+        .into_iter()
+        .map(|p| {
+            let short = format!("{}.{}", p.pass_name, p.name);
+            let key = if shared(&p.pass_name) || effect_keys.contains(&short) {
+                format!("{}.{}", p.pass, p.name)
+            } else {
+                short
+            };
+            (key, p)
+        })
+        .collect()
+}
+
 fn describe(graph: &fxgraph::graph::Graph) {
     for (name, desc) in &graph.descriptions {
         println!("effect {name}");
@@ -474,6 +525,38 @@ fn describe(graph: &fxgraph::graph::Graph) {
                 p.ty.name(),
                 show(&p.value),
                 show(&p.default),
+                p.description
+            );
+        }
+    }
+    let rows = pass_param_rows(graph);
+    if rows.is_empty() {
+        println!("pass parameters: none");
+    } else {
+        println!("pass parameters (--set PASS.NAME=VALUE):");
+        let width = rows.iter().map(|(k, _)| k.len()).max().unwrap_or(0).max(20);
+        for (key, p) in rows {
+            let default = p
+                .default
+                .as_ref()
+                .map_or_else(|| "none".to_string(), |d| format_value(d));
+            let value = p
+                .set
+                .as_ref()
+                .or(p.default.as_ref())
+                .map_or_else(|| "-".to_string(), |v| format_value(v));
+            let range = p
+                .range
+                .map(|(a, b)| format!(" range [{}, {}]", format_value(&[a]), format_value(&[b])))
+                .unwrap_or_default();
+            let by_effect = if p.set.is_some() {
+                " (set by the effect)"
+            } else {
+                ""
+            };
+            println!(
+                "  {key:<width$} {:<9} = {value:<10} (default {default}){range}{by_effect}  {}",
+                p.ty.wgsl(),
                 p.description
             );
         }

@@ -2,11 +2,11 @@
 //! bindings against it. Needs no GPU, so `fxrun --check` runs it too.
 
 use super::include::{assemble, IncludeOrigin, RealFs};
-use super::reflect::{bind_pass, Reflection, UniformLayout};
+use super::reflect::{bind_pass, std_value, FieldType, Reflection, UniformLayout};
 use super::{find_shader, preprocess, reflect};
 use crate::graph::plan::{PassShader, Plan};
 use crate::graph::Graph;
-use crate::script::types::ColorSpace;
+use crate::script::types::{ColorSpace, Value};
 use crate::script::{Diagnostic, Diagnostics, FileId, SourceMap, Span};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -166,4 +166,84 @@ pub fn load_plan_shaders(
         }));
     }
     (out, diags)
+}
+
+/// A parameter of a pass that `--set PASS.NAME=VALUE` can set: a field of the
+/// pass shader's uniform struct that is not a standard value.
+#[derive(Debug, Clone)]
+pub struct PassParamInfo {
+    /// The pass's path (`glow/blurX`).
+    pub pass: String,
+    /// The pass's own name (`blurX`), what `--set` takes before the dot.
+    pub pass_name: String,
+    pub name: String,
+    pub ty: FieldType,
+    /// The value the script (or `--set`) gives it, if any.
+    pub set: Option<Value>,
+    /// From `// @default(...)`.
+    pub default: Option<Value>,
+    /// From `// @range(min, max)`.
+    pub range: Option<(f64, f64)>,
+    /// The text after the annotations of the field's comment.
+    pub description: String,
+}
+
+/// The settable parameters of every scheduled pass of `graph`, in execution order
+/// and the shader's field order. Passes whose shader cannot be found, included,
+/// preprocessed or reflected are skipped (`--check` reports them).
+pub fn pass_parameters(graph: &Graph, extra_dirs: &[PathBuf]) -> Vec<PassParamInfo> {
+    let mut out = Vec::new();
+    for &n in &graph.schedule {
+        let pn = graph.pass(n);
+        let Some(file) = find_shader(&pn.shader, pn.shader_dir.as_deref(), extra_dirs) else {
+            continue;
+        };
+        let mut sources = SourceMap::new();
+        let id = sources.add(file.shown.clone(), file.text.clone());
+        let assembled;
+        let text = if file.text.contains("#include") {
+            let origin = match &file.path {
+                Some(p) => IncludeOrigin::Disk(p.clone()),
+                None => IncludeOrigin::Memory,
+            };
+            match assemble(id, &file.shown, &file.text, origin, &RealFs, &mut sources) {
+                Ok(a) => {
+                    assembled = a.text;
+                    assembled.as_str()
+                }
+                Err(_) => continue,
+            }
+        } else {
+            file.text.as_str()
+        };
+        let Ok((wgsl, _)) = preprocess(text, &pn.defines) else {
+            continue;
+        };
+        let Ok(refl) = reflect(&wgsl, id) else {
+            continue;
+        };
+        let Some(u) = refl.uniform else { continue };
+        let inputs: Vec<String> = pn.inputs.iter().map(|i| i.name.clone()).collect();
+        let pass_name = pn.path.rsplit('/').next().unwrap_or(&pn.path).to_string();
+        for m in u.members {
+            if std_value(&m.name, &inputs).is_some() {
+                continue;
+            }
+            out.push(PassParamInfo {
+                pass: pn.path.clone(),
+                pass_name: pass_name.clone(),
+                set: pn
+                    .params
+                    .iter()
+                    .find(|p| p.name == m.name)
+                    .map(|p| p.value.clone()),
+                name: m.name,
+                ty: m.ty,
+                default: m.default,
+                range: m.range,
+                description: m.description,
+            });
+        }
+    }
+    out
 }

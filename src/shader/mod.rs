@@ -12,7 +12,7 @@ pub mod reflect;
 pub mod rename;
 
 pub use features::{convert_features, feature_flags_used, FeatureMode};
-pub use load::{load_plan_shaders, LoadedShader};
+pub use load::{load_plan_shaders, pass_parameters, LoadedShader, PassParamInfo};
 pub use material::{
     find_material_shader, load_material_shader, MaterialParams, MaterialSampler, MaterialShader,
     MaterialShaderKind, MaterialTexture, MATERIAL_INTERFACE,

@@ -428,7 +428,7 @@ pub(crate) fn member_annotations(
 }
 
 /// The standard value a reserved uniform name stands for, given the pass inputs.
-fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'static [FieldType])> {
+pub(crate) fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'static [FieldType])> {
     const V2: &[FieldType] = &[FieldType::F32(2)];
     const SCALAR: &[FieldType] = &[FieldType::F32(1), FieldType::U32(1), FieldType::I32(1)];
     const F1: &[FieldType] = &[FieldType::F32(1)];
