@@ -8,12 +8,21 @@
 //!   scenes; [`gltf_load`] validated glTF 2.0 loading (nodes, meshes), with
 //!   `gltf_material.rs` (materials, textures, `KHR_texture_transform`) and
 //!   `gltf_lights_cameras.rs` (lights, cameras).
+//! - [`material`]: the material system (seed 003, section 2): surface + lighting
+//!   shaders per material, material files, the generated shaders (`shaders/`
+//!   holds the templates) and the three variant modes (`docs/materials.md`).
 //! - [`renderer`]: [`Renderer`] with three techniques ([`Technique`]): deferred
 //!   shading with the compressed G-buffer and light volumes (seed 001), light
-//!   pre-pass (seed 000) and forward shading, plus forward transparency.
+//!   pre-pass (seed 000) and forward shading, plus forward transparency. Its
+//!   parts: `targets.rs` (G-buffer, light buffers, AUX images), `upload.rs`
+//!   (geometry, textures, material bind groups), `lights.rs` (per-frame light
+//!   lists, light volumes), `pipelines.rs` (layouts, module and pipeline caches),
+//!   `frame.rs` (the passes of each technique), `gpu_types.rs`, `technique.rs`,
+//!   `output.rs` ([`RenderOutput`], [`RenderStats`], [`published_aux`]).
 //! - [`normal`]: the two-channel normal encodings (octahedral, spheremap) on the CPU.
 //! - [`gbuffer`]: [`write_gbuffer`], every G-buffer image as viewable files.
-//! - [`bench`]: the technique benchmark (frame times vs light count).
+//! - [`bench`]: the technique benchmark (frame times vs light count);
+//!   [`variant_bench`]: the material variant-mode benchmark.
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
