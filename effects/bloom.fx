@@ -31,7 +31,7 @@
 // Passes: down1 (prefilter, 1/2), down2..down5 (1/4 .. 1/32), up4..up1, final
 // (input size); each level is half of the previous one (rounded, at least 1 px).
 EFFECT.bloom = {
-    DESCRIPTION = "HDR bloom: soft-thresholded highlights blurred by a 5-level mip chain and added back.\nDownsample: 13-tap filter (Jimenez 2014, 4x4 box on the first level); upsample: 3x3 tent; energy-preserving level mix."
+    DESCRIPTION = "HDR bloom: soft-thresholded highlights blurred by a 5-level mip chain and added back.\nDownsample: 13-tap filter (Jimenez 2014, 4x4 box on the first level); upsample: 3x3 tent; energy-preserving level mix.\nThreshold 1 blooms only light brighter than white (HDR input): on an 8-bit photo little changes; lower it (threshold = 0.5) for one."
     FORMAT = rgba16f
     PARAM = {
         threshold = FLOAT { DEFAULT = 1  RANGE = (0, 65000)  DESCRIPTION = "brightness (max of r, g, b, linear) where bloom starts" }

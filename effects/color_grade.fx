@@ -22,7 +22,7 @@
 //
 // Passes: grade (SHADER.colorGrade, input size and format).
 EFFECT.color_grade = {
-    DESCRIPTION = "Colour grading: ASC CDL slope/offset/power and saturation, then lift/gamma/gain."
+    DESCRIPTION = "Colour grading: ASC CDL slope/offset/power and saturation, then lift/gamma/gain.\nThe defaults are the identity: set the parameters to grade."
     FORMAT = IN
     PARAM = {
         slope = VEC3 { DEFAULT = (1, 1, 1)  RANGE = (0, 100)  DESCRIPTION = "ASC CDL slope (multiplier)" }

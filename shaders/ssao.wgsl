@@ -33,7 +33,7 @@
 struct Params {
     radius: f32,    // @default(0.5) @range(0.0001, 100000) sampling radius in view-space units
     bias: f32,      // @default(0.02) @range(0, 100000) depth and plane bias in view-space units
-    intensity: f32, // @default(1) @range(0, 100) strength: ao = 1 - intensity * occlusion
+    intensity: f32, // @default(2) @range(0, 100) strength: ao = 1 - intensity * occlusion
     proj: mat4x4<f32>,
     inv_proj: mat4x4<f32>,
 }

@@ -628,3 +628,58 @@ fn malformed_gltf_is_rejected_with_exit_1() {
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
+
+#[test]
+fn describe_every_builtin_effect() {
+    // Issue 10: `--describe` works for every shipped effect without an input
+    // (chroma_composite reads `--aux background=FILE`), and every effect
+    // parameter and pass parameter carries a description.
+    let o = fxrun(&["--list"]);
+    assert_eq!(code(&o), 0);
+    let list = String::from_utf8_lossy(&o.stdout).into_owned();
+    let names: Vec<&str> = list
+        .lines()
+        .filter(|l| !l.starts_with(' '))
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert!(names.len() >= 20, "{list}");
+    for name in names {
+        let o = fxrun(&[name, "--describe"]);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(
+            code(&o),
+            0,
+            "{name} --describe failed:\n{text}{}",
+            stderr(&o)
+        );
+        let mut section = "";
+        for line in text.lines() {
+            if !line.starts_with(' ') {
+                section = line;
+                continue;
+            }
+            if section.starts_with("parameters") || section.starts_with("pass parameters") {
+                // NAME TYPE = VALUE (default D) [range [a, b]] [(set by the effect)]  DESCRIPTION
+                let last = line
+                    .split("  ")
+                    .map(str::trim)
+                    .filter(|s| !s.is_empty())
+                    .last();
+                let after = last.unwrap_or("");
+                let after = if after.starts_with("(default")
+                    || after.starts_with("range")
+                    || after.starts_with("(set by")
+                    || after.starts_with('=')
+                {
+                    ""
+                } else {
+                    after
+                };
+                assert!(
+                    !after.is_empty(),
+                    "{name}: parameter without a description: {line}"
+                );
+            }
+        }
+    }
+}

@@ -484,7 +484,7 @@ fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
     let ao = run_gbuffer(
         &mut eng,
         "ssao",
-        &["output=ao", "radius=1"],
+        &["output=ao", "radius=1", "intensity=1"],
         &scene,
         &g,
         &cam,
@@ -540,7 +540,15 @@ fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
 
     // The composite multiplies the scene by the same AO.
     let scene = colourful(n, n);
-    let out = run_gbuffer(&mut eng, "ssao", &["radius=1"], &scene, &g, &cam, SSAO_AUX);
+    let out = run_gbuffer(
+        &mut eng,
+        "ssao",
+        &["radius=1", "intensity=1"],
+        &scene,
+        &g,
+        &cam,
+        SSAO_AUX,
+    );
     let src = f32s(&scene.pixels);
     let mut worst = 0.0f32;
     for i in 0..(n * n) as usize {
@@ -550,6 +558,38 @@ fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
         assert_eq!(out[i * 4 + 3], 1.0);
     }
     assert!(worst < 2e-3, "composite differs from scene * ao by {worst}");
+}
+
+#[test]
+fn ssao_defaults_give_visible_contact_shadows() {
+    // Issue 10: at its defaults (radius 0.5, intensity 2) SSAO visibly darkens a
+    // concave corner (intensity 1 left about 0.8 there: barely visible), and still
+    // leaves the open floor and wall alone.
+    let Some(mut eng) = engine() else { return };
+    let n = 96;
+    let (g, cam, row) = corner_scene(n, Vec::new());
+    let ao = run_gbuffer(
+        &mut eng,
+        "ssao",
+        &["output=ao"],
+        &grey(n, n, 0.5),
+        &g,
+        &cam,
+        SSAO_AUX,
+    );
+    assert_finite(&ao, "ssao");
+    let ao = channel(&ao, 0);
+    let darkest = min_of(&region(&ao, n, 0, n, row - 4, row + 4));
+    let corner_mean = mean(&region(&ao, n, 16, 80, row - 1, row + 2));
+    let floor_min = min_of(&region(&ao, n, 0, n, n - 12, n));
+    let wall_min = min_of(&region(&ao, n, 0, n, 0, 8));
+    eprintln!("defaults: corner mean {corner_mean:.3}, darkest {darkest:.3}, open floor min {floor_min:.3}, wall min {wall_min:.3}");
+    assert!(darkest < 0.75, "darkest AO near the corner {darkest}");
+    assert!(corner_mean < 0.82, "corner AO mean {corner_mean}");
+    assert!(
+        floor_min > 0.95 && wall_min > 0.95,
+        "open floor {floor_min}, wall {wall_min}"
+    );
 }
 
 #[test]
@@ -634,8 +674,11 @@ fn ssao_blur_does_not_cross_depth_discontinuities() {
         assert_finite(&v, "ssao");
         channel(&v, 0)
     };
-    let raw = ao(&mut eng, &["output=ao", "radius=1", "blur=false"]);
-    let blurred = ao(&mut eng, &["output=ao", "radius=1"]);
+    let raw = ao(
+        &mut eng,
+        &["output=ao", "radius=1", "intensity=1", "blur=false"],
+    );
+    let blurred = ao(&mut eng, &["output=ao", "radius=1", "intensity=1"]);
     dump("ssao raw", &raw, n, 1.0, 0.0);
     dump("ssao blurred", &blurred, n, 1.0, 0.0);
     // The board, up to its edge, stays unoccluded: no dark AO of the corner behind

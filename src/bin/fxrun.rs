@@ -312,6 +312,11 @@ fn run(cli: Cli) -> Result<(), Fail> {
         };
         if cli.describe {
             describe(&graph);
+            // Describing needs no input: an effect reading an `--aux` image
+            // (chroma_composite's AUX.background) is described without one.
+            if !cli.check && !cli.plan && cli.dot.is_none() {
+                return Ok(());
+            }
         }
         let (w, h) = match &cli.size {
             Some(s) => parse_size(s)?,
