@@ -628,3 +628,89 @@ fn malformed_gltf_is_rejected_with_exit_1() {
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
 }
+
+#[test]
+fn huge_counts_are_rejected_with_exit_1() {
+    for (arg, value) in [
+        ("--queue", "18446744073709551615"),
+        ("--queue", "65"),
+        ("--lights", "18446744073709551615"),
+        ("--lights", "100001"),
+        ("--warmup", "18446744073709551615"),
+    ] {
+        let o = fxrun(&["tonemap", arg, value, "-i", "in.png", "-o", "out.png"]);
+        assert_eq!(code(&o), 1, "{arg} {value}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains(arg) && !e.contains("panicked"), "{e}");
+    }
+}
+
+#[test]
+fn failed_writes_of_analysis_outputs_exit_2() {
+    let full = Path::new("/dev/full");
+    if !full.exists() {
+        return;
+    }
+    let to_full = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_fxrun"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(std::fs::File::create(full).unwrap())
+            .output()
+            .unwrap()
+    };
+    for args in [
+        &["--list"][..],
+        &["glow", "--plan"],
+        &["glow", "--plan", "--json"],
+        &["glow", "--dot", "-"],
+        &["glow", "--describe"],
+    ] {
+        let o = to_full(args);
+        assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("No space left"), "{}", stderr(&o));
+    }
+    let o = fxrun(&["glow", "--dot", "/dev/full"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("/dev/full"), "{}", stderr(&o));
+    // A device is written in place, never replaced by a rename.
+    assert!(!full.metadata().unwrap().is_file());
+}
+
+#[test]
+fn a_closed_stdout_pipe_ends_quietly() {
+    use std::io::Read as _;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args(["--list"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read nothing: close the pipe at once, as `| head -0` would.
+    drop(child.stdout.take());
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+}
+
+#[test]
+fn scene_errors_name_the_scene() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.png");
+    let o = fxrun(&["--scene", "builtin:nope", "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.starts_with("fxrun: error: builtin:nope: "), "{e}");
+    assert!(!e.contains("error: : "), "{e}");
+}

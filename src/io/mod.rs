@@ -778,6 +778,21 @@ pub fn write_atomic(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // A device or a pipe (`/dev/null`, `/dev/full`, a FIFO) is written in place: it
+    // cannot be replaced by a rename, and its write errors must still be reported.
+    if let Ok(m) = fs::metadata(path) {
+        if !m.is_file() && !m.is_dir() {
+            let file = OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(|e| IoError::io(path, e))?;
+            let mut out = BufWriter::with_capacity(1 << 20, file);
+            f(&mut out)?;
+            out.into_inner()
+                .map_err(|e| IoError::io(path, e.into_error()))?;
+            return Ok(());
+        }
+    }
     let pid = std::process::id();
     let (tmp, file) = loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
