@@ -714,3 +714,155 @@ fn scene_errors_name_the_scene() {
     assert!(e.starts_with("fxrun: error: builtin:nope: "), "{e}");
     assert!(!e.contains("error: : "), "{e}");
 }
+
+#[test]
+fn truncated_jpeg_input_is_rejected_naming_the_file() {
+    let bytes = std::fs::read("examples/data/rocket.jpg")
+        .or_else(|_| {
+            std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/rocket.jpg"))
+        })
+        .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let cut = dir.path().join("half.jpg");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let out = dir.path().join("o.png");
+    let o = fxrun(&[
+        "tonemap",
+        "-i",
+        cut.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("half.jpg: not a valid JPEG file"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn devices_are_refused_as_inputs_includes_and_gltf_uris() {
+    if !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.png");
+    let t = std::time::Instant::now();
+    let o = fxrun(&["tonemap", "-i", "/dev/zero", "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("/dev/zero: not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+    let o = fxrun(&["/dev/zero", "--check"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    let fx = dir.path().join("inc.fx");
+    std::fs::write(&fx, "INCLUDE \"/dev/zero\"\n").unwrap();
+    let o = fxrun(&[fx.to_str().unwrap(), "--check"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("absolute include paths are not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    if gpu() {
+        let gltf = dir.path().join("zero.gltf");
+        std::fs::write(
+            &gltf,
+            r#"{"asset":{"version":"2.0"},"images":[{"uri":"/dev/zero"}],"buffers":[{"uri":"/dev/zero","byteLength":4}]}"#,
+        )
+        .unwrap();
+        let o = fxrun(&[
+            "--scene",
+            gltf.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("zero.gltf: ")
+                && e.contains("/dev/zero")
+                && e.contains("not a regular file"),
+            "{e}"
+        );
+    }
+    assert!(t.elapsed().as_secs() < 30);
+}
+
+#[test]
+fn include_is_confined_to_the_script_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("a/b");
+    std::fs::create_dir_all(&sub).unwrap();
+    let secret = dir.path().join("secret.fx");
+    std::fs::write(&secret, "SECRET-FIRST-LINE\n").unwrap();
+    let check = |text: &str| {
+        let fx = sub.join("x.fx");
+        std::fs::write(&fx, text).unwrap();
+        fxrun(&[fx.to_str().unwrap(), "--check"])
+    };
+    for (inc, why) in [
+        ("../../secret.fx", "`..` is not allowed"),
+        ("../../../../../../../etc/passwd", "`..` is not allowed"),
+        (
+            secret.to_str().unwrap(),
+            "absolute include paths are not allowed",
+        ),
+    ] {
+        let o = check(&format!("INCLUDE \"{inc}\"\n"));
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains(why), "{e}");
+        assert!(
+            !e.contains("SECRET-FIRST-LINE") && !e.contains("root:"),
+            "{e}"
+        );
+    }
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(&secret, sub.join("link.fx")).unwrap();
+        let o = check("INCLUDE \"link.fx\"\n");
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains("outside the including file's folder"), "{e}");
+        assert!(!e.contains("SECRET-FIRST-LINE"), "{e}");
+    }
+    // A file in the folder (and the built-in library) still works.
+    std::fs::write(sub.join("lib.fx"), "").unwrap();
+    let o = check("INCLUDE \"lib.fx\"\nINCLUDE \"glow.fx\"\nEFFECT.x = { PASS = { p = SHADER.copy { img = IN } } OUT = p }\n");
+    assert!(!stderr(&o).contains("cannot include"), "{}", stderr(&o));
+}
+
+#[test]
+fn an_image_over_the_device_limit_is_refused_before_decoding() {
+    let Some(max) = common::engine().map(|e| e.ctx.device.limits().max_texture_dimension_2d) else {
+        return;
+    };
+    if max >= 20000 {
+        eprintln!("skipping: the device takes {max} pixels per side");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // The header announces 20000x20000; there are no pixels to decode.
+    let big = dir.path().join("big.pgm");
+    std::fs::write(&big, b"P5\n20000 20000\n255\n\0\0\0\0").unwrap();
+    let out = dir.path().join("o.png");
+    let o = fxrun(&[
+        "tonemap",
+        "-i",
+        big.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("big.pgm: the image is 20000x20000, larger than the GPU's limit"),
+        "{e}"
+    );
+}
