@@ -673,6 +673,26 @@ fn failed_writes_of_analysis_outputs_exit_2() {
     let o = fxrun(&["glow", "--dot", "/dev/full"]);
     assert_eq!(code(&o), 2, "{}", stderr(&o));
     assert!(stderr(&o).contains("/dev/full"), "{}", stderr(&o));
+    if gpu() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = small_png(dir.path());
+        let out = dir.path().join("o.png");
+        let o = fxrun(&[
+            "tonemap",
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--timings-json",
+            "/dev/full",
+        ]);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("/dev/full: No space left"),
+            "{}",
+            stderr(&o)
+        );
+    }
     // A device is written in place, never replaced by a rename.
     assert!(!full.metadata().unwrap().is_file());
 }
@@ -865,4 +885,24 @@ fn an_image_over_the_device_limit_is_refused_before_decoding() {
         e.contains("big.pgm: the image is 20000x20000, larger than the GPU's limit"),
         "{e}"
     );
+}
+
+#[test]
+fn no_error_line_starts_with_an_empty_path() {
+    for args in [
+        &["glow", "--dot", ""][..],
+        &["tonemap", "--aux", "depth=", "-i", "in.png", "-o", "o.png"],
+        &["--scene", "", "-o", "o.png"],
+        &["tonemap", "-i", "", "-o", "o.png"],
+    ] {
+        let o = fxrun(args);
+        assert_eq!(code(&o), 1, "{args:?}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(!e.contains("error: : "), "{args:?}: {e}");
+    }
+    let e = fxgraph::io::IoError::Decode {
+        path: PathBuf::new(),
+        message: "m".into(),
+    };
+    assert_eq!(e.to_string(), "(empty path): m");
 }

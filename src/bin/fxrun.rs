@@ -97,7 +97,7 @@ struct Cli {
     #[arg(long)]
     check: bool,
     /// Write the graph as Graphviz DOT to FILE (`-` for stdout).
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", value_parser = clap::builder::NonEmptyStringValueParser::new())]
     dot: Option<String>,
     /// Print the schedule, the texture lifetime steps and the memory figures.
     #[arg(long)]
@@ -146,7 +146,7 @@ struct Cli {
     queue: usize,
     /// Render a scene with the deferred renderer as the effect input:
     /// builtin:room, builtin:bench, or a .gltf/.glb file (size from --size).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::builder::NonEmptyStringValueParser::new())]
     scene: Option<String>,
     /// Scene camera: a glTF camera index or name, or eye=x,y,z;target=x,y,z;fov=deg.
     #[arg(long)]
@@ -454,6 +454,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
     for a in &cli.aux {
         let (n, f) = a
             .split_once('=')
+            .filter(|(n, f)| !n.trim().is_empty() && !f.is_empty())
             .ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
         aux.push((n.to_string(), PathBuf::from(f)));
     }

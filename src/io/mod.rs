@@ -244,19 +244,29 @@ pub struct SaveOptions {
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
     /// File missing / unreadable / unwritable (exit code 2 in the CLI).
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {source}", shown(path))]
     Io {
         path: PathBuf,
         source: std::io::Error,
     },
     /// The file exists but is not a valid image of its type: corrupt, truncated, unsupported
     /// variant (exit code 1: input rejected).
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {message}", shown(path))]
     Decode { path: PathBuf, message: String },
     /// The requested output cannot be written in that format (e.g. 16 bits for JPEG, unknown
     /// extension) (exit code 1).
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {message}", shown(path))]
     Unsupported { path: PathBuf, message: String },
+}
+
+/// A path as messages name it; an empty one (an empty argument) says so rather than
+/// leaving the message to start with `: `.
+fn shown(path: &Path) -> String {
+    if path.as_os_str().is_empty() {
+        "(empty path)".to_string()
+    } else {
+        path.display().to_string()
+    }
 }
 
 impl IoError {
