@@ -906,3 +906,18 @@ fn no_error_line_starts_with_an_empty_path() {
     };
     assert_eq!(e.to_string(), "(empty path): m");
 }
+
+#[test]
+fn a_render_size_over_the_device_limit_is_an_input_error() {
+    let Some(max) = common::engine().map(|e| e.ctx.device.limits().max_texture_dimension_2d) else {
+        return;
+    };
+    let size = format!("{}x16", max + 1);
+    let o = fxrun(&["--scene", "builtin:room", "--size", &size, "-o", "o.png"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("builtin:room: the render size"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -119,6 +119,16 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         ..Default::default()
     };
     // Check everything the user wrote before rendering.
+    let max = engine.ctx.device.limits().max_texture_dimension_2d;
+    if job.width.max(job.height) > max {
+        return Err(RunError::BadInput(IoError::Unsupported {
+            path: PathBuf::from(&job.scene),
+            message: format!(
+                "the render size {}x{} is larger than the GPU's limit of {max} pixels per side",
+                job.width, job.height
+            ),
+        }));
+    }
     let mut effect = if job.effects.is_empty() {
         None
     } else {
