@@ -921,3 +921,24 @@ fn a_render_size_over_the_device_limit_is_an_input_error() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_device_as_the_materials_file_is_refused() {
+    if !gpu() || !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let o = fxrun(&[
+        "--scene",
+        "builtin:room",
+        "--materials",
+        "/dev/zero",
+        "-o",
+        "o.png",
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("/dev/zero: not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -141,10 +141,13 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     let t = Instant::now();
     let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
     if let Some(path) = &job.materials {
-        let text = std::fs::read_to_string(path).map_err(|source| {
-            RunError::Io(IoError::Io {
+        // A regular file of at most 1 MiB (`--materials /dev/zero` would never end).
+        let bytes = crate::io::read_regular_file(path, crate::shader::include::MAX_INCLUDE_BYTES)
+            .map_err(RunError::from)?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            RunError::BadInput(IoError::Decode {
                 path: path.clone(),
-                source,
+                message: "not a text file (invalid UTF-8)".into(),
             })
         })?;
         let rejected = |rendered: String| RunError::Rejected { rendered };
