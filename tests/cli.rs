@@ -683,3 +683,316 @@ fn describe_every_builtin_effect() {
         }
     }
 }
+
+fn huge_counts_are_rejected_with_exit_1() {
+    for (arg, value) in [
+        ("--queue", "18446744073709551615"),
+        ("--queue", "65"),
+        ("--lights", "18446744073709551615"),
+        ("--lights", "100001"),
+        ("--warmup", "18446744073709551615"),
+    ] {
+        let o = fxrun(&["tonemap", arg, value, "-i", "in.png", "-o", "out.png"]);
+        assert_eq!(code(&o), 1, "{arg} {value}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains(arg) && !e.contains("panicked"), "{e}");
+    }
+}
+
+#[test]
+fn failed_writes_of_analysis_outputs_exit_2() {
+    let full = Path::new("/dev/full");
+    if !full.exists() {
+        return;
+    }
+    let to_full = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_fxrun"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(std::fs::File::create(full).unwrap())
+            .output()
+            .unwrap()
+    };
+    for args in [
+        &["--list"][..],
+        &["glow", "--plan"],
+        &["glow", "--plan", "--json"],
+        &["glow", "--dot", "-"],
+        &["glow", "--describe"],
+    ] {
+        let o = to_full(args);
+        assert_eq!(code(&o), 2, "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("No space left"), "{}", stderr(&o));
+    }
+    let o = fxrun(&["glow", "--dot", "/dev/full"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(stderr(&o).contains("/dev/full"), "{}", stderr(&o));
+    if gpu() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = small_png(dir.path());
+        let out = dir.path().join("o.png");
+        let o = fxrun(&[
+            "tonemap",
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--timings-json",
+            "/dev/full",
+        ]);
+        assert_eq!(code(&o), 2, "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("/dev/full: No space left"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // A device is written in place, never replaced by a rename.
+    assert!(!full.metadata().unwrap().is_file());
+}
+
+#[test]
+fn a_closed_stdout_pipe_ends_quietly() {
+    use std::io::Read as _;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args(["--list"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read nothing: close the pipe at once, as `| head -0` would.
+    drop(child.stdout.take());
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+}
+
+#[test]
+fn scene_errors_name_the_scene() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.png");
+    let o = fxrun(&["--scene", "builtin:nope", "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.starts_with("fxrun: error: builtin:nope: "), "{e}");
+    assert!(!e.contains("error: : "), "{e}");
+}
+
+#[test]
+fn truncated_jpeg_input_is_rejected_naming_the_file() {
+    let bytes = std::fs::read("examples/data/rocket.jpg")
+        .or_else(|_| {
+            std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/rocket.jpg"))
+        })
+        .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let cut = dir.path().join("half.jpg");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let out = dir.path().join("o.png");
+    let o = fxrun(&[
+        "tonemap",
+        "-i",
+        cut.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("half.jpg: not a valid JPEG file"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn devices_are_refused_as_inputs_includes_and_gltf_uris() {
+    if !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.png");
+    let t = std::time::Instant::now();
+    let o = fxrun(&["tonemap", "-i", "/dev/zero", "-o", out.to_str().unwrap()]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("/dev/zero: not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+    let o = fxrun(&["/dev/zero", "--check"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    let fx = dir.path().join("inc.fx");
+    std::fs::write(&fx, "INCLUDE \"/dev/zero\"\n").unwrap();
+    let o = fxrun(&[fx.to_str().unwrap(), "--check"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("absolute include paths are not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    if gpu() {
+        let gltf = dir.path().join("zero.gltf");
+        std::fs::write(
+            &gltf,
+            r#"{"asset":{"version":"2.0"},"images":[{"uri":"/dev/zero"}],"buffers":[{"uri":"/dev/zero","byteLength":4}]}"#,
+        )
+        .unwrap();
+        let o = fxrun(&[
+            "--scene",
+            gltf.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("zero.gltf: ")
+                && e.contains("/dev/zero")
+                && e.contains("not a regular file"),
+            "{e}"
+        );
+    }
+    assert!(t.elapsed().as_secs() < 30);
+}
+
+#[test]
+fn include_is_confined_to_the_script_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("a/b");
+    std::fs::create_dir_all(&sub).unwrap();
+    let secret = dir.path().join("secret.fx");
+    std::fs::write(&secret, "SECRET-FIRST-LINE\n").unwrap();
+    let check = |text: &str| {
+        let fx = sub.join("x.fx");
+        std::fs::write(&fx, text).unwrap();
+        fxrun(&[fx.to_str().unwrap(), "--check"])
+    };
+    for (inc, why) in [
+        ("../../secret.fx", "`..` is not allowed"),
+        ("../../../../../../../etc/passwd", "`..` is not allowed"),
+        (
+            secret.to_str().unwrap(),
+            "absolute include paths are not allowed",
+        ),
+    ] {
+        let o = check(&format!("INCLUDE \"{inc}\"\n"));
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains(why), "{e}");
+        assert!(
+            !e.contains("SECRET-FIRST-LINE") && !e.contains("root:"),
+            "{e}"
+        );
+    }
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(&secret, sub.join("link.fx")).unwrap();
+        let o = check("INCLUDE \"link.fx\"\n");
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains("outside the including file's folder"), "{e}");
+        assert!(!e.contains("SECRET-FIRST-LINE"), "{e}");
+    }
+    // A file in the folder (and the built-in library) still works.
+    std::fs::write(sub.join("lib.fx"), "").unwrap();
+    let o = check("INCLUDE \"lib.fx\"\nINCLUDE \"glow.fx\"\nEFFECT.x = { PASS = { p = SHADER.copy { img = IN } } OUT = p }\n");
+    assert!(!stderr(&o).contains("cannot include"), "{}", stderr(&o));
+}
+
+#[test]
+fn an_image_over_the_device_limit_is_refused_before_decoding() {
+    let Some(max) = common::engine().map(|e| e.ctx.device.limits().max_texture_dimension_2d) else {
+        return;
+    };
+    if max >= 20000 {
+        eprintln!("skipping: the device takes {max} pixels per side");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // The header announces 20000x20000; there are no pixels to decode.
+    let big = dir.path().join("big.pgm");
+    std::fs::write(&big, b"P5\n20000 20000\n255\n\0\0\0\0").unwrap();
+    let out = dir.path().join("o.png");
+    let o = fxrun(&[
+        "tonemap",
+        "-i",
+        big.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("big.pgm: the image is 20000x20000, larger than the GPU's limit"),
+        "{e}"
+    );
+}
+
+#[test]
+fn no_error_line_starts_with_an_empty_path() {
+    for args in [
+        &["glow", "--dot", ""][..],
+        &["tonemap", "--aux", "depth=", "-i", "in.png", "-o", "o.png"],
+        &["--scene", "", "-o", "o.png"],
+        &["tonemap", "-i", "", "-o", "o.png"],
+    ] {
+        let o = fxrun(args);
+        assert_eq!(code(&o), 1, "{args:?}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(!e.contains("error: : "), "{args:?}: {e}");
+    }
+    let e = fxgraph::io::IoError::Decode {
+        path: PathBuf::new(),
+        message: "m".into(),
+    };
+    assert_eq!(e.to_string(), "(empty path): m");
+}
+
+#[test]
+fn a_render_size_over_the_device_limit_is_an_input_error() {
+    let Some(max) = common::engine().map(|e| e.ctx.device.limits().max_texture_dimension_2d) else {
+        return;
+    };
+    let size = format!("{}x16", max + 1);
+    let o = fxrun(&["--scene", "builtin:room", "--size", &size, "-o", "o.png"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("builtin:room: the render size"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn a_device_as_the_materials_file_is_refused() {
+    if !gpu() || !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let o = fxrun(&[
+        "--scene",
+        "builtin:room",
+        "--materials",
+        "/dev/zero",
+        "-o",
+        "o.png",
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("/dev/zero: not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -1100,3 +1100,74 @@ fn timing_report() {
     }
     std::hint::black_box(out);
 }
+
+#[test]
+fn truncated_jpeg_is_a_decode_error() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/rocket.jpg");
+    let bytes = std::fs::read(&src).unwrap();
+    assert!(load_image(&src, &LoadOptions::default()).is_ok());
+    let d = tmp();
+    let p = d.path().join("cut.jpg");
+    for pct in [20, 50, 90, 99] {
+        std::fs::write(&p, &bytes[..bytes.len() * pct / 100]).unwrap();
+        let e = load_image(&p, &LoadOptions::default()).unwrap_err();
+        assert!(matches!(e, IoError::Decode { .. }), "{pct} %: {e:?}");
+        let msg = e.to_string();
+        assert!(msg.contains("cut.jpg: not a valid JPEG file"), "{msg}");
+        assert!(msg.contains("truncated"), "{msg}");
+    }
+    // Our own JPEGs (and data after the end marker) still load.
+    let own = d.path().join("own.jpg");
+    save(&own, 33, 17, &Pixels::U8(pattern_u8(33, 17)), None);
+    let mut b = std::fs::read(&own).unwrap();
+    assert!(load_image(&own, &LoadOptions::default()).is_ok());
+    b.extend_from_slice(b"trailing");
+    std::fs::write(&own, &b).unwrap();
+    assert!(load_image(&own, &LoadOptions::default()).is_ok());
+}
+
+#[test]
+fn only_regular_files_are_read() {
+    for dev in ["/dev/zero", "/dev/null"] {
+        if !Path::new(dev).exists() {
+            continue;
+        }
+        let t = Instant::now();
+        let e = load_image(Path::new(dev), &LoadOptions::default()).unwrap_err();
+        assert!(matches!(e, IoError::Decode { .. }), "{e:?}");
+        assert!(
+            e.to_string()
+                .starts_with(&format!("{dev}: not a regular file")),
+            "{e}"
+        );
+        assert!(t.elapsed().as_secs_f64() < 1.0);
+    }
+    let d = tmp();
+    let e = load_image(d.path(), &LoadOptions::default()).unwrap_err();
+    assert!(matches!(e, IoError::Io { .. }), "{e:?}");
+    // A file over the cap is refused before it is read.
+    let p = d.path().join("small.png");
+    save(&p, 4, 4, &Pixels::U8(pattern_u8(4, 4)), None);
+    let e = fxgraph::io::read_regular_file(&p, 10).unwrap_err();
+    assert!(e.to_string().contains("too large"), "{e}");
+}
+
+#[test]
+fn image_dimensions_come_from_the_header_alone() {
+    let d = tmp();
+    // A PNM header announcing 20000x20000 followed by 4 bytes: no decode is attempted.
+    let p = d.path().join("big.pgm");
+    std::fs::write(&p, b"P5\n20000 20000\n255\n\0\0\0\0").unwrap();
+    let bytes = fxgraph::io::read_image_file(&p).unwrap();
+    assert_eq!(
+        fxgraph::io::image_dimensions(&bytes, &p).unwrap(),
+        (20000, 20000)
+    );
+    std::fs::write(&p, b"P5\n40000 20\n255\n\0\0\0\0").unwrap();
+    let bytes = fxgraph::io::read_image_file(&p).unwrap();
+    let e = fxgraph::io::image_dimensions(&bytes, &p).unwrap_err();
+    assert!(
+        e.to_string().contains("big.pgm: ") && e.to_string().contains("too large"),
+        "{e}"
+    );
+}

@@ -22,6 +22,41 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+/// `print!` that checks the write: a closed pipe (`fxrun --list | head -1`) ends the
+/// program quietly, any other failure (a full disk) is an I/O error (exit 2).
+macro_rules! out {
+    ($($arg:tt)*) => {
+        stdout_result(std::io::Write::write_fmt(&mut std::io::stdout().lock(), format_args!($($arg)*)))
+    };
+}
+
+/// `println!` that checks the write (see [`out!`]).
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        out!($($arg)*);
+        out!("\n");
+    }};
+}
+
+/// Ends the program on a failed write to stdout: quietly with status 0 on a closed
+/// pipe, with an error and status 2 otherwise.
+fn stdout_result(r: std::io::Result<()>) {
+    if let Err(e) = r {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("fxrun: error: stdout: {e}");
+        std::process::exit(2);
+    }
+}
+
+/// Largest `--queue`: frames held between the stages.
+const MAX_QUEUE: u64 = 64;
+/// Largest `--lights`: random point lights added to a scene.
+const MAX_LIGHTS: u64 = 100_000;
+/// Largest `--warmup`: frames run before the first written one.
+const MAX_WARMUP: u64 = 1_000_000;
+
 #[derive(Parser, Debug)]
 #[command(
     name = "fxrun",
@@ -62,7 +97,7 @@ struct Cli {
     #[arg(long)]
     check: bool,
     /// Write the graph as Graphviz DOT to FILE (`-` for stdout).
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", value_parser = clap::builder::NonEmptyStringValueParser::new())]
     dot: Option<String>,
     /// Print the schedule, the texture lifetime steps and the memory figures.
     #[arg(long)]
@@ -99,24 +134,26 @@ struct Cli {
     #[arg(long, default_value_t = 1)]
     rate: u32,
     /// Sequences: frames before --frames to run without writing, so feedback
-    /// effects warm up.
-    #[arg(long, default_value_t = 0)]
+    /// effects warm up (at most 1000000).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=MAX_WARMUP))]
     warmup: u64,
     /// Sequences: skip frames whose output file exists (resume an interrupted run).
     #[arg(long)]
     skip_existing: bool,
-    /// Sequences: frames queued between decode, GPU and encode.
-    #[arg(long, default_value_t = 3)]
+    /// Sequences: frames queued between decode, GPU and encode (1 to 64).
+    #[arg(long, default_value_t = 3,
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_QUEUE))]
     queue: usize,
     /// Render a scene with the deferred renderer as the effect input:
     /// builtin:room, builtin:bench, or a .gltf/.glb file (size from --size).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::builder::NonEmptyStringValueParser::new())]
     scene: Option<String>,
     /// Scene camera: a glTF camera index or name, or eye=x,y,z;target=x,y,z;fov=deg.
     #[arg(long)]
     camera: Option<String>,
-    /// Scene: add N random point lights.
-    #[arg(long, default_value_t = 0)]
+    /// Scene: add N random point lights (at most 100000).
+    #[arg(long, default_value_t = 0,
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=MAX_LIGHTS))]
     lights: usize,
     /// Scene: seed of the random lights.
     #[arg(long, default_value_t = 1)]
@@ -200,7 +237,9 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    match run(cli) {
+    let result = run(cli);
+    stdout_result(std::io::stdout().flush());
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
             if !f.message.is_empty() {
@@ -249,13 +288,13 @@ fn run(cli: Cli) -> Result<(), Fail> {
             });
         }
         for a in list {
-            println!("{a}");
+            outln!("{a}");
         }
         return Ok(());
     }
     if cli.list {
         for (name, desc) in library::builtin_effects() {
-            println!("{name:<20} {desc}");
+            outln!("{name:<20} {desc}");
             // The pass parameters `--set PASS.NAME=VALUE` takes, by name.
             let req = CompileRequest {
                 effects: vec![name.clone()],
@@ -273,7 +312,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
                     (false, n) => format!("{} (and {n} set by the effect)", free.join(" ")),
                     (true, n) => format!("{n}, set by the effect (see --describe)"),
                 };
-                println!("{:<20}   pass parameters: {line}", "");
+                outln!("{:<20}   pass parameters: {line}", "");
             }
         }
         return Ok(());
@@ -380,7 +419,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
         if let Some(target) = &cli.dot {
             let text = dot::to_dot(&graph, Some(&p));
             if target == "-" {
-                print!("{text}");
+                out!("{text}");
             } else {
                 fxgraph::io::write_atomic(std::path::Path::new(target), |w| {
                     w.write_all(text.as_bytes())
@@ -394,12 +433,12 @@ fn run(cli: Cli) -> Result<(), Fail> {
         }
         if cli.plan {
             if cli.json {
-                println!(
+                outln!(
                     "{}",
                     serde_json::to_string_pretty(&p.to_json()).expect("plan serializes")
                 );
             } else {
-                print!("{}", p.render());
+                out!("{}", p.render());
             }
         }
         return Ok(());
@@ -420,6 +459,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
     for a in &cli.aux {
         let (n, f) = a
             .split_once('=')
+            .filter(|(n, f)| !n.trim().is_empty() && !f.is_empty())
             .ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
         aux.push((n.to_string(), PathBuf::from(f)));
     }
@@ -480,12 +520,12 @@ fn pass_param_rows(graph: &fxgraph::graph::Graph) -> Vec<(String, fxgraph::shade
 
 fn describe(graph: &fxgraph::graph::Graph) {
     for (name, desc) in &graph.descriptions {
-        println!("effect {name}");
+        outln!("effect {name}");
         for line in desc.lines() {
-            println!("  {line}");
+            outln!("  {line}");
         }
     }
-    println!("passes (in execution order):");
+    outln!("passes (in execution order):");
     for &n in &graph.schedule {
         let p = graph.pass(n);
         let inputs: Vec<String> = p
@@ -494,7 +534,7 @@ fn describe(graph: &fxgraph::graph::Graph) {
             .enumerate()
             .map(|(i, inp)| format!("{}={}", inp.name, graph.label(graph.input_source(n, i))))
             .collect();
-        println!(
+        outln!(
             "  {:<28} SHADER.{:<16} {}",
             p.path,
             p.shader,
@@ -502,9 +542,9 @@ fn describe(graph: &fxgraph::graph::Graph) {
         );
     }
     if graph.params.is_empty() {
-        println!("parameters: none");
+        outln!("parameters: none");
     } else {
-        println!("parameters:");
+        outln!("parameters:");
         for p in &graph.params {
             let range = p
                 .range
@@ -523,7 +563,7 @@ fn describe(graph: &fxgraph::graph::Graph) {
                 fxgraph::script::types::ParamType::Bool => (v[0] != 0.0).to_string(),
                 _ => format_value(v),
             };
-            println!(
+            outln!(
                 "  {}.{:<14} {:<5} = {:<10} (default {}){range}{choices}  {}",
                 p.effect,
                 p.name,
@@ -536,9 +576,9 @@ fn describe(graph: &fxgraph::graph::Graph) {
     }
     let rows = pass_param_rows(graph);
     if rows.is_empty() {
-        println!("pass parameters: none");
+        outln!("pass parameters: none");
     } else {
-        println!("pass parameters (--set PASS.NAME=VALUE):");
+        outln!("pass parameters (--set PASS.NAME=VALUE):");
         let width = rows.iter().map(|(k, _)| k.len()).max().unwrap_or(0).max(20);
         for (key, p) in rows {
             let default = p
@@ -559,7 +599,7 @@ fn describe(graph: &fxgraph::graph::Graph) {
             } else {
                 ""
             };
-            println!(
+            outln!(
                 "  {key:<width$} {:<9} = {value:<10} (default {default}){range}{by_effect}  {}",
                 p.ty.wgsl(),
                 p.description
@@ -567,31 +607,40 @@ fn describe(graph: &fxgraph::graph::Graph) {
         }
     }
     if graph.has_feedback() {
-        println!("temporal: uses feedback (earlier output frames); a sharded sequence run needs warm-up frames");
+        outln!("temporal: uses feedback (earlier output frames); a sharded sequence run needs warm-up frames");
     }
     if graph.latency > 0 || graph.history > 0 {
-        println!(
+        outln!(
             "temporal: reads {} earlier and {} later input frames (latency {})",
-            graph.history, graph.latency, graph.latency
+            graph.history,
+            graph.latency,
+            graph.latency
         );
     }
 }
 
 fn print_timings(r: &JobReport) {
-    println!(
+    outln!(
         "adapter: {} ({})  image {}x{}",
-        r.adapter, r.backend, r.width, r.height
+        r.adapter,
+        r.backend,
+        r.width,
+        r.height
     );
-    println!(
+    outln!(
         "{:<32} {:>11} {:<10} {:>9} {:>9}",
-        "pass", "size", "format", "gpu ms", "cpu ms"
+        "pass",
+        "size",
+        "format",
+        "gpu ms",
+        "cpu ms"
     );
     for p in &r.passes {
         let gpu = p
             .gpu_ms
             .map(|g| format!("{g:.2}"))
             .unwrap_or_else(|| "-".into());
-        println!(
+        outln!(
             "{:<32} {:>11} {:<10} {:>9} {:>9.2}",
             p.path,
             format!("{}x{}", p.width, p.height),
@@ -600,12 +649,12 @@ fn print_timings(r: &JobReport) {
             p.cpu_ms
         );
     }
-    println!(
+    outln!(
         "compile {:.1} ms | decode {:.1} | device {:.1} | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
         r.compile_ms, r.decode_ms, r.device_ms, r.pipeline_ms, r.upload_ms, r.passes_ms, r.readback_ms, r.encode_ms, r.total_ms
     );
     let mib = |b: u64| b as f64 / 1048576.0;
-    println!(
+    outln!(
         "transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})",
         mib(r.peak_bytes),
         mib(r.lower_bound_bytes),
@@ -628,6 +677,11 @@ fn run_sequence_cli(cli: &Cli, ispec: SequenceSpec, ospec: SequenceSpec) -> Resu
         None => None,
     };
     let mut fps = cli.fps.unwrap_or(25.0);
+    if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+        return Err(rejected(format!(
+            "--fps {fps}: expected a number above 0, at most 1000"
+        )));
+    }
     let load = fxgraph::io::LoadOptions {
         assume_linear: cli.assume_linear,
     };
@@ -971,31 +1025,37 @@ fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     );
     let report = run_scene_job(&job, &mut engine)?;
     if cli.describe_materials {
-        println!("materials ({} variants mode):", job.variants);
+        outln!("materials ({} variants mode):", job.variants);
         for line in &report.materials {
-            println!("{line}");
+            outln!("{line}");
         }
-        println!(
+        outln!(
             "pipelines compiled: {}, shader modules: {}",
-            report.pipelines, report.shader_modules
+            report.pipelines,
+            report.shader_modules
         );
     }
     if cli.timings {
-        println!(
+        outln!(
             "adapter: {}  scene {} ({} triangles, {} lights visible)  {}x{}",
-            report.adapter, job.scene, report.triangles, report.lights_visible, width, height
+            report.adapter,
+            job.scene,
+            report.triangles,
+            report.lights_visible,
+            width,
+            height
         );
         for (name, ms) in &report.render_passes {
-            println!("  render {name:<26} gpu {ms:>8.2} ms");
+            outln!("  render {name:<26} gpu {ms:>8.2} ms");
         }
         for p in &report.effect_passes {
             let gpu = p
                 .gpu_ms
                 .map(|g| format!("{g:.2}"))
                 .unwrap_or_else(|| "-".into());
-            println!("  effect {:<26} gpu {:>8} ms", p.path, gpu);
+            outln!("  effect {:<26} gpu {:>8} ms", p.path, gpu);
         }
-        println!(
+        outln!(
             "load {:.1} ms | render cpu {:.1} gpu {} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
             report.load_ms,
             report.render_cpu_ms,

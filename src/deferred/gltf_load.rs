@@ -45,8 +45,15 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
         path: name.clone(),
         message,
     };
-    let bytes = std::fs::read(path).map_err(|e| err(format!("cannot read the file: {e}")))?;
+    let bytes = crate::io::read_regular_file(path, MAX_GLTF_FILE_BYTES).map_err(|e| match e {
+        crate::io::IoError::Decode { message, .. } => err(message),
+        other => err(format!(
+            "cannot read the file: {}",
+            std::error::Error::source(&other).map_or(String::new(), |s| s.to_string())
+        )),
+    })?;
     check_json_schema(&bytes).map_err(err)?;
+    check_uris(path, &bytes).map_err(err)?;
     let imported = catch_unwind(AssertUnwindSafe(|| gltf::import(path)))
         .map_err(|p| err(format!("the glTF parser failed: {}", panic_message(&p))))?
         .map_err(|e| err(describe_gltf_error(&e)))?;
@@ -97,6 +104,50 @@ fn describe_gltf_error(e: &gltf::Error) -> String {
 }
 
 /// The JSON chunk of a `.glb`, or the whole file.
+/// Largest glTF, GLB or referenced buffer/image file read (2 GiB).
+pub const MAX_GLTF_FILE_BYTES: u64 = 2 << 30;
+
+/// The files the glTF's buffers and images name (`uri`s that are not `data:` URIs) must be
+/// regular files of at most [`MAX_GLTF_FILE_BYTES`]: checked before the glTF importer
+/// reads them (`"uri": "/dev/zero"` would never end). A missing file is left to the
+/// importer's message.
+fn check_uris(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let json = json_bytes(bytes)?;
+    let value: serde_json::Value =
+        serde_json::from_slice(json).map_err(|e| format!("invalid JSON: {e}"))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    for key in ["buffers", "images"] {
+        let Some(list) = value.get(key).and_then(|v| v.as_array()) else {
+            continue;
+        };
+        for (i, item) in list.iter().enumerate() {
+            let Some(uri) = item.get("uri").and_then(|u| u.as_str()) else {
+                continue;
+            };
+            if uri.starts_with("data:") {
+                continue;
+            }
+            let file = uri.strip_prefix("file://").unwrap_or(uri);
+            let target = base.join(file);
+            let Ok(meta) = std::fs::metadata(&target) else {
+                continue;
+            };
+            if !meta.is_file() {
+                return Err(format!(
+                    "{key}[{i}].uri `{uri}` is not a regular file (a device, a pipe or a folder cannot be read)"
+                ));
+            }
+            if meta.len() > MAX_GLTF_FILE_BYTES {
+                return Err(format!(
+                    "{key}[{i}].uri `{uri}` is too large ({} bytes; the limit is {MAX_GLTF_FILE_BYTES} bytes)",
+                    meta.len()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn json_bytes(bytes: &[u8]) -> Result<&[u8], String> {
     if bytes.len() >= 4 && &bytes[..4] == b"glTF" {
         if bytes.len() < 20 {

@@ -77,20 +77,34 @@ pub struct SceneReport {
     pub total_ms: f64,
 }
 
-fn scene_error(e: SceneError) -> RunError {
+/// A scene error as an input error naming the file (the glTF file, or the `--scene`
+/// argument where there is none).
+fn scene_error(scene: &str, e: SceneError) -> RunError {
+    let (path, message) = match e {
+        SceneError::Gltf { path, message } => (path, message),
+        SceneError::Empty(name) => (name, "the scene has no triangles to draw".to_string()),
+        SceneError::TooManyMaterials { name, count } => (
+            name,
+            format!(
+                "{count} materials, at most {} are supported (8-bit material id)",
+                super::scene::MAX_MATERIALS
+            ),
+        ),
+        other => (scene.to_string(), other.to_string()),
+    };
     RunError::BadInput(IoError::Decode {
-        path: PathBuf::new(),
-        message: e.to_string(),
+        path: PathBuf::from(path),
+        message,
     })
 }
 
-fn render_error(e: RenderError) -> RunError {
+fn render_error(scene: &str, e: RenderError) -> RunError {
     match e {
         RenderError::Gpu(g) => RunError::Gpu(g),
-        RenderError::Scene(s) => scene_error(s),
+        RenderError::Scene(s) => scene_error(scene, s),
         RenderError::Io(i) => RunError::from(i),
         RenderError::Invalid(m) => RunError::BadInput(IoError::Unsupported {
-            path: PathBuf::new(),
+            path: PathBuf::from(scene),
             message: m,
         }),
         RenderError::Material(rendered) => RunError::Rejected { rendered },
@@ -105,6 +119,16 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         ..Default::default()
     };
     // Check everything the user wrote before rendering.
+    let max = engine.ctx.device.limits().max_texture_dimension_2d;
+    if job.width.max(job.height) > max {
+        return Err(RunError::BadInput(IoError::Unsupported {
+            path: PathBuf::from(&job.scene),
+            message: format!(
+                "the render size {}x{} is larger than the GPU's limit of {max} pixels per side",
+                job.width, job.height
+            ),
+        }));
+    }
     let mut effect = if job.effects.is_empty() {
         None
     } else {
@@ -115,12 +139,15 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         None => None,
     };
     let t = Instant::now();
-    let mut scene = Scene::load(&job.scene).map_err(scene_error)?;
+    let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
     if let Some(path) = &job.materials {
-        let text = std::fs::read_to_string(path).map_err(|source| {
-            RunError::Io(IoError::Io {
+        // A regular file of at most 1 MiB (`--materials /dev/zero` would never end).
+        let bytes = crate::io::read_regular_file(path, crate::shader::include::MAX_INCLUDE_BYTES)
+            .map_err(RunError::from)?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            RunError::BadInput(IoError::Decode {
                 path: path.clone(),
-                source,
+                message: "not a text file (invalid UTF-8)".into(),
             })
         })?;
         let rejected = |rendered: String| RunError::Rejected { rendered };
@@ -155,7 +182,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     }
     scene.ensure_lights();
     let camera = match &job.camera {
-        Some(spec) => Camera::parse_spec(spec, &scene).map_err(scene_error)?,
+        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
         None => scene.default_camera(),
     };
     report.load_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -168,7 +195,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             ..Default::default()
         },
     )
-    .map_err(render_error)?;
+    .map_err(|e| render_error(&job.scene, e))?;
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {
@@ -183,7 +210,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             job.technique,
             timer.as_ref(),
         )
-        .map_err(render_error)?;
+        .map_err(|e| render_error(&job.scene, e))?;
     report.render_cpu_ms = stats.cpu_ms;
     report.render_gpu_ms = stats.gpu_ms;
     report.render_passes = stats.pass_ms.clone();
@@ -195,7 +222,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         report.materials = renderer.materials().describe();
     }
     if let Some(dir) = &job.gbuffer {
-        super::write_gbuffer(dir, &out, &ctx).map_err(render_error)?;
+        super::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
     }
     let Some(path) = &job.output else {
         report.total_ms = t_all.elapsed().as_secs_f64() * 1e3;

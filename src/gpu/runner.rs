@@ -330,10 +330,40 @@ pub fn apply_to_image(
     let load = LoadOptions {
         assume_linear: job.assume_linear,
     };
-    let img = io::load_image(&job.input, &load)?;
+    // Headers first: a size the device cannot take is refused before the decode.
+    let mut files = Vec::new();
+    for path in std::iter::once(&job.input).chain(job.aux.iter().map(|(_, p)| p)) {
+        let bytes = io::read_image_file(path)?;
+        let size = io::image_dimensions(&bytes, path)?;
+        files.push((path, bytes, size));
+    }
+    let mut own_engine;
+    let mut engine = engine;
+    let largest = files.iter().map(|f| f.2 .0.max(f.2 .1)).max().unwrap_or(0);
+    if largest > wgpu::Limits::default().max_texture_dimension_2d {
+        // Larger than every device takes: ask this one before decoding.
+        if engine.is_none() {
+            own_engine = Engine::new(GpuContext::new(adapter)?);
+            engine = Some(&mut own_engine);
+        }
+        let e = engine.as_deref().expect("an engine");
+        let max = e.ctx.device.limits().max_texture_dimension_2d;
+        for (path, _, (w, h)) in &files {
+            if (*w).max(*h) > max {
+                return Err(RunError::BadInput(IoError::Decode {
+                    path: (*path).clone(),
+                    message: format!(
+                        "the image is {w}x{h}, larger than the GPU's limit of {max} pixels per side ({})",
+                        e.ctx.info.name
+                    ),
+                }));
+            }
+        }
+    }
+    let img = io::decode_image(&files[0].1, &job.input, &load)?;
     let mut aux_imgs = Vec::new();
-    for (name, path) in &job.aux {
-        let a = io::load_image(path, &load)?;
+    for ((name, path), (_, bytes, _)) in job.aux.iter().zip(&files[1..]) {
+        let a = io::decode_image(bytes, path, &load)?;
         if (a.width, a.height) != (img.width, img.height) {
             return Err(RunError::BadInput(IoError::Unsupported {
                 path: path.clone(),
@@ -347,12 +377,13 @@ pub fn apply_to_image(
     }
     report.decode_ms = ms(t.elapsed());
     let t = Instant::now();
-    let mut own_engine;
+    drop(files);
+    let mut own_engine2;
     let engine = match engine {
         Some(e) => e,
         None => {
-            own_engine = Engine::new(GpuContext::new(adapter)?);
-            &mut own_engine
+            own_engine2 = Engine::new(GpuContext::new(adapter)?);
+            &mut own_engine2
         }
     };
     report.device_ms = ms(t.elapsed());

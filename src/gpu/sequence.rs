@@ -26,6 +26,9 @@ pub trait FrameSource: Send {
     fn frame_count(&self) -> Option<u64>;
     /// The next frame and its frame number, or `None` at the end.
     fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError>;
+    /// The largest width or height the device takes: a source that can read an image's
+    /// size before decoding it refuses larger ones (naming the file) without decoding.
+    fn set_max_side(&mut self, _max: u32) {}
 }
 
 /// Where output frames go (runs on the encode thread).
@@ -137,6 +140,7 @@ pub fn run_sequence(
     mut progress: impl FnMut(Progress),
 ) -> Result<SequenceReport, RunError> {
     let start = Instant::now();
+    source.set_max_side(engine.ctx.device.limits().max_texture_dimension_2d);
     let total = source.frame_count();
     let queue = opts.queue.max(1);
     let (dec_tx, dec_rx): (SyncSender<Decoded>, Receiver<Decoded>) = sync_channel(queue);
@@ -382,6 +386,8 @@ pub fn run_sequence(
 pub struct FilesSource {
     pub frames: Vec<(u64, std::path::PathBuf)>,
     pub load: crate::io::LoadOptions,
+    /// Largest width or height accepted (checked from the header, before decoding).
+    pub max_side: u32,
     pos: usize,
 }
 
@@ -390,6 +396,7 @@ impl FilesSource {
         FilesSource {
             frames,
             load,
+            max_side: crate::io::MAX_SIDE,
             pos: 0,
         }
     }
@@ -404,7 +411,24 @@ impl FrameSource for FilesSource {
             return Ok(None);
         };
         self.pos += 1;
-        Ok(Some((*n, crate::io::load_image(path, &self.load)?)))
+        let bytes = crate::io::read_image_file(path)?;
+        let (w, h) = crate::io::image_dimensions(&bytes, path)?;
+        if w.max(h) > self.max_side {
+            return Err(IoError::Decode {
+                path: path.clone(),
+                message: format!(
+                    "the image is {w}x{h}, larger than the GPU's limit of {} pixels per side",
+                    self.max_side
+                ),
+            });
+        }
+        Ok(Some((
+            *n,
+            crate::io::decode_image(&bytes, path, &self.load)?,
+        )))
+    }
+    fn set_max_side(&mut self, max: u32) {
+        self.max_side = max.min(crate::io::MAX_SIDE);
     }
 }
 

@@ -85,6 +85,37 @@ pub struct Loader {
     loaded: HashMap<String, usize>,
 }
 
+/// Read an effect file given on the command line: a regular file (not a device or a
+/// pipe) of at most [`MAX_INCLUDE_BYTES`](crate::shader::include::MAX_INCLUDE_BYTES).
+fn read_effect_file(path: &Path) -> std::io::Result<String> {
+    use crate::shader::include::MAX_INCLUDE_BYTES;
+    use std::io::Read as _;
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        ));
+    }
+    let too_big = || {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("larger than {} KiB", MAX_INCLUDE_BYTES / 1024),
+        )
+    };
+    if meta.len() > MAX_INCLUDE_BYTES {
+        return Err(too_big());
+    }
+    let mut text = String::new();
+    std::fs::File::open(path)?
+        .take(MAX_INCLUDE_BYTES + 1)
+        .read_to_string(&mut text)?;
+    if text.len() as u64 > MAX_INCLUDE_BYTES {
+        return Err(too_big());
+    }
+    Ok(text)
+}
+
 impl Loader {
     pub fn new() -> Self {
         Self::default()
@@ -96,7 +127,7 @@ impl Loader {
         let path = Path::new(arg);
         let as_file = path.extension().is_some_and(|e| e == "fx") || path.components().count() > 1;
         let idx = if as_file || path.is_file() {
-            match std::fs::read_to_string(path) {
+            match read_effect_file(path) {
                 Ok(text) => self.add_module(
                     Origin::Disk(path.to_path_buf()),
                     arg.to_string(),
@@ -192,13 +223,49 @@ impl Loader {
         idx
     }
 
+    /// `INCLUDE "file.fx"`: a path relative to the including file's folder, confined to
+    /// it (no `..`, no absolute path, symbolic links resolved and checked, a regular file
+    /// of at most [`MAX_INCLUDE_BYTES`](crate::shader::include::MAX_INCLUDE_BYTES)), or
+    /// a file of the built-in library. A refused file is never read.
     fn include(&mut self, from: &Origin, target: &str, span: Span, diags: &mut Diagnostics) {
-        if let Origin::Disk(p) = from {
-            let candidate = p.parent().unwrap_or(Path::new(".")).join(target);
-            if let Ok(text) = std::fs::read_to_string(&candidate) {
-                let shown = candidate.display().to_string();
-                self.add_module(Origin::Disk(candidate), shown, text, diags);
+        use crate::shader::include::{check_relative, read_confined, RealFs};
+        let parts = match check_relative(target) {
+            Ok(p) => p,
+            Err(m) => {
+                diags.push(
+                    Diagnostic::error(format!("cannot include `{target}`: {m}"))
+                        .at(span, "refused; the file is not read"),
+                );
                 return;
+            }
+        };
+        if let Origin::Disk(p) = from {
+            let dir = match p.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            if let Ok(dir_canon) = std::fs::canonicalize(dir) {
+                match read_confined(&dir_canon, &parts, &RealFs) {
+                    Ok(Some((canon, text))) => {
+                        let shown = dir
+                            .join(parts.iter().collect::<PathBuf>())
+                            .display()
+                            .to_string();
+                        self.add_module(Origin::Disk(canon), shown, text, diags);
+                        return;
+                    }
+                    Ok(None) => {}
+                    Err(m) => {
+                        diags.push(
+                            Diagnostic::error(format!(
+                                "cannot include `{target}`: {}",
+                                m.replace("{path}", target)
+                            ))
+                            .at(span, "refused; the file is not read"),
+                        );
+                        return;
+                    }
+                }
             }
         }
         let file = Path::new(target)

@@ -49,6 +49,32 @@ pub(crate) fn read_exr(bytes: &[u8]) -> Result<ExrPixels, String> {
     }
 }
 
+/// The largest width and height of the file's layers, from the headers alone.
+pub(crate) fn exr_dimensions(bytes: &[u8]) -> Result<(u32, u32), String> {
+    let meta = std::panic::catch_unwind(|| MetaData::read_from_buffered(Cursor::new(bytes), false))
+        .map_err(|p| format!("decoder failure ({})", panic_message(&*p)))?
+        .map_err(exr_err)?;
+    if meta.headers.is_empty() {
+        return Err("the file has no image layers".into());
+    }
+    let w = meta
+        .headers
+        .iter()
+        .map(|h| h.layer_size.width())
+        .max()
+        .unwrap_or(0);
+    let h = meta
+        .headers
+        .iter()
+        .map(|h| h.layer_size.height())
+        .max()
+        .unwrap_or(0);
+    Ok((
+        w.min(u32::MAX as usize) as u32,
+        h.min(u32::MAX as usize) as u32,
+    ))
+}
+
 fn exr_err(e: exr::error::Error) -> String {
     match e {
         exr::error::Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {

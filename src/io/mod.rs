@@ -244,19 +244,29 @@ pub struct SaveOptions {
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
     /// File missing / unreadable / unwritable (exit code 2 in the CLI).
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {source}", shown(path))]
     Io {
         path: PathBuf,
         source: std::io::Error,
     },
     /// The file exists but is not a valid image of its type: corrupt, truncated, unsupported
     /// variant (exit code 1: input rejected).
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {message}", shown(path))]
     Decode { path: PathBuf, message: String },
     /// The requested output cannot be written in that format (e.g. 16 bits for JPEG, unknown
     /// extension) (exit code 1).
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {message}", shown(path))]
     Unsupported { path: PathBuf, message: String },
+}
+
+/// A path as messages name it; an empty one (an empty argument) says so rather than
+/// leaving the message to start with `: `.
+fn shown(path: &Path) -> String {
+    if path.as_os_str().is_empty() {
+        "(empty path)".to_string()
+    } else {
+        path.display().to_string()
+    }
 }
 
 impl IoError {
@@ -322,11 +332,108 @@ pub(crate) fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
 
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 
+/// Largest image file read (4 GiB).
+pub const MAX_FILE_BYTES: u64 = 4 << 30;
+
+/// Read a whole file that must be a regular file (not a device, a pipe or a folder:
+/// `/dev/zero` would never end) of at most `max` bytes; both are checked before the
+/// contents are read. Those refusals are [`IoError::Decode`] (input rejected).
+pub fn read_regular_file(path: &Path, max: u64) -> Result<Vec<u8>, IoError> {
+    use std::io::Read as _;
+    let not_regular = || {
+        IoError::decode(
+            path,
+            "not a regular file (a device or a pipe cannot be read as an image)",
+        )
+    };
+    let too_big = |len: u64| {
+        IoError::decode(
+            path,
+            format!("the file is too large ({len} bytes; the limit is {max} bytes)"),
+        )
+    };
+    // Checked before opening: opening a FIFO would wait for a writer.
+    let meta = fs::metadata(path).map_err(|e| IoError::io(path, e))?;
+    if meta.is_dir() {
+        return Err(IoError::io(
+            path,
+            std::io::Error::other("is a folder, not a file"),
+        ));
+    }
+    if !meta.is_file() {
+        return Err(not_regular());
+    }
+    let file = File::open(path).map_err(|e| IoError::io(path, e))?;
+    let meta = file.metadata().map_err(|e| IoError::io(path, e))?;
+    if !meta.is_file() {
+        return Err(not_regular());
+    }
+    if meta.len() > max {
+        return Err(too_big(meta.len()));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(max + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| IoError::io(path, e))?;
+    if bytes.len() as u64 > max {
+        return Err(too_big(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
 /// Load an image file. The format comes from the file's magic bytes, the extension is the
-/// fallback (TGA has no magic).
+/// fallback (TGA has no magic). Only regular files of at most [`MAX_FILE_BYTES`] are read.
 pub fn load_image(path: &Path, opts: &LoadOptions) -> Result<Image, IoError> {
-    let bytes = fs::read(path).map_err(|e| IoError::io(path, e))?;
+    let bytes = read_regular_file(path, MAX_FILE_BYTES)?;
     decode_bytes(&bytes, path, FileFormat::from_path(path), opts)
+}
+
+/// Decode image file bytes read with [`read_image_file`]; `path` names the file in
+/// messages and gives the format when the magic bytes say nothing.
+pub fn decode_image(bytes: &[u8], path: &Path, opts: &LoadOptions) -> Result<Image, IoError> {
+    decode_bytes(bytes, path, FileFormat::from_path(path), opts)
+}
+
+/// Read an image file's bytes: a regular file of at most [`MAX_FILE_BYTES`].
+pub fn read_image_file(path: &Path) -> Result<Vec<u8>, IoError> {
+    read_regular_file(path, MAX_FILE_BYTES)
+}
+
+/// An image's width and height from its header alone (no pixel is decoded), checked
+/// against [`MAX_SIDE`] and [`MAX_PIXELS`]: so a size a device cannot take is refused
+/// before a long decode.
+pub fn image_dimensions(bytes: &[u8], path: &Path) -> Result<(u32, u32), IoError> {
+    if bytes.is_empty() {
+        return Err(IoError::decode(path, "the file is empty"));
+    }
+    let Some(format) = detect_format(bytes, FileFormat::from_path(path)) else {
+        return Err(IoError::decode(path, "not a recognised image file"));
+    };
+    let invalid =
+        |m: String| IoError::decode(path, format!("not a valid {} file: {m}", format.name()));
+    let (w, h) = if format == FileFormat::Exr {
+        exr_io::exr_dimensions(bytes).map_err(invalid)?
+    } else {
+        let probe = std::panic::catch_unwind(|| {
+            let mut reader =
+                image::ImageReader::with_format(Cursor::new(bytes), format.image_format());
+            let mut limits = image::Limits::default();
+            limits.max_image_width = Some(MAX_SIDE);
+            limits.max_image_height = Some(MAX_SIDE);
+            limits.max_alloc = Some(MAX_DECODER_ALLOC);
+            reader.limits(limits);
+            reader
+                .into_decoder()
+                .map(|d| d.dimensions())
+                .map_err(image_error_detail)
+        });
+        match probe {
+            Ok(r) => r.map_err(invalid)?,
+            Err(p) => return Err(invalid(format!("decoder failure ({})", panic_message(&*p)))),
+        }
+    };
+    check_dimensions(w as u64, h as u64).map_err(|m| IoError::decode(path, m))?;
+    Ok((w, h))
 }
 
 /// Decode an image held in memory; `hint` is used when the magic bytes say nothing.
@@ -437,11 +544,81 @@ fn image_error_detail(e: image::ImageError) -> String {
     }
 }
 
+/// Walk a JPEG's marker structure: the JPEG decoder pads a truncated file with grey
+/// and accepts it, so a file is only taken whole when its segments are intact and an
+/// end-of-image marker (EOI) follows the last scan.
+fn check_jpeg_structure(bytes: &[u8]) -> Result<(), String> {
+    const TRUNCATED: &str = "the file is truncated (no end-of-image marker)";
+    if !bytes.starts_with(&[0xFF, 0xD8]) {
+        return Err("no start-of-image marker".into());
+    }
+    let mut i = 2;
+    let mut scans = 0usize;
+    loop {
+        // Find the next marker (fill bytes 0xFF may precede it).
+        if i >= bytes.len() {
+            return Err(TRUNCATED.into());
+        }
+        if bytes[i] != 0xFF {
+            return Err(format!("corrupt data: expected a marker at byte {i}"));
+        }
+        while i < bytes.len() && bytes[i] == 0xFF {
+            i += 1;
+        }
+        let Some(&marker) = bytes.get(i) else {
+            return Err(TRUNCATED.into());
+        };
+        i += 1;
+        match marker {
+            0xD9 => {
+                return if scans == 0 {
+                    Err("corrupt data: the image has no scan data".into())
+                } else {
+                    Ok(())
+                };
+            }
+            0x01 | 0xD0..=0xD7 => continue,
+            0x00 => return Err(format!("corrupt data: invalid marker at byte {}", i - 2)),
+            _ => {}
+        }
+        let Some(len) = bytes.get(i..i + 2) else {
+            return Err(TRUNCATED.into());
+        };
+        let len = u16::from_be_bytes([len[0], len[1]]) as usize;
+        if len < 2 {
+            return Err(format!("corrupt data: invalid segment length at byte {i}"));
+        }
+        i += len;
+        if i > bytes.len() {
+            return Err(TRUNCATED.into());
+        }
+        if marker == 0xDA {
+            scans += 1;
+            // Entropy-coded data: runs to the next marker that is neither a stuffed
+            // 0xFF00 nor a restart marker.
+            loop {
+                let Some(p) = bytes[i..].iter().position(|&b| b == 0xFF) else {
+                    return Err(TRUNCATED.into());
+                };
+                i += p;
+                match bytes.get(i + 1) {
+                    None => return Err(TRUNCATED.into()),
+                    Some(0x00) | Some(0xD0..=0xD7) | Some(0xFF) => i += 1,
+                    Some(_) => break,
+                }
+            }
+        }
+    }
+}
+
 fn decode_with_image_crate(
     bytes: &[u8],
     format: FileFormat,
     opts: &LoadOptions,
 ) -> Result<Image, String> {
+    if format == FileFormat::Jpeg {
+        check_jpeg_structure(bytes)?;
+    }
     let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format.image_format());
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_SIDE);
@@ -778,6 +955,21 @@ pub fn write_atomic(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // A device or a pipe (`/dev/null`, `/dev/full`, a FIFO) is written in place: it
+    // cannot be replaced by a rename, and its write errors must still be reported.
+    if let Ok(m) = fs::metadata(path) {
+        if !m.is_file() && !m.is_dir() {
+            let file = OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(|e| IoError::io(path, e))?;
+            let mut out = BufWriter::with_capacity(1 << 20, file);
+            f(&mut out)?;
+            out.into_inner()
+                .map_err(|e| IoError::io(path, e.into_error()))?;
+            return Ok(());
+        }
+    }
     let pid = std::process::id();
     let (tmp, file) = loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
