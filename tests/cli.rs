@@ -684,6 +684,7 @@ fn describe_every_builtin_effect() {
     }
 }
 
+#[test]
 fn huge_counts_are_rejected_with_exit_1() {
     for (arg, value) in [
         ("--queue", "18446744073709551615"),
