@@ -20,19 +20,12 @@ struct Params {
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
+#include "lib/prefilter.wgsl"
+
 // The mean of the input texels under the output texel whose centre is `p`
 // (pixel coordinates of the output).
 fn prefiltered(p: vec2<f32>, m: vec2<i32>) -> vec4<f32> {
-    let uv = p * params.out_texel;
-    let spacing = 2.0 / params.img_size;
-    var box = vec4<f32>(0.0);
-    for (var j = 0; j < m.y; j++) {
-        for (var k = 0; k < m.x; k++) {
-            let o = (vec2<f32>(f32(k), f32(j)) - 0.5 * vec2<f32>(m - 1)) * spacing;
-            box += textureSampleLevel(img, img_sampler, uv + o, 0.0);
-        }
-    }
-    return box / f32(m.x * m.y);
+    return lib_box_prefilter(img, img_sampler, p * params.out_texel, 2.0 / params.img_size, m);
 }
 
 fn downsampling_blur(pos: vec2<f32>, ratio: vec2<f32>) -> vec4<f32> {
