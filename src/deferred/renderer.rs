@@ -122,6 +122,8 @@ pub struct Renderer {
     pub(crate) pipelines: Pipelines,
     dummy_light: wgpu::TextureView,
     pub(crate) targets: Option<Targets>,
+    /// (technique, forward light count) whose pipelines all exist.
+    ensured: std::collections::HashSet<(Technique, u32)>,
 }
 
 /// A 1x1 texture view with one texel.
@@ -265,6 +267,7 @@ impl Renderer {
             g0,
             dummy_light,
             targets: None,
+            ensured: Default::default(),
         })
     }
 
@@ -497,7 +500,13 @@ impl Renderer {
             ctx.queue
                 .write_buffer(&self.visible_buffer, 0, bytemuck::cast_slice(&visible));
         }
-        frame::ensure_pipelines(self, ctx, technique, loop_count).map_err(RenderError::Material)?;
+        // Pipelines depend only on the technique and the forward loop bound: the
+        // batches are fixed when the renderer is made.
+        if !self.ensured.contains(&(technique, loop_count)) {
+            frame::ensure_pipelines(self, ctx, technique, loop_count)
+                .map_err(RenderError::Material)?;
+            self.ensured.insert((technique, loop_count));
+        }
 
         let mut stats = RenderStats {
             technique,

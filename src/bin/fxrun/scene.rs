@@ -1,0 +1,148 @@
+//! `fxrun`: the deferred renderer as the input (`--scene`, or `-o OUT` alone).
+
+use super::*;
+
+pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
+    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN, DEFAULT_CHAIN_SETTINGS};
+    if cli.input.is_some() {
+        return Err(rejected("--scene renders the input: give no -i"));
+    }
+    if cli.output.is_none() && cli.gbuffer.is_none() && !cli.describe_materials {
+        return Err(rejected(
+            "--scene needs -o OUTPUT, --gbuffer DIR or --describe-materials",
+        ));
+    }
+    let (width, height) = match &cli.size {
+        Some(s) => parse_size(s)?,
+        None => (1280, 720),
+    };
+    let technique = cli
+        .renderer
+        .parse()
+        .map_err(|e: String| rejected(format!("--renderer {}: {e}", cli.renderer)))?;
+    let variants = cli
+        .variants
+        .parse()
+        .map_err(|e: String| rejected(format!("--variants {}: {e}", cli.variants)))?;
+    let material_map = cli
+        .material
+        .iter()
+        .map(|m| {
+            m.split_once('=')
+                .map(|(a, b)| (a.trim().to_string(), b.trim().to_string()))
+                .filter(|(a, b)| !a.is_empty() && !b.is_empty())
+                .ok_or_else(|| {
+                    rejected(format!(
+                        "--material {m}: expected SCENE_MATERIAL=DEFINITION"
+                    ))
+                })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let ambient = match &cli.ambient {
+        None => None,
+        Some(a) => {
+            let v: Vec<f32> = a
+                .split(',')
+                .map(|x| x.trim().parse::<f32>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| rejected(format!("--ambient {a}: expected V or R,G,B (numbers)")))?;
+            let rgb = match v.as_slice() {
+                [x] => [*x; 3],
+                [r, g, b] => [*r, *g, *b],
+                _ => return Err(rejected(format!("--ambient {a}: expected V or R,G,B"))),
+            };
+            if rgb.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                return Err(rejected(format!(
+                    "--ambient {a}: values must be finite and not negative"
+                )));
+            }
+            Some(rgb)
+        }
+    };
+    let default_chain = cli.effects.is_empty() && cli.output.is_some();
+    let effects = if default_chain {
+        DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
+    } else {
+        cli.effects.clone()
+    };
+    let mut overrides: Vec<String> = if default_chain {
+        DEFAULT_CHAIN_SETTINGS
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    } else {
+        Vec::new()
+    };
+    overrides.extend(cli.set.iter().cloned());
+    let job = SceneJob {
+        scene: cli.scene.clone().unwrap_or_else(|| "builtin:room".into()),
+        width,
+        height,
+        camera: cli.camera.clone(),
+        lights: cli.lights,
+        seed: cli.seed,
+        technique,
+        effects,
+        overrides,
+        output: cli.output.clone(),
+        bit_depth: cli.bit_depth,
+        gbuffer: cli.gbuffer.clone(),
+        timings: cli.timings,
+        materials: cli.materials.clone(),
+        material_map,
+        variants,
+        describe_materials: cli.describe_materials,
+        ambient,
+    };
+    let mut engine = Engine::new(
+        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
+            .map_err(RunError::from)?,
+    );
+    let report = run_scene_job(&job, &mut engine)?;
+    if cli.describe_materials {
+        outln!("materials ({} variants mode):", job.variants);
+        for line in &report.materials {
+            outln!("{line}");
+        }
+        outln!(
+            "pipelines compiled: {}, shader modules: {}",
+            report.pipelines,
+            report.shader_modules
+        );
+    }
+    if cli.timings {
+        outln!(
+            "adapter: {}  scene {} ({} triangles, {} lights visible)  {}x{}",
+            report.adapter,
+            job.scene,
+            report.triangles,
+            report.lights_visible,
+            width,
+            height
+        );
+        for (name, ms) in &report.render_passes {
+            outln!("  render {name:<26} gpu {ms:>8.2} ms");
+        }
+        for p in &report.effect_passes {
+            let gpu = p
+                .gpu_ms
+                .map(|g| format!("{g:.2}"))
+                .unwrap_or_else(|| "-".into());
+            outln!("  effect {:<26} gpu {:>8} ms", p.path, gpu);
+        }
+        outln!(
+            "load {:.1} ms | render cpu {:.1} gpu {} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
+            report.load_ms,
+            report.render_cpu_ms,
+            report.render_gpu_ms.map(|g| format!("{g:.1}")).unwrap_or_else(|| "-".into()),
+            report.effects_ms,
+            report.readback_ms,
+            report.encode_ms,
+            report.total_ms
+        );
+    }
+    if let Some(path) = &cli.timings_json {
+        write_json(path, &report)?;
+    }
+    Ok(())
+}

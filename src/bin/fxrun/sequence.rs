@@ -1,0 +1,315 @@
+//! `fxrun`: frame sequences and y4m streams (`-i 'in/%04d.png'`, `-i -`), and the timings printer.
+
+use super::*;
+
+pub(crate) fn print_timings(r: &JobReport) {
+    outln!(
+        "adapter: {} ({})  image {}x{}",
+        r.adapter,
+        r.backend,
+        r.width,
+        r.height
+    );
+    outln!(
+        "{:<32} {:>11} {:<10} {:>9} {:>9}",
+        "pass",
+        "size",
+        "format",
+        "gpu ms",
+        "cpu ms"
+    );
+    for p in &r.passes {
+        let gpu = p
+            .gpu_ms
+            .map(|g| format!("{g:.2}"))
+            .unwrap_or_else(|| "-".into());
+        outln!(
+            "{:<32} {:>11} {:<10} {:>9} {:>9.2}",
+            p.path,
+            format!("{}x{}", p.width, p.height),
+            p.format,
+            gpu,
+            p.cpu_ms
+        );
+    }
+    outln!(
+        "compile {:.1} ms | decode {:.1} | device {:.1} | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
+        r.compile_ms, r.decode_ms, r.device_ms, r.pipeline_ms, r.upload_ms, r.passes_ms, r.readback_ms, r.encode_ms, r.total_ms
+    );
+    let mib = |b: u64| b as f64 / 1048576.0;
+    outln!(
+        "transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})",
+        mib(r.peak_bytes),
+        mib(r.lower_bound_bytes),
+        mib(r.naive_bytes)
+    );
+}
+
+/// `fxrun EFFECT -i 'in/%04d.png' -o 'out/%04d.png'` and `-i - -o -` (y4m streams).
+pub(crate) fn run_sequence_cli(
+    cli: &Cli,
+    ispec: SequenceSpec,
+    ospec: SequenceSpec,
+) -> Result<(), Fail> {
+    if cli.rate == 0 || cli.rate > 4 {
+        return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
+    }
+    let mut effect = Effect::compile(&cli.effects, &cli.set)?;
+    if !effect.warnings.is_empty() {
+        eprint!("{}", effect.warnings.render(&effect.sources));
+    }
+    let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
+    let range = match &cli.frames {
+        Some(f) => Some(parse_frames(f).map_err(|e| rejected(format!("--frames {f}: {e}")))?),
+        None => None,
+    };
+    let mut fps = cli.fps.unwrap_or(25.0);
+    if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+        return Err(rejected(format!(
+            "--fps {fps}: expected a number above 0, at most 1000"
+        )));
+    }
+    let load = fxgraph::io::LoadOptions {
+        assume_linear: cli.assume_linear,
+    };
+    // Source: files (with the context frames a slice needs) or a y4m stream.
+    let mut y4m_template = None;
+    let mut emit = None;
+    let source: Box<dyn FrameSource> = match &ispec {
+        SequenceSpec::Stdin => {
+            let stdin = std::io::BufReader::with_capacity(1 << 20, std::io::stdin());
+            let reader = fxgraph::io::y4m::Y4mReader::new(stdin, "stdin")
+                .map_err(|e| rejected(e.to_string()))?;
+            let header = reader.header().clone();
+            if cli.fps.is_none() && header.fps.1 > 0 {
+                fps = header.fps.0 as f64 / header.fps.1 as f64;
+            }
+            let conversion = fxgraph::io::y4m::YuvConversion::for_header(&header);
+            y4m_template = Some((header, conversion));
+            let (skip, last) = match range {
+                Some(r) => {
+                    emit = Some((r.start, r.end));
+                    (
+                        r.start.saturating_sub(history + cli.warmup),
+                        r.end.checked_add(latency),
+                    )
+                }
+                None => (0, None),
+            };
+            Box::new(Y4mSource {
+                reader,
+                conversion,
+                skip,
+                last,
+            })
+        }
+        SequenceSpec::Stdout => return Err(rejected("`-` as an input reads stdin; use -i - ")),
+        spec => {
+            let seq = InputSequence::open(spec).map_err(RunError::from)?;
+            let all = &seq.frames;
+            let (lo, hi) = match range {
+                Some(r) => {
+                    let r = seq.resolve(r).ok_or_else(|| {
+                        rejected(format!(
+                            "--frames {}: no frame of the sequence is in that range",
+                            cli.frames.clone().unwrap_or_default()
+                        ))
+                    })?;
+                    (r.start, r.end)
+                }
+                None => (
+                    seq.first_number().unwrap_or(0),
+                    seq.last_number().unwrap_or(0),
+                ),
+            };
+            let mut lo = lo;
+            if cli.skip_existing {
+                if let Ok(out) = OutputPattern::new(&ospec) {
+                    match all
+                        .iter()
+                        .map(|f| f.0)
+                        .filter(|n| *n >= lo && *n <= hi)
+                        .find(|n| !out.exists(*n))
+                    {
+                        Some(first_missing) => lo = first_missing,
+                        None => {
+                            eprintln!("fxrun: every output frame exists already (--skip-existing)");
+                            return Ok(());
+                        }
+                    }
+                }
+            }
+            emit = Some((lo, hi));
+            // Positions of the slice in the sequence, widened by the context frames.
+            let first = all.iter().position(|f| f.0 >= lo).unwrap_or(0);
+            let last = all
+                .iter()
+                .rposition(|f| f.0 <= hi)
+                .unwrap_or(all.len().saturating_sub(1));
+            let from = first.saturating_sub((history + cli.warmup) as usize);
+            let to = (last + latency as usize).min(all.len() - 1);
+            if effect.graph.has_feedback() && first > 0 && (cli.warmup as usize) < first {
+                eprintln!(
+                    "fxrun: warning: this effect uses feedback (earlier output frames); a slice starting at frame {lo} differs from one whole run unless it warms up over the frames before it (--warmup N)"
+                );
+            }
+            Box::new(FilesSource::new(all[from..=to].to_vec(), load))
+        }
+    };
+    // Sink: numbered files or a y4m stream; the output texture format follows.
+    let (sink, output_format): (Box<dyn FrameSink>, _) = match &ospec {
+        SequenceSpec::Stdout => {
+            let (mut header, conversion) = match y4m_template.clone() {
+                Some(t) => t,
+                None => {
+                    let h =
+                        fxgraph::io::y4m::Y4mHeader::new(1, 1, fxgraph::io::y4m::Chroma::C420Jpeg);
+                    let c = fxgraph::io::y4m::YuvConversion::for_header(&h);
+                    (h, c)
+                }
+            };
+            header.fps = (header.fps.0.max(1) * cli.rate, header.fps.1.max(1));
+            if cli.rate > 1 || effect.graph.params.iter().any(|p| p.name == "field_order") {
+                header.interlace = fxgraph::io::y4m::Interlace::Progressive;
+            }
+            let sink = Y4mSink {
+                inner: Some(std::io::BufWriter::with_capacity(
+                    1 << 20,
+                    std::io::stdout(),
+                )),
+                writer: None,
+                template: header,
+                conversion,
+                name: "stdout".into(),
+            };
+            (
+                Box::new(sink) as Box<dyn FrameSink>,
+                fxgraph::script::types::Format::Rgba8Srgb,
+            )
+        }
+        SequenceSpec::Stdin => return Err(rejected("`-` as an output writes stdout; use -o -")),
+        spec => {
+            let pattern = OutputPattern::new(spec).map_err(RunError::from)?;
+            let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
+            let probe = pattern.path_for(0);
+            let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear)
+                .map_err(RunError::from)?;
+            let save = fxgraph::io::SaveOptions {
+                bit_depth: cli.bit_depth,
+                assume_linear: cli.assume_linear,
+            };
+            (
+                Box::new(FilesSink { pattern, save }) as Box<dyn FrameSink>,
+                format,
+            )
+        }
+    };
+    // An interlaced y4m input sets the field order of effects that take one.
+    if let Some((h, _)) = &y4m_template {
+        use fxgraph::io::y4m::Interlace;
+        let order = match h.interlace {
+            Interlace::TopFieldFirst => Some("tff"),
+            Interlace::BottomFieldFirst => Some("bff"),
+            _ => None,
+        };
+        let has_param = effect.graph.params.iter().any(|p| p.name == "field_order");
+        let user_set = cli.set.iter().any(|s| {
+            s.split('=')
+                .next()
+                .is_some_and(|k| k.ends_with("field_order"))
+        });
+        if let (Some(order), true, false) = (order, has_param, user_set) {
+            let mut set = cli.set.clone();
+            set.push(format!("field_order={order}"));
+            effect = Effect::compile(&cli.effects, &set)?;
+        }
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
+    }
+    let opts = SequenceOptions {
+        output_format,
+        assume_linear: cli.assume_linear,
+        rate: cli.rate,
+        fps,
+        emit,
+        queue: cli.queue.max(1),
+        timings: cli.timings,
+    };
+    let mut engine = Engine::new(
+        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
+            .map_err(RunError::from)?,
+    );
+    let tty = std::io::stderr().is_terminal();
+    let progress = |p: Progress| {
+        if !tty {
+            return;
+        }
+        let secs = p.elapsed.as_secs_f64().max(1e-6);
+        let rate = p.done as f64 / secs;
+        let line = match p.total {
+            Some(t) if t > 0 => {
+                let frac = p.done as f64 / t as f64;
+                let bar: String = (0..30)
+                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
+                    .collect();
+                let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
+                format!(
+                    "\r[{bar}] {}/{t} frames  {rate:.1} fps  ETA {:02}:{:02} ",
+                    p.done,
+                    (eta as u64) / 60,
+                    (eta as u64) % 60
+                )
+            }
+            _ => format!("\r{} frames  {rate:.1} fps ", p.done),
+        };
+        let _ = std::io::stderr().write_all(line.as_bytes());
+    };
+    let result = run_sequence(
+        &mut engine,
+        &mut effect,
+        source,
+        sink,
+        &opts,
+        None,
+        stop.clone(),
+        progress,
+    );
+    if tty {
+        eprintln!();
+    }
+    let report = result?;
+    if cli.timings {
+        let (d, g, e) = report.utilisation();
+        eprintln!(
+            "adapter: {}  frames: {} in, {} out  wall {:.1} ms  {:.2} fps",
+            report.adapter, report.frames_in, report.frames_out, report.wall_ms, report.fps
+        );
+        eprintln!(
+            "stage busy: decode {:.0} ms ({:.0}%), gpu {:.0} ms ({:.0}%), encode {:.0} ms ({:.0}%); the encoder waited {:.0} ms for the GPU  (frames held at most: {})",
+            report.decode_busy_ms, d * 100.0, report.gpu_busy_ms, g * 100.0, report.encode_busy_ms, e * 100.0, report.readback_wait_ms, report.frames_held_max
+        );
+        for p in &report.passes {
+            let gpu = p
+                .gpu_ms
+                .map(|g| format!("{g:.2}"))
+                .unwrap_or_else(|| "-".into());
+            eprintln!(
+                "  {:<32} {:>11} {:<10} gpu {:>8} ms",
+                p.path,
+                format!("{}x{}", p.width, p.height),
+                p.format,
+                gpu
+            );
+        }
+    }
+    if let Some(path) = &cli.timings_json {
+        write_json(path, &report)?;
+    }
+    if report.interrupted {
+        return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });
+    }
+    Ok(())
+}
