@@ -17,6 +17,7 @@ mod exr_io;
 pub mod sequence;
 pub mod srgb;
 pub mod y4m;
+pub mod yuv;
 
 use std::fmt;
 use std::fs::{self, File, OpenOptions};
