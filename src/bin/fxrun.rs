@@ -184,6 +184,17 @@ struct Cli {
     /// otherwise renders only the lights it has.
     #[arg(long, value_name = "RGB")]
     ambient: Option<String>,
+    /// Scene: shadow maps for the scene's lights: off, hard (one depth
+    /// comparison) or pcf (filtered, default).
+    #[arg(long, default_value = "pcf")]
+    shadows: String,
+    /// Scene: side of each shadow map in texels (256 to 8192, and the GPU's limit).
+    #[arg(long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_SIZE)]
+    shadow_size: u32,
+    /// Scene: shadow-map layers per frame (directional light 4, point 6, spot 1);
+    /// lights past it are unshadowed, with a warning.
+    #[arg(long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_LAYERS)]
+    shadow_layers: u32,
 }
 
 /// An error with its exit code, already reported or to be printed.

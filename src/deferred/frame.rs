@@ -252,6 +252,10 @@ pub(crate) fn encode(
     ctx.scoped(label, |device| {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+        // Shadow maps first: every technique's light passes read them.
+        draws += r
+            .shadow_maps
+            .encode(&mut encoder, &r.geometry, &mut names, timer);
         let light_pass = |encoder: &mut wgpu::CommandEncoder,
                           names: &mut Vec<String>,
                           specular_ops: wgpu::Operations<wgpu::Color>,

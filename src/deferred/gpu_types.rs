@@ -70,6 +70,14 @@ pub(crate) struct GpuLight {
     pub volume: u32,
     /// KHR_lights_punctual range (0: none).
     pub range: f32,
+    /// First shadow-map layer (`shadows.rs`); meaningful when `shadow_count > 0`.
+    pub shadow_first: u32,
+    /// Shadow-map layers of the light: 0 (no shadows; so a zeroed light has
+    /// none), 1 spot, 4 directional cascades, 6 point cube faces.
+    pub shadow_count: u32,
+    /// 1 hard, 2 PCF (`ShadowMode::filter_id`).
+    pub shadow_filter: u32,
+    pub _shadow_pad: u32,
 }
 
 pub(crate) const KIND_DIRECTIONAL: u32 = 1;
@@ -93,7 +101,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuFrame>(), 256);
         assert_eq!(std::mem::size_of::<GpuMaterialInfo>(), 16);
         assert_eq!(std::mem::size_of::<GpuInstance>(), 144);
-        assert_eq!(std::mem::size_of::<GpuLight>(), 80);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 96);
         assert_eq!(std::mem::size_of::<Vertex>(), 72);
     }
 }

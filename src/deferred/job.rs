@@ -54,6 +54,10 @@ pub struct SceneJob {
     /// An ambient light to add (linear RGB radiance); scenes otherwise render
     /// only the lights they have.
     pub ambient: Option<[f32; 3]>,
+    /// Shadow maps: filter (or off), map size, layers per frame.
+    pub shadows: super::shadows::ShadowMode,
+    pub shadow_size: u32,
+    pub shadow_layers: u32,
 }
 
 /// Timings of a scene job.
@@ -66,6 +70,9 @@ pub struct SceneReport {
     pub render_passes: Vec<(String, f64)>,
     pub triangles: usize,
     pub lights_visible: usize,
+    /// Shadow-map layers rendered and the bytes of the shadow-map texture.
+    pub shadow_layers: usize,
+    pub shadow_map_bytes: u64,
     /// One line per material (with `describe_materials`).
     pub materials: Vec<String>,
     pub pipelines: usize,
@@ -192,6 +199,9 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         &scene,
         &RendererOptions {
             variants: job.variants,
+            shadows: job.shadows,
+            shadow_size: job.shadow_size,
+            shadow_budget: job.shadow_layers,
             ..Default::default()
         },
     )
@@ -216,6 +226,8 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     report.render_passes = stats.pass_ms.clone();
     report.triangles = stats.triangles;
     report.lights_visible = stats.lights_visible;
+    report.shadow_layers = stats.shadow_layers;
+    report.shadow_map_bytes = stats.shadow_map_bytes;
     report.pipelines = stats.pipelines;
     report.shader_modules = stats.shader_modules;
     if job.describe_materials {

@@ -120,6 +120,8 @@ impl LightLists {
                 cone_radius: 0.0,
                 volume: VOLUME_FULLSCREEN,
                 range: l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
+                // shadow maps are assigned afterwards (shadows::plan)
+                ..bytemuck::Zeroable::zeroed()
             };
             let index = lists.gpu.len() as u32;
             match l.kind {

@@ -90,6 +90,12 @@ pub struct RenderStats {
     /// id, depth), forward 16 (it shades with depth alone, 4, and fills the
     /// three colour targets for the AUX images).
     pub gbuffer_bytes_per_pixel: u32,
+    /// Shadow-map layers rendered this frame (`RendererOptions::shadow_budget`
+    /// bounds them).
+    pub shadow_layers: usize,
+    /// Bytes of the shadow-map array texture (it grows to the most layers a
+    /// frame has needed).
+    pub shadow_map_bytes: u64,
 }
 
 /// The AUX images the renderer publishes to effects (`AUX.NAME`), with their

@@ -96,6 +96,10 @@ impl Layouts {
                 storage_entry(2),
                 storage_entry(3),
                 storage_entry(4),
+                // 8–10: shadow maps, sampler, layers
+                super::shadow_pass::g0_layout_entries()[0],
+                super::shadow_pass::g0_layout_entries()[1],
+                super::shadow_pass::g0_layout_entries()[2],
             ],
         });
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };

@@ -33,7 +33,12 @@ use super::lights::{LightLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
 use super::normal::NormalEncoding;
 use super::pipelines::{Layouts, Pipelines};
-use super::scene::{Camera, Light, Scene, SceneError};
+use super::scene::{Aabb, Camera, Light, Scene, SceneError};
+use super::shadow_pass::ShadowMaps;
+use super::shadows::ShadowFrame;
+pub use super::shadows::{
+    ShadowMode, DEFAULT_SHADOW_LAYERS, DEFAULT_SHADOW_SIZE, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE,
+};
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
@@ -72,6 +77,14 @@ pub struct RendererOptions {
     pub mipmaps: bool,
     /// How material features select shader code.
     pub variants: VariantMode,
+    /// Shadow maps for the scene's lights, and their filter (`shadows.rs`).
+    pub shadows: ShadowMode,
+    /// Side of each shadow map in texels ([`MIN_SHADOW_SIZE`]..=[`MAX_SHADOW_SIZE`]
+    /// and the device's limit).
+    pub shadow_size: u32,
+    /// Shadow-map layers per frame (a directional light takes 4, a point light
+    /// 6, a spot light 1); lights past it are unshadowed, with a warning.
+    pub shadow_budget: u32,
 }
 
 impl Default for RendererOptions {
@@ -80,6 +93,9 @@ impl Default for RendererOptions {
             normal_encoding: NormalEncoding::default(),
             mipmaps: true,
             variants: VariantMode::default(),
+            shadows: ShadowMode::default(),
+            shadow_size: DEFAULT_SHADOW_SIZE,
+            shadow_budget: DEFAULT_SHADOW_LAYERS,
         }
     }
 }
@@ -108,6 +124,9 @@ pub struct Renderer {
     name: String,
     lights: Vec<Light>,
     background: Vec3,
+    /// World bounds of the scene (the shadow casters' depth range).
+    bounds: Aabb,
+    pub(crate) shadow_maps: ShadowMaps,
     triangles: usize,
     pub(crate) materials: MaterialSet,
     pub(crate) geometry: Geometry,
@@ -216,6 +235,7 @@ impl Renderer {
         let (material_info_buffer, frame_buffer, layouts) = built;
         let volumes = LightVolumes::new(ctx)?;
         let (light_buffer, visible_buffer) = Self::light_buffers(device, 64, 64 * 6);
+        let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
         let g0 = Self::make_g0(
             device,
             &layouts.g0,
@@ -226,6 +246,7 @@ impl Renderer {
                 &light_buffer,
                 &visible_buffer,
             ],
+            &shadow_maps,
         );
         let triangles = scene.triangle_count();
         log::info!(
@@ -253,6 +274,8 @@ impl Renderer {
             name,
             lights: scene.lights.clone(),
             background: scene.background,
+            bounds: scene.bounds(),
+            shadow_maps,
             triangles,
             pipelines: Pipelines::new(opts.variants, opts.normal_encoding.shader_id()),
             materials,
@@ -336,18 +359,21 @@ impl Renderer {
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
         buffers: [&wgpu::Buffer; 5],
+        shadows: &ShadowMaps,
     ) -> wgpu::BindGroup {
+        let mut entries: Vec<_> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        entries.extend(shadows.g0_entries());
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("deferred group 0"),
             layout,
-            entries: &buffers
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
+            entries: &entries,
         })
     }
 
@@ -421,6 +447,29 @@ impl Renderer {
             &proj,
             aspect,
         );
+        let shadow_plan = super::shadows::plan(
+            &mut lists.gpu,
+            &ShadowFrame {
+                camera,
+                view,
+                aspect,
+                bounds: self.bounds,
+                mode: self.opts.shadows,
+                size: self.opts.shadow_size,
+                budget: self.opts.shadow_budget,
+            },
+        );
+        if shadow_plan.lights_lost != self.shadow_maps.last_lost && shadow_plan.lights_lost > 0 {
+            log::warn!(
+                "{}: {} light(s) have no shadows: they need {} more shadow-map layers than the budget of {} (raise it with --shadow-layers N, RendererOptions::shadow_budget)",
+                self.name,
+                shadow_plan.lights_lost,
+                shadow_plan.layers_lost,
+                self.opts.shadow_budget
+            );
+        }
+        self.shadow_maps.last_lost = shadow_plan.lights_lost;
+        let shadows_grown = self.shadow_maps.prepare(ctx, &shadow_plan)?;
         // The forward loop runs a constant number of lights (preprocessor and
         // override modes): the visible count rounded up to a power of two, padded
         // with a black light.
@@ -453,9 +502,9 @@ impl Renderer {
         };
         debug_assert_eq!(forward_range.start, 0);
         let light_bytes = (lists.gpu.len() * std::mem::size_of::<GpuLight>()) as u64;
-        if light_bytes > self.light_buffer.size()
-            || (visible.len() * 4) as u64 > self.visible_buffer.size()
-        {
+        let grow = light_bytes > self.light_buffer.size()
+            || (visible.len() * 4) as u64 > self.visible_buffer.size();
+        if grow {
             let (lb, vb) = Self::light_buffers(
                 &ctx.device,
                 lists.gpu.len().next_power_of_two(),
@@ -463,6 +512,8 @@ impl Renderer {
             );
             self.light_buffer = lb;
             self.visible_buffer = vb;
+        }
+        if grow || shadows_grown {
             self.g0 = Self::make_g0(
                 &ctx.device,
                 &self.layouts.g0,
@@ -473,6 +524,7 @@ impl Renderer {
                     &self.light_buffer,
                     &self.visible_buffer,
                 ],
+                &self.shadow_maps,
             );
         }
         let gpu_frame = GpuFrame {
@@ -524,6 +576,8 @@ impl Renderer {
                 // depth for shading + the three colour targets for the AUX images
                 Technique::Forward => GBUFFER_BYTES_COMPRESSED,
             },
+            shadow_layers: self.shadow_maps.used as usize,
+            shadow_map_bytes: self.shadow_maps.bytes(),
             ..Default::default()
         };
         let label = format!("deferred frame ({technique}, {width}x{height})");

@@ -59,6 +59,17 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
             Some(rgb)
         }
     };
+    let shadows = cli
+        .shadows
+        .parse()
+        .map_err(|e: String| rejected(format!("--shadows {}: {e}", cli.shadows)))?;
+    use fxgraph::deferred::renderer::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
+    if !(MIN_SHADOW_SIZE..=MAX_SHADOW_SIZE).contains(&cli.shadow_size) {
+        return Err(rejected(format!(
+            "--shadow-size {}: must be {MIN_SHADOW_SIZE} to {MAX_SHADOW_SIZE} texels",
+            cli.shadow_size
+        )));
+    }
     let default_chain = cli.effects.is_empty() && cli.output.is_some();
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
@@ -93,6 +104,9 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         variants,
         describe_materials: cli.describe_materials,
         ambient,
+        shadows,
+        shadow_size: cli.shadow_size,
+        shadow_layers: cli.shadow_layers,
     };
     let mut engine = Engine::new(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
@@ -130,6 +144,12 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
                 .unwrap_or_else(|| "-".into());
             outln!("  effect {:<26} gpu {:>8} ms", p.path, gpu);
         }
+        outln!(
+            "  shadows {}: {} layers, {:.1} MiB of shadow maps",
+            job.shadows,
+            report.shadow_layers,
+            report.shadow_map_bytes as f64 / (1u64 << 20) as f64
+        );
         outln!(
             "load {:.1} ms | render cpu {:.1} gpu {} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
             report.load_ms,

@@ -59,6 +59,12 @@ struct FxLight {
     volume: u32,
     // KHR_lights_punctual range (0: none): window clamp(1 - (d / range)^4, 0, 1)
     range: f32,
+    // shadow maps (shadow.wgsl): first layer, layer count (0: unshadowed) and
+    // filter (1 hard, 2 PCF)
+    shadow_first: u32,
+    shadow_count: u32,
+    shadow_filter: u32,
+    _shadow_pad: u32,
 }
 
 const FX_KIND_DIRECTIONAL: u32 = 1u;

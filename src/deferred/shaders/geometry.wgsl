@@ -184,7 +184,7 @@ fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> 
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
     for (var i = 0u; i < FX_LIGHT_COUNT; i++) {
-        let ls = fx_light_sample(fx_lights[fx_visible[i]], p);
+        let ls = fx_light_sample_shadowed(fx_lights[fx_visible[i]], p, s.normal);
         // lights past the visible ones pad the constant loop: not shaded
         if ls.lit && i < fx_frame.light_count {
             let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));

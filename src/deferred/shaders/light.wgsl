@@ -62,15 +62,16 @@ fn fx_fs_light(in: FxLightVsOut) -> FxLightOut {
         return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
     }
     let p = fx_view_position(in.pos.xy, depth);
-    let ls = fx_light_sample(fx_lights[in.light], p);
+    let g = textureLoad(fx_t_normal, c, 0);
+    let n = fx_decode_normal(g.xy);
+    let ls = fx_light_sample_shadowed(fx_lights[in.light], p, n);
     if !ls.lit {
         return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
     }
-    let g = textureLoad(fx_t_normal, c, 0);
     let sp = textureLoad(fx_t_specular, c, 0);
     let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
     let model = u32(round(sp.a * 255.0));
-    let li = LightingInput(fx_decode_normal(g.xy), fx_safe_normalize(-p), ls.dir, ls.light, sp.rgb, g.z);
+    let li = LightingInput(n, fx_safe_normalize(-p), ls.dir, ls.light, sp.rgb, g.z);
     let lo = fx_lighting_model(model, material, li);
     return FxLightOut(vec4<f32>(lo.diffuse, 0.0), vec4<f32>(lo.specular, 0.0));
 }
