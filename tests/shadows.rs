@@ -115,6 +115,24 @@ fn render(
     (read_rgba_f32(ctx, &out.scene).unwrap(), stats)
 }
 
+/// Writes `pixels` to tests/output/shadows_NAME.png for review.
+fn save_review(name: &str, pixels: &[[f32; 4]]) {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
+    std::fs::create_dir_all(&dir).unwrap();
+    let data: Vec<f32> = pixels
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2], 1.0])
+        .collect();
+    fxgraph::io::save_image(
+        &dir.join(format!("shadows_{}.png", name.replace(' ', "_"))),
+        W,
+        H,
+        &fxgraph::io::Pixels::F32(data),
+        &Default::default(),
+    )
+    .unwrap();
+}
+
 /// Entry and exit distances of the ray `o + t d` through the box, if it hits.
 fn hit_box(o: Vec3, d: Vec3) -> Option<(f32, f32)> {
     let (lo, hi) = (BOX_CENTER - BOX_HALF, BOX_CENTER + BOX_HALF);
@@ -178,6 +196,7 @@ fn oracle(light: &Light) -> Vec<Option<Ground>> {
 /// 0.1 × the lit value, lit ones within 3 % of it; at least 95 % must agree.
 /// Returns (agreeing fraction, shadowed pixels, lit pixels).
 fn check_against_oracle(name: &str, pixels: &[[f32; 4]], light: &Light) -> (f64, usize, usize) {
+    save_review(name, pixels);
     let truth = oracle(light);
     let max_lit = truth.iter().flatten().map(|g| g.lit).fold(0.0f32, f32::max);
     let at = |x: i32, y: i32| -> Option<Ground> {
