@@ -447,7 +447,10 @@ impl Renderer {
             &proj,
             aspect,
         );
-        let shadow_plan = super::shadows::plan(
+        // Shadow maps: which lights get layers (written into their GpuLight).
+        let shadows_grown = self.shadow_maps.prepare(
+            ctx,
+            &self.name,
             &mut lists.gpu,
             &ShadowFrame {
                 camera,
@@ -458,18 +461,7 @@ impl Renderer {
                 size: self.opts.shadow_size,
                 budget: self.opts.shadow_budget,
             },
-        );
-        if shadow_plan.lights_lost != self.shadow_maps.last_lost && shadow_plan.lights_lost > 0 {
-            log::warn!(
-                "{}: {} light(s) have no shadows: they need {} more shadow-map layers than the budget of {} (raise it with --shadow-layers N, RendererOptions::shadow_budget)",
-                self.name,
-                shadow_plan.lights_lost,
-                shadow_plan.layers_lost,
-                self.opts.shadow_budget
-            );
-        }
-        self.shadow_maps.last_lost = shadow_plan.lights_lost;
-        let shadows_grown = self.shadow_maps.prepare(ctx, &shadow_plan)?;
+        )?;
         // The forward loop runs a constant number of lights (preprocessor and
         // override modes): the visible count rounded up to a power of two, padded
         // with a black light.

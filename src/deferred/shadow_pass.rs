@@ -8,9 +8,9 @@
 //! MASK materials cast as if opaque, and transparent (BLEND) ones cast nothing.
 //! Faces are not culled: open meshes (planes, leaves) cast from both sides.
 
-use super::gpu_types::Vertex;
+use super::gpu_types::{GpuLight, Vertex};
 use super::renderer::{RenderError, RendererOptions};
-use super::shadows::{GpuShadowLayer, ShadowMode, ShadowPlan, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
+use super::shadows::{GpuShadowLayer, ShadowFrame, ShadowMode, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
 use super::upload::Geometry;
 use crate::gpu::context::{GpuContext, GpuTimer};
 
@@ -109,7 +109,7 @@ pub(crate) struct ShadowMaps {
     /// Layers rendered by the current frame.
     pub used: u32,
     /// Lights that lost their shadows last frame (warn when it changes).
-    pub last_lost: usize,
+    last_lost: usize,
 }
 
 fn array_texture(
@@ -271,9 +271,28 @@ impl ShadowMaps {
         ]
     }
 
-    /// Uploads the frame's layers, growing the texture if they do not fit.
-    /// Returns whether the texture was replaced (group 0 must be rebuilt).
-    pub fn prepare(&mut self, ctx: &GpuContext, plan: &ShadowPlan) -> Result<bool, RenderError> {
+    /// Plans the frame's shadows ([`super::shadows::plan`]: assigns layers to
+    /// `lights`), warns when lights lose their shadows to the budget, and uploads
+    /// the layers, growing the texture if they do not fit. Returns whether the
+    /// texture was replaced (group 0 must be rebuilt).
+    pub fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &str,
+        lights: &mut [GpuLight],
+        frame: &ShadowFrame,
+    ) -> Result<bool, RenderError> {
+        let plan = super::shadows::plan(lights, frame);
+        // once, and again only when the count changes (not every frame)
+        if plan.lights_lost != self.last_lost && plan.lights_lost > 0 {
+            log::warn!(
+                "{scene}: {} light(s) have no shadows: they need {} shadow-map layers more than the budget of {} (raise it with --shadow-layers N, RendererOptions::shadow_budget)",
+                plan.lights_lost,
+                plan.layers_lost,
+                self.budget
+            );
+        }
+        self.last_lost = plan.lights_lost;
         let needed = plan.layers.len() as u32;
         debug_assert!(needed <= self.budget);
         self.used = needed;
