@@ -434,3 +434,22 @@ fn cli_rejects_bad_shadow_options() {
         assert!(err.contains(args[0]), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn timed_frames_time_the_shadow_maps_as_one_pass() {
+    let Some(engine) = gpu() else { return };
+    let ctx = &engine.ctx;
+    let Some(timer) = fxgraph::gpu::context::GpuTimer::new(ctx, 16) else {
+        eprintln!("skipping: the adapter has no timestamp queries");
+        return;
+    };
+    // six layers: the middle passes write no timestamps (wgpu refuses a pass
+    // with an empty timestamp set), the first and last bracket them all
+    let mut r = Renderer::new(ctx, &scene(point()), &options(ShadowMode::Pcf)).unwrap();
+    let (_, stats) = r
+        .render(ctx, &camera(), W, H, Technique::Deferred, Some(&timer))
+        .unwrap();
+    let names: Vec<&str> = stats.pass_ms.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names[0], "shadow maps (6 layers)", "{names:?}");
+    assert!(stats.pass_ms[0].1 >= 0.0);
+}

@@ -343,16 +343,18 @@ impl ShadowMaps {
         let mut draws = 0;
         for i in 0..self.used {
             let last = i + 1 == self.used;
-            let timestamp_writes =
-                timer
-                    .and_then(|t| t.pass_writes(timed))
-                    .map(|w| wgpu::RenderPassTimestampWrites {
-                        beginning_of_pass_write_index: w
-                            .beginning_of_pass_write_index
-                            .filter(|_| i == 0),
-                        end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| last),
-                        ..w
-                    });
+            // the first pass writes the start, the last the end (wgpu refuses a
+            // pass with neither)
+            let timestamp_writes = timer
+                .and_then(|t| t.pass_writes(timed))
+                .filter(|_| i == 0 || last)
+                .map(|w| wgpu::RenderPassTimestampWrites {
+                    beginning_of_pass_write_index: w
+                        .beginning_of_pass_write_index
+                        .filter(|_| i == 0),
+                    end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| last),
+                    ..w
+                });
             let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(&format!("shadow map layer {i}")),
                 color_attachments: &[],
