@@ -299,13 +299,19 @@ impl ShadowMaps {
         let mut grown = false;
         let size = self.size;
         if needed as usize > self.layer_views.len() {
-            let (view, layer_views) = ctx.scoped("deferred shadow maps", |device| {
-                array_texture(device, self.size, needed)
-            })?;
-            log::debug!(
-                "shadow maps: {needed} layers of {size}x{size} ({:.1} MiB)",
-                (u64::from(self.size).pow(2) * 4 * u64::from(needed)) as f64 / (1 << 20) as f64
-            );
+            let mib = (u64::from(size).pow(2) * 4 * u64::from(needed)) as f64 / (1 << 20) as f64;
+            // Too large for the device's memory is the options' fault: an input
+            // error that names them, not a GPU failure.
+            let (view, layer_views) = ctx
+                .scoped("deferred shadow maps", |device| {
+                    array_texture(device, size, needed)
+                })
+                .map_err(|e| {
+                    RenderError::Invalid(format!(
+                        "the shadow maps ({needed} layers of {size}x{size}, {mib:.0} MiB) do not fit on this GPU: lower --shadow-size or --shadow-layers ({e})"
+                    ))
+                })?;
+            log::debug!("shadow maps: {needed} layers of {size}x{size} ({mib:.1} MiB)");
             self.view = view;
             self.layer_views = layer_views;
             grown = true;
