@@ -286,9 +286,9 @@ impl ShadowMaps {
         // once, and again only when the count changes (not every frame)
         if plan.lights_lost != self.last_lost && plan.lights_lost > 0 {
             log::warn!(
-                "{scene}: {} light(s) have no shadows: they need {} shadow-map layers more than the budget of {} (raise it with --shadow-layers N, RendererOptions::shadow_budget)",
+                "{scene}: {} light(s) have no shadows: the frame needs {} shadow-map layers, the budget is {} (raise it with --shadow-layers N, RendererOptions::shadow_budget)",
                 plan.lights_lost,
-                plan.layers_lost,
+                plan.layers.len() as u32 + plan.layers_lost,
                 self.budget
             );
         }
