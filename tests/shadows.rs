@@ -155,6 +155,12 @@ struct Ground {
 /// Per pixel: the ground point under the pixel centre (None: the box or nothing)
 /// with its analytic lit radiance and whether the box blocks the light.
 fn oracle(light: &Light) -> Vec<Option<Ground>> {
+    oracle_wrap(light, 0.0)
+}
+
+/// [`oracle`] for the user lighting shader `wrap_lambert` (docs/examples):
+/// `E · max((n·l + w) / (1 + w)², 0) / π`; `w = 0` is Lambert.
+fn oracle_wrap(light: &Light, wrap: f32) -> Vec<Option<Ground>> {
     let cam = camera();
     let inv = (cam.proj(W as f32 / H as f32) * cam.view()).inverse();
     let mut out = Vec::with_capacity((W * H) as usize);
@@ -179,7 +185,7 @@ fn oracle(light: &Light) -> Vec<Option<Ground>> {
                 }));
                 continue;
             };
-            let lit = e.x * l.y.max(0.0) / PI;
+            let lit = e.x * ((l.y + wrap) / ((1.0 + wrap) * (1.0 + wrap))).max(0.0) / PI;
             let reach = match light.kind {
                 fxgraph::deferred::LightKind::Directional => f32::INFINITY,
                 _ => (light.position - p).length(),
@@ -196,8 +202,11 @@ fn oracle(light: &Light) -> Vec<Option<Ground>> {
 /// 0.1 × the lit value, lit ones within 3 % of it; at least 95 % must agree.
 /// Returns (agreeing fraction, shadowed pixels, lit pixels).
 fn check_against_oracle(name: &str, pixels: &[[f32; 4]], light: &Light) -> (f64, usize, usize) {
+    check_against(name, pixels, &oracle(light))
+}
+
+fn check_against(name: &str, pixels: &[[f32; 4]], truth: &[Option<Ground>]) -> (f64, usize, usize) {
     save_review(name, pixels);
-    let truth = oracle(light);
     let max_lit = truth.iter().flatten().map(|g| g.lit).fold(0.0f32, f32::max);
     let at = |x: i32, y: i32| -> Option<Ground> {
         if x < 0 || y < 0 || x >= W as i32 || y >= H as i32 {
@@ -452,4 +461,33 @@ fn timed_frames_time_the_shadow_maps_as_one_pass() {
     let names: Vec<&str> = stats.pass_ms.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names[0], "shadow maps (6 layers)", "{names:?}");
     assert!(stats.pass_ms[0].1 >= 0.0);
+}
+
+#[test]
+fn a_user_lighting_shader_is_shadowed_too() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("wrap_lambert.wgsl"),
+        include_str!("../docs/examples/wrap_lambert.wgsl"),
+    )
+    .unwrap();
+    let text = "MATERIAL.wrapped = { SURFACE = SHADER.standard { base_color = (1, 1, 1, 1) } LIGHTING = SHADER.wrap_lambert { wrap = 0.3 } }\n";
+    let file = fxgraph::deferred::material::script::load_materials(
+        "wrapped.fx",
+        text,
+        Some(dir.path()),
+        0,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let light = directional();
+    let mut s = scene(light.clone());
+    s.materials = file.materials;
+    let truth = oracle_wrap(&light, 0.3);
+    for t in Technique::ALL {
+        let (pixels, _) = render(&s, &options(ShadowMode::Pcf), t);
+        check_against(&format!("wrap_lambert {t}"), &pixels, &truth);
+    }
 }
