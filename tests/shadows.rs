@@ -491,3 +491,90 @@ fn a_user_lighting_shader_is_shadowed_too() {
         check_against(&format!("wrap_lambert {t}"), &pixels, &truth);
     }
 }
+
+/// The shadow benchmark (not a test): frame times of a scene with shadows off,
+/// hard and PCF, median of 5 frames after a warm-up, GPU pass times when the
+/// adapter has timestamps, else wall time:
+/// `cargo test --test shadows -- --ignored shadow_benchmark --nocapture`.
+/// Environment: FX_SHADOW_BENCH_SCENE (default the corpus Cornell box),
+/// FX_SHADOW_BENCH_SIZE=WxH (default 1920x1080), FX_SHADOW_BENCH_TECHNIQUE.
+#[test]
+#[ignore]
+fn shadow_benchmark() {
+    let Some(engine) = gpu() else { return };
+    let ctx = &engine.ctx;
+    let path = std::env::var("FX_SHADOW_BENCH_SCENE").unwrap_or_else(|_| {
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared/corpus/gltf/CornellBox.glb"
+        )
+        .into()
+    });
+    let (w, h) = std::env::var("FX_SHADOW_BENCH_SIZE")
+        .ok()
+        .and_then(|s| {
+            let (w, h) = s.split_once('x')?;
+            Some((w.parse().ok()?, h.parse().ok()?))
+        })
+        .unwrap_or((1920, 1080));
+    let technique: Technique = std::env::var("FX_SHADOW_BENCH_TECHNIQUE")
+        .map(|t| t.parse().unwrap())
+        .unwrap_or(Technique::Deferred);
+    let mut s = Scene::load(&path).unwrap();
+    s.ensure_lights();
+    let cam = s.default_camera();
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let timer = fxgraph::gpu::context::GpuTimer::new(ctx, 32);
+    println!(
+        "{path} {w}x{h} {technique}, adapter {}, {} lights, median of 5 frames ({}):",
+        ctx.info.name,
+        s.lights.len(),
+        if timer.is_some() {
+            "GPU timestamps; wall = render() incl. the timestamp read-back"
+        } else {
+            "wall"
+        }
+    );
+    for mode in ShadowMode::ALL {
+        let opts = RendererOptions {
+            shadows: mode,
+            ..Default::default()
+        };
+        let mut r = Renderer::new(ctx, &s, &opts).unwrap();
+        let (mut gpu_ms, mut shadow_ms, mut wall_ms) = (Vec::new(), Vec::new(), Vec::new());
+        let mut layers = 0;
+        for frame in 0..6 {
+            let t = std::time::Instant::now();
+            let (out, stats) = r
+                .render(ctx, &cam, w, h, technique, timer.as_ref())
+                .unwrap();
+            if timer.is_none() {
+                read_rgba_f32(ctx, &out.scene).unwrap();
+            }
+            let wall = t.elapsed().as_secs_f64() * 1e3;
+            if frame == 0 {
+                continue;
+            }
+            layers = stats.shadow_layers;
+            wall_ms.push(wall);
+            gpu_ms.push(stats.gpu_ms.unwrap_or(f64::NAN));
+            shadow_ms.push(
+                stats
+                    .pass_ms
+                    .iter()
+                    .find(|(n, _)| n.starts_with("shadow maps"))
+                    .map_or(0.0, |p| p.1),
+            );
+        }
+        println!(
+            "  shadows {:<4}: gpu {:>8.1} ms (shadow maps {:>6.1} ms, {layers} layers)  wall {:>8.1} ms",
+            mode.name(),
+            median(gpu_ms),
+            median(shadow_ms),
+            median(wall_ms)
+        );
+    }
+}
