@@ -49,6 +49,10 @@ pub struct SceneJob {
     pub material_map: Vec<(String, String)>,
     /// How material features select shader code.
     pub variants: super::material::VariantMode,
+    /// How the light passes pick each pixel's lights.
+    pub light_culling: super::renderer::LightCulling,
+    /// Fog applied in the lighting template (no post pass).
+    pub fog: Option<super::fog::Fog>,
     /// Print each material, its shaders and variant, and the pipelines compiled.
     pub describe_materials: bool,
     /// An ambient light to add (linear RGB radiance); scenes otherwise render
@@ -66,6 +70,9 @@ pub struct SceneReport {
     pub render_passes: Vec<(String, f64)>,
     pub triangles: usize,
     pub lights_visible: usize,
+    /// Light × cluster entries and their upload bytes (clustered culling).
+    pub cluster_entries: usize,
+    pub cluster_bytes: u64,
     /// One line per material (with `describe_materials`).
     pub materials: Vec<String>,
     pub pipelines: usize,
@@ -192,10 +199,12 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         &scene,
         &RendererOptions {
             variants: job.variants,
+            light_culling: job.light_culling,
             ..Default::default()
         },
     )
     .map_err(|e| render_error(&job.scene, e))?;
+    renderer.set_fog(job.fog);
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {
@@ -216,6 +225,8 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     report.render_passes = stats.pass_ms.clone();
     report.triangles = stats.triangles;
     report.lights_visible = stats.lights_visible;
+    report.cluster_entries = stats.cluster_entries;
+    report.cluster_bytes = stats.cluster_bytes;
     report.pipelines = stats.pipelines;
     report.shader_modules = stats.shader_modules;
     if job.describe_materials {

@@ -27,6 +27,7 @@
 //! surface shader again and reads the light buffers; [`Technique::Forward`] runs
 //! the surface shader and every visible light's lighting shader per fragment.
 
+use super::clusters;
 use super::frame::{self, FrameLists};
 use super::gpu_types::*;
 use super::lights::{LightLists, LightVolumes};
@@ -42,6 +43,7 @@ use std::ops::Range;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
+pub use super::clusters::LightCulling;
 pub use super::output::{GBufferTextures, RenderOutput, RenderStats};
 pub use super::targets::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
 pub use super::technique::Technique;
@@ -72,6 +74,8 @@ pub struct RendererOptions {
     pub mipmaps: bool,
     /// How material features select shader code.
     pub variants: VariantMode,
+    /// How the light passes pick the lights of a pixel.
+    pub light_culling: LightCulling,
 }
 
 impl Default for RendererOptions {
@@ -80,6 +84,7 @@ impl Default for RendererOptions {
             normal_encoding: NormalEncoding::default(),
             mipmaps: true,
             variants: VariantMode::default(),
+            light_culling: LightCulling::default(),
         }
     }
 }
@@ -108,6 +113,12 @@ pub struct Renderer {
     name: String,
     lights: Vec<Light>,
     background: Vec3,
+    /// The fog of the template (none by default).
+    fog: Option<super::fog::Fog>,
+    /// The background of the last frame (fogged).
+    pub(crate) frame_background: Vec3,
+    /// World-space bounds of the geometry: the cluster slices span its depth.
+    bounds: super::scene::Aabb,
     triangles: usize,
     pub(crate) materials: MaterialSet,
     pub(crate) geometry: Geometry,
@@ -117,6 +128,8 @@ pub struct Renderer {
     material_info_buffer: wgpu::Buffer,
     light_buffer: wgpu::Buffer,
     visible_buffer: wgpu::Buffer,
+    cluster_ranges_buffer: wgpu::Buffer,
+    cluster_lights_buffer: wgpu::Buffer,
     pub(crate) layouts: Layouts,
     pub(crate) g0: wgpu::BindGroup,
     pub(crate) pipelines: Pipelines,
@@ -139,6 +152,26 @@ fn one_texel(
             label: Some(&format!("{label} view")),
             ..Default::default()
         }))
+}
+
+/// Lights of zero, negative or non-finite intensity are ignored, not an error
+/// (glTF files and generators produce them, e.g. a light animated to off): one
+/// warning names how many.
+fn warn_dark_lights(scene: &str, lights: &[Light]) {
+    let dark: Vec<&str> = lights
+        .iter()
+        .filter(|l| {
+            let c = l.color * l.intensity;
+            !(c.is_finite() && c.max_element() > 0.0)
+        })
+        .map(|l| l.name.as_str())
+        .collect();
+    if let Some(first) = dark.first() {
+        log::warn!(
+            "{scene}: {} light(s) with zero, negative or non-finite intensity ignored (first: `{first}`)",
+            dark.len()
+        );
+    }
 }
 
 impl Renderer {
@@ -216,6 +249,8 @@ impl Renderer {
         let (material_info_buffer, frame_buffer, layouts) = built;
         let volumes = LightVolumes::new(ctx)?;
         let (light_buffer, visible_buffer) = Self::light_buffers(device, 64, 64 * 6);
+        let cluster_ranges_buffer = Self::storage(device, "deferred cluster ranges", 1 << 16);
+        let cluster_lights_buffer = Self::storage(device, "deferred cluster lights", 1 << 16);
         let g0 = Self::make_g0(
             device,
             &layouts.g0,
@@ -225,6 +260,8 @@ impl Renderer {
                 &geometry.instance_buffer,
                 &light_buffer,
                 &visible_buffer,
+                &cluster_ranges_buffer,
+                &cluster_lights_buffer,
             ],
         );
         let triangles = scene.triangle_count();
@@ -247,12 +284,16 @@ impl Renderer {
             );
         }
         let aux_formats = super::output::published_aux(depth_renderable);
+        warn_dark_lights(&name, &scene.lights);
         Ok(Renderer {
             aux_formats,
             opts: opts.clone(),
             name,
             lights: scene.lights.clone(),
             background: scene.background,
+            fog: None,
+            frame_background: scene.background,
+            bounds: scene.bounds(),
             triangles,
             pipelines: Pipelines::new(opts.variants, opts.normal_encoding.shader_id()),
             materials,
@@ -263,6 +304,8 @@ impl Renderer {
             material_info_buffer,
             light_buffer,
             visible_buffer,
+            cluster_ranges_buffer,
+            cluster_lights_buffer,
             layouts,
             g0,
             dummy_light,
@@ -278,7 +321,13 @@ impl Renderer {
 
     /// Replaces the lights without uploading the scene again.
     pub fn set_lights(&mut self, lights: Vec<Light>) {
+        warn_dark_lights(&self.name, &lights);
         self.lights = lights;
+    }
+
+    /// Fog applied by the lighting template (`None`: no fog).
+    pub fn set_fog(&mut self, fog: Option<super::fog::Fog>) {
+        self.fog = fog;
     }
 
     /// Linear colour of pixels without geometry.
@@ -332,10 +381,19 @@ impl Renderer {
         (light_buffer, visible_buffer)
     }
 
+    fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes.max(16),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
     fn make_g0(
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
-        buffers: [&wgpu::Buffer; 5],
+        buffers: [&wgpu::Buffer; 7],
     ) -> wgpu::BindGroup {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("deferred group 0"),
@@ -423,9 +481,13 @@ impl Renderer {
         );
         // The forward loop runs a constant number of lights (preprocessor and
         // override modes): the visible count rounded up to a power of two, padded
-        // with a black light.
+        // with a black light. With cluster lists it is not used: bound 1.
+        let culling = self.opts.light_culling;
         let visible_count = lists.forward.len() as u32;
-        let loop_count = visible_count.max(1).next_power_of_two();
+        let loop_count = match culling {
+            LightCulling::Volumes => visible_count.max(1).next_power_of_two(),
+            LightCulling::Clustered | LightCulling::None => 1,
+        };
         let black = lists.gpu.len() as u32;
         lists.gpu.push(GpuLight {
             kind: KIND_DIRECTIONAL,
@@ -433,7 +495,25 @@ impl Renderer {
             ..bytemuck::Zeroable::zeroed()
         });
         let mut forward = lists.forward.clone();
-        forward.resize(loop_count as usize, black);
+        forward.resize((loop_count as usize).max(forward.len()), black);
+        let clusters = match culling {
+            LightCulling::Volumes => None,
+            LightCulling::Clustered | LightCulling::None => {
+                let (tile, slices) = match culling {
+                    LightCulling::Clustered => (clusters::TILE_PX, clusters::SLICES),
+                    _ => (0, 1),
+                };
+                // Slices span the geometry's depth (within near..far), not the
+                // whole frustum: no pixel lies outside it.
+                let (near, far) =
+                    clusters::depth_range(&self.bounds, &view, camera.near, camera.far);
+                let grid = clusters::ClusterGrid::new(width, height, near, far, tile, slices);
+                Some(
+                    clusters::build(grid, &proj, width, height, &lists.globals, &lists.locals)
+                        .map_err(|e| RenderError::Invalid(e.to_string()))?,
+                )
+            }
+        };
 
         // Upload per-frame data.
         let mut visible: Vec<u32> = Vec::new();
@@ -450,9 +530,14 @@ impl Renderer {
             cone_out: range(&lists.cone_out),
             cone_in: range(&lists.cone_in),
             forward_lights: loop_count,
+            clustered: clusters.is_some(),
         };
         debug_assert_eq!(forward_range.start, 0);
         let light_bytes = (lists.gpu.len() * std::mem::size_of::<GpuLight>()) as u64;
+        let (range_bytes, index_bytes) = clusters.as_ref().map_or((0, 0), |c| {
+            (c.ranges.len() as u64 * 8, c.indices.len() as u64 * 4)
+        });
+        let mut rebind = false;
         if light_bytes > self.light_buffer.size()
             || (visible.len() * 4) as u64 > self.visible_buffer.size()
         {
@@ -463,6 +548,25 @@ impl Renderer {
             );
             self.light_buffer = lb;
             self.visible_buffer = vb;
+            rebind = true;
+        }
+        if range_bytes > self.cluster_ranges_buffer.size() {
+            self.cluster_ranges_buffer = Self::storage(
+                &ctx.device,
+                "deferred cluster ranges",
+                range_bytes.next_power_of_two(),
+            );
+            rebind = true;
+        }
+        if index_bytes > self.cluster_lights_buffer.size() {
+            self.cluster_lights_buffer = Self::storage(
+                &ctx.device,
+                "deferred cluster lights",
+                index_bytes.next_power_of_two(),
+            );
+            rebind = true;
+        }
+        if rebind {
             self.g0 = Self::make_g0(
                 &ctx.device,
                 &self.layouts.g0,
@@ -472,9 +576,28 @@ impl Renderer {
                     &self.geometry.instance_buffer,
                     &self.light_buffer,
                     &self.visible_buffer,
+                    &self.cluster_ranges_buffer,
+                    &self.cluster_lights_buffer,
                 ],
             );
         }
+        let (cluster, cluster_z, global_lights) = match &clusters {
+            Some(c) => (
+                [
+                    c.grid.tiles_x,
+                    c.grid.tiles_y,
+                    c.grid.slices,
+                    c.grid.tile_px,
+                ],
+                [c.grid.log_scale, c.grid.near, 0.0, 0.0],
+                c.globals,
+            ),
+            None => ([0; 4], [0.0; 4], 0),
+        };
+        self.frame_background = match &self.fog {
+            Some(f) => f.background(self.background, camera.far),
+            None => self.background,
+        };
         let gpu_frame = GpuFrame {
             view: mat_array(view),
             proj: mat_array(proj),
@@ -485,12 +608,15 @@ impl Renderer {
                 1.0 / width as f32,
                 1.0 / height as f32,
             ],
-            background: self.background.extend(1.0).into(),
+            background: self.frame_background.extend(1.0).into(),
             ambient: lists.ambient.extend(0.0).into(),
             near: camera.near,
             far: camera.far,
             light_count: visible_count,
-            _pad: 0,
+            global_lights,
+            cluster,
+            cluster_z,
+            fog: super::fog::Fog::gpu(self.fog.as_ref(), camera, &view),
         };
         ctx.queue
             .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&gpu_frame));
@@ -499,6 +625,20 @@ impl Renderer {
         if !visible.is_empty() {
             ctx.queue
                 .write_buffer(&self.visible_buffer, 0, bytemuck::cast_slice(&visible));
+        }
+        if let Some(c) = &clusters {
+            ctx.queue.write_buffer(
+                &self.cluster_ranges_buffer,
+                0,
+                bytemuck::cast_slice(&c.ranges),
+            );
+            if !c.indices.is_empty() {
+                ctx.queue.write_buffer(
+                    &self.cluster_lights_buffer,
+                    0,
+                    bytemuck::cast_slice(&c.indices),
+                );
+            }
         }
         // Pipelines depend only on the technique and the forward loop bound: the
         // batches are fixed when the renderer is made.
@@ -518,6 +658,13 @@ impl Renderer {
             lights_fullscreen: lists.fullscreen.len(),
             volumes_outside: lists.sphere_out.len() + lists.cone_out.len(),
             volumes_inside: lists.sphere_in.len() + lists.cone_in.len(),
+            lights_dark: lists.dark,
+            light_culling: culling,
+            cluster_entries: clusters
+                .as_ref()
+                .map_or(0, |c| c.indices.len() - c.globals as usize),
+            cluster_max: clusters.as_ref().map_or(0, |c| c.max_per_cluster as usize),
+            cluster_bytes: range_bytes + index_bytes,
             gbuffer_bytes_per_pixel: match technique {
                 Technique::Deferred => GBUFFER_BYTES_COMPRESSED,
                 Technique::LightPrepass => 13,

@@ -24,6 +24,25 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         .variants
         .parse()
         .map_err(|e: String| rejected(format!("--variants {}: {e}", cli.variants)))?;
+    let light_culling = cli
+        .light_culling
+        .parse()
+        .map_err(|e: String| rejected(format!("--light-culling {}: {e}", cli.light_culling)))?;
+    let fog = if cli.fog.is_empty() {
+        None
+    } else {
+        Some(
+            fxgraph::deferred::fog::Fog::parse(&cli.fog).map_err(|errors| {
+                rejected(
+                    errors
+                        .iter()
+                        .map(|e| format!("--{e}"))
+                        .collect::<Vec<_>>()
+                        .join("\nfxrun: error: "),
+                )
+            })?,
+        )
+    };
     let material_map = cli
         .material
         .iter()
@@ -91,6 +110,8 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         materials: cli.materials.clone(),
         material_map,
         variants,
+        light_culling,
+        fog,
         describe_materials: cli.describe_materials,
         ambient,
     };
@@ -112,11 +133,14 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     }
     if cli.timings {
         outln!(
-            "adapter: {}  scene {} ({} triangles, {} lights visible)  {}x{}",
+            "adapter: {}  scene {} ({} triangles, {} lights visible, {} culling: {} light-cluster entries, {:.1} KiB)  {}x{}",
             report.adapter,
             job.scene,
             report.triangles,
             report.lights_visible,
+            job.light_culling,
+            report.cluster_entries,
+            report.cluster_bytes as f64 / 1024.0,
             width,
             height
         );
