@@ -283,3 +283,28 @@ fn ten_thousand_lights() {
     assert!(stats.cluster_bytes > 0);
     assert!(mean(&img) > 0.01);
 }
+
+/// A scene without geometry is an input error (exit 1) naming the file.
+#[test]
+fn a_scene_without_geometry_is_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.gltf");
+    std::fs::write(
+        &path,
+        r#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[]}],"scene":0}"#,
+    )
+    .unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args(["--scene", path.to_str().unwrap(), "-o"])
+        .arg(dir.path().join("out.png"))
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("empty.gltf") && err.contains("no triangles"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out.png").exists());
+}

@@ -239,3 +239,46 @@ fn bad_fog_settings_are_rejected_together() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("density") && err.contains("colour"), "{err}");
 }
+
+/// The default chain's fog is scaled to the scene: the Cornell box of the
+/// corpus (modelled hundreds of units wide) keeps its colours instead of
+/// vanishing in a uniform fog, as it did with a fixed density.
+#[test]
+fn default_chain_fog_is_scaled_to_the_scene() {
+    if common::engine().is_none() {
+        return;
+    }
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/gltf/CornellBox.glb");
+    if !scene.exists() {
+        eprintln!("skipping: {} is absent", scene.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box.png");
+    let o = fxrun(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--size",
+        "160x96",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = load_image(&out, &Default::default()).unwrap();
+    let Pixels::U8(px) = img.pixels else {
+        panic!("expected 8-bit pixels")
+    };
+    // the red wall: some pixel much redder than green
+    let reddest = px
+        .chunks(4)
+        .map(|p| i32::from(p[0]) - i32::from(p[1]))
+        .max()
+        .unwrap();
+    let greenest = px
+        .chunks(4)
+        .map(|p| i32::from(p[1]) - i32::from(p[0]))
+        .max()
+        .unwrap();
+    eprintln!("default chain on the Cornell box: red - green up to {reddest}, green - red up to {greenest}");
+    assert!(reddest > 60 && greenest > 30, "the walls' colours are gone");
+}

@@ -16,9 +16,20 @@ use std::time::Instant;
 /// scene through SSAO, fog, glow, tone mapping and FXAA.
 pub const DEFAULT_CHAIN: [&str; 5] = ["ssao", "fog", "glow", "tonemap", "fxaa"];
 
-/// Settings of the default chain for the built-in scene's scale (a user's `--set`
-/// comes after them and wins).
-pub const DEFAULT_CHAIN_SETTINGS: [&str; 1] = ["fog.density=0.01"];
+/// Settings of the default chain for a scene (a user's `--set` comes after them
+/// and wins): the fog's density scaled to the scene, so that light crossing the
+/// scene's bounding-box diagonal keeps exp(-0.2) ≈ 82 % of its colour, whatever
+/// the scene's units (the built-in room: 0.01 per unit; a Cornell box modelled
+/// in millimetres would otherwise vanish in the fog).
+pub fn default_chain_settings(scene: &Scene) -> Vec<String> {
+    let b = scene.bounds();
+    let diagonal = if b.is_empty() {
+        20.0
+    } else {
+        (b.max - b.min).length().max(1e-6)
+    };
+    vec![format!("fog.density={}", 0.2 / diagonal)]
+}
 
 /// What to render and where to write it.
 #[derive(Debug, Clone)]
@@ -37,6 +48,9 @@ pub struct SceneJob {
     /// Effects to run (empty: write the rendered scene itself).
     pub effects: Vec<String>,
     pub overrides: Vec<String>,
+    /// `effects` is the default chain: its settings are scaled to the scene
+    /// ([`default_chain_settings`]) before `overrides`.
+    pub default_chain: bool,
     pub output: Option<PathBuf>,
     pub bit_depth: Option<u8>,
     /// Write every G-buffer image into this folder.
@@ -136,7 +150,9 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             ),
         }));
     }
-    let mut effect = if job.effects.is_empty() {
+    // (compiled before the scene loads, so that script errors come first; the
+    // default chain needs the scene's scale and is compiled after it)
+    let mut effect = if job.effects.is_empty() || job.default_chain {
         None
     } else {
         Some(Effect::compile(&job.effects, &job.overrides)?)
@@ -147,6 +163,11 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     };
     let t = Instant::now();
     let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
+    if job.default_chain && !job.effects.is_empty() {
+        let mut overrides = default_chain_settings(&scene);
+        overrides.extend(job.overrides.iter().cloned());
+        effect = Some(Effect::compile(&job.effects, &overrides)?);
+    }
     if let Some(path) = &job.materials {
         // A regular file of at most 1 MiB (`--materials /dev/zero` would never end).
         let bytes = crate::io::read_regular_file(path, crate::shader::include::MAX_INCLUDE_BYTES)

@@ -7,17 +7,23 @@
 //! 1. Geometry pass: opaque and MASK objects run their surface shader and fill the
 //!    G-buffer ([`super::targets`]); emission and ambient × occlusion start the
 //!    specular light buffer.
-//! 2. Light pass, additive into two `Rgba16Float` light buffers: every light's
-//!    lighting shader (chosen per pixel by the lighting-model id in the G-buffer);
-//!    directional lights as full-screen triangles, point lights as icosphere
-//!    volumes and spot lights as cone volumes, culled against the view frustum on
-//!    the CPU, all lights of a kind in one instanced draw. Volumes that hold the
-//!    camera (or the near plane) are drawn as back faces with depth test
-//!    `GREATER_EQUAL`, the others as front faces with `LESS`; a volume that holds
-//!    the camera and crosses the far plane is drawn full-screen.
-//! 3. Composition: `diffuse colour × diffuse light + specular light` into the HDR
-//!    scene texture (`Rgba16Float`, linear radiance); the background where nothing
-//!    was drawn.
+//! 2. Light pass into two `Rgba16Float` light buffers: every light's lighting
+//!    shader (chosen per pixel by the lighting-model id in the G-buffer). By
+//!    default ([`LightCulling::Clustered`], [`super::clusters`]) one full-screen
+//!    pass in which each pixel shades the directional lights and the point and
+//!    spot lights listed for its cluster (32-pixel tiles × 24 depth slices over
+//!    the geometry's depth range, binned on the CPU). [`LightCulling::Volumes`]
+//!    keeps seed 001's light volumes: directional lights as full-screen
+//!    triangles, point lights as icosphere volumes and spot lights as cone
+//!    volumes, culled against the view frustum on the CPU, all lights of a kind
+//!    in one instanced additive draw; volumes that hold the camera (or the near
+//!    plane) are drawn as back faces with depth test `GREATER_EQUAL`, the others
+//!    as front faces with `LESS`, and one that holds the camera and crosses the
+//!    far plane full-screen. [`LightCulling::None`] shades every light at every
+//!    pixel (the reference).
+//! 3. Composition: `diffuse colour × diffuse light + specular light`, through the
+//!    fog when there is one ([`super::fog`]), into the HDR scene texture
+//!    (`Rgba16Float`, linear radiance); the background where nothing was drawn.
 //! 4. Transparency: BLEND objects forward, sorted back to front, depth-tested (not
 //!    written) against the opaque depth, lit by every visible light.
 //! 5. Resolve: the G-buffer decoded into the `AUX.*` images.
@@ -25,7 +31,8 @@
 //! [`Technique::LightPrepass`] (seed 000) replaces 1–3 with a depth + normal +
 //! specular pass, the same light pass, and a second geometry pass that runs the
 //! surface shader again and reads the light buffers; [`Technique::Forward`] runs
-//! the surface shader and every visible light's lighting shader per fragment.
+//! the surface shader and the lighting shader of the lights of the fragment's
+//! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
 
 use super::clusters;
 use super::frame::{self, FrameLists};

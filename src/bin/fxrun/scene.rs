@@ -3,7 +3,7 @@
 use super::*;
 
 pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
-    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN, DEFAULT_CHAIN_SETTINGS};
+    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN};
     if cli.input.is_some() {
         return Err(rejected("--scene renders the input: give no -i"));
     }
@@ -84,14 +84,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     } else {
         cli.effects.clone()
     };
-    let mut overrides: Vec<String> = if default_chain {
-        DEFAULT_CHAIN_SETTINGS
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let mut overrides: Vec<String> = Vec::new();
     overrides.extend(cli.set.iter().cloned());
     let job = SceneJob {
         scene: cli.scene.clone().unwrap_or_else(|| "builtin:room".into()),
@@ -103,6 +96,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         technique,
         effects,
         overrides,
+        default_chain,
         output: cli.output.clone(),
         bit_depth: cli.bit_depth,
         gbuffer: cli.gbuffer.clone(),
