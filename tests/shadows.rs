@@ -578,3 +578,26 @@ fn shadow_benchmark() {
         );
     }
 }
+
+#[test]
+fn shadows_work_with_every_light_culling() {
+    if gpu().is_none() {
+        return;
+    }
+    use fxgraph::deferred::renderer::LightCulling;
+    let light = point();
+    for culling in [
+        LightCulling::Clustered,
+        LightCulling::Volumes,
+        LightCulling::None,
+    ] {
+        let opts = RendererOptions {
+            light_culling: culling,
+            ..options(ShadowMode::Pcf)
+        };
+        for t in [Technique::Deferred, Technique::Forward] {
+            let (pixels, _) = render(&scene(light.clone()), &opts, t);
+            check_against_oracle(&format!("point {culling:?} {t}"), &pixels, &light);
+        }
+    }
+}

@@ -176,6 +176,16 @@ struct Cli {
     /// default), override (pipeline constants) or branch (run-time branches).
     #[arg(long, default_value = "preprocess")]
     variants: String,
+    /// Scene: how the light passes pick each pixel's lights: clustered (tiles ×
+    /// depth slices, default), volumes (a sphere or cone per light) or none
+    /// (every light at every pixel).
+    #[arg(long, default_value = "clustered")]
+    light_culling: String,
+    /// Scene: fog in the lighting template, KEY=VALUE with the `fog` effect's
+    /// parameters (mode, distance, color, density, start, end, height_falloff,
+    /// fog_height), or `on` for its defaults. Repeatable.
+    #[arg(long, value_name = "KEY=VALUE")]
+    fog: Vec<String>,
     /// Scene: list each material (surface and lighting shader, variant features)
     /// and the pipelines compiled.
     #[arg(long)]

@@ -31,7 +31,13 @@ pub(crate) struct GpuFrame {
     pub near: f32,
     pub far: f32,
     pub light_count: u32,
-    pub _pad: u32,
+    /// Global lights at the start of the cluster light list.
+    pub global_lights: u32,
+    /// tiles x, tiles y, slices, tile size in pixels (0: no clustered lists).
+    pub cluster: [u32; 4],
+    /// slices / ln(far / near), near of the slices, 0, 0.
+    pub cluster_z: [f32; 4],
+    pub fog: super::fog::GpuFog,
 }
 
 /// `FxMaterialInfo`.
@@ -98,7 +104,7 @@ mod tests {
 
     #[test]
     fn struct_sizes_match_wgsl() {
-        assert_eq!(std::mem::size_of::<GpuFrame>(), 256);
+        assert_eq!(std::mem::size_of::<GpuFrame>(), 352);
         assert_eq!(std::mem::size_of::<GpuMaterialInfo>(), 16);
         assert_eq!(std::mem::size_of::<GpuInstance>(), 144);
         assert_eq!(std::mem::size_of::<GpuLight>(), 96);

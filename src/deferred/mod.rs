@@ -43,6 +43,8 @@
 pub mod bench;
 pub mod builtin;
 mod camera;
+mod clusters;
+pub mod fog;
 mod frame;
 pub mod gbuffer;
 mod gltf_lights_cameras;

@@ -75,6 +75,16 @@ pub struct RenderStats {
     pub volumes_outside: usize,
     /// Volumes drawn as back faces (camera inside).
     pub volumes_inside: usize,
+    /// Lights ignored because their intensity is zero, negative or not finite.
+    pub lights_dark: usize,
+    /// How the light passes picked each pixel's lights.
+    pub light_culling: super::clusters::LightCulling,
+    /// Light × cluster entries of the clustered lists (0 without them).
+    pub cluster_entries: usize,
+    /// The longest cluster list.
+    pub cluster_max: usize,
+    /// Bytes of the cluster lists uploaded for the frame.
+    pub cluster_bytes: u64,
     /// Pipelines and shader modules compiled so far by this renderer.
     pub pipelines: usize,
     pub shader_modules: usize,

@@ -3,7 +3,7 @@
 use super::*;
 
 pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
-    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN, DEFAULT_CHAIN_SETTINGS};
+    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN};
     if cli.input.is_some() {
         return Err(rejected("--scene renders the input: give no -i"));
     }
@@ -24,6 +24,25 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         .variants
         .parse()
         .map_err(|e: String| rejected(format!("--variants {}: {e}", cli.variants)))?;
+    let light_culling = cli
+        .light_culling
+        .parse()
+        .map_err(|e: String| rejected(format!("--light-culling {}: {e}", cli.light_culling)))?;
+    let fog = if cli.fog.is_empty() {
+        None
+    } else {
+        Some(
+            fxgraph::deferred::fog::Fog::parse(&cli.fog).map_err(|errors| {
+                rejected(
+                    errors
+                        .iter()
+                        .map(|e| format!("--{e}"))
+                        .collect::<Vec<_>>()
+                        .join("\nfxrun: error: "),
+                )
+            })?,
+        )
+    };
     let material_map = cli
         .material
         .iter()
@@ -76,14 +95,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     } else {
         cli.effects.clone()
     };
-    let mut overrides: Vec<String> = if default_chain {
-        DEFAULT_CHAIN_SETTINGS
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let mut overrides: Vec<String> = Vec::new();
     overrides.extend(cli.set.iter().cloned());
     let job = SceneJob {
         scene: cli.scene.clone().unwrap_or_else(|| "builtin:room".into()),
@@ -95,6 +107,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         technique,
         effects,
         overrides,
+        default_chain,
         output: cli.output.clone(),
         bit_depth: cli.bit_depth,
         gbuffer: cli.gbuffer.clone(),
@@ -102,6 +115,8 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         materials: cli.materials.clone(),
         material_map,
         variants,
+        light_culling,
+        fog,
         describe_materials: cli.describe_materials,
         ambient,
         shadows,
@@ -126,11 +141,14 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     }
     if cli.timings {
         outln!(
-            "adapter: {}  scene {} ({} triangles, {} lights visible)  {}x{}",
+            "adapter: {}  scene {} ({} triangles, {} lights visible, {} culling: {} light-cluster entries, {:.1} KiB)  {}x{}",
             report.adapter,
             job.scene,
             report.triangles,
             report.lights_visible,
+            job.light_culling,
+            report.cluster_entries,
+            report.cluster_bytes as f64 / 1024.0,
             width,
             height
         );
