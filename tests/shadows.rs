@@ -239,6 +239,14 @@ fn check_against(name: &str, pixels: &[[f32; 4]], truth: &[Option<Ground>]) -> (
                 worst_lit = worst_lit.max((v - g.lit).abs() / g.lit);
                 (v - g.lit).abs() <= 0.03 * g.lit
             };
+            if !ok && total - agree < 6 {
+                eprintln!(
+                    "{name}: ({x}, {y}) {} where the oracle says {} (lit value {})",
+                    v,
+                    if g.shadowed { "shadow" } else { "lit" },
+                    g.lit
+                );
+            }
             agree += usize::from(ok);
         }
     }
@@ -598,6 +606,22 @@ fn shadows_work_with_every_light_culling() {
         for t in [Technique::Deferred, Technique::Forward] {
             let (pixels, _) = render(&scene(light.clone()), &opts, t);
             check_against_oracle(&format!("point {culling:?} {t}"), &pixels, &light);
+        }
+    }
+}
+
+#[test]
+fn grazing_light_has_no_acne_and_a_long_shadow() {
+    if gpu().is_none() {
+        return;
+    }
+    // 71° from the ground's normal: the lit ground must stay at its analytic
+    // value (no self-shadowing), the long shadow where the oracle puts it
+    let light = Light::directional(Vec3::new(1.0, -0.35, 0.2), Vec3::ONE, PI);
+    for mode in [ShadowMode::Pcf, ShadowMode::Hard] {
+        for t in Technique::ALL {
+            let (pixels, _) = render(&scene(light.clone()), &options(mode), t);
+            check_against_oracle(&format!("grazing {mode} {t}"), &pixels, &light);
         }
     }
 }
