@@ -502,7 +502,7 @@ fn a_user_lighting_shader_is_shadowed_too() {
 
 /// The shadow benchmark (not a test): frame times of a scene with shadows off,
 /// hard and PCF, median of 5 frames after a warm-up, GPU pass times when the
-/// adapter has timestamps, else wall time:
+/// adapter has timestamps, else wall time; the modes are interleaved:
 /// `cargo test --test shadows -- --ignored shadow_benchmark --nocapture`.
 /// Environment: FX_SHADOW_BENCH_SCENE (default the corpus Cornell box),
 /// FX_SHADOW_BENCH_SIZE=WxH (default 1920x1080), FX_SHADOW_BENCH_TECHNIQUE.
@@ -546,15 +546,25 @@ fn shadow_benchmark() {
             "wall"
         }
     );
-    for mode in ShadowMode::ALL {
-        let opts = RendererOptions {
-            shadows: mode,
-            ..Default::default()
-        };
-        let mut r = Renderer::new(ctx, &s, &opts).unwrap();
-        let (mut gpu_ms, mut shadow_ms, mut wall_ms) = (Vec::new(), Vec::new(), Vec::new());
-        let mut layers = 0;
-        for frame in 0..6 {
+    // One renderer per mode, warmed up, then the modes interleaved frame by
+    // frame: load from other processes spreads over all three alike.
+    let mut renderers: Vec<Renderer> = ShadowMode::ALL
+        .iter()
+        .map(|&mode| {
+            let opts = RendererOptions {
+                shadows: mode,
+                ..Default::default()
+            };
+            let mut r = Renderer::new(ctx, &s, &opts).unwrap();
+            r.render(ctx, &cam, w, h, technique, timer.as_ref())
+                .unwrap();
+            r
+        })
+        .collect();
+    let mut samples = vec![(Vec::new(), Vec::new(), Vec::new(), Vec::new()); 3];
+    let mut layers = [0; 3];
+    for _round in 0..5 {
+        for (m, r) in renderers.iter_mut().enumerate() {
             let t = std::time::Instant::now();
             let (out, stats) = r
                 .render(ctx, &cam, w, h, technique, timer.as_ref())
@@ -563,25 +573,28 @@ fn shadow_benchmark() {
                 read_rgba_f32(ctx, &out.scene).unwrap();
             }
             let wall = t.elapsed().as_secs_f64() * 1e3;
-            if frame == 0 {
-                continue;
-            }
-            layers = stats.shadow_layers;
-            wall_ms.push(wall);
-            gpu_ms.push(stats.gpu_ms.unwrap_or(f64::NAN));
-            shadow_ms.push(
+            let pass = |prefix: &str| {
                 stats
                     .pass_ms
                     .iter()
-                    .find(|(n, _)| n.starts_with("shadow maps"))
-                    .map_or(0.0, |p| p.1),
-            );
+                    .find(|(n, _)| n.starts_with(prefix))
+                    .map_or(0.0, |p| p.1)
+            };
+            layers[m] = stats.shadow_layers;
+            samples[m].0.push(stats.gpu_ms.unwrap_or(f64::NAN));
+            samples[m].1.push(pass("shadow maps"));
+            samples[m].2.push(pass("lights"));
+            samples[m].3.push(wall);
         }
+    }
+    for (m, (gpu_ms, shadow_ms, light_ms, wall_ms)) in samples.into_iter().enumerate() {
         println!(
-            "  shadows {:<4}: gpu {:>8.1} ms (shadow maps {:>6.1} ms, {layers} layers)  wall {:>8.1} ms",
-            mode.name(),
+            "  shadows {:<4}: gpu {:>7.1} ms (shadow maps {:>6.1} ms for {} layers, light pass {:>6.1} ms)  wall {:>7.1} ms",
+            ShadowMode::ALL[m].name(),
             median(gpu_ms),
             median(shadow_ms),
+            layers[m],
+            median(light_ms),
             median(wall_ms)
         );
     }
