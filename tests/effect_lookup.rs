@@ -43,11 +43,7 @@ fn a_name_finds_the_file_in_the_current_folder() {
     std::fs::write(dir.path().join("sepia_film.fx"), SEPIA).unwrap();
     std::fs::write(dir.path().join("sepia_tone.wgsl"), SEPIA_SHADER).unwrap();
     let o = fxrun_in(dir.path(), &["sepia_film", "--check"]);
-    assert!(
-        o.status.success(),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let o = fxrun_in(dir.path(), &["sepia_film", "--describe"]);
     assert!(stdout(&o).contains("a user's sepia"), "{}", stdout(&o));
 }
@@ -59,14 +55,13 @@ fn effects_on_disk_override_the_built_ins() {
     assert!(builtin.status.success());
     assert!(!stdout(&builtin).contains("my own vignette"));
     std::fs::create_dir(dir.path().join("effects")).unwrap();
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("effects/vignette.fx"),
-    )
-    .unwrap()
-    .replace(
-        "DESCRIPTION = \"Vignette:",
-        "DESCRIPTION = \"my own vignette. Vignette:",
-    );
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("effects/vignette.fx"))
+            .unwrap()
+            .replace(
+                "DESCRIPTION = \"Vignette:",
+                "DESCRIPTION = \"my own vignette. Vignette:",
+            );
     std::fs::write(dir.path().join("effects/vignette.fx"), &text).unwrap();
     let o = fxrun_in(dir.path(), &["vignette", "--describe"]);
     assert!(stdout(&o).contains("my own vignette"), "{}", stdout(&o));
