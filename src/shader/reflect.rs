@@ -220,7 +220,6 @@ pub(crate) fn is_expression_invalid(c: &str) -> bool {
 
 /// Parse, validate and reflect preprocessed WGSL (`file` is its id in the source
 /// map, so error spans point into it).
-
 pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> {
     let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
         let mut d = Diagnostic::error(format!("WGSL: {}", e.message()));
