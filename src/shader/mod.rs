@@ -10,6 +10,7 @@ pub mod material;
 pub mod preprocess;
 pub mod reflect;
 pub mod rename;
+pub mod wgsl_names;
 
 pub use features::{convert_features, feature_flags_used, FeatureMode};
 pub use load::{load_plan_shaders, pass_parameters, LoadedShader, PassParamInfo};
