@@ -129,6 +129,7 @@ impl LightLists {
                 volume: VOLUME_FULLSCREEN,
                 range: l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
                 // shadow maps are assigned afterwards (shadows::plan)
+                casts_shadows: u32::from(l.casts_shadows),
                 ..bytemuck::Zeroable::zeroed()
             };
             let index = lists.gpu.len() as u32;

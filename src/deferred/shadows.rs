@@ -153,7 +153,7 @@ pub(crate) fn plan(lights: &mut [GpuLight], f: &ShadowFrame) -> ShadowPlan {
     let mut order: Vec<(usize, bool, f32)> = lights
         .iter()
         .enumerate()
-        .filter(|(_, l)| layers_of(l.kind) > 0)
+        .filter(|(_, l)| layers_of(l.kind) > 0 && l.casts_shadows != 0)
         .map(|(i, l)| {
             let peak = Vec3::from(l.color).max_element();
             let distance = Vec3::from(l.position).length().max(1e-3);

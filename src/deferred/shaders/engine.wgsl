@@ -90,7 +90,8 @@ struct FxLight {
     shadow_first: u32,
     shadow_count: u32,
     shadow_filter: u32,
-    _shadow_pad: u32,
+    // (the host's: whether the light may cast shadows)
+    casts_shadows: u32,
 }
 
 const FX_KIND_DIRECTIONAL: u32 = 1u;
