@@ -29,6 +29,7 @@ fn light(kind: u32, position: Vec3, direction: Vec3, intensity: f32) -> GpuLight
         cone_radius: 0.0,
         volume: VOLUME_FULLSCREEN,
         range: 0.0,
+        casts_shadows: 1,
         ..Zeroable::zeroed()
     }
 }
@@ -236,4 +237,26 @@ fn spot_and_point_maps_see_what_the_light_lights() {
         );
         assert!(p.layers[1 + face].perspective == 1);
     }
+}
+
+#[test]
+fn lights_that_cast_no_shadows_get_no_layers() {
+    let cam = Camera {
+        eye: Vec3::new(0.0, 2.0, 8.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 1.0,
+        near: 0.1,
+        far: 50.0,
+    };
+    let mut lights = vec![
+        light(KIND_POINT, Vec3::new(0.0, 3.0, 0.0), Vec3::NEG_Y, 5.0),
+        light(KIND_POINT, Vec3::new(1.0, 3.0, 0.0), Vec3::NEG_Y, 5.0),
+    ];
+    lights[0].casts_shadows = 0;
+    let plan = plan(&mut lights, &frame(&cam, 24));
+    assert_eq!(plan.layers.len(), 6);
+    assert_eq!(lights[0].shadow_count, 0);
+    assert_eq!(lights[1].shadow_count, 6);
+    assert_eq!(plan.lights_lost, 0);
 }
