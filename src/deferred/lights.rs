@@ -3,9 +3,12 @@
 //! camera is outside the volume, back faces when inside, full screen when the
 //! volume also crosses the far plane.
 
+use super::clusters::{self, ClusterLists, LightCulling, TooManyEntries};
+use super::frame::FrameLists;
 use super::gpu_types::*;
 use super::scene::{Camera, Light, LightKind};
 use glam::{Mat4, Vec3, Vec4};
+use std::ops::Range;
 
 /// Segments of the cone proxy.
 pub(crate) const CONE_SEGMENTS: u32 = 16;
@@ -214,6 +217,78 @@ impl LightLists {
             }
         }
         lists
+    }
+}
+
+impl LightLists {
+    /// The frame's light lists as the passes read them: the visible-index
+    /// buffer (the forward loop's lights first, then the volume lists), their
+    /// ranges, and the cluster lists unless `culling` is `Volumes`. The clusters'
+    /// slices span `depth_near..depth_far` (the geometry's depth range).
+    ///
+    /// The forward loop runs a constant number of lights in the preprocessor and
+    /// override modes: the visible count rounded up to a power of two, padded
+    /// with a black light (appended to `gpu`). With cluster lists it is not
+    /// used: bound 1.
+    pub(crate) fn frame_lists(
+        &mut self,
+        culling: LightCulling,
+        proj: &Mat4,
+        width: u32,
+        height: u32,
+        depth_near: f32,
+        depth_far: f32,
+    ) -> Result<(FrameLists, Vec<u32>, Option<ClusterLists>), TooManyEntries> {
+        let visible_count = self.forward.len() as u32;
+        let loop_count = match culling {
+            LightCulling::Volumes => visible_count.max(1).next_power_of_two(),
+            LightCulling::Clustered | LightCulling::None => 1,
+        };
+        let black = self.gpu.len() as u32;
+        self.gpu.push(GpuLight {
+            kind: KIND_DIRECTIONAL,
+            direction: [0.0, 0.0, -1.0],
+            ..bytemuck::Zeroable::zeroed()
+        });
+        let mut forward = self.forward.clone();
+        forward.resize((loop_count as usize).max(forward.len()), black);
+        let clusters = match culling {
+            LightCulling::Volumes => None,
+            LightCulling::Clustered | LightCulling::None => {
+                let (tile, slices) = match culling {
+                    LightCulling::Clustered => (clusters::TILE_PX, clusters::SLICES),
+                    _ => (0, 1),
+                };
+                let grid =
+                    clusters::ClusterGrid::new(width, height, depth_near, depth_far, tile, slices);
+                Some(clusters::build(
+                    grid,
+                    proj,
+                    width,
+                    height,
+                    &self.globals,
+                    &self.locals,
+                )?)
+            }
+        };
+        let mut visible: Vec<u32> = Vec::new();
+        let mut range = |list: &[u32]| -> Range<u32> {
+            let start = visible.len() as u32;
+            visible.extend_from_slice(list);
+            start..visible.len() as u32
+        };
+        let forward_range = range(&forward);
+        debug_assert_eq!(forward_range.start, 0);
+        let fl = FrameLists {
+            fullscreen: range(&self.fullscreen),
+            sphere_out: range(&self.sphere_out),
+            sphere_in: range(&self.sphere_in),
+            cone_out: range(&self.cone_out),
+            cone_in: range(&self.cone_in),
+            forward_lights: loop_count,
+            clustered: clusters.is_some(),
+        };
+        Ok((fl, visible, clusters))
     }
 }
 

@@ -53,6 +53,7 @@ mod gltf_material;
 mod gpu_types;
 pub mod job;
 mod light;
+mod light_buffers;
 mod lights;
 pub mod material;
 mod material_model;

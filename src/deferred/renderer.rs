@@ -34,9 +34,9 @@
 //! the surface shader and the lighting shader of the lights of the fragment's
 //! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
 
-use super::clusters;
-use super::frame::{self, FrameLists};
+use super::frame;
 use super::gpu_types::*;
+use super::light_buffers::LightBuffers;
 use super::lights::{LightLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
 use super::normal::NormalEncoding;
@@ -51,7 +51,6 @@ use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use glam::Vec3;
-use std::ops::Range;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
@@ -150,10 +149,7 @@ pub struct Renderer {
     pub(crate) volumes: LightVolumes,
     frame_buffer: wgpu::Buffer,
     material_info_buffer: wgpu::Buffer,
-    light_buffer: wgpu::Buffer,
-    visible_buffer: wgpu::Buffer,
-    cluster_ranges_buffer: wgpu::Buffer,
-    cluster_lights_buffer: wgpu::Buffer,
+    light_buffers: LightBuffers,
     pub(crate) layouts: Layouts,
     pub(crate) g0: wgpu::BindGroup,
     pub(crate) pipelines: Pipelines,
@@ -272,22 +268,14 @@ impl Renderer {
         })?;
         let (material_info_buffer, frame_buffer, layouts) = built;
         let volumes = LightVolumes::new(ctx)?;
-        let (light_buffer, visible_buffer) = Self::light_buffers(device, 64, 64 * 6);
-        let cluster_ranges_buffer = Self::storage(device, "deferred cluster ranges", 1 << 16);
-        let cluster_lights_buffer = Self::storage(device, "deferred cluster lights", 1 << 16);
+        let light_buffers = LightBuffers::new(device);
         let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
-        let g0 = Self::make_g0(
+        let g0 = light_buffers.group0(
             device,
             &layouts.g0,
-            [
-                &frame_buffer,
-                &material_info_buffer,
-                &geometry.instance_buffer,
-                &light_buffer,
-                &visible_buffer,
-                &cluster_ranges_buffer,
-                &cluster_lights_buffer,
-            ],
+            &frame_buffer,
+            &material_info_buffer,
+            &geometry.instance_buffer,
             &shadow_maps,
         );
         let triangles = scene.triangle_count();
@@ -329,10 +317,7 @@ impl Renderer {
             volumes,
             frame_buffer,
             material_info_buffer,
-            light_buffer,
-            visible_buffer,
-            cluster_ranges_buffer,
-            cluster_lights_buffer,
+            light_buffers,
             layouts,
             g0,
             dummy_light,
@@ -386,57 +371,6 @@ impl Renderer {
     /// with these).
     pub fn aux_formats(&self) -> &[(String, crate::script::types::Format)] {
         &self.aux_formats
-    }
-
-    fn light_buffers(
-        device: &wgpu::Device,
-        lights: usize,
-        indices: usize,
-    ) -> (wgpu::Buffer, wgpu::Buffer) {
-        let light_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("deferred lights"),
-            size: (lights.max(1) * std::mem::size_of::<GpuLight>()) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let visible_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("deferred visible light indices"),
-            size: (indices.max(4) * 4) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        (light_buffer, visible_buffer)
-    }
-
-    fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: bytes.max(16),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        })
-    }
-
-    fn make_g0(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        buffers: [&wgpu::Buffer; 7],
-        shadows: &ShadowMaps,
-    ) -> wgpu::BindGroup {
-        let mut entries: Vec<_> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        entries.extend(shadows.g0_entries());
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("deferred group 0"),
-            layout,
-            entries: &entries,
-        })
     }
 
     /// Creates the frame targets for `width`×`height` if the size changed.
@@ -524,106 +458,27 @@ impl Renderer {
                 budget: self.opts.shadow_budget,
             },
         )?;
-        // The forward loop runs a constant number of lights (preprocessor and
-        // override modes): the visible count rounded up to a power of two, padded
-        // with a black light. With cluster lists it is not used: bound 1.
         let culling = self.opts.light_culling;
         let visible_count = lists.forward.len() as u32;
-        let loop_count = match culling {
-            LightCulling::Volumes => visible_count.max(1).next_power_of_two(),
-            LightCulling::Clustered | LightCulling::None => 1,
-        };
-        let black = lists.gpu.len() as u32;
-        lists.gpu.push(GpuLight {
-            kind: KIND_DIRECTIONAL,
-            direction: [0.0, 0.0, -1.0],
-            ..bytemuck::Zeroable::zeroed()
-        });
-        let mut forward = lists.forward.clone();
-        forward.resize((loop_count as usize).max(forward.len()), black);
-        let clusters = match culling {
-            LightCulling::Volumes => None,
-            LightCulling::Clustered | LightCulling::None => {
-                let (tile, slices) = match culling {
-                    LightCulling::Clustered => (clusters::TILE_PX, clusters::SLICES),
-                    _ => (0, 1),
-                };
-                // Slices span the geometry's depth (within near..far), not the
-                // whole frustum: no pixel lies outside it.
-                let (near, far) =
-                    clusters::depth_range(&self.bounds, &view, camera.near, camera.far);
-                let grid = clusters::ClusterGrid::new(width, height, near, far, tile, slices);
-                Some(
-                    clusters::build(grid, &proj, width, height, &lists.globals, &lists.locals)
-                        .map_err(|e| RenderError::Invalid(e.to_string()))?,
-                )
-            }
-        };
-
-        // Upload per-frame data.
-        let mut visible: Vec<u32> = Vec::new();
-        let mut range = |list: &[u32]| -> Range<u32> {
-            let start = visible.len() as u32;
-            visible.extend_from_slice(list);
-            start..visible.len() as u32
-        };
-        let forward_range = range(&forward);
-        let fl = FrameLists {
-            fullscreen: range(&lists.fullscreen),
-            sphere_out: range(&lists.sphere_out),
-            sphere_in: range(&lists.sphere_in),
-            cone_out: range(&lists.cone_out),
-            cone_in: range(&lists.cone_in),
-            forward_lights: loop_count,
-            clustered: clusters.is_some(),
-        };
-        debug_assert_eq!(forward_range.start, 0);
-        let light_bytes = (lists.gpu.len() * std::mem::size_of::<GpuLight>()) as u64;
+        let (depth_near, depth_far) =
+            super::clusters::depth_range(&self.bounds, &view, camera.near, camera.far);
+        let (fl, visible, clusters) = lists
+            .frame_lists(culling, &proj, width, height, depth_near, depth_far)
+            .map_err(|e| RenderError::Invalid(e.to_string()))?;
+        let loop_count = fl.forward_lights;
         let (range_bytes, index_bytes) = clusters.as_ref().map_or((0, 0), |c| {
             (c.ranges.len() as u64 * 8, c.indices.len() as u64 * 4)
         });
-        let mut rebind = shadows_grown;
-        if light_bytes > self.light_buffer.size()
-            || (visible.len() * 4) as u64 > self.visible_buffer.size()
-        {
-            let (lb, vb) = Self::light_buffers(
-                &ctx.device,
-                lists.gpu.len().next_power_of_two(),
-                visible.len().next_power_of_two(),
-            );
-            self.light_buffer = lb;
-            self.visible_buffer = vb;
-            rebind = true;
-        }
-        if range_bytes > self.cluster_ranges_buffer.size() {
-            self.cluster_ranges_buffer = Self::storage(
-                &ctx.device,
-                "deferred cluster ranges",
-                range_bytes.next_power_of_two(),
-            );
-            rebind = true;
-        }
-        if index_bytes > self.cluster_lights_buffer.size() {
-            self.cluster_lights_buffer = Self::storage(
-                &ctx.device,
-                "deferred cluster lights",
-                index_bytes.next_power_of_two(),
-            );
-            rebind = true;
-        }
-        if rebind {
-            self.g0 = Self::make_g0(
+        let grown = self
+            .light_buffers
+            .upload(ctx, &lists.gpu, &visible, clusters.as_ref());
+        if grown || shadows_grown {
+            self.g0 = self.light_buffers.group0(
                 &ctx.device,
                 &self.layouts.g0,
-                [
-                    &self.frame_buffer,
-                    &self.material_info_buffer,
-                    &self.geometry.instance_buffer,
-                    &self.light_buffer,
-                    &self.visible_buffer,
-                    &self.cluster_ranges_buffer,
-                    &self.cluster_lights_buffer,
-                ],
+                &self.frame_buffer,
+                &self.material_info_buffer,
+                &self.geometry.instance_buffer,
                 &self.shadow_maps,
             );
         }
@@ -666,26 +521,6 @@ impl Renderer {
         };
         ctx.queue
             .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&gpu_frame));
-        ctx.queue
-            .write_buffer(&self.light_buffer, 0, bytemuck::cast_slice(&lists.gpu));
-        if !visible.is_empty() {
-            ctx.queue
-                .write_buffer(&self.visible_buffer, 0, bytemuck::cast_slice(&visible));
-        }
-        if let Some(c) = &clusters {
-            ctx.queue.write_buffer(
-                &self.cluster_ranges_buffer,
-                0,
-                bytemuck::cast_slice(&c.ranges),
-            );
-            if !c.indices.is_empty() {
-                ctx.queue.write_buffer(
-                    &self.cluster_lights_buffer,
-                    0,
-                    bytemuck::cast_slice(&c.indices),
-                );
-            }
-        }
         // Pipelines depend only on the technique and the forward loop bound: the
         // batches are fixed when the renderer is made.
         if !self.ensured.contains(&(technique, loop_count)) {
