@@ -124,7 +124,7 @@ pub(crate) fn run_sequence_cli(
             };
             let mut lo = lo;
             if cli.skip_existing {
-                if let Ok(out) = OutputPattern::new(&ospec) {
+                if let Ok(out) = output_pattern(cli, &ospec) {
                     match all
                         .iter()
                         .map(|f| f.0)
@@ -153,6 +153,8 @@ pub(crate) fn run_sequence_cli(
                     "fxrun: warning: this effect uses feedback (earlier output frames); a slice starting at frame {lo} differs from one whole run unless it warms up over the frames before it (--warmup N)"
                 );
             }
+            // Frames of one size: checked from the headers before anything is written.
+            check_same_size(&all[from..=to])?;
             Box::new(FilesSource::new(all[from..=to].to_vec(), load))
         }
     };
@@ -189,7 +191,7 @@ pub(crate) fn run_sequence_cli(
         }
         SequenceSpec::Stdin => return Err(rejected("`-` as an output writes stdout; use -o -")),
         spec => {
-            let pattern = OutputPattern::new(spec).map_err(RunError::from)?;
+            let pattern = output_pattern(cli, spec).map_err(RunError::from)?;
             let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
             let probe = pattern.path_for(0);
             let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear)
@@ -243,30 +245,7 @@ pub(crate) fn run_sequence_cli(
             .map_err(RunError::from)?,
     );
     let tty = std::io::stderr().is_terminal();
-    let progress = |p: Progress| {
-        if !tty {
-            return;
-        }
-        let secs = p.elapsed.as_secs_f64().max(1e-6);
-        let rate = p.done as f64 / secs;
-        let line = match p.total {
-            Some(t) if t > 0 => {
-                let frac = p.done as f64 / t as f64;
-                let bar: String = (0..30)
-                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
-                    .collect();
-                let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
-                format!(
-                    "\r[{bar}] {}/{t} frames  {rate:.1} fps  ETA {:02}:{:02} ",
-                    p.done,
-                    (eta as u64) / 60,
-                    (eta as u64) % 60
-                )
-            }
-            _ => format!("\r{} frames  {rate:.1} fps ", p.done),
-        };
-        let _ = std::io::stderr().write_all(line.as_bytes());
-    };
+    let progress = progress_bar(tty, "frames");
     let result = run_sequence(
         &mut engine,
         &mut effect,
@@ -312,4 +291,45 @@ pub(crate) fn run_sequence_cli(
         return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });
     }
     Ok(())
+}
+
+/// A one-line progress bar on stderr (nothing when stderr is not a terminal); `unit`
+/// names what is counted ("frames", "images").
+pub(crate) fn progress_bar(tty: bool, unit: &'static str) -> impl FnMut(Progress) {
+    move |p: Progress| {
+        if !tty {
+            return;
+        }
+        let secs = p.elapsed.as_secs_f64().max(1e-6);
+        let rate = p.done as f64 / secs;
+        let per = if unit == "frames" { " fps" } else { "/s" };
+        let line = match p.total {
+            Some(t) if t > 0 => {
+                let frac = p.done as f64 / t as f64;
+                let bar: String = (0..30)
+                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
+                    .collect();
+                let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
+                format!(
+                    "\r[{bar}] {}/{t} {unit}  {rate:.1}{per}  ETA {:02}:{:02} ",
+                    p.done,
+                    (eta as u64) / 60,
+                    (eta as u64) % 60
+                )
+            }
+            _ => format!("\r{} {unit}  {rate:.1}{per} ", p.done),
+        };
+        let _ = std::io::stderr().write_all(line.as_bytes());
+    }
+}
+
+/// The numbered files a sequence writes: a pattern, or a folder (`NNNNNN.png`, or the
+/// extension `--format` names).
+fn output_pattern(cli: &Cli, spec: &SequenceSpec) -> Result<OutputPattern, fxgraph::io::IoError> {
+    match (spec, &cli.format) {
+        (SequenceSpec::Dir(dir), Some(ext)) => {
+            OutputPattern::in_dir(dir, ext.trim_start_matches('.'))
+        }
+        _ => OutputPattern::new(spec),
+    }
 }
