@@ -339,6 +339,12 @@ fn run(cli: Cli) -> Result<(), Fail> {
         return run_scene_cli(&cli);
     }
     if cli.effects.is_empty() {
+        if let Some(e) = cli.input.iter().find(|i| batch::effect_after_input(i)) {
+            return Err(rejected(format!(
+                "no effect given: `{}` was read as an input; effects go before -i (fxrun EFFECT... -i INPUT... -o OUTPUT)",
+                e.display()
+            )));
+        }
         return Err(rejected(
             "no effect given (try `fxrun --list`, or `fxrun --help`)",
         ));

@@ -124,8 +124,8 @@ fn collect_inputs(cli: &Cli, specs: &[SequenceSpec]) -> Result<Vec<(u64, PathBuf
                     }
                 }
             }
-            SequenceSpec::Single(p) => {
-                if std::fs::symlink_metadata(p).is_err() && looks_like_effect(arg) {
+            SequenceSpec::Single(_) => {
+                if effect_after_input(arg) {
                     return Err(rejected(format!(
                         "-i {}: no such file; it looks like an effect: effects go before -i (fxrun EFFECT... -i INPUT... -o OUTPUT)",
                         arg.display()
@@ -155,7 +155,10 @@ fn collect_inputs(cli: &Cli, specs: &[SequenceSpec]) -> Result<Vec<(u64, PathBuf
 
 /// A missing input that is surely an effect given after `-i` (which takes every value
 /// up to the next option).
-fn looks_like_effect(arg: &Path) -> bool {
+pub(crate) fn effect_after_input(arg: &Path) -> bool {
+    if std::fs::symlink_metadata(arg).is_ok() {
+        return false;
+    }
     let s = arg.to_string_lossy();
     s.ends_with(".fx")
         || library::builtin_effects()
