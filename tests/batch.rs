@@ -163,6 +163,36 @@ fn wildcards_lists_and_patterns_name_the_outputs() {
 }
 
 #[test]
+fn the_effect_is_planned_again_only_when_the_size_changes() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("in");
+    std::fs::create_dir_all(&d).unwrap();
+    write_image(&d.join("x1.png"), 40, 30, 0);
+    write_image(&d.join("x2.png"), 40, 30, 1);
+    write_image(&d.join("y.png"), 30, 40, 2);
+    let json = dir.path().join("report.json");
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        s(&d),
+        "-o",
+        s(&dir.path().join("out")),
+        "--timings-json",
+        s(&json),
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["images"], 3, "{r}");
+    assert_eq!(r["plans"], 2, "x1 and x2 share a plan: {r}");
+    assert_eq!(r["done"].as_array().map(Vec::len), Some(3), "{r}");
+    assert_eq!(r["done"][2]["width"], 30, "{r}");
+}
+
+#[test]
 fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
     if !gpu() {
         return;
