@@ -321,3 +321,30 @@ fn batches_that_would_lose_data_are_refused_up_front() {
         stderr(&o)
     );
 }
+
+#[test]
+fn the_header_probe_reads_sizes_without_decoding() {
+    use fxgraph::io::image_file_dimensions;
+    let dir = tempfile::tempdir().unwrap();
+    let photos = photos(dir.path());
+    assert_eq!(
+        image_file_dimensions(&photos.join("a.png")).unwrap(),
+        (96, 64)
+    );
+    assert_eq!(
+        image_file_dimensions(&photos.join("b.jpg")).unwrap(),
+        (64, 128)
+    );
+    // A truncated image still has its header: the size is known, the decode fails later.
+    let cut = dir.path().join("cut.png");
+    let bytes = std::fs::read(photos.join("c.png")).unwrap();
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    assert_eq!(image_file_dimensions(&cut).unwrap(), (80, 80));
+    let e = image_file_dimensions(&photos.join("notes.txt")).unwrap_err();
+    assert!(e.to_string().contains("not a recognised image"), "{e}");
+    let empty = dir.path().join("empty.png");
+    std::fs::write(&empty, b"").unwrap();
+    assert!(image_file_dimensions(&empty).unwrap_err().is_input_error());
+    let e = image_file_dimensions(&photos).unwrap_err();
+    assert!(e.to_string().contains("not a regular file"), "{e}");
+}
