@@ -152,10 +152,12 @@ struct Cli {
     /// effects warm up (at most 1000000).
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=MAX_WARMUP))]
     warmup: u64,
-    /// Sequences: skip frames whose output file exists (resume an interrupted run).
+    /// Sequences and batches: skip frames (images) whose output file exists (resume an
+    /// interrupted run).
     #[arg(long)]
     skip_existing: bool,
-    /// Sequences: frames queued between decode, GPU and encode (1 to 64).
+    /// Sequences and batches: frames (images) queued between decode, GPU and encode
+    /// (1 to 64).
     #[arg(long, default_value_t = 3,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_QUEUE))]
     queue: usize,
