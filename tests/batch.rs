@@ -270,6 +270,12 @@ fn a_temporal_effect_refuses_frames_of_different_sizes_before_writing() {
     ]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(stderr(&o).contains("reads other frames"), "{}", stderr(&o));
+    // Frames of one size run as a sequence; -o DIR keeps their names there too.
+    write_image(&frames.join("f3.png"), 64, 48, 2);
+    let seq = dir.path().join("seq");
+    let o = fxrun(&["temporal_denoise", "-i", s(&frames), "-o", s(&seq)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(names(&seq), ["f1.png", "f2.png", "f3.png"]);
 }
 
 #[test]

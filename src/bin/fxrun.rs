@@ -475,6 +475,15 @@ fn run(cli: Cli) -> Result<(), Fail> {
             SequenceSpec::parse_output(&o.to_string_lossy()),
         );
         if ispec.is_sequence() || ispec.is_stream() || ospec.is_sequence() || ospec.is_stream() {
+            // Frames from files into a name without an image extension: a folder.
+            let ospec = match ospec {
+                SequenceSpec::Single(p)
+                    if ispec.is_sequence() && !ispec.is_stream() && p.extension().is_none() =>
+                {
+                    SequenceSpec::Dir(p)
+                }
+                other => other,
+            };
             return run_sequence_cli(&cli, ispec, ospec);
         }
     }
@@ -544,7 +553,7 @@ mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
 
-use batch::{check_same_size, try_run_batch};
+use batch::{check_outputs, check_same_size, try_run_batch};
 use describe::{describe, pass_param_rows};
 use scene::run_scene_cli;
 use sequence::{print_timings, progress_bar, run_sequence_cli};

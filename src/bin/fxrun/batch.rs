@@ -264,8 +264,8 @@ fn name_outputs(
                 ))),
             }
         }
-        // A name without an image extension: a folder to create.
-        SequenceSpec::Single(dir) => in_dir(dir),
+        // A name without an extension: a folder to create.
+        SequenceSpec::Single(dir) if dir.extension().is_none() => in_dir(dir),
         other => Err(rejected(format!(
             "-o {}: a batch writes to a folder, a numbered pattern or (one image) a file",
             other.display_path().display()
@@ -274,7 +274,7 @@ fn name_outputs(
 }
 
 /// Refuses a batch that would write two images to one file, or over one of its inputs.
-fn check_outputs(items: &[BatchItem]) -> Result<(), Fail> {
+pub(crate) fn check_outputs(items: &[BatchItem]) -> Result<(), Fail> {
     let canonical = |p: &Path| -> PathBuf {
         if let Ok(c) = p.canonicalize() {
             return c;
