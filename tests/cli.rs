@@ -416,7 +416,7 @@ fn shader_diagnostics_match_their_snapshots() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let bless = std::env::var("FX_BLESS").is_ok_and(|v| v == "1");
     let mut failures = Vec::new();
-    for case in ["bindings", "wgsl_syntax", "missing_shader"] {
+    for case in ["bindings", "wgsl_syntax", "wgsl_types", "missing_shader"] {
         let fx = format!("tests/shader_errors/{case}.fx");
         // Running it and checking it (no GPU needed) report the same diagnostics.
         let run = fxrun(&[

@@ -193,6 +193,16 @@ struct Cli {
     /// default), override (pipeline constants) or branch (run-time branches).
     #[arg(long, default_value = "preprocess")]
     variants: String,
+    /// Scene: how the light passes pick each pixel's lights: clustered (tiles ×
+    /// depth slices, default), volumes (a sphere or cone per light) or none
+    /// (every light at every pixel).
+    #[arg(long, default_value = "clustered")]
+    light_culling: String,
+    /// Scene: fog in the lighting template, KEY=VALUE with the `fog` effect's
+    /// parameters (mode, distance, color, density, start, end, height_falloff,
+    /// fog_height), or `on` for its defaults. Repeatable.
+    #[arg(long, value_name = "KEY=VALUE")]
+    fog: Vec<String>,
     /// Scene: list each material (surface and lighting shader, variant features)
     /// and the pipelines compiled.
     #[arg(long)]
@@ -201,6 +211,17 @@ struct Cli {
     /// otherwise renders only the lights it has.
     #[arg(long, value_name = "RGB")]
     ambient: Option<String>,
+    /// Scene: shadow maps for the scene's lights: off, hard (one depth
+    /// comparison) or pcf (filtered, default).
+    #[arg(long, default_value = "pcf")]
+    shadows: String,
+    /// Scene: side of each shadow map in texels (256 to 8192, and the GPU's limit).
+    #[arg(long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_SIZE)]
+    shadow_size: u32,
+    /// Scene: shadow-map layers per frame (directional light 4, point 6, spot 1);
+    /// lights past it are unshadowed, with a warning.
+    #[arg(long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_LAYERS)]
+    shadow_layers: u32,
 }
 
 /// An error with its exit code, already reported or to be printed.

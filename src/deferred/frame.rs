@@ -17,6 +17,8 @@ pub(crate) struct FrameLists {
     pub cone_in: Range<u32>,
     /// The forward loop's (constant) light count.
     pub forward_lights: u32,
+    /// Cluster lists are bound: one clustered full-screen light pass.
+    pub clustered: bool,
 }
 
 fn geo_key(r: &Renderer, pass: GeoPass, b: &Batch, lights: u32) -> GeoKey {
@@ -93,11 +95,15 @@ pub(crate) fn ensure_pipelines(
         .collect();
     let mut light = vec![LightPipe::AuxA, LightPipe::AuxB];
     if technique != Technique::Forward {
-        light.extend([
-            LightPipe::Fullscreen,
-            LightPipe::VolumeFront,
-            LightPipe::VolumeBack,
-        ]);
+        if r.options().light_culling == super::clusters::LightCulling::Volumes {
+            light.extend([
+                LightPipe::Fullscreen,
+                LightPipe::VolumeFront,
+                LightPipe::VolumeBack,
+            ]);
+        } else {
+            light.push(LightPipe::Clustered);
+        }
     }
     if technique == Technique::Deferred {
         light.push(LightPipe::Compose);
@@ -247,11 +253,15 @@ pub(crate) fn encode(
         .map(|b| (view.transform_point3(b.center).z, &b.batch))
         .collect();
     blend.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let background = clear_to(r.background_color().extend(1.0));
+    let background = clear_to(r.frame_background.extend(1.0));
     let zero = clear_to(Vec4::ZERO);
     ctx.scoped(label, |device| {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+        // Shadow maps first: every technique's light passes read them.
+        draws += r
+            .shadow_maps
+            .encode(&mut encoder, &r.geometry, &mut names, timer);
         let light_pass = |encoder: &mut wgpu::CommandEncoder,
                           names: &mut Vec<String>,
                           specular_ops: wgpu::Operations<wgpu::Color>,
@@ -271,6 +281,12 @@ pub(crate) fn encode(
             rp.set_bind_group(0, &r.g0, &[]);
             rp.set_bind_group(1, &t.bg_light, &[]);
             rp.set_bind_group(3, &r.material_gpu.params_group, &[]);
+            if fl.clustered {
+                rp.set_pipeline(r.pipelines.light_cached(LightPipe::Clustered));
+                rp.draw(0..3, 0..1);
+                *draws += 1;
+                return;
+            }
             if !fl.fullscreen.is_empty() {
                 rp.set_pipeline(r.pipelines.light_cached(LightPipe::Fullscreen));
                 rp.draw(0..3, fl.fullscreen.clone());

@@ -126,5 +126,6 @@ pub(super) fn convert_light(
             .normalize_or(Vec3::NEG_Z),
         attenuation: [0.0, 0.0, 1.0],
         range,
+        casts_shadows: true,
     })
 }

@@ -31,7 +31,13 @@ pub(crate) struct GpuFrame {
     pub near: f32,
     pub far: f32,
     pub light_count: u32,
-    pub _pad: u32,
+    /// Global lights at the start of the cluster light list.
+    pub global_lights: u32,
+    /// tiles x, tiles y, slices, tile size in pixels (0: no clustered lists).
+    pub cluster: [u32; 4],
+    /// slices / ln(far / near), near of the slices, 0, 0.
+    pub cluster_z: [f32; 4],
+    pub fog: super::fog::GpuFog,
 }
 
 /// `FxMaterialInfo`.
@@ -70,6 +76,16 @@ pub(crate) struct GpuLight {
     pub volume: u32,
     /// KHR_lights_punctual range (0: none).
     pub range: f32,
+    /// First shadow-map layer (`shadows.rs`); meaningful when `shadow_count > 0`.
+    pub shadow_first: u32,
+    /// Shadow-map layers of the light: 0 (no shadows; so a zeroed light has
+    /// none), 1 spot, 4 directional cascades, 6 point cube faces.
+    pub shadow_count: u32,
+    /// 1 hard, 2 PCF (`ShadowMode::filter_id`).
+    pub shadow_filter: u32,
+    /// 1: the light may get a shadow map ([`super::scene::Light::casts_shadows`];
+    /// read on the CPU only).
+    pub casts_shadows: u32,
 }
 
 pub(crate) const KIND_DIRECTIONAL: u32 = 1;
@@ -90,10 +106,10 @@ mod tests {
 
     #[test]
     fn struct_sizes_match_wgsl() {
-        assert_eq!(std::mem::size_of::<GpuFrame>(), 256);
+        assert_eq!(std::mem::size_of::<GpuFrame>(), 352);
         assert_eq!(std::mem::size_of::<GpuMaterialInfo>(), 16);
         assert_eq!(std::mem::size_of::<GpuInstance>(), 144);
-        assert_eq!(std::mem::size_of::<GpuLight>(), 80);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 96);
         assert_eq!(std::mem::size_of::<Vertex>(), 72);
     }
 }

@@ -16,9 +16,20 @@ use std::time::Instant;
 /// scene through SSAO, fog, glow, tone mapping and FXAA.
 pub const DEFAULT_CHAIN: [&str; 5] = ["ssao", "fog", "glow", "tonemap", "fxaa"];
 
-/// Settings of the default chain for the built-in scene's scale (a user's `--set`
-/// comes after them and wins).
-pub const DEFAULT_CHAIN_SETTINGS: [&str; 1] = ["fog.density=0.01"];
+/// Settings of the default chain for a scene (a user's `--set` comes after them
+/// and wins): the fog's density scaled to the scene, so that light crossing the
+/// scene's bounding-box diagonal keeps exp(-0.2) ≈ 82 % of its colour, whatever
+/// the scene's units (the built-in room: 0.01 per unit; a Cornell box modelled
+/// in millimetres would otherwise vanish in the fog).
+pub fn default_chain_settings(scene: &Scene) -> Vec<String> {
+    let b = scene.bounds();
+    let diagonal = if b.is_empty() {
+        20.0
+    } else {
+        (b.max - b.min).length().max(1e-6)
+    };
+    vec![format!("fog.density={}", 0.2 / diagonal)]
+}
 
 /// What to render and where to write it.
 #[derive(Debug, Clone)]
@@ -37,6 +48,9 @@ pub struct SceneJob {
     /// Effects to run (empty: write the rendered scene itself).
     pub effects: Vec<String>,
     pub overrides: Vec<String>,
+    /// `effects` is the default chain: its settings are scaled to the scene
+    /// ([`default_chain_settings`]) before `overrides`.
+    pub default_chain: bool,
     pub output: Option<PathBuf>,
     pub bit_depth: Option<u8>,
     /// Write every G-buffer image into this folder.
@@ -49,11 +63,19 @@ pub struct SceneJob {
     pub material_map: Vec<(String, String)>,
     /// How material features select shader code.
     pub variants: super::material::VariantMode,
+    /// How the light passes pick each pixel's lights.
+    pub light_culling: super::renderer::LightCulling,
+    /// Fog applied in the lighting template (no post pass).
+    pub fog: Option<super::fog::Fog>,
     /// Print each material, its shaders and variant, and the pipelines compiled.
     pub describe_materials: bool,
     /// An ambient light to add (linear RGB radiance); scenes otherwise render
     /// only the lights they have.
     pub ambient: Option<[f32; 3]>,
+    /// Shadow maps: filter (or off), map size, layers per frame.
+    pub shadows: super::shadows::ShadowMode,
+    pub shadow_size: u32,
+    pub shadow_layers: u32,
 }
 
 /// Timings of a scene job.
@@ -66,6 +88,12 @@ pub struct SceneReport {
     pub render_passes: Vec<(String, f64)>,
     pub triangles: usize,
     pub lights_visible: usize,
+    /// Light × cluster entries and their upload bytes (clustered culling).
+    pub cluster_entries: usize,
+    pub cluster_bytes: u64,
+    /// Shadow-map layers rendered and the bytes of the shadow-map texture.
+    pub shadow_layers: usize,
+    pub shadow_map_bytes: u64,
     /// One line per material (with `describe_materials`).
     pub materials: Vec<String>,
     pub pipelines: usize,
@@ -129,7 +157,9 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             ),
         }));
     }
-    let mut effect = if job.effects.is_empty() {
+    // (compiled before the scene loads, so that script errors come first; the
+    // default chain needs the scene's scale and is compiled after it)
+    let mut effect = if job.effects.is_empty() || job.default_chain {
         None
     } else {
         Some(Effect::compile(&job.effects, &job.overrides)?)
@@ -140,6 +170,11 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     };
     let t = Instant::now();
     let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
+    if job.default_chain && !job.effects.is_empty() {
+        let mut overrides = default_chain_settings(&scene);
+        overrides.extend(job.overrides.iter().cloned());
+        effect = Some(Effect::compile(&job.effects, &overrides)?);
+    }
     if let Some(path) = &job.materials {
         // A regular file of at most 1 MiB (`--materials /dev/zero` would never end).
         let bytes = crate::io::read_regular_file(path, crate::shader::include::MAX_INCLUDE_BYTES)
@@ -192,10 +227,15 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         &scene,
         &RendererOptions {
             variants: job.variants,
+            light_culling: job.light_culling,
+            shadows: job.shadows,
+            shadow_size: job.shadow_size,
+            shadow_budget: job.shadow_layers,
             ..Default::default()
         },
     )
     .map_err(|e| render_error(&job.scene, e))?;
+    renderer.set_fog(job.fog);
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {
@@ -216,6 +256,10 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     report.render_passes = stats.pass_ms.clone();
     report.triangles = stats.triangles;
     report.lights_visible = stats.lights_visible;
+    report.cluster_entries = stats.cluster_entries;
+    report.cluster_bytes = stats.cluster_bytes;
+    report.shadow_layers = stats.shadow_layers;
+    report.shadow_map_bytes = stats.shadow_map_bytes;
     report.pipelines = stats.pipelines;
     report.shader_modules = stats.shader_modules;
     if job.describe_materials {

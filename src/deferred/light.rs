@@ -42,6 +42,10 @@ pub struct Light {
     pub attenuation: [f32; 3],
     /// Hard upper bound of the radius (glTF `range`), if any.
     pub range: Option<f32>,
+    /// Whether the light may get a shadow map (true for scene lights; the
+    /// built-in room's small coloured lights and `--lights N` random lights
+    /// have none).
+    pub casts_shadows: bool,
 }
 
 impl Light {
@@ -59,6 +63,7 @@ impl Light {
             direction: Vec3::NEG_Y,
             attenuation: [1.0, 0.0, c],
             range: None,
+            casts_shadows: true,
         }
     }
 
@@ -92,6 +97,7 @@ impl Light {
             direction: direction.normalize_or(Vec3::NEG_Y),
             attenuation: [1.0, 0.0, 0.0],
             range: None,
+            casts_shadows: true,
         }
     }
 

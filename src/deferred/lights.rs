@@ -80,6 +80,13 @@ pub(crate) struct LightLists {
     pub sphere_in: Vec<u32>,
     pub cone_out: Vec<u32>,
     pub cone_in: Vec<u32>,
+    /// Lights that reach every pixel (directional), for the clustered pass.
+    pub globals: Vec<u32>,
+    /// Point and spot lights with the bounding sphere of what they light, for
+    /// the clustered pass.
+    pub locals: Vec<super::clusters::LocalLight>,
+    /// Lights skipped because their intensity is zero, negative or not finite.
+    pub dark: usize,
 }
 
 impl LightLists {
@@ -102,6 +109,7 @@ impl LightLists {
         for l in lights {
             let color = l.color * l.intensity;
             if color.max_element() <= 0.0 || !color.is_finite() {
+                lists.dark += 1;
                 continue;
             }
             let dir_view = view
@@ -120,6 +128,9 @@ impl LightLists {
                 cone_radius: 0.0,
                 volume: VOLUME_FULLSCREEN,
                 range: l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
+                // shadow maps are assigned afterwards (shadows::plan)
+                casts_shadows: u32::from(l.casts_shadows),
+                ..bytemuck::Zeroable::zeroed()
             };
             let index = lists.gpu.len() as u32;
             match l.kind {
@@ -130,6 +141,7 @@ impl LightLists {
                     lists.gpu.push(g);
                     lists.forward.push(index);
                     lists.fullscreen.push(index);
+                    lists.globals.push(index);
                 }
                 LightKind::Point | LightKind::Spot { .. } => {
                     let radius = l.radius();
@@ -185,6 +197,11 @@ impl LightLists {
                     let crosses_far = -proxy_center.z + proxy_radius > camera.far * 0.999;
                     lists.gpu.push(g);
                     lists.forward.push(index);
+                    lists.locals.push(super::clusters::LocalLight {
+                        index,
+                        center: cull_center,
+                        radius: cull_radius,
+                    });
                     let list = match (inside, crosses_far, g.volume) {
                         (true, true, _) => &mut lists.fullscreen,
                         (true, false, VOLUME_CONE) => &mut lists.cone_in,

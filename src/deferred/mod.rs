@@ -17,7 +17,9 @@
 //!   parts: `targets.rs` (G-buffer, light buffers, AUX images), `upload.rs`
 //!   (geometry, textures, material bind groups), `lights.rs` (per-frame light
 //!   lists, light volumes), `pipelines.rs` (layouts, module and pipeline caches),
-//!   `frame.rs` (the passes of each technique), `gpu_types.rs`, `technique.rs`,
+//!   `frame.rs` (the passes of each technique), [`shadows`] (which lights get
+//!   shadow maps, cascades, light matrices) and `shadow_pass.rs` (the shadow-map
+//!   array and its depth pass), `gpu_types.rs`, `technique.rs`,
 //!   `output.rs` ([`RenderOutput`], [`RenderStats`], [`published_aux`]).
 //! - [`normal`]: the two-channel normal encodings (octahedral, spheremap) on the CPU.
 //! - [`gbuffer`]: [`write_gbuffer`], every G-buffer image as viewable files.
@@ -41,6 +43,8 @@
 pub mod bench;
 pub mod builtin;
 mod camera;
+mod clusters;
+pub mod fog;
 mod frame;
 pub mod gbuffer;
 mod gltf_lights_cameras;
@@ -57,6 +61,8 @@ mod output;
 mod pipelines;
 pub mod renderer;
 pub mod scene;
+mod shadow_pass;
+pub mod shadows;
 pub mod targets;
 mod technique;
 mod upload;
@@ -73,3 +79,4 @@ pub use scene::{
     AlphaMode, Camera, Instance, Light, LightKind, Material, Mesh, Scene, SceneError,
     ShaderBinding, TextureImage, ATTENUATION_THRESHOLD,
 };
+pub use shadows::ShadowMode;

@@ -75,6 +75,16 @@ pub struct RenderStats {
     pub volumes_outside: usize,
     /// Volumes drawn as back faces (camera inside).
     pub volumes_inside: usize,
+    /// Lights ignored because their intensity is zero, negative or not finite.
+    pub lights_dark: usize,
+    /// How the light passes picked each pixel's lights.
+    pub light_culling: super::clusters::LightCulling,
+    /// Light × cluster entries of the clustered lists (0 without them).
+    pub cluster_entries: usize,
+    /// The longest cluster list.
+    pub cluster_max: usize,
+    /// Bytes of the cluster lists uploaded for the frame.
+    pub cluster_bytes: u64,
     /// Pipelines and shader modules compiled so far by this renderer.
     pub pipelines: usize,
     pub shader_modules: usize,
@@ -90,6 +100,12 @@ pub struct RenderStats {
     /// id, depth), forward 16 (it shades with depth alone, 4, and fills the
     /// three colour targets for the AUX images).
     pub gbuffer_bytes_per_pixel: u32,
+    /// Shadow-map layers rendered this frame (`RendererOptions::shadow_budget`
+    /// bounds them).
+    pub shadow_layers: usize,
+    /// Bytes of the shadow-map array texture (it grows to the most layers a
+    /// frame has needed).
+    pub shadow_map_bytes: u64,
 }
 
 /// The AUX images the renderer publishes to effects (`AUX.NAME`), with their

@@ -24,6 +24,7 @@ pub(crate) enum GeoPass {
 /// A light-module pipeline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) enum LightPipe {
+    Clustered,
     Fullscreen,
     VolumeFront,
     VolumeBack,
@@ -96,6 +97,12 @@ impl Layouts {
                 storage_entry(2),
                 storage_entry(3),
                 storage_entry(4),
+                storage_entry(5),
+                storage_entry(6),
+                // 8–10: shadow maps, sampler, layers
+                super::shadow_pass::g0_layout_entries()[0],
+                super::shadow_pass::g0_layout_entries()[1],
+                super::shadow_pass::g0_layout_entries()[2],
             ],
         });
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
@@ -425,6 +432,14 @@ impl Pipelines {
                 Option<wgpu::DepthStencilState>,
                 wgpu::PrimitiveState,
             ) = match which {
+                LightPipe::Clustered => (
+                    "fx_vs_fullscreen",
+                    "fx_fs_light_clustered",
+                    &[],
+                    lights_targets,
+                    depth(false, C::Always),
+                    wgpu::PrimitiveState::default(),
+                ),
                 LightPipe::Fullscreen => (
                     "fx_vs_light_fullscreen",
                     "fx_fs_light",

@@ -7,17 +7,23 @@
 //! 1. Geometry pass: opaque and MASK objects run their surface shader and fill the
 //!    G-buffer ([`super::targets`]); emission and ambient × occlusion start the
 //!    specular light buffer.
-//! 2. Light pass, additive into two `Rgba16Float` light buffers: every light's
-//!    lighting shader (chosen per pixel by the lighting-model id in the G-buffer);
-//!    directional lights as full-screen triangles, point lights as icosphere
-//!    volumes and spot lights as cone volumes, culled against the view frustum on
-//!    the CPU, all lights of a kind in one instanced draw. Volumes that hold the
-//!    camera (or the near plane) are drawn as back faces with depth test
-//!    `GREATER_EQUAL`, the others as front faces with `LESS`; a volume that holds
-//!    the camera and crosses the far plane is drawn full-screen.
-//! 3. Composition: `diffuse colour × diffuse light + specular light` into the HDR
-//!    scene texture (`Rgba16Float`, linear radiance); the background where nothing
-//!    was drawn.
+//! 2. Light pass into two `Rgba16Float` light buffers: every light's lighting
+//!    shader (chosen per pixel by the lighting-model id in the G-buffer). By
+//!    default ([`LightCulling::Clustered`], [`super::clusters`]) one full-screen
+//!    pass in which each pixel shades the directional lights and the point and
+//!    spot lights listed for its cluster (32-pixel tiles × 24 depth slices over
+//!    the geometry's depth range, binned on the CPU). [`LightCulling::Volumes`]
+//!    keeps seed 001's light volumes: directional lights as full-screen
+//!    triangles, point lights as icosphere volumes and spot lights as cone
+//!    volumes, culled against the view frustum on the CPU, all lights of a kind
+//!    in one instanced additive draw; volumes that hold the camera (or the near
+//!    plane) are drawn as back faces with depth test `GREATER_EQUAL`, the others
+//!    as front faces with `LESS`, and one that holds the camera and crosses the
+//!    far plane full-screen. [`LightCulling::None`] shades every light at every
+//!    pixel (the reference).
+//! 3. Composition: `diffuse colour × diffuse light + specular light`, through the
+//!    fog when there is one ([`super::fog`]), into the HDR scene texture
+//!    (`Rgba16Float`, linear radiance); the background where nothing was drawn.
 //! 4. Transparency: BLEND objects forward, sorted back to front, depth-tested (not
 //!    written) against the opaque depth, lit by every visible light.
 //! 5. Resolve: the G-buffer decoded into the `AUX.*` images.
@@ -25,8 +31,10 @@
 //! [`Technique::LightPrepass`] (seed 000) replaces 1–3 with a depth + normal +
 //! specular pass, the same light pass, and a second geometry pass that runs the
 //! surface shader again and reads the light buffers; [`Technique::Forward`] runs
-//! the surface shader and every visible light's lighting shader per fragment.
+//! the surface shader and the lighting shader of the lights of the fragment's
+//! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
 
+use super::clusters;
 use super::frame::{self, FrameLists};
 use super::gpu_types::*;
 use super::lights::{LightLists, LightVolumes};
@@ -34,6 +42,11 @@ use super::material::{MaterialSet, VariantMode};
 use super::normal::NormalEncoding;
 use super::pipelines::{Layouts, Pipelines};
 use super::scene::{Camera, Light, Scene, SceneError};
+use super::shadow_pass::ShadowMaps;
+use super::shadows::ShadowFrame;
+pub use super::shadows::{
+    ShadowMode, DEFAULT_SHADOW_LAYERS, DEFAULT_SHADOW_SIZE, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE,
+};
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
@@ -42,6 +55,7 @@ use std::ops::Range;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
+pub use super::clusters::LightCulling;
 pub use super::output::{GBufferTextures, RenderOutput, RenderStats};
 pub use super::targets::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
 pub use super::technique::Technique;
@@ -72,6 +86,16 @@ pub struct RendererOptions {
     pub mipmaps: bool,
     /// How material features select shader code.
     pub variants: VariantMode,
+    /// How the light passes pick the lights of a pixel.
+    pub light_culling: LightCulling,
+    /// Shadow maps for the scene's lights, and their filter (`shadows.rs`).
+    pub shadows: ShadowMode,
+    /// Side of each shadow map in texels ([`MIN_SHADOW_SIZE`]..=[`MAX_SHADOW_SIZE`]
+    /// and the device's limit).
+    pub shadow_size: u32,
+    /// Shadow-map layers per frame (a directional light takes 4, a point light
+    /// 6, a spot light 1); lights past it are unshadowed, with a warning.
+    pub shadow_budget: u32,
 }
 
 impl Default for RendererOptions {
@@ -80,6 +104,10 @@ impl Default for RendererOptions {
             normal_encoding: NormalEncoding::default(),
             mipmaps: true,
             variants: VariantMode::default(),
+            light_culling: LightCulling::default(),
+            shadows: ShadowMode::default(),
+            shadow_size: DEFAULT_SHADOW_SIZE,
+            shadow_budget: DEFAULT_SHADOW_LAYERS,
         }
     }
 }
@@ -108,6 +136,13 @@ pub struct Renderer {
     name: String,
     lights: Vec<Light>,
     background: Vec3,
+    /// The fog of the template (none by default).
+    fog: Option<super::fog::Fog>,
+    /// The background of the last frame (fogged).
+    pub(crate) frame_background: Vec3,
+    /// World-space bounds of the geometry: the cluster slices span its depth.
+    bounds: super::scene::Aabb,
+    pub(crate) shadow_maps: ShadowMaps,
     triangles: usize,
     pub(crate) materials: MaterialSet,
     pub(crate) geometry: Geometry,
@@ -117,6 +152,8 @@ pub struct Renderer {
     material_info_buffer: wgpu::Buffer,
     light_buffer: wgpu::Buffer,
     visible_buffer: wgpu::Buffer,
+    cluster_ranges_buffer: wgpu::Buffer,
+    cluster_lights_buffer: wgpu::Buffer,
     pub(crate) layouts: Layouts,
     pub(crate) g0: wgpu::BindGroup,
     pub(crate) pipelines: Pipelines,
@@ -139,6 +176,26 @@ fn one_texel(
             label: Some(&format!("{label} view")),
             ..Default::default()
         }))
+}
+
+/// Lights of zero, negative or non-finite intensity are ignored, not an error
+/// (glTF files and generators produce them, e.g. a light animated to off): one
+/// warning names how many.
+fn warn_dark_lights(scene: &str, lights: &[Light]) {
+    let dark: Vec<&str> = lights
+        .iter()
+        .filter(|l| {
+            let c = l.color * l.intensity;
+            !(c.is_finite() && c.max_element() > 0.0)
+        })
+        .map(|l| l.name.as_str())
+        .collect();
+    if let Some(first) = dark.first() {
+        log::warn!(
+            "{scene}: {} light(s) with zero, negative or non-finite intensity ignored (first: `{first}`)",
+            dark.len()
+        );
+    }
 }
 
 impl Renderer {
@@ -216,6 +273,9 @@ impl Renderer {
         let (material_info_buffer, frame_buffer, layouts) = built;
         let volumes = LightVolumes::new(ctx)?;
         let (light_buffer, visible_buffer) = Self::light_buffers(device, 64, 64 * 6);
+        let cluster_ranges_buffer = Self::storage(device, "deferred cluster ranges", 1 << 16);
+        let cluster_lights_buffer = Self::storage(device, "deferred cluster lights", 1 << 16);
+        let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
         let g0 = Self::make_g0(
             device,
             &layouts.g0,
@@ -225,7 +285,10 @@ impl Renderer {
                 &geometry.instance_buffer,
                 &light_buffer,
                 &visible_buffer,
+                &cluster_ranges_buffer,
+                &cluster_lights_buffer,
             ],
+            &shadow_maps,
         );
         let triangles = scene.triangle_count();
         log::info!(
@@ -247,12 +310,17 @@ impl Renderer {
             );
         }
         let aux_formats = super::output::published_aux(depth_renderable);
+        warn_dark_lights(&name, &scene.lights);
         Ok(Renderer {
             aux_formats,
             opts: opts.clone(),
             name,
             lights: scene.lights.clone(),
             background: scene.background,
+            fog: None,
+            frame_background: scene.background,
+            bounds: scene.bounds(),
+            shadow_maps,
             triangles,
             pipelines: Pipelines::new(opts.variants, opts.normal_encoding.shader_id()),
             materials,
@@ -263,6 +331,8 @@ impl Renderer {
             material_info_buffer,
             light_buffer,
             visible_buffer,
+            cluster_ranges_buffer,
+            cluster_lights_buffer,
             layouts,
             g0,
             dummy_light,
@@ -278,7 +348,13 @@ impl Renderer {
 
     /// Replaces the lights without uploading the scene again.
     pub fn set_lights(&mut self, lights: Vec<Light>) {
+        warn_dark_lights(&self.name, &lights);
         self.lights = lights;
+    }
+
+    /// Fog applied by the lighting template (`None`: no fog).
+    pub fn set_fog(&mut self, fog: Option<super::fog::Fog>) {
+        self.fog = fog;
     }
 
     /// Linear colour of pixels without geometry.
@@ -332,22 +408,34 @@ impl Renderer {
         (light_buffer, visible_buffer)
     }
 
+    fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes.max(16),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
     fn make_g0(
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
-        buffers: [&wgpu::Buffer; 5],
+        buffers: [&wgpu::Buffer; 7],
+        shadows: &ShadowMaps,
     ) -> wgpu::BindGroup {
+        let mut entries: Vec<_> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        entries.extend(shadows.g0_entries());
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("deferred group 0"),
             layout,
-            entries: &buffers
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
+            entries: &entries,
         })
     }
 
@@ -421,11 +509,30 @@ impl Renderer {
             &proj,
             aspect,
         );
+        // Shadow maps: which lights get layers (written into their GpuLight).
+        let shadows_grown = self.shadow_maps.prepare(
+            ctx,
+            &self.name,
+            &mut lists.gpu,
+            &ShadowFrame {
+                camera,
+                view,
+                aspect,
+                bounds: self.bounds,
+                mode: self.opts.shadows,
+                size: self.opts.shadow_size,
+                budget: self.opts.shadow_budget,
+            },
+        )?;
         // The forward loop runs a constant number of lights (preprocessor and
         // override modes): the visible count rounded up to a power of two, padded
-        // with a black light.
+        // with a black light. With cluster lists it is not used: bound 1.
+        let culling = self.opts.light_culling;
         let visible_count = lists.forward.len() as u32;
-        let loop_count = visible_count.max(1).next_power_of_two();
+        let loop_count = match culling {
+            LightCulling::Volumes => visible_count.max(1).next_power_of_two(),
+            LightCulling::Clustered | LightCulling::None => 1,
+        };
         let black = lists.gpu.len() as u32;
         lists.gpu.push(GpuLight {
             kind: KIND_DIRECTIONAL,
@@ -433,7 +540,25 @@ impl Renderer {
             ..bytemuck::Zeroable::zeroed()
         });
         let mut forward = lists.forward.clone();
-        forward.resize(loop_count as usize, black);
+        forward.resize((loop_count as usize).max(forward.len()), black);
+        let clusters = match culling {
+            LightCulling::Volumes => None,
+            LightCulling::Clustered | LightCulling::None => {
+                let (tile, slices) = match culling {
+                    LightCulling::Clustered => (clusters::TILE_PX, clusters::SLICES),
+                    _ => (0, 1),
+                };
+                // Slices span the geometry's depth (within near..far), not the
+                // whole frustum: no pixel lies outside it.
+                let (near, far) =
+                    clusters::depth_range(&self.bounds, &view, camera.near, camera.far);
+                let grid = clusters::ClusterGrid::new(width, height, near, far, tile, slices);
+                Some(
+                    clusters::build(grid, &proj, width, height, &lists.globals, &lists.locals)
+                        .map_err(|e| RenderError::Invalid(e.to_string()))?,
+                )
+            }
+        };
 
         // Upload per-frame data.
         let mut visible: Vec<u32> = Vec::new();
@@ -450,9 +575,14 @@ impl Renderer {
             cone_out: range(&lists.cone_out),
             cone_in: range(&lists.cone_in),
             forward_lights: loop_count,
+            clustered: clusters.is_some(),
         };
         debug_assert_eq!(forward_range.start, 0);
         let light_bytes = (lists.gpu.len() * std::mem::size_of::<GpuLight>()) as u64;
+        let (range_bytes, index_bytes) = clusters.as_ref().map_or((0, 0), |c| {
+            (c.ranges.len() as u64 * 8, c.indices.len() as u64 * 4)
+        });
+        let mut rebind = shadows_grown;
         if light_bytes > self.light_buffer.size()
             || (visible.len() * 4) as u64 > self.visible_buffer.size()
         {
@@ -463,6 +593,25 @@ impl Renderer {
             );
             self.light_buffer = lb;
             self.visible_buffer = vb;
+            rebind = true;
+        }
+        if range_bytes > self.cluster_ranges_buffer.size() {
+            self.cluster_ranges_buffer = Self::storage(
+                &ctx.device,
+                "deferred cluster ranges",
+                range_bytes.next_power_of_two(),
+            );
+            rebind = true;
+        }
+        if index_bytes > self.cluster_lights_buffer.size() {
+            self.cluster_lights_buffer = Self::storage(
+                &ctx.device,
+                "deferred cluster lights",
+                index_bytes.next_power_of_two(),
+            );
+            rebind = true;
+        }
+        if rebind {
             self.g0 = Self::make_g0(
                 &ctx.device,
                 &self.layouts.g0,
@@ -472,9 +621,29 @@ impl Renderer {
                     &self.geometry.instance_buffer,
                     &self.light_buffer,
                     &self.visible_buffer,
+                    &self.cluster_ranges_buffer,
+                    &self.cluster_lights_buffer,
                 ],
+                &self.shadow_maps,
             );
         }
+        let (cluster, cluster_z, global_lights) = match &clusters {
+            Some(c) => (
+                [
+                    c.grid.tiles_x,
+                    c.grid.tiles_y,
+                    c.grid.slices,
+                    c.grid.tile_px,
+                ],
+                [c.grid.log_scale, c.grid.near, 0.0, 0.0],
+                c.globals,
+            ),
+            None => ([0; 4], [0.0; 4], 0),
+        };
+        self.frame_background = match &self.fog {
+            Some(f) => f.background(self.background, camera.far),
+            None => self.background,
+        };
         let gpu_frame = GpuFrame {
             view: mat_array(view),
             proj: mat_array(proj),
@@ -485,12 +654,15 @@ impl Renderer {
                 1.0 / width as f32,
                 1.0 / height as f32,
             ],
-            background: self.background.extend(1.0).into(),
+            background: self.frame_background.extend(1.0).into(),
             ambient: lists.ambient.extend(0.0).into(),
             near: camera.near,
             far: camera.far,
             light_count: visible_count,
-            _pad: 0,
+            global_lights,
+            cluster,
+            cluster_z,
+            fog: super::fog::Fog::gpu(self.fog.as_ref(), camera, &view),
         };
         ctx.queue
             .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&gpu_frame));
@@ -499,6 +671,20 @@ impl Renderer {
         if !visible.is_empty() {
             ctx.queue
                 .write_buffer(&self.visible_buffer, 0, bytemuck::cast_slice(&visible));
+        }
+        if let Some(c) = &clusters {
+            ctx.queue.write_buffer(
+                &self.cluster_ranges_buffer,
+                0,
+                bytemuck::cast_slice(&c.ranges),
+            );
+            if !c.indices.is_empty() {
+                ctx.queue.write_buffer(
+                    &self.cluster_lights_buffer,
+                    0,
+                    bytemuck::cast_slice(&c.indices),
+                );
+            }
         }
         // Pipelines depend only on the technique and the forward loop bound: the
         // batches are fixed when the renderer is made.
@@ -518,12 +704,21 @@ impl Renderer {
             lights_fullscreen: lists.fullscreen.len(),
             volumes_outside: lists.sphere_out.len() + lists.cone_out.len(),
             volumes_inside: lists.sphere_in.len() + lists.cone_in.len(),
+            lights_dark: lists.dark,
+            light_culling: culling,
+            cluster_entries: clusters
+                .as_ref()
+                .map_or(0, |c| c.indices.len() - c.globals as usize),
+            cluster_max: clusters.as_ref().map_or(0, |c| c.max_per_cluster as usize),
+            cluster_bytes: range_bytes + index_bytes,
             gbuffer_bytes_per_pixel: match technique {
                 Technique::Deferred => GBUFFER_BYTES_COMPRESSED,
                 Technique::LightPrepass => 13,
                 // depth for shading + the three colour targets for the AUX images
                 Technique::Forward => GBUFFER_BYTES_COMPRESSED,
             },
+            shadow_layers: self.shadow_maps.used as usize,
+            shadow_map_bytes: self.shadow_maps.bytes(),
             ..Default::default()
         };
         let label = format!("deferred frame ({technique}, {width}x{height})");

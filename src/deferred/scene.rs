@@ -350,7 +350,8 @@ impl Scene {
 
     /// Adds `n` point lights (seed 004): a position uniformly inside the scene bounds,
     /// a radius between 4 % and 10 % of the bounds' diagonal, a saturated random hue
-    /// and intensity 1. Deterministic for a seed (own xorshift PRNG).
+    /// and intensity 1, casting no shadows. Deterministic for a seed (own xorshift
+    /// PRNG).
     pub fn add_random_point_lights(&mut self, n: usize, seed: u64) {
         self.add_random_point_lights_sized(n, seed, 0.04, 0.10);
     }
@@ -382,6 +383,8 @@ impl Scene {
             let color = hue_to_rgb(rng.next_f32());
             self.lights.push(Light {
                 name: format!("random point {i}"),
+                // benchmark lights (light-count scaling): no shadow maps
+                casts_shadows: false,
                 ..Light::point(p, color, 1.0, radius)
             });
         }

@@ -175,14 +175,34 @@ impl Loader {
         }
     }
 
-    /// Load `<name>.fx` from the search folders or the embedded library.
+    /// Load `<name>.fx`: from the search folders (in order), then the current
+    /// folder (`./NAME.fx`), then `./effects/NAME.fx`, then the embedded library.
+    /// A file on disk named like a built-in effect overrides it (logged).
     fn find_named(&mut self, name: &str, diags: &mut Diagnostics) -> Option<usize> {
         let file = format!("{name}.fx");
-        for dir in self.search_dirs.clone() {
+        let mut dirs = self.search_dirs.clone();
+        dirs.push(PathBuf::from("."));
+        dirs.push(PathBuf::from("effects"));
+        for dir in dirs {
             let p = dir.join(&file);
-            if let Ok(text) = std::fs::read_to_string(&p) {
-                let shown = p.display().to_string();
-                return Some(self.add_module(Origin::Disk(p), shown, text, diags));
+            if !p.is_file() {
+                continue;
+            }
+            match read_effect_file(&p) {
+                Ok(text) => {
+                    let shown = p.display().to_string();
+                    if embedded_effect(&file).is_some() {
+                        log::info!("{shown} overrides the built-in effect `{name}`");
+                    }
+                    return Some(self.add_module(Origin::Disk(p), shown, text, diags));
+                }
+                Err(e) => {
+                    diags.push(Diagnostic::error(format!(
+                        "cannot read effect file `{}`: {e}",
+                        p.display()
+                    )));
+                    return None;
+                }
             }
         }
         let text = embedded_effect(&file)?;

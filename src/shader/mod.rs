@@ -10,6 +10,7 @@ pub mod material;
 pub mod preprocess;
 pub mod reflect;
 pub mod rename;
+pub mod wgsl_names;
 
 pub use features::{convert_features, feature_flags_used, FeatureMode};
 pub use load::{load_plan_shaders, pass_parameters, LoadedShader, PassParamInfo};
@@ -50,8 +51,10 @@ pub struct ShaderFile {
     pub path: Option<PathBuf>,
 }
 
-/// Find `NAME.wgsl`: next to the effect file (and in its `../shaders`), then in the
-/// extra folders, then the embedded library.
+/// Find `NAME.wgsl`: next to the effect file (and in its `shaders/` and
+/// `../shaders/`), then in the extra folders; for a built-in effect, then in
+/// `./shaders/` (files on disk override the embedded library); then the
+/// embedded library.
 pub fn find_shader(
     name: &str,
     effect_dir: Option<&Path>,
@@ -65,6 +68,9 @@ pub fn find_shader(
         dirs.push(d.join("..").join("shaders"));
     }
     dirs.extend(extra_dirs.iter().cloned());
+    if effect_dir.is_none() {
+        dirs.push(PathBuf::from("shaders"));
+    }
     for d in dirs {
         let p = d.join(&file);
         if let Ok(text) = std::fs::read_to_string(&p) {

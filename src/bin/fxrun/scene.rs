@@ -3,7 +3,7 @@
 use super::*;
 
 pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
-    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN, DEFAULT_CHAIN_SETTINGS};
+    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN};
     if !cli.input.is_empty() {
         return Err(rejected("--scene renders the input: give no -i"));
     }
@@ -24,6 +24,25 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         .variants
         .parse()
         .map_err(|e: String| rejected(format!("--variants {}: {e}", cli.variants)))?;
+    let light_culling = cli
+        .light_culling
+        .parse()
+        .map_err(|e: String| rejected(format!("--light-culling {}: {e}", cli.light_culling)))?;
+    let fog = if cli.fog.is_empty() {
+        None
+    } else {
+        Some(
+            fxgraph::deferred::fog::Fog::parse(&cli.fog).map_err(|errors| {
+                rejected(
+                    errors
+                        .iter()
+                        .map(|e| format!("--{e}"))
+                        .collect::<Vec<_>>()
+                        .join("\nfxrun: error: "),
+                )
+            })?,
+        )
+    };
     let material_map = cli
         .material
         .iter()
@@ -59,20 +78,24 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
             Some(rgb)
         }
     };
+    let shadows = cli
+        .shadows
+        .parse()
+        .map_err(|e: String| rejected(format!("--shadows {}: {e}", cli.shadows)))?;
+    use fxgraph::deferred::renderer::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
+    if !(MIN_SHADOW_SIZE..=MAX_SHADOW_SIZE).contains(&cli.shadow_size) {
+        return Err(rejected(format!(
+            "--shadow-size {}: must be {MIN_SHADOW_SIZE} to {MAX_SHADOW_SIZE} texels",
+            cli.shadow_size
+        )));
+    }
     let default_chain = cli.effects.is_empty() && cli.output.is_some();
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
     } else {
         cli.effects.clone()
     };
-    let mut overrides: Vec<String> = if default_chain {
-        DEFAULT_CHAIN_SETTINGS
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let mut overrides: Vec<String> = Vec::new();
     overrides.extend(cli.set.iter().cloned());
     let job = SceneJob {
         scene: cli.scene.clone().unwrap_or_else(|| "builtin:room".into()),
@@ -84,6 +107,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         technique,
         effects,
         overrides,
+        default_chain,
         output: cli.output.clone(),
         bit_depth: cli.bit_depth,
         gbuffer: cli.gbuffer.clone(),
@@ -91,8 +115,13 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         materials: cli.materials.clone(),
         material_map,
         variants,
+        light_culling,
+        fog,
         describe_materials: cli.describe_materials,
         ambient,
+        shadows,
+        shadow_size: cli.shadow_size,
+        shadow_layers: cli.shadow_layers,
     };
     let mut engine = Engine::new(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
@@ -112,11 +141,14 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     }
     if cli.timings {
         outln!(
-            "adapter: {}  scene {} ({} triangles, {} lights visible)  {}x{}",
+            "adapter: {}  scene {} ({} triangles, {} lights visible, {} culling: {} light-cluster entries, {:.1} KiB)  {}x{}",
             report.adapter,
             job.scene,
             report.triangles,
             report.lights_visible,
+            job.light_culling,
+            report.cluster_entries,
+            report.cluster_bytes as f64 / 1024.0,
             width,
             height
         );
@@ -130,6 +162,12 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
                 .unwrap_or_else(|| "-".into());
             outln!("  effect {:<26} gpu {:>8} ms", p.path, gpu);
         }
+        outln!(
+            "  shadows {}: {} layers, {:.1} MiB of shadow maps",
+            job.shadows,
+            report.shadow_layers,
+            report.shadow_map_bytes as f64 / (1u64 << 20) as f64
+        );
         outln!(
             "load {:.1} ms | render cpu {:.1} gpu {} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
             report.load_ms,

@@ -3,9 +3,10 @@
 //! code is generated from the high-level shaders by a template that supports
 //! several light sources").
 //!
-//! A geometry module = the engine part + the geometry template + one surface
-//! shader + one lighting shader (renamed `lmK_*`, K its model id) + the
-//! interface types. The light module = the engine part + the light template +
+//! A geometry module = the engine part + the shadow lookups + the geometry
+//! template + one surface shader + one lighting shader (renamed `lmK_*`, K its
+//! model id) + the interface types. The light module = the engine part + the
+//! shadow lookups + the light template +
 //! every lighting shader of the scene + a dispatch on the model id stored in the
 //! G-buffer. Feature flags are then resolved per [`VariantMode`].
 
@@ -18,6 +19,8 @@ use std::fmt::Write as _;
 const ENGINE: &str = include_str!("../shaders/engine.wgsl");
 const GEOMETRY: &str = include_str!("../shaders/geometry.wgsl");
 const LIGHT: &str = include_str!("../shaders/light.wgsl");
+/// Shadow-map lookups: both modules shade through `fx_light_sample_shadowed`.
+const SHADOW: &str = include_str!("../shaders/shadow.wgsl");
 
 /// Binding of the per-material feature bits in group 2 (run-time-branching mode).
 pub const FEATURES_BINDING: u32 = 16;
@@ -81,6 +84,8 @@ pub fn geometry_module(
     let mut text = header(normal_encoding);
     text.push_str(ENGINE);
     text.push('\n');
+    text.push_str(SHADOW);
+    text.push('\n');
     text.push_str(GEOMETRY);
     text.push('\n');
     text.push_str(&s.shader.text);
@@ -103,6 +108,8 @@ pub fn geometry_module(
 pub fn light_module(set: &MaterialSet, normal_encoding: u32) -> Result<Generated, String> {
     let mut text = header(normal_encoding);
     text.push_str(ENGINE);
+    text.push('\n');
+    text.push_str(SHADOW);
     text.push('\n');
     text.push_str(LIGHT);
     text.push('\n');

@@ -2,6 +2,25 @@
 // per-material data (group 0) and shared helpers. The host prepends
 // `const NORMAL_ENCODING: u32 = N;` (0 octahedral, 1 spheremap).
 
+// Fog (src/deferred/fog.rs; the maths of the `fog` effect, effects/fog.fx).
+struct FxFog {
+    color: vec3<f32>,
+    density: f32,
+    // the world's up direction in view space
+    up: vec3<f32>,
+    start: f32,
+    end: f32,
+    height_falloff: f32,
+    fog_height: f32,
+    camera_height: f32,
+    // 0 none, 1 linear, 2 exponential, 3 exponential squared
+    mode: u32,
+    // 0 view-axis depth, 1 radial
+    distance: u32,
+    _p0: u32,
+    _p1: u32,
+}
+
 struct FxFrame {
     view: mat4x4<f32>,
     proj: mat4x4<f32>,
@@ -15,7 +34,14 @@ struct FxFrame {
     far: f32,
     // entries of `fx_visible` the forward loop reads (run-time-branching mode)
     light_count: u32,
-    _pad: u32,
+    // global (directional) lights at the start of `fx_cluster_lights`
+    global_lights: u32,
+    // tiles x, tiles y, depth slices, tile size in pixels (0: no cluster lists)
+    cluster: vec4<u32>,
+    // x = slices / ln(far / near), y = near of the slices (the geometry's depth
+    // range, not the camera's)
+    cluster_z: vec4<f32>,
+    fog: FxFog,
 }
 
 struct FxInstance {
@@ -59,6 +85,13 @@ struct FxLight {
     volume: u32,
     // KHR_lights_punctual range (0: none): window clamp(1 - (d / range)^4, 0, 1)
     range: f32,
+    // shadow maps (shadow.wgsl): first layer, layer count (0: unshadowed) and
+    // filter (1 hard, 2 PCF)
+    shadow_first: u32,
+    shadow_count: u32,
+    shadow_filter: u32,
+    // (the host's: whether the light may cast shadows)
+    casts_shadows: u32,
 }
 
 const FX_KIND_DIRECTIONAL: u32 = 1u;
@@ -70,6 +103,22 @@ const FX_KIND_SPOT: u32 = 3u;
 @group(0) @binding(2) var<storage, read> fx_instances: array<FxInstance>;
 @group(0) @binding(3) var<storage, read> fx_lights: array<FxLight>;
 @group(0) @binding(4) var<storage, read> fx_visible: array<u32>;
+// (offset, count) of each cluster's lights in `fx_cluster_lights`
+@group(0) @binding(5) var<storage, read> fx_cluster_ranges: array<vec2<u32>>;
+// global lights, then every cluster's light indices
+@group(0) @binding(6) var<storage, read> fx_cluster_lights: array<u32>;
+
+// The cluster of the pixel at `frag_xy` with view depth `depth` (positive), as
+// src/deferred/clusters.rs bins them: tiles of cluster.w pixels, slices spaced
+// exponentially from near to far.
+fn fx_cluster_range(frag_xy: vec2<f32>, depth: f32) -> vec2<u32> {
+    let g = fx_frame.cluster;
+    let tx = min(u32(frag_xy.x) / g.w, g.x - 1u);
+    let ty = min(u32(frag_xy.y) / g.w, g.y - 1u);
+    let s = floor(log(max(depth, fx_frame.cluster_z.y) / fx_frame.cluster_z.y) * fx_frame.cluster_z.x);
+    let slice = min(u32(max(s, 0.0)), g.z - 1u);
+    return fx_cluster_ranges[(slice * g.y + ty) * g.x + tx];
+}
 
 fn fx_safe_normalize(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);
@@ -155,6 +204,42 @@ fn fx_light_sample(l: FxLight, p: vec3<f32>) -> FxLightSample {
     }
     out.light = l.color * f;
     return out;
+}
+
+// (1 - exp(-x)) / x, the mean of exp(-x t) over t in [0, 1]; 1 at x = 0.
+fn fx_fog_mean_exp(x: f32) -> f32 {
+    if abs(x) < 1e-3 {
+        return 1.0 - x * (0.5 - x / 6.0);
+    }
+    return (1.0 - exp(-x)) / x;
+}
+
+// Colour `c` of the surface at view-space point `p` seen through the frame's
+// fog: transmittance f of the (height-weighted) distance, mix(fog colour, c, f).
+fn fx_fog(c: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    let fog = fx_frame.fog;
+    if fog.mode == 0u {
+        return c;
+    }
+    var dist = select(-p.z, length(p), fog.distance == 1u);
+    if fog.height_falloff > 0.0 {
+        let k = fog.height_falloff;
+        dist *= exp(-k * (fog.camera_height - fog.fog_height)) * fx_fog_mean_exp(k * dot(p, fog.up));
+    }
+    var f: f32;
+    switch fog.mode {
+        case 1u: {
+            f = clamp((fog.end - dist) / max(fog.end - fog.start, 1e-20), 0.0, 1.0);
+        }
+        case 2u: {
+            f = exp(-fog.density * dist);
+        }
+        default: {
+            let x = fog.density * dist;
+            f = exp(-x * x);
+        }
+    }
+    return mix(fog.color, c, f);
 }
 
 // Full-screen triangle for vertex 0, 1, 2 (depth 0).

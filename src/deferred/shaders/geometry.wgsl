@@ -172,24 +172,41 @@ fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOu
     let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
     let specular = textureLoad(fx_light_specular, c, 0).rgb;
     var out: FxFinalOut;
-    out.scene = vec4<f32>(s.diffuse * diffuse + specular + fx_unlit(s), 1.0);
+    out.scene = vec4<f32>(fx_fog(s.diffuse * diffuse + specular + fx_unlit(s), in.view_pos), 1.0);
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     return out;
 }
 
-// Every visible light per fragment, the loop bound a compile-time constant in the
-// preprocessor and override modes (the padding past the visible lights is skipped).
-fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
+// The lights of a fragment at `frag_xy`: with cluster lists (cluster.w > 0)
+// the global lights and the fragment's cluster; otherwise every visible light,
+// the loop bound a compile-time constant in the preprocessor and override modes
+// (the padding past the visible lights is skipped).
+fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32) -> vec3<f32> {
     let v = fx_safe_normalize(-p);
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
-    for (var i = 0u; i < FX_LIGHT_COUNT; i++) {
-        let ls = fx_light_sample(fx_lights[fx_visible[i]], p);
-        // lights past the visible ones pad the constant loop: not shaded
-        if ls.lit && i < fx_frame.light_count {
-            let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
-            diffuse += lo.diffuse;
-            specular += lo.specular;
+    if fx_frame.cluster.w != 0u {
+        let range = fx_cluster_range(frag_xy, -p.z);
+        let globals = fx_frame.global_lights;
+        for (var i = 0u; i < globals + range.y; i++) {
+            // (the unselected operand may wrap round: u32 arithmetic is modular)
+            let j = select(range.x + i - globals, i, i < globals);
+            let ls = fx_light_sample_shadowed(fx_lights[fx_cluster_lights[j]], p, s.normal);
+            if ls.lit {
+                let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
+                diffuse += lo.diffuse;
+                specular += lo.specular;
+            }
+        }
+    } else {
+        for (var i = 0u; i < FX_LIGHT_COUNT; i++) {
+            let ls = fx_light_sample_shadowed(fx_lights[fx_visible[i]], p, s.normal);
+            // lights past the visible ones pad the constant loop: not shaded
+            if ls.lit && i < fx_frame.light_count {
+                let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
+                diffuse += lo.diffuse;
+                specular += lo.specular;
+            }
         }
     }
     return s.diffuse * diffuse + specular + fx_unlit(s);
@@ -209,7 +226,7 @@ fn fx_fs_forward(in: FxVsOut, @builtin(front_facing) front: bool) -> FxForwardOu
         discard;
     }
     var out: FxForwardOut;
-    out.scene = vec4<f32>(fx_forward_color(s, in.view_pos, in.material), 1.0);
+    out.scene = vec4<f32>(fx_fog(fx_forward_color(s, in.view_pos, in.clip.xy, in.material), in.view_pos), 1.0);
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
@@ -220,5 +237,5 @@ fn fx_fs_forward(in: FxVsOut, @builtin(front_facing) front: bool) -> FxForwardOu
 @fragment
 fn fx_fs_forward_blend(in: FxVsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let s = fx_surface(in, front);
-    return vec4<f32>(fx_forward_color(s, in.view_pos, in.material), s.alpha);
+    return vec4<f32>(fx_fog(fx_forward_color(s, in.view_pos, in.clip.xy, in.material), in.view_pos), s.alpha);
 }

@@ -62,17 +62,52 @@ fn fx_fs_light(in: FxLightVsOut) -> FxLightOut {
         return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
     }
     let p = fx_view_position(in.pos.xy, depth);
-    let ls = fx_light_sample(fx_lights[in.light], p);
+    let g = textureLoad(fx_t_normal, c, 0);
+    let n = fx_decode_normal(g.xy);
+    let ls = fx_light_sample_shadowed(fx_lights[in.light], p, n);
     if !ls.lit {
         return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
     }
+    let sp = textureLoad(fx_t_specular, c, 0);
+    let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
+    let model = u32(round(sp.a * 255.0));
+    let li = LightingInput(n, fx_safe_normalize(-p), ls.dir, ls.light, sp.rgb, g.z);
+    let lo = fx_lighting_model(model, material, li);
+    return FxLightOut(vec4<f32>(lo.diffuse, 0.0), vec4<f32>(lo.specular, 0.0));
+}
+
+// The clustered light pass: one full-screen triangle; each pixel reads the
+// G-buffer once and shades the global lights and the lights of its cluster
+// (src/deferred/clusters.rs).
+@fragment
+fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
+    let c = vec2<i32>(pos.xy);
+    let depth = textureLoad(fx_t_depth, c, 0);
+    if depth >= 1.0 {
+        return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
+    }
+    let p = fx_view_position(pos.xy, depth);
     let g = textureLoad(fx_t_normal, c, 0);
     let sp = textureLoad(fx_t_specular, c, 0);
     let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
     let model = u32(round(sp.a * 255.0));
-    let li = LightingInput(fx_decode_normal(g.xy), fx_safe_normalize(-p), ls.dir, ls.light, sp.rgb, g.z);
-    let lo = fx_lighting_model(model, material, li);
-    return FxLightOut(vec4<f32>(lo.diffuse, 0.0), vec4<f32>(lo.specular, 0.0));
+    let n = fx_decode_normal(g.xy);
+    let v = fx_safe_normalize(-p);
+    var diffuse = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
+    let range = fx_cluster_range(pos.xy, -p.z);
+    let globals = fx_frame.global_lights;
+    for (var i = 0u; i < globals + range.y; i++) {
+        // (the unselected operand may wrap round: u32 arithmetic is modular)
+        let j = select(range.x + i - globals, i, i < globals);
+        let ls = fx_light_sample_shadowed(fx_lights[fx_cluster_lights[j]], p, n);
+        if ls.lit {
+            let lo = fx_lighting_model(model, material, LightingInput(n, v, ls.dir, ls.light, sp.rgb, g.z));
+            diffuse += lo.diffuse;
+            specular += lo.specular;
+        }
+    }
+    return FxLightOut(vec4<f32>(diffuse, 0.0), vec4<f32>(specular, 0.0));
 }
 
 @vertex
@@ -81,7 +116,7 @@ fn fx_vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f
 }
 
 // diffuse colour × diffuse light + specular light (which started as emission +
-// ambient in the geometry pass)
+// ambient in the geometry pass), through the fog
 @fragment
 fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let c = vec2<i32>(pos.xy);
@@ -92,7 +127,8 @@ fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
     let diffuse = textureLoad(fx_t_light_diffuse, c, 0).rgb;
     let specular = textureLoad(fx_t_light_specular, c, 0).rgb;
-    return vec4<f32>(albedo * diffuse + specular, 1.0);
+    let p = fx_view_position(pos.xy, depth);
+    return vec4<f32>(fx_fog(albedo * diffuse + specular, p), 1.0);
 }
 
 struct FxAuxA {

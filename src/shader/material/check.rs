@@ -147,7 +147,7 @@ impl Checker<'_> {
                 causes.push(next.to_string());
                 src = next;
             }
-            causes.retain(|c| !is_expression_invalid(c));
+            causes.retain(|c| !crate::shader::reflect::is_expression_invalid(c));
             let main = sanitize(causes.last().map(String::as_str).unwrap_or("invalid"));
             let mut d = Diagnostic::error(format!("WGSL validation: {main}"));
             let spans: Vec<Span> = e.spans().filter_map(|(s, _)| map(*s)).collect();
@@ -388,10 +388,4 @@ fn directive_span(text: &str, name: &str) -> Option<(usize, usize)> {
         off += line.len();
     }
     None
-}
-
-fn is_expression_invalid(c: &str) -> bool {
-    c.strip_prefix("Expression [")
-        .and_then(|r| r.strip_suffix("] is invalid"))
-        .is_some_and(|n| n.chars().all(|ch| ch.is_ascii_digit()))
 }

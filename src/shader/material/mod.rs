@@ -22,7 +22,6 @@
 //!   way the renderer compiles it, with naga's errors mapped to the user's files;
 //! - `reflect.rs`: its function signature, resources and params, read from the
 //!   validated module;
-//! - `wgsl_names.rs`: naga's messages written with WGSL type names ([`sanitize`]);
 //! - `tests.rs`: the unit tests.
 
 use super::features::{self, convert_features, FeatureMode};
@@ -36,15 +35,14 @@ use crate::script::{Diagnostic, FileId, SourceMap, Span};
 mod check;
 mod lookup;
 mod reflect;
-mod wgsl_names;
 
 #[cfg(test)]
 mod tests;
 
+pub use crate::shader::wgsl_names::sanitize;
 use check::Checker;
 use lookup::BUILTIN_PREFIX;
 pub use lookup::{builtin_material_shaders, embedded_material_shader, find_material_shader};
-pub use wgsl_names::sanitize;
 
 /// The engine's types every material shader sees (appended to it).
 pub const MATERIAL_INTERFACE: &str = include_str!("../material_interface.wgsl");

@@ -1,0 +1,310 @@
+//! Light culling (src/deferred/clusters.rs and the light volumes): the clustered
+//! lists and the volumes must give the image that shading every light at every
+//! pixel gives, in the three techniques, with many lights, with the camera
+//! inside light volumes, and with volumes cut by the near and far planes; and
+//! the light edge cases (zero and negative intensity, spot cones of 0° and 90°,
+//! a light inside an object, 10,000 lights).
+
+mod common;
+
+use fxgraph::deferred::gbuffer::read_rgba_f32;
+use fxgraph::deferred::renderer::LightCulling;
+use fxgraph::deferred::{Camera, Light, Renderer, RendererOptions, Scene, Technique};
+use fxgraph::gpu::context::GpuContext;
+use glam::Vec3;
+
+const W: u32 = 192;
+const H: u32 = 128;
+
+fn render(
+    ctx: &GpuContext,
+    scene: &Scene,
+    camera: &Camera,
+    technique: Technique,
+    culling: LightCulling,
+) -> (Vec<[f32; 4]>, fxgraph::deferred::RenderStats) {
+    let mut r = Renderer::new(
+        ctx,
+        scene,
+        &RendererOptions {
+            light_culling: culling,
+            ..Default::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", scene.name));
+    let (out, stats) = r
+        .render(ctx, camera, W, H, technique, None)
+        .unwrap_or_else(|e| panic!("{technique} {culling}: {e}"));
+    (read_rgba_f32(ctx, &out.scene).unwrap(), stats)
+}
+
+/// PSNR (peak 1) over the linear RGB values, unclamped.
+fn psnr(a: &[[f32; 4]], b: &[[f32; 4]]) -> f64 {
+    let mut mse = 0.0f64;
+    for (p, q) in a.iter().zip(b) {
+        for c in 0..3 {
+            let d = f64::from(p[c] - q[c]);
+            mse += d * d;
+        }
+    }
+    mse /= (a.len() * 3) as f64;
+    if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (1.0 / mse).log10()
+    }
+}
+
+fn mean(p: &[[f32; 4]]) -> f64 {
+    p.iter().map(|v| f64::from(v[0] + v[1] + v[2])).sum::<f64>() / (p.len() * 3) as f64
+}
+
+/// The built-in room lit by `n` random point lights (the renderer benchmark's
+/// sizes: 4–10 % of the scene diagonal) and nothing else.
+fn room_with_lights(n: usize, seed: u64) -> Scene {
+    let mut scene = Scene::load("builtin:room").unwrap();
+    scene.lights.clear();
+    scene.add_random_point_lights(n, seed);
+    scene
+}
+
+/// Checks every technique × culling against the unculled reference.
+fn agree(ctx: &GpuContext, scene: &Scene, camera: &Camera, what: &str) {
+    for t in Technique::ALL {
+        let (reference, _) = render(ctx, scene, camera, t, LightCulling::None);
+        assert!(mean(&reference) > 0.003, "{what} {t}: dark reference");
+        for culling in [LightCulling::Clustered, LightCulling::Volumes] {
+            let (img, stats) = render(ctx, scene, camera, t, culling);
+            let db = psnr(&reference, &img);
+            eprintln!(
+                "{what}, {t}, {culling} vs none: PSNR {db:.1} dB ({} cluster entries, max {} per cluster)",
+                stats.cluster_entries, stats.cluster_max
+            );
+            assert!(db >= 50.0, "{what}: {t} {culling}: {db:.1} dB");
+        }
+    }
+}
+
+#[test]
+fn many_lights_cull_without_changing_the_image() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let scene = room_with_lights(300, 7);
+    agree(&engine.ctx, &scene, &scene.default_camera(), "300 lights");
+}
+
+/// The camera stands among the lights (inside several volumes), the near plane
+/// cuts volumes in front of it and the far plane cuts the distant ones.
+#[test]
+fn camera_inside_volumes_and_clipping_planes_cull_exactly() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let mut scene = room_with_lights(200, 3);
+    let camera =
+        Camera::parse_spec("eye=0,1.5,2;target=0,1,-3;fov=75;near=0.3;far=6", &scene).unwrap();
+    // big lights round the eye, one exactly at it
+    for (i, p) in [
+        Vec3::new(0.0, 1.5, 2.0),
+        Vec3::new(0.4, 1.2, 1.8),
+        Vec3::new(-0.5, 1.8, 2.3),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        scene.lights.push(Light {
+            name: format!("around the eye {i}"),
+            ..Light::point(p, Vec3::new(1.0, 0.8, 0.6), 2.0, 4.0)
+        });
+    }
+    scene.lights.push(Light::spot(
+        Vec3::new(0.0, 2.0, 2.5),
+        Vec3::new(0.0, -0.3, -1.0),
+        Vec3::ONE,
+        4.0,
+        8.0,
+        0.2,
+        0.5,
+    ));
+    agree(
+        &engine.ctx,
+        &scene,
+        &camera,
+        "camera inside, clipped volumes",
+    );
+}
+
+/// Lights of zero or negative intensity are ignored (the renderer logs a
+/// warning once), and do not change the image.
+#[test]
+fn dark_lights_are_ignored() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let scene = room_with_lights(20, 5);
+    let camera = scene.default_camera();
+    let (before, s0) = render(
+        ctx,
+        &scene,
+        &camera,
+        Technique::Deferred,
+        LightCulling::default(),
+    );
+    let mut dark = scene.clone();
+    dark.lights
+        .push(Light::point(Vec3::new(0.0, 1.0, 0.0), Vec3::ONE, 0.0, 3.0));
+    let mut negative = Light::point(Vec3::new(0.5, 1.0, 0.0), Vec3::ONE, 1.0, 3.0);
+    negative.intensity = -5.0;
+    dark.lights.push(negative);
+    let mut nan = Light::directional(Vec3::NEG_Y, Vec3::ONE, 1.0);
+    nan.intensity = f32::NAN;
+    dark.lights.push(nan);
+    let (after, s1) = render(
+        ctx,
+        &dark,
+        &camera,
+        Technique::Deferred,
+        LightCulling::default(),
+    );
+    assert_eq!(s1.lights_visible, s0.lights_visible);
+    assert_eq!(s1.lights_dark, 3);
+    assert!(before == after, "dark lights changed the image");
+}
+
+/// Spot cones of 0° and 90° (half-angles), in every technique and culling: the
+/// narrow one lights (almost) nothing, the wide one a hemisphere, and the
+/// culled images equal the reference.
+#[test]
+fn extreme_spot_cones() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let mut scene = Scene::load("builtin:room").unwrap();
+    scene.lights.clear();
+    let spot = |outer: f32| {
+        Light::spot(
+            Vec3::new(0.0, 2.5, 0.0),
+            Vec3::NEG_Y,
+            Vec3::ONE,
+            20.0,
+            // the falloff is fixed by where it reaches 1/256 of the peak
+            100.0,
+            0.0,
+            outer,
+        )
+    };
+    let camera = scene.default_camera();
+    // the room has emissive surfaces: measure the light added to them
+    let (black, _) = render(
+        ctx,
+        &scene,
+        &camera,
+        Technique::Deferred,
+        LightCulling::None,
+    );
+    scene.lights = vec![spot(0.0)];
+    let (narrow, _) = render(
+        ctx,
+        &scene,
+        &camera,
+        Technique::Deferred,
+        LightCulling::None,
+    );
+    scene.lights = vec![spot(std::f32::consts::FRAC_PI_2)];
+    let (wide, _) = render(
+        ctx,
+        &scene,
+        &camera,
+        Technique::Deferred,
+        LightCulling::None,
+    );
+    let (narrow, wide) = (mean(&narrow) - mean(&black), mean(&wide) - mean(&black));
+    eprintln!("light added: spot 0°: {narrow:.6}; spot 90°: {wide:.6}");
+    assert!(narrow < 0.01 * wide, "a 0° cone lit the room");
+    assert!(wide > 0.01, "a 90° cone left the room dark");
+    for outer in [0.0, std::f32::consts::FRAC_PI_2] {
+        scene.lights = vec![spot(outer)];
+        agree(ctx, &scene, &camera, &format!("spot {outer:.2} rad"));
+    }
+}
+
+/// A point light inside an object (the room's centre, where its geometry is):
+/// culled exactly, finite everywhere.
+#[test]
+fn light_inside_an_object() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let mut scene = Scene::load("builtin:room").unwrap();
+    scene.lights.clear();
+    let camera = scene.default_camera();
+    let b = scene.bounds();
+    let centre = (b.min + b.max) * 0.5;
+    scene.lights.push(Light::point(centre, Vec3::ONE, 3.0, 2.0));
+    let (img, _) = render(
+        ctx,
+        &scene,
+        &camera,
+        Technique::Deferred,
+        LightCulling::default(),
+    );
+    assert!(img.iter().all(|p| p.iter().all(|c| c.is_finite())));
+    agree(ctx, &scene, &camera, "light inside an object");
+}
+
+/// 10,000 lights render without error and report the bytes of their lists.
+#[test]
+fn ten_thousand_lights() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let scene = room_with_lights(10_000, 11);
+    let camera = scene.default_camera();
+    let (img, stats) = render(
+        ctx,
+        &scene,
+        &camera,
+        Technique::Deferred,
+        LightCulling::default(),
+    );
+    eprintln!(
+        "10,000 lights: {} visible, {} cluster entries (max {} per cluster), {:.1} KiB of lists",
+        stats.lights_visible,
+        stats.cluster_entries,
+        stats.cluster_max,
+        stats.cluster_bytes as f64 / 1024.0
+    );
+    assert!(stats.lights_visible > 1000);
+    assert!(stats.cluster_bytes > 0);
+    assert!(mean(&img) > 0.01);
+}
+
+/// A scene without geometry is an input error (exit 1) naming the file.
+#[test]
+fn a_scene_without_geometry_is_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.gltf");
+    std::fs::write(
+        &path,
+        r#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[]}],"scene":0}"#,
+    )
+    .unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args(["--scene", path.to_str().unwrap(), "-o"])
+        .arg(dir.path().join("out.png"))
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("empty.gltf") && err.contains("no triangles"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out.png").exists());
+}

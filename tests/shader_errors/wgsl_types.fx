@@ -1,0 +1,6 @@
+EFFECT.wgsl_types = {
+    PASS = {
+        a = SHADER.type_error { img = IN }
+    }
+    OUT = a
+}
