@@ -63,18 +63,33 @@ const MAX_WARMUP: u64 = 1_000_000;
     version,
     about = "Apply declarative filter-graph effects (EFFECT scripts) to images on the GPU",
     after_help = "EFFECT is a path to an .fx file or a built-in effect name (see --list).\n\
-Examples:\n  fxrun glow -i photo.png -o glow.png\n  fxrun gaussian_blur --set sigma=8 -i in.png -o out.png --timings\n  fxrun effects/glow.fx --check\n  fxrun glow --plan --size 1920x1080 --json\n\n\
+Examples:\n  fxrun glow -i photo.png -o glow.png\n  fxrun glow -i photos/ -o out/            (a batch: every image, names kept)\n  fxrun gaussian_blur --set sigma=8 -i in.png -o out.png --timings\n  fxrun effects/glow.fx --check\n  fxrun glow --plan --size 1920x1080 --json\n\n\
 Exit codes: 0 ok, 1 input rejected, 2 I/O, GPU or internal error."
 )]
 struct Cli {
     /// Effects to apply in order (paths to .fx files or built-in names).
     effects: Vec<String>,
-    /// Input image.
-    #[arg(short, long)]
-    input: Option<PathBuf>,
-    /// Output image (format from the extension).
+    /// Input image(s): a file, a folder of images, a wildcard pattern in quotes
+    /// ('photos/*.jpg'), a numbered sequence (in/%04d.png) or - (y4m on stdin). Takes
+    /// every value up to the next option (-i a.jpg b.jpg, or a shell's photos/*.jpg),
+    /// and may be repeated: so give the effects before -i.
+    #[arg(short, long, value_name = "INPUT", num_args = 1.., action = clap::ArgAction::Append)]
+    input: Vec<PathBuf>,
+    /// Output: an image file (format from the extension), a folder (a batch keeps each
+    /// input's name and format), a numbered pattern (out/%04d.png) or - (y4m on stdout).
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Batches: the file format of -o DIR outputs (an extension: png, jpg, exr...)
+    /// instead of each input's own.
+    #[arg(long, value_name = "EXT")]
+    format: Option<String>,
+    /// Batches: go on after an image fails (exit 1 at the end if any failed); by
+    /// default the batch stops at the first failed image.
+    #[arg(long)]
+    keep_going: bool,
+    /// Notes: files skipped in an input folder, each image written.
+    #[arg(short, long)]
+    verbose: bool,
     /// Set a parameter: NAME=VALUE (effect), EFFECT.NAME=VALUE, or PASS.NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     set: Vec<String>,
@@ -137,10 +152,12 @@ struct Cli {
     /// effects warm up (at most 1000000).
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=MAX_WARMUP))]
     warmup: u64,
-    /// Sequences: skip frames whose output file exists (resume an interrupted run).
+    /// Sequences and batches: skip frames (images) whose output file exists (resume an
+    /// interrupted run).
     #[arg(long)]
     skip_existing: bool,
-    /// Sequences: frames queued between decode, GPU and encode (1 to 64).
+    /// Sequences and batches: frames (images) queued between decode, GPU and encode
+    /// (1 to 64).
     #[arg(long, default_value_t = 3,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_QUEUE))]
     queue: usize,
@@ -340,11 +357,17 @@ fn run(cli: Cli) -> Result<(), Fail> {
     }
     // The renderer as the input: `--scene`, or `-o OUT` alone (the built-in scene
     // through the default chain).
-    let default_render = cli.effects.is_empty() && cli.input.is_none() && cli.output.is_some();
+    let default_render = cli.effects.is_empty() && cli.input.is_empty() && cli.output.is_some();
     if cli.scene.is_some() || default_render {
         return run_scene_cli(&cli);
     }
     if cli.effects.is_empty() {
+        if let Some(e) = cli.input.iter().find(|i| batch::effect_after_input(i)) {
+            return Err(rejected(format!(
+                "no effect given: `{}` was read as an input; effects go before -i (fxrun EFFECT... -i INPUT... -o OUTPUT)",
+                e.display()
+            )));
+        }
         return Err(rejected(
             "no effect given (try `fxrun --list`, or `fxrun --help`)",
         ));
@@ -464,18 +487,36 @@ fn run(cli: Cli) -> Result<(), Fail> {
         }
         return Ok(());
     }
-    if let (Some(i), Some(o)) = (&cli.input, &cli.output) {
+    if try_run_batch(&cli)? {
+        return Ok(());
+    }
+    if let ([i], Some(o)) = (cli.input.as_slice(), &cli.output) {
         let (ispec, ospec) = (
             SequenceSpec::parse_input(&i.to_string_lossy()),
             SequenceSpec::parse_output(&o.to_string_lossy()),
         );
         if ispec.is_sequence() || ispec.is_stream() || ospec.is_sequence() || ospec.is_stream() {
+            // Frames from files into a name without an image extension: a folder.
+            let ospec = match ospec {
+                SequenceSpec::Single(p)
+                    if ispec.is_sequence() && !ispec.is_stream() && p.extension().is_none() =>
+                {
+                    SequenceSpec::Dir(p)
+                }
+                other => other,
+            };
             return run_sequence_cli(&cli, ispec, ospec);
         }
     }
-    let (Some(input), Some(output)) = (cli.input.clone(), cli.output.clone()) else {
+    let ([input], Some(output)) = (cli.input.as_slice(), cli.output.clone()) else {
         return Err(rejected("give an input and an output image: -i INPUT -o OUTPUT (or --check, --plan, --dot, --describe)"));
     };
+    let input = input.clone();
+    if cli.format.is_some() {
+        return Err(rejected(
+            "--format sets the format of -o DIR outputs; an output file has its own extension",
+        ));
+    }
     let mut aux = Vec::new();
     for a in &cli.aux {
         let (n, f) = a
@@ -524,6 +565,8 @@ fn write_json(path: &std::path::Path, value: &impl serde::Serialize) -> Result<(
     Ok(())
 }
 
+#[path = "fxrun/batch.rs"]
+mod batch;
 #[path = "fxrun/describe.rs"]
 mod describe;
 #[path = "fxrun/scene.rs"]
@@ -531,6 +574,7 @@ mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
 
+use batch::{check_outputs, check_same_size, try_run_batch};
 use describe::{describe, pass_param_rows};
 use scene::run_scene_cli;
-use sequence::{print_timings, run_sequence_cli};
+use sequence::{print_timings, progress_bar, run_sequence_cli};

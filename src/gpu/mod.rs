@@ -1,3 +1,4 @@
+pub mod batch;
 pub mod context;
 pub mod executor;
 pub mod runner;

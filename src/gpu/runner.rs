@@ -155,7 +155,20 @@ pub fn upload_image(
     img: &Image,
     format: Format,
 ) -> Result<wgpu::Texture, GpuError> {
-    let bytes: Vec<u8> = match (&img.pixels, format) {
+    let bytes = image_bytes(img, format);
+    ctx.upload_texture(
+        label,
+        img.width,
+        img.height,
+        wgpu_format(format),
+        &bytes,
+        wgpu::TextureUsages::empty(),
+    )
+}
+
+/// An image's pixels as the tightly packed texel bytes of `format` (from [`input_format`]).
+pub fn image_bytes(img: &Image, format: Format) -> Vec<u8> {
+    match (&img.pixels, format) {
         (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
         (Pixels::F32(v), Format::Rgba16f) => v
             .iter()
@@ -172,15 +185,7 @@ pub fn upload_image(
                 _ => lin.iter().flat_map(|&x| x.to_le_bytes()).collect(),
             }
         }
-    };
-    ctx.upload_texture(
-        label,
-        img.width,
-        img.height,
-        wgpu_format(format),
-        &bytes,
-        wgpu::TextureUsages::empty(),
-    )
+    }
 }
 
 /// The output texture format for a file: 8-bit files get rgba8-srgb (rgba8 with

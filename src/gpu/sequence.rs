@@ -305,6 +305,20 @@ pub fn run_sequence(
             stream = Some(s);
         }
         let s = stream.as_mut().expect("stream created");
+        let (w, h) = (s.prepared.plan.input.width, s.prepared.plan.input.height);
+        if (img.width, img.height) != (w, h) {
+            // An input error, not a GPU one: the frames of a sequence have one size.
+            failure = Some(RunError::BadInput(IoError::Decode {
+                path: format!("frame {number}").into(),
+                message: format!(
+                    "the frame is {}x{}, the sequence started at {w}x{h} (frame {}): the frames of a sequence must have one size",
+                    img.width,
+                    img.height,
+                    first_number.unwrap_or(0)
+                ),
+            }));
+            break;
+        }
         numbers.push_back(number);
         if let Err(e) = s.push_image(engine, &img) {
             failure = Some(e.into());

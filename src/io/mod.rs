@@ -14,6 +14,7 @@
 
 mod convert;
 mod exr_io;
+mod probe;
 pub mod sequence;
 pub mod srgb;
 pub mod y4m;
@@ -26,6 +27,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use image::{DynamicImage, ImageDecoder, ImageEncoder};
+
+pub use probe::image_file_dimensions;
 
 /// Largest accepted width or height.
 pub const MAX_SIDE: u32 = 32768;

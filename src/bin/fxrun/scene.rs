@@ -4,7 +4,7 @@ use super::*;
 
 pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN};
-    if cli.input.is_some() {
+    if !cli.input.is_empty() {
         return Err(rejected("--scene renders the input: give no -i"));
     }
     if cli.output.is_none() && cli.gbuffer.is_none() && !cli.describe_materials {

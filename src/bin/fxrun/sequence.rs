@@ -1,6 +1,8 @@
 //! `fxrun`: frame sequences and y4m streams (`-i 'in/%04d.png'`, `-i -`), and the timings printer.
 
 use super::*;
+use fxgraph::gpu::batch::BatchItem;
+use std::collections::HashMap;
 
 pub(crate) fn print_timings(r: &JobReport) {
     outln!(
@@ -75,6 +77,8 @@ pub(crate) fn run_sequence_cli(
     // Source: files (with the context frames a slice needs) or a y4m stream.
     let mut y4m_template = None;
     let mut emit = None;
+    // `-o DIR` from files (one output per input frame): each frame's own file name.
+    let mut named: Option<HashMap<u64, PathBuf>> = None;
     let source: Box<dyn FrameSource> = match &ispec {
         SequenceSpec::Stdin => {
             let stdin = std::io::BufReader::with_capacity(1 << 20, std::io::stdin());
@@ -107,6 +111,9 @@ pub(crate) fn run_sequence_cli(
         spec => {
             let seq = InputSequence::open(spec).map_err(RunError::from)?;
             let all = &seq.frames;
+            if let (SequenceSpec::Dir(dir), 1) = (&ospec, cli.rate) {
+                named = Some(named_outputs(cli, dir, all)?);
+            }
             let (lo, hi) = match range {
                 Some(r) => {
                     let r = seq.resolve(r).ok_or_else(|| {
@@ -123,8 +130,26 @@ pub(crate) fn run_sequence_cli(
                 ),
             };
             let mut lo = lo;
-            if cli.skip_existing {
-                if let Ok(out) = OutputPattern::new(&ospec) {
+            if let (true, Some(names)) = (cli.skip_existing, &named) {
+                let exists = |n: &u64| {
+                    names
+                        .get(n)
+                        .is_some_and(|p| std::fs::symlink_metadata(p).is_ok())
+                };
+                match all
+                    .iter()
+                    .map(|f| f.0)
+                    .filter(|n| *n >= lo && *n <= hi)
+                    .find(|n| !exists(n))
+                {
+                    Some(first_missing) => lo = first_missing,
+                    None => {
+                        eprintln!("fxrun: every output frame exists already (--skip-existing)");
+                        return Ok(());
+                    }
+                }
+            } else if cli.skip_existing {
+                if let Ok(out) = output_pattern(cli, &ospec) {
                     match all
                         .iter()
                         .map(|f| f.0)
@@ -153,6 +178,8 @@ pub(crate) fn run_sequence_cli(
                     "fxrun: warning: this effect uses feedback (earlier output frames); a slice starting at frame {lo} differs from one whole run unless it warms up over the frames before it (--warmup N)"
                 );
             }
+            // Frames of one size: checked from the headers before anything is written.
+            check_same_size(&all[from..=to])?;
             Box::new(FilesSource::new(all[from..=to].to_vec(), load))
         }
     };
@@ -188,8 +215,29 @@ pub(crate) fn run_sequence_cli(
             )
         }
         SequenceSpec::Stdin => return Err(rejected("`-` as an output writes stdout; use -o -")),
+        SequenceSpec::Dir(dir) if named.is_some() => {
+            let names = named.take().expect("checked");
+            std::fs::create_dir_all(dir).map_err(|e| {
+                RunError::from(fxgraph::io::IoError::Io {
+                    path: dir.clone(),
+                    source: e,
+                })
+            })?;
+            let _ = fxgraph::io::sequence::remove_stale_temporaries(dir);
+            let probe = names.values().next().cloned().unwrap_or_default();
+            let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear)
+                .map_err(RunError::from)?;
+            let save = fxgraph::io::SaveOptions {
+                bit_depth: cli.bit_depth,
+                assume_linear: cli.assume_linear,
+            };
+            (
+                Box::new(NamedFilesSink { names, save }) as Box<dyn FrameSink>,
+                format,
+            )
+        }
         spec => {
-            let pattern = OutputPattern::new(spec).map_err(RunError::from)?;
+            let pattern = output_pattern(cli, spec).map_err(RunError::from)?;
             let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
             let probe = pattern.path_for(0);
             let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear)
@@ -243,30 +291,7 @@ pub(crate) fn run_sequence_cli(
             .map_err(RunError::from)?,
     );
     let tty = std::io::stderr().is_terminal();
-    let progress = |p: Progress| {
-        if !tty {
-            return;
-        }
-        let secs = p.elapsed.as_secs_f64().max(1e-6);
-        let rate = p.done as f64 / secs;
-        let line = match p.total {
-            Some(t) if t > 0 => {
-                let frac = p.done as f64 / t as f64;
-                let bar: String = (0..30)
-                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
-                    .collect();
-                let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
-                format!(
-                    "\r[{bar}] {}/{t} frames  {rate:.1} fps  ETA {:02}:{:02} ",
-                    p.done,
-                    (eta as u64) / 60,
-                    (eta as u64) % 60
-                )
-            }
-            _ => format!("\r{} frames  {rate:.1} fps ", p.done),
-        };
-        let _ = std::io::stderr().write_all(line.as_bytes());
-    };
+    let progress = progress_bar(tty, "frames");
     let result = run_sequence(
         &mut engine,
         &mut effect,
@@ -312,4 +337,114 @@ pub(crate) fn run_sequence_cli(
         return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });
     }
     Ok(())
+}
+
+/// A one-line progress bar on stderr (nothing when stderr is not a terminal); `unit`
+/// names what is counted ("frames", "images").
+pub(crate) fn progress_bar(tty: bool, unit: &'static str) -> impl FnMut(Progress) {
+    move |p: Progress| {
+        if !tty {
+            return;
+        }
+        let secs = p.elapsed.as_secs_f64().max(1e-6);
+        let rate = p.done as f64 / secs;
+        let per = if unit == "frames" { " fps" } else { "/s" };
+        let line = match p.total {
+            Some(t) if t > 0 => {
+                let frac = p.done as f64 / t as f64;
+                let bar: String = (0..30)
+                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
+                    .collect();
+                let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
+                format!(
+                    "\r[{bar}] {}/{t} {unit}  {rate:.1}{per}  ETA {:02}:{:02} ",
+                    p.done,
+                    (eta as u64) / 60,
+                    (eta as u64) % 60
+                )
+            }
+            _ => format!("\r{} {unit}  {rate:.1}{per} ", p.done),
+        };
+        let _ = std::io::stderr().write_all(line.as_bytes());
+    }
+}
+
+/// The numbered files a sequence writes: a pattern, or a folder (`NNNNNN.png`, or the
+/// extension `--format` names).
+fn output_pattern(cli: &Cli, spec: &SequenceSpec) -> Result<OutputPattern, fxgraph::io::IoError> {
+    match (spec, &cli.format) {
+        (SequenceSpec::Dir(dir), Some(ext)) => {
+            OutputPattern::in_dir(dir, ext.trim_start_matches('.'))
+        }
+        _ => OutputPattern::new(spec),
+    }
+}
+
+/// The outputs of a sequence read from files into `-o DIR`: each frame's file stem, with
+/// its extension or the one `--format` names (as a batch names them). Refused up front:
+/// two frames written to one file, an output replacing an input, and extensions that
+/// need different output precisions (a sequence renders one format).
+fn named_outputs(
+    cli: &Cli,
+    dir: &std::path::Path,
+    frames: &[(u64, PathBuf)],
+) -> Result<HashMap<u64, PathBuf>, Fail> {
+    let ext_of = |p: &PathBuf| match &cli.format {
+        Some(f) => f.trim_start_matches('.').to_string(),
+        None => p.extension().unwrap_or_default().to_string_lossy().into(),
+    };
+    let items: Vec<BatchItem> = frames
+        .iter()
+        .map(|(_, p)| BatchItem {
+            input: p.clone(),
+            output: dir.join(format!(
+                "{}.{}",
+                p.file_stem().unwrap_or_default().to_string_lossy(),
+                ext_of(p)
+            )),
+        })
+        .collect();
+    check_outputs(&items)?;
+    let mut format = None;
+    for it in &items {
+        let f = output_format_for(&it.output, cli.bit_depth, cli.assume_linear)
+            .map_err(RunError::from)?;
+        if format.is_some_and(|first| first != f) {
+            return Err(rejected(format!(
+                "{}: the frames' file types need different output formats; choose one with --format",
+                it.input.display()
+            )));
+        }
+        format = Some(f);
+    }
+    Ok(frames
+        .iter()
+        .zip(items)
+        .map(|((n, _), it)| (*n, it.output))
+        .collect())
+}
+
+/// Output frames written atomically under the names [`named_outputs`] gave them.
+struct NamedFilesSink {
+    names: HashMap<u64, PathBuf>,
+    save: fxgraph::io::SaveOptions,
+}
+
+impl FrameSink for NamedFilesSink {
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: fxgraph::io::Pixels,
+    ) -> Result<(), fxgraph::io::IoError> {
+        let path = self
+            .names
+            .get(&number)
+            .ok_or_else(|| fxgraph::io::IoError::Unsupported {
+                path: format!("frame {number}").into(),
+                message: "no output file name for this frame".into(),
+            })?;
+        fxgraph::io::save_image(path, width, height, &pixels, &self.save)
+    }
 }

@@ -1,0 +1,475 @@
+//! `fxrun`: batches of still images (`-i photos/ -o out/`, `-i 'photos/*.jpg'`,
+//! `-i a.jpg b.png -o out/`), and the same-size check of temporal sequences.
+//!
+//! What is a batch: an effect that reads no other frame (no `IN[±n]`, no feedback) on
+//! a folder, a wildcard pattern, or several inputs, written to a folder, a numbered
+//! pattern or (one image) a file. A numbered input pattern (`in/%04d.png`), a stream,
+//! a temporal effect, or the sequence options (`--frames`, `--warmup`, `--rate`,
+//! `--fps`) make it a sequence instead (`sequence.rs`).
+
+use super::*;
+use fxgraph::gpu::batch::{run_batch, BatchItem, BatchOptions, BatchReport};
+use fxgraph::io::FileFormat;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Runs the command as a batch when it is one; `Ok(false)`: it is a single image or a
+/// sequence, for the caller to run.
+pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
+    let Some(output) = &cli.output else {
+        return Ok(false);
+    };
+    if cli.input.is_empty() {
+        return Ok(false);
+    }
+    let ospec = SequenceSpec::parse_output(&output.to_string_lossy());
+    let specs: Vec<SequenceSpec> = cli
+        .input
+        .iter()
+        .map(|i| SequenceSpec::parse_input(&i.to_string_lossy()))
+        .collect();
+    let sequence_options =
+        cli.frames.is_some() || cli.warmup > 0 || cli.rate != 1 || cli.fps.is_some();
+    if let [spec] = specs.as_slice() {
+        match spec {
+            SequenceSpec::Dir(_) | SequenceSpec::Glob(_) => {
+                if sequence_options || ospec == SequenceSpec::Stdout {
+                    return Ok(false);
+                }
+            }
+            SequenceSpec::Single(_) if matches!(ospec, SequenceSpec::Dir(_)) => {}
+            _ => return Ok(false),
+        }
+    } else {
+        for (spec, arg) in specs.iter().zip(&cli.input) {
+            if matches!(spec, SequenceSpec::Stdin | SequenceSpec::Pattern { .. }) {
+                return Err(rejected(format!(
+                    "-i {}: a stream or a numbered pattern is a sequence of its own; it cannot be one of several inputs",
+                    arg.display()
+                )));
+            }
+        }
+        if sequence_options {
+            return Err(rejected(
+                "--frames, --warmup, --rate and --fps are for sequences (one -i pattern, folder or stream), not for several inputs",
+            ));
+        }
+        if ospec == SequenceSpec::Stdout {
+            return Err(rejected(
+                "-o - writes one y4m stream: give its frames as one -i pattern or folder",
+            ));
+        }
+    }
+    let mut effect = Effect::compile(&cli.effects, &cli.set)?;
+    let g = &effect.graph;
+    if g.history > 0 || g.latency > 0 || g.has_feedback() {
+        if specs.len() == 1 {
+            return Ok(false); // a sequence (its frames must have one size: check_same_size)
+        }
+        return Err(rejected(
+            "this effect reads other frames (IN[-n], IN[+n] or feedback): give its frames as one folder or pattern, not as several -i",
+        ));
+    }
+    if !cli.aux.is_empty() {
+        return Err(rejected(
+            "--aux is for one image: its size must match the input's",
+        ));
+    }
+    let inputs = collect_inputs(cli, &specs)?;
+    let mut items = name_outputs(cli, &inputs, &ospec)?;
+    check_outputs(&items)?;
+    if cli.skip_existing {
+        items.retain(|it| std::fs::symlink_metadata(&it.output).is_err());
+        if items.is_empty() {
+            eprintln!("fxrun: every output exists already (--skip-existing)");
+            return Ok(true);
+        }
+    }
+    let mut dirs: Vec<&Path> = items.iter().filter_map(|it| it.output.parent()).collect();
+    dirs.sort();
+    dirs.dedup();
+    for d in dirs {
+        let d = if d.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            d
+        };
+        let _ = fxgraph::io::sequence::remove_stale_temporaries(d);
+    }
+    run(cli, &mut effect, &items).map(|_| true)
+}
+
+/// The input files, numbered: a single folder or wildcard pattern as a sequence numbers
+/// its files (the numbers in the names when every name has a distinct one, else the
+/// position in name order), several inputs by position from 0. Processed in name order
+/// (a single folder or pattern) or in the order given.
+fn collect_inputs(cli: &Cli, specs: &[SequenceSpec]) -> Result<Vec<(u64, PathBuf)>, Fail> {
+    let mut out: Vec<(u64, PathBuf)> = Vec::new();
+    for (spec, arg) in specs.iter().zip(&cli.input) {
+        match spec {
+            SequenceSpec::Dir(dir) => {
+                if cli.verbose {
+                    note_skipped_files(dir);
+                }
+                let seq = InputSequence::open(spec).map_err(RunError::from)?;
+                out.extend(seq.frames);
+            }
+            SequenceSpec::Glob(_) => {
+                let seq = InputSequence::open(spec).map_err(RunError::from)?;
+                for (n, p) in seq.frames {
+                    if FileFormat::from_path(&p).is_some() {
+                        out.push((n, p));
+                    } else if cli.verbose {
+                        eprintln!("fxrun: note: skipped {} (not an image file)", p.display());
+                    }
+                }
+            }
+            SequenceSpec::Single(_) => {
+                if effect_after_input(arg) {
+                    return Err(rejected(format!(
+                        "-i {}: no such file; it looks like an effect: effects go before -i (fxrun EFFECT... -i INPUT... -o OUTPUT)",
+                        arg.display()
+                    )));
+                }
+                let seq = InputSequence::open(spec).map_err(RunError::from)?;
+                out.extend(seq.frames);
+            }
+            _ => unreachable!("streams and patterns are refused above"),
+        }
+    }
+    if specs.len() == 1 {
+        out.sort_by(|a, b| a.1.file_name().cmp(&b.1.file_name()));
+    } else {
+        for (i, f) in out.iter_mut().enumerate() {
+            f.0 = i as u64;
+        }
+    }
+    if out.is_empty() {
+        return Err(rejected(format!(
+            "{}: no image files",
+            cli.input[0].display()
+        )));
+    }
+    Ok(out)
+}
+
+/// A missing input that is surely an effect given after `-i` (which takes every value
+/// up to the next option).
+pub(crate) fn effect_after_input(arg: &Path) -> bool {
+    if std::fs::symlink_metadata(arg).is_ok() {
+        return false;
+    }
+    let s = arg.to_string_lossy();
+    s.ends_with(".fx")
+        || library::builtin_effects()
+            .iter()
+            .any(|(name, _)| name.as_str() == s)
+}
+
+/// `-v`: the files of an input folder that are not images.
+fn note_skipped_files(dir: &Path) {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let mut names: Vec<PathBuf> = rd
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_file() && FileFormat::from_path(p).is_none())
+        .filter(|p| {
+            !p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+        })
+        .collect();
+    names.sort();
+    for p in names {
+        eprintln!("fxrun: note: skipped {} (not an image file)", p.display());
+    }
+}
+
+/// The output of each input: `-o DIR` keeps the input's file stem and extension (the
+/// extension `--format` names instead, when given); a pattern numbers them; a file name
+/// takes one image.
+fn name_outputs(
+    cli: &Cli,
+    inputs: &[(u64, PathBuf)],
+    ospec: &SequenceSpec,
+) -> Result<Vec<BatchItem>, Fail> {
+    let format = match &cli.format {
+        Some(ext) => {
+            let ext = ext.trim_start_matches('.');
+            if FileFormat::from_extension(ext).is_none() {
+                return Err(rejected(format!(
+                    "--format {ext}: unknown image file extension (use png, jpg, exr, tif, ...)"
+                )));
+            }
+            Some(ext.to_string())
+        }
+        None => None,
+    };
+    let in_dir = |dir: &Path| -> Result<Vec<BatchItem>, Fail> {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            RunError::from(fxgraph::io::IoError::Io {
+                path: dir.to_path_buf(),
+                source: e,
+            })
+        })?;
+        Ok(inputs
+            .iter()
+            .map(|(_, p)| {
+                let stem = p.file_stem().unwrap_or_default().to_string_lossy();
+                let ext = match &format {
+                    Some(f) => f.clone(),
+                    None => p.extension().unwrap_or_default().to_string_lossy().into(),
+                };
+                BatchItem {
+                    input: p.clone(),
+                    output: dir.join(format!("{stem}.{ext}")),
+                }
+            })
+            .collect())
+    };
+    let own_extension = || {
+        rejected(
+            "--format sets the format of -o DIR outputs; a pattern or a file name has its own extension",
+        )
+    };
+    match ospec {
+        SequenceSpec::Dir(dir) => in_dir(dir),
+        SequenceSpec::Pattern { .. } => {
+            if format.is_some() {
+                return Err(own_extension());
+            }
+            let pattern = OutputPattern::new(ospec).map_err(RunError::from)?;
+            Ok(inputs
+                .iter()
+                .map(|(n, p)| BatchItem {
+                    input: p.clone(),
+                    output: pattern.path_for(*n),
+                })
+                .collect())
+        }
+        SequenceSpec::Single(file) if FileFormat::from_path(file).is_some() => {
+            if format.is_some() {
+                return Err(own_extension());
+            }
+            match inputs {
+                [(_, p)] => Ok(vec![BatchItem {
+                    input: p.clone(),
+                    output: file.clone(),
+                }]),
+                _ => Err(rejected(format!(
+                    "-o {}: {} input images need an output folder (-o DIR/) or a numbered pattern (-o 'out/%04d.png')",
+                    file.display(),
+                    inputs.len()
+                ))),
+            }
+        }
+        // A name without an extension: a folder to create.
+        SequenceSpec::Single(dir) if dir.extension().is_none() => in_dir(dir),
+        other => Err(rejected(format!(
+            "-o {}: a batch writes to a folder, a numbered pattern or (one image) a file",
+            other.display_path().display()
+        ))),
+    }
+}
+
+/// Refuses a batch that would write two images to one file, or over one of its inputs.
+pub(crate) fn check_outputs(items: &[BatchItem]) -> Result<(), Fail> {
+    let canonical = |p: &Path| -> PathBuf {
+        if let Ok(c) = p.canonicalize() {
+            return c;
+        }
+        let parent = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        match (parent.canonicalize(), p.file_name()) {
+            (Ok(d), Some(n)) => d.join(n),
+            _ => p.to_path_buf(),
+        }
+    };
+    let inputs: HashMap<PathBuf, &Path> = items
+        .iter()
+        .map(|it| (canonical(&it.input), it.input.as_path()))
+        .collect();
+    let mut seen: HashMap<PathBuf, &Path> = HashMap::new();
+    for it in items {
+        let out = canonical(&it.output);
+        if let Some(input) = inputs.get(&out) {
+            return Err(rejected(format!(
+                "{}: writing this output would replace the input {}; choose another output folder",
+                it.output.display(),
+                input.display()
+            )));
+        }
+        if let Some(first) = seen.insert(out, &it.input) {
+            return Err(rejected(format!(
+                "{} and {} would both be written to {}; use a numbered pattern output (-o 'out/%04d.png')",
+                first.display(),
+                it.input.display(),
+                it.output.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> {
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
+    }
+    let mut engine = Engine::new(
+        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
+            .map_err(RunError::from)?,
+    );
+    let opts = BatchOptions {
+        bit_depth: cli.bit_depth,
+        assume_linear: cli.assume_linear,
+        keep_going: cli.keep_going,
+        queue: cli.queue.max(1),
+        timings: cli.timings || cli.timings_json.is_some(),
+    };
+    let tty = std::io::stderr().is_terminal();
+    let result = run_batch(
+        &mut engine,
+        effect,
+        items,
+        &opts,
+        stop.clone(),
+        progress_bar(tty, "images"),
+    );
+    if tty {
+        eprintln!();
+    }
+    print_warnings(effect);
+    let report = result?;
+    print_report(cli, &report);
+    if let Some(path) = &cli.timings_json {
+        write_json(path, &report)?;
+    }
+    if report.interrupted {
+        return Err(Fail {
+            code: 130,
+            message: format!(
+                "interrupted after {} images; the images written are complete",
+                report.done.len()
+            ),
+        });
+    }
+    match report.failed.iter().map(|f| f.error.exit_code()).max() {
+        Some(code) => Err(Fail {
+            code: code as u8,
+            message: String::new(),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The effect's warnings, each once (each plan, one per image size, may have added
+/// the same notes again).
+fn print_warnings(effect: &Effect) {
+    let mut seen = std::collections::HashSet::new();
+    let mut unique = fxgraph::script::Diagnostics::default();
+    for d in &effect.warnings.list {
+        if seen.insert(d.render(&effect.sources)) {
+            unique.push(d.clone());
+        }
+    }
+    if !unique.is_empty() {
+        eprint!("{}", unique.render(&effect.sources));
+    }
+}
+
+fn print_report(cli: &Cli, r: &BatchReport) {
+    for f in &r.failed {
+        let path = f.input.display().to_string();
+        if f.message.contains(&path) {
+            eprintln!("fxrun: error: {}", f.message);
+        } else {
+            eprintln!("fxrun: error: {path}: {}", f.message);
+        }
+    }
+    if cli.verbose {
+        for d in &r.done {
+            eprintln!(
+                "fxrun: {} -> {} ({}x{}, {:.1} ms)",
+                d.input.display(),
+                d.output.display(),
+                d.width,
+                d.height,
+                d.total_ms()
+            );
+        }
+    }
+    let plural = |n: usize| if n == 1 { "image" } else { "images" };
+    eprintln!(
+        "fxrun: {} {} in {:.2} s, {:.1} ms per image (median), {} plan{} ({})",
+        r.done.len(),
+        plural(r.done.len()),
+        r.wall_ms / 1e3,
+        r.median_ms(),
+        r.plans,
+        if r.plans == 1 { "" } else { "s" },
+        r.adapter
+    );
+    if !r.failed.is_empty() {
+        let stopped = match r.not_run() {
+            0 => String::new(),
+            n => {
+                format!("; stopped at the first failure, {n} not run (--keep-going runs the rest)")
+            }
+        };
+        eprintln!(
+            "fxrun: {} of {} {} failed{stopped}",
+            r.failed.len(),
+            r.images,
+            plural(r.images)
+        );
+    }
+    if cli.timings {
+        eprintln!(
+            "stage busy: decode {:.0} ms, gpu {:.0} ms, encode {:.0} ms; wall {:.0} ms",
+            r.decode_busy_ms, r.gpu_busy_ms, r.encode_busy_ms, r.wall_ms
+        );
+        for p in &r.passes {
+            let gpu = p
+                .gpu_ms
+                .map(|g| format!("{g:.2}"))
+                .unwrap_or_else(|| "-".into());
+            eprintln!(
+                "  {:<32} {:>11} {:<10} gpu {:>8} ms",
+                p.path,
+                format!("{}x{}", p.width, p.height),
+                p.format,
+                gpu
+            );
+        }
+    }
+}
+
+/// A sequence's frames must all have one size (a temporal effect reads several at
+/// once): checked from the headers before any frame is decoded or written. The error
+/// names the first frame whose size differs.
+pub(crate) fn check_same_size(frames: &[(u64, PathBuf)]) -> Result<(), Fail> {
+    let Some((_, first)) = frames.first() else {
+        return Ok(());
+    };
+    let size = fxgraph::io::image_file_dimensions(first).map_err(RunError::from)?;
+    for (_, p) in &frames[1..] {
+        let s = fxgraph::io::image_file_dimensions(p).map_err(RunError::from)?;
+        if s != size {
+            return Err(rejected(format!(
+                "{}: the frame is {}x{}, the first frame ({}) is {}x{}: the frames of a sequence must have one size (the effect reads several frames at once); an effect that reads one frame runs on images of any size",
+                p.display(),
+                s.0,
+                s.1,
+                first.display(),
+                size.0,
+                size.1
+            )));
+        }
+    }
+    Ok(())
+}

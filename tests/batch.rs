@@ -1,0 +1,356 @@
+//! Batches of still images through the real `fxrun`: mixed sizes equal one-image runs
+//! exactly, names and formats are kept, patterns number, failures stop the batch or
+//! not (`--keep-going`), and temporal effects refuse frames of different sizes.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn fxrun(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("run fxrun")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().unwrap_or(-1)
+}
+
+fn gpu() -> bool {
+    common::engine().is_some()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("UTF-8 test path")
+}
+
+/// Writes a test pattern of `w`x`h` to `path` (format from the extension); the
+/// `seed` shifts the pattern so the images differ.
+fn write_image(path: &Path, w: u32, h: u32, seed: u32) {
+    let base = common::pattern_u8(w + seed, h);
+    let img = common::image_u8(w, h, |x, y| {
+        let i = ((y * (w + seed) + x + seed) * 4) as usize;
+        match &base.pixels {
+            fxgraph::io::Pixels::U8(v) => [v[i], v[i + 1], v[i + 2], 255],
+            _ => unreachable!(),
+        }
+    });
+    fxgraph::io::save_image(path, w, h, &img.pixels, &Default::default()).unwrap();
+}
+
+/// The folder of the batch: three images of different sizes and formats, and a file
+/// that is not an image.
+fn photos(dir: &Path) -> PathBuf {
+    let d = dir.join("photos");
+    std::fs::create_dir_all(&d).unwrap();
+    write_image(&d.join("a.png"), 96, 64, 0);
+    write_image(&d.join("b.jpg"), 64, 128, 3);
+    write_image(&d.join("c.png"), 80, 80, 7);
+    std::fs::write(d.join("notes.txt"), "not an image").unwrap();
+    d
+}
+
+fn pixels(p: &Path) -> fxgraph::io::Image {
+    fxgraph::io::load_image(p, &Default::default())
+        .unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Names of the files in a folder, sorted (temporaries included, so a stray one shows).
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.flatten()
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+/// `fxrun glow -i IN -o OUT` for one image.
+fn single(input: &Path, output: &Path) {
+    let o = fxrun(&["glow", "-i", s(input), "-o", s(output)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
+#[test]
+fn mixed_size_folder_equals_one_image_runs_exactly() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let photos = photos(dir.path());
+    let out = dir.path().join("out");
+    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out), "-v"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("skipped") && e.contains("notes.txt"), "{e}");
+    assert!(e.contains("3 images in"), "{e}");
+    assert!(e.contains("per image (median)"), "{e}");
+    // Names and formats kept.
+    assert_eq!(names(&out), ["a.png", "b.jpg", "c.png"]);
+    let one = dir.path().join("one");
+    std::fs::create_dir_all(&one).unwrap();
+    for (name, size) in [
+        ("a.png", (96, 64)),
+        ("b.jpg", (64, 128)),
+        ("c.png", (80, 80)),
+    ] {
+        single(&photos.join(name), &one.join(name));
+        let (batch, alone) = (pixels(&out.join(name)), pixels(&one.join(name)));
+        assert_eq!((batch.width, batch.height), size, "{name}");
+        assert_eq!(batch.source.format, alone.source.format, "{name}");
+        assert!(
+            batch.pixels == alone.pixels,
+            "{name}: batch differs from a one-image run"
+        );
+    }
+}
+
+#[test]
+fn wildcards_lists_and_patterns_name_the_outputs() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let photos = photos(dir.path());
+    // A quoted wildcard, expanded by fxrun, numbered into a pattern (names without
+    // numbers: by position in name order).
+    let glob = format!("{}/*.png", s(&photos));
+    let numbered = dir.path().join("numbered/%03d.png");
+    let o = fxrun(&["glow", "-i", &glob, "-o", s(&numbered)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let ndir = dir.path().join("numbered");
+    assert_eq!(names(&ndir), ["000.png", "001.png"]);
+    // Several inputs after one -i (as a shell expands photos/*), --format for all.
+    let conv = dir.path().join("conv");
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        s(&photos.join("b.jpg")),
+        s(&photos.join("a.png")),
+        "-o",
+        s(&conv),
+        "--format",
+        "png",
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(names(&conv), ["a.png", "b.png"]);
+    assert!(pixels(&ndir.join("000.png")).pixels == pixels(&conv.join("a.png")).pixels);
+    // Repeated -i gives the same.
+    let rep = dir.path().join("rep");
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        s(&photos.join("c.png")),
+        "-i",
+        s(&photos.join("a.png")),
+        "-o",
+        s(&rep),
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(names(&rep), ["a.png", "c.png"]);
+    assert!(pixels(&rep.join("c.png")).pixels == pixels(&ndir.join("001.png")).pixels);
+}
+
+#[test]
+fn the_effect_is_planned_again_only_when_the_size_changes() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("in");
+    std::fs::create_dir_all(&d).unwrap();
+    write_image(&d.join("x1.png"), 40, 30, 0);
+    write_image(&d.join("x2.png"), 40, 30, 1);
+    write_image(&d.join("y.png"), 30, 40, 2);
+    let json = dir.path().join("report.json");
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        s(&d),
+        "-o",
+        s(&dir.path().join("out")),
+        "--timings-json",
+        s(&json),
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["images"], 3, "{r}");
+    assert_eq!(r["plans"], 2, "x1 and x2 share a plan: {r}");
+    assert_eq!(r["done"].as_array().map(Vec::len), Some(3), "{r}");
+    assert_eq!(r["done"][2]["width"], 30, "{r}");
+}
+
+#[test]
+fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let photos = photos(dir.path());
+    // b.jpg cut in half: a truncated JPEG.
+    let b = photos.join("b.jpg");
+    let bytes = std::fs::read(&b).unwrap();
+    std::fs::write(&b, &bytes[..bytes.len() / 2]).unwrap();
+    // Outputs from an earlier run: the failed image's and the one after it.
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("b.jpg"), "earlier b").unwrap();
+    std::fs::write(out.join("c.png"), "earlier c").unwrap();
+    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out)]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains(&format!("{}:", b.display())),
+        "names the file: {e}"
+    );
+    assert!(e.contains("truncated"), "{e}");
+    assert!(e.contains("1 of 3 images failed"), "{e}");
+    assert!(e.contains("1 not run"), "{e}");
+    // a.png finished before the failure; b and c untouched; no temporaries.
+    assert_eq!(names(&out), ["a.png", "b.jpg", "c.png"]);
+    assert_eq!(std::fs::read(out.join("b.jpg")).unwrap(), b"earlier b");
+    assert_eq!(std::fs::read(out.join("c.png")).unwrap(), b"earlier c");
+    pixels(&out.join("a.png"));
+
+    let out2 = dir.path().join("out2");
+    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out2), "--keep-going"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains(&format!("{}:", b.display())), "{e}");
+    assert!(e.contains("1 of 3 images failed"), "{e}");
+    assert!(!e.contains("not run"), "{e}");
+    assert_eq!(names(&out2), ["a.png", "c.png"]);
+    assert_eq!((pixels(&out2.join("c.png")).width), 80);
+}
+
+#[test]
+fn a_temporal_effect_refuses_frames_of_different_sizes_before_writing() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    std::fs::create_dir_all(&frames).unwrap();
+    write_image(&frames.join("f1.png"), 64, 48, 0);
+    write_image(&frames.join("f2.png"), 64, 48, 1);
+    write_image(&frames.join("f3.png"), 48, 64, 2);
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("000001.png"), "earlier").unwrap();
+    let o = fxrun(&["temporal_denoise", "-i", s(&frames), "-o", s(&out)]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains(&format!("{}:", frames.join("f3.png").display())),
+        "{e}"
+    );
+    assert!(e.contains("48x64") && e.contains("64x48"), "{e}");
+    assert_eq!(names(&out), ["000001.png"]);
+    assert_eq!(std::fs::read(out.join("000001.png")).unwrap(), b"earlier");
+    // The same frames as several inputs: a temporal effect needs one sequence.
+    let o = fxrun(&[
+        "temporal_denoise",
+        "-i",
+        s(&frames.join("f1.png")),
+        s(&frames.join("f2.png")),
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("reads other frames"), "{}", stderr(&o));
+    // Frames of one size run as a sequence; -o DIR keeps their names there too.
+    write_image(&frames.join("f3.png"), 64, 48, 2);
+    let seq = dir.path().join("seq");
+    let o = fxrun(&["temporal_denoise", "-i", s(&frames), "-o", s(&seq)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(names(&seq), ["f1.png", "f2.png", "f3.png"]);
+}
+
+#[test]
+fn batches_that_would_lose_data_are_refused_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let photos = photos(dir.path());
+    write_image(&photos.join("a.bmp"), 16, 16, 0);
+    // Two inputs, one output name.
+    let out = dir.path().join("out");
+    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out), "--format", "png"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("would both be written"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(names(&out).is_empty(), "{:?}", names(&out));
+    // Writing over the inputs.
+    let before = std::fs::read(photos.join("a.png")).unwrap();
+    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&photos)]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("would replace the input"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read(photos.join("a.png")).unwrap(), before);
+    // Several inputs into one file name.
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        s(&photos.join("a.png")),
+        s(&photos.join("c.png")),
+        "-o",
+        s(&dir.path().join("one.png")),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("need an output folder"),
+        "{}",
+        stderr(&o)
+    );
+    // An effect given after -i is named as such.
+    let o = fxrun(&["-i", s(&photos.join("a.png")), "glow", "-o", s(&out)]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("effects go before -i"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn the_header_probe_reads_sizes_without_decoding() {
+    use fxgraph::io::image_file_dimensions;
+    let dir = tempfile::tempdir().unwrap();
+    let photos = photos(dir.path());
+    assert_eq!(
+        image_file_dimensions(&photos.join("a.png")).unwrap(),
+        (96, 64)
+    );
+    assert_eq!(
+        image_file_dimensions(&photos.join("b.jpg")).unwrap(),
+        (64, 128)
+    );
+    // A truncated image still has its header: the size is known, the decode fails later.
+    let cut = dir.path().join("cut.png");
+    let bytes = std::fs::read(photos.join("c.png")).unwrap();
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    assert_eq!(image_file_dimensions(&cut).unwrap(), (80, 80));
+    let e = image_file_dimensions(&photos.join("notes.txt")).unwrap_err();
+    assert!(e.to_string().contains("not a recognised image"), "{e}");
+    let empty = dir.path().join("empty.png");
+    std::fs::write(&empty, b"").unwrap();
+    assert!(image_file_dimensions(&empty).unwrap_err().is_input_error());
+    let e = image_file_dimensions(&photos).unwrap_err();
+    assert!(e.to_string().contains("not a regular file"), "{e}");
+}
