@@ -343,7 +343,7 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
     if tty {
         eprintln!();
     }
-    print_warnings(effect);
+    print_warnings(cli, effect);
     let report = result?;
     print_report(cli, &report);
     if let Some(path) = &cli.timings_json {
@@ -353,8 +353,11 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         return Err(Fail {
             code: 130,
             message: format!(
-                "interrupted after {} images; the images written are complete",
-                report.done.len()
+                "interrupted: {} of {} images written, each complete ({}); rerun with --skip-existing to do the other {}",
+                report.done.len(),
+                items.len(),
+                if cli.verbose { "listed above" } else { "-v lists them" },
+                items.len().saturating_sub(report.done.len())
             ),
         });
     }
@@ -368,8 +371,9 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
 }
 
 /// The effect's warnings, each once (each plan, one per image size, may have added
-/// the same notes again).
-fn print_warnings(effect: &Effect) {
+/// the same notes again); its notes (informational: an automatic conversion) with
+/// -v only.
+fn print_warnings(cli: &Cli, effect: &Effect) {
     let mut seen = std::collections::HashSet::new();
     let mut unique = fxgraph::script::Diagnostics::default();
     for d in &effect.warnings.list {
@@ -377,8 +381,12 @@ fn print_warnings(effect: &Effect) {
             unique.push(d.clone());
         }
     }
-    if !unique.is_empty() {
-        eprint!("{}", unique.render(&effect.sources));
+    let (warnings, notes) = unique.split_notes();
+    if !warnings.is_empty() {
+        eprint!("{}", warnings.render(&effect.sources));
+    }
+    if cli.verbose && !notes.is_empty() {
+        eprint!("{}", notes.render(&effect.sources));
     }
 }
 

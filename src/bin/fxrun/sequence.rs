@@ -57,9 +57,7 @@ pub(crate) fn run_sequence_cli(
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
     let mut effect = Effect::compile(&cli.effects, &cli.set)?;
-    if !effect.warnings.is_empty() {
-        eprint!("{}", effect.warnings.render(&effect.sources));
-    }
+    print_diagnostics(cli, &effect);
     let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
     let range = match &cli.frames {
         Some(f) => Some(parse_frames(f).map_err(|e| rejected(format!("--frames {f}: {e}")))?),
@@ -334,9 +332,30 @@ pub(crate) fn run_sequence_cli(
         write_json(path, &report)?;
     }
     if report.interrupted {
-        return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });
+        let hint = match &ospec {
+            SequenceSpec::Stdout => {
+                "the y4m stream on stdout ends after the last whole frame (--skip-existing does not apply to a stream)"
+            }
+            _ => "completed frames are intact (rerun with --skip-existing to resume)",
+        };
+        return Err(Fail {
+            code: 130,
+            message: format!("interrupted after {} frames; {hint}", report.frames_out),
+        });
     }
     Ok(())
+}
+
+/// The effect's warnings, and its notes (informational: an automatic conversion)
+/// with -v only.
+pub(crate) fn print_diagnostics(cli: &Cli, effect: &Effect) {
+    let (warnings, notes) = effect.warnings.clone().split_notes();
+    if !warnings.is_empty() {
+        eprint!("{}", warnings.render(&effect.sources));
+    }
+    if cli.verbose && !notes.is_empty() {
+        eprint!("{}", notes.render(&effect.sources));
+    }
 }
 
 /// A one-line progress bar on stderr (nothing when stderr is not a terminal); `unit`
