@@ -315,11 +315,7 @@ pub(crate) fn check_outputs(items: &[BatchItem]) -> Result<(), Fail> {
 }
 
 fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> {
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
-    }
+    let stop = stop_flag();
     let mut engine = Engine::new(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
             .map_err(RunError::from)?,
@@ -331,18 +327,16 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         queue: cli.queue.max(1),
         timings: cli.timings || cli.timings_json.is_some(),
     };
-    let tty = std::io::stderr().is_terminal();
+    let progress = ProgressLine::new("images");
     let result = run_batch(
         &mut engine,
         effect,
         items,
         &opts,
         stop.clone(),
-        progress_bar(tty, "images"),
+        progress.callback(),
     );
-    if tty {
-        eprintln!();
-    }
+    progress.finish();
     print_warnings(cli, effect);
     let report = result?;
     print_report(cli, &report);

@@ -270,11 +270,7 @@ pub(crate) fn run_sequence_cli(
             effect = Effect::compile(&cli.effects, &set)?;
         }
     }
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
-    }
+    let stop = stop_flag();
     let opts = SequenceOptions {
         output_format,
         assume_linear: cli.assume_linear,
@@ -288,8 +284,7 @@ pub(crate) fn run_sequence_cli(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
             .map_err(RunError::from)?,
     );
-    let tty = std::io::stderr().is_terminal();
-    let progress = progress_bar(tty, "frames");
+    let progress = ProgressLine::new("frames");
     let result = run_sequence(
         &mut engine,
         &mut effect,
@@ -298,11 +293,9 @@ pub(crate) fn run_sequence_cli(
         &opts,
         None,
         stop.clone(),
-        progress,
+        progress.callback(),
     );
-    if tty {
-        eprintln!();
-    }
+    progress.finish();
     let report = result?;
     if cli.timings {
         let (d, g, e) = report.utilisation();
@@ -358,33 +351,55 @@ pub(crate) fn print_diagnostics(cli: &Cli, effect: &Effect) {
     }
 }
 
-/// A one-line progress bar on stderr (nothing when stderr is not a terminal); `unit`
-/// names what is counted ("frames", "images").
-pub(crate) fn progress_bar(tty: bool, unit: &'static str) -> impl FnMut(Progress) {
-    move |p: Progress| {
-        if !tty {
-            return;
-        }
-        let secs = p.elapsed.as_secs_f64().max(1e-6);
-        let rate = p.done as f64 / secs;
-        let per = if unit == "frames" { " fps" } else { "/s" };
-        let line = match p.total {
-            Some(t) if t > 0 => {
-                let frac = p.done as f64 / t as f64;
-                let bar: String = (0..30)
-                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
-                    .collect();
-                let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
-                format!(
-                    "\r[{bar}] {}/{t} {unit}  {rate:.1}{per}  ETA {:02}:{:02} ",
-                    p.done,
-                    (eta as u64) / 60,
-                    (eta as u64) % 60
-                )
+/// The progress bar on stderr (through `indicatif`; nothing when stderr is not a
+/// terminal): done/total, rate and ETA; `unit` names what is counted ("frames",
+/// "images").
+pub(crate) struct ProgressLine {
+    bar: Option<indicatif::ProgressBar>,
+    unit: &'static str,
+}
+
+impl ProgressLine {
+    pub(crate) fn new(unit: &'static str) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr())
+        });
+        ProgressLine { bar, unit }
+    }
+
+    /// The callback a sequence or batch run reports to.
+    pub(crate) fn callback(&self) -> impl FnMut(Progress) {
+        let (bar, unit) = (self.bar.clone(), self.unit);
+        let mut styled = false;
+        move |p: Progress| {
+            let Some(bar) = &bar else {
+                return;
+            };
+            if !styled {
+                styled = true;
+                let template = match p.total {
+                    Some(t) if t > 0 => {
+                        bar.set_length(t);
+                        format!("[{{bar:30}}] {{pos}}/{{len}} {unit}  {{msg}}  ETA {{eta}}")
+                    }
+                    _ => format!("{{spinner}} {{pos}} {unit}  {{msg}}"),
+                };
+                if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
+                    bar.set_style(style.progress_chars("#>."));
+                }
             }
-            _ => format!("\r{} {unit}  {rate:.1}{per} ", p.done),
-        };
-        let _ = std::io::stderr().write_all(line.as_bytes());
+            let rate = p.done as f64 / p.elapsed.as_secs_f64().max(1e-6);
+            let per = if unit == "frames" { " fps" } else { "/s" };
+            bar.set_message(format!("{rate:.1}{per}"));
+            bar.set_position(p.done);
+        }
+    }
+
+    /// Leaves the last state on its line.
+    pub(crate) fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.abandon();
+        }
     }
 }
 
