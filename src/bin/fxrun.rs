@@ -103,7 +103,14 @@ struct Cli {
     /// default the batch stops at the first failed image.
     #[arg(help_heading = IMAGES, long)]
     keep_going: bool,
-    /// Notes: files skipped in an input folder, each image written.
+    /// Keep running after an image, batch or file-sequence run and re-run it when
+    /// the effect, an INCLUDEd .fx, a shader (or its #include) or the input image
+    /// changes; errors are printed and the watch goes on. Not for streams, --scene
+    /// or the analysis modes. Ctrl-C ends it (status 0).
+    #[arg(long, help_heading = COMMON)]
+    watch: bool,
+    /// Notes: files skipped in an input folder, each image written, automatic
+    /// conversions.
     #[arg(help_heading = COMMON, short, long)]
     verbose: bool,
     /// Set a parameter: NAME=VALUE (effect), EFFECT.NAME=VALUE, or PASS.NAME=VALUE.
@@ -297,17 +304,35 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            if !f.message.is_empty() {
-                let msg = f.message.trim_end();
-                if msg.contains(": error:") || msg.starts_with("error") {
-                    eprintln!("{msg}");
-                } else {
-                    eprintln!("fxrun: error: {msg}");
-                }
-            }
+            print_fail(&f);
             ExitCode::from(f.code)
         }
     }
+}
+
+/// Prints a failure's message (diagnostics already rendered are printed as they are).
+fn print_fail(f: &Fail) {
+    if !f.message.is_empty() {
+        let msg = f.message.trim_end();
+        if msg.contains(": error:") || msg.starts_with("error") {
+            eprintln!("{msg}");
+        } else {
+            eprintln!("fxrun: error: {msg}");
+        }
+    }
+}
+
+/// The Ctrl-C flag of sequences, batches and `--watch`: one handler for the process
+/// (the `ctrlc` crate takes one), installed on first use.
+fn stop_flag() -> Arc<AtomicBool> {
+    static STOP: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
+    STOP.get_or_init(|| {
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+        stop
+    })
+    .clone()
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), Fail> {
@@ -371,6 +396,9 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
         }
         return Ok(());
+    }
+    if cli.watch {
+        return watch::run_watch(&cli);
     }
     // The renderer as the input: `--scene`, or `-o OUT` alone (the built-in scene
     // through the default chain).
@@ -504,7 +532,12 @@ fn run(cli: Cli) -> Result<(), Fail> {
         }
         return Ok(());
     }
-    if try_run_batch(&cli)? {
+    run_job(&cli)
+}
+
+/// An image, batch or sequence run (what `--watch` re-runs).
+fn run_job(cli: &Cli) -> Result<(), Fail> {
+    if try_run_batch(cli)? {
         return Ok(());
     }
     if let ([i], Some(o)) = (cli.input.as_slice(), &cli.output) {
@@ -522,7 +555,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
                 }
                 other => other,
             };
-            return run_sequence_cli(&cli, ispec, ospec);
+            return run_sequence_cli(cli, ispec, ospec);
         }
     }
     let ([input], Some(output)) = (cli.input.as_slice(), cli.output.clone()) else {
@@ -594,8 +627,10 @@ mod describe;
 mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
+#[path = "fxrun/watch.rs"]
+mod watch;
 
 use batch::{check_outputs, check_same_size, try_run_batch};
 use describe::{describe, pass_param_rows};
 use scene::run_scene_cli;
-use sequence::{print_timings, progress_bar, run_sequence_cli};
+use sequence::{print_timings, run_sequence_cli, ProgressLine};
