@@ -997,3 +997,23 @@ fn a_device_as_the_materials_file_is_refused() {
         stderr(&o)
     );
 }
+
+#[test]
+fn help_groups_every_option_under_a_heading() {
+    let o = fxrun(&["--help"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let help = String::from_utf8_lossy(&o.stdout);
+    for heading in [
+        "Images and batches:",
+        "Sequences:",
+        "Scenes (deferred renderer):",
+        "Analysis:",
+        "Output:",
+        "Common:",
+    ] {
+        assert!(help.contains(heading), "no `{heading}` in:\n{help}");
+    }
+    // No option is left in clap's default group.
+    assert!(!help.contains("\nOptions:"), "{help}");
+    assert_eq!(code(&fxrun(&["-V"])), 0);
+}

@@ -50,180 +50,6 @@ fn stdout_result(r: std::io::Result<()>) {
     }
 }
 
-/// Largest `--queue`: frames held between the stages.
-const MAX_QUEUE: u64 = 64;
-/// Largest `--lights`: random point lights added to a scene.
-const MAX_LIGHTS: u64 = 100_000;
-/// Largest `--warmup`: frames run before the first written one.
-const MAX_WARMUP: u64 = 1_000_000;
-
-#[derive(Parser, Debug)]
-#[command(
-    name = "fxrun",
-    version,
-    about = "Apply declarative filter-graph effects (EFFECT scripts) to images on the GPU",
-    after_help = "EFFECT is a path to an .fx file or a built-in effect name (see --list).\n\
-Examples:\n  fxrun glow -i photo.png -o glow.png\n  fxrun glow -i photos/ -o out/            (a batch: every image, names kept)\n  fxrun gaussian_blur --set sigma=8 -i in.png -o out.png --timings\n  fxrun effects/glow.fx --check\n  fxrun glow --plan --size 1920x1080 --json\n\n\
-Exit codes: 0 ok, 1 input rejected, 2 I/O, GPU or internal error."
-)]
-struct Cli {
-    /// Effects to apply in order (paths to .fx files or built-in names).
-    effects: Vec<String>,
-    /// Input image(s): a file, a folder of images, a wildcard pattern in quotes
-    /// ('photos/*.jpg'), a numbered sequence (in/%04d.png) or - (y4m on stdin). Takes
-    /// every value up to the next option (-i a.jpg b.jpg, or a shell's photos/*.jpg),
-    /// and may be repeated: so give the effects before -i.
-    #[arg(short, long, value_name = "INPUT", num_args = 1.., action = clap::ArgAction::Append)]
-    input: Vec<PathBuf>,
-    /// Output: an image file (format from the extension), a folder (a batch keeps each
-    /// input's name and format), a numbered pattern (out/%04d.png) or - (y4m on stdout).
-    #[arg(short, long)]
-    output: Option<PathBuf>,
-    /// Batches: the file format of -o DIR outputs (an extension: png, jpg, exr...)
-    /// instead of each input's own.
-    #[arg(long, value_name = "EXT")]
-    format: Option<String>,
-    /// Batches: go on after an image fails (exit 1 at the end if any failed); by
-    /// default the batch stops at the first failed image.
-    #[arg(long)]
-    keep_going: bool,
-    /// Notes: files skipped in an input folder, each image written.
-    #[arg(short, long)]
-    verbose: bool,
-    /// Set a parameter: NAME=VALUE (effect), EFFECT.NAME=VALUE, or PASS.NAME=VALUE.
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    set: Vec<String>,
-    /// An auxiliary input image: NAME=FILE (read by AUX.NAME).
-    #[arg(long = "aux", value_name = "NAME=FILE")]
-    aux: Vec<String>,
-    /// Bits per channel of the output file (8, 16, 32 where the format allows).
-    #[arg(long)]
-    bit_depth: Option<u8>,
-    /// Treat 8/16-bit files as linear data (no sRGB decode on load or encode on save).
-    #[arg(long)]
-    assume_linear: bool,
-    /// Print one row per pass and the run's time split.
-    #[arg(long)]
-    timings: bool,
-    /// Write the timings as JSON to FILE.
-    #[arg(long, value_name = "FILE")]
-    timings_json: Option<PathBuf>,
-    /// Only check the effect: print diagnostics, exit 0 (warnings allowed) or 1.
-    #[arg(long)]
-    check: bool,
-    /// Write the graph as Graphviz DOT to FILE (`-` for stdout).
-    #[arg(long, value_name = "FILE", value_parser = clap::builder::NonEmptyStringValueParser::new())]
-    dot: Option<String>,
-    /// Print the schedule, the texture lifetime steps and the memory figures.
-    #[arg(long)]
-    plan: bool,
-    /// Input size for --plan/--dot/--check: WxH.
-    #[arg(long, value_name = "WxH")]
-    size: Option<String>,
-    /// With --plan: one JSON object on stdout.
-    #[arg(long)]
-    json: bool,
-    /// Texture reuse policy for --plan: min-peak (default) or pool.
-    #[arg(long, default_value = "min-peak")]
-    policy: String,
-    /// List the built-in effects.
-    #[arg(long)]
-    list: bool,
-    /// List the effect's passes and parameters.
-    #[arg(long)]
-    describe: bool,
-    /// List the GPU adapters.
-    #[arg(long)]
-    adapters: bool,
-    /// Pick an adapter by index (see --adapters) or by part of its name.
-    #[arg(long)]
-    adapter: Option<String>,
-    /// Sequences: only write the outputs of input frames A to B (inclusive);
-    /// history/future frames outside the range are still read.
-    #[arg(long, value_name = "A..B")]
-    frames: Option<String>,
-    /// Sequences: frames per second (the `time` shaders see; y4m input sets it).
-    #[arg(long)]
-    fps: Option<f64>,
-    /// Sequences: outputs per input frame (2 for field-rate deinterlacing).
-    #[arg(long, default_value_t = 1)]
-    rate: u32,
-    /// Sequences: frames before --frames to run without writing, so feedback
-    /// effects warm up (at most 1000000).
-    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=MAX_WARMUP))]
-    warmup: u64,
-    /// Sequences and batches: skip frames (images) whose output file exists (resume an
-    /// interrupted run).
-    #[arg(long)]
-    skip_existing: bool,
-    /// Sequences and batches: frames (images) queued between decode, GPU and encode
-    /// (1 to 64).
-    #[arg(long, default_value_t = 3,
-          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_QUEUE))]
-    queue: usize,
-    /// Render a scene with the deferred renderer as the effect input:
-    /// builtin:room, builtin:bench, or a .gltf/.glb file (size from --size).
-    #[arg(long, value_parser = clap::builder::NonEmptyStringValueParser::new())]
-    scene: Option<String>,
-    /// Scene camera: a glTF camera index or name, or eye=x,y,z;target=x,y,z;fov=deg.
-    #[arg(long)]
-    camera: Option<String>,
-    /// Scene: add N random point lights (at most 100000).
-    #[arg(long, default_value_t = 0,
-          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=MAX_LIGHTS))]
-    lights: usize,
-    /// Scene: seed of the random lights.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Scene: deferred (default), light-prepass or forward.
-    #[arg(long, default_value = "deferred")]
-    renderer: String,
-    /// Scene: write every G-buffer image into DIR.
-    #[arg(long, value_name = "DIR")]
-    gbuffer: Option<PathBuf>,
-    /// Scene: a file of MATERIAL definitions; a definition named like a scene
-    /// material replaces it (docs/materials.md).
-    #[arg(long, value_name = "FILE")]
-    materials: Option<PathBuf>,
-    /// Scene: SCENE_MATERIAL=DEFINITION: use a definition of --materials for a scene
-    /// material (`*` for all of them). Repeatable.
-    #[arg(long = "material", value_name = "NAME=DEF")]
-    material: Vec<String>,
-    /// Scene: how material features select code: preprocess (#ifdef variants,
-    /// default), override (pipeline constants) or branch (run-time branches).
-    #[arg(long, default_value = "preprocess")]
-    variants: String,
-    /// Scene: how the light passes pick each pixel's lights: clustered (tiles ×
-    /// depth slices, default), volumes (a sphere or cone per light) or none
-    /// (every light at every pixel).
-    #[arg(long, default_value = "clustered")]
-    light_culling: String,
-    /// Scene: fog in the lighting template, KEY=VALUE with the `fog` effect's
-    /// parameters (mode, distance, color, density, start, end, height_falloff,
-    /// fog_height), or `on` for its defaults. Repeatable.
-    #[arg(long, value_name = "KEY=VALUE")]
-    fog: Vec<String>,
-    /// Scene: list each material (surface and lighting shader, variant features)
-    /// and the pipelines compiled.
-    #[arg(long)]
-    describe_materials: bool,
-    /// Scene: add ambient light of this radiance (V or R,G,B, linear); a scene
-    /// otherwise renders only the lights it has.
-    #[arg(long, value_name = "RGB")]
-    ambient: Option<String>,
-    /// Scene: shadow maps for the scene's lights: off, hard (one depth
-    /// comparison) or pcf (filtered, default).
-    #[arg(long, default_value = "pcf")]
-    shadows: String,
-    /// Scene: side of each shadow map in texels (256 to 8192, and the GPU's limit).
-    #[arg(long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_SIZE)]
-    shadow_size: u32,
-    /// Scene: shadow-map layers per frame (directional light 4, point 6, spot 1);
-    /// lights past it are unshadowed, with a warning.
-    #[arg(long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_LAYERS)]
-    shadow_layers: u32,
-}
-
 /// An error with its exit code, already reported or to be printed.
 struct Fail {
     code: u8,
@@ -280,17 +106,35 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            if !f.message.is_empty() {
-                let msg = f.message.trim_end();
-                if msg.contains(": error:") || msg.starts_with("error") {
-                    eprintln!("{msg}");
-                } else {
-                    eprintln!("fxrun: error: {msg}");
-                }
-            }
+            print_fail(&f);
             ExitCode::from(f.code)
         }
     }
+}
+
+/// Prints a failure's message (diagnostics already rendered are printed as they are).
+fn print_fail(f: &Fail) {
+    if !f.message.is_empty() {
+        let msg = f.message.trim_end();
+        if msg.contains(": error:") || msg.starts_with("error") {
+            eprintln!("{msg}");
+        } else {
+            eprintln!("fxrun: error: {msg}");
+        }
+    }
+}
+
+/// The Ctrl-C flag of sequences, batches and `--watch`: one handler for the process
+/// (the `ctrlc` crate takes one), installed on first use.
+fn stop_flag() -> Arc<AtomicBool> {
+    static STOP: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
+    STOP.get_or_init(|| {
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+        stop
+    })
+    .clone()
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), Fail> {
@@ -354,6 +198,9 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
         }
         return Ok(());
+    }
+    if cli.watch {
+        return watch::run_watch(&cli);
     }
     // The renderer as the input: `--scene`, or `-o OUT` alone (the built-in scene
     // through the default chain).
@@ -487,7 +334,12 @@ fn run(cli: Cli) -> Result<(), Fail> {
         }
         return Ok(());
     }
-    if try_run_batch(&cli)? {
+    run_job(&cli)
+}
+
+/// An image, batch or sequence run (what `--watch` re-runs).
+fn run_job(cli: &Cli) -> Result<(), Fail> {
+    if try_run_batch(cli)? {
         return Ok(());
     }
     if let ([i], Some(o)) = (cli.input.as_slice(), &cli.output) {
@@ -505,7 +357,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
                 }
                 other => other,
             };
-            return run_sequence_cli(&cli, ispec, ospec);
+            return run_sequence_cli(cli, ispec, ospec);
         }
     }
     let ([input], Some(output)) = (cli.input.as_slice(), cli.output.clone()) else {
@@ -539,6 +391,10 @@ fn run(cli: Cli) -> Result<(), Fail> {
     if !report.warnings.is_empty() {
         eprint!("{}", report.warnings);
     }
+    // Notes (an automatic conversion) are informational: shown with -v only.
+    if cli.verbose && !report.notes.is_empty() {
+        eprint!("{}", report.notes);
+    }
     if cli.timings {
         print_timings(&report);
     }
@@ -565,6 +421,8 @@ fn write_json(path: &std::path::Path, value: &impl serde::Serialize) -> Result<(
     Ok(())
 }
 
+#[path = "fxrun/args.rs"]
+mod args;
 #[path = "fxrun/batch.rs"]
 mod batch;
 #[path = "fxrun/describe.rs"]
@@ -573,8 +431,11 @@ mod describe;
 mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
+#[path = "fxrun/watch.rs"]
+mod watch;
 
+use args::Cli;
 use batch::{check_outputs, check_same_size, try_run_batch};
 use describe::{describe, pass_param_rows};
 use scene::run_scene_cli;
-use sequence::{print_timings, progress_bar, run_sequence_cli};
+use sequence::{print_timings, run_sequence_cli, ProgressLine};

@@ -309,9 +309,12 @@ pub struct JobReport {
     pub peak_bytes: u64,
     pub lower_bound_bytes: u64,
     pub naive_bytes: u64,
-    /// Compiler warnings and notes, rendered.
+    /// Compiler warnings, rendered.
     #[serde(skip)]
     pub warnings: String,
+    /// Compiler notes (informational: an automatic conversion), rendered.
+    #[serde(skip)]
+    pub notes: String,
 }
 
 fn ms(d: Duration) -> f64 {
@@ -405,11 +408,16 @@ pub fn apply_to_image(
         job.timings,
         &mut report,
     )?;
-    report.warnings = if effect.warnings.is_empty() {
-        String::new()
-    } else {
-        effect.warnings.render(&effect.sources)
+    let (warnings, notes) = effect.warnings.clone().split_notes();
+    let render = |d: Diagnostics| {
+        if d.is_empty() {
+            String::new()
+        } else {
+            d.render(&effect.sources)
+        }
     };
+    report.warnings = render(warnings);
+    report.notes = render(notes);
     let t = Instant::now();
     io::save_image(
         &job.output,

@@ -231,7 +231,10 @@ impl Loader {
         if let Some(&i) = self.loaded.get(&key) {
             return i;
         }
-        let id = self.sources.add(shown, text);
+        let id = match &origin {
+            Origin::Disk(p) => self.sources.add_disk(shown, text, p),
+            Origin::Embedded(_) => self.sources.add(shown, text),
+        };
         let module = parse_module(&self.sources, id, diags);
         let idx = self.modules.len();
         self.loaded.insert(key, idx);

@@ -2,6 +2,7 @@
 //! followed by the source line and a caret under the span (rustc/naga style).
 
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Index of a file in a [`SourceMap`].
@@ -52,16 +53,19 @@ impl<T> Spanned<T> {
 pub struct SourceFile {
     pub name: String,
     pub text: Arc<str>,
+    /// The file on disk it was read from (None: built-in, `--set`, generated text).
+    pub path: Option<PathBuf>,
     line_starts: Vec<usize>,
 }
 
 impl SourceFile {
-    fn new(name: String, text: Arc<str>) -> Self {
+    fn new(name: String, text: Arc<str>, path: Option<PathBuf>) -> Self {
         let mut line_starts = vec![0];
         line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
         SourceFile {
             name,
             text,
+            path,
             line_starts,
         }
     }
@@ -103,8 +107,38 @@ impl SourceMap {
 
     pub fn add(&mut self, name: impl Into<String>, text: impl Into<Arc<str>>) -> FileId {
         let id = FileId(self.files.len() as u32);
-        self.files.push(SourceFile::new(name.into(), text.into()));
+        self.files
+            .push(SourceFile::new(name.into(), text.into(), None));
         id
+    }
+
+    /// [`SourceMap::add`] for a file read from `path` on disk (see [`SourceMap::disk_paths`]).
+    pub fn add_disk(
+        &mut self,
+        name: impl Into<String>,
+        text: impl Into<Arc<str>>,
+        path: &Path,
+    ) -> FileId {
+        let id = FileId(self.files.len() as u32);
+        self.files.push(SourceFile::new(
+            name.into(),
+            text.into(),
+            Some(path.to_path_buf()),
+        ));
+        id
+    }
+
+    /// The files on disk that were read (effect files, `INCLUDE`s, shaders and their
+    /// `#include`s), each once, in the order they were read; built-in files are not
+    /// among them. `fxrun --watch` watches these.
+    pub fn disk_paths(&self) -> Vec<PathBuf> {
+        let mut out: Vec<PathBuf> = Vec::new();
+        for p in self.files.iter().filter_map(|f| f.path.as_ref()) {
+            if !out.contains(p) {
+                out.push(p.clone());
+            }
+        }
+        out
     }
 
     pub fn get(&self, id: FileId) -> &SourceFile {
@@ -306,6 +340,16 @@ impl Diagnostics {
     }
     pub fn is_empty(&self) -> bool {
         self.list.is_empty()
+    }
+
+    /// (errors and warnings, notes): notes are informational (an automatic
+    /// conversion), which `fxrun` shows with `-v` only.
+    pub fn split_notes(self) -> (Diagnostics, Diagnostics) {
+        let (notes, rest) = self
+            .list
+            .into_iter()
+            .partition(|d| d.severity == Severity::Note);
+        (Diagnostics { list: rest }, Diagnostics { list: notes })
     }
 
     /// Sort by file and position (stable for equal positions), so output order

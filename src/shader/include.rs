@@ -405,7 +405,12 @@ pub fn assemble(
             match resolve(&origin, dir_canon.as_deref(), path, fs) {
                 Ok(r) => {
                     if seen.insert(r.key.clone()) {
-                        let cid = sources.add(r.shown.clone(), r.text.clone());
+                        let cid = match &r.origin {
+                            IncludeOrigin::Disk(p) => {
+                                sources.add_disk(r.shown.clone(), r.text.clone(), p)
+                            }
+                            _ => sources.add(r.shown.clone(), r.text.clone()),
+                        };
                         children.push((cid, r.shown, r.origin, r.text));
                     }
                 }

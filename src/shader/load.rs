@@ -73,7 +73,10 @@ pub fn load_plan_shaders(
         let label = file.shown.clone();
         let file_id = *files
             .entry(label.clone())
-            .or_insert_with(|| sources.add(label.clone(), file.text.clone()));
+            .or_insert_with(|| match &file.path {
+                Some(path) => sources.add_disk(label.clone(), file.text.clone(), path),
+                None => sources.add(label.clone(), file.text.clone()),
+            });
         let key = (label.clone(), defines.clone());
         if !cache.contains_key(&key) {
             // `#include "lib/..."` (the built-in library) or a file beside the

@@ -315,11 +315,7 @@ pub(crate) fn check_outputs(items: &[BatchItem]) -> Result<(), Fail> {
 }
 
 fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> {
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
-    }
+    let stop = stop_flag();
     let mut engine = Engine::new(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
             .map_err(RunError::from)?,
@@ -331,19 +327,17 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         queue: cli.queue.max(1),
         timings: cli.timings || cli.timings_json.is_some(),
     };
-    let tty = std::io::stderr().is_terminal();
+    let progress = ProgressLine::new("images");
     let result = run_batch(
         &mut engine,
         effect,
         items,
         &opts,
         stop.clone(),
-        progress_bar(tty, "images"),
+        progress.callback(),
     );
-    if tty {
-        eprintln!();
-    }
-    print_warnings(effect);
+    progress.finish();
+    print_warnings(cli, effect);
     let report = result?;
     print_report(cli, &report);
     if let Some(path) = &cli.timings_json {
@@ -353,8 +347,11 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         return Err(Fail {
             code: 130,
             message: format!(
-                "interrupted after {} images; the images written are complete",
-                report.done.len()
+                "interrupted: {} of {} images written, each complete ({}); rerun with --skip-existing to do the other {}",
+                report.done.len(),
+                items.len(),
+                if cli.verbose { "listed above" } else { "-v lists them" },
+                items.len().saturating_sub(report.done.len())
             ),
         });
     }
@@ -368,8 +365,9 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
 }
 
 /// The effect's warnings, each once (each plan, one per image size, may have added
-/// the same notes again).
-fn print_warnings(effect: &Effect) {
+/// the same notes again); its notes (informational: an automatic conversion) with
+/// -v only.
+fn print_warnings(cli: &Cli, effect: &Effect) {
     let mut seen = std::collections::HashSet::new();
     let mut unique = fxgraph::script::Diagnostics::default();
     for d in &effect.warnings.list {
@@ -377,8 +375,12 @@ fn print_warnings(effect: &Effect) {
             unique.push(d.clone());
         }
     }
-    if !unique.is_empty() {
-        eprint!("{}", unique.render(&effect.sources));
+    let (warnings, notes) = unique.split_notes();
+    if !warnings.is_empty() {
+        eprint!("{}", warnings.render(&effect.sources));
+    }
+    if cli.verbose && !notes.is_empty() {
+        eprint!("{}", notes.render(&effect.sources));
     }
 }
 

@@ -57,9 +57,7 @@ pub(crate) fn run_sequence_cli(
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
     let mut effect = Effect::compile(&cli.effects, &cli.set)?;
-    if !effect.warnings.is_empty() {
-        eprint!("{}", effect.warnings.render(&effect.sources));
-    }
+    print_diagnostics(cli, &effect);
     let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
     let range = match &cli.frames {
         Some(f) => Some(parse_frames(f).map_err(|e| rejected(format!("--frames {f}: {e}")))?),
@@ -272,11 +270,7 @@ pub(crate) fn run_sequence_cli(
             effect = Effect::compile(&cli.effects, &set)?;
         }
     }
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
-    }
+    let stop = stop_flag();
     let opts = SequenceOptions {
         output_format,
         assume_linear: cli.assume_linear,
@@ -290,8 +284,7 @@ pub(crate) fn run_sequence_cli(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
             .map_err(RunError::from)?,
     );
-    let tty = std::io::stderr().is_terminal();
-    let progress = progress_bar(tty, "frames");
+    let progress = ProgressLine::new("frames");
     let result = run_sequence(
         &mut engine,
         &mut effect,
@@ -300,11 +293,9 @@ pub(crate) fn run_sequence_cli(
         &opts,
         None,
         stop.clone(),
-        progress,
+        progress.callback(),
     );
-    if tty {
-        eprintln!();
-    }
+    progress.finish();
     let report = result?;
     if cli.timings {
         let (d, g, e) = report.utilisation();
@@ -334,38 +325,81 @@ pub(crate) fn run_sequence_cli(
         write_json(path, &report)?;
     }
     if report.interrupted {
-        return Err(Fail { code: 130, message: format!("interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)", report.frames_out) });
+        let hint = match &ospec {
+            SequenceSpec::Stdout => {
+                "the y4m stream on stdout ends after the last whole frame (--skip-existing does not apply to a stream)"
+            }
+            _ => "completed frames are intact (rerun with --skip-existing to resume)",
+        };
+        return Err(Fail {
+            code: 130,
+            message: format!("interrupted after {} frames; {hint}", report.frames_out),
+        });
     }
     Ok(())
 }
 
-/// A one-line progress bar on stderr (nothing when stderr is not a terminal); `unit`
-/// names what is counted ("frames", "images").
-pub(crate) fn progress_bar(tty: bool, unit: &'static str) -> impl FnMut(Progress) {
-    move |p: Progress| {
-        if !tty {
-            return;
-        }
-        let secs = p.elapsed.as_secs_f64().max(1e-6);
-        let rate = p.done as f64 / secs;
-        let per = if unit == "frames" { " fps" } else { "/s" };
-        let line = match p.total {
-            Some(t) if t > 0 => {
-                let frac = p.done as f64 / t as f64;
-                let bar: String = (0..30)
-                    .map(|i| if (i as f64) < frac * 30.0 { '#' } else { '.' })
-                    .collect();
-                let eta = (t.saturating_sub(p.done)) as f64 / rate.max(1e-6);
-                format!(
-                    "\r[{bar}] {}/{t} {unit}  {rate:.1}{per}  ETA {:02}:{:02} ",
-                    p.done,
-                    (eta as u64) / 60,
-                    (eta as u64) % 60
-                )
+/// The effect's warnings, and its notes (informational: an automatic conversion)
+/// with -v only.
+pub(crate) fn print_diagnostics(cli: &Cli, effect: &Effect) {
+    let (warnings, notes) = effect.warnings.clone().split_notes();
+    if !warnings.is_empty() {
+        eprint!("{}", warnings.render(&effect.sources));
+    }
+    if cli.verbose && !notes.is_empty() {
+        eprint!("{}", notes.render(&effect.sources));
+    }
+}
+
+/// The progress bar on stderr (through `indicatif`; nothing when stderr is not a
+/// terminal): done/total, rate and ETA; `unit` names what is counted ("frames",
+/// "images").
+pub(crate) struct ProgressLine {
+    bar: Option<indicatif::ProgressBar>,
+    unit: &'static str,
+}
+
+impl ProgressLine {
+    pub(crate) fn new(unit: &'static str) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr())
+        });
+        ProgressLine { bar, unit }
+    }
+
+    /// The callback a sequence or batch run reports to.
+    pub(crate) fn callback(&self) -> impl FnMut(Progress) {
+        let (bar, unit) = (self.bar.clone(), self.unit);
+        let mut styled = false;
+        move |p: Progress| {
+            let Some(bar) = &bar else {
+                return;
+            };
+            if !styled {
+                styled = true;
+                let template = match p.total {
+                    Some(t) if t > 0 => {
+                        bar.set_length(t);
+                        format!("[{{bar:30}}] {{pos}}/{{len}} {unit}  {{msg}}  ETA {{eta}}")
+                    }
+                    _ => format!("{{spinner}} {{pos}} {unit}  {{msg}}"),
+                };
+                if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
+                    bar.set_style(style.progress_chars("#>."));
+                }
             }
-            _ => format!("\r{} {unit}  {rate:.1}{per} ", p.done),
-        };
-        let _ = std::io::stderr().write_all(line.as_bytes());
+            let rate = p.done as f64 / p.elapsed.as_secs_f64().max(1e-6);
+            let per = if unit == "frames" { " fps" } else { "/s" };
+            bar.set_message(format!("{rate:.1}{per}"));
+            bar.set_position(p.done);
+        }
+    }
+
+    /// Leaves the last state on its line.
+    pub(crate) fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.abandon();
+        }
     }
 }
 

@@ -1,0 +1,141 @@
+//! `fxrun --watch`: a changed shader re-runs the effect; a broken one is reported and
+//! the watch goes on; options it does not take are refused.
+
+mod common;
+
+use std::io::Read as _;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+const FX: &str = "EFFECT.solid = { PASS = { m = SHADER.solid { a = IN } } OUT = m }";
+
+fn shader(rgb: &str) -> String {
+    format!(
+        "@group(0) @binding(0) var a: texture_2d<f32>;
+@fragment fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {{
+    return vec4<f32>({rgb}, 1.0) + 0.0 * textureLoad(a, vec2<i32>(pos.xy), 0);
+}}
+"
+    )
+}
+
+/// Polls `cond` every 50 ms until it holds; panics with `what` after `secs`.
+fn wait_until(secs: u64, what: &str, mut cond: impl FnMut() -> bool) {
+    let t0 = Instant::now();
+    while !cond() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(secs),
+            "timed out: {what}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// Replaces a file as an editor does: write a temporary, rename it over.
+fn save(path: &Path, text: &str) {
+    let tmp = path.with_extension("tmp~");
+    std::fs::write(&tmp, text).unwrap();
+    std::fs::rename(&tmp, path).unwrap();
+}
+
+#[test]
+fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
+    if common::engine().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("solid.fx"), FX).unwrap();
+    std::fs::write(d.join("solid.wgsl"), shader("1.0, 0.0, 0.0")).unwrap();
+    let img = common::pattern_u8(16, 8);
+    let input = d.join("in.png");
+    fxgraph::io::save_image(
+        &input,
+        img.width,
+        img.height,
+        &img.pixels,
+        &Default::default(),
+    )
+    .unwrap();
+    let out = d.join("out.png");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+        .arg(d.join("solid.fx"))
+        .arg("-i")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .arg("--watch")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .stderr(Stdio::piped())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    let err = Arc::new(Mutex::new(String::new()));
+    {
+        let err = err.clone();
+        let mut pipe = child.stderr.take().unwrap();
+        std::thread::spawn(move || {
+            let mut buf = [0u8; 4096];
+            while let Ok(n) = pipe.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                err.lock()
+                    .unwrap()
+                    .push_str(&String::from_utf8_lossy(&buf[..n]));
+            }
+        });
+    }
+    let stderr = || err.lock().unwrap().clone();
+    let watching = || stderr().matches("watching").count();
+    wait_until(120, "the first run", || watching() >= 1);
+    let first = std::fs::read(&out).expect("the first output");
+    // A new colour: the output is written again, with other pixels.
+    save(&d.join("solid.wgsl"), &shader("0.0, 0.0, 1.0"));
+    wait_until(60, "the re-run after the shader changed", || {
+        std::fs::read(&out).is_ok_and(|b| b != first)
+    });
+    let blue = fxgraph::io::load_image(&out, &Default::default()).unwrap();
+    let red = {
+        std::fs::write(d.join("red.png"), &first).unwrap();
+        fxgraph::io::load_image(&d.join("red.png"), &Default::default()).unwrap()
+    };
+    assert_ne!(format!("{:?}", blue.pixels), format!("{:?}", red.pixels));
+    // A broken shader: the diagnostic is printed and the process keeps watching.
+    wait_until(60, "watching again", || watching() >= 2);
+    save(&d.join("solid.wgsl"), "@fragment fn fs_main( -> oops\n");
+    wait_until(60, "the diagnostic of the broken shader", || {
+        stderr().contains("solid.wgsl") && stderr().contains("error")
+    });
+    wait_until(60, "watching after the error", || watching() >= 3);
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the watch ended on a shader error: {}",
+        stderr()
+    );
+    child.kill().unwrap();
+    let _ = child.wait();
+}
+
+#[test]
+fn watch_refuses_analysis_modes_and_streams_with_exit_1() {
+    for args in [
+        &["glow", "--check", "--watch"][..],
+        &["glow", "-i", "-", "-o", "-", "--watch"][..],
+        &["--scene", "builtin:room", "-o", "x.png", "--watch"][..],
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+            .args(args)
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains("--watch"),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}
