@@ -3,7 +3,7 @@
 use crate::graph::PassNode;
 use crate::script::types::{format_value, Value};
 use crate::script::{Diagnostic, FileId, Span};
-use crate::shader::wgsl_names::sanitize;
+use crate::shader::wgsl_names::validation_diagnostic;
 use naga::{ImageClass, ImageDimension, ScalarKind, TypeInner};
 
 /// A `texture_2d<f32>` the script binds an input to, by name.
@@ -211,13 +211,6 @@ fn span(file: FileId, s: naga::Span) -> Span {
     }
 }
 
-/// naga's `Expression [N] is invalid`.
-pub(crate) fn is_expression_invalid(c: &str) -> bool {
-    c.strip_prefix("Expression [")
-        .and_then(|r| r.strip_suffix("] is invalid"))
-        .is_some_and(|n| n.chars().all(|ch| ch.is_ascii_digit()))
-}
-
 /// Parse, validate and reflect preprocessed WGSL (`file` is its id in the source
 /// map, so error spans point into it).
 pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> {
@@ -239,35 +232,11 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         naga::valid::Capabilities::default(),
     );
     if let Err(e) = validator.validate(&module) {
-        // In WGSL terms: the innermost cause is the most specific message; naga's
-        // `Expression [N] is invalid` and its arena labels say nothing to a user.
-        let mut causes = vec![e.as_inner().to_string()];
-        let mut src: &dyn std::error::Error = e.as_inner();
-        while let Some(next) = src.source() {
-            causes.push(next.to_string());
-            src = next;
-        }
-        causes.retain(|c| !is_expression_invalid(c));
-        let main = sanitize(causes.last().map(String::as_str).unwrap_or("invalid"));
-        let mut d = Diagnostic::error(format!("WGSL validation: {main}"));
-        let spans: Vec<naga::Span> = e.spans().map(|(s, _)| *s).collect();
-        match spans.split_last() {
-            Some((last, rest)) => {
-                d = d.at(span(file, *last), "");
-                let context = causes
-                    .first()
-                    .filter(|_| causes.len() > 1)
-                    .map(|c| sanitize(c))
-                    .unwrap_or_default();
-                for s in rest {
-                    if s != last {
-                        d = d.also(span(file, *s), context.clone());
-                    }
-                }
-            }
-            None => d = d.at(Span::new(file, 0, 0), ""),
-        }
-        return Err(vec![d]);
+        return Err(vec![validation_diagnostic(
+            &e,
+            |s| Some(span(file, s)),
+            Span::new(file, 0, 0),
+        )]);
     }
     let mut diags = Vec::new();
     let fragments: Vec<_> = module

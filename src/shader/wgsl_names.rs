@@ -96,3 +96,50 @@ pub fn sanitize(msg: &str) -> String {
     }
     out
 }
+
+/// naga's `Expression [N] is invalid`.
+fn is_expression_invalid(c: &str) -> bool {
+    c.strip_prefix("Expression [")
+        .and_then(|r| r.strip_suffix("] is invalid"))
+        .is_some_and(|n| n.chars().all(|ch| ch.is_ascii_digit()))
+}
+
+/// A naga validation error as one diagnostic in WGSL terms: the innermost cause
+/// (the most specific) as the message, at the last span; the other spans
+/// labelled with the outermost cause. naga's `Expression [N] is invalid` and its
+/// arena labels say nothing to a user and are dropped. `map` turns naga spans
+/// into source spans (`None`: outside the user's text); `fallback` is used when
+/// none maps.
+pub fn validation_diagnostic(
+    e: &naga::WithSpan<naga::valid::ValidationError>,
+    map: impl Fn(naga::Span) -> Option<crate::script::Span>,
+    fallback: crate::script::Span,
+) -> crate::script::Diagnostic {
+    let mut causes = vec![e.as_inner().to_string()];
+    let mut src: &dyn std::error::Error = e.as_inner();
+    while let Some(next) = src.source() {
+        causes.push(next.to_string());
+        src = next;
+    }
+    causes.retain(|c| !is_expression_invalid(c));
+    let main = sanitize(causes.last().map(String::as_str).unwrap_or("invalid"));
+    let mut d = crate::script::Diagnostic::error(format!("WGSL validation: {main}"));
+    let spans: Vec<crate::script::Span> = e.spans().filter_map(|(s, _)| map(*s)).collect();
+    match spans.split_last() {
+        Some((last, rest)) => {
+            d = d.at(*last, "");
+            let context = causes
+                .first()
+                .filter(|_| causes.len() > 1)
+                .map(|c| sanitize(c))
+                .unwrap_or_default();
+            for s in rest {
+                if s != last {
+                    d = d.also(*s, context.clone());
+                }
+            }
+        }
+        None => d = d.at(fallback, ""),
+    }
+    d
+}

@@ -140,33 +140,7 @@ impl Checker<'_> {
             naga::valid::Capabilities::default(),
         );
         if let Err(e) = validator.validate(&module) {
-            // The innermost cause is the most specific message.
-            let mut causes = vec![e.as_inner().to_string()];
-            let mut src: &dyn std::error::Error = e.as_inner();
-            while let Some(next) = src.source() {
-                causes.push(next.to_string());
-                src = next;
-            }
-            causes.retain(|c| !crate::shader::reflect::is_expression_invalid(c));
-            let main = sanitize(causes.last().map(String::as_str).unwrap_or("invalid"));
-            let mut d = Diagnostic::error(format!("WGSL validation: {main}"));
-            let spans: Vec<Span> = e.spans().filter_map(|(s, _)| map(*s)).collect();
-            match spans.split_last() {
-                Some((last, rest)) => {
-                    d = d.at(*last, "");
-                    let context = causes
-                        .first()
-                        .filter(|_| causes.len() > 1)
-                        .map(|c| sanitize(c))
-                        .unwrap_or_default();
-                    for s in rest {
-                        if s != last {
-                            d = d.also(*s, context.clone());
-                        }
-                    }
-                }
-                None => d = d.at(fallback, ""),
-            }
+            let d = crate::shader::wgsl_names::validation_diagnostic(&e, map, fallback);
             self.diags.push(note(d));
             return None;
         }
