@@ -264,7 +264,7 @@ fn run_gbuffer(
         .collect();
     let mut inputs = FrameInputs::single(&input);
     for (n, t) in &textures {
-        inputs.aux.insert(n.clone(), t);
+        inputs.aux.insert(n.clone(), t.into());
     }
     inputs.camera = cam.std;
     let out = prepared.plan.output;

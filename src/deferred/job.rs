@@ -288,7 +288,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             let target = create_output(&ctx, o.width, o.height, o.format);
             let t = Instant::now();
             let mut inputs = FrameInputs::still(&out.scene, &prepared.plan);
-            inputs.aux = out.aux_map();
+            inputs.aux = out.aux.iter().map(|(n, t)| (n.clone(), t.into())).collect();
             inputs.camera = Some(out.camera);
             report.effect_passes = prepared.run(engine, &inputs, &target, job.timings)?;
             report.effects_ms = t.elapsed().as_secs_f64() * 1e3;

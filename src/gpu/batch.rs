@@ -461,9 +461,8 @@ fn gpu_one(
             policy: ReusePolicy::Pool,
             output_format: Some(out_format),
         };
-        let mut prepared = effect.prepare_with(engine, &desc, &plan_opts)?;
-        // Transient textures stay allocated for the next image of this size.
-        prepared.policy = ReusePolicy::Pool;
+        // Transient textures come from the engine's pool, kept for the next image.
+        let prepared = effect.prepare_with(engine, &desc, &plan_opts)?;
         report.plans += 1;
         let input = ctx.upload_texture(
             "fxgraph batch input",

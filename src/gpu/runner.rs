@@ -514,7 +514,7 @@ fn run_on_image(
     let t = Instant::now();
     let mut inputs = FrameInputs::still(&input_tex, &prepared.plan);
     for (n, tex) in &aux_tex {
-        inputs.aux.insert(n.clone(), tex);
+        inputs.aux.insert(n.clone(), tex.into());
     }
     report.passes = prepared.run(engine, &inputs, &output_tex, timings)?;
     report.passes_ms = ms(t.elapsed());

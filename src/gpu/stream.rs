@@ -12,15 +12,16 @@
 //!
 //! Each input frame is uploaded once into a texture that stays in a ring of
 //! `history + latency + 1` textures (recycled, never re-uploaded), and transient
-//! textures are kept across frames (the plan's `Pool` policy), so a stream
-//! allocates nothing per frame after the first.
+//! textures come from the engine's pool, so a stream allocates nothing per frame
+//! after the first. Each output is one frame recorded by [`Prepared::run`]: one
+//! command encoder, one submission.
 
 use super::context::GpuError;
 use super::executor::{
     wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
 };
 use super::runner::create_output;
-use crate::graph::plan::{Resource, ReusePolicy};
+use crate::graph::plan::Resource;
 use crate::io::{Image, Pixels};
 use crate::script::types::Format;
 use std::collections::{HashMap, VecDeque};
@@ -52,11 +53,8 @@ pub struct Stream {
 }
 
 impl Stream {
-    /// `prepared` should come from a plan with [`ReusePolicy::Pool`] so transient
-    /// textures are created once; `input_format` is the format pushed images are
-    /// uploaded as.
-    pub fn new(engine: &Engine, mut prepared: Prepared, input_format: Format) -> Self {
-        prepared.policy = ReusePolicy::Pool;
+    /// `input_format` is the format pushed images are uploaded as.
+    pub fn new(engine: &Engine, prepared: Prepared, input_format: Format) -> Self {
         let mut offsets: Vec<i32> = prepared
             .plan
             .passes
@@ -221,7 +219,11 @@ impl Stream {
         let last = self.pushed - 1;
         let mut inputs = FrameInputs {
             frames: HashMap::new(),
-            aux: self.aux.iter().map(|(n, t)| (n.clone(), t)).collect(),
+            aux: self
+                .aux
+                .iter()
+                .map(|(n, t)| (n.clone(), t.into()))
+                .collect(),
             camera: self.camera,
         };
         for &k in &self.offsets {
@@ -232,7 +234,7 @@ impl Stream {
                 .find(|(i, _)| *i == idx)
                 .map(|(_, tex)| tex)
                 .ok_or_else(|| ExecError::Input(format!("input frame {idx} is no longer held")))?;
-            inputs.frames.insert(k, tex);
+            inputs.frames.insert(k, tex.into());
         }
         let timings = self
             .prepared

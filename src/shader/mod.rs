@@ -19,7 +19,10 @@ pub use material::{
     MaterialShaderKind, MaterialTexture, MATERIAL_INTERFACE,
 };
 pub use preprocess::preprocess;
-pub use reflect::{reflect, Reflection, StdValue, UniformField, UniformLayout, UniformSource};
+pub use reflect::{
+    check_member_value, reflect, Reflection, StdValue, UniformField, UniformLayout, UniformMember,
+    UniformSource, ValueMismatch,
+};
 pub use rename::prefix_module_names;
 
 use crate::graph::library::embedded_shader;

@@ -81,6 +81,45 @@ pub struct UniformBlock {
     pub span: Span,
 }
 
+/// Why a value does not fit a shader parameter (see [`check_member_value`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ValueMismatch {
+    /// Wrong number of components, or a fraction (or a negative) for an integer field.
+    #[error("the shader declares {expected}, found {found}")]
+    WrongType { expected: String, found: String },
+    /// Outside the field's `// @range(min, max)`.
+    #[error("value {value} is out of range [{lo}, {hi}]")]
+    OutOfRange { value: String, lo: f64, hi: f64 },
+}
+
+/// The type and range checks of a parameter value against the uniform member it
+/// sets: the same checks for a value in the script, a `--set` and a value set
+/// between frames (`Prepared::set_param`).
+pub fn check_member_value(m: &UniformMember, value: &[f64]) -> Result<(), ValueMismatch> {
+    let type_ok = value.len() == m.ty.components()
+        && match m.ty {
+            FieldType::F32(_) | FieldType::Mat4 => true,
+            FieldType::I32(_) => value.iter().all(|x| x.fract() == 0.0),
+            FieldType::U32(_) => value.iter().all(|x| x.fract() == 0.0 && *x >= 0.0),
+        };
+    if !type_ok {
+        return Err(ValueMismatch::WrongType {
+            expected: m.ty.wgsl(),
+            found: format_value(value),
+        });
+    }
+    if let Some((lo, hi)) = m.range {
+        if value.iter().any(|&x| !(x >= lo && x <= hi)) {
+            return Err(ValueMismatch::OutOfRange {
+                value: format_value(value),
+                lo,
+                hi,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// What a shader declares.
 #[derive(Debug, Clone)]
 pub struct Reflection {
@@ -527,32 +566,23 @@ pub fn bind_pass(
             );
             continue;
         }
-        let n = m.ty.components();
-        let type_ok = p.value.len() == n
-            && match m.ty {
-                FieldType::F32(_) | FieldType::Mat4 => true,
-                FieldType::I32(_) => p.value.iter().all(|x| x.fract() == 0.0),
-                FieldType::U32(_) => p.value.iter().all(|x| x.fract() == 0.0 && *x >= 0.0),
-            };
-        if !type_ok {
-            diags.push(
-                Diagnostic::error(format!(
-                    "wrong type for `{}`: the shader declares {}, found {}",
-                    p.name,
-                    m.ty.wgsl(),
-                    format_value(&p.value)
-                ))
-                .at(p.span, format!("expected {}", m.ty.wgsl()))
-                .also(m.span, "declared here"),
-            );
-            continue;
-        }
-        if let Some((lo, hi)) = m.range {
-            if p.value.iter().any(|&x| !(x >= lo && x <= hi)) {
+        match check_member_value(m, &p.value) {
+            Ok(()) => {}
+            Err(ValueMismatch::WrongType { expected, found }) => {
                 diags.push(
                     Diagnostic::error(format!(
-                        "value {} of `{}` is out of range [{}, {}]",
-                        format_value(&p.value),
+                        "wrong type for `{}`: the shader declares {expected}, found {found}",
+                        p.name,
+                    ))
+                    .at(p.span, format!("expected {expected}"))
+                    .also(m.span, "declared here"),
+                );
+                continue;
+            }
+            Err(ValueMismatch::OutOfRange { value, lo, hi }) => {
+                diags.push(
+                    Diagnostic::error(format!(
+                        "value {value} of `{}` is out of range [{}, {}]",
                         p.name,
                         format_value(&[lo]),
                         format_value(&[hi])

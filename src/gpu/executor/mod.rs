@@ -1,0 +1,384 @@
+//! The executor: prepares a [`Plan`](crate::graph::plan::Plan) for a device
+//! (shaders, reflection, pipelines, bind groups, static uniforms) and records it
+//! frame after frame, interpreting the plan's `Alloc / Run / Free` steps as data.
+//!
+//! - [`Engine`]: device-level caches (pipelines, samplers, the texture pool) shared
+//!   by every effect prepared on one device.
+//! - [`Prepared`] (`record.rs`): one effect planned for one input; a frame is
+//!   recorded into one command encoder ([`Prepared::record`], the caller's) or
+//!   recorded and submitted in one submission ([`Prepared::run`]).
+//! - `prepare.rs`: checks the plan against the device and builds everything that
+//!   does not change from frame to frame.
+//! - `pool.rs`: transient textures by descriptor, reused across frames.
+//! - `params.rs`: [`Prepared::set_param`], parameters changed between frames.
+
+mod params;
+mod pool;
+mod prepare;
+mod record;
+
+pub use params::{ParamError, ParamInfo};
+pub use pool::PoolStats;
+pub use record::{Prepared, PreparedStats};
+
+use super::context::{GpuContext, GpuError};
+use crate::graph::plan::{Plan, Resource, View};
+use crate::script::types::{Filter, Format, Sampling, Wrap};
+use crate::script::Diagnostics;
+use crate::shader::Reflection;
+use pool::{Ids, TexturePool};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Errors of preparing or running an effect.
+#[derive(Debug, thiserror::Error)]
+pub enum ExecError {
+    /// The script or a shader was rejected: render the diagnostics with the sources.
+    #[error("{} error(s) in the effect or its shaders", .0.error_count())]
+    Rejected(Diagnostics),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    /// The frame's inputs or output do not fit the plan (missing input frame,
+    /// wrong output format, a view where a texture is needed).
+    #[error("{0}")]
+    Input(String),
+}
+
+/// The wgpu format of a script format.
+pub fn wgpu_format(f: Format) -> wgpu::TextureFormat {
+    use wgpu::TextureFormat as T;
+    match f {
+        Format::Rgba8 => T::Rgba8Unorm,
+        Format::Rgba8Srgb => T::Rgba8UnormSrgb,
+        Format::Rgba16f => T::Rgba16Float,
+        Format::Rgba32f => T::Rgba32Float,
+        Format::Rgb10a2 => T::Rgb10a2Unorm,
+        Format::R8 => T::R8Unorm,
+        Format::R16f => T::R16Float,
+        Format::R32f => T::R32Float,
+        Format::Rg16f => T::Rg16Float,
+        Format::Rg32f => T::Rg32Float,
+    }
+}
+
+/// The format a texture of `f` is viewed in for `view` (`None`: its own).
+pub(crate) fn view_format(f: Format, view: View) -> Option<wgpu::TextureFormat> {
+    match (f, view) {
+        (Format::Rgba8, View::SrgbDecode) => Some(wgpu::TextureFormat::Rgba8UnormSrgb),
+        (Format::Rgba8Srgb, View::Raw) => Some(wgpu::TextureFormat::Rgba8Unorm),
+        _ => None,
+    }
+}
+
+/// Per-pass timing of one run.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PassTiming {
+    pub path: String,
+    pub width: u32,
+    pub height: u32,
+    pub format: String,
+    /// GPU time from timestamp queries, when the adapter has them.
+    pub gpu_ms: Option<f64>,
+    /// CPU time to record the pass into the frame's command encoder.
+    pub cpu_ms: f64,
+}
+
+/// The camera of a rendered input, for the standard values `near`, `far`, `proj`
+/// and `inv_proj` (column-major matrices, as WGSL reads them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraStd {
+    pub near: f32,
+    pub far: f32,
+    pub proj: [f32; 16],
+    pub inv_proj: [f32; 16],
+}
+
+/// An image the caller provides: a texture (the engine makes and caches the views
+/// it needs, including an sRGB / raw view of 8-bit textures), or a view (used as
+/// it is, so it must already be in the format the plan reads or writes).
+#[derive(Debug, Clone, Copy)]
+pub enum ImageRef<'a> {
+    Texture(&'a wgpu::Texture),
+    View(&'a wgpu::TextureView),
+}
+
+impl<'a> From<&'a wgpu::Texture> for ImageRef<'a> {
+    fn from(t: &'a wgpu::Texture) -> Self {
+        ImageRef::Texture(t)
+    }
+}
+
+impl<'a> From<&'a wgpu::TextureView> for ImageRef<'a> {
+    fn from(v: &'a wgpu::TextureView) -> Self {
+        ImageRef::View(v)
+    }
+}
+
+/// Images the caller provides for one frame.
+#[derive(Debug, Clone, Default)]
+pub struct FrameInputs<'a> {
+    /// Input frames by offset (0 = current; others for `IN[-n]`/`IN[+n]`).
+    pub frames: HashMap<i32, ImageRef<'a>>,
+    pub aux: HashMap<String, ImageRef<'a>>,
+    /// The camera, when the input comes from the renderer.
+    pub camera: Option<CameraStd>,
+}
+
+impl<'a> FrameInputs<'a> {
+    /// A still image as a one-frame sequence: every `IN[n]` the plan reads is the
+    /// image itself (history and future clamp to the only frame).
+    pub fn still(input: impl Into<ImageRef<'a>>, plan: &Plan) -> Self {
+        let input = input.into();
+        let mut f = Self::single(input);
+        for p in &plan.passes {
+            for i in &p.inputs {
+                if let Resource::Input { frame } = i.resource {
+                    f.frames.insert(frame, input);
+                }
+            }
+        }
+        f
+    }
+
+    /// Only the current frame (`IN`).
+    pub fn single(input: impl Into<ImageRef<'a>>) -> Self {
+        FrameInputs {
+            frames: HashMap::from([(0, input.into())]),
+            aux: HashMap::new(),
+            camera: None,
+        }
+    }
+
+    /// Adds the auxiliary image `name` (`AUX.name`).
+    pub fn with_aux(mut self, name: &str, image: impl Into<ImageRef<'a>>) -> Self {
+        self.aux.insert(name.to_string(), image.into());
+        self
+    }
+}
+
+/// A render pipeline with its bind group layout, shared by passes with the same
+/// shader text, target format and input filterability.
+struct CachedPipeline {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+#[derive(Hash, PartialEq, Eq, Clone)]
+struct PipelineKey {
+    wgsl: Arc<str>,
+    entry: String,
+    target: wgpu::TextureFormat,
+    /// Per texture binding: can it be filtered.
+    filterable: Vec<(u32, bool)>,
+}
+
+/// Counters of an engine, for tests and reports.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct EngineStats {
+    /// Render pipelines created (the cache's misses).
+    pub pipelines_created: usize,
+    /// Bind groups created, at prepare time and while recording frames.
+    pub bind_groups_created: u64,
+    /// Frames recorded on this engine.
+    pub frames: u64,
+    /// The texture pool.
+    pub pool: PoolStats,
+}
+
+/// Device-level caches shared by every effect run on one device.
+pub struct Engine {
+    pub ctx: GpuContext,
+    vs: wgpu::ShaderModule,
+    pipelines: HashMap<PipelineKey, Arc<CachedPipeline>>,
+    samplers: HashMap<(Sampling, bool), wgpu::Sampler>,
+    pool: TexturePool,
+    ids: Ids,
+    /// Extra folders searched for `NAME.wgsl`.
+    pub shader_dirs: Vec<PathBuf>,
+    /// Number of pipelines created (for tests of the cache).
+    pub pipelines_created: usize,
+    bind_groups_created: u64,
+    frames: u64,
+}
+
+impl Engine {
+    pub fn new(ctx: GpuContext) -> Self {
+        let vs = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("fxgraph fullscreen vertex"),
+                source: wgpu::ShaderSource::Wgsl(crate::shader::FULLSCREEN_VS.into()),
+            });
+        Engine {
+            ctx,
+            vs,
+            pipelines: HashMap::new(),
+            samplers: HashMap::new(),
+            pool: TexturePool::new(),
+            ids: Ids::default(),
+            shader_dirs: Vec::new(),
+            pipelines_created: 0,
+            bind_groups_created: 0,
+            frames: 0,
+        }
+    }
+
+    /// The engine's counters: pipelines and bind groups created, frames recorded,
+    /// textures the pool created, destroyed and holds.
+    pub fn stats(&self) -> EngineStats {
+        EngineStats {
+            pipelines_created: self.pipelines_created,
+            bind_groups_created: self.bind_groups_created,
+            frames: self.frames,
+            pool: self.pool.stats,
+        }
+    }
+
+    /// Free pooled textures unused for more than `frames` frames are destroyed
+    /// (default 8); 0 keeps only those the last frame used.
+    pub fn set_pool_keep_frames(&mut self, frames: u64) {
+        self.pool.keep_frames = frames;
+    }
+
+    fn is_gl(&self) -> bool {
+        self.ctx.info.backend == wgpu::Backend::Gl
+    }
+
+    fn format_filterable(&self, f: Format) -> bool {
+        self.ctx.format_support(wgpu_format(f)).filter
+    }
+
+    fn pipeline(
+        &mut self,
+        key: &PipelineKey,
+        refl: &Reflection,
+        samplers: &[(u32, Sampling, bool)],
+        label: &str,
+    ) -> Result<Arc<CachedPipeline>, GpuError> {
+        if let Some(p) = self.pipelines.get(key) {
+            return Ok(p.clone());
+        }
+        let mut entries = Vec::new();
+        for t in &refl.textures {
+            let filterable = key
+                .filterable
+                .iter()
+                .find(|(b, _)| *b == t.binding)
+                .map(|(_, f)| *f)
+                .unwrap_or(true);
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: t.binding,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            });
+        }
+        for (binding, _, filtering) in samplers {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: *binding,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Sampler(if *filtering {
+                    wgpu::SamplerBindingType::Filtering
+                } else {
+                    wgpu::SamplerBindingType::NonFiltering
+                }),
+                count: None,
+            });
+        }
+        if let Some(u) = &refl.uniform {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: u.binding,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            });
+        }
+        let vs = self.vs.clone();
+        let built = self.ctx.scoped(label, |device| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(key.wgsl.to_string())),
+            });
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&format!("{label} bind group layout")),
+                entries: &entries,
+            });
+            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(&format!("{label} pipeline layout")),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&format!("{label} pipeline")),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState {
+                    module: &vs,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(&key.entry),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: key.target,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            CachedPipeline { pipeline, layout }
+        })?;
+        self.pipelines_created += 1;
+        let arc = Arc::new(built);
+        self.pipelines.insert(key.clone(), arc.clone());
+        Ok(arc)
+    }
+
+    fn sampler(&mut self, s: Sampling, filtering: bool) -> wgpu::Sampler {
+        self.samplers
+            .entry((s, filtering))
+            .or_insert_with(|| {
+                let mode = |w: Wrap| match w {
+                    Wrap::Clamp => wgpu::AddressMode::ClampToEdge,
+                    Wrap::Repeat => wgpu::AddressMode::Repeat,
+                    Wrap::Mirror => wgpu::AddressMode::MirrorRepeat,
+                };
+                let filter = if filtering && s.filter == Filter::Linear {
+                    wgpu::FilterMode::Linear
+                } else {
+                    wgpu::FilterMode::Nearest
+                };
+                self.ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some(&format!(
+                        "sampler {} {}/{}",
+                        s.filter.name(),
+                        s.wrap_u.name(),
+                        s.wrap_v.name()
+                    )),
+                    address_mode_u: mode(s.wrap_u),
+                    address_mode_v: mode(s.wrap_v),
+                    address_mode_w: wgpu::AddressMode::ClampToEdge,
+                    mag_filter: filter,
+                    min_filter: filter,
+                    ..Default::default()
+                })
+            })
+            .clone()
+    }
+}

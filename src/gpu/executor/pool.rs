@@ -1,0 +1,217 @@
+//! The texture pool: transient textures keyed by descriptor, reused across frames
+//! and across the effects prepared on one [`Engine`](super::Engine).
+//!
+//! The plan's `Alloc { create: true }` takes a texture of the slot's descriptor
+//! from the pool (creating one only when none is free) and `Free { release: true }`
+//! gives it back; both are O(1). Every texture keeps the views the passes need (its
+//! natural format, and the sRGB / raw alternative of 8-bit formats), made once.
+//! A free texture unused for [`TexturePool::keep_frames`] frames is destroyed, so a
+//! batch of images of changing sizes does not keep every size alive.
+
+use super::wgpu_format;
+use crate::graph::plan::TextureDesc;
+use crate::script::types::Format;
+use std::collections::HashMap;
+
+/// A texture with its views, made once.
+pub(crate) struct PooledTexture {
+    pub texture: wgpu::Texture,
+    /// The view in the texture's own format.
+    pub natural: wgpu::TextureView,
+    /// The view in the other 8-bit format (`rgba8` seen as sRGB, `rgba8-srgb` seen
+    /// raw), where the backend allows one.
+    pub alternate: Option<(wgpu::TextureFormat, wgpu::TextureView)>,
+    pub desc: TextureDesc,
+    /// Unique on the engine (never reused, unlike pool indices): what bind groups
+    /// are cached by.
+    pub id: u64,
+    /// Frame counter value of the last frame that used it.
+    last_used: u64,
+}
+
+impl PooledTexture {
+    /// A texture usable as render target, sampled input and copy source.
+    pub fn create(
+        device: &wgpu::Device,
+        gl: bool,
+        label: &str,
+        desc: TextureDesc,
+        id: u64,
+    ) -> Self {
+        let format = wgpu_format(desc.format);
+        let alternate = if gl {
+            None
+        } else {
+            match desc.format {
+                Format::Rgba8 => Some(wgpu::TextureFormat::Rgba8UnormSrgb),
+                Format::Rgba8Srgb => Some(wgpu::TextureFormat::Rgba8Unorm),
+                _ => None,
+            }
+        };
+        let view_formats: Vec<wgpu::TextureFormat> = alternate.into_iter().collect();
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: desc.width,
+                height: desc.height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &view_formats,
+        });
+        let natural = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(&format!("{label} view")),
+            ..Default::default()
+        });
+        let alternate = alternate.map(|f| {
+            let view = texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some(&format!("{label} view {f:?}")),
+                format: Some(f),
+                ..Default::default()
+            });
+            (f, view)
+        });
+        PooledTexture {
+            texture,
+            natural,
+            alternate,
+            desc,
+            id,
+            last_used: 0,
+        }
+    }
+
+    /// The view in `format` (`None`: the texture's own); `None` when the texture
+    /// has no such view.
+    pub fn view(&self, format: Option<wgpu::TextureFormat>) -> Option<&wgpu::TextureView> {
+        match format {
+            None => Some(&self.natural),
+            Some(f) if f == self.texture.format() => Some(&self.natural),
+            Some(f) => self
+                .alternate
+                .as_ref()
+                .filter(|(af, _)| *af == f)
+                .map(|(_, v)| v),
+        }
+    }
+}
+
+/// The source of [`PooledTexture::id`]s.
+#[derive(Debug, Default)]
+pub(crate) struct Ids(u64);
+
+impl Ids {
+    #[allow(clippy::should_implement_trait)]
+    pub fn next(&mut self) -> u64 {
+        self.0 += 1;
+        self.0
+    }
+}
+
+/// Counters of the pool (see [`super::EngineStats`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PoolStats {
+    /// Textures created since the engine was made.
+    pub created: u64,
+    /// Textures destroyed after staying unused for `keep_frames` frames.
+    pub destroyed: u64,
+    /// Textures held now (in use or free).
+    pub held: usize,
+    /// Bytes of the textures held now.
+    pub held_bytes: u64,
+}
+
+/// Transient textures by descriptor.
+pub(crate) struct TexturePool {
+    textures: Vec<Option<PooledTexture>>,
+    free: HashMap<TextureDesc, Vec<usize>>,
+    /// Slots of `textures` emptied by trimming, reused by the next creation.
+    vacant: Vec<usize>,
+    /// Free textures unused for more frames than this are destroyed.
+    pub keep_frames: u64,
+    pub stats: PoolStats,
+}
+
+impl TexturePool {
+    pub fn new() -> Self {
+        TexturePool {
+            textures: Vec::new(),
+            free: HashMap::new(),
+            vacant: Vec::new(),
+            keep_frames: 8,
+            stats: PoolStats::default(),
+        }
+    }
+
+    /// A texture of `desc`: the most recently freed one, or a new one.
+    pub fn acquire(
+        &mut self,
+        device: &wgpu::Device,
+        gl: bool,
+        desc: TextureDesc,
+        ids: &mut Ids,
+    ) -> usize {
+        if let Some(i) = self.free.get_mut(&desc).and_then(Vec::pop) {
+            return i;
+        }
+        let label = format!(
+            "fxgraph pooled {}x{} {} #{}",
+            desc.width, desc.height, desc.format, self.stats.created
+        );
+        let t = PooledTexture::create(device, gl, &label, desc, ids.next());
+        self.stats.created += 1;
+        self.stats.held += 1;
+        self.stats.held_bytes += desc.bytes();
+        match self.vacant.pop() {
+            Some(i) => {
+                self.textures[i] = Some(t);
+                i
+            }
+            None => {
+                self.textures.push(Some(t));
+                self.textures.len() - 1
+            }
+        }
+    }
+
+    /// Give texture `i` back; `frame` is the engine's frame counter.
+    pub fn release(&mut self, i: usize, frame: u64) {
+        let t = self.textures[i].as_mut().expect("a held texture");
+        t.last_used = frame;
+        self.free.entry(t.desc).or_default().push(i);
+    }
+
+    pub fn get(&self, i: usize) -> &PooledTexture {
+        self.textures[i].as_ref().expect("a held texture")
+    }
+
+    /// Destroy free textures last used more than `keep_frames` frames before `frame`.
+    pub fn trim(&mut self, frame: u64) {
+        let keep = self.keep_frames;
+        let textures = &mut self.textures;
+        let stats = &mut self.stats;
+        let vacant = &mut self.vacant;
+        for list in self.free.values_mut() {
+            list.retain(|&i| {
+                let t = textures[i].as_ref().expect("a held texture");
+                if frame.saturating_sub(t.last_used) <= keep {
+                    return true;
+                }
+                let t = textures[i].take().expect("a held texture");
+                stats.destroyed += 1;
+                stats.held -= 1;
+                stats.held_bytes -= t.desc.bytes();
+                t.texture.destroy();
+                vacant.push(i);
+                false
+            });
+        }
+        self.free.retain(|_, l| !l.is_empty());
+    }
+}

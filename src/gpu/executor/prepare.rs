@@ -1,0 +1,283 @@
+//! Preparing a plan for a device: check it against the adapter, load and reflect
+//! the shaders, build (or reuse) the pipelines, and make everything a frame does
+//! not change: samplers, uniform buffers with their static values written once,
+//! feedback rings with their views, and the bind groups of passes that bind only
+//! the engine's own textures.
+
+use super::pool::PooledTexture;
+use super::record::{CallerRef, GpuPass, PassUniform, Prepared, PreparedStats, Source, NO_CAMERA};
+use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
+use crate::gpu::context::GpuTimer;
+use crate::graph::plan::{Plan, Resource, View};
+use crate::graph::Graph;
+use crate::script::types::{Filter, Sampling};
+use crate::script::{Diagnostic, Diagnostics, SourceMap};
+use crate::shader::load_plan_shaders;
+use crate::shader::reflect::{StdContext, StdValue, UniformSource};
+use std::time::Instant;
+
+/// The source of a resource; caller images are added to `caller` once each.
+fn source_of(
+    r: &Resource,
+    format: Option<wgpu::TextureFormat>,
+    plan: &Plan,
+    caller: &mut Vec<CallerRef>,
+) -> Source {
+    match r {
+        Resource::Value(v) => Source::Slot(plan.values[*v].slot),
+        Resource::Persistent { ring, back } => Source::Ring {
+            ring: *ring,
+            back: *back,
+        },
+        Resource::Input { .. } | Resource::Aux(_) | Resource::Output => {
+            let c = CallerRef {
+                resource: r.clone(),
+                format,
+            };
+            let i = match caller.iter().position(|x| *x == c) {
+                Some(i) => i,
+                None => {
+                    caller.push(c);
+                    caller.len() - 1
+                }
+            };
+            Source::Caller(i)
+        }
+    }
+}
+
+impl Engine {
+    pub fn prepare(
+        &mut self,
+        graph: &Graph,
+        plan: Plan,
+        sources: &mut SourceMap,
+    ) -> Result<Prepared, ExecError> {
+        let start = Instant::now();
+        let mut diags = Diagnostics::default();
+        let max = self.ctx.device.limits().max_texture_dimension_2d;
+        let adapter = self.ctx.info.name.clone();
+        let (shaders, shader_diags) = load_plan_shaders(graph, &plan, sources, &self.shader_dirs);
+        diags.extend(shader_diags);
+        let mut passes = Vec::new();
+        let mut caller = Vec::new();
+        let mut stats = PreparedStats::default();
+        for (pi, p) in plan.passes.iter().enumerate() {
+            let span = p.node.map(|n| graph.pass(n).name_span);
+            let at = |d: Diagnostic| match span {
+                Some(s) => d.at(s, ""),
+                None => d,
+            };
+            if p.desc.width > max || p.desc.height > max {
+                diags.push(at(Diagnostic::error(format!(
+                    "pass `{}` is {}x{} px; this adapter ({adapter}) allows at most {max} px on a side",
+                    p.path, p.desc.width, p.desc.height
+                ))));
+                continue;
+            }
+            let target =
+                view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format));
+            if p.target_view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
+                diags.push(at(Diagnostic::error(format!(
+                    "pass `{}` writes sRGB-encoded values to an sRGB target, which needs a texture view the GL backend cannot make",
+                    p.path
+                ))
+                .note("use the Vulkan backend (lavapipe) or write linear values")));
+                continue;
+            }
+            if !self.ctx.format_support(target).render {
+                diags.push(at(Diagnostic::error(format!(
+                    "pass `{}` renders to {}, which this adapter ({adapter}) cannot render to",
+                    p.path, p.desc.format
+                ))
+                .note("choose another OUT.FORMAT, e.g. rgba16f")));
+                continue;
+            }
+            let Some(loaded) = shaders[pi].clone() else {
+                continue;
+            };
+            let (wgsl, refl, layout) = (loaded.wgsl, loaded.reflection, loaded.layout);
+            // Textures and samplers by name; filterability from the bound formats.
+            let mut textures = Vec::new();
+            let mut filterable = Vec::new();
+            let mut ok = true;
+            for t in &refl.textures {
+                let Some(ii) = p.inputs.iter().position(|i| i.name == t.name) else {
+                    ok = false;
+                    continue;
+                };
+                let inp = &p.inputs[ii];
+                let f = self.format_filterable(inp.desc.format);
+                if !f
+                    && inp.sampling.filter == Filter::Linear
+                    && refl
+                        .samplers
+                        .iter()
+                        .any(|s| s.name == format!("{}_sampler", t.name))
+                {
+                    let span = p
+                        .node
+                        .and_then(|n| graph.pass(n).inputs.get(ii).map(|i| i.span));
+                    let d = Diagnostic::error(format!(
+                        "input `{}` of pass `{}` is {}, which this adapter ({adapter}) cannot filter",
+                        inp.name, p.path, inp.desc.format
+                    ))
+                    .note(format!("set `{}.FILTER = nearest`, or use a 16-bit float format", inp.name));
+                    diags.push(match span {
+                        Some(s) => d.at(s, "linear filtering requested"),
+                        None => d,
+                    });
+                    ok = false;
+                }
+                if inp.view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
+                    diags.push(at(Diagnostic::error(format!(
+                        "pass `{}` needs to view `{}` in another colour space, which the GL backend cannot do",
+                        p.path, inp.name
+                    ))));
+                    ok = false;
+                }
+                textures.push((t.binding, ii));
+                filterable.push((t.binding, f));
+            }
+            let mut samplers = Vec::new();
+            for s in &refl.samplers {
+                let (sampling, filtering) = match s
+                    .name
+                    .strip_suffix("_sampler")
+                    .and_then(|n| p.inputs.iter().find(|i| i.name == n))
+                {
+                    Some(inp) => (
+                        inp.sampling,
+                        inp.sampling.filter == Filter::Linear
+                            && self.format_filterable(inp.desc.format),
+                    ),
+                    None => {
+                        let all = p
+                            .inputs
+                            .iter()
+                            .all(|i| self.format_filterable(i.desc.format));
+                        (Sampling::default(), all)
+                    }
+                };
+                samplers.push((s.binding, sampling, filtering));
+            }
+            if !ok {
+                continue;
+            }
+            let key = PipelineKey {
+                wgsl: wgsl.clone(),
+                entry: refl.entry_point.clone(),
+                target,
+                filterable: filterable.clone(),
+            };
+            let pipeline = match self.pipeline(&key, &refl, &samplers, &p.path) {
+                Ok(pl) => pl,
+                Err(e) => {
+                    diags.push(at(Diagnostic::error(format!("pass `{}`: {e}", p.path))));
+                    continue;
+                }
+            };
+            let uniform = refl.uniform.as_ref().map(|u| {
+                let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&format!("{} uniforms", p.path)),
+                    size: u64::from(layout.size.max(16)).next_multiple_of(16),
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let std = StdContext {
+                    out_size: (p.desc.width, p.desc.height),
+                    input_sizes: p
+                        .inputs
+                        .iter()
+                        .map(|i| (i.desc.width, i.desc.height))
+                        .collect(),
+                    near: NO_CAMERA.near,
+                    far: NO_CAMERA.far,
+                    proj: NO_CAMERA.proj,
+                    inv_proj: NO_CAMERA.inv_proj,
+                    ..Default::default()
+                };
+                // Static values are written once, here.
+                let written = layout.write(&std);
+                self.ctx.queue.write_buffer(&buffer, 0, &written);
+                stats.uniform_writes += 1;
+                let per_frame = layout.fields.iter().any(|f| {
+                    matches!(
+                        f.source,
+                        UniformSource::Std(StdValue::Frame | StdValue::Time | StdValue::Subframe)
+                    )
+                });
+                PassUniform {
+                    binding: u.binding,
+                    layout: layout.clone(),
+                    members: u.members.clone(),
+                    buffer,
+                    std,
+                    per_frame,
+                    written,
+                }
+            });
+            let textures = textures
+                .iter()
+                .map(|&(binding, ii)| {
+                    let inp = &p.inputs[ii];
+                    let format = view_format(inp.desc.format, inp.view);
+                    (
+                        binding,
+                        source_of(&inp.resource, format, &plan, &mut caller),
+                        format,
+                    )
+                })
+                .collect();
+            let samplers = samplers
+                .iter()
+                .map(|&(b, s, f)| (b, self.sampler(s, f)))
+                .collect();
+            let target_format = view_format(p.desc.format, p.target_view);
+            let target = source_of(&p.output, target_format, &plan, &mut caller);
+            passes.push(GpuPass::new(
+                p.path.clone(),
+                pipeline,
+                textures,
+                samplers,
+                uniform,
+                (target, target_format),
+            ));
+        }
+        if diags.has_errors() {
+            diags.sort();
+            return Err(ExecError::Rejected(diags));
+        }
+        let gl = self.is_gl();
+        let rings = plan
+            .rings
+            .iter()
+            .map(|r| {
+                (0..=r.depth)
+                    .map(|i| {
+                        PooledTexture::create(
+                            &self.ctx.device,
+                            gl,
+                            &format!("{} history {i}", r.pass),
+                            r.desc,
+                            self.ids.next(),
+                        )
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect::<Vec<_>>();
+        let timer = GpuTimer::new(&self.ctx, plan.passes.len() as u32);
+        let mut prepared = Prepared::new(
+            plan,
+            passes,
+            self.ctx.queue.clone(),
+            caller,
+            rings,
+            timer,
+            start.elapsed(),
+            stats,
+        );
+        prepared.prebind(self);
+        Ok(prepared)
+    }
+}

@@ -1,0 +1,659 @@
+//! Recording a frame: one command encoder, the plan's steps in order.
+//!
+//! [`Prepared::record`] records into the caller's encoder (nothing is submitted);
+//! [`Prepared::run`] makes an encoder, records, and submits once, all inside one
+//! error scope. Per frame the executor only
+//! - writes the uniform buffers whose bytes changed (the standard values `frame`,
+//!   `time`, `subframe` and the camera; parameters are written by `set_param`),
+//! - takes transient textures from the engine's pool at `Alloc { create }` and gives
+//!   them back at `Free { release }`,
+//! - looks bind groups up in a per-pass cache keyed by the textures bound (pooled
+//!   textures by id, caller views by identity), creating one only on a miss,
+//! - rotates the feedback rings after the frame.
+
+use super::pool::{PooledTexture, TexturePool};
+use super::{
+    wgpu_format, CachedPipeline, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming,
+};
+use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
+use crate::graph::plan::{Plan, Resource, Step};
+use crate::shader::reflect::StdContext;
+use crate::shader::{UniformLayout, UniformMember};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Bind groups kept per pass: enough for feedback rings and a few caller views.
+const BIND_GROUPS_PER_PASS: usize = 8;
+/// Views of caller textures kept.
+const CALLER_VIEWS: usize = 32;
+
+/// Where a pass reads or writes an image.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Source {
+    /// The caller's image `caller[i]` (input frame, aux image or output).
+    Caller(usize),
+    /// The texture a plan slot holds.
+    Slot(usize),
+    /// Ring `ring`, `back` frames ago.
+    Ring { ring: usize, back: u32 },
+}
+
+/// A caller image the plan reads or writes, in the view format it needs.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct CallerRef {
+    pub resource: Resource,
+    pub format: Option<wgpu::TextureFormat>,
+}
+
+/// The uniform buffer of a pass and the values it was last written with.
+pub(super) struct PassUniform {
+    pub binding: u32,
+    pub layout: UniformLayout,
+    /// The shader's uniform members (types and ranges for `set_param`).
+    pub members: Vec<UniformMember>,
+    pub buffer: wgpu::Buffer,
+    /// The static standard values (sizes); per-frame ones are set before writing.
+    pub std: StdContext,
+    /// Some field changes from frame to frame (`frame`, `time`, camera...).
+    pub per_frame: bool,
+    /// The bytes in the buffer.
+    pub written: Vec<u8>,
+}
+
+/// What a bound texture is, for the bind group cache.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum BindKey {
+    Pooled(u64),
+    Caller(wgpu::TextureView),
+}
+
+/// What one prepared pass binds.
+pub(super) struct GpuPass {
+    pub path: String,
+    pub pipeline: Arc<CachedPipeline>,
+    /// (binding, source, view format)
+    pub textures: Vec<(u32, Source, Option<wgpu::TextureFormat>)>,
+    pub samplers: Vec<(u32, wgpu::Sampler)>,
+    pub uniform: Option<PassUniform>,
+    pub target: Source,
+    pub target_format: Option<wgpu::TextureFormat>,
+    bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
+}
+
+impl GpuPass {
+    pub fn new(
+        path: String,
+        pipeline: Arc<CachedPipeline>,
+        textures: Vec<(u32, Source, Option<wgpu::TextureFormat>)>,
+        samplers: Vec<(u32, wgpu::Sampler)>,
+        uniform: Option<PassUniform>,
+        target: (Source, Option<wgpu::TextureFormat>),
+    ) -> Self {
+        GpuPass {
+            path,
+            pipeline,
+            textures,
+            samplers,
+            uniform,
+            target: target.0,
+            target_format: target.1,
+            bind_groups: Vec::new(),
+        }
+    }
+}
+
+/// Counters of one prepared effect.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PreparedStats {
+    /// Frames recorded.
+    pub frames: u64,
+    /// Uniform buffer writes (at prepare, for changed per-frame values, by `set_param`).
+    pub uniform_writes: u64,
+    /// Bind groups created (at prepare and on cache misses while recording).
+    pub bind_groups_created: u64,
+    /// Views made of caller textures.
+    pub caller_views_created: u64,
+}
+
+/// A plan prepared for a device; record frames with [`Prepared::record`] or
+/// [`Prepared::run`].
+pub struct Prepared {
+    pub plan: Plan,
+    pub(super) passes: Vec<GpuPass>,
+    pub(super) queue: wgpu::Queue,
+    /// Caller images the passes use, resolved once per frame.
+    pub(super) caller: Vec<CallerRef>,
+    /// The pool texture each slot holds during a frame.
+    pub(super) slots: Vec<Option<usize>>,
+    pub(super) rings: Vec<Vec<PooledTexture>>,
+    pub(super) ring_head: Vec<usize>,
+    /// Index of the frame recorded next: the standard value `frame`; `time` is
+    /// `frame / fps`. Advances by one per recorded frame.
+    pub frame: u64,
+    /// Index of the output produced for the current input frame (see `Stream::rate`).
+    pub subframe: u32,
+    pub fps: f64,
+    pub(super) timer: Option<GpuTimer>,
+    /// Time spent creating shader modules and pipelines.
+    pub pipeline_build: Duration,
+    /// Views of caller textures: (texture, view format, view), oldest first.
+    views: Vec<(
+        wgpu::Texture,
+        Option<wgpu::TextureFormat>,
+        wgpu::TextureView,
+    )>,
+    pub(super) stats: PreparedStats,
+    /// The camera the uniforms were last written with.
+    camera: Option<CameraStd>,
+}
+
+const IDENTITY: [f32; 16] = [
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+];
+
+/// The camera of an input without one.
+pub(super) const NO_CAMERA: CameraStd = CameraStd {
+    near: 0.1,
+    far: 100.0,
+    proj: IDENTITY,
+    inv_proj: IDENTITY,
+};
+
+impl Prepared {
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn new(
+        plan: Plan,
+        passes: Vec<GpuPass>,
+        queue: wgpu::Queue,
+        caller: Vec<CallerRef>,
+        rings: Vec<Vec<PooledTexture>>,
+        timer: Option<GpuTimer>,
+        pipeline_build: Duration,
+        stats: PreparedStats,
+    ) -> Self {
+        Prepared {
+            ring_head: vec![0; rings.len()],
+            rings,
+            slots: vec![None; plan.slots.len()],
+            plan,
+            passes,
+            queue,
+            caller,
+            frame: 0,
+            subframe: 0,
+            fps: 25.0,
+            timer,
+            pipeline_build,
+            views: Vec::new(),
+            stats,
+            camera: None,
+        }
+    }
+
+    /// This effect's counters.
+    pub fn stats(&self) -> PreparedStats {
+        self.stats
+    }
+
+    /// Record one frame into `encoder` (the caller's, on the engine's device), reading
+    /// `inputs` and writing `output`, which must be in the plan's output format
+    /// (`plan.output`) with RENDER_ATTACHMENT usage. Nothing is submitted: submit the
+    /// encoder before recording the next frame of this effect (uniform values are
+    /// written with `Queue::write_buffer`, which takes effect at the next submission).
+    ///
+    /// Errors in creating bind groups are caught in an error scope here; errors in
+    /// the encoded commands surface when the caller finishes or submits the encoder.
+    pub fn record<'a>(
+        &mut self,
+        engine: &mut Engine,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &FrameInputs<'a>,
+        output: impl Into<ImageRef<'a>>,
+    ) -> Result<(), ExecError> {
+        let output = output.into();
+        let ctx = engine.ctx.clone();
+        ctx.scoped("fxgraph frame", |_| {
+            self.record_frame(engine, encoder, inputs, output, None)
+        })??;
+        Ok(())
+    }
+
+    /// Record one frame into an encoder of its own and submit it (one submission,
+    /// one error scope). Returns per-pass timings (GPU times when `want_timings` and
+    /// the adapter has timestamp queries; waiting for them stalls the CPU).
+    pub fn run<'a>(
+        &mut self,
+        engine: &mut Engine,
+        inputs: &FrameInputs<'a>,
+        output: impl Into<ImageRef<'a>>,
+        want_timings: bool,
+    ) -> Result<Vec<PassTiming>, ExecError> {
+        let output = output.into();
+        let ctx = engine.ctx.clone();
+        let timer = if want_timings {
+            self.timer.take()
+        } else {
+            None
+        };
+        let result = ctx.scoped("fxgraph frame", |device| {
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("fxgraph frame"),
+            });
+            let timings =
+                self.record_frame(engine, &mut encoder, inputs, output, timer.as_ref())?;
+            if let Some(t) = &timer {
+                t.resolve(&mut encoder, timings.len() as u32);
+            }
+            ctx.queue.submit([encoder.finish()]);
+            Ok::<_, ExecError>(timings)
+        });
+        let mut timings = match result {
+            Ok(Ok(t)) => t,
+            Ok(Err(e)) => {
+                self.timer = self.timer.take().or(timer);
+                return Err(e);
+            }
+            Err(e) => {
+                self.timer = self.timer.take().or(timer);
+                return Err(e.into());
+            }
+        };
+        if let Some(t) = &timer {
+            if let Ok(ms) = t.read_ms(&ctx, timings.len() as u32) {
+                for (tm, v) in timings.iter_mut().zip(ms) {
+                    tm.gpu_ms = Some(v);
+                }
+            }
+        }
+        if timer.is_some() {
+            self.timer = timer;
+        }
+        if let Some(e) = ctx.take_uncaptured_errors().first() {
+            return Err(ExecError::Gpu(GpuError::Validation {
+                what: "fxgraph frame".into(),
+                message: e.clone(),
+            }));
+        }
+        Ok(timings)
+    }
+
+    /// The view of a caller image in `format`.
+    fn caller_view(
+        &mut self,
+        image: ImageRef,
+        format: Option<wgpu::TextureFormat>,
+        what: &str,
+    ) -> Result<wgpu::TextureView, ExecError> {
+        match image {
+            ImageRef::View(v) => match format {
+                None => Ok(v.clone()),
+                Some(f) => Err(ExecError::Input(format!(
+                    "{what} is read or written as {f:?}, a view of another format: pass the texture, not a view"
+                ))),
+            },
+            ImageRef::Texture(t) => {
+                if let Some((_, _, v)) = self
+                    .views
+                    .iter()
+                    .find(|(vt, vf, _)| vt == t && *vf == format)
+                {
+                    return Ok(v.clone());
+                }
+                let v = t.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(&format!("fxgraph {what} view")),
+                    format,
+                    ..Default::default()
+                });
+                if self.views.len() == CALLER_VIEWS {
+                    self.views.remove(0);
+                }
+                self.views.push((t.clone(), format, v.clone()));
+                self.stats.caller_views_created += 1;
+                Ok(v)
+            }
+        }
+    }
+
+    /// The caller's images for this frame, in the order of `self.caller`.
+    fn resolve_caller(
+        &mut self,
+        inputs: &FrameInputs,
+        output: ImageRef,
+    ) -> Result<Vec<wgpu::TextureView>, ExecError> {
+        if let ImageRef::Texture(t) = output {
+            let want = wgpu_format(self.plan.output.format);
+            if t.format().remove_srgb_suffix() != want.remove_srgb_suffix() {
+                return Err(ExecError::Input(format!(
+                    "output texture is {:?}, the plan renders {want:?}",
+                    t.format()
+                )));
+            }
+        }
+        let mut views = Vec::with_capacity(self.caller.len());
+        for i in 0..self.caller.len() {
+            let CallerRef { resource, format } = self.caller[i].clone();
+            let (image, what) = match &resource {
+                Resource::Input { frame } => (
+                    inputs.frames.get(frame).copied().ok_or_else(|| {
+                        ExecError::Input(format!("input frame {frame:+} not provided"))
+                    })?,
+                    format!("input frame {frame:+}"),
+                ),
+                Resource::Aux(name) => (
+                    inputs.aux.get(name).copied().ok_or_else(|| {
+                        ExecError::Input(format!("auxiliary input `{name}` not provided"))
+                    })?,
+                    format!("auxiliary input `{name}`"),
+                ),
+                Resource::Output => (output, "output".to_string()),
+                other => unreachable!("not a caller image: {other:?}"),
+            };
+            views.push(self.caller_view(image, format, &what)?);
+        }
+        Ok(views)
+    }
+
+    /// Write the uniform buffers whose bytes changed (per-frame standard values).
+    fn write_uniforms(&mut self, camera: Option<CameraStd>) {
+        let cam = camera.unwrap_or(NO_CAMERA);
+        let camera_changed = self.camera != Some(cam);
+        self.camera = Some(cam);
+        for gp in &mut self.passes {
+            let Some(u) = &mut gp.uniform else { continue };
+            if !u.per_frame && !camera_changed {
+                continue;
+            }
+            u.std.frame = self.frame;
+            u.std.time = self.frame as f64 / self.fps;
+            u.std.subframe = self.subframe;
+            u.std.near = cam.near;
+            u.std.far = cam.far;
+            u.std.proj = cam.proj;
+            u.std.inv_proj = cam.inv_proj;
+            let bytes = u.layout.write(&u.std);
+            if bytes != u.written {
+                self.queue.write_buffer(&u.buffer, 0, &bytes);
+                u.written = bytes;
+                self.stats.uniform_writes += 1;
+            }
+        }
+    }
+
+    /// Record every step of the plan into `encoder`; returns per-pass timings
+    /// (CPU recording time; GPU times are filled in by `run`).
+    fn record_frame(
+        &mut self,
+        engine: &mut Engine,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &FrameInputs,
+        output: ImageRef,
+        timer: Option<&GpuTimer>,
+    ) -> Result<Vec<PassTiming>, ExecError> {
+        let caller = self.resolve_caller(inputs, output)?;
+        self.write_uniforms(inputs.camera);
+        engine.frames += 1;
+        let frame_no = engine.frames;
+        let gl = engine.is_gl();
+        // Textures a failed frame left in slots go back first.
+        for s in &mut self.slots {
+            if let Some(i) = s.take() {
+                engine.pool.release(i, frame_no);
+            }
+        }
+        let mut timings = Vec::with_capacity(self.passes.len());
+        let mut result = Ok(());
+        for si in 0..self.plan.steps.len() {
+            match self.plan.steps[si] {
+                Step::Alloc { slot, create, .. } => {
+                    if create || self.slots[slot].is_none() {
+                        let desc = self.plan.slots[slot];
+                        let i = engine
+                            .pool
+                            .acquire(&engine.ctx.device, gl, desc, &mut engine.ids);
+                        self.slots[slot] = Some(i);
+                    }
+                }
+                Step::Free { slot, release, .. } => {
+                    if release {
+                        if let Some(i) = self.slots[slot].take() {
+                            engine.pool.release(i, frame_no);
+                        }
+                    }
+                }
+                Step::Run { pass } => {
+                    let t0 = Instant::now();
+                    let writes = timer.and_then(|t| t.pass_writes(timings.len() as u32));
+                    let recorded = encode_pass(
+                        &mut self.passes[pass],
+                        &engine.ctx,
+                        &engine.pool,
+                        &self.slots,
+                        &self.rings,
+                        &self.ring_head,
+                        &caller,
+                        encoder,
+                        writes,
+                    );
+                    match recorded {
+                        Ok(created) => {
+                            engine.bind_groups_created += created;
+                            self.stats.bind_groups_created += created;
+                        }
+                        Err(e) => {
+                            result = Err(e);
+                            break;
+                        }
+                    }
+                    let p = &self.plan.passes[pass];
+                    timings.push(PassTiming {
+                        path: p.path.clone(),
+                        width: p.desc.width,
+                        height: p.desc.height,
+                        format: p.desc.format.name().to_string(),
+                        gpu_ms: None,
+                        cpu_ms: t0.elapsed().as_secs_f64() * 1e3,
+                    });
+                }
+            }
+        }
+        for s in &mut self.slots {
+            if let Some(i) = s.take() {
+                engine.pool.release(i, frame_no);
+            }
+        }
+        engine.pool.trim(frame_no);
+        result?;
+        // Feedback rings: this frame's output becomes "one frame ago".
+        for (r, ring) in self.rings.iter().enumerate() {
+            let n = ring.len();
+            self.ring_head[r] = (self.ring_head[r] + n - 1) % n;
+        }
+        self.frame += 1;
+        self.stats.frames += 1;
+        Ok(timings)
+    }
+
+    /// Walk the plan's steps once against the pool and create the bind groups of
+    /// the passes that bind no caller image: at the first frame the pool hands the
+    /// same textures out again, so those passes find their bind groups made.
+    pub(super) fn prebind(&mut self, engine: &mut Engine) {
+        let gl = engine.is_gl();
+        let frame_no = engine.frames;
+        let mut slots: Vec<Option<usize>> = vec![None; self.plan.slots.len()];
+        for step in &self.plan.steps {
+            match *step {
+                Step::Alloc { slot, create, .. } => {
+                    if create || slots[slot].is_none() {
+                        let desc = self.plan.slots[slot];
+                        slots[slot] = Some(engine.pool.acquire(
+                            &engine.ctx.device,
+                            gl,
+                            desc,
+                            &mut engine.ids,
+                        ));
+                    }
+                }
+                Step::Free { slot, release, .. } => {
+                    if release {
+                        if let Some(i) = slots[slot].take() {
+                            engine.pool.release(i, frame_no);
+                        }
+                    }
+                }
+                Step::Run { pass } => {
+                    let gp = &mut self.passes[pass];
+                    if gp
+                        .textures
+                        .iter()
+                        .any(|(_, s, _)| matches!(s, Source::Caller(_)))
+                    {
+                        continue;
+                    }
+                    let created = bind_group(
+                        gp,
+                        &engine.ctx.device,
+                        &engine.pool,
+                        &slots,
+                        &self.rings,
+                        &self.ring_head,
+                        &[],
+                    )
+                    .map_or(0, |(_, created)| created);
+                    engine.bind_groups_created += created;
+                    self.stats.bind_groups_created += created;
+                }
+            }
+        }
+        for i in slots.into_iter().flatten() {
+            engine.pool.release(i, frame_no);
+        }
+    }
+}
+
+/// The view a source names this frame, with its bind-group key.
+fn source_view<'v>(
+    source: &Source,
+    format: Option<wgpu::TextureFormat>,
+    pool: &'v TexturePool,
+    slots: &[Option<usize>],
+    rings: &'v [Vec<PooledTexture>],
+    ring_head: &[usize],
+    caller: &'v [wgpu::TextureView],
+) -> Result<(BindKey, &'v wgpu::TextureView), ExecError> {
+    let pooled = |t: &'v PooledTexture| {
+        t.view(format)
+            .map(|v| (BindKey::Pooled(t.id), v))
+            .ok_or_else(|| {
+                ExecError::Input(format!(
+                    "no {format:?} view of a {} texture on this backend",
+                    t.desc.format
+                ))
+            })
+    };
+    match source {
+        Source::Caller(i) => Ok((BindKey::Caller(caller[*i].clone()), &caller[*i])),
+        Source::Slot(s) => pooled(pool.get(slots[*s].expect("allocated before use"))),
+        Source::Ring { ring, back } => {
+            let r = &rings[*ring];
+            pooled(&r[(ring_head[*ring] + *back as usize) % r.len()])
+        }
+    }
+}
+
+/// The index in the pass's cache of its bind group for this frame's textures,
+/// made now on a miss; with the number of bind groups created (0 or 1).
+fn bind_group(
+    gp: &mut GpuPass,
+    device: &wgpu::Device,
+    pool: &TexturePool,
+    slots: &[Option<usize>],
+    rings: &[Vec<PooledTexture>],
+    ring_head: &[usize],
+    caller: &[wgpu::TextureView],
+) -> Result<(usize, u64), ExecError> {
+    let mut key = Vec::with_capacity(gp.textures.len());
+    for (_, source, format) in &gp.textures {
+        key.push(source_view(source, *format, pool, slots, rings, ring_head, caller)?.0);
+    }
+    if let Some(i) = gp.bind_groups.iter().position(|(k, _)| *k == key) {
+        return Ok((i, 0));
+    }
+    let mut entries: Vec<wgpu::BindGroupEntry> = Vec::with_capacity(gp.textures.len() + 3);
+    for (binding, source, format) in &gp.textures {
+        let (_, v) = source_view(source, *format, pool, slots, rings, ring_head, caller)?;
+        entries.push(wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: wgpu::BindingResource::TextureView(v),
+        });
+    }
+    for (b, s) in &gp.samplers {
+        entries.push(wgpu::BindGroupEntry {
+            binding: *b,
+            resource: wgpu::BindingResource::Sampler(s),
+        });
+    }
+    if let Some(u) = &gp.uniform {
+        entries.push(wgpu::BindGroupEntry {
+            binding: u.binding,
+            resource: u.buffer.as_entire_binding(),
+        });
+    }
+    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(&format!("{} bind group", gp.path)),
+        layout: &gp.pipeline.layout,
+        entries: &entries,
+    });
+    if gp.bind_groups.len() == BIND_GROUPS_PER_PASS {
+        gp.bind_groups.remove(0);
+    }
+    gp.bind_groups.push((key, bg));
+    Ok((gp.bind_groups.len() - 1, 1))
+}
+
+/// Record one pass: a render pass drawing the fullscreen triangle into its target.
+/// Returns the number of bind groups created.
+#[allow(clippy::too_many_arguments)]
+fn encode_pass(
+    gp: &mut GpuPass,
+    ctx: &GpuContext,
+    pool: &TexturePool,
+    slots: &[Option<usize>],
+    rings: &[Vec<PooledTexture>],
+    ring_head: &[usize],
+    caller: &[wgpu::TextureView],
+    encoder: &mut wgpu::CommandEncoder,
+    timestamps: Option<wgpu::RenderPassTimestampWrites>,
+) -> Result<u64, ExecError> {
+    let (bg, created) = bind_group(gp, &ctx.device, pool, slots, rings, ring_head, caller)?;
+    let gp = &*gp;
+    let (_, target) = source_view(
+        &gp.target,
+        gp.target_format,
+        pool,
+        slots,
+        rings,
+        ring_head,
+        caller,
+    )?;
+    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(&gp.path),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: target,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                // SAFETY: the fullscreen triangle writes every pixel of the target.
+                load: wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() }),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: timestamps,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    rp.set_pipeline(&gp.pipeline.pipeline);
+    rp.set_bind_group(0, &gp.bind_groups[bg].1, &[]);
+    rp.draw(0..3, 0..1);
+    Ok(created)
+}
