@@ -1,8 +1,10 @@
 //! Using fxgraph from a Rust program on its own wgpu device and textures.
 //!
 //! The program creates the device itself (as a renderer would), wraps it with
-//! `GpuContext::from_existing`, compiles an effect chain, binds its input to one
-//! of its own textures and renders into its own output texture, frame after frame.
+//! `GpuContext::from_existing`, compiles an effect chain, and each frame records
+//! it into its own command encoder, reading its own input texture and writing its
+//! own output texture, changing a parameter between frames without recompiling
+//! (see docs/library.md).
 //!
 //! Run: `cargo run --release --example library_use [EFFECT...]` (default: glow).
 
@@ -115,18 +117,48 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect::<Vec<_>>()
     );
 
-    // 4. Frame after frame.
+    // 4. Frame after frame: one encoder, one submission per frame.
+    let params = prepared.params();
+    println!(
+        "parameters: {:?}",
+        params.iter().map(|p| p.name.as_str()).collect::<Vec<_>>()
+    );
+    let input_view = input.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("application scene view"),
+        ..Default::default()
+    });
+    let output_view = output.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("application output view"),
+        ..Default::default()
+    });
     for frame in 0..5 {
+        // Raise the glow threshold a little each frame (when the chain has one).
+        if params
+            .iter()
+            .any(|p| p.name.ends_with("brightPass.threshold"))
+        {
+            prepared.set_param("brightPass.threshold", &[0.2 + 0.1 * frame as f64])?;
+        }
         let t = Instant::now();
-        let timings = prepared.run(&mut engine, &FrameInputs::single(&input), &output, true)?;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("application frame"),
+        });
+        prepared.record(
+            &mut engine,
+            &mut encoder,
+            &FrameInputs::single(&input_view),
+            &output_view,
+        )?;
+        let recorded = t.elapsed();
+        queue.submit([encoder.finish()]);
         engine.ctx.wait_idle()?;
-        let gpu: f64 = timings.iter().filter_map(|t| t.gpu_ms).sum();
         println!(
-            "frame {frame}: {:.2} ms wall, {:.2} ms GPU (timestamps)",
+            "frame {frame}: recorded in {:.3} ms, {:.2} ms wall with the GPU work",
+            recorded.as_secs_f64() * 1e3,
             t.elapsed().as_secs_f64() * 1e3,
-            gpu
         );
     }
+    println!("engine: {:?}", engine.stats());
     let pixels = engine.ctx.read_texture(&output)?;
     let centre = ((60 * width + 80) * 4) as usize;
     println!("output pixel at a light: {:?}", &pixels[centre..centre + 4]);

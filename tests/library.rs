@@ -384,9 +384,16 @@ fn feedback_through_the_caller_encoder_matches_the_stream() {
     // And both are what the effect means: g counts frames, b = frame/64 + IN[-1]/2.
     for (t, px) in from_caller.iter().enumerate() {
         let prev = if t == 0 { 0.0 } else { value(t as u32 - 1) };
-        let want = [value(t as u32), (t + 1) as f32 / 64.0, t as f32 / 64.0 + 0.5 * prev];
+        let want = [
+            value(t as u32),
+            (t + 1) as f32 / 64.0,
+            t as f32 / 64.0 + 0.5 * prev,
+        ];
         for c in 0..3 {
-            assert!((px[c] - want[c]).abs() < 1e-6, "frame {t} channel {c}: {px:?}");
+            assert!(
+                (px[c] - want[c]).abs() < 1e-6,
+                "frame {t} channel {c}: {px:?}"
+            );
         }
     }
 }

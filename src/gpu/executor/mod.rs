@@ -9,11 +9,18 @@
 //!   recorded and submitted in one submission ([`Prepared::run`]).
 //! - `prepare.rs`: checks the plan against the device and builds everything that
 //!   does not change from frame to frame.
+//! - `encode.rs`: one pass: its views, its cached bind group, its render pass.
 //! - `pool.rs`: transient textures by descriptor, reused across frames.
 //! - `params.rs`: [`Prepared::set_param`], parameters changed between frames.
 
+mod encode;
 mod params;
 mod pool;
+
+/// The code of docs/library.md, compiled as doc-tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/library.md")]
+pub struct LibraryDoc;
 mod prepare;
 mod record;
 

@@ -11,19 +11,18 @@
 //!   textures by id, caller views by identity), creating one only on a miss,
 //! - rotates the feedback rings after the frame.
 
-use super::pool::{PooledTexture, TexturePool};
+use super::encode::{bind_group, encode_pass, BindKey};
+use super::pool::PooledTexture;
 use super::{
     wgpu_format, CachedPipeline, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming,
 };
-use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
+use crate::gpu::context::{GpuError, GpuTimer};
 use crate::graph::plan::{Plan, Resource, Step};
 use crate::shader::reflect::StdContext;
 use crate::shader::{UniformLayout, UniformMember};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Bind groups kept per pass: enough for feedback rings and a few caller views.
-const BIND_GROUPS_PER_PASS: usize = 8;
 /// Views of caller textures kept.
 const CALLER_VIEWS: usize = 32;
 
@@ -60,13 +59,6 @@ pub(super) struct PassUniform {
     pub written: Vec<u8>,
 }
 
-/// What a bound texture is, for the bind group cache.
-#[derive(Debug, Clone, PartialEq, Eq)]
-enum BindKey {
-    Pooled(u64),
-    Caller(wgpu::TextureView),
-}
-
 /// What one prepared pass binds.
 pub(super) struct GpuPass {
     pub path: String,
@@ -77,7 +69,7 @@ pub(super) struct GpuPass {
     pub uniform: Option<PassUniform>,
     pub target: Source,
     pub target_format: Option<wgpu::TextureFormat>,
-    bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
+    pub(super) bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
 }
 
 impl GpuPass {
@@ -528,132 +520,4 @@ impl Prepared {
             engine.pool.release(i, frame_no);
         }
     }
-}
-
-/// The view a source names this frame, with its bind-group key.
-fn source_view<'v>(
-    source: &Source,
-    format: Option<wgpu::TextureFormat>,
-    pool: &'v TexturePool,
-    slots: &[Option<usize>],
-    rings: &'v [Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &'v [wgpu::TextureView],
-) -> Result<(BindKey, &'v wgpu::TextureView), ExecError> {
-    let pooled = |t: &'v PooledTexture| {
-        t.view(format)
-            .map(|v| (BindKey::Pooled(t.id), v))
-            .ok_or_else(|| {
-                ExecError::Input(format!(
-                    "no {format:?} view of a {} texture on this backend",
-                    t.desc.format
-                ))
-            })
-    };
-    match source {
-        Source::Caller(i) => Ok((BindKey::Caller(caller[*i].clone()), &caller[*i])),
-        Source::Slot(s) => pooled(pool.get(slots[*s].expect("allocated before use"))),
-        Source::Ring { ring, back } => {
-            let r = &rings[*ring];
-            pooled(&r[(ring_head[*ring] + *back as usize) % r.len()])
-        }
-    }
-}
-
-/// The index in the pass's cache of its bind group for this frame's textures,
-/// made now on a miss; with the number of bind groups created (0 or 1).
-fn bind_group(
-    gp: &mut GpuPass,
-    device: &wgpu::Device,
-    pool: &TexturePool,
-    slots: &[Option<usize>],
-    rings: &[Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &[wgpu::TextureView],
-) -> Result<(usize, u64), ExecError> {
-    let mut key = Vec::with_capacity(gp.textures.len());
-    for (_, source, format) in &gp.textures {
-        key.push(source_view(source, *format, pool, slots, rings, ring_head, caller)?.0);
-    }
-    if let Some(i) = gp.bind_groups.iter().position(|(k, _)| *k == key) {
-        return Ok((i, 0));
-    }
-    let mut entries: Vec<wgpu::BindGroupEntry> = Vec::with_capacity(gp.textures.len() + 3);
-    for (binding, source, format) in &gp.textures {
-        let (_, v) = source_view(source, *format, pool, slots, rings, ring_head, caller)?;
-        entries.push(wgpu::BindGroupEntry {
-            binding: *binding,
-            resource: wgpu::BindingResource::TextureView(v),
-        });
-    }
-    for (b, s) in &gp.samplers {
-        entries.push(wgpu::BindGroupEntry {
-            binding: *b,
-            resource: wgpu::BindingResource::Sampler(s),
-        });
-    }
-    if let Some(u) = &gp.uniform {
-        entries.push(wgpu::BindGroupEntry {
-            binding: u.binding,
-            resource: u.buffer.as_entire_binding(),
-        });
-    }
-    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(&format!("{} bind group", gp.path)),
-        layout: &gp.pipeline.layout,
-        entries: &entries,
-    });
-    if gp.bind_groups.len() == BIND_GROUPS_PER_PASS {
-        gp.bind_groups.remove(0);
-    }
-    gp.bind_groups.push((key, bg));
-    Ok((gp.bind_groups.len() - 1, 1))
-}
-
-/// Record one pass: a render pass drawing the fullscreen triangle into its target.
-/// Returns the number of bind groups created.
-#[allow(clippy::too_many_arguments)]
-fn encode_pass(
-    gp: &mut GpuPass,
-    ctx: &GpuContext,
-    pool: &TexturePool,
-    slots: &[Option<usize>],
-    rings: &[Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &[wgpu::TextureView],
-    encoder: &mut wgpu::CommandEncoder,
-    timestamps: Option<wgpu::RenderPassTimestampWrites>,
-) -> Result<u64, ExecError> {
-    let (bg, created) = bind_group(gp, &ctx.device, pool, slots, rings, ring_head, caller)?;
-    let gp = &*gp;
-    let (_, target) = source_view(
-        &gp.target,
-        gp.target_format,
-        pool,
-        slots,
-        rings,
-        ring_head,
-        caller,
-    )?;
-    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(&gp.path),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                // SAFETY: the fullscreen triangle writes every pixel of the target.
-                load: wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() }),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: timestamps,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    rp.set_pipeline(&gp.pipeline.pipeline);
-    rp.set_bind_group(0, &gp.bind_groups[bg].1, &[]);
-    rp.draw(0..3, 0..1);
-    Ok(created)
 }
