@@ -313,6 +313,37 @@ fn pool_creates_nothing_after_the_first_frame() {
         assert_eq!(prepared.stats().frames, 6);
         assert!(steady.pool.held_bytes >= prepared.plan.peak_bytes.min(1));
     }
+    // Another size: the first size's textures, unused, are destroyed once they
+    // have been idle longer than the pool keeps them.
+    engine.set_pool_keep_frames(1);
+    let before = engine.stats().pool;
+    let small = InputDesc::rgba8_srgb(8, 4);
+    let mut prepared = effect
+        .prepare(&mut engine, &small, Some(Format::Rgba8Srgb))
+        .unwrap();
+    let tex = ctx
+        .upload_texture(
+            "pool input 8x4",
+            8,
+            4,
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            &[100u8; 8 * 4 * 4],
+            wgpu::TextureUsages::empty(),
+        )
+        .unwrap();
+    let out = fxgraph::gpu::runner::create_output(&ctx, 8, 4, Format::Rgba8Srgb);
+    for _ in 0..3 {
+        prepared
+            .run(&mut engine, &FrameInputs::single(&tex), &out, false)
+            .unwrap();
+    }
+    let after = engine.stats().pool;
+    engine.set_pool_keep_frames(8);
+    assert!(after.created > before.created, "8x4 textures made");
+    assert!(
+        after.destroyed > before.destroyed,
+        "16x8 textures destroyed"
+    );
 }
 
 #[test]
