@@ -230,7 +230,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
     };
     let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
     if analysis {
-        let (graph, diags, mut sources) = compile(&req);
+        let (graph, diags, mut sources) = fxgraph::shader::compile_all(&req);
         if !diags.is_empty() {
             eprint!("{}", diags.render(&sources));
         }

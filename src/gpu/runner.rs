@@ -8,7 +8,7 @@
 use super::context::{GpuContext, GpuError};
 use super::executor::{wgpu_format, Engine, ExecError, FrameInputs, PassTiming, Prepared};
 use crate::graph::plan::{plan, InputDesc, PlanOptions};
-use crate::graph::{compile, CompileRequest, Graph, Override};
+use crate::graph::{CompileRequest, Graph, Override};
 use crate::io::{self, FileFormat, Image, IoError, LoadOptions, Pixels, SaveOptions};
 use crate::script::types::{ColorSpace, Format};
 use crate::script::{Diagnostics, SourceMap};
@@ -87,7 +87,7 @@ impl Effect {
                 .collect(),
             search_dirs: Vec::new(),
         };
-        let (graph, diags, sources) = compile(&req);
+        let (graph, diags, sources) = crate::shader::compile_all(&req);
         match graph {
             Some(graph) if !diags.has_errors() => Ok(Effect {
                 graph,

@@ -44,12 +44,12 @@ enum SourceRef {
     Aux(NodeIndex),
 }
 
-struct ParsedOverride {
+pub(super) struct ParsedOverride {
     /// Node path (`glow/blurX`, `glow`) or empty for a bare name.
-    path: String,
-    name: String,
+    pub(super) path: String,
+    pub(super) name: String,
     value: Spanned<RawValue>,
-    key_span: Span,
+    pub(super) key_span: Span,
     used: bool,
     /// Matched an effect parameter: not a pass parameter too (an effect `fog` may
     /// have a pass `fog`).
@@ -72,6 +72,40 @@ struct Lowerer<'a> {
 /// Compile a chain of effects into a graph. Returns `None` when there are errors;
 /// the diagnostics always come back, with the sources to render them.
 pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) {
+    let r = compile_report(req);
+    (r.graph, r.diags, r.sources)
+}
+
+/// What [`compile_report`] returns.
+pub struct CompileReport {
+    /// The graph, when there are no errors.
+    pub graph: Option<Graph>,
+    pub diags: Diagnostics,
+    pub sources: SourceMap,
+    /// With errors: the shaders the loaded scripts name, for the shader layer to
+    /// check too, so that one run reports script, `--set` and WGSL problems
+    /// together. Empty when the graph compiled (its plan names the shaders).
+    pub shaders: Vec<super::ShaderReference>,
+}
+
+/// [`compile`], and with errors, what can still be checked (see `salvage`).
+pub fn compile_report(req: &CompileRequest) -> CompileReport {
+    let (graph, diags, sources, loader) = compile_inner(req);
+    let shaders = match (&graph, &loader) {
+        (None, Some(l)) => super::salvage::shader_references(l),
+        _ => Vec::new(),
+    };
+    CompileReport {
+        graph,
+        diags,
+        sources,
+        shaders,
+    }
+}
+
+type Compiled = (Option<Graph>, Diagnostics, SourceMap, Option<Loader>);
+
+fn compile_inner(req: &CompileRequest) -> Compiled {
     let mut loader = Loader::new();
     loader.search_dirs = req.search_dirs.clone();
     let mut diags = Diagnostics::default();
@@ -85,8 +119,14 @@ pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) 
         if entries.is_empty() && !diags.has_errors() {
             diags.push(Diagnostic::error("no effect given"));
         }
+        // The `--set` arguments are still checked against what did load.
+        let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
+        if !entries.is_empty() {
+            super::salvage::check_overrides(&loader, &overrides, &mut diags);
+        }
         diags.sort();
-        return (None, diags, loader.sources);
+        let sources = loader.sources.clone();
+        return (None, diags, sources, Some(loader));
     }
     let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
     let mut lw = Lowerer {
@@ -159,7 +199,8 @@ pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) 
     drop(lw);
     if diags.has_errors() {
         diags.sort();
-        return (None, diags, loader.sources);
+        let sources = loader.sources.clone();
+        return (None, diags, sources, Some(loader));
     }
     let mut graph = Graph {
         graph: g,
@@ -173,12 +214,12 @@ pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) 
     };
     if report_cycles(&graph, &mut diags) {
         diags.sort();
-        return (None, diags, loader.sources);
+        return (None, diags, loader.sources, None);
     }
     schedule(&mut graph, &mut diags);
     diags.sort();
     graph.sources = loader.sources.clone();
-    (Some(graph), diags, loader.sources)
+    (Some(graph), diags, loader.sources, None)
 }
 
 fn parse_overrides(
