@@ -486,3 +486,34 @@ fn truncated_images_are_rejected() {
     }
     assert!(accepted.is_empty(), "accepted: {accepted:?}");
 }
+
+/// Inputs the long run found, kept as regressions (each was a panic).
+#[test]
+fn findings_stay_fixed() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("f.fx");
+    for (i, text) in [
+        // `abs()` of i32::MIN when checking a frame offset (FX_FUZZ_SECONDS=40 run).
+        "EFFECT.e = { PASS = { p = SHADER.copy { img = IN[-2147483648] } } OUT = p }",
+        "EFFECT.e = { PASS = { p = SHADER.copy { img = IN[-99999999999999999999] } } OUT = p }",
+        "EFFECT.e = { PASS = { p = SHADER.copy { img = PASS.p[-2147483648] } } OUT = p }",
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        std::fs::write(&path, text).unwrap();
+        let r = catch_unwind(|| {
+            compile(&CompileRequest {
+                effects: vec![path.display().to_string()],
+                ..Default::default()
+            })
+        });
+        let (graph, diags, sources) = r.unwrap_or_else(|_| panic!("case {i} panicked"));
+        assert!(graph.is_none(), "case {i} compiled");
+        assert!(
+            diags.render(&sources).contains("frame offset"),
+            "case {i}: {}",
+            diags.render(&sources)
+        );
+    }
+}

@@ -197,7 +197,7 @@ pub(super) fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Bind
         RawValue::Ref { key, frame } => {
             let frame_n = frame.as_ref().map(|f| f.node).unwrap_or(0);
             if let Some(f) = frame {
-                if f.node.abs() > MAX_FRAME_OFFSET {
+                if f.node.unsigned_abs() > MAX_FRAME_OFFSET.unsigned_abs() {
                     diags.push(
                         Diagnostic::error(format!(
                             "frame offset {} is too far (at most ±{MAX_FRAME_OFFSET})",
