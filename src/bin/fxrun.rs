@@ -435,7 +435,7 @@ mod sequence;
 mod watch;
 
 use args::Cli;
-use batch::{check_outputs, check_same_size, try_run_batch};
+use batch::{check_outputs, check_same_size, collect_inputs, try_run_batch};
 use describe::{describe, pass_param_rows};
 use scene::run_scene_cli;
 use sequence::{print_timings, run_sequence_cli, ProgressLine};

@@ -103,7 +103,10 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
 /// its files (the numbers in the names when every name has a distinct one, else the
 /// position in name order), several inputs by position from 0. Processed in name order
 /// (a single folder or pattern) or in the order given.
-fn collect_inputs(cli: &Cli, specs: &[SequenceSpec]) -> Result<Vec<(u64, PathBuf)>, Fail> {
+pub(crate) fn collect_inputs(
+    cli: &Cli,
+    specs: &[SequenceSpec],
+) -> Result<Vec<(u64, PathBuf)>, Fail> {
     let mut out: Vec<(u64, PathBuf)> = Vec::new();
     for (spec, arg) in specs.iter().zip(&cli.input) {
         match spec {
