@@ -205,10 +205,11 @@ fn wgsl_target() -> Target {
         check: Box::new(|bytes, _| {
             let text = String::from_utf8_lossy(bytes);
             let mut sources = SourceMap::new();
-            let id = sources.add("fuzz.wgsl", text.to_string());
             let Ok((wgsl, _)) = fxgraph::shader::preprocess(&text, &[("N".into(), 3)]) else {
                 return Ok(false);
             };
+            // As the loader: spans point into the preprocessed text.
+            let id = sources.add("fuzz.wgsl", wgsl.clone());
             match fxgraph::shader::reflect(&wgsl, id) {
                 Ok(_) => Ok(true),
                 Err(ds) => {
@@ -490,6 +491,14 @@ fn truncated_images_are_rejected() {
 /// Inputs the long run found, kept as regressions (each was a panic).
 #[test]
 fn findings_stay_fixed() {
+    // A span ending inside a multi-byte character (naga on a damaged shader).
+    let mut sources = SourceMap::new();
+    let id = sources.add("x.wgsl", "let a = \u{FFFD}\u{FFFD};\nfn".to_string());
+    let mut d = Diagnostics::default();
+    d.push(
+        fxgraph::script::Diagnostic::error("bad").at(fxgraph::script::Span::new(id, 9, 13), "here"),
+    );
+    assert!(d.render(&sources).contains("x.wgsl:1:9: error: bad"));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("f.fx");
     for (i, text) in [
