@@ -174,6 +174,7 @@ fn script_target() -> Target {
         file: "fuzz.fx",
         check: Box::new(|_, path| {
             let (graph, diags, sources) = compile(&CompileRequest {
+                source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
                 effects: vec![path.display().to_string()],
                 ..Default::default()
             });
@@ -513,6 +514,7 @@ fn findings_stay_fixed() {
         std::fs::write(&path, text).unwrap();
         let r = catch_unwind(|| {
             compile(&CompileRequest {
+                source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
                 effects: vec![path.display().to_string()],
                 ..Default::default()
             })

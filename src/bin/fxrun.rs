@@ -13,7 +13,7 @@ use fxgraph::gpu::sequence::{
     Y4mSink, Y4mSource,
 };
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, ReusePolicy};
-use fxgraph::graph::{compile, dot, library, CompileRequest, Override};
+use fxgraph::graph::{compile, dot, library};
 use fxgraph::io::sequence::{parse_frames, InputSequence, OutputPattern, SequenceSpec};
 use fxgraph::script::types::format_value;
 use std::io::{IsTerminal, Write as _};
@@ -178,10 +178,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
         for (name, desc) in library::builtin_effects() {
             outln!("{name:<20} {desc}");
             // The pass parameters `--set PASS.NAME=VALUE` takes, by name.
-            let req = CompileRequest {
-                effects: vec![name.clone()],
-                ..Default::default()
-            };
+            let req = fxgraph::lookup::DiskEffects::request(std::slice::from_ref(&name), &[]);
             if let (Some(graph), _, _) = compile(&req) {
                 // Those the effect sets (mostly from its parameters) by count.
                 let (bound, free): (Vec<_>, Vec<_>) = pass_param_rows(&graph)
@@ -219,15 +216,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
             "no effect given (try `fxrun --list`, or `fxrun --help`)",
         ));
     }
-    let req = CompileRequest {
-        effects: cli.effects.clone(),
-        overrides: cli
-            .set
-            .iter()
-            .map(|a| Override { arg: a.clone() })
-            .collect(),
-        search_dirs: Vec::new(),
-    };
+    let req = fxgraph::lookup::DiskEffects::request(&cli.effects, &cli.set);
     let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
     if analysis {
         let (graph, diags, mut sources) = fxgraph::shader::compile_all(&req);

@@ -8,7 +8,7 @@
 use super::context::{GpuContext, GpuError};
 use super::executor::{wgpu_format, Engine, ExecError, FrameInputs, PassTiming, Prepared};
 use crate::graph::plan::{plan, InputDesc, PlanOptions};
-use crate::graph::{CompileRequest, Graph, Override};
+use crate::graph::Graph;
 use crate::io::{self, FileFormat, Image, IoError, LoadOptions, Pixels, SaveOptions};
 use crate::script::types::{ColorSpace, Format};
 use crate::script::{Diagnostics, SourceMap};
@@ -79,14 +79,7 @@ pub struct Effect {
 impl Effect {
     /// Compile a chain of effects (paths or built-in names) with `NAME=VALUE` overrides.
     pub fn compile(effects: &[String], overrides: &[String]) -> Result<Effect, RunError> {
-        let req = CompileRequest {
-            effects: effects.to_vec(),
-            overrides: overrides
-                .iter()
-                .map(|a| Override { arg: a.clone() })
-                .collect(),
-            search_dirs: Vec::new(),
-        };
+        let req = crate::lookup::DiskEffects::request(effects, overrides);
         let (graph, diags, sources) = crate::shader::compile_all(&req);
         match graph {
             Some(graph) if !diags.has_errors() => Ok(Effect {

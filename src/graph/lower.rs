@@ -23,8 +23,9 @@ pub struct CompileRequest {
     /// Paths to `.fx` files or built-in effect names, applied in order.
     pub effects: Vec<String>,
     pub overrides: Vec<Override>,
-    /// Folders searched for `NAME.fx` before the embedded library.
-    pub search_dirs: Vec<PathBuf>,
+    /// Where the scripts come from (None: the built-in library alone, no file
+    /// is read; `fxgraph::lookup::DiskEffects` finds files as `fxrun` does).
+    pub source: Option<std::sync::Arc<dyn super::EffectSource>>,
 }
 
 /// `--set TARGET=VALUE`: TARGET is an effect parameter (`sigma`, `glow.strength`)
@@ -106,8 +107,11 @@ pub fn compile_report(req: &CompileRequest) -> CompileReport {
 type Compiled = (Option<Graph>, Diagnostics, SourceMap, Option<Loader>);
 
 fn compile_inner(req: &CompileRequest) -> Compiled {
-    let mut loader = Loader::new();
-    loader.search_dirs = req.search_dirs.clone();
+    let source = req
+        .source
+        .clone()
+        .unwrap_or_else(|| std::sync::Arc::new(super::Builtins));
+    let mut loader = Loader::new(source);
     let mut diags = Diagnostics::default();
     let mut entries = Vec::new();
     for e in &req.effects {

@@ -183,10 +183,7 @@ impl HotFolders {
             ));
         }
         // A temporal effect makes a folder a sequence: re-run whole.
-        let temporal = match compile(&CompileRequest {
-            effects: cli.effects.clone(),
-            ..Default::default()
-        }) {
+        let temporal = match compile(&fxgraph::lookup::DiskEffects::request(&cli.effects, &[])) {
             (Some(g), _, _) => g.history > 0 || g.latency > 0 || g.has_feedback(),
             _ => false,
         };
@@ -296,15 +293,7 @@ fn wait_for_change(
 /// The files a run reads that a change should re-run it for, as absolute paths with
 /// canonical folders (as the events name them). The output is never among them.
 fn watched_files(cli: &Cli) -> Vec<PathBuf> {
-    let req = CompileRequest {
-        effects: cli.effects.clone(),
-        overrides: cli
-            .set
-            .iter()
-            .map(|a| Override { arg: a.clone() })
-            .collect(),
-        search_dirs: Vec::new(),
-    };
+    let req = fxgraph::lookup::DiskEffects::request(&cli.effects, &cli.set);
     let (graph, _, mut sources) = compile(&req);
     if let Some(graph) = graph {
         // The shaders the plan's passes use (no GPU needed), at the input's size.
