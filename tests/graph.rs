@@ -174,7 +174,6 @@ fn nested_effects_expand_in_their_namespace_with_their_parameters() {
         overrides: vec![Override {
             arg: "strength=7".into(),
         }],
-        ..Default::default()
     });
     assert!(d.is_empty(), "{}", d.render(&s));
     let g = g.unwrap();
@@ -407,7 +406,6 @@ fn effect_parameter_override_is_not_also_a_pass_override() {
         overrides: vec![Override {
             arg: "e.mode=b".into(),
         }],
-        ..Default::default()
     });
     assert!(d.is_empty(), "{}", d.render(&s));
     let g = g.unwrap();
