@@ -22,31 +22,15 @@
 //! GPU is needed; glTF scenes are loaded and converted but not drawn.
 //! `FX_FUZZ_SEED=N` replays a run.
 
+mod common;
+
+use common::rng::Rng;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
 use fxgraph::graph::{compile, CompileRequest};
 use fxgraph::script::{Diagnostics, SourceMap};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-/// xorshift64*: small, deterministic, good enough to pick mutations.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        if n == 0 {
-            0
-        } else {
-            (self.next() % n as u64) as usize
-        }
-    }
-}
 
 const NUMBERS: &[&str] = &[
     "0",

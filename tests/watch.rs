@@ -40,19 +40,31 @@ fn save(path: &Path, text: &str) {
     std::fs::rename(&tmp, path).unwrap();
 }
 
-/// `fxrun ARGS --watch` with its stderr collected as it comes.
-fn spawn_watch(args: &[&std::ffi::OsStr]) -> (std::process::Child, Arc<Mutex<String>>) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .arg("--watch")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .stderr(Stdio::piped())
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    let err = Arc::new(Mutex::new(String::new()));
-    {
-        let err = err.clone();
+/// `fxrun D/solid.fx -i INPUT -o OUTPUT --watch` (with `solid.fx` and a red
+/// `solid.wgsl` written in D), its stderr collected as it comes; killed on drop.
+struct Watch {
+    child: std::process::Child,
+    err: Arc<Mutex<String>>,
+}
+
+impl Watch {
+    fn start(d: &Path, input: &Path, output: &Path) -> Watch {
+        std::fs::write(d.join("solid.fx"), FX).unwrap();
+        std::fs::write(d.join("solid.wgsl"), shader("1.0, 0.0, 0.0")).unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+            .arg(d.join("solid.fx"))
+            .arg("-i")
+            .arg(input)
+            .arg("-o")
+            .arg(output)
+            .arg("--watch")
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .stderr(Stdio::piped())
+            .stdout(Stdio::null())
+            .spawn()
+            .unwrap();
+        let err = Arc::new(Mutex::new(String::new()));
+        let sink = err.clone();
         let mut pipe = child.stderr.take().unwrap();
         std::thread::spawn(move || {
             let mut buf = [0u8; 4096];
@@ -60,13 +72,35 @@ fn spawn_watch(args: &[&std::ffi::OsStr]) -> (std::process::Child, Arc<Mutex<Str
                 if n == 0 {
                     break;
                 }
-                err.lock()
+                sink.lock()
                     .unwrap()
                     .push_str(&String::from_utf8_lossy(&buf[..n]));
             }
         });
+        let w = Watch { child, err };
+        wait_until(120, "the first run", || w.watching() >= 1);
+        w
     }
-    (child, err)
+
+    fn stderr(&self) -> String {
+        self.err.lock().unwrap().clone()
+    }
+
+    /// How many times it has said it is watching (once after each run).
+    fn watching(&self) -> usize {
+        self.stderr().matches("watching").count()
+    }
+
+    fn still_running(&mut self) -> bool {
+        self.child.try_wait().unwrap().is_none()
+    }
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
 }
 
 fn save_png(path: &Path, w: u32, h: u32) {
@@ -93,21 +127,12 @@ fn a_watched_input_folder_processes_new_images() {
     }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    std::fs::write(d.join("solid.fx"), FX).unwrap();
-    std::fs::write(d.join("solid.wgsl"), shader("1.0, 0.0, 0.0")).unwrap();
     let (input, output) = (d.join("in"), d.join("out"));
     std::fs::create_dir(&input).unwrap();
     save_png(&input.join("a.png"), 16, 8);
-    let (mut child, err) = spawn_watch(&[
-        d.join("solid.fx").as_os_str(),
-        "-i".as_ref(),
-        input.as_os_str(),
-        "-o".as_ref(),
-        output.as_os_str(),
-    ]);
-    let stderr = || err.lock().unwrap().clone();
-    let watching = || stderr().matches("watching").count();
-    wait_until(120, "the first run", || watching() >= 1);
+    let mut w = Watch::start(d, &input, &output);
+    let stderr = || w.stderr();
+    let watching = || w.watching();
     assert!(stderr().contains("1 input folder"), "{}", stderr());
     let a_time = || {
         std::fs::metadata(output.join("a.png"))
@@ -134,9 +159,7 @@ fn a_watched_input_folder_processes_new_images() {
     wait_until(60, "the re-run after the shader changed", || {
         a_time() != first_a && watching() >= 3
     });
-    assert!(child.try_wait().unwrap().is_none(), "{}", stderr());
-    child.kill().unwrap();
-    let _ = child.wait();
+    assert!(w.still_running(), "{}", w.stderr());
 }
 
 #[test]
@@ -146,29 +169,12 @@ fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
     }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    std::fs::write(d.join("solid.fx"), FX).unwrap();
-    std::fs::write(d.join("solid.wgsl"), shader("1.0, 0.0, 0.0")).unwrap();
-    let img = common::pattern_u8(16, 8);
     let input = d.join("in.png");
-    fxgraph::io::save_image(
-        &input,
-        img.width,
-        img.height,
-        &img.pixels,
-        &Default::default(),
-    )
-    .unwrap();
+    save_png(&input, 16, 8);
     let out = d.join("out.png");
-    let (mut child, err) = spawn_watch(&[
-        d.join("solid.fx").as_os_str(),
-        "-i".as_ref(),
-        input.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    let stderr = || err.lock().unwrap().clone();
-    let watching = || stderr().matches("watching").count();
-    wait_until(120, "the first run", || watching() >= 1);
+    let mut w = Watch::start(d, &input, &out);
+    let stderr = || w.stderr();
+    let watching = || w.watching();
     let first = std::fs::read(&out).expect("the first output");
     // A new colour: the output is written again, with other pixels.
     save(&d.join("solid.wgsl"), &shader("0.0, 0.0, 1.0"));
@@ -189,12 +195,10 @@ fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
     });
     wait_until(60, "watching after the error", || watching() >= 3);
     assert!(
-        child.try_wait().unwrap().is_none(),
+        w.still_running(),
         "the watch ended on a shader error: {}",
-        stderr()
+        w.stderr()
     );
-    child.kill().unwrap();
-    let _ = child.wait();
 }
 
 #[test]
