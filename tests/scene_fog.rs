@@ -4,22 +4,14 @@
 
 mod common;
 
+use common::cli::fxrun;
+
 use fxgraph::deferred::fog::Fog;
 use fxgraph::deferred::gbuffer::read_rgba_f32;
 use fxgraph::deferred::{AlphaMode, Renderer, RendererOptions, Scene, Technique};
 use fxgraph::io::{load_image, Pixels};
 use glam::Vec3;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn fxrun(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run fxrun")
-}
 
 fn floats(path: &Path) -> Vec<f32> {
     match load_image(path, &Default::default()).unwrap().pixels {

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod brdf;
+pub mod cli;
 pub mod gltf_gen;
 pub mod rng;
 
