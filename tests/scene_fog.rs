@@ -5,10 +5,11 @@
 mod common;
 
 use common::cli::fxrun;
+use common::scenes::opaque_room;
 
 use fxgraph::deferred::fog::Fog;
 use fxgraph::deferred::gbuffer::read_rgba_f32;
-use fxgraph::deferred::{AlphaMode, Renderer, RendererOptions, Scene, Technique};
+use fxgraph::deferred::{Renderer, RendererOptions, Scene, Technique};
 use fxgraph::io::{load_image, Pixels};
 use glam::Vec3;
 use std::path::Path;
@@ -124,19 +125,6 @@ fn render(
         read_rgba_f32(ctx, &out.scene).unwrap(),
         read_rgba_f32(ctx, position).unwrap(),
     )
-}
-
-/// The room without its transparent objects (the AUX position is the opaque
-/// surface's).
-fn opaque_room() -> Scene {
-    let mut s = Scene::load("builtin:room").unwrap();
-    let blend: Vec<bool> = s
-        .materials
-        .iter()
-        .map(|m| m.alpha_mode == AlphaMode::Blend)
-        .collect();
-    s.instances.retain(|i| !blend[i.material]);
-    s
 }
 
 /// Height fog of the radial distance against a CPU oracle of the fog maths

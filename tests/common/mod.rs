@@ -5,6 +5,7 @@ pub mod brdf;
 pub mod cli;
 pub mod gltf_gen;
 pub mod rng;
+pub mod scenes;
 
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::Engine;
