@@ -92,6 +92,7 @@ EFFECT.deinterlace = {
         deint = SHADER.deint {
             cur = IN
             missing = PASS.rows
+            cur.FILTER = nearest
             field_order = PARAM.field_order
             DEFINE.MODE = PARAM.mode
             DEFINE.STAGE = 1
