@@ -423,7 +423,16 @@ pub fn apply_to_image(
             }
             (None, None) => unreachable!("an engine or a device thread"),
         };
-        finish_job(job, engine, &mut effect, &img, &aux_imgs, out_format, report, t_all)
+        finish_job(
+            job,
+            engine,
+            &mut effect,
+            &img,
+            &aux_imgs,
+            out_format,
+            report,
+            t_all,
+        )
     })
 }
 
