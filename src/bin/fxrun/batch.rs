@@ -438,19 +438,7 @@ fn print_report(cli: &Cli, r: &BatchReport) {
             "stage busy: decode {:.0} ms, gpu {:.0} ms, encode {:.0} ms; wall {:.0} ms",
             r.decode_busy_ms, r.gpu_busy_ms, r.encode_busy_ms, r.wall_ms
         );
-        for p in &r.passes {
-            let gpu = p
-                .gpu_ms
-                .map(|g| format!("{g:.2}"))
-                .unwrap_or_else(|| "-".into());
-            eprintln!(
-                "  {:<32} {:>11} {:<10} gpu {:>8} ms",
-                p.path,
-                format!("{}x{}", p.width, p.height),
-                p.format,
-                gpu
-            );
-        }
+        super::sequence::print_pass_gpu_times(&r.passes);
     }
 }
 
