@@ -1,46 +1,77 @@
-// temporal_denoise: recursive (exponential) temporal average with motion rejection.
-//
-// Maths (shaders/tdenoise.wgsl), per pixel, with hist = this pass's own output of
-// the previous frame (feedback PASS.denoise[-1]) and cur = IN:
-//     D   = cur - hist                                  (r, g, b)
-//     m   = max(|mean of D over the 3x3 neighbourhood|, |D| / 3), averaged over r, g, b
-//     h   = strength * exp(-m^2 / (2 sigma^2))          history weight in [0, strength]
-//     out = (1 - h) * cur + h * hist                    (all four channels)
-//   Where nothing moves, D is noise: its 3x3 mean is about sigma/3 per channel, h
-//   stays near `strength`, and the output is an exponential moving average: for
-//   i.i.d. noise of standard deviation s and a constant weight h, the output noise
-//   tends to s * sqrt((1 - h) / (1 + h)) (0.23 s for h = 0.9). Where the image
-//   changes by several sigma (motion, cuts), m is large, h falls to about 0 and the
-//   output follows the current frame at once (no ghosting). The 3x3 mean makes the
-//   motion test robust to the noise itself; the |D| / 3 term still catches changes
-//   of single pixels.
-//   First output (frame 0; the history is zero before it): out = cur.
-//
-// Parameters:
-//   strength  history weight where nothing moves (0 .. 0.99, default 0.9; 0 = off)
-//   sigma     noise level in linear units (default 0.05): differences of a few sigma
-//             count as motion. Set it near the standard deviation of the noise.
-//
-// Passes: one, `denoise` (SHADER.tdenoise: cur = IN, hist = PASS.denoise[-1]), at
-// the input's size in rgba16f (the history keeps half-float precision; the output
-// is converted to the requested format).
-//
-// Temporal behaviour: feedback only (no latency, no input history). A stream that
-// starts mid-sequence starts afresh (its first output is its first input). At rate 2
-// the history is the previous output (the previous field).
+// temporal_denoise: motion-compensated recursive temporal denoiser (header: TODO)
 EFFECT.temporal_denoise = {
-    DESCRIPTION = "Temporal denoise: recursive average of the frames, with motion rejection.\nout = cur + h (history - cur), h = strength * exp(-m^2 / 2 sigma^2), m = local difference to the history."
+    DESCRIPTION = "Temporal denoise: motion-compensated recursive average with a spatial fallback and an automatic noise estimate.\nHierarchical block matching; sigma = 0 estimates the noise level."
+    COLORSPACE = srgb
     PARAM = {
-        strength = FLOAT { DEFAULT = 0.9  RANGE = (0, 0.99)  DESCRIPTION = "history weight where nothing moves (0: off)" }
-        sigma = FLOAT { DEFAULT = 0.05  RANGE = (0.0001, 10)  DESCRIPTION = "noise level (linear units); differences of a few sigma count as motion" }
+        sigma = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "noise standard deviation in sRGB code values (0..1; 8-bit value / 255); 0: estimate it from the input" }
+        frames = FLOAT { DEFAULT = 12  RANGE = (1, 64)  DESCRIPTION = "most frames the running mean averages (1: temporal filtering off)" }
+        threshold = FLOAT { DEFAULT = 1  RANGE = (0.1, 10)  DESCRIPTION = "motion-rejection threshold in units of sigma: lower rejects more (less ghosting, less denoising)" }
+        spatial = FLOAT { DEFAULT = 1  RANGE = (0, 1)  DESCRIPTION = "spatial (bilateral) filtering where the history is short: occlusions, new content, cuts, the first frame" }
+        view = ENUM { VALUES = (denoised, sigma, history, motion)  DEFAULT = denoised  DESCRIPTION = "output: the denoised image, or for inspection the noise estimate, n / frames, or the motion vectors" }
     }
     PASS = {
-        denoise = SHADER.tdenoise {
-            cur = IN
-            hist = PASS.denoise[-1]
-            strength = PARAM.strength
+        nres = SHADER.tdn_noise_res { img = IN  OUT.SCALE = 0.25  OUT.FORMAT = rg16f }
+        nblk = SHADER.tdn_noise_blk { img = PASS.nres  OUT.SCALE = 0.25  OUT.RELATIVE_TO = img  OUT.FORMAT = rg16f }
+        nsig = SHADER.tdn_noise_est {
+            blk = PASS.nblk
+            last = PASS.nsig[-1]
             sigma = PARAM.sigma
+            OUT.SIZE = (1, 1)
+            OUT.FORMAT = r32f
+        }
+        y1 = SHADER.tdn_luma { img = IN  DEFINE.LUMA = 1  OUT.SCALE = 0.5  OUT.FORMAT = r16f }
+        y2 = SHADER.tdn_luma { img = PASS.y1  OUT.SCALE = 0.5  OUT.RELATIVE_TO = img  OUT.FORMAT = r16f }
+        y3 = SHADER.tdn_luma { img = PASS.y2  OUT.SCALE = 0.5  OUT.RELATIVE_TO = img  OUT.FORMAT = r16f }
+        mv3 = SHADER.tdn_match {
+            cur = PASS.y3
+            prev = PASS.y3[-1]
+            last = PASS.mv3[-1]
+            DEFINE.COARSEST = 1
+            DEFINE.WINDOW = 3
+            DEFINE.RADIUS = 3
+            OUT.SCALE = 1
+            OUT.RELATIVE_TO = cur
+            OUT.FORMAT = rg32f
+        }
+        mv2 = SHADER.tdn_match {
+            cur = PASS.y2
+            prev = PASS.y2[-1]
+            last = PASS.mv2[-1]
+            coarse = PASS.mv3
+            DEFINE.WINDOW = 4
+            OUT.SCALE = 1
+            OUT.RELATIVE_TO = cur
+            OUT.FORMAT = rg32f
+        }
+        mv1 = SHADER.tdn_match {
+            cur = PASS.y1
+            prev = PASS.y1[-1]
+            last = PASS.mv1[-1]
+            coarse = PASS.mv2
+            DEFINE.WINDOW = 6
+            OUT.SCALE = 0.5
+            OUT.RELATIVE_TO = cur
+            OUT.FORMAT = rg32f
+        }
+        warp = SHADER.tdn_warp { hist = PASS.acc[-1]  mv = PASS.mv1  OUT.FORMAT = rgba16f }
+        acc = SHADER.tdn_blend {
+            cur = IN
+            warped = PASS.warp
+            sig = PASS.nsig
+            frames = PARAM.frames
+            threshold = PARAM.threshold
+            OUT.FORMAT = rgba16f
+        }
+        out = SHADER.tdn_out {
+            cur = IN
+            acc = PASS.acc
+            sig = PASS.nsig
+            mv = PASS.mv1
+            spatial = PARAM.spatial
+            frames = PARAM.frames
+            DEFINE.VIEW = PARAM.view
+            OUT.FORMAT = rgba16f
         }
     }
-    OUT = denoise
+    OUT = out
 }

@@ -1,0 +1,44 @@
+// tdn_blend: temporal_denoise's recursive, motion-compensated average
+// (effects/temporal_denoise.fx). Per pixel, with cur = this frame, w = the warped
+// state (tdn_warp: rgb = the previous temporal average moved onto this frame,
+// a = the number of frames it averages, n_prev) and sigma = the noise level:
+//   D   = cur - w.rgb
+//   m   = max(mean over r, g, b of |mean of D over 3x3|, mean of |D| / 3)
+//   k   = 1 - smoothstep(0.6, 1.2, m / (threshold * sigma))     trust in the history
+//   n   = 1 + k * min(n_prev, frames - 1)
+//   out = rgb: cur + (1 - 1/n') (w.rgb - cur) with n' = n, i.e. the running mean of
+//         n frames; a: n
+// Where the motion compensation fails (occlusion, new content, a cut, a wrong
+// vector), m is large, k = 0, n = 1: the state restarts from the current frame.
+@group(0) @binding(0) var cur: texture_2d<f32>;
+@group(0) @binding(1) var warped: texture_2d<f32>;
+@group(0) @binding(2) var sig: texture_2d<f32>;
+
+struct Params {
+    frames: f32,    // @default(12) @range(1, 64) most frames the running mean averages
+    threshold: f32, // @default(1) @range(0.1, 10) motion-rejection threshold, in units of sigma
+}
+@group(0) @binding(3) var<uniform> params: Params;
+
+#include "lib/tdn.wgsl"
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(pos.xy);
+    let c = textureLoad(cur, p, 0);
+    let w = textureLoad(warped, p, 0);
+    let sigma = max(textureLoad(sig, vec2<i32>(0), 0).r, 1e-4);
+    var box = vec3<f32>(0.0);
+    for (var j = -1; j <= 1; j++) {
+        for (var i = -1; i <= 1; i++) {
+            let q = p + vec2<i32>(i, j);
+            box += tdn_load(cur, q).rgb - tdn_load(warped, q).rgb;
+        }
+    }
+    let m_box = dot(abs(box / 9.0), vec3<f32>(1.0 / 3.0));
+    let m_px = dot(abs(c.rgb - w.rgb), vec3<f32>(1.0 / 3.0)) / 3.0;
+    let m = max(m_box, m_px) / (params.threshold * sigma);
+    let k = 1.0 - smoothstep(0.6, 1.2, m);
+    let n = 1.0 + k * min(w.a, params.frames - 1.0);
+    return vec4<f32>(mix(c.rgb, w.rgb, 1.0 - 1.0 / n), n);
+}
