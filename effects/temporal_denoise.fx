@@ -53,7 +53,14 @@ EFFECT.temporal_denoise = {
             OUT.RELATIVE_TO = cur
             OUT.FORMAT = rg32f
         }
-        warp = SHADER.tdn_warp { hist = PASS.acc[-1]  mv = PASS.mv1  OUT.FORMAT = rgba16f }
+        mv0 = SHADER.tdn_refine {
+            cur = IN
+            hist = PASS.acc[-1]
+            coarse = PASS.mv1
+            OUT.SCALE = 0.25
+            OUT.FORMAT = rg32f
+        }
+        warp = SHADER.tdn_warp { hist = PASS.acc[-1]  mv = PASS.mv0  OUT.FORMAT = rgba16f }
         acc = SHADER.tdn_blend {
             cur = IN
             warped = PASS.warp
@@ -66,7 +73,7 @@ EFFECT.temporal_denoise = {
             cur = IN
             acc = PASS.acc
             sig = PASS.nsig
-            mv = PASS.mv1
+            mv = PASS.mv0
             spatial = PARAM.spatial
             frames = PARAM.frames
             DEFINE.VIEW = PARAM.view
