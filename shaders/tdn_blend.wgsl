@@ -4,7 +4,7 @@
 // a = the number of frames it averages, n_prev) and sigma = the noise level:
 //   D   = cur - w.rgb
 //   m   = max(mean over r, g, b of |mean of D over 3x3|, mean of |D| / 3)
-//   k   = 1 - smoothstep(0.6, 1.2, m / (threshold * sigma))     trust in the history
+//   k   = 1 - smoothstep(0.36, 0.72, m / (threshold * sigma))     trust in the history
 //   n   = 1 + k * min(n_prev, frames - 1)
 //   out = rgb: cur + (1 - 1/n') (w.rgb - cur) with n' = n, i.e. the running mean of
 //         n frames; a: n
@@ -38,7 +38,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let m_box = dot(abs(box / 9.0), vec3<f32>(1.0 / 3.0));
     let m_px = dot(abs(c.rgb - w.rgb), vec3<f32>(1.0 / 3.0)) / 3.0;
     let m = max(m_box, m_px) / (params.threshold * sigma);
-    let k = 1.0 - smoothstep(0.6, 1.2, m);
+    let k = 1.0 - smoothstep(0.36, 0.72, m);
     let n = 1.0 + k * min(w.a, params.frames - 1.0);
     return vec4<f32>(mix(c.rgb, w.rgb, 1.0 - 1.0 / n), n);
 }

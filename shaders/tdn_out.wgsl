@@ -39,7 +39,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let v = tdn_field(mv, pos.xy / params.out_size) * params.out_size;
     return vec4<f32>(0.5 + v / 8.0, 0.5, 1.0);
 #else
-    let ws = params.spatial / max(a.a * a.a, 1.0);
+    let ws = params.spatial / max(a.a, 1.0);
     if (ws < 0.01) {
         return vec4<f32>(a.rgb, c.a);
     }
