@@ -28,7 +28,7 @@ EFFECT.temporal_denoise = {
             last = PASS.mv3[-1]
             DEFINE.COARSEST = 1
             DEFINE.WINDOW = 3
-            DEFINE.RADIUS = 3
+            DEFINE.RADIUS = 2
             OUT.SCALE = 1
             OUT.RELATIVE_TO = cur
             OUT.FORMAT = rg32f
@@ -39,7 +39,7 @@ EFFECT.temporal_denoise = {
             last = PASS.mv2[-1]
             coarse = PASS.mv3
             DEFINE.WINDOW = 4
-            OUT.SCALE = 1
+            OUT.SCALE = 0.5
             OUT.RELATIVE_TO = cur
             OUT.FORMAT = rg32f
         }
@@ -49,7 +49,7 @@ EFFECT.temporal_denoise = {
             last = PASS.mv1[-1]
             coarse = PASS.mv2
             DEFINE.WINDOW = 6
-            OUT.SCALE = 0.5
+            OUT.SCALE = 0.25
             OUT.RELATIVE_TO = cur
             OUT.FORMAT = rg32f
         }
@@ -57,7 +57,7 @@ EFFECT.temporal_denoise = {
             cur = IN
             hist = PASS.acc[-1]
             coarse = PASS.mv1
-            OUT.SCALE = 0.25
+            OUT.SCALE = 0.125
             OUT.FORMAT = rg32f
         }
         warp = SHADER.tdn_warp { hist = PASS.acc[-1]  mv = PASS.mv0  OUT.FORMAT = rgba16f }

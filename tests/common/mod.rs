@@ -3,6 +3,7 @@
 
 pub mod brdf;
 pub mod gltf_gen;
+pub mod stream;
 
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::Engine;
