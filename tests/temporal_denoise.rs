@@ -80,7 +80,13 @@ impl Frame {
 /// RGB code values of an output (linear RGBA f32 from `run_stream`).
 fn code_values(out: &[f32]) -> Vec<f32> {
     out.chunks(4)
-        .flat_map(|p| [linear_to_srgb(p[0]), linear_to_srgb(p[1]), linear_to_srgb(p[2])])
+        .flat_map(|p| {
+            [
+                linear_to_srgb(p[0]),
+                linear_to_srgb(p[1]),
+                linear_to_srgb(p[2]),
+            ]
+        })
         .collect()
 }
 
@@ -118,7 +124,11 @@ fn moving_texture_is_denoised() {
             Frame::new(w, h, |x, y| texture(2.5 * (x + ox), 2.5 * (y + oy), 0.0))
         })
         .collect();
-    let noisy: Vec<(Image, Vec<f32>)> = clean.iter().enumerate().map(|(t, f)| f.noisy(t as u64, SIGMA)).collect();
+    let noisy: Vec<(Image, Vec<f32>)> = clean
+        .iter()
+        .enumerate()
+        .map(|(t, f)| f.noisy(t as u64, SIGMA))
+        .collect();
     let frames: Vec<Image> = noisy.iter().map(|(i, _)| i.clone()).collect();
     let outs = run(&mut engine, &[], &frames);
     let spatial_only = run(&mut engine, &["frames=1"], &frames);
@@ -132,7 +142,10 @@ fn moving_texture_is_denoised() {
     }
     for (g, over_spatial) in gains {
         assert!(g > 5.0, "PSNR gain over the noisy input only {g:.2} dB");
-        assert!(over_spatial > 1.5, "temporal gain over the spatial fallback only {over_spatial:.2} dB");
+        assert!(
+            over_spatial > 1.5,
+            "temporal gain over the spatial fallback only {over_spatial:.2} dB"
+        );
     }
 }
 
@@ -151,12 +164,20 @@ fn moving_bar_leaves_no_ghost() {
     let clean: Vec<Frame> = (0..n)
         .map(|t| {
             Frame::new(w, h, |x, _| {
-                let v = if x >= left(t) && x < left(t) + 12.0 { 0.85 } else { 0.15 };
+                let v = if x >= left(t) && x < left(t) + 12.0 {
+                    0.85
+                } else {
+                    0.15
+                };
                 [v, v, v]
             })
         })
         .collect();
-    let noisy: Vec<(Image, Vec<f32>)> = clean.iter().enumerate().map(|(t, f)| f.noisy(100 + t as u64, SIGMA)).collect();
+    let noisy: Vec<(Image, Vec<f32>)> = clean
+        .iter()
+        .enumerate()
+        .map(|(t, f)| f.noisy(100 + t as u64, SIGMA))
+        .collect();
     let frames: Vec<Image> = noisy.iter().map(|(i, _)| i.clone()).collect();
     let outs = run(&mut engine, &[], &frames);
     let t = (n - 1) as usize;
@@ -185,7 +206,9 @@ fn moving_bar_leaves_no_ghost() {
     assert!(worst(&behind) < 0.02, "ghost behind the bar: {behind:?}");
     assert!(worst(&ahead) < 0.02, "smear ahead of the bar: {ahead:?}");
     // The bar keeps its contrast (inside, away from its edges).
-    let inside: Vec<f64> = (l + 2..l + 10).map(|x| column_residue(&outs[t], x)).collect();
+    let inside: Vec<f64> = (l + 2..l + 10)
+        .map(|x| column_residue(&outs[t], x))
+        .collect();
     assert!(worst(&inside) < 0.02, "the bar lost contrast: {inside:?}");
     // And the background is denoised.
     let bg = |o: &[f32]| {
@@ -204,9 +227,11 @@ fn moving_bar_leaves_no_ghost() {
 }
 
 /// A static noisy scene is denoised strongly (more than 6 dB by frame 9); a cut
-/// to another scene at frame 10 does not leak the first one: the output's error
-/// against the new scene has no component along (old - new), and the cut frame is
-/// still no worse than its noisy input.
+/// to another scene at frame 10 does not leak the first one: from the cut on, the
+/// output is that of a run that starts at the cut (no history), up to a share of
+/// the old scene below 1% (the least-squares coefficient of the difference on
+/// old - new, over the samples where the scenes differ by more than 3 sigma). The
+/// noise level is given (sigma = 8/255) so both runs filter alike.
 #[test]
 fn static_scene_is_denoised_and_a_cut_does_not_leak() {
     let Some(mut engine) = engine() else {
@@ -219,29 +244,38 @@ fn static_scene_is_denoised_and_a_cut_does_not_leak() {
         [1.0 - c[0], 0.9 - c[1], 1.0 - c[2]]
     });
     let scene = |t: usize| if t < 10 { &a } else { &b };
-    let noisy: Vec<(Image, Vec<f32>)> = (0..13).map(|t| scene(t).noisy(500 + t as u64, SIGMA)).collect();
+    let noisy: Vec<(Image, Vec<f32>)> = (0..13)
+        .map(|t| scene(t).noisy(500 + t as u64, SIGMA))
+        .collect();
     let frames: Vec<Image> = noisy.iter().map(|(i, _)| i.clone()).collect();
-    let outs = run(&mut engine, &[], &frames);
-    let gain = |t: usize| psnr(&outs[t], &scene(t).rgb, 1.0) - psnr(&noisy[t].1, &scene(t).rgb, 1.0);
+    let sigma = format!("sigma={SIGMA}");
+    let outs = run(&mut engine, &[&sigma], &frames);
+    let fresh = run(&mut engine, &[&sigma], &frames[10..]);
+    let gain =
+        |t: usize| psnr(&outs[t], &scene(t).rgb, 1.0) - psnr(&noisy[t].1, &scene(t).rgb, 1.0);
     let gains: Vec<String> = (0..13).map(|t| format!("{:.2}", gain(t))).collect();
     println!("PSNR gain per frame (cut at 10): {gains:?}");
     assert!(gain(9) > 6.0, "static gain at frame 9: {:.2} dB", gain(9));
-    assert!(gain(10) > 0.0, "the cut frame: {:.2} dB", gain(10));
-    assert!(gain(12) > 2.0, "two frames after the cut: {:.2} dB", gain(12));
-    // Leak: the least-squares coefficient of (out - b) on (a - b), over the samples
-    // where the scenes differ visibly (by more than 3 sigma; where they differ by
-    // less, keeping the history is the filter working as meant).
+    assert!(gain(10) > 2.0, "the cut frame: {:.2} dB", gain(10));
     for t in 10..13 {
         let (mut num, mut den) = (0.0f64, 0.0f64);
         for i in 0..b.rgb.len() {
             let d = (a.rgb[i] - b.rgb[i]) as f64;
             if d.abs() > 3.0 * SIGMA as f64 {
-                num += (outs[t][i] - b.rgb[i]) as f64 * d;
+                num += (outs[t][i] - fresh[t - 10][i]) as f64 * d;
                 den += d * d;
             }
         }
-        println!("frame {t}: share of the old scene {:.4}", num / den);
-        assert!(den > 0.0 && (num / den).abs() < 0.01, "frame {t} leaks {:.4} of the old scene", num / den);
+        let diff = max_abs_diff(&outs[t], &fresh[t - 10]);
+        println!(
+            "frame {t}: share of the old scene {:.4}, max |out - fresh run| {diff:.4}",
+            num / den
+        );
+        assert!(
+            den > 0.0 && (num / den).abs() < 0.01,
+            "frame {t} leaks {:.4} of the old scene",
+            num / den
+        );
     }
 }
 
@@ -268,6 +302,9 @@ fn noise_estimate_is_close_to_the_true_sigma() {
         let out = run(&mut engine, &["view=sigma"], &[frame]);
         let est = out[0][0] * 255.0;
         println!("noise estimate: true sigma {sigma8}/255, estimate {est:.2}/255");
-        assert!((est / sigma8 - 1.0).abs() < 0.15, "sigma {sigma8}: estimate {est}");
+        assert!(
+            (est / sigma8 - 1.0).abs() < 0.15,
+            "sigma {sigma8}: estimate {est}"
+        );
     }
 }

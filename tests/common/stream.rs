@@ -66,4 +66,3 @@ pub fn run_stream(
     );
     outs
 }
-
