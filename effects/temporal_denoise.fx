@@ -1,4 +1,76 @@
-// temporal_denoise: motion-compensated recursive temporal denoiser (header: TODO)
+// temporal_denoise: motion-compensated recursive temporal denoiser with a spatial
+// fallback and an automatic noise estimate.
+//
+// Values: the effect works on sRGB code values (COLORSPACE = srgb: an 8-bit input is
+// read without decoding, a linear input is encoded first), where the noise of
+// cameras and of 8-bit files is much closer to uniform than in linear light.
+// `sigma` and all the thresholds are in these units (0..1; 8-bit value / 255).
+//
+// State: the pass `acc` (rgba16f) holds, per pixel, rgb = a running mean of the
+// frames aligned to the current one and a = n, the number of frames it averages.
+// Each frame:
+//
+// 1. Noise estimate (nres -> nblk -> nsig, sigma = 0): the 3x3 kernel
+//    N = (1 -2 1; -2 4 -2; 1 -2 1) cancels smooth content; for white Gaussian noise
+//    E|N * I| = 6 sigma sqrt(2/pi). |N * I| (mean of r, g, b) is averaged over
+//    16x16-pixel blocks (two 4x reductions); blocks with a pixel within 2/255 of
+//    black or white are left out (clipped noise reads low). The 20% quantile of
+//    the block means (bisection, in a 1x1 pass), divided by 6 sqrt(2/pi), is the
+//    estimate: the flattest blocks see noise, textured ones read high. It is
+//    smoothed over time, sigma_t = mix(sigma_t-1, new, 0.25).
+// 2. Motion (y1..y3, mv3..mv0): hierarchical block matching, coarse to fine, on
+//    a luma pyramid (r + 2g + b) / 4 at 1/2, 1/4, 1/8 size; the previous frame's
+//    levels are the same passes one frame earlier (PASS.y1[-1], ...). One vector
+//    per 8x8 pixels, v with cur(x) ~ prev(x + v), cost = mean squared difference
+//    over a block (bilinear samples of the previous frame):
+//      mv3  1/8 level, 3x3 texels (24 px): exhaustive +-2 texels (+-16 px), plus
+//           the previous frame's vector (temporal predictor)
+//      mv2  1/4 level, 4x4 texels (16 px): candidates from mv3, the temporal
+//           predictor and zero; refined by one-texel steps (two rounds)
+//      mv1  1/2 level, 6x6 texels (12 px): the same from mv2
+//      mv0  full resolution, 8x8 px, against the filter's own previous output
+//           (denoised: far less noise than the previous input): candidates mv1 at
+//           the block and its 4 neighbours, then 1/2- and 1/4-pixel steps, then a
+//           parabola through the last costs (sub-pixel)
+//    Each level ends with a parabola fit (sub-texel); zero motion wins near-ties.
+//    Per pixel, the field is interpolated bilinearly between the block vectors.
+// 3. Warp (warp): the previous state at x + v, Catmull-Rom bicubic for rgb
+//    (clamped to the four nearest texels: no overshoot building up), n
+//    interpolated bilinearly; n = 0 where x + v is outside the frame (new content
+//    at the edge has no history).
+// 4. Robust blend (acc), with D = cur - warped per channel over the 3x3
+//    neighbourhood:
+//      r1 = mean over r, g, b of |mean of D| / sigma      a local offset
+//      r2 = sqrt(mean of D^2) / sigma                     any local mismatch
+//      k  = (1 - smoothstep(0.36, 0.72, r1 / threshold)) (1 - smoothstep(1.4, 2.0, r2 / threshold))
+//      n  = 1 + k min(n_prev, frames - 1);   acc = cur + (1 - 1/n) (warped - cur)
+//    For a correct match D is noise (r1 ~ 0.3, r2 ~ sqrt(1 + 1/n_prev)) and the
+//    state becomes the mean of up to `frames` frames (noise / sqrt(n)); a wrong
+//    vector, an occlusion or a cut gives k = 0 and the state restarts from the
+//    current frame (no ghost trail, no leak of the previous scene).
+// 5. Spatial fallback (out): a 5x5 bilateral filter of the current frame (spatial
+//    sigma 1.5 px, range sigma 2 sigma) mixed in with weight spatial / n: all of it
+//    where there is no history (first frame, cuts, occlusions, the entering edge),
+//    little where n is large. Alpha is the input's.
+//
+// Parameters:
+//   sigma      noise standard deviation (code values 0..1); 0 (default) estimates it
+//   frames     most frames averaged (default 12; 1 turns the temporal part off)
+//   threshold  scales the motion-rejection thresholds (default 1; lower: safer on
+//              motion, less denoising; higher: more denoising, risk of ghosts)
+//   spatial    weight of the spatial fallback (default 1; 0: none)
+//   view       denoised (default) | sigma (the estimate, grey) | history (n /
+//              frames, grey) | motion (0.5 + v / 8 px in r, g): for inspection
+//
+// Temporal behaviour: input history only through the filter's own feedback
+// (PASS.x[-1]); no IN[+n], so no latency. The first frame (and a stream that
+// starts mid-sequence) is spatially filtered only; the state builds up over about
+// `frames` frames. A frame's weight in the state falls by at least
+// (frames - 1) / frames per frame: with --frames slices, give --warmup of about
+// 6 x frames (72 at the default; see docs/distributed.md).
+//
+// Cost: 11 passes; the full-resolution ones are nres (4x4 pixels per texel), y1,
+// warp, acc and out; the motion search runs on 1/8 as many vectors as pixels.
 EFFECT.temporal_denoise = {
     DESCRIPTION = "Temporal denoise: motion-compensated recursive average with a spatial fallback and an automatic noise estimate.\nHierarchical block matching; sigma = 0 estimates the noise level."
     COLORSPACE = srgb
