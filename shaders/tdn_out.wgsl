@@ -43,7 +43,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     if (ws < 0.01) {
         return vec4<f32>(a.rgb, c.a);
     }
-    let kr = -0.5 / (4.0 * sigma * sigma);
+    let kr = -0.5 / (2.25 * sigma * sigma);
     var sum = vec3<f32>(0.0);
     var total = 0.0;
     for (var j = -2; j <= 2; j++) {

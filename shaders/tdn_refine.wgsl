@@ -70,9 +70,9 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             best_cost = c;
         }
     }
-    var step = 0.5;
+    var step = 0.25;
     var costs = array<f32, 9>();
-    for (var level = 0; level < 2; level++) {
+    for (var level = 1; level < 2; level++) {
         let centre = best;
         costs[4] = best_cost;
         for (var k = 0; k < 9; k++) {
