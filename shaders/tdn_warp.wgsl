@@ -18,15 +18,16 @@ struct Params {
 
 #include "lib/tdn.wgsl"
 
-fn cr_weights(t: f32) -> vec4<f32> {
-    let t2 = t * t;
-    let t3 = t2 * t;
-    return vec4<f32>(
-        -0.5 * t3 + t2 - 0.5 * t,
-        1.5 * t3 - 2.5 * t2 + 1.0,
-        -1.5 * t3 + 2.0 * t2 + 0.5 * t,
-        0.5 * t3 - 0.5 * t2,
-    );
+fn lanczos3(x: f32) -> f32 {
+    let ax = abs(x);
+    if (ax < 1e-4) {
+        return 1.0;
+    }
+    if (ax >= 3.0) {
+        return 0.0;
+    }
+    let px = 3.14159265 * x;
+    return 3.0 * sin(px) * sin(px / 3.0) / (px * px);
 }
 
 @fragment
@@ -37,26 +38,35 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let inside = all(p >= vec2<f32>(-0.5)) && all(p <= params.out_size - 0.5);
     let i = vec2<i32>(floor(p));
     let f = p - floor(p);
-    let wx = cr_weights(f.x);
-    let wy = cr_weights(f.y);
+    var wx: array<f32, 6>;
+    var wy: array<f32, 6>;
+    var sx = 0.0;
+    var sy = 0.0;
+    for (var k = 0; k < 6; k++) {
+        wx[k] = lanczos3(f.x - f32(k - 2));
+        wy[k] = lanczos3(f.y - f32(k - 2));
+        sx += wx[k];
+        sy += wy[k];
+    }
     var sum = vec3<f32>(0.0);
     var lo = vec3<f32>(1e9);
     var hi = vec3<f32>(-1e9);
     var n = 0.0;
-    for (var j = 0; j < 4; j++) {
+    for (var j = 0; j < 6; j++) {
         var row = vec3<f32>(0.0);
-        for (var k = 0; k < 4; k++) {
-            let t = tdn_load(hist, i + vec2<i32>(k - 1, j - 1));
+        for (var k = 0; k < 6; k++) {
+            let t = tdn_load(hist, i + vec2<i32>(k - 2, j - 2));
             row += wx[k] * t.rgb;
-            if (j == 1 || j == 2) && (k == 1 || k == 2) {
+            if (j == 2 || j == 3) && (k == 2 || k == 3) {
                 lo = min(lo, t.rgb);
                 hi = max(hi, t.rgb);
-                let bx = select(1.0 - f.x, f.x, k == 2);
-                let by = select(1.0 - f.y, f.y, j == 2);
+                let bx = select(1.0 - f.x, f.x, k == 3);
+                let by = select(1.0 - f.y, f.y, j == 3);
                 n += bx * by * t.a;
             }
         }
         sum += wy[j] * row;
     }
+    sum = sum / (sx * sy);
     return vec4<f32>(clamp(sum, lo, hi), select(0.0, n, inside));
 }
