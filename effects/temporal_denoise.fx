@@ -30,13 +30,13 @@
 //      mv1  1/2 level, 6x6 texels (12 px): the same from mv2
 //      mv0  full resolution, 8x8 px, against the filter's own previous output
 //           (denoised: far less noise than the previous input): candidates mv1 at
-//           the block and its 4 neighbours, then 1/2- and 1/4-pixel steps, then a
-//           parabola through the last costs (sub-pixel)
+//           the block and its 4 neighbours, then 1/4-pixel steps, then a parabola
+//           through the costs around the best (sub-pixel)
 //    Each level ends with a parabola fit (sub-texel); zero motion wins near-ties.
 //    Per pixel, the field is interpolated bilinearly between the block vectors.
-// 3. Warp (warp): the previous state at x + v, Catmull-Rom bicubic for rgb
-//    (clamped to the four nearest texels: no overshoot building up), n
-//    interpolated bilinearly; n = 0 where x + v is outside the frame (new content
+// 3. Warp (warp): the previous state at x + v, Lanczos-3 for rgb (sharp: little
+//    blur builds up over the recursion; clamped to the four nearest texels: no
+//    overshoot builds up either), n interpolated bilinearly; n = 0 where x + v is outside the frame (new content
 //    at the edge has no history).
 // 4. Robust blend (acc), with D = cur - warped per channel over the 3x3
 //    neighbourhood:

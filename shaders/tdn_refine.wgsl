@@ -5,9 +5,9 @@
 // previous output (`hist`, the denoised state, sampled bilinearly): far less
 // noise than the previous input.
 // Candidates: the vectors of the coarser level (`coarse`) at the block and its
-// four neighbours; the best is refined on a grid of 1/2, then 1/4 pixel (the 8
-// neighbours at each step), and a parabola through the last step's costs gives
-// the final sub-pixel offset.
+// four neighbours; the best is refined by 1/4-pixel steps (its 8 neighbours),
+// and where it stays best a parabola through the costs of its neighbours along x
+// and along y gives the final sub-pixel offset.
 @group(0) @binding(0) var cur: texture_2d<f32>;
 @group(0) @binding(1) var hist: texture_2d<f32>;
 @group(0) @binding(2) var hist_sampler: sampler;
@@ -70,28 +70,27 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             best_cost = c;
         }
     }
-    var step = 0.25;
+    // One round of quarter-pixel steps around the best candidate, then a parabola
+    // through the costs of the step's axis neighbours when the centre stayed best.
+    let step = 0.25 * params.cur_texel;
+    let centre = best;
     var costs = array<f32, 9>();
-    for (var level = 1; level < 2; level++) {
-        let centre = best;
-        costs[4] = best_cost;
-        for (var k = 0; k < 9; k++) {
-            if (k == 4) {
-                continue;
-            }
-            let v = centre + vec2<f32>(f32(k % 3 - 1), f32(k / 3 - 1)) * step * params.cur_texel;
-            let c = cost(v);
-            costs[k] = c;
-            if (c < best_cost) {
-                best = v;
-                best_cost = c;
-            }
+    costs[4] = best_cost;
+    for (var k = 0; k < 9; k++) {
+        if (k == 4) {
+            continue;
         }
-        if (level == 1 && all(best == centre)) {
-            let sub = vec2<f32>(parabola(costs[3], costs[4], costs[5]), parabola(costs[1], costs[4], costs[7]));
-            best += sub * step * params.cur_texel;
+        let v = centre + vec2<f32>(f32(k % 3 - 1), f32(k / 3 - 1)) * step;
+        let c = cost(v);
+        costs[k] = c;
+        if (c < best_cost) {
+            best = v;
+            best_cost = c;
         }
-        step *= 0.5;
+    }
+    if (all(best == centre)) {
+        let sub = vec2<f32>(parabola(costs[3], costs[4], costs[5]), parabola(costs[1], costs[4], costs[7]));
+        best += sub * step;
     }
     return vec4<f32>(best, 0.0, 0.0);
 }

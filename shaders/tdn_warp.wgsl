@@ -3,8 +3,9 @@
 // a = the number of frames n it averages) resampled at uv + v, v = the motion
 // field `mv` (uv units, bilinearly interpolated between its vectors).
 //
-// rgb: Catmull-Rom (bicubic) interpolation, clamped to the range of the four
-// nearest texels (no overshoot, which would build up over the recursion).
+// rgb: Lanczos-3 interpolation (6x6 texels, weights normalised; sharper than
+// bicubic, so less blur builds up over the recursion), clamped to the range of
+// the four nearest texels (no overshoot building up either).
 // a: the same sample's n (bilinear weights of the four nearest texels), 0 where
 // the sample lies more than half a pixel outside the frame (content entering at
 // the edge has no history).
