@@ -42,7 +42,7 @@
 //    neighbourhood:
 //      r1 = mean over r, g, b of |mean of D| / sigma      a local offset
 //      r2 = sqrt(mean of D^2) / sigma                     any local mismatch
-//      k  = (1 - smoothstep(0.36, 0.72, r1 / threshold)) (1 - smoothstep(1.4, 2.0, r2 / threshold))
+//      k  = (1 - smoothstep(0.5, 1.0, r1 / threshold)) (1 - smoothstep(1.2, 1.8, r2 / threshold))
 //      n  = 1 + k min(n_prev, frames - 1);   acc = cur + (1 - 1/n) (warped - cur)
 //    For a correct match D is noise (r1 ~ 0.3, r2 ~ sqrt(1 + 1/n_prev)) and the
 //    state becomes the mean of up to `frames` frames (noise / sqrt(n)); a wrong

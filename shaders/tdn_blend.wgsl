@@ -5,8 +5,8 @@
 //   D   = cur - w.rgb                                      per channel
 //   r1  = mean over r, g, b of |mean of D over 3x3| / sigma  (a local offset)
 //   r2  = sqrt(mean of D^2 over 3x3 and r, g, b) / sigma      (any local mismatch)
-//   k   = (1 - smoothstep(0.36, 0.72, r1 / threshold))
-//       * (1 - smoothstep(1.4, 2.0, r2 / threshold))         trust in the history
+//   k   = (1 - smoothstep(0.5, 1.0, r1 / threshold))
+//       * (1 - smoothstep(1.2, 1.8, r2 / threshold))         trust in the history
 //   For a correct match D is noise: r1 is about 0.3, r2 about sqrt(1 + 1/n_prev).
 //   n   = 1 + k * min(n_prev, frames - 1)
 //   out = rgb: cur + (1 - 1/n') (w.rgb - cur) with n' = n, i.e. the running mean of
@@ -44,7 +44,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let ts = params.threshold * sigma;
     let r1 = dot(abs(box / 9.0), vec3<f32>(1.0 / 3.0)) / ts;
     let r2 = sqrt(sq / 27.0) / ts;
-    let k = (1.0 - smoothstep(0.36, 0.72, r1)) * (1.0 - smoothstep(1.4, 2.0, r2));
+    let k = (1.0 - smoothstep(0.5, 1.0, r1)) * (1.0 - smoothstep(1.2, 1.8, r2));
     let n = 1.0 + k * min(w.a, params.frames - 1.0);
     return vec4<f32>(mix(c.rgb, w.rgb, 1.0 - 1.0 / n), n);
 }
