@@ -49,7 +49,7 @@
 //    vector, an occlusion or a cut gives k = 0 and the state restarts from the
 //    current frame (no ghost trail, no leak of the previous scene).
 // 5. Spatial fallback (out): a 5x5 bilateral filter of the current frame (spatial
-//    sigma 1.5 px, range sigma 2 sigma) mixed in with weight spatial / n: all of it
+//    sigma 1.5 px, range sigma 1.5 sigma) mixed in with weight spatial / n: all of it
 //    where there is no history (first frame, cuts, occlusions, the entering edge),
 //    little where n is large. Alpha is the input's.
 //

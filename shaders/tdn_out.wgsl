@@ -2,9 +2,9 @@
 // average `acc` (rgb; a = the frames n it averages), blended with a spatial
 // estimate where n is small (the fallback where the motion search failed:
 // occlusions, new content at the frame edge, scene cuts, the first frame):
-//   s   = bilateral 5x5 of cur: weights exp(-|x|^2 / 4.5) * exp(-|dc|^2 / (2 (2 sigma)^2)),
+//   s   = bilateral 5x5 of cur: weights exp(-|x|^2 / 4.5) * exp(-|dc|^2 / (2 (1.5 sigma)^2)),
 //         |dc|^2 the mean over r, g, b of the squared difference to the centre
-//   out = mix(acc.rgb, s, spatial / n^2), alpha = cur's alpha
+//   out = mix(acc.rgb, s, spatial / n), alpha = cur's alpha
 // VIEW (debugging, tests): 0 the denoised image, 1 the noise level sigma (grey),
 // 2 n / frames (grey), 3 the motion vector (r, g = 0.5 + v in pixels / 8).
 @group(0) @binding(0) var cur: texture_2d<f32>;
