@@ -15,7 +15,8 @@
 # frames): trails and misregistered edges raise it before they move the PSNR.
 # "tuned" = the best PSNR of a small sweep, all sweep rows printed. ffmpeg runs its
 # filters in yuv444p (no chroma subsampling) with 2 threads; every tool writes PNG.
-# Speed: 1920x1080, 10 frames of the same pan, median wall time of RUNS runs
+# A row for the same photo with a still camera (no pan) shows what the motion
+# compensation costs. Speed: 1920x1080, 10 frames of the same pan, median wall time of RUNS runs
 # (PNG in -> PNG out, whole process), in ms per frame.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -37,6 +38,8 @@ mkdir -p "$WORK"
 Q="$WORK/q_640x360_$N"
 HD="$WORK/hd_1920x1080_10"
 [ -f "$Q/noisy/$(printf %04d "$N").png" ] || { rm -rf "$Q"; $SEQ make "$PHOTO" "$Q" 640 360 "$N" 10; }
+ST="$WORK/still_640x360_$N"
+[ -f "$ST/noisy/$(printf %04d "$N").png" ] || { rm -rf "$ST"; $SEQ make "$PHOTO" "$ST" 640 360 "$N" 10 0; }
 [ -f "$HD/noisy/0010.png" ] || { rm -rf "$HD"; $SEQ make "$PHOTO" "$HD" 1920 1080 10 10; }
 
 now() { date +%s.%N; }
@@ -73,6 +76,12 @@ done
 best() { grep "sweep $1=" "$WORK/quality.txt" | awk '{print $3 "\t" $0}' | sort -g | tail -1 | cut -f2-; }
 HQ_BEST=$(best hqdn3d | awk '{print $2}' | cut -d= -f2)
 NL_BEST=$(best nlmeans | awk '{print $2}' | cut -d= -f2-)
+# The same photo with a still camera: what the motion compensation costs on the pan.
+rm -rf "$WORK/o_still"; mkdir -p "$WORK/o_still"
+"$FX" temporal_denoise -i "$ST/noisy/%04d.png" -o "$WORK/o_still/%04d.png" >/dev/null 2>"$WORK/err.txt" || cat "$WORK/err.txt"
+printf '%-40s %8s dB  ghost %6s  (still camera; noisy %s dB)\n' "  fxrun temporal_denoise, no pan" \
+    "$($SEQ psnr "$ST/clean" "$WORK/o_still" $SKIP)" "$($SEQ ghost "$ST/clean" "$WORK/o_still" $SKIP)" \
+    "$($SEQ psnr "$ST/clean" "$ST/noisy" $SKIP)"
 echo "-- best of the sweeps:"
 echo "ffmpeg hqdn3d tuned:  $(best hqdn3d | sed 's/^ *sweep //')"
 echo "ffmpeg nlmeans tuned: $(best nlmeans | sed 's/^ *sweep //')"

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Test sequences for bench/denoise.sh: a slow camera pan over a real photo.
 
-  denoise_seq.py make PHOTO OUTDIR WIDTH HEIGHT FRAMES SIGMA8
+  denoise_seq.py make PHOTO OUTDIR WIDTH HEIGHT FRAMES SIGMA8 [SPEED]
       OUTDIR/clean/%04d.png  the pan: a WIDTHxHEIGHT window moving by
                              (1.3, 0.55) px per frame plus a slow sine wobble
-                             (sub-pixel positions throughout), cut from the
+                             (sub-pixel positions throughout; all of it times
+                             SPEED, default 1; 0: a still camera), cut from the
                              photo at twice the size (Lanczos shift) and
                              area-downscaled, so every frame is a clean image
       OUTDIR/noisy/%04d.png  clean + Gaussian noise of standard deviation
@@ -25,7 +26,7 @@ import cv2
 import numpy as np
 
 
-def make(photo, outdir, w, h, frames, sigma8):
+def make(photo, outdir, w, h, frames, sigma8, speed=1.0):
     src = cv2.imread(photo, cv2.IMREAD_COLOR)
     if src is None:
         sys.exit(f"cannot read {photo}")
@@ -44,8 +45,8 @@ def make(photo, outdir, w, h, frames, sigma8):
     os.makedirs(f"{outdir}/noisy", exist_ok=True)
     x0, y0 = 8.0, 8.0
     for t in range(frames):
-        ox = x0 + 1.3 * t + 0.6 * np.sin(t / 4.0)
-        oy = y0 + 0.55 * t + 0.3 * np.cos(t / 3.0)
+        ox = x0 + speed * (1.3 * t + 0.6 * np.sin(t / 4.0))
+        oy = y0 + speed * (0.55 * t + 0.3 * np.cos(t / 3.0))
         # Translate the 2x image by -(2 ox, 2 oy) with Lanczos, take the 2w x 2h
         # window at the origin, area-downscale to w x h.
         m = np.float32([[1, 0, -2 * ox], [0, 1, -2 * oy]])
@@ -83,7 +84,8 @@ def ghost(clean_dir, out_dir, skip, prefix=""):
 if __name__ == "__main__":
     cmd, args = sys.argv[1], sys.argv[2:]
     if cmd == "make":
-        make(args[0], args[1], int(args[2]), int(args[3]), int(args[4]), float(args[5]))
+        make(args[0], args[1], int(args[2]), int(args[3]), int(args[4]), float(args[5]),
+             *map(float, args[6:7]))
     elif cmd == "psnr":
         psnr(args[0], args[1], int(args[2]), *args[3:])
     elif cmd == "ghost":
