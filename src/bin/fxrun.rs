@@ -56,10 +56,19 @@ struct Fail {
     message: String,
 }
 
+/// The exit status of a failed run: 1 input rejected; 2 I/O, GPU or internal.
+fn exit_code(e: &RunError) -> u8 {
+    if e.is_input_error() {
+        1
+    } else {
+        2
+    }
+}
+
 impl From<RunError> for Fail {
     fn from(e: RunError) -> Self {
         Fail {
-            code: e.exit_code() as u8,
+            code: exit_code(&e),
             message: e.to_string(),
         }
     }

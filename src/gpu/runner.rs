@@ -15,7 +15,9 @@ use crate::script::{Diagnostics, SourceMap};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// Errors of a run, each with the CLI exit code it maps to.
+/// Errors of a run. [`RunError::is_input_error`] tells the caller's input (the
+/// effect, a file, an argument) from a fault of the system (I/O, GPU, internal);
+/// what that means for an exit status is the application's business.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
     /// The effect, its shaders or a `--set` were rejected (diagnostics rendered).
@@ -34,11 +36,12 @@ pub enum RunError {
 }
 
 impl RunError {
-    /// 1: input rejected; 2: I/O, GPU or internal.
-    pub fn exit_code(&self) -> i32 {
+    /// True when the input was rejected (the effect, its shaders, a `--set`, an
+    /// image file); false for I/O, GPU and internal faults.
+    pub fn is_input_error(&self) -> bool {
         match self {
-            RunError::Rejected { .. } | RunError::BadInput(_) => 1,
-            RunError::Io(_) | RunError::Gpu(_) | RunError::Other(_) => 2,
+            RunError::Rejected { .. } | RunError::BadInput(_) => true,
+            RunError::Io(_) | RunError::Gpu(_) | RunError::Other(_) => false,
         }
     }
 }

@@ -358,9 +358,9 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
             ),
         });
     }
-    match report.failed.iter().map(|f| f.error.exit_code()).max() {
+    match report.failed.iter().map(|f| exit_code(&f.error)).max() {
         Some(code) => Err(Fail {
-            code: code as u8,
+            code,
             message: String::new(),
         }),
         None => Ok(()),
