@@ -1,46 +1,65 @@
 #!/usr/bin/env bash
-# Deinterlacing throughput: fxrun deinterlace (adaptive, bob) against ffmpeg yadif
-# and bwdif on the same frames, PNG sequence in -> PNG sequence out, in one run.
+# Deinterlacing: speed and quality of fxrun deinterlace (adaptive) against ffmpeg
+# bwdif and yadif on the same frames, PNG sequence in -> PNG sequence out.
 #
-#   bash bench/deinterlace.sh [FRAMES]      (default 50 frames per size)
+#   bash bench/deinterlace.sh [FRAMES] [RUNS]     (default 30 frames, 3 rounds)
 #
-# Frames: ../shared/corpus/interlaced/mpeg2_field_encoding.ts (PAL, bottom field
-# first), decoded to PNG at 720x576 and scaled (interlace-aware) to 1920x1080,
-# looped to FRAMES frames. ffmpeg runs with 2 threads (-threads 2 -filter_threads 2);
-# both write PNG at compression level 1. fxrun also prints its stage-busy split.
+# Speed: ../shared/corpus/interlaced/mpeg2_field_encoding.ts (PAL, bottom field
+# first) decoded to PNG at 720x576 and scaled (interlace-aware) to 1920x1080,
+# looped to FRAMES frames, into $BENCH_DIR (never into the repo). Interleaved runs
+# (bench/timeit.py), medians; ffmpeg runs with 2 threads (-threads 2
+# -filter_threads 2); every tool writes PNG at zlib level 1. Ratio = peer / fxrun
+# (wall): above 1 means fxrun is faster. Then fxrun's stage-busy split (--timings).
+#
+# Quality: a camera move over ../shared/corpus/photos/seeding_by_Clements_Engelhardt.jpg
+# rendered at field rate and woven bottom field first (bench/deint_psnr.py, 20
+# frames per size); pooled PSNR (8-bit RGB) of each tool's output against the
+# progressive picture of the kept field.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-N=${1:-50}
+N=${1:-30}
+RUNS=${2:-3}
 export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 WORK=${BENCH_DIR:-/tmp/fxgraph-deint}
 CLIP=../shared/corpus/interlaced/mpeg2_field_encoding.ts
-[ -f "$CLIP" ] || { echo "missing $CLIP"; exit 1; }
+PHOTO=../shared/corpus/photos/seeding_by_Clements_Engelhardt.jpg
+for f in "$CLIP" "$PHOTO"; do [ -f "$f" ] || { echo "missing $f"; exit 1; }; done
 command -v ffmpeg >/dev/null || { echo "install ffmpeg"; exit 1; }
+python3 -c "import cv2, numpy" 2>/dev/null || { echo "install python3 opencv and numpy"; exit 1; }
 cargo build --release --quiet
 FX="$PWD/target/release/fxrun"
+FF="ffmpeg -v error -y -threads 2 -filter_threads 2"
 echo "fxrun adapter: $($FX --adapters | head -1)"
-for size in 720x576 1920x1080; do
+echo "machine: $(nproc) cores, $(uname -m), load $(cut -d' ' -f1-3 /proc/loadavg)"
+SIZES="720x576 1920x1080"
+for size in $SIZES; do
     d="$WORK/in_$size"
     if [ ! -f "$d/$(printf %04d "$N").png" ]; then
         rm -rf "$d"; mkdir -p "$d"
         ffmpeg -v error -stream_loop -1 -i "$CLIP" -frames:v "$N" \
             -vf "scale=${size%x*}:${size#*x}:interl=1,setfield=bff" -start_number 1 "$d/%04d.png"
     fi
+    q="$WORK/q_$size"
+    [ -f "$q/truth/0020.png" ] || python3 bench/deint_psnr.py make "$PHOTO" "${size%x*}" "${size#*x}" 20 "$q"
 done
-time_it() { # label size command...
-    local label=$1 size=$2; shift 2
-    local t0 t1
-    t0=$(date +%s.%N)
-    "$@" >/dev/null 2>"$WORK/err.txt" || { echo "$label $size FAILED"; cat "$WORK/err.txt"; return; }
-    t1=$(date +%s.%N)
-    python3 -c "t=$t1-$t0; print(f'{\"$label\":30} {\"$size\":10} {t*1000:9.0f} ms  {$N/t:7.1f} fps')"
-}
-for size in 720x576 1920x1080; do
+for size in $SIZES; do
     in="$WORK/in_$size/%04d.png"
     out="$WORK/out_$size"; rm -rf "$out"; mkdir -p "$out"
-    time_it "ffmpeg yadif (bff, 2 thr)" "$size" ffmpeg -v error -y -threads 2 -filter_threads 2 -i "$in" -vf "yadif=mode=0:parity=bff" -compression_level 1 "$out/y%04d.png"
-    time_it "ffmpeg bwdif (bff, 2 thr)" "$size" ffmpeg -v error -y -threads 2 -filter_threads 2 -i "$in" -vf "bwdif=mode=0:parity=bff" -compression_level 1 "$out/b%04d.png"
-    time_it "fxrun deinterlace adaptive" "$size" "$FX" deinterlace --set mode=adaptive --set field_order=bff -i "$in" -o "$out/f%04d.png"
-    time_it "fxrun deinterlace bob" "$size" "$FX" deinterlace --set mode=bob --set field_order=bff -i "$in" -o "$out/o%04d.png"
-    "$FX" deinterlace --set mode=adaptive --set field_order=bff -i "$in" -o "$out/t%04d.png" --timings 2>&1 | grep -E "stage busy|frames:" | sed "s/^/    $size /"
+    echo "speed, $size, $N frames (ref: fxrun adaptive)"
+    python3 bench/timeit.py "$RUNS" "fxrun adaptive" \
+        "fxrun adaptive" "$FX deinterlace --set mode=adaptive --set field_order=bff -i $in -o $out/f%04d.png" \
+        "ffmpeg bwdif (2 threads)" "$FF -i $in -vf bwdif=mode=0:parity=bff -compression_level 1 $out/b%04d.png" \
+        "ffmpeg yadif (2 threads)" "$FF -i $in -vf yadif=mode=0:parity=bff -compression_level 1 $out/y%04d.png"
+    "$FX" deinterlace --set mode=adaptive --set field_order=bff -i "$in" -o "$out/t%04d.png" --timings 2>&1 |
+        grep -E "stage busy|frames:|deinterlace/" | sed "s/^/    /"
+    q="$WORK/q_$size"
+    qin="$q/in/%04d.png"
+    rm -rf "$q/out"; mkdir -p "$q/out"
+    "$FX" deinterlace --set mode=adaptive --set field_order=bff -i "$qin" -o "$q/out/f%04d.png" >/dev/null
+    $FF -i "$qin" -vf bwdif=mode=0:parity=bff -compression_level 1 "$q/out/b%04d.png"
+    $FF -i "$qin" -vf yadif=mode=0:parity=bff -compression_level 1 "$q/out/y%04d.png"
+    echo "quality, $size (PSNR against the progressive truth, 20 frames):" \
+        "fxrun adaptive $(python3 bench/deint_psnr.py score "$q" "$q/out/f%04d.png") dB," \
+        "bwdif $(python3 bench/deint_psnr.py score "$q" "$q/out/b%04d.png") dB," \
+        "yadif $(python3 bench/deint_psnr.py score "$q" "$q/out/y%04d.png") dB"
 done

@@ -60,8 +60,10 @@
 // is chosen on r + g + b so colours do not separate.
 //
 // Parameters: mode, field_order, threshold (below).
-// Passes: one, `deint` (SHADER.deint with IN, IN[-1], IN[+1]), at the input's size;
-// FORMAT = IN (8-bit stays 8-bit).
+// Passes: `rows` (SHADER.deint STAGE 0 with IN, IN[-1], IN[+1]) reconstructs the
+// missing rows at half height; `deint` (STAGE 1) weaves them with the kept rows at
+// the input's size. FORMAT = IN (8-bit stays 8-bit; the half-height rows are stored
+// in the output's format, so the result is the same as computing it in one pass).
 EFFECT.deinterlace = {
     DESCRIPTION = "Deinterlace: bob, blend or motion-adaptive (yadif-like) field reconstruction.\nField-rate output at rate 2 (subframe 0/1 = first/second field); at rate 1 the first field is kept."
     FORMAT = IN
@@ -71,13 +73,29 @@ EFFECT.deinterlace = {
         threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "adaptive: temporal difference (linear units) at or below which a pixel counts as still" }
     }
     PASS = {
-        deint = SHADER.deint {
+        // The missing rows only, at half height (row r is image row 2r + 1 - p;
+        // round(h / 2) rows, enough for either parity).
+        rows = SHADER.deint {
             cur = IN
             prev = IN[-1]
             next = IN[+1]
+            cur.FILTER = nearest
             field_order = PARAM.field_order
             threshold = PARAM.threshold
             DEFINE.MODE = PARAM.mode
+            DEFINE.STAGE = 0
+            OUT.SCALE = (1, 0.5)
+            OUT.FORMAT = IN
+        }
+        // Full size: the kept rows from IN, the missing rows from `rows` (blend
+        // computes every row here).
+        deint = SHADER.deint {
+            cur = IN
+            missing = PASS.rows
+            cur.FILTER = nearest
+            field_order = PARAM.field_order
+            DEFINE.MODE = PARAM.mode
+            DEFINE.STAGE = 1
         }
     }
     OUT = deint

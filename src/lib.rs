@@ -5,10 +5,13 @@
 //! - [`graph`]: lowering to a petgraph DAG, size/format resolution, schedule and the
 //!   texture lifetime plan, all plain data. No GPU.
 //! - [`shader`]: WGSL loading, `#ifdef` preprocessing and naga reflection. No GPU.
+//! - [`lookup`]: finding effect scripts on disk (search folders, `INCLUDE`
+//!   confinement), the policy `graph` takes as an [`graph::EffectSource`]. No GPU.
 //! - `gpu` (feature `gpu`): device, texture pool, pipeline cache and the executor
 //!   that interprets a [`graph::Plan`].
 //! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes.
 pub mod graph;
+pub mod lookup;
 pub mod script;
 pub mod shader;
 

@@ -4,25 +4,9 @@
 
 mod common;
 
+use common::cli::{code, fxrun, stderr};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn fxrun(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run fxrun")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().unwrap_or(-1)
-}
 
 fn gpu() -> bool {
     common::engine().is_some()

@@ -3,25 +3,10 @@
 
 mod common;
 
+use common::cli::{code, fxrun, stderr};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn fxrun(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run fxrun")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().unwrap_or(-1)
-}
+use std::process::Command;
 
 /// True when GPU tests should run (an adapter, or FX_REQUIRE_GPU=1 which makes
 /// its absence fail).
@@ -1016,4 +1001,70 @@ fn help_groups_every_option_under_a_heading() {
     // No option is left in clap's default group.
     assert!(!help.contains("\nOptions:"), "{help}");
     assert_eq!(code(&fxrun(&["-V"])), 0);
+}
+
+/// A misspelt `--set`, an unknown pass and a WGSL type error come back in one
+/// report (exit 1, no output written), on a run and on `--check` alike.
+#[test]
+fn three_mistakes_are_reported_in_one_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let fx = dir.path().join("mine.fx");
+    std::fs::write(
+        &fx,
+        "EFFECT.mine = {\n    PARAM = { gain = FLOAT { DEFAULT = 1 } }\n    PASS = {\n        a = SHADER.bad { src = IN }\n        b = SHADER.bad { src = PASS.nope }\n    }\n    OUT = b\n}\n",
+    )
+    .unwrap();
+    std::fs::create_dir(dir.path().join("shaders")).unwrap();
+    std::fs::write(
+        dir.path().join("shaders/bad.wgsl"),
+        "@group(0) @binding(0) var src: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    let c: vec3<f32> = textureLoad(src, vec2<i32>(p.xy), 0);\n    return vec4<f32>(c, 1.0);\n}\n",
+    )
+    .unwrap();
+    let input = small_png(dir.path());
+    let out = dir.path().join("out.png");
+    let fx = fx.to_str().unwrap();
+    for args in [
+        vec![
+            fx,
+            "-i",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "gian=2",
+        ],
+        vec![fx, "--check", "--set", "gian=2"],
+    ] {
+        let o = fxrun(&args);
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("mine.fx:5:37: error: unknown pass `nope`"),
+            "{e}"
+        );
+        assert!(
+            e.contains("`--set gian`: no effect or pass parameter"),
+            "{e}"
+        );
+        assert!(e.contains("did you mean `gain`?"), "{e}");
+        assert!(
+            e.contains("shaders/bad.wgsl:4:9: error: WGSL: the type of `c` is expected to be `vec3<f32>`, but got `vec4<f32>`"),
+            "{e}"
+        );
+        assert!(e.contains("3 errors"), "{e}");
+        assert!(!out.exists());
+    }
+    // The script and WGSL errors are both reported, and a name the
+    // broken script could still mean (`a.anything`) is not invented as an error.
+    let o = fxrun(&[
+        fx,
+        "--check",
+        "--set",
+        "a.anything=1",
+        "--set",
+        "mine.gain=2",
+    ]);
+    let e = stderr(&o);
+    assert!(e.contains("2 errors"), "{e}");
+    assert!(!e.contains("--set"), "{e}");
 }

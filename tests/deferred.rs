@@ -4,13 +4,18 @@
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1. glTF tests skip with a
 //! message when ../shared/corpus is absent.
 
+#[path = "common/scenes.rs"]
+mod scenes;
+
+use scenes::opaque_room;
+
 use fxgraph::deferred::builtin::{box_mesh, grid_plane};
 use fxgraph::deferred::gbuffer::read_rgba_f32;
 use fxgraph::deferred::normal::{self, NormalEncoding};
 use fxgraph::deferred::renderer::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
 use fxgraph::deferred::{
-    AlphaMode, Camera, Instance, Light, Material, RenderOutput, RenderStats, Renderer,
-    RendererOptions, Scene, Technique,
+    Camera, Instance, Light, Material, RenderOutput, RenderStats, Renderer, RendererOptions, Scene,
+    Technique,
 };
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
 use glam::{Mat4, Vec3};
@@ -104,17 +109,6 @@ fn compare(a: &[[f32; 4]], b: &[[f32; 4]]) -> (f64, f32) {
 
 fn mean_rgb(p: &[[f32; 4]]) -> f32 {
     p.iter().map(|v| v[0] + v[1] + v[2]).sum::<f32>() / (p.len() * 3) as f32
-}
-
-fn opaque_room() -> Scene {
-    let mut s = Scene::load("builtin:room").unwrap();
-    let blend: Vec<bool> = s
-        .materials
-        .iter()
-        .map(|m| m.alpha_mode == AlphaMode::Blend)
-        .collect();
-    s.instances.retain(|i| !blend[i.material]);
-    s
 }
 
 // ------------------------------------------------------------------ CPU tests

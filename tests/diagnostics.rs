@@ -10,6 +10,7 @@ use std::path::Path;
 
 fn render(rel: &str) -> String {
     let (graph, mut diags, sources) = compile(&CompileRequest {
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: vec![rel.to_string()],
         ..Default::default()
     });

@@ -3,21 +3,12 @@
 //! built-in of the same name, and `./shaders/NAME.wgsl` overrides a built-in
 //! shader (README, "Using fxrun").
 
+#[path = "common/cli.rs"]
+mod cli;
+
+use cli::{fxrun_in, stdout};
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn fxrun_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .current_dir(dir)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run fxrun")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
 
 const SEPIA: &str = r#"EFFECT.sepia_film = {
     DESCRIPTION = "a user's sepia"

@@ -117,6 +117,7 @@ fn greenscreen() -> Option<(Image, Image)> {
 /// Compile effects (names or paths) and plan them for an 8-bit `w`x`h` input.
 fn plan_for(effects: &[&str], w: u32, h: u32) -> (fxgraph::graph::Plan, usize, usize) {
     let req = CompileRequest {
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: effects.iter().map(|s| s.to_string()).collect(),
         ..Default::default()
     };
@@ -170,6 +171,7 @@ fn effects_compile_without_warnings_and_plan_at_the_lower_bound() {
     }
     // chroma_composite reads AUX.background: plan it with that image provided.
     let req = CompileRequest {
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: vec!["effects/chroma_composite.fx".into()],
         ..Default::default()
     };

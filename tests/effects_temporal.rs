@@ -1,6 +1,6 @@
-//! GPU tests of the temporal effects: deinterlace, temporal_denoise, frame_blend,
-//! motion_trail and chroma_key_temporal, driven through the streaming runtime
-//! (`Stream`) like tests/temporal.rs.
+//! GPU tests of the temporal effects: deinterlace, frame_blend, motion_trail and
+//! chroma_key_temporal, driven through the streaming runtime (`Stream`) like
+//! tests/temporal.rs (temporal_denoise: tests/temporal_denoise.rs).
 //!
 //! Run with `FX_REQUIRE_GPU=1 XDG_RUNTIME_DIR=/tmp cargo test --test effects_temporal`;
 //! without an adapter (and without FX_REQUIRE_GPU) the GPU tests skip. Measured
@@ -8,74 +8,11 @@
 
 mod common;
 
+use common::stream::run_stream;
 use common::*;
-use fxgraph::gpu::executor::Engine;
-use fxgraph::gpu::runner::{input_format, read_pixels, Effect};
-use fxgraph::gpu::stream::Stream;
-use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::io::{Image, Pixels};
-use fxgraph::script::types::Format;
 
 // ---------------------------------------------------------------- helpers
-
-fn effect_path(name: &str) -> String {
-    format!("{}/effects/{name}.fx", env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Run `effect` (a file in effects/) with `overrides` over `frames` at `rate`
-/// outputs per frame; returns every output, in order, as linear RGBA f32.
-fn run_stream(
-    engine: &mut Engine,
-    effect: &str,
-    overrides: &[&str],
-    frames: &[Image],
-    rate: u32,
-) -> Vec<Vec<f32>> {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let mut fx = Effect::compile(&[effect_path(effect)], &o).unwrap_or_else(|e| panic!("{e}"));
-    let (format, colorspace) = input_format(&frames[0], false);
-    let input = InputDesc {
-        width: frames[0].width,
-        height: frames[0].height,
-        format,
-        colorspace,
-        aux: vec![],
-    };
-    let opts = PlanOptions {
-        policy: ReusePolicy::Pool,
-        output_format: Some(Format::Rgba32f),
-    };
-    let prepared = fx
-        .prepare_with(engine, &input, &opts)
-        .unwrap_or_else(|e| panic!("{e}"));
-    let mut stream = Stream::new(engine, prepared, format);
-    stream.rate = rate;
-    let mut outs = Vec::new();
-    let take = |i: u64, engine: &mut Engine, stream: &Stream, outs: &mut Vec<Vec<f32>>| {
-        assert_eq!(i, outs.len() as u64, "outputs in order");
-        let Pixels::F32(px) = read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap()
-        else {
-            panic!("float output expected")
-        };
-        outs.push(px);
-    };
-    for f in frames {
-        stream.push_image(engine, f).unwrap();
-        while let Some(i) = stream.next(engine).unwrap() {
-            take(i, engine, &stream, &mut outs);
-        }
-    }
-    stream.end();
-    while let Some(i) = stream.next(engine).unwrap() {
-        take(i, engine, &stream, &mut outs);
-    }
-    assert_eq!(
-        outs.len(),
-        frames.len() * rate as usize,
-        "{rate} output(s) per input frame"
-    );
-    outs
-}
 
 /// `x` rounded to the nearest half float (what an rgba16f input texture holds).
 fn f16r(x: f32) -> f32 {
@@ -544,127 +481,6 @@ fn deinterlace_real_pal_clip_removes_combing() {
         &Pixels::F32(adaptive_out[4].clone()),
     );
     println!("review image: {}", saved.display());
-}
-
-// ---------------------------------------------------------------- temporal_denoise
-
-const NW: u32 = 64;
-const NH: u32 = 64;
-const NOISE: f32 = 0.05;
-
-/// A clean textured scene with a vertical edge at `edge_x`: dark (about 0.25) to
-/// the left of it, bright (about 0.7) from it on.
-fn clean_scene(edge_x: u32) -> Vec<f32> {
-    let mut v = Vec::new();
-    for y in 0..NH {
-        for x in 0..NW {
-            let base = if x >= edge_x { 0.7 } else { 0.25 };
-            let t = 0.06 * ((0.4 * x as f32).sin() + (0.3 * y as f32).cos());
-            v.extend_from_slice(&[base + t, base - t, base + 0.5 * t, 1.0]);
-        }
-    }
-    v
-}
-
-/// `clean` plus deterministic noise of standard deviation NOISE (frame `t`), f16-rounded.
-fn noisy(clean: &[f32], t: u64) -> Vec<f32> {
-    clean
-        .iter()
-        .enumerate()
-        .map(|(i, &c)| {
-            if i % 4 == 3 {
-                c
-            } else {
-                f16r(c + noise(t * 1_000_003 + i as u64, NOISE))
-            }
-        })
-        .collect()
-}
-
-fn rgb_residual(out: &[f32], clean: &[f32], keep: impl Fn(u32, u32) -> bool) -> Vec<f32> {
-    let a = select_rgb(out, NW, NH, &keep);
-    let b = select_rgb(clean, NW, NH, &keep);
-    a.iter().zip(&b).map(|(p, q)| p - q).collect()
-}
-
-/// A static noisy scene: the residual noise falls by a large factor within 10
-/// frames (and further by 24); the first frame (no history) is the input itself.
-#[test]
-fn temporal_denoise_reduces_static_noise() {
-    let Some(mut engine) = engine() else {
-        return;
-    };
-    let clean = clean_scene(32);
-    let inputs: Vec<Vec<f32>> = (0..24).map(|t| noisy(&clean, t)).collect();
-    let frames: Vec<Image> = inputs
-        .iter()
-        .map(|v| float_image(NW, NH, v.clone()))
-        .collect();
-    let outs = run_stream(&mut engine, "temporal_denoise", &["sigma=0.05"], &frames, 1);
-    // Frame 0: the input, exactly.
-    assert_eq!(outs[0], inputs[0]);
-    // Away from the (static) edge.
-    let keep = |x: u32, _y: u32| !(30..34).contains(&x);
-    let in_std = std_dev(&rgb_residual(&inputs[9], &clean, keep));
-    let stds: Vec<f64> = outs
-        .iter()
-        .map(|o| std_dev(&rgb_residual(o, &clean, keep)))
-        .collect();
-    let (f9, f23) = (in_std / stds[9], in_std / stds[23]);
-    println!(
-        "temporal_denoise: input noise std {in_std:.4}; output std per frame {:?}; reduction {f9:.2}x at frame 9, {f23:.2}x at frame 23",
-        stds.iter().map(|s| format!("{s:.4}")).collect::<Vec<_>>()
-    );
-    assert!((in_std - NOISE as f64).abs() < 0.005, "{in_std}");
-    assert!(f9 > 2.5, "noise only reduced {f9:.2}x by frame 9");
-    assert!(f23 > 3.0, "noise only reduced {f23:.2}x by frame 23");
-    // Monotonic convergence, and no bias.
-    assert!(stds.windows(2).all(|w| w[1] < w[0] + 1e-3), "{stds:?}");
-    assert!(mean(&rgb_residual(&outs[23], &clean, keep)).abs() < 0.005);
-}
-
-/// A moving edge: the edge jumps 12 px at frame 6. The output follows the current
-/// frame in that frame (no ghost of the old edge), while a run without motion
-/// rejection (sigma huge) ghosts.
-#[test]
-fn temporal_denoise_does_not_ghost_a_moving_edge() {
-    let Some(mut engine) = engine() else {
-        return;
-    };
-    let edge = |t: u64| if t < 6 { 20 } else { 32 };
-    let inputs: Vec<Vec<f32>> = (0..9).map(|t| noisy(&clean_scene(edge(t)), t)).collect();
-    let frames: Vec<Image> = inputs
-        .iter()
-        .map(|v| float_image(NW, NH, v.clone()))
-        .collect();
-    // The pixels that changed: 20 <= x < 32 (dark before, bright after).
-    let changed = |x: u32, _y: u32| (20..32).contains(&x);
-    let worst = |a: &[f32], b: &[f32]| {
-        max_abs_diff(
-            &select_rgb(a, NW, NH, changed),
-            &select_rgb(b, NW, NH, changed),
-        )
-    };
-    let outs = run_stream(&mut engine, "temporal_denoise", &["sigma=0.05"], &frames, 1);
-    let err6 = worst(&outs[6], &inputs[6]);
-    let clean7 = clean_scene(32);
-    let err7 = worst(&outs[7], &clean7);
-    // Without motion rejection: h = strength everywhere.
-    let ghost = run_stream(&mut engine, "temporal_denoise", &["sigma=10"], &frames, 1);
-    let ghost6 = worst(&ghost[6], &inputs[6]);
-    println!(
-        "temporal_denoise edge jump: max |out - in| on the changed pixels at the jump {err6:.4} (no motion rejection: {ghost6:.3}); max |out - clean| one frame later {err7:.4}"
-    );
-    assert!(err6 < 0.01, "ghost at the jump: {err6}");
-    assert!(err7 < 4.0 * NOISE, "one frame after: {err7}");
-    assert!(
-        ghost6 > 0.3,
-        "the test should be able to see a ghost: {ghost6}"
-    );
-    // Static parts keep being denoised through the jump.
-    let far = |x: u32, _y: u32| x >= 40;
-    let s = std_dev(&rgb_residual(&outs[6], &clean7, far));
-    assert!(s < 0.5 * NOISE as f64, "{s}");
 }
 
 // ---------------------------------------------------------------- frame_blend

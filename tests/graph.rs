@@ -39,6 +39,7 @@ fn compile_text(text: &str) -> (Option<Graph>, Diagnostics, SourceMap) {
     let dir = tempfile::tempdir().unwrap();
     let p = write(&dir, "t.fx", text);
     compile(&CompileRequest {
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: vec![p.display().to_string()],
         ..Default::default()
     })
@@ -168,11 +169,11 @@ fn nested_effects_expand_in_their_namespace_with_their_parameters() {
         }",
     );
     let (g, d, s) = compile(&CompileRequest {
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: vec![p.display().to_string()],
         overrides: vec![Override {
             arg: "strength=7".into(),
         }],
-        ..Default::default()
     });
     assert!(d.is_empty(), "{}", d.render(&s));
     let g = g.unwrap();
@@ -203,6 +204,7 @@ fn chains_share_one_graph_and_namespace_repeats() {
         "EFFECT.a = { PASS = { p = SHADER.s { img = IN } } OUT = p }",
     );
     let (g, d, s) = compile(&CompileRequest {
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: vec![
             a.display().to_string(),
             "glow".into(),
@@ -270,6 +272,7 @@ fn colour_space_mismatch_on_8_bit_is_a_free_view() {
 fn every_shipped_effect_plans_at_the_lower_bound() {
     for (name, _) in library::builtin_effects() {
         let (g, d, s) = compile(&CompileRequest {
+            source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
             effects: vec![name.clone()],
             ..Default::default()
         });
@@ -398,11 +401,11 @@ fn effect_parameter_override_is_not_also_a_pass_override() {
         "EFFECT.e = { PARAM = { mode = ENUM { VALUES = (a, b)  DEFAULT = a } } PASS = { e = SHADER.s { img = IN  m = PARAM.mode } } OUT = e }",
     );
     let (g, d, s) = compile(&CompileRequest {
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: vec![p.display().to_string()],
         overrides: vec![Override {
             arg: "e.mode=b".into(),
         }],
-        ..Default::default()
     });
     assert!(d.is_empty(), "{}", d.render(&s));
     let g = g.unwrap();
@@ -412,4 +415,65 @@ fn effect_parameter_override_is_not_also_a_pass_override() {
         (pass.params[0].name.as_str(), pass.params[0].value[0]),
         ("m", 1.0)
     );
+}
+
+/// The graph layer reads no file: scripts come from an `EffectSource`. An
+/// in-memory one serves an entry, an `INCLUDE` and an effect instantiated by name;
+/// the default source is the built-in library alone.
+#[test]
+fn scripts_come_from_the_effect_source() {
+    use fxgraph::graph::source::{EffectSource, Found, IncludeError, Origin};
+    #[derive(Debug)]
+    struct Memory;
+    fn found(name: &str, text: &str) -> Found {
+        Found {
+            origin: Origin::Embedded(name.into()),
+            shown: format!("mem:{name}"),
+            text: text.into(),
+            key: name.into(),
+        }
+    }
+    impl EffectSource for Memory {
+        fn entry(&self, arg: &str) -> Result<Option<Found>, String> {
+            Ok((arg == "top").then(|| {
+                found(
+                    "top.fx",
+                    "INCLUDE \"lib.fx\"\nEFFECT.top = { PASS = { a = EFFECT.inner { IN = IN } } OUT = a }",
+                )
+            }))
+        }
+        fn named(&self, name: &str) -> Result<Option<Found>, String> {
+            Ok((name == "inner").then(|| {
+                found(
+                    "inner.fx",
+                    "EFFECT.inner = { PASS = { p = SHADER.copy { img = IN } } OUT = p }",
+                )
+            }))
+        }
+        fn include(&self, _: &Origin, target: &str) -> Result<Found, IncludeError> {
+            match target {
+                "lib.fx" => Ok(found("lib.fx", "")),
+                _ => Err(IncludeError::NotFound),
+            }
+        }
+    }
+    let (g, d, s) = compile(&CompileRequest {
+        effects: vec!["top".into()],
+        source: Some(std::sync::Arc::new(Memory)),
+        ..Default::default()
+    });
+    assert!(g.is_some(), "{}", d.render(&s));
+    assert_eq!(g.unwrap().schedule.len(), 1);
+    // The default: built-in names work, a path is not read.
+    let (g, d, s) = compile(&CompileRequest {
+        effects: vec!["glow".into()],
+        ..Default::default()
+    });
+    assert!(g.is_some(), "{}", d.render(&s));
+    let (g, d, s) = compile(&CompileRequest {
+        effects: vec!["effects/glow.fx".into()],
+        ..Default::default()
+    });
+    assert!(g.is_none());
+    assert!(d.render(&s).contains("reads no files"), "{}", d.render(&s));
 }

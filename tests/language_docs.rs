@@ -36,6 +36,7 @@ fn every_documented_example_compiles_and_plans() {
         let path = dir.path().join(format!("example_{line}.fx"));
         std::fs::write(&path, &text).unwrap();
         let req = CompileRequest {
+            source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
             effects: vec![path.display().to_string()],
             ..Default::default()
         };

@@ -2,6 +2,11 @@
 //! material file or a material shader, as file:line:col snapshots, all in one
 //! report; mutated material files are errors, never panics; `fxrun` exits 1.
 
+#[path = "common/cli.rs"]
+mod cli;
+
+use cli::fxrun;
+
 use fxgraph::deferred::material::script::load_materials;
 use proptest::prelude::*;
 use std::path::Path;
@@ -303,14 +308,6 @@ fn every_material_example_in_the_docs_loads() {
             );
         }
     }
-}
-
-fn fxrun(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .unwrap()
 }
 
 #[test]

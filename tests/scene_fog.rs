@@ -4,22 +4,15 @@
 
 mod common;
 
+use common::cli::fxrun;
+use common::scenes::opaque_room;
+
 use fxgraph::deferred::fog::Fog;
 use fxgraph::deferred::gbuffer::read_rgba_f32;
-use fxgraph::deferred::{AlphaMode, Renderer, RendererOptions, Scene, Technique};
+use fxgraph::deferred::{Renderer, RendererOptions, Scene, Technique};
 use fxgraph::io::{load_image, Pixels};
 use glam::Vec3;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn fxrun(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run fxrun")
-}
 
 fn floats(path: &Path) -> Vec<f32> {
     match load_image(path, &Default::default()).unwrap().pixels {
@@ -132,19 +125,6 @@ fn render(
         read_rgba_f32(ctx, &out.scene).unwrap(),
         read_rgba_f32(ctx, position).unwrap(),
     )
-}
-
-/// The room without its transparent objects (the AUX position is the opaque
-/// surface's).
-fn opaque_room() -> Scene {
-    let mut s = Scene::load("builtin:room").unwrap();
-    let blend: Vec<bool> = s
-        .materials
-        .iter()
-        .map(|m| m.alpha_mode == AlphaMode::Blend)
-        .collect();
-    s.instances.retain(|i| !blend[i.material]);
-    s
 }
 
 /// Height fog of the radial distance against a CPU oracle of the fog maths

@@ -4,6 +4,10 @@
 //! the Y'CbCr <-> RGB conversions (with a comparison against ffmpeg when it is installed).
 #![cfg(feature = "gpu")]
 
+mod common;
+
+use common::rng::Rng;
+
 use std::fs;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -24,24 +28,6 @@ use fxgraph::io::{srgb, write_atomic, IoError, Pixels};
 // ---------------------------------------------------------------------------------------
 // helpers
 // ---------------------------------------------------------------------------------------
-
-/// A small deterministic generator (xorshift64*).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn byte(&mut self) -> u8 {
-        (self.next() >> 56) as u8
-    }
-    fn bytes(&mut self, n: usize) -> Vec<u8> {
-        (0..n).map(|_| self.byte()).collect()
-    }
-}
 
 fn touch(p: &Path) {
     if let Some(d) = p.parent() {

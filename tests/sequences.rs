@@ -2,6 +2,8 @@
 
 mod common;
 
+use common::cli::stderr;
+
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
@@ -25,10 +27,6 @@ fn fxrun(args: &[&str], stdin: Option<&[u8]>) -> Output {
     let out = child.wait_with_output().unwrap();
     writer.join().unwrap();
     out
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// A moving pattern: frame i has a bright bar at x = 3i.

@@ -40,41 +40,31 @@ fn save(path: &Path, text: &str) {
     std::fs::rename(&tmp, path).unwrap();
 }
 
-#[test]
-fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
-    if common::engine().is_none() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    std::fs::write(d.join("solid.fx"), FX).unwrap();
-    std::fs::write(d.join("solid.wgsl"), shader("1.0, 0.0, 0.0")).unwrap();
-    let img = common::pattern_u8(16, 8);
-    let input = d.join("in.png");
-    fxgraph::io::save_image(
-        &input,
-        img.width,
-        img.height,
-        &img.pixels,
-        &Default::default(),
-    )
-    .unwrap();
-    let out = d.join("out.png");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .arg(d.join("solid.fx"))
-        .arg("-i")
-        .arg(&input)
-        .arg("-o")
-        .arg(&out)
-        .arg("--watch")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .stderr(Stdio::piped())
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    let err = Arc::new(Mutex::new(String::new()));
-    {
-        let err = err.clone();
+/// `fxrun D/solid.fx -i INPUT -o OUTPUT --watch` (with `solid.fx` and a red
+/// `solid.wgsl` written in D), its stderr collected as it comes; killed on drop.
+struct Watch {
+    child: std::process::Child,
+    err: Arc<Mutex<String>>,
+}
+
+impl Watch {
+    fn start(d: &Path, input: &Path, output: &Path) -> Watch {
+        std::fs::write(d.join("solid.fx"), FX).unwrap();
+        std::fs::write(d.join("solid.wgsl"), shader("1.0, 0.0, 0.0")).unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
+            .arg(d.join("solid.fx"))
+            .arg("-i")
+            .arg(input)
+            .arg("-o")
+            .arg(output)
+            .arg("--watch")
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .stderr(Stdio::piped())
+            .stdout(Stdio::null())
+            .spawn()
+            .unwrap();
+        let err = Arc::new(Mutex::new(String::new()));
+        let sink = err.clone();
         let mut pipe = child.stderr.take().unwrap();
         std::thread::spawn(move || {
             let mut buf = [0u8; 4096];
@@ -82,15 +72,109 @@ fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
                 if n == 0 {
                     break;
                 }
-                err.lock()
+                sink.lock()
                     .unwrap()
                     .push_str(&String::from_utf8_lossy(&buf[..n]));
             }
         });
+        let w = Watch { child, err };
+        wait_until(120, "the first run", || w.watching() >= 1);
+        w
     }
-    let stderr = || err.lock().unwrap().clone();
-    let watching = || stderr().matches("watching").count();
-    wait_until(120, "the first run", || watching() >= 1);
+
+    fn stderr(&self) -> String {
+        self.err.lock().unwrap().clone()
+    }
+
+    /// How many times it has said it is watching (once after each run).
+    fn watching(&self) -> usize {
+        self.stderr().matches("watching").count()
+    }
+
+    fn still_running(&mut self) -> bool {
+        self.child.try_wait().unwrap().is_none()
+    }
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn save_png(path: &Path, w: u32, h: u32) {
+    let img = common::pattern_u8(w, h);
+    // A hidden temporary of the same format, renamed over (as a copy tool does).
+    let tmp = path.with_file_name(".partial.png");
+    fxgraph::io::save_image(
+        &tmp,
+        img.width,
+        img.height,
+        &img.pixels,
+        &Default::default(),
+    )
+    .unwrap();
+    std::fs::rename(&tmp, path).unwrap();
+}
+
+/// `-i DIR -o DIR --watch`: an image that appears in the input folder is processed
+/// alone (the others are not written again); a changed shader re-runs them all.
+#[test]
+fn a_watched_input_folder_processes_new_images() {
+    if common::engine().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (input, output) = (d.join("in"), d.join("out"));
+    std::fs::create_dir(&input).unwrap();
+    save_png(&input.join("a.png"), 16, 8);
+    let mut w = Watch::start(d, &input, &output);
+    let stderr = || w.stderr();
+    let watching = || w.watching();
+    assert!(stderr().contains("1 input folder"), "{}", stderr());
+    let a_time = || {
+        std::fs::metadata(output.join("a.png"))
+            .unwrap()
+            .modified()
+            .unwrap()
+    };
+    let first_a = a_time();
+    // A new image of another size: processed on its own.
+    save_png(&input.join("b.png"), 24, 10);
+    wait_until(60, "b.png processed", || {
+        output.join("b.png").exists() && watching() >= 2
+    });
+    assert!(
+        stderr().contains("1 new or changed input(s)"),
+        "{}",
+        stderr()
+    );
+    assert_eq!(a_time(), first_a, "a.png was written again: {}", stderr());
+    let b = fxgraph::io::load_image(&output.join("b.png"), &Default::default()).unwrap();
+    assert_eq!((b.width, b.height), (24, 10));
+    // The effect changes: every image again.
+    save(&d.join("solid.wgsl"), &shader("0.0, 0.0, 1.0"));
+    wait_until(60, "the re-run after the shader changed", || {
+        a_time() != first_a && watching() >= 3
+    });
+    assert!(w.still_running(), "{}", w.stderr());
+}
+
+#[test]
+fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
+    if common::engine().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = d.join("in.png");
+    save_png(&input, 16, 8);
+    let out = d.join("out.png");
+    let mut w = Watch::start(d, &input, &out);
+    let stderr = || w.stderr();
+    let watching = || w.watching();
     let first = std::fs::read(&out).expect("the first output");
     // A new colour: the output is written again, with other pixels.
     save(&d.join("solid.wgsl"), &shader("0.0, 0.0, 1.0"));
@@ -111,12 +195,10 @@ fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
     });
     wait_until(60, "watching after the error", || watching() >= 3);
     assert!(
-        child.try_wait().unwrap().is_none(),
+        w.still_running(),
         "the watch ended on a shader error: {}",
-        stderr()
+        w.stderr()
     );
-    child.kill().unwrap();
-    let _ = child.wait();
 }
 
 #[test]
@@ -125,6 +207,8 @@ fn watch_refuses_analysis_modes_and_streams_with_exit_1() {
         &["glow", "--check", "--watch"][..],
         &["glow", "-i", "-", "-o", "-", "--watch"][..],
         &["--scene", "builtin:room", "-o", "x.png", "--watch"][..],
+        // The output folder as an input folder: every output would be a new input.
+        &["glow", "-i", "src", "-o", "src", "--watch"][..],
     ] {
         let o = Command::new(env!("CARGO_BIN_EXE_fxrun"))
             .args(args)

@@ -13,7 +13,7 @@ use fxgraph::gpu::sequence::{
     Y4mSink, Y4mSource,
 };
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, ReusePolicy};
-use fxgraph::graph::{compile, dot, library, CompileRequest, Override};
+use fxgraph::graph::{compile, dot, library};
 use fxgraph::io::sequence::{parse_frames, InputSequence, OutputPattern, SequenceSpec};
 use fxgraph::script::types::format_value;
 use std::io::{IsTerminal, Write as _};
@@ -56,10 +56,19 @@ struct Fail {
     message: String,
 }
 
+/// The exit status of a failed run: 1 input rejected; 2 I/O, GPU or internal.
+fn exit_code(e: &RunError) -> u8 {
+    if e.is_input_error() {
+        1
+    } else {
+        2
+    }
+}
+
 impl From<RunError> for Fail {
     fn from(e: RunError) -> Self {
         Fail {
-            code: e.exit_code() as u8,
+            code: exit_code(&e),
             message: e.to_string(),
         }
     }
@@ -178,10 +187,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
         for (name, desc) in library::builtin_effects() {
             outln!("{name:<20} {desc}");
             // The pass parameters `--set PASS.NAME=VALUE` takes, by name.
-            let req = CompileRequest {
-                effects: vec![name.clone()],
-                ..Default::default()
-            };
+            let req = fxgraph::lookup::DiskEffects::request(std::slice::from_ref(&name), &[]);
             if let (Some(graph), _, _) = compile(&req) {
                 // Those the effect sets (mostly from its parameters) by count.
                 let (bound, free): (Vec<_>, Vec<_>) = pass_param_rows(&graph)
@@ -219,18 +225,10 @@ fn run(cli: Cli) -> Result<(), Fail> {
             "no effect given (try `fxrun --list`, or `fxrun --help`)",
         ));
     }
-    let req = CompileRequest {
-        effects: cli.effects.clone(),
-        overrides: cli
-            .set
-            .iter()
-            .map(|a| Override { arg: a.clone() })
-            .collect(),
-        search_dirs: Vec::new(),
-    };
+    let req = fxgraph::lookup::DiskEffects::request(&cli.effects, &cli.set);
     let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
     if analysis {
-        let (graph, diags, mut sources) = compile(&req);
+        let (graph, diags, mut sources) = fxgraph::shader::compile_all(&req);
         if !diags.is_empty() {
             eprint!("{}", diags.render(&sources));
         }
@@ -435,7 +433,7 @@ mod sequence;
 mod watch;
 
 use args::Cli;
-use batch::{check_outputs, check_same_size, try_run_batch};
+use batch::{check_outputs, check_same_size, collect_inputs, try_run_batch};
 use describe::{describe, pass_param_rows};
 use scene::run_scene_cli;
 use sequence::{print_timings, run_sequence_cli, ProgressLine};

@@ -30,7 +30,10 @@ const BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
     slope_scale: 2.0,
     clamp: 0.0,
 };
-const SHADER: &str = include_str!("shaders/shadow_depth.wgsl");
+const SHADER: &str = concat!(
+    include_str!("shaders/shadow_depth.wgsl"),
+    include_str!("shaders/instance.wgsl")
+);
 
 /// The group 0 layout entries of the shadow lookups.
 pub(crate) fn g0_layout_entries() -> [wgpu::BindGroupLayoutEntry; 3] {

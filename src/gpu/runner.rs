@@ -8,14 +8,16 @@
 use super::context::{GpuContext, GpuError};
 use super::executor::{wgpu_format, Engine, ExecError, FrameInputs, PassTiming, Prepared};
 use crate::graph::plan::{plan, InputDesc, PlanOptions};
-use crate::graph::{compile, CompileRequest, Graph, Override};
+use crate::graph::Graph;
 use crate::io::{self, FileFormat, Image, IoError, LoadOptions, Pixels, SaveOptions};
 use crate::script::types::{ColorSpace, Format};
 use crate::script::{Diagnostics, SourceMap};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// Errors of a run, each with the CLI exit code it maps to.
+/// Errors of a run. [`RunError::is_input_error`] tells the caller's input (the
+/// effect, a file, an argument) from a fault of the system (I/O, GPU, internal);
+/// what that means for an exit status is the application's business.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
     /// The effect, its shaders or a `--set` were rejected (diagnostics rendered).
@@ -34,11 +36,12 @@ pub enum RunError {
 }
 
 impl RunError {
-    /// 1: input rejected; 2: I/O, GPU or internal.
-    pub fn exit_code(&self) -> i32 {
+    /// True when the input was rejected (the effect, its shaders, a `--set`, an
+    /// image file); false for I/O, GPU and internal faults.
+    pub fn is_input_error(&self) -> bool {
         match self {
-            RunError::Rejected { .. } | RunError::BadInput(_) => 1,
-            RunError::Io(_) | RunError::Gpu(_) | RunError::Other(_) => 2,
+            RunError::Rejected { .. } | RunError::BadInput(_) => true,
+            RunError::Io(_) | RunError::Gpu(_) | RunError::Other(_) => false,
         }
     }
 }
@@ -79,15 +82,8 @@ pub struct Effect {
 impl Effect {
     /// Compile a chain of effects (paths or built-in names) with `NAME=VALUE` overrides.
     pub fn compile(effects: &[String], overrides: &[String]) -> Result<Effect, RunError> {
-        let req = CompileRequest {
-            effects: effects.to_vec(),
-            overrides: overrides
-                .iter()
-                .map(|a| Override { arg: a.clone() })
-                .collect(),
-            search_dirs: Vec::new(),
-        };
-        let (graph, diags, sources) = compile(&req);
+        let req = crate::lookup::DiskEffects::request(effects, overrides);
+        let (graph, diags, sources) = crate::shader::compile_all(&req);
         match graph {
             Some(graph) if !diags.has_errors() => Ok(Effect {
                 graph,
@@ -299,7 +295,10 @@ pub struct JobReport {
     pub passes: Vec<PassTiming>,
     pub compile_ms: f64,
     pub decode_ms: f64,
+    /// Waiting for the device after the decode (it is created meanwhile).
     pub device_ms: f64,
+    /// Creating the device (on a thread, overlapping the decode); 0 with a given engine.
+    pub device_created_ms: f64,
     pub pipeline_ms: f64,
     pub upload_ms: f64,
     pub passes_ms: f64,
@@ -338,70 +337,121 @@ pub fn apply_to_image(
     let load = LoadOptions {
         assume_linear: job.assume_linear,
     };
-    // Headers first: a size the device cannot take is refused before the decode.
-    let mut files = Vec::new();
-    for path in std::iter::once(&job.input).chain(job.aux.iter().map(|(_, p)| p)) {
-        let bytes = io::read_image_file(path)?;
-        let size = io::image_dimensions(&bytes, path)?;
-        files.push((path, bytes, size));
-    }
-    let mut own_engine;
-    let mut engine = engine;
-    let largest = files.iter().map(|f| f.2 .0.max(f.2 .1)).max().unwrap_or(0);
-    if largest > wgpu::Limits::default().max_texture_dimension_2d {
-        // Larger than every device takes: ask this one before decoding.
-        if engine.is_none() {
-            own_engine = Engine::new(GpuContext::new(adapter)?);
-            engine = Some(&mut own_engine);
+    // Without an engine, the device is created on a thread while the files are read
+    // and decoded (on lavapipe each takes tens of milliseconds). An image larger than
+    // the device takes is still refused before its decode: the header check below
+    // waits for the device only then.
+    std::thread::scope(|scope| -> Result<JobReport, RunError> {
+        let mut device_thread = engine.is_none().then(|| {
+            scope.spawn(|| {
+                let t = Instant::now();
+                GpuContext::new(adapter).map(|ctx| (Engine::new(ctx), ms(t.elapsed())))
+            })
+        });
+        let mut own_engine: Option<(Engine, f64)> = None;
+        let mut engine = engine;
+        let mut wait_device = |own: &mut Option<(Engine, f64)>| -> Result<(), RunError> {
+            if let Some(h) = device_thread.take() {
+                let r = h.join().expect("the device thread panicked")?;
+                *own = Some(r);
+            }
+            Ok(())
+        };
+        // Headers first: a size the device cannot take is refused before the decode.
+        let mut files = Vec::new();
+        for path in std::iter::once(&job.input).chain(job.aux.iter().map(|(_, p)| p)) {
+            let bytes = io::read_image_file(path)?;
+            let size = io::image_dimensions(&bytes, path)?;
+            files.push((path, bytes, size));
         }
-        let e = engine.as_deref().expect("an engine");
-        let max = e.ctx.device.limits().max_texture_dimension_2d;
-        for (path, _, (w, h)) in &files {
-            if (*w).max(*h) > max {
-                return Err(RunError::BadInput(IoError::Decode {
-                    path: (*path).clone(),
+        let largest = files.iter().map(|f| f.2 .0.max(f.2 .1)).max().unwrap_or(0);
+        if largest > wgpu::Limits::default().max_texture_dimension_2d {
+            // Larger than every device takes: ask this one before decoding.
+            wait_device(&mut own_engine)?;
+            let max = match (&engine, &own_engine) {
+                (Some(e), _) => e.ctx.device.limits().max_texture_dimension_2d,
+                (None, Some((e, _))) => e.ctx.device.limits().max_texture_dimension_2d,
+                (None, None) => unreachable!("an engine or a device thread"),
+            };
+            let name = match (&engine, &own_engine) {
+                (Some(e), _) => e.ctx.info.name.clone(),
+                (_, Some((e, _))) => e.ctx.info.name.clone(),
+                _ => String::new(),
+            };
+            for (path, _, (w, h)) in &files {
+                if (*w).max(*h) > max {
+                    return Err(RunError::BadInput(IoError::Decode {
+                        path: (*path).clone(),
+                        message: format!(
+                            "the image is {w}x{h}, larger than the GPU's limit of {max} pixels per side ({name})"
+                        ),
+                    }));
+                }
+            }
+        }
+        let img = io::decode_image(&files[0].1, &job.input, &load)?;
+        let mut aux_imgs = Vec::new();
+        for ((name, path), (_, bytes, _)) in job.aux.iter().zip(&files[1..]) {
+            let a = io::decode_image(bytes, path, &load)?;
+            if (a.width, a.height) != (img.width, img.height) {
+                return Err(RunError::BadInput(IoError::Unsupported {
+                    path: path.clone(),
                     message: format!(
-                        "the image is {w}x{h}, larger than the GPU's limit of {max} pixels per side ({})",
-                        e.ctx.info.name
+                        "auxiliary image is {}x{}, the input is {}x{}",
+                        a.width, a.height, img.width, img.height
                     ),
                 }));
             }
+            aux_imgs.push((name.clone(), a));
         }
-    }
-    let img = io::decode_image(&files[0].1, &job.input, &load)?;
-    let mut aux_imgs = Vec::new();
-    for ((name, path), (_, bytes, _)) in job.aux.iter().zip(&files[1..]) {
-        let a = io::decode_image(bytes, path, &load)?;
-        if (a.width, a.height) != (img.width, img.height) {
-            return Err(RunError::BadInput(IoError::Unsupported {
-                path: path.clone(),
-                message: format!(
-                    "auxiliary image is {}x{}, the input is {}x{}",
-                    a.width, a.height, img.width, img.height
-                ),
-            }));
-        }
-        aux_imgs.push((name.clone(), a));
-    }
-    report.decode_ms = ms(t.elapsed());
-    let t = Instant::now();
-    drop(files);
-    let mut own_engine2;
-    let engine = match engine {
-        Some(e) => e,
-        None => {
-            own_engine2 = Engine::new(GpuContext::new(adapter)?);
-            &mut own_engine2
-        }
-    };
-    report.device_ms = ms(t.elapsed());
+        report.decode_ms = ms(t.elapsed());
+        let t = Instant::now();
+        drop(files);
+        wait_device(&mut own_engine)?;
+        // The time spent waiting for the device after the decode (its creation on
+        // the thread is `device_created_ms`).
+        report.device_ms = ms(t.elapsed());
+        let engine: &mut Engine = match (engine.take(), own_engine.as_mut()) {
+            (Some(e), _) => e,
+            (None, Some((e, created))) => {
+                report.device_created_ms = *created;
+                e
+            }
+            (None, None) => unreachable!("an engine or a device thread"),
+        };
+        finish_job(
+            job,
+            engine,
+            &mut effect,
+            &img,
+            &aux_imgs,
+            out_format,
+            report,
+            t_all,
+        )
+    })
+}
+
+/// The rest of [`apply_to_image`] once the image is decoded and the device exists:
+/// run, then encode and write the output.
+#[allow(clippy::too_many_arguments)]
+fn finish_job(
+    job: &ImageJob,
+    engine: &mut Engine,
+    effect: &mut Effect,
+    img: &Image,
+    aux_imgs: &[(String, Image)],
+    out_format: Format,
+    mut report: JobReport,
+    t_all: Instant,
+) -> Result<JobReport, RunError> {
     report.adapter = engine.ctx.info.name.clone();
     report.backend = format!("{:?}", engine.ctx.info.backend);
     let aux: Vec<(String, &Image)> = aux_imgs.iter().map(|(n, a)| (n.clone(), a)).collect();
     let (width, height, pixels) = run_on_image(
         engine,
-        &mut effect,
-        &img,
+        effect,
+        img,
         &aux,
         out_format,
         job.assume_linear,

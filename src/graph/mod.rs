@@ -5,9 +5,13 @@ pub mod dot;
 pub mod library;
 mod lower;
 pub mod plan;
+mod salvage;
+pub mod source;
 
-pub use lower::{compile, CompileRequest, Override};
+pub use lower::{compile, compile_report, CompileReport, CompileRequest, Override};
 pub use plan::{InputDesc, Plan, PlanOptions, ReusePolicy, Step};
+pub use salvage::ShaderReference;
+pub use source::{Builtins, EffectSource};
 
 use crate::script::ast::FormatSpec;
 use crate::script::types::{ColorSpace, ParamType, Sampling, Value};

@@ -72,7 +72,7 @@ impl SourceFile {
 
     /// 0-based line index and 1-based column (in characters) of a byte offset.
     pub fn line_col(&self, offset: usize) -> (usize, usize) {
-        let offset = offset.min(self.text.len());
+        let offset = floor_char_boundary(&self.text, offset);
         let line = match self.line_starts.binary_search(&offset) {
             Ok(l) => l,
             Err(l) => l - 1,
@@ -92,6 +92,16 @@ impl SourceFile {
             .unwrap_or(self.text.len());
         self.text[start..end].trim_end_matches(['\n', '\r'])
     }
+}
+
+/// The largest character boundary of `text` at or before `offset` (clamped to the
+/// text's length).
+fn floor_char_boundary(text: &str, offset: usize) -> usize {
+    let mut o = offset.min(text.len());
+    while !text.is_char_boundary(o) {
+        o -= 1;
+    }
+    o
 }
 
 /// All source files of one compilation, so spans can be rendered.
@@ -154,8 +164,10 @@ impl SourceMap {
 
     pub fn text(&self, span: Span) -> &str {
         let f = self.get(span.file);
-        let s = (span.start as usize).min(f.text.len());
-        let e = (span.end as usize).clamp(s, f.text.len());
+        // A span from another tool (naga) may end inside a character: whole
+        // characters are shown.
+        let s = floor_char_boundary(&f.text, span.start as usize);
+        let e = floor_char_boundary(&f.text, (span.end as usize).max(s));
         &f.text[s..e]
     }
 

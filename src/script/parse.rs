@@ -363,7 +363,7 @@ fn build_value(p: Pair<Rule>, file: FileId, base: usize) -> Spanned<RawValue> {
                     .trim_start_matches('+')
                     .parse::<i64>()
                     .unwrap_or(i64::MAX)
-                    .clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+                    .clamp(-(i32::MAX as i64), i32::MAX as i64) as i32;
                 Spanned::new(n, fspan)
             });
             RawValue::Ref { key, frame }

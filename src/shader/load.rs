@@ -3,9 +3,9 @@
 
 use super::include::{assemble, IncludeOrigin, RealFs};
 use super::reflect::{bind_pass, std_value, FieldType, Reflection, UniformLayout};
-use super::{find_shader, preprocess, reflect};
+use super::{find_shader, preprocess, reflect, ShaderFile};
 use crate::graph::plan::{PassShader, Plan};
-use crate::graph::Graph;
+use crate::graph::{CompileRequest, Graph, ShaderReference};
 use crate::script::types::{ColorSpace, Value};
 use crate::script::{Diagnostic, Diagnostics, FileId, SourceMap, Span};
 use std::collections::HashMap;
@@ -44,10 +44,7 @@ pub fn load_plan_shaders(
                 let n = p.node.expect("script pass has a node");
                 let pn = graph.pass(n);
                 let Some(file) = find_shader(name, pn.shader_dir.as_deref(), extra_dirs) else {
-                    diags.push(
-                        Diagnostic::error(format!("no shader `{name}.wgsl`"))
-                            .at(pn.shader_span, "not found next to the effect file, in its shaders/ folder, or in the built-in library"),
-                    );
+                    diags.push(missing_shader(name, pn.shader_span));
                     out.push(None);
                     continue;
                 };
@@ -71,79 +68,9 @@ pub fn load_plan_shaders(
             ),
         };
         let label = file.shown.clone();
-        let file_id = *files
-            .entry(label.clone())
-            .or_insert_with(|| match &file.path {
-                Some(path) => sources.add_disk(label.clone(), file.text.clone(), path),
-                None => sources.add(label.clone(), file.text.clone()),
-            });
         let key = (label.clone(), defines.clone());
         if !cache.contains_key(&key) {
-            // `#include "lib/..."` (the built-in library) or a file beside the
-            // shader: included text is appended, so the file's own lines and
-            // columns stay as they are.
-            let assembly = if file.text.contains("#include") {
-                let origin = match &file.path {
-                    Some(p) => IncludeOrigin::Disk(p.clone()),
-                    None => IncludeOrigin::Memory,
-                };
-                match assemble(file_id, &label, &file.text, origin, &RealFs, sources) {
-                    Ok(a) => Some(a),
-                    Err(ds) => {
-                        ds.into_iter().for_each(|d| diags.push(d));
-                        cache.insert(key.clone(), None);
-                        out.push(None);
-                        continue;
-                    }
-                }
-            } else {
-                None
-            };
-            let text = assembly
-                .as_ref()
-                .map_or(file.text.as_str(), |a| a.text.as_str());
-            let loaded = match preprocess(text, &defines) {
-                Err(e) => {
-                    diags.push(
-                        Diagnostic::error(e.message).at(Span::new(file_id, e.start, e.end), ""),
-                    );
-                    None
-                }
-                Ok((wgsl, _)) => {
-                    // The preprocessed text keeps the lines and columns of the file
-                    // (plus constants at the end), so its spans read as the file's.
-                    let id = if wgsl == file.text {
-                        file_id
-                    } else {
-                        sources.add(label.clone(), wgsl.clone())
-                    };
-                    match reflect(&wgsl, id) {
-                        Ok(r) => Some((Arc::<str>::from(wgsl), r)),
-                        Err(ds) => {
-                            for mut d in ds {
-                                // Spans past the file's own text lie in an
-                                // included file: point there.
-                                if let Some(a) = &assembly {
-                                    for l in &mut d.labels {
-                                        if l.span.file == id
-                                            && l.span.start as usize >= file.text.len()
-                                        {
-                                            if let Some(sp) = a.map_span(
-                                                l.span.start as usize,
-                                                l.span.end as usize,
-                                            ) {
-                                                l.span = sp;
-                                            }
-                                        }
-                                    }
-                                }
-                                diags.push(d);
-                            }
-                            None
-                        }
-                    }
-                }
-            };
+            let loaded = load_file(&file, &defines, sources, &mut files, &mut diags);
             cache.insert(key.clone(), loaded);
         }
         let Some((wgsl, reflection)) = cache[&key].clone() else {
@@ -169,6 +96,122 @@ pub fn load_plan_shaders(
         }));
     }
     (out, diags)
+}
+
+/// Find-independent half of loading: register `file` in `sources` (once per label),
+/// assemble its includes, preprocess with `defines` and reflect it. Problems go to
+/// `diags`, pointing into the file (or the included file they lie in).
+fn load_file(
+    file: &ShaderFile,
+    defines: &[(String, i64)],
+    sources: &mut SourceMap,
+    files: &mut HashMap<String, FileId>,
+    diags: &mut Diagnostics,
+) -> Option<(Arc<str>, Reflection)> {
+    let label = file.shown.clone();
+    let file_id = *files
+        .entry(label.clone())
+        .or_insert_with(|| match &file.path {
+            Some(path) => sources.add_disk(label.clone(), file.text.clone(), path),
+            None => sources.add(label.clone(), file.text.clone()),
+        });
+    // `#include "lib/..."` (the built-in library) or a file beside the shader:
+    // included text is appended, so the file's own lines and columns stay as they
+    // are.
+    let assembly = if file.text.contains("#include") {
+        let origin = match &file.path {
+            Some(p) => IncludeOrigin::Disk(p.clone()),
+            None => IncludeOrigin::Memory,
+        };
+        match assemble(file_id, &label, &file.text, origin, &RealFs, sources) {
+            Ok(a) => Some(a),
+            Err(ds) => {
+                ds.into_iter().for_each(|d| diags.push(d));
+                return None;
+            }
+        }
+    } else {
+        None
+    };
+    let text = assembly
+        .as_ref()
+        .map_or(file.text.as_str(), |a| a.text.as_str());
+    let (wgsl, _) = match preprocess(text, defines) {
+        Err(e) => {
+            diags.push(Diagnostic::error(e.message).at(Span::new(file_id, e.start, e.end), ""));
+            return None;
+        }
+        Ok(x) => x,
+    };
+    // The preprocessed text keeps the lines and columns of the file (plus constants
+    // at the end), so its spans read as the file's.
+    let id = if wgsl == file.text {
+        file_id
+    } else {
+        sources.add(label.clone(), wgsl.clone())
+    };
+    match reflect(&wgsl, id) {
+        Ok(r) => Some((Arc::<str>::from(wgsl), r)),
+        Err(ds) => {
+            for mut d in ds {
+                // Spans past the file's own text lie in an included file: point
+                // there.
+                if let Some(a) = &assembly {
+                    for l in &mut d.labels {
+                        if l.span.file == id && l.span.start as usize >= file.text.len() {
+                            if let Some(sp) = a.map_span(l.span.start as usize, l.span.end as usize)
+                            {
+                                l.span = sp;
+                            }
+                        }
+                    }
+                }
+                diags.push(d);
+            }
+            None
+        }
+    }
+}
+
+/// Compile, and when the scripts have errors, check the shaders they name too, so
+/// that one report holds every problem of the run (`--set`, script and WGSL).
+pub fn compile_all(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) {
+    let mut r = crate::graph::compile_report(req);
+    if r.graph.is_none() {
+        let shader_diags = check_references(&r.shaders, &mut r.sources, &[]);
+        r.diags.extend(shader_diags);
+        r.diags.sort();
+    }
+    (r.graph, r.diags, r.sources)
+}
+
+/// Check the shaders a script names when the script itself has errors (so no plan
+/// exists): each is found, preprocessed and validated on its own, so its WGSL
+/// errors are reported in the same run as the script's. Bindings against the
+/// script are not checked (that needs the compiled graph).
+pub fn check_references(
+    refs: &[ShaderReference],
+    sources: &mut SourceMap,
+    extra_dirs: &[PathBuf],
+) -> Diagnostics {
+    let mut diags = Diagnostics::default();
+    let mut files = HashMap::new();
+    for r in refs {
+        match find_shader(&r.name, r.dir.as_deref(), extra_dirs) {
+            Some(file) => {
+                load_file(&file, &r.defines, sources, &mut files, &mut diags);
+            }
+            None => diags.push(missing_shader(&r.name, r.span)),
+        }
+    }
+    diags
+}
+
+fn missing_shader(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(format!("no shader `{name}.wgsl`")).at(
+        span,
+        "not found next to the effect file, in its shaders/ folder, or in the built-in library",
+    )
 }
 
 /// A parameter of a pass that `--set PASS.NAME=VALUE` can set: a field of the

@@ -13,7 +13,9 @@ pub mod rename;
 pub mod wgsl_names;
 
 pub use features::{convert_features, feature_flags_used, FeatureMode};
-pub use load::{load_plan_shaders, pass_parameters, LoadedShader, PassParamInfo};
+pub use load::{
+    check_references, compile_all, load_plan_shaders, pass_parameters, LoadedShader, PassParamInfo,
+};
 pub use material::{
     find_material_shader, load_material_shader, MaterialParams, MaterialSampler, MaterialShader,
     MaterialShaderKind, MaterialTexture, MATERIAL_INTERFACE,

@@ -2,7 +2,11 @@
 #![allow(dead_code)]
 
 pub mod brdf;
+pub mod cli;
 pub mod gltf_gen;
+pub mod rng;
+pub mod scenes;
+pub mod stream;
 
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::Engine;

@@ -18,7 +18,7 @@ const ANALYSIS: &str = "Analysis";
 const OUTPUT: &str = "Output";
 const COMMON: &str = "Common";
 
-#[derive(Parser, Debug)]
+#[derive(Parser, Debug, Clone)]
 #[command(
     name = "fxrun",
     version,
@@ -58,7 +58,8 @@ pub(crate) struct Cli {
     pub(crate) keep_going: bool,
     /// Keep running after an image, batch or file-sequence run and re-run it when
     /// the effect, an INCLUDEd .fx, a shader (or its #include) or the input image
-    /// changes; errors are printed and the watch goes on. Not for streams, --scene
+    /// changes; errors are printed and the watch goes on. An input folder is a hot
+    /// folder: new and changed images in it are processed. Not for streams, --scene
     /// or the analysis modes. Ctrl-C ends it (status 0).
     #[arg(long, help_heading = COMMON)]
     pub(crate) watch: bool,

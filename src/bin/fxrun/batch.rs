@@ -103,7 +103,10 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
 /// its files (the numbers in the names when every name has a distinct one, else the
 /// position in name order), several inputs by position from 0. Processed in name order
 /// (a single folder or pattern) or in the order given.
-fn collect_inputs(cli: &Cli, specs: &[SequenceSpec]) -> Result<Vec<(u64, PathBuf)>, Fail> {
+pub(crate) fn collect_inputs(
+    cli: &Cli,
+    specs: &[SequenceSpec],
+) -> Result<Vec<(u64, PathBuf)>, Fail> {
     let mut out: Vec<(u64, PathBuf)> = Vec::new();
     for (spec, arg) in specs.iter().zip(&cli.input) {
         match spec {
@@ -355,9 +358,9 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
             ),
         });
     }
-    match report.failed.iter().map(|f| f.error.exit_code()).max() {
+    match report.failed.iter().map(|f| exit_code(&f.error)).max() {
         Some(code) => Err(Fail {
-            code: code as u8,
+            code,
             message: String::new(),
         }),
         None => Ok(()),
@@ -435,19 +438,7 @@ fn print_report(cli: &Cli, r: &BatchReport) {
             "stage busy: decode {:.0} ms, gpu {:.0} ms, encode {:.0} ms; wall {:.0} ms",
             r.decode_busy_ms, r.gpu_busy_ms, r.encode_busy_ms, r.wall_ms
         );
-        for p in &r.passes {
-            let gpu = p
-                .gpu_ms
-                .map(|g| format!("{g:.2}"))
-                .unwrap_or_else(|| "-".into());
-            eprintln!(
-                "  {:<32} {:>11} {:<10} gpu {:>8} ms",
-                p.path,
-                format!("{}x{}", p.width, p.height),
-                p.format,
-                gpu
-            );
-        }
+        super::sequence::print_pass_gpu_times(&r.passes);
     }
 }
 

@@ -4,6 +4,24 @@ use super::*;
 use fxgraph::gpu::batch::BatchItem;
 use std::collections::HashMap;
 
+/// The passes of a batch or sequence with their median GPU time, one line each
+/// (on stderr, under the `stage busy` line).
+pub(crate) fn print_pass_gpu_times(passes: &[fxgraph::gpu::executor::PassTiming]) {
+    for p in passes {
+        let gpu = p
+            .gpu_ms
+            .map(|g| format!("{g:.2}"))
+            .unwrap_or_else(|| "-".into());
+        eprintln!(
+            "  {:<32} {:>11} {:<10} gpu {:>8} ms",
+            p.path,
+            format!("{}x{}", p.width, p.height),
+            p.format,
+            gpu
+        );
+    }
+}
+
 pub(crate) fn print_timings(r: &JobReport) {
     outln!(
         "adapter: {} ({})  image {}x{}",
@@ -35,8 +53,8 @@ pub(crate) fn print_timings(r: &JobReport) {
         );
     }
     outln!(
-        "compile {:.1} ms | decode {:.1} | device {:.1} | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
-        r.compile_ms, r.decode_ms, r.device_ms, r.pipeline_ms, r.upload_ms, r.passes_ms, r.readback_ms, r.encode_ms, r.total_ms
+        "compile {:.1} ms | decode {:.1} | device {:.1} (created in {:.1}, overlapping the decode) | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
+        r.compile_ms, r.decode_ms, r.device_ms, r.device_created_ms, r.pipeline_ms, r.upload_ms, r.passes_ms, r.readback_ms, r.encode_ms, r.total_ms
     );
     let mib = |b: u64| b as f64 / 1048576.0;
     outln!(
@@ -307,19 +325,7 @@ pub(crate) fn run_sequence_cli(
             "stage busy: decode {:.0} ms ({:.0}%), gpu {:.0} ms ({:.0}%), encode {:.0} ms ({:.0}%); the encoder waited {:.0} ms for the GPU  (frames held at most: {})",
             report.decode_busy_ms, d * 100.0, report.gpu_busy_ms, g * 100.0, report.encode_busy_ms, e * 100.0, report.readback_wait_ms, report.frames_held_max
         );
-        for p in &report.passes {
-            let gpu = p
-                .gpu_ms
-                .map(|g| format!("{g:.2}"))
-                .unwrap_or_else(|| "-".into());
-            eprintln!(
-                "  {:<32} {:>11} {:<10} gpu {:>8} ms",
-                p.path,
-                format!("{}x{}", p.width, p.height),
-                p.format,
-                gpu
-            );
-        }
+        print_pass_gpu_times(&report.passes);
     }
     if let Some(path) = &cli.timings_json {
         write_json(path, &report)?;

@@ -8,14 +8,24 @@
 //! filtered by path. A script or shader error is printed and the watch goes on;
 //! Ctrl-C ends it with status 0 (130 when it interrupts a batch or sequence run).
 //!
+//! Input folders are hot folders: with `-i DIR` or `-i 'DIR/*.jpg'` the folder is
+//! watched too, and an image that appears or changes there (by modification time
+//! or length) is processed. A batch whose outputs keep their input's name (`-o DIR`)
+//! processes just the new and changed images; a sequence (a temporal effect, or a
+//! numbered output pattern) is re-run whole. A file still being copied fails to
+//! decode, is reported, and is processed again when its copy completes (its length
+//! or time changes). The output folder may not be an input folder (every output
+//! would be a new input).
+//!
 //! [`SourceMap::disk_paths`]: fxgraph::script::SourceMap::disk_paths
 
 use super::*;
+use fxgraph::io::sequence::SequenceSpec;
 use notify::{EventKind, RecursiveMode, Watcher as _};
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime};
 
 /// Why `--watch` cannot be used with these options, if so.
 fn refusal(cli: &Cli) -> Option<&'static str> {
@@ -52,8 +62,10 @@ pub(crate) fn run_watch(cli: &Cli) -> Result<(), Fail> {
     // A union over the runs: an effect that does not compile keeps the files of
     // the runs before it.
     let mut files: HashSet<PathBuf> = HashSet::new();
+    let mut hot = HotFolders::new(cli)?;
+    let mut job = cli.clone();
     loop {
-        let result = run_job(cli);
+        let result = run_job(&job);
         if let Err(f) = &result {
             print_fail(f);
         }
@@ -67,66 +79,221 @@ pub(crate) fn run_watch(cli: &Cli) -> Result<(), Fail> {
             };
         }
         files.extend(watched_files(cli));
-        for f in &files {
-            let Some(dir) = f.parent() else { continue };
-            if dirs.insert(dir.to_path_buf()) {
-                if let Err(e) = watcher.watch(dir, RecursiveMode::NonRecursive) {
+        let watch_dirs = files
+            .iter()
+            .filter_map(|f| f.parent().map(Path::to_path_buf))
+            .chain(hot.iter().flat_map(|h| h.dirs.clone()));
+        for dir in watch_dirs.collect::<Vec<_>>() {
+            if dirs.insert(dir.clone()) {
+                if let Err(e) = watcher.watch(&dir, RecursiveMode::NonRecursive) {
                     eprintln!("fxrun: warning: --watch: {}: {e}", dir.display());
                 }
             }
         }
-        eprintln!(
-            "fxrun: watching {} files for changes (Ctrl-C ends)",
-            files.len()
-        );
-        if !wait_for_change(&rx, &files, &stop) {
-            return Ok(());
+        match &hot {
+            Some(h) => eprintln!(
+                "fxrun: watching {} files and {} input folder(s) for changes (Ctrl-C ends)",
+                files.len(),
+                h.dirs.len()
+            ),
+            None => eprintln!(
+                "fxrun: watching {} files for changes (Ctrl-C ends)",
+                files.len()
+            ),
         }
+        job = loop {
+            let hot_dirs: Vec<PathBuf> = hot.iter().flat_map(|h| h.dirs.clone()).collect();
+            match wait_for_change(&rx, &files, &hot_dirs, &stop) {
+                Change::Stop => return Ok(()),
+                Change::Script => {
+                    if let Some(h) = &mut hot {
+                        h.refresh(cli);
+                    }
+                    break cli.clone();
+                }
+                Change::Inputs => {
+                    let Some(h) = &mut hot else { continue };
+                    let changed = h.refresh(cli);
+                    if changed.is_empty() {
+                        continue;
+                    }
+                    eprintln!(
+                        "fxrun: {} new or changed input(s): {}",
+                        changed.len(),
+                        changed
+                            .iter()
+                            .map(|p| p.display().to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    );
+                    if !h.names_kept {
+                        break cli.clone();
+                    }
+                    let mut sub = cli.clone();
+                    sub.input = changed;
+                    break sub;
+                }
+            }
+        };
     }
 }
 
-/// Waits for a change of one of `files`, then lets a burst of events settle (an
-/// editor's save is several). False: Ctrl-C.
+/// The input folders of a batch or folder sequence, and what was in them.
+struct HotFolders {
+    /// Canonical folders.
+    dirs: Vec<PathBuf>,
+    /// Input images with their modification time and length at the last look.
+    seen: HashMap<PathBuf, (Option<SystemTime>, u64)>,
+    /// The outputs keep their inputs' names (`-o DIR`, an effect that reads no
+    /// other frame): new inputs can be run alone.
+    names_kept: bool,
+}
+
+impl HotFolders {
+    /// None when no input is a folder or wildcard pattern.
+    fn new(cli: &Cli) -> Result<Option<HotFolders>, Fail> {
+        let mut dirs = Vec::new();
+        for i in &cli.input {
+            let dir = match SequenceSpec::parse_input(&i.to_string_lossy()) {
+                SequenceSpec::Dir(d) => d,
+                SequenceSpec::Glob(g) => match Path::new(&g).parent() {
+                    Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+                    _ => PathBuf::from("."),
+                },
+                _ => continue,
+            };
+            if let Ok(c) = std::fs::canonicalize(&dir) {
+                dirs.push(c);
+            }
+        }
+        if dirs.is_empty() {
+            return Ok(None);
+        }
+        let out = cli
+            .output
+            .as_ref()
+            .map(|o| SequenceSpec::parse_output(&o.to_string_lossy()));
+        let out_dir = match &out {
+            Some(SequenceSpec::Dir(d)) => std::fs::canonicalize(d).ok(),
+            _ => None,
+        };
+        if out_dir.as_ref().is_some_and(|o| dirs.contains(o)) {
+            return Err(rejected(
+                "--watch: the output folder is an input folder, so every output would be a new input: write to another folder",
+            ));
+        }
+        // A temporal effect makes a folder a sequence: re-run whole.
+        let temporal = match compile(&fxgraph::lookup::DiskEffects::request(&cli.effects, &[])) {
+            (Some(g), _, _) => g.history > 0 || g.latency > 0 || g.has_feedback(),
+            _ => false,
+        };
+        let mut h = HotFolders {
+            dirs,
+            seen: HashMap::new(),
+            // `-o DIR`, or a name without an extension (a folder the batch creates).
+            names_kept: !temporal
+                && match &out {
+                    Some(SequenceSpec::Dir(_)) => true,
+                    Some(SequenceSpec::Single(p)) => p.extension().is_none(),
+                    _ => false,
+                },
+        };
+        h.refresh(cli);
+        Ok(Some(h))
+    }
+
+    /// Look again; the inputs that are new or changed since the last look.
+    fn refresh(&mut self, cli: &Cli) -> Vec<PathBuf> {
+        let specs: Vec<SequenceSpec> = cli
+            .input
+            .iter()
+            .map(|i| SequenceSpec::parse_input(&i.to_string_lossy()))
+            .collect();
+        let inputs = collect_inputs(cli, &specs).unwrap_or_default();
+        let mut changed = Vec::new();
+        let mut now = HashMap::new();
+        for (_, p) in inputs {
+            let Ok(m) = std::fs::metadata(&p) else {
+                continue;
+            };
+            let stamp = (m.modified().ok(), m.len());
+            if self.seen.get(&p) != Some(&stamp) {
+                changed.push(p.clone());
+            }
+            now.insert(p, stamp);
+        }
+        self.seen = now;
+        changed
+    }
+}
+
+/// What [`wait_for_change`] saw.
+enum Change {
+    /// Ctrl-C.
+    Stop,
+    /// An effect, include or shader (or a single input image) changed.
+    Script,
+    /// Something changed in an input folder.
+    Inputs,
+}
+
+/// Waits for a change of one of `files` or in one of `hot_dirs`, then lets a burst
+/// of events settle (an editor's save, or a copy, is several).
 fn wait_for_change(
     rx: &Receiver<notify::Result<notify::Event>>,
     files: &HashSet<PathBuf>,
+    hot_dirs: &[PathBuf],
     stop: &AtomicBool,
-) -> bool {
-    let relevant = |ev: &notify::Event| {
-        !matches!(ev.kind, EventKind::Access(_)) && ev.paths.iter().any(|p| files.contains(p))
+) -> Change {
+    let classify = |ev: &notify::Event| {
+        if matches!(ev.kind, EventKind::Access(_)) {
+            None
+        } else if ev.paths.iter().any(|p| files.contains(p)) {
+            Some(Change::Script)
+        } else if ev
+            .paths
+            .iter()
+            .any(|p| p.parent().is_some_and(|d| hot_dirs.iter().any(|h| h == d)))
+        {
+            Some(Change::Inputs)
+        } else {
+            None
+        }
     };
-    loop {
+    let mut seen = loop {
         if stop.load(Ordering::SeqCst) {
-            return false;
+            return Change::Stop;
         }
         match rx.recv_timeout(Duration::from_millis(200)) {
-            Ok(Ok(ev)) if relevant(&ev) => break,
-            Ok(_) | Err(RecvTimeoutError::Timeout) => {}
-            Err(RecvTimeoutError::Disconnected) => return false,
+            Ok(Ok(ev)) => {
+                if let Some(c) = classify(&ev) {
+                    break c;
+                }
+            }
+            Ok(Err(_)) | Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => return Change::Stop,
         }
-    }
-    // Debounce: until 150 ms pass without an event (at most 2 s).
+    };
+    // Debounce: until 150 ms pass without an event (at most 2 s). A script change
+    // among the events wins (it re-runs everything).
     let start = Instant::now();
-    while rx.recv_timeout(Duration::from_millis(150)).is_ok() {
+    while let Ok(ev) = rx.recv_timeout(Duration::from_millis(150)) {
+        if let Ok(ev) = ev {
+            if let Some(Change::Script) = classify(&ev) {
+                seen = Change::Script;
+            }
+        }
         if start.elapsed() > Duration::from_secs(2) {
             break;
         }
     }
-    true
+    seen
 }
 
 /// The files a run reads that a change should re-run it for, as absolute paths with
 /// canonical folders (as the events name them). The output is never among them.
 fn watched_files(cli: &Cli) -> Vec<PathBuf> {
-    let req = CompileRequest {
-        effects: cli.effects.clone(),
-        overrides: cli
-            .set
-            .iter()
-            .map(|a| Override { arg: a.clone() })
-            .collect(),
-        search_dirs: Vec::new(),
-    };
+    let req = fxgraph::lookup::DiskEffects::request(&cli.effects, &cli.set);
     let (graph, _, mut sources) = compile(&req);
     if let Some(graph) = graph {
         // The shaders the plan's passes use (no GPU needed), at the input's size.

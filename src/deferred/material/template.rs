@@ -16,7 +16,10 @@ use crate::shader::material::{INTERFACE_NAMES, MATERIAL_INTERFACE};
 use crate::shader::preprocess::preprocess;
 use std::fmt::Write as _;
 
-const ENGINE: &str = include_str!("../shaders/engine.wgsl");
+const ENGINE: &str = concat!(
+    include_str!("../shaders/engine.wgsl"),
+    include_str!("../shaders/instance.wgsl")
+);
 const GEOMETRY: &str = include_str!("../shaders/geometry.wgsl");
 const LIGHT: &str = include_str!("../shaders/light.wgsl");
 /// Shadow-map lookups: both modules shade through `fx_light_sample_shadowed`.

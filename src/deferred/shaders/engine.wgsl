@@ -44,15 +44,7 @@ struct FxFrame {
     fog: FxFog,
 }
 
-struct FxInstance {
-    model: mat4x4<f32>,
-    // inverse transpose of `model`
-    normal: mat4x4<f32>,
-    material: u32,
-    _p0: u32,
-    _p1: u32,
-    _p2: u32,
-}
+// FxInstance: instance.wgsl (appended).
 
 // Per material: what the engine needs outside the surface shader.
 struct FxMaterialInfo {

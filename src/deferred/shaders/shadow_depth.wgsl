@@ -6,14 +6,7 @@ struct FxShadowPass {
     clip_from_world: mat4x4<f32>,
 }
 
-struct FxInstance {
-    model: mat4x4<f32>,
-    normal: mat4x4<f32>,
-    material: u32,
-    _p0: u32,
-    _p1: u32,
-    _p2: u32,
-}
+// FxInstance: instance.wgsl (appended).
 
 @group(0) @binding(0) var<uniform> fx_shadow_pass: FxShadowPass;
 @group(0) @binding(1) var<storage, read> fx_instances: array<FxInstance>;

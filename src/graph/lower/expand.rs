@@ -1,262 +1,24 @@
-//! Lowering: effect definitions → one petgraph DAG with nested effects expanded
-//! under their own namespace (`glow/blurX`), parameters resolved to values,
-//! cycles reported, unused passes culled and the passes scheduled.
+//! Expanding effects into graph nodes: top-level parameters and `--set`, nested
+//! effect instances under their namespace, shader passes with their inputs, sizes,
+//! parameters and defines, and the sources they read.
 
-use super::library::Loader;
 use super::*;
-use crate::script::ast::{
-    self, convert_arg, DefineArg, EffectDef, OutRef, ParamArg, PassKind, Source,
-};
-use crate::script::parse::{parse_value, RawValue};
-use crate::script::types::{ColorSpace, Format, ParamType, Value};
-use crate::script::{Diagnostic, Diagnostics, Span, Spanned};
-use petgraph::visit::EdgeRef;
-use petgraph::Direction;
-use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
 
-/// Default pixel format of a pass output when neither the pass nor its effect says.
-pub const DEFAULT_FORMAT: Format = Format::Rgba16f;
-
-/// What to compile: a chain of effects applied in order, with `--set` overrides.
-#[derive(Debug, Clone, Default)]
-pub struct CompileRequest {
-    /// Paths to `.fx` files or built-in effect names, applied in order.
-    pub effects: Vec<String>,
-    pub overrides: Vec<Override>,
-    /// Folders searched for `NAME.fx` before the embedded library.
-    pub search_dirs: Vec<PathBuf>,
-}
-
-/// `--set TARGET=VALUE`: TARGET is an effect parameter (`sigma`, `glow.strength`)
-/// or a pass parameter (`blurX.radius`, `glow/blurX.radius`).
-#[derive(Debug, Clone)]
-pub struct Override {
-    /// The whole argument, `TARGET=VALUE` (shown in diagnostics).
-    pub arg: String,
-}
-
-/// A reference to an image during lowering.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum SourceRef {
-    Input(i32),
-    /// A pass output, `back` frames ago.
-    Pass(NodeIndex, u32),
-    Aux(NodeIndex),
-}
-
-struct ParsedOverride {
-    /// Node path (`glow/blurX`, `glow`) or empty for a bare name.
-    path: String,
-    name: String,
-    value: Spanned<RawValue>,
-    key_span: Span,
-    used: bool,
-    /// Matched an effect parameter: not a pass parameter too (an effect `fog` may
-    /// have a pass `fog`).
-    effect_param: bool,
-}
-
-struct Lowerer<'a> {
-    loader: &'a mut Loader,
-    diags: &'a mut Diagnostics,
-    g: DiGraph<Node, Edge>,
-    inputs: BTreeMap<i32, NodeIndex>,
-    aux: HashMap<String, NodeIndex>,
-    feedback: HashMap<(NodeIndex, u32), NodeIndex>,
-    edges: Vec<(SourceRef, NodeIndex, usize, Span)>,
-    stack: Vec<String>,
-    overrides: Vec<ParsedOverride>,
-    params: Vec<EffectParam>,
-}
-
-/// Compile a chain of effects into a graph. Returns `None` when there are errors;
-/// the diagnostics always come back, with the sources to render them.
-pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) {
-    let mut loader = Loader::new();
-    loader.search_dirs = req.search_dirs.clone();
-    let mut diags = Diagnostics::default();
-    let mut entries = Vec::new();
-    for e in &req.effects {
-        if let Some(x) = loader.load_entry(e, &mut diags) {
-            entries.push(x);
-        }
-    }
-    if diags.has_errors() || entries.is_empty() {
-        if entries.is_empty() && !diags.has_errors() {
-            diags.push(Diagnostic::error("no effect given"));
-        }
-        diags.sort();
-        return (None, diags, loader.sources);
-    }
-    let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
-    let mut lw = Lowerer {
-        loader: &mut loader,
-        diags: &mut diags,
-        g: DiGraph::new(),
-        inputs: BTreeMap::new(),
-        aux: HashMap::new(),
-        feedback: HashMap::new(),
-        edges: Vec::new(),
-        stack: Vec::new(),
-        overrides,
-        params: Vec::new(),
-    };
-    let mut current = SourceRef::Input(0);
-    let mut namespaces: HashMap<String, usize> = HashMap::new();
-    let mut descriptions = Vec::new();
-    // IN exists even when no pass reads it (`OUT = IN`, or scales relative to it).
-    lw.input_node(0);
-    for (_, name) in &entries {
-        let at = lw
-            .loader
-            .effect(name, &mut Diagnostics::default())
-            .expect("entry effect is loaded");
-        let count = namespaces.entry(name.clone()).or_insert(0);
-        *count += 1;
-        let ns = if *count == 1 {
-            name.clone()
-        } else {
-            format!("{name}#{count}")
-        };
-        let def = lw.loader.effect_def(at).clone();
-        descriptions.push((ns.clone(), def.description.clone().unwrap_or_default()));
-        let args = lw.top_level_args(&def, &ns);
-        lw.stack.push(def.name.node.clone());
-        if let Some(out) = lw.expand(at, &ns, current, args) {
-            current = out;
-        }
-        lw.stack.pop();
-    }
-    for o in &lw.overrides {
-        if !o.used {
-            let what = if o.path.is_empty() {
-                o.name.clone()
-            } else {
-                format!("{}.{}", o.path, o.name)
-            };
-            let names: Vec<String> = lw.params.iter().map(|p| p.name.clone()).collect();
-            let mut d = Diagnostic::error(format!(
-                "`--set {what}`: no effect or pass parameter of that name"
-            ))
-            .at(o.key_span, "unknown parameter");
-            if let Some(s) = ast::suggest(&o.name, names.iter().map(|s| s.as_str())) {
-                d = d.note(format!("did you mean `{s}`?"));
-            } else if !names.is_empty() {
-                d = d.note(format!("effect parameters: {}", names.join(", ")));
-            }
-            lw.diags.push(d);
-        }
-    }
-    let output = lw.g.add_node(Node::Output);
-    let out_node = lw.node_of(current);
-    lw.g.add_edge(out_node, output, Edge { input: 0 });
-    for (src, dst, input, _span) in std::mem::take(&mut lw.edges) {
-        let s = lw.node_of(src);
-        lw.g.add_edge(s, dst, Edge { input });
-    }
-    let params = std::mem::take(&mut lw.params);
-    let g = std::mem::take(&mut lw.g);
-    drop(lw);
-    if diags.has_errors() {
-        diags.sort();
-        return (None, diags, loader.sources);
-    }
-    let mut graph = Graph {
-        graph: g,
-        output,
-        schedule: Vec::new(),
-        params,
-        descriptions,
-        latency: 0,
-        history: 0,
-        sources: SourceMap::new(),
-    };
-    if report_cycles(&graph, &mut diags) {
-        diags.sort();
-        return (None, diags, loader.sources);
-    }
-    schedule(&mut graph, &mut diags);
-    diags.sort();
-    graph.sources = loader.sources.clone();
-    (Some(graph), diags, loader.sources)
-}
-
-fn parse_overrides(
-    list: &[Override],
-    loader: &mut Loader,
-    diags: &mut Diagnostics,
-) -> Vec<ParsedOverride> {
-    let mut out = Vec::new();
-    for o in list {
-        let file = loader.sources.add("--set", o.arg.clone());
-        let Some(eq) = o.arg.find('=') else {
-            diags.push(
-                Diagnostic::error(format!("`--set {}` needs a value", o.arg))
-                    .at(Span::new(file, 0, o.arg.len()), "expected NAME=VALUE"),
-            );
-            continue;
-        };
-        let target = &o.arg[..eq];
-        let (path, name) = match target.rfind('.') {
-            Some(dot) => (target[..dot].to_string(), target[dot + 1..].to_string()),
-            None => (String::new(), target.to_string()),
-        };
-        let key_span = Span::new(file, 0, eq);
-        if name.is_empty() {
-            diags.push(
-                Diagnostic::error("`--set` needs a parameter name").at(key_span, "empty name"),
-            );
-            continue;
-        }
-        if let Some(value) = parse_value(file, &o.arg, eq + 1, diags) {
-            out.push(ParsedOverride {
-                path,
-                name,
-                value,
-                key_span,
-                used: false,
-                effect_param: false,
-            });
-        }
-    }
-    out
-}
-
-/// A `--set` value as a parameter argument.
-fn raw_to_arg(v: &Spanned<RawValue>) -> Option<Spanned<ParamArg>> {
-    let arg = match &v.node {
-        RawValue::Number(n) => ParamArg::Literal {
-            value: vec![*n],
-            is_bool: false,
-        },
-        RawValue::Tuple(items) => ParamArg::Literal {
-            value: items
-                .iter()
-                .map(|i| match i.node {
-                    RawValue::Number(n) => Some(n),
-                    _ => None,
-                })
-                .collect::<Option<Vec<f64>>>()?,
-            is_bool: false,
-        },
-        RawValue::Ref { key, frame: None } if key.is(&["true"]) => ParamArg::Literal {
-            value: vec![1.0],
-            is_bool: true,
-        },
-        RawValue::Ref { key, frame: None } if key.is(&["false"]) => ParamArg::Literal {
-            value: vec![0.0],
-            is_bool: true,
-        },
-        RawValue::Ref { key, frame: None } if key.parts.len() == 1 => {
-            ParamArg::Word(key.first().to_string())
-        }
-        _ => return None,
-    };
-    Some(Spanned::new(arg, v.span))
+pub(super) struct Lowerer<'a> {
+    pub(super) loader: &'a mut Loader,
+    pub(super) diags: &'a mut Diagnostics,
+    pub(super) g: DiGraph<Node, Edge>,
+    pub(super) inputs: BTreeMap<i32, NodeIndex>,
+    pub(super) aux: HashMap<String, NodeIndex>,
+    pub(super) feedback: HashMap<(NodeIndex, u32), NodeIndex>,
+    pub(super) edges: Vec<(SourceRef, NodeIndex, usize, Span)>,
+    pub(super) stack: Vec<String>,
+    pub(super) overrides: Vec<ParsedOverride>,
+    pub(super) params: Vec<EffectParam>,
 }
 
 impl Lowerer<'_> {
-    fn input_node(&mut self, frame: i32) -> NodeIndex {
+    pub(super) fn input_node(&mut self, frame: i32) -> NodeIndex {
         if let Some(&n) = self.inputs.get(&frame) {
             return n;
         }
@@ -265,7 +27,7 @@ impl Lowerer<'_> {
         n
     }
 
-    fn node_of(&mut self, r: SourceRef) -> NodeIndex {
+    pub(super) fn node_of(&mut self, r: SourceRef) -> NodeIndex {
         match r {
             SourceRef::Input(f) => self.input_node(f),
             SourceRef::Aux(n) => n,
@@ -282,7 +44,11 @@ impl Lowerer<'_> {
     }
 
     /// Values of a top-level effect's parameters: defaults, then `--set`.
-    fn top_level_args(&mut self, def: &EffectDef, ns: &str) -> HashMap<String, (Value, Span)> {
+    pub(super) fn top_level_args(
+        &mut self,
+        def: &EffectDef,
+        ns: &str,
+    ) -> HashMap<String, (Value, Span)> {
         let mut args = HashMap::new();
         for decl in &def.params {
             let mut value = decl.default.clone();
@@ -323,7 +89,7 @@ impl Lowerer<'_> {
     }
 
     /// Expand one effect instance; returns what its `OUT` refers to.
-    fn expand(
+    pub(super) fn expand(
         &mut self,
         at: (usize, usize),
         ns: &str,
@@ -766,138 +532,4 @@ impl Lowerer<'_> {
             }
         }
     }
-}
-
-/// Report every dependency cycle (feedback edges excluded). True if any.
-fn report_cycles(graph: &Graph, diags: &mut Diagnostics) -> bool {
-    let g = &graph.graph;
-    let mut found = false;
-    for scc in petgraph::algo::tarjan_scc(g) {
-        let is_cycle = scc.len() > 1 || g.contains_edge(scc[0], scc[0]);
-        if !is_cycle {
-            continue;
-        }
-        found = true;
-        let members: HashSet<NodeIndex> = scc.iter().copied().collect();
-        // Walk one cycle: from the earliest-declared member, follow edges inside the SCC.
-        let start = *scc.iter().min().expect("non-empty");
-        let mut path = vec![start];
-        let mut seen = HashSet::from([start]);
-        let mut cur = start;
-        loop {
-            let next = g
-                .edges_directed(cur, Direction::Outgoing)
-                .map(|e| e.target())
-                .filter(|t| members.contains(t))
-                .min_by_key(|t| if *t == start { 0 } else { t.index() + 1 })
-                .expect("a node of a cycle has a successor in it");
-            if next == start {
-                break;
-            }
-            if !seen.insert(next) {
-                // Trim to the loop that closed.
-                let pos = path.iter().position(|&p| p == next).expect("seen");
-                path.drain(..pos);
-                break;
-            }
-            path.push(next);
-            cur = next;
-        }
-        let names: Vec<String> = path.iter().map(|&n| graph.pass(n).path.clone()).collect();
-        let mut d = Diagnostic::error(format!(
-            "dependency cycle: {} → {}",
-            names.join(" → "),
-            names[0]
-        ));
-        for (i, &n) in path.iter().enumerate() {
-            let next = path[(i + 1) % path.len()];
-            // The input of `next` that reads `n`.
-            let reader = graph.pass(next);
-            let edge = g.edges_connecting(n, next).next().expect("edge in cycle");
-            let span = reader
-                .inputs
-                .get(edge.weight().input)
-                .map(|i| i.span)
-                .unwrap_or(reader.name_span);
-            let label = format!("`{}` reads `{}` here", reader.path, graph.pass(n).path);
-            d = if i == 0 {
-                d.at(span, label)
-            } else {
-                d.also(span, label)
-            };
-        }
-        diags.push(d.note("a pass may read an earlier frame of another pass with `PASS.name[-1]` (feedback), which is not a dependency"));
-    }
-    found
-}
-
-/// Cull passes that do not reach the output, warn about them, and order the rest.
-fn schedule(graph: &mut Graph, diags: &mut Diagnostics) {
-    let g = &graph.graph;
-    let mut live = vec![false; g.node_count()];
-    let mut stack = vec![graph.output];
-    while let Some(n) = stack.pop() {
-        if std::mem::replace(&mut live[n.index()], true) {
-            continue;
-        }
-        if let Node::Feedback { pass, .. } = g[n] {
-            stack.push(pass);
-        }
-        stack.extend(g.neighbors_directed(n, Direction::Incoming));
-    }
-    let mut warned = HashSet::new();
-    for n in g.node_indices() {
-        if let Node::Pass(p) = &g[n] {
-            if !live[n.index()] && warned.insert(p.name_span) {
-                diags.push(
-                    Diagnostic::warning(format!(
-                        "pass `{}` never reaches `OUT`; it is culled",
-                        p.path
-                    ))
-                    .at(p.name_span, "its output is not used"),
-                );
-            }
-        }
-    }
-    // Kahn's algorithm; among ready passes the earliest declared runs first.
-    let mut indeg: HashMap<NodeIndex, usize> = HashMap::new();
-    let mut ready = BinaryHeap::new();
-    for n in g.node_indices() {
-        if !live[n.index()] || !matches!(g[n], Node::Pass(_)) {
-            continue;
-        }
-        let d = g
-            .neighbors_directed(n, Direction::Incoming)
-            .filter(|s| matches!(g[*s], Node::Pass(_)) && live[s.index()])
-            .count();
-        indeg.insert(n, d);
-        if d == 0 {
-            ready.push(std::cmp::Reverse(n));
-        }
-    }
-    let mut order = Vec::new();
-    while let Some(std::cmp::Reverse(n)) = ready.pop() {
-        order.push(n);
-        for m in g.neighbors_directed(n, Direction::Outgoing) {
-            if let Some(d) = indeg.get_mut(&m) {
-                *d -= 1;
-                if *d == 0 {
-                    ready.push(std::cmp::Reverse(m));
-                }
-            }
-        }
-    }
-    let mut latency = 0;
-    let mut history = 0;
-    for n in g.node_indices() {
-        if let Node::Input { frame } = g[n] {
-            if live[n.index()] {
-                latency = latency.max(frame.max(0) as u32);
-                history = history.max((-frame).max(0) as u32);
-            }
-        }
-    }
-    graph.schedule = order;
-    graph.latency = latency;
-    graph.history = history;
 }

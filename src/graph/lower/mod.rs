@@ -1,0 +1,294 @@
+//! Lowering: effect definitions → one petgraph DAG with nested effects expanded
+//! under their own namespace (`glow/blurX`), parameters resolved to values,
+//! cycles reported, unused passes culled and the passes scheduled.
+
+use super::library::Loader;
+use super::*;
+use crate::script::ast::{
+    self, convert_arg, DefineArg, EffectDef, OutRef, ParamArg, PassKind, Source,
+};
+use crate::script::parse::{parse_value, RawValue};
+use crate::script::types::{ColorSpace, Format, ParamType, Value};
+use crate::script::{Diagnostic, Diagnostics, Span, Spanned};
+use petgraph::visit::EdgeRef;
+use petgraph::Direction;
+use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
+
+mod expand;
+mod order;
+
+use expand::Lowerer;
+use order::{report_cycles, schedule};
+
+/// Default pixel format of a pass output when neither the pass nor its effect says.
+pub const DEFAULT_FORMAT: Format = Format::Rgba16f;
+
+/// What to compile: a chain of effects applied in order, with `--set` overrides.
+#[derive(Debug, Clone, Default)]
+pub struct CompileRequest {
+    /// Paths to `.fx` files or built-in effect names, applied in order.
+    pub effects: Vec<String>,
+    pub overrides: Vec<Override>,
+    /// Where the scripts come from (None: the built-in library alone, no file
+    /// is read; `fxgraph::lookup::DiskEffects` finds files as `fxrun` does).
+    pub source: Option<std::sync::Arc<dyn super::EffectSource>>,
+}
+
+/// `--set TARGET=VALUE`: TARGET is an effect parameter (`sigma`, `glow.strength`)
+/// or a pass parameter (`blurX.radius`, `glow/blurX.radius`).
+#[derive(Debug, Clone)]
+pub struct Override {
+    /// The whole argument, `TARGET=VALUE` (shown in diagnostics).
+    pub arg: String,
+}
+
+/// A reference to an image during lowering.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum SourceRef {
+    Input(i32),
+    /// A pass output, `back` frames ago.
+    Pass(NodeIndex, u32),
+    Aux(NodeIndex),
+}
+
+pub(super) struct ParsedOverride {
+    /// Node path (`glow/blurX`, `glow`) or empty for a bare name.
+    pub(super) path: String,
+    pub(super) name: String,
+    value: Spanned<RawValue>,
+    pub(super) key_span: Span,
+    used: bool,
+    /// Matched an effect parameter: not a pass parameter too (an effect `fog` may
+    /// have a pass `fog`).
+    effect_param: bool,
+}
+
+/// Compile a chain of effects into a graph. Returns `None` when there are errors;
+/// the diagnostics always come back, with the sources to render them.
+pub fn compile(req: &CompileRequest) -> (Option<Graph>, Diagnostics, SourceMap) {
+    let r = compile_report(req);
+    (r.graph, r.diags, r.sources)
+}
+
+/// What [`compile_report`] returns.
+pub struct CompileReport {
+    /// The graph, when there are no errors.
+    pub graph: Option<Graph>,
+    pub diags: Diagnostics,
+    pub sources: SourceMap,
+    /// With errors: the shaders the loaded scripts name, for the shader layer to
+    /// check too, so that one run reports script, `--set` and WGSL problems
+    /// together. Empty when the graph compiled (its plan names the shaders).
+    pub shaders: Vec<super::ShaderReference>,
+}
+
+/// [`compile`], and with errors, what can still be checked (see `salvage`).
+pub fn compile_report(req: &CompileRequest) -> CompileReport {
+    let (graph, diags, sources, loader) = compile_inner(req);
+    let shaders = match (&graph, &loader) {
+        (None, Some(l)) => super::salvage::shader_references(l),
+        _ => Vec::new(),
+    };
+    CompileReport {
+        graph,
+        diags,
+        sources,
+        shaders,
+    }
+}
+
+type Compiled = (Option<Graph>, Diagnostics, SourceMap, Option<Loader>);
+
+fn compile_inner(req: &CompileRequest) -> Compiled {
+    let source = req
+        .source
+        .clone()
+        .unwrap_or_else(|| std::sync::Arc::new(super::Builtins));
+    let mut loader = Loader::new(source);
+    let mut diags = Diagnostics::default();
+    let mut entries = Vec::new();
+    for e in &req.effects {
+        if let Some(x) = loader.load_entry(e, &mut diags) {
+            entries.push(x);
+        }
+    }
+    if diags.has_errors() || entries.is_empty() {
+        if entries.is_empty() && !diags.has_errors() {
+            diags.push(Diagnostic::error("no effect given"));
+        }
+        // The `--set` arguments are still checked against what did load.
+        let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
+        if !entries.is_empty() {
+            super::salvage::check_overrides(&loader, &overrides, &mut diags);
+        }
+        diags.sort();
+        let sources = loader.sources.clone();
+        return (None, diags, sources, Some(loader));
+    }
+    let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
+    let mut lw = Lowerer {
+        loader: &mut loader,
+        diags: &mut diags,
+        g: DiGraph::new(),
+        inputs: BTreeMap::new(),
+        aux: HashMap::new(),
+        feedback: HashMap::new(),
+        edges: Vec::new(),
+        stack: Vec::new(),
+        overrides,
+        params: Vec::new(),
+    };
+    let mut current = SourceRef::Input(0);
+    let mut namespaces: HashMap<String, usize> = HashMap::new();
+    let mut descriptions = Vec::new();
+    // IN exists even when no pass reads it (`OUT = IN`, or scales relative to it).
+    lw.input_node(0);
+    for (_, name) in &entries {
+        let at = lw
+            .loader
+            .effect(name, &mut Diagnostics::default())
+            .expect("entry effect is loaded");
+        let count = namespaces.entry(name.clone()).or_insert(0);
+        *count += 1;
+        let ns = if *count == 1 {
+            name.clone()
+        } else {
+            format!("{name}#{count}")
+        };
+        let def = lw.loader.effect_def(at).clone();
+        descriptions.push((ns.clone(), def.description.clone().unwrap_or_default()));
+        let args = lw.top_level_args(&def, &ns);
+        lw.stack.push(def.name.node.clone());
+        if let Some(out) = lw.expand(at, &ns, current, args) {
+            current = out;
+        }
+        lw.stack.pop();
+    }
+    for o in &lw.overrides {
+        if !o.used {
+            let what = if o.path.is_empty() {
+                o.name.clone()
+            } else {
+                format!("{}.{}", o.path, o.name)
+            };
+            let names: Vec<String> = lw.params.iter().map(|p| p.name.clone()).collect();
+            let mut d = Diagnostic::error(format!(
+                "`--set {what}`: no effect or pass parameter of that name"
+            ))
+            .at(o.key_span, "unknown parameter");
+            if let Some(s) = ast::suggest(&o.name, names.iter().map(|s| s.as_str())) {
+                d = d.note(format!("did you mean `{s}`?"));
+            } else if !names.is_empty() {
+                d = d.note(format!("effect parameters: {}", names.join(", ")));
+            }
+            lw.diags.push(d);
+        }
+    }
+    let output = lw.g.add_node(Node::Output);
+    let out_node = lw.node_of(current);
+    lw.g.add_edge(out_node, output, Edge { input: 0 });
+    for (src, dst, input, _span) in std::mem::take(&mut lw.edges) {
+        let s = lw.node_of(src);
+        lw.g.add_edge(s, dst, Edge { input });
+    }
+    let params = std::mem::take(&mut lw.params);
+    let g = std::mem::take(&mut lw.g);
+    drop(lw);
+    if diags.has_errors() {
+        diags.sort();
+        let sources = loader.sources.clone();
+        return (None, diags, sources, Some(loader));
+    }
+    let mut graph = Graph {
+        graph: g,
+        output,
+        schedule: Vec::new(),
+        params,
+        descriptions,
+        latency: 0,
+        history: 0,
+        sources: SourceMap::new(),
+    };
+    if report_cycles(&graph, &mut diags) {
+        diags.sort();
+        return (None, diags, loader.sources, None);
+    }
+    schedule(&mut graph, &mut diags);
+    diags.sort();
+    graph.sources = loader.sources.clone();
+    (Some(graph), diags, loader.sources, None)
+}
+
+fn parse_overrides(
+    list: &[Override],
+    loader: &mut Loader,
+    diags: &mut Diagnostics,
+) -> Vec<ParsedOverride> {
+    let mut out = Vec::new();
+    for o in list {
+        let file = loader.sources.add("--set", o.arg.clone());
+        let Some(eq) = o.arg.find('=') else {
+            diags.push(
+                Diagnostic::error(format!("`--set {}` needs a value", o.arg))
+                    .at(Span::new(file, 0, o.arg.len()), "expected NAME=VALUE"),
+            );
+            continue;
+        };
+        let target = &o.arg[..eq];
+        let (path, name) = match target.rfind('.') {
+            Some(dot) => (target[..dot].to_string(), target[dot + 1..].to_string()),
+            None => (String::new(), target.to_string()),
+        };
+        let key_span = Span::new(file, 0, eq);
+        if name.is_empty() {
+            diags.push(
+                Diagnostic::error("`--set` needs a parameter name").at(key_span, "empty name"),
+            );
+            continue;
+        }
+        if let Some(value) = parse_value(file, &o.arg, eq + 1, diags) {
+            out.push(ParsedOverride {
+                path,
+                name,
+                value,
+                key_span,
+                used: false,
+                effect_param: false,
+            });
+        }
+    }
+    out
+}
+
+/// A `--set` value as a parameter argument.
+fn raw_to_arg(v: &Spanned<RawValue>) -> Option<Spanned<ParamArg>> {
+    let arg = match &v.node {
+        RawValue::Number(n) => ParamArg::Literal {
+            value: vec![*n],
+            is_bool: false,
+        },
+        RawValue::Tuple(items) => ParamArg::Literal {
+            value: items
+                .iter()
+                .map(|i| match i.node {
+                    RawValue::Number(n) => Some(n),
+                    _ => None,
+                })
+                .collect::<Option<Vec<f64>>>()?,
+            is_bool: false,
+        },
+        RawValue::Ref { key, frame: None } if key.is(&["true"]) => ParamArg::Literal {
+            value: vec![1.0],
+            is_bool: true,
+        },
+        RawValue::Ref { key, frame: None } if key.is(&["false"]) => ParamArg::Literal {
+            value: vec![0.0],
+            is_bool: true,
+        },
+        RawValue::Ref { key, frame: None } if key.parts.len() == 1 => {
+            ParamArg::Word(key.first().to_string())
+        }
+        _ => return None,
+    };
+    Some(Spanned::new(arg, v.span))
+}

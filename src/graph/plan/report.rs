@@ -1,0 +1,233 @@
+//! Checking a plan by simulation, and showing it (`--plan`, `--plan --json`).
+
+use super::*;
+
+impl Plan {
+    /// Simulate the steps and check the invariants: every value is allocated before
+    /// it is written, read only while alive, never written into a slot that holds
+    /// another live value, and freed exactly once. Returns the bytes actually held at
+    /// the peak (which must equal `peak_bytes`).
+    pub fn validate(&self) -> Result<u64, String> {
+        let mut slot_holder: Vec<Option<usize>> = vec![None; self.slots.len()];
+        let mut slot_exists = vec![false; self.slots.len()];
+        let mut alive = vec![false; self.values.len()];
+        let mut done = vec![false; self.values.len()];
+        let mut peak = 0u64;
+        for step in &self.steps {
+            match *step {
+                Step::Alloc {
+                    value,
+                    slot,
+                    create,
+                } => {
+                    if done[value] || alive[value] {
+                        return Err(format!("value {value} allocated twice"));
+                    }
+                    if let Some(other) = slot_holder[slot] {
+                        return Err(format!("value {value} allocated in slot {slot} still holding live value {other}"));
+                    }
+                    if create == slot_exists[slot] {
+                        return Err(format!(
+                            "slot {slot}: create={create} but exists={}",
+                            slot_exists[slot]
+                        ));
+                    }
+                    if self.slots[slot] != self.values[value].desc {
+                        return Err(format!(
+                            "value {value} does not match slot {slot}'s descriptor"
+                        ));
+                    }
+                    slot_exists[slot] = true;
+                    slot_holder[slot] = Some(value);
+                    alive[value] = true;
+                }
+                Step::Run { pass } => {
+                    let p = &self.passes[pass];
+                    for inp in &p.inputs {
+                        if let Resource::Value(v) = inp.resource {
+                            if !alive[v] {
+                                return Err(format!(
+                                    "pass {} reads value {v} which is not alive",
+                                    p.path
+                                ));
+                            }
+                        }
+                    }
+                    if let Resource::Value(v) = p.output {
+                        if !alive[v] || slot_holder[self.values[v].slot] != Some(v) {
+                            return Err(format!(
+                                "pass {} writes value {v} that does not own its slot",
+                                p.path
+                            ));
+                        }
+                        if p.inputs.iter().any(|i| i.resource == p.output) {
+                            return Err(format!("pass {} reads its own output", p.path));
+                        }
+                    }
+                    let held: u64 = (0..self.slots.len())
+                        .filter(|&s| slot_exists[s])
+                        .map(|s| self.slots[s].bytes())
+                        .sum();
+                    peak = peak.max(held);
+                }
+                Step::Free {
+                    value,
+                    slot,
+                    release,
+                } => {
+                    if !alive[value] || slot_holder[slot] != Some(value) {
+                        return Err(format!("value {value} freed but not alive in slot {slot}"));
+                    }
+                    alive[value] = false;
+                    done[value] = true;
+                    slot_holder[slot] = None;
+                    if release {
+                        slot_exists[slot] = false;
+                    }
+                }
+            }
+        }
+        if let Some(v) = alive.iter().position(|&a| a) {
+            return Err(format!("value {v} never freed"));
+        }
+        if slot_exists.iter().any(|&e| e) {
+            return Err("a slot is still held at the end".into());
+        }
+        if peak != self.peak_bytes {
+            return Err(format!(
+                "simulated peak {peak} != reported {}",
+                self.peak_bytes
+            ));
+        }
+        Ok(peak)
+    }
+
+    /// Human-readable schedule, steps and byte figures.
+    pub fn render(&self) -> String {
+        use std::fmt::Write as _;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "input {}x{} {} ({})",
+            self.input.width, self.input.height, self.input.format, self.input.colorspace
+        );
+        let _ = writeln!(out, "passes:");
+        for (i, p) in self.passes.iter().enumerate() {
+            let ins: Vec<String> = p
+                .inputs
+                .iter()
+                .map(|i| format!("{}={}", i.name, self.resource_name(&i.resource)))
+                .collect();
+            let _ = writeln!(
+                out,
+                "  {i:>2} {:<28} {:>5}x{:<5} {:<10} {:<6} <- {}  -> {}",
+                p.path,
+                p.desc.width,
+                p.desc.height,
+                p.desc.format.name(),
+                p.colorspace.name(),
+                ins.join(" "),
+                self.resource_name(&p.output)
+            );
+        }
+        let _ = writeln!(out, "steps:");
+        for s in &self.steps {
+            let line = match s {
+                Step::Alloc {
+                    value,
+                    slot,
+                    create,
+                } => {
+                    let d = self.values[*value].desc;
+                    format!(
+                        "alloc  v{value} -> t{slot} {}x{} {}{}",
+                        d.width,
+                        d.height,
+                        d.format,
+                        if *create { " (new)" } else { " (reused)" }
+                    )
+                }
+                Step::Run { pass } => format!("run    {}", self.passes[*pass].path),
+                Step::Free {
+                    value,
+                    slot,
+                    release,
+                } => format!(
+                    "free   v{value} (t{slot}{})",
+                    if *release {
+                        " released"
+                    } else {
+                        " kept for reuse"
+                    }
+                ),
+            };
+            let _ = writeln!(out, "  {line}");
+        }
+        let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
+        let _ = writeln!(
+            out,
+            "naive bytes:       {:>12} ({:.2} MiB)",
+            self.naive_bytes,
+            mib(self.naive_bytes)
+        );
+        let _ = writeln!(
+            out,
+            "peak bytes:        {:>12} ({:.2} MiB)",
+            self.peak_bytes,
+            mib(self.peak_bytes)
+        );
+        let _ = writeln!(
+            out,
+            "lower bound bytes: {:>12} ({:.2} MiB)",
+            self.lower_bound_bytes,
+            mib(self.lower_bound_bytes)
+        );
+        let _ = writeln!(
+            out,
+            "persistent bytes:  {:>12} ({:.2} MiB)",
+            self.persistent_bytes,
+            mib(self.persistent_bytes)
+        );
+        if self.latency > 0 || self.history > 0 {
+            let _ = writeln!(
+                out,
+                "frames: {} before, {} after (latency {})",
+                self.history, self.latency, self.latency
+            );
+        }
+        out
+    }
+
+    pub fn resource_name(&self, r: &Resource) -> String {
+        match r {
+            Resource::Input { frame: 0 } => "IN".into(),
+            Resource::Input { frame } => format!("IN[{frame:+}]"),
+            Resource::Aux(n) => format!("AUX.{n}"),
+            Resource::Value(v) => format!("v{v}"),
+            Resource::Persistent { ring, back } => format!("{}[-{back}]", self.rings[*ring].pass),
+            Resource::Output => "OUT".into(),
+        }
+    }
+
+    /// The plan as a JSON object (schedule, steps and byte figures).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "input": { "width": self.input.width, "height": self.input.height, "format": self.input.format.name() },
+            "passes": self.passes.iter().map(|p| p.path.clone()).collect::<Vec<_>>(),
+            "pass_details": self.passes.iter().map(|p| serde_json::json!({
+                "path": p.path, "width": p.desc.width, "height": p.desc.height,
+                "format": p.desc.format.name(), "colorspace": p.colorspace.name(),
+                "inputs": p.inputs.iter().map(|i| serde_json::json!({"name": i.name, "resource": self.resource_name(&i.resource)})).collect::<Vec<_>>(),
+                "output": self.resource_name(&p.output),
+            })).collect::<Vec<_>>(),
+            "steps": self.steps,
+            "slots": self.slots,
+            "naive_bytes": self.naive_bytes,
+            "peak_bytes": self.peak_bytes,
+            "lower_bound_bytes": self.lower_bound_bytes,
+            "persistent_bytes": self.persistent_bytes,
+            "latency": self.latency,
+            "history": self.history,
+        })
+    }
+}

@@ -1,0 +1,353 @@
+//! Checking a `PASS` entry: its kind, inputs, parameters, defines and output.
+
+use super::*;
+use crate::script::diag::{Diagnostic, Diagnostics, Span, Spanned};
+use crate::script::parse::{RawValue, Stmt};
+
+pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
+    if stmt.key.parts.len() != 1 {
+        diags.push(
+            Diagnostic::error(format!(
+                "a pass name is a single word, found `{}`",
+                stmt.key.dotted()
+            ))
+            .at(stmt.key.span, "expected `name = SHADER.shader { ... }`"),
+        );
+        return None;
+    }
+    let name = stmt.key.parts[0].clone();
+    if ["IN", "OUT", "PASS", "AUX", "PARAM"].contains(&name.node.as_str()) {
+        diags.push(
+            Diagnostic::error(format!(
+                "`{}` is a reserved word and cannot name a pass",
+                name.node
+            ))
+            .at(name.span, "reserved"),
+        );
+        return None;
+    }
+    let (kind, body) = match &stmt.value.node {
+        RawValue::Ctor { kind, body } if kind.parts.len() == 2 && kind.first() == "SHADER" => {
+            (PassKind::Shader(kind.parts[1].clone()), body)
+        }
+        RawValue::Ctor { kind, body } if kind.parts.len() == 2 && kind.first() == "EFFECT" => {
+            (PassKind::Effect(kind.parts[1].clone()), body)
+        }
+        RawValue::Ctor { kind, .. } => {
+            diags.push(
+                Diagnostic::error(format!(
+                    "a pass is `SHADER.name {{ ... }}` or `EFFECT.name {{ ... }}`, found `{}`",
+                    kind.dotted()
+                ))
+                .at(kind.span, "expected SHADER.<name> or EFFECT.<name>"),
+            );
+            return None;
+        }
+        other => {
+            diags.push(
+                Diagnostic::error(format!(
+                    "pass `{}` must be `SHADER.name {{ ... }}` or `EFFECT.name {{ ... }}`, found {}",
+                    name.node,
+                    other.kind_name()
+                ))
+                .at(stmt.value.span, "expected a shader or effect instance"),
+            );
+            return None;
+        }
+    };
+    let is_effect = matches!(kind, PassKind::Effect(_));
+    let mut pass = PassDef {
+        name,
+        kind,
+        inputs: Vec::new(),
+        params: Vec::new(),
+        defines: Vec::new(),
+        out: OutSpec::default(),
+        span: stmt.span,
+    };
+    let mut seen: Vec<(String, Span)> = Vec::new();
+    // Sampling attributes refer to inputs that may be bound later in the block.
+    let mut sampling: Vec<&Stmt> = Vec::new();
+    for s in body {
+        let k = s.key.dotted();
+        if let Some((_, prev)) = seen.iter().find(|(n, _)| *n == k) {
+            diags.push(
+                Diagnostic::error(format!("`{k}` is set twice in pass `{}`", pass.name.node))
+                    .at(s.key.span, "set again here")
+                    .also(*prev, "first set here"),
+            );
+            continue;
+        }
+        seen.push((k.clone(), s.key.span));
+        let parts: Vec<&str> = s.key.parts.iter().map(|p| p.node.as_str()).collect();
+        match parts.as_slice() {
+            ["OUT", attr] if !is_effect => check_out_attr(&mut pass.out, attr, s, diags),
+            ["OUT", _] => diags.push(
+                Diagnostic::error("an effect instance takes its output size and format from the effect itself")
+                    .at(s.key.span, "`OUT.*` is not allowed on `EFFECT.` passes"),
+            ),
+            ["DEFINE", def] if !is_effect => {
+                let value = match &s.value.node {
+                    RawValue::Number(n) if n.fract() == 0.0 && n.abs() < 1e15 => Some(DefineArg::Int(*n as i64)),
+                    RawValue::Ref { key, frame: None } if key.is(&["true"]) => Some(DefineArg::Int(1)),
+                    RawValue::Ref { key, frame: None } if key.is(&["false"]) => Some(DefineArg::Int(0)),
+                    RawValue::Ref { key, frame: None } if key.parts.len() == 2 && key.first() == "PARAM" => {
+                        Some(DefineArg::Param(key.parts[1].clone()))
+                    }
+                    _ => None,
+                };
+                match value {
+                    Some(v) => pass.defines.push(DefineSet {
+                        name: s.key.parts[1].clone(),
+                        value: Spanned::new(v, s.value.span),
+                    }),
+                    None => diags.push(type_error(s, "an integer, `true`, `false` or `PARAM.name`", &s.value.node)),
+                }
+                let _ = def;
+            }
+            [_input, "FILTER" | "WRAP" | "COLORSPACE"] => sampling.push(s),
+            [single] => {
+                let name = s.key.parts[0].clone();
+                if *single == "IN" && !is_effect {
+                    diags.push(
+                        Diagnostic::error("`IN` names the effect input; a shader input needs its own name")
+                            .at(s.key.span, "write e.g. `img = IN`"),
+                    );
+                    continue;
+                }
+                match classify_binding(s, diags) {
+                    Some(Binding::Input(source)) => pass.inputs.push(InputDef {
+                        name,
+                        source,
+                        filter: None,
+                        wrap: None,
+                        colorspace: None,
+                    }),
+                    Some(Binding::Param(value)) => pass.params.push(ParamSet { name, value }),
+                    None => {}
+                }
+            }
+            _ => diags.push(
+                Diagnostic::error(format!("unknown pass attribute `{k}`"))
+                    .at(s.key.span, "not a pass attribute")
+                    .note("a pass contains inputs (`img = IN`), parameters (`threshold = 0.8`), `img.FILTER`, `img.WRAP`, `img.COLORSPACE`, `OUT.SIZE`, `OUT.SCALE`, `OUT.RELATIVE_TO`, `OUT.FORMAT`, `OUT.COLORSPACE` and `DEFINE.NAME`"),
+            ),
+        }
+    }
+    for s in sampling {
+        let input_name = &s.key.parts[0];
+        let attr = s.key.parts[1].node.as_str();
+        let Some(input) = pass
+            .inputs
+            .iter_mut()
+            .find(|i| i.name.node == input_name.node)
+        else {
+            diags.push(
+                Diagnostic::error(format!(
+                    "`{}` is not an input of pass `{}`",
+                    input_name.node, pass.name.node
+                ))
+                .at(input_name.span, "bind it first, e.g. `img = IN`"),
+            );
+            continue;
+        };
+        match attr {
+            "FILTER" => match word(&s.value).and_then(Filter::from_name) {
+                Some(f) => input.filter = Some(Spanned::new(f, s.value.span)),
+                None => diags.push(
+                    Diagnostic::error("unknown filter")
+                        .at(s.value.span, "expected `linear` or `nearest`"),
+                ),
+            },
+            "WRAP" => {
+                let w = match &s.value.node {
+                    RawValue::Tuple(items) if items.len() == 2 => {
+                        match (
+                            word(&items[0]).and_then(Wrap::from_name),
+                            word(&items[1]).and_then(Wrap::from_name),
+                        ) {
+                            (Some(u), Some(v)) => Some((u, v)),
+                            _ => None,
+                        }
+                    }
+                    _ => word(&s.value).and_then(Wrap::from_name).map(|w| (w, w)),
+                };
+                match w {
+                    Some(w) => input.wrap = Some(Spanned::new(w, s.value.span)),
+                    None => diags.push(Diagnostic::error("unknown wrap mode").at(
+                        s.value.span,
+                        "expected `clamp`, `repeat`, `mirror` or a pair `(u, v)` of them",
+                    )),
+                }
+            }
+            _ => input.colorspace = colorspace_value(s, diags),
+        }
+    }
+    Some(pass)
+}
+
+pub(super) enum Binding {
+    Input(Spanned<Source>),
+    Param(Spanned<ParamArg>),
+}
+
+pub(super) fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
+    let span = s.value.span;
+    match &s.value.node {
+        RawValue::Ref { key, frame } => {
+            let frame_n = frame.as_ref().map(|f| f.node).unwrap_or(0);
+            if let Some(f) = frame {
+                if f.node.unsigned_abs() > MAX_FRAME_OFFSET.unsigned_abs() {
+                    diags.push(
+                        Diagnostic::error(format!(
+                            "frame offset {} is too far (at most ±{MAX_FRAME_OFFSET})",
+                            f.node
+                        ))
+                        .at(f.span, "too far"),
+                    );
+                    return None;
+                }
+            }
+            let parts: Vec<&str> = key.parts.iter().map(|p| p.node.as_str()).collect();
+            let src = match parts.as_slice() {
+                ["IN"] => Source::In { frame: frame_n },
+                ["PASS", _] => {
+                    if frame_n > 0 {
+                        diags.push(
+                            Diagnostic::error("a pass output of a later frame is not available")
+                                .at(
+                                    frame.as_ref().map(|f| f.span).unwrap_or(span),
+                                    "only earlier frames (`[-1]`) of a pass output can be read",
+                                )
+                                .note("later frames can be read from `IN[+n]`"),
+                        );
+                        return None;
+                    }
+                    Source::Pass {
+                        name: key.parts[1].clone(),
+                        frame: frame_n,
+                    }
+                }
+                ["AUX", _] => {
+                    if let Some(f) = frame {
+                        diags.push(
+                            Diagnostic::error(
+                                "auxiliary scene inputs have no earlier or later frames",
+                            )
+                            .at(f.span, "remove the frame offset"),
+                        );
+                        return None;
+                    }
+                    Source::Aux {
+                        name: key.parts[1].clone(),
+                    }
+                }
+                ["PARAM", _] if frame.is_none() => {
+                    return Some(Binding::Param(Spanned::new(
+                        ParamArg::Param(key.parts[1].clone()),
+                        span,
+                    )))
+                }
+                ["true"] | ["false"] if frame.is_none() => {
+                    return Some(Binding::Param(Spanned::new(
+                        ParamArg::Literal {
+                            value: vec![if parts[0] == "true" { 1.0 } else { 0.0 }],
+                            is_bool: true,
+                        },
+                        span,
+                    )))
+                }
+                [w] if frame.is_none() => {
+                    return Some(Binding::Param(Spanned::new(
+                        ParamArg::Word(w.to_string()),
+                        span,
+                    )))
+                }
+                _ => {
+                    diags.push(
+                        Diagnostic::error(format!("`{}` is not an input or a parameter value", key.dotted()))
+                            .at(span, "expected IN, PASS.name, AUX.name, PARAM.name, a number, a tuple or true/false"),
+                    );
+                    return None;
+                }
+            };
+            Some(Binding::Input(Spanned::new(src, span)))
+        }
+        RawValue::Number(_) | RawValue::Tuple(_) => match numbers(&s.value) {
+            Some(v) if !v.is_empty() && v.len() <= 4 => Some(Binding::Param(Spanned::new(
+                ParamArg::Literal {
+                    value: v,
+                    is_bool: false,
+                },
+                span,
+            ))),
+            _ => {
+                diags.push(type_error(
+                    s,
+                    "a number or a tuple of 2 to 4 numbers",
+                    &s.value.node,
+                ));
+                None
+            }
+        },
+        other => {
+            diags.push(type_error(
+                s,
+                "an input (IN, PASS.name, AUX.name) or a parameter value",
+                other,
+            ));
+            None
+        }
+    }
+}
+
+fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnostics) {
+    match attr {
+        "SIZE" => {
+            let Some((w, h)) = pair(s, diags, "a size `(width, height)` in pixels") else { return };
+            if w.fract() != 0.0 || h.fract() != 0.0 || w < 0.0 || h < 0.0 {
+                diags.push(Diagnostic::error("`OUT.SIZE` takes whole numbers of pixels").at(s.value.span, "not whole pixel counts"));
+            } else if w == 0.0 || h == 0.0 {
+                diags.push(Diagnostic::error("an output size of 0 pixels").at(s.value.span, "width and height must be at least 1"));
+            } else if w > MAX_SIDE as f64 || h > MAX_SIDE as f64 {
+                diags.push(
+                    Diagnostic::error(format!("output size {}x{} is larger than {MAX_SIDE} px", w, h))
+                        .at(s.value.span, format!("at most {MAX_SIDE} on a side")),
+                );
+            } else {
+                out.size = Some(Spanned::new((w as u32, h as u32), s.value.span));
+            }
+        }
+        "SCALE" => {
+            let Some((x, y)) = pair(s, diags, "a scale `(sx, sy)` or a single number") else { return };
+            if x.is_nan() || y.is_nan() || x <= 0.0 || y <= 0.0 || !x.is_finite() || !y.is_finite() {
+                diags.push(
+                    Diagnostic::error("an output scale must be positive")
+                        .at(s.value.span, "a scale of 0 or less gives an empty texture"),
+                );
+            } else {
+                out.scale = Some(Spanned::new((x, y), s.value.span));
+            }
+        }
+        "RELATIVE_TO" => match word(&s.value) {
+            Some(w) => out.relative_to = Some(Spanned::new(w.to_string(), s.value.span)),
+            None => diags.push(type_error(s, "the name of one of this pass's inputs", &s.value.node)),
+        },
+        "FORMAT" => out.format = format_spec(s, diags),
+        "COLORSPACE" => out.colorspace = colorspace_value(s, diags),
+        _ => diags.push(
+            Diagnostic::error(format!("unknown output attribute `OUT.{attr}`"))
+                .at(s.key.span, "not an output attribute")
+                .note(match suggest(attr, ["SIZE", "SCALE", "RELATIVE_TO", "FORMAT", "COLORSPACE"].into_iter()) {
+                    Some(x) => format!("did you mean `OUT.{x}`?"),
+                    None => "output attributes: OUT.SIZE, OUT.SCALE, OUT.RELATIVE_TO, OUT.FORMAT, OUT.COLORSPACE".to_string(),
+                }),
+        ),
+    }
+    if out.size.is_some() && out.scale.is_some() && matches!(attr, "SIZE" | "SCALE") {
+        diags.push(Diagnostic::error("`OUT.SIZE` and `OUT.SCALE` both set").at(
+            s.key.span,
+            "an output has either an absolute size or a relative scale",
+        ));
+    }
+}

@@ -1,0 +1,68 @@
+//! Running an effect of effects/ over a frame sequence through the streaming
+//! runtime (`Stream`), for the temporal-effect tests.
+
+use fxgraph::gpu::executor::Engine;
+use fxgraph::gpu::runner::{input_format, read_pixels, Effect};
+use fxgraph::gpu::stream::Stream;
+use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use fxgraph::io::{Image, Pixels};
+use fxgraph::script::types::Format;
+
+pub fn effect_path(name: &str) -> String {
+    format!("{}/effects/{name}.fx", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Run `effect` (a file in effects/) with `overrides` over `frames` at `rate`
+/// outputs per frame; returns every output, in order, as linear RGBA f32.
+pub fn run_stream(
+    engine: &mut Engine,
+    effect: &str,
+    overrides: &[&str],
+    frames: &[Image],
+    rate: u32,
+) -> Vec<Vec<f32>> {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let mut fx = Effect::compile(&[effect_path(effect)], &o).unwrap_or_else(|e| panic!("{e}"));
+    let (format, colorspace) = input_format(&frames[0], false);
+    let input = InputDesc {
+        width: frames[0].width,
+        height: frames[0].height,
+        format,
+        colorspace,
+        aux: vec![],
+    };
+    let opts = PlanOptions {
+        policy: ReusePolicy::Pool,
+        output_format: Some(Format::Rgba32f),
+    };
+    let prepared = fx
+        .prepare_with(engine, &input, &opts)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut stream = Stream::new(engine, prepared, format);
+    stream.rate = rate;
+    let mut outs = Vec::new();
+    let take = |i: u64, engine: &mut Engine, stream: &Stream, outs: &mut Vec<Vec<f32>>| {
+        assert_eq!(i, outs.len() as u64, "outputs in order");
+        let Pixels::F32(px) = read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap()
+        else {
+            panic!("float output expected")
+        };
+        outs.push(px);
+    };
+    for f in frames {
+        stream.push_image(engine, f).unwrap();
+        while let Some(i) = stream.next(engine).unwrap() {
+            take(i, engine, &stream, &mut outs);
+        }
+    }
+    stream.end();
+    while let Some(i) = stream.next(engine).unwrap() {
+        take(i, engine, &stream, &mut outs);
+    }
+    assert_eq!(
+        outs.len(),
+        frames.len() * rate as usize,
+        "{rate} output(s) per input frame"
+    );
+    outs
+}

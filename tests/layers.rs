@@ -1,0 +1,74 @@
+//! The layers of docs/architecture.md, checked on the source: each module may use
+//! only the modules listed for it (`crate::NAME` paths), and `script` and `graph`
+//! touch no file (no `std::fs`). A new dependency that breaks the order fails here
+//! with the file and line.
+
+use std::path::Path;
+
+/// (module, modules it may use besides itself, may it use `std::fs`)
+const LAYERS: &[(&str, &[&str], bool)] = &[
+    ("script", &[], false),
+    ("graph", &["script"], false),
+    ("shader", &["script", "graph"], true),
+    ("lookup", &["script", "graph", "shader"], true),
+    ("io", &[], true),
+    // `gpu` still loads and saves images through `io` (issue 9 moves that to an
+    // application layer); no other use of `io` may be added.
+    ("gpu", &["script", "graph", "shader", "lookup", "io"], false),
+    (
+        "deferred",
+        &["script", "graph", "shader", "lookup", "gpu", "io"],
+        true,
+    ),
+];
+
+fn rust_files(p: &Path, out: &mut Vec<std::path::PathBuf>) {
+    if p.is_dir() {
+        for e in std::fs::read_dir(p).unwrap() {
+            rust_files(&e.unwrap().path(), out);
+        }
+    } else if p.is_file() && p.extension().is_some_and(|e| e == "rs") {
+        out.push(p.to_path_buf());
+    }
+}
+
+#[test]
+fn modules_use_only_the_layers_below_them() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut problems = Vec::new();
+    for (module, allowed, fs) in LAYERS {
+        let mut files = Vec::new();
+        rust_files(&src.join(module), &mut files);
+        rust_files(&src.join(format!("{module}.rs")), &mut files);
+        assert!(!files.is_empty(), "no files for {module}");
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                let mut rest = code;
+                while let Some(i) = rest.find("crate::") {
+                    rest = &rest[i + 7..];
+                    let used: String = rest
+                        .chars()
+                        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                        .collect();
+                    if used != *module && !allowed.contains(&used.as_str()) {
+                        problems.push(format!(
+                            "{}:{}: `{module}` uses `crate::{used}`",
+                            f.display(),
+                            n + 1
+                        ));
+                    }
+                }
+                if !fs && code.contains("std::fs") {
+                    problems.push(format!(
+                        "{}:{}: `{module}` reads files (`std::fs`)",
+                        f.display(),
+                        n + 1
+                    ));
+                }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
