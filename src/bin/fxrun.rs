@@ -56,6 +56,20 @@ struct Fail {
     message: String,
 }
 
+/// What a plan without a real input is made for (`--check`, `--plan`, `--dot`,
+/// `--watch`'s shader list): a `w`x`h` 8-bit sRGB image with the renderer's AUX
+/// images, and the `--aux NAME=FILE` images as 8-bit sRGB.
+fn planning_input(cli: &Cli, w: u32, h: u32) -> InputDesc {
+    let mut desc = InputDesc::rgba8_srgb(w, h).with_aux(&fxgraph::deferred::published_aux(true));
+    for a in &cli.aux {
+        let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);
+        desc.aux.retain(|(n, _)| n != name);
+        desc.aux
+            .push((name.to_string(), fxgraph::script::types::Format::Rgba8Srgb));
+    }
+    desc
+}
+
 /// The exit status of a failed run: 1 input rejected; 2 I/O, GPU or internal.
 fn exit_code(e: &RunError) -> u8 {
     if e.is_input_error() {
@@ -250,15 +264,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
             Some(s) => parse_size(s)?,
             None => (1920, 1080),
         };
-        let mut desc =
-            InputDesc::rgba8_srgb(w, h).with_aux(&fxgraph::deferred::published_aux(true));
-        // `--aux NAME=FILE` images are 8-bit sRGB for planning purposes.
-        for a in &cli.aux {
-            let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);
-            desc.aux.retain(|(n, _)| n != name);
-            desc.aux
-                .push((name.to_string(), fxgraph::script::types::Format::Rgba8Srgb));
-        }
+        let desc = planning_input(&cli, w, h);
         let policy = match cli.policy.as_str() {
             "min-peak" => ReusePolicy::MinPeak,
             "pool" => ReusePolicy::Pool,

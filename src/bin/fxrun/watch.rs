@@ -301,14 +301,7 @@ fn watched_files(cli: &Cli) -> Vec<PathBuf> {
             [i] => fxgraph::io::image_file_dimensions(i).unwrap_or((1920, 1080)),
             _ => (1920, 1080),
         };
-        let mut desc =
-            InputDesc::rgba8_srgb(w, h).with_aux(&fxgraph::deferred::published_aux(true));
-        for a in &cli.aux {
-            let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);
-            desc.aux.retain(|(n, _)| n != name);
-            desc.aux
-                .push((name.to_string(), fxgraph::script::types::Format::Rgba8Srgb));
-        }
+        let desc = planning_input(cli, w, h);
         if let Ok((p, _)) = plan(&graph, &desc, &PlanOptions::default()) {
             let _ = fxgraph::shader::load_plan_shaders(&graph, &p, &mut sources, &[]);
         }
