@@ -59,15 +59,6 @@ fn cost(v: vec2<f32>) -> f32 {
     return s / f32(WINDOW * WINDOW);
 }
 
-// Sub-texel offset of the minimum of the parabola through (-1, a), (0, b), (1, c).
-fn parabola(a: f32, b: f32, c: f32) -> f32 {
-    let den = a - 2.0 * b + c;
-    if (den <= 1e-12) {
-        return 0.0;
-    }
-    return clamp(0.5 * (a - c) / den, -0.5, 0.5);
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let q = vec2<i32>(pos.xy);
@@ -138,6 +129,6 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let cu = cost(best - vec2<f32>(0.0, tx.y));
     let cd = cost(best + vec2<f32>(0.0, tx.y));
     let c0 = cost(best);
-    let sub = vec2<f32>(parabola(cl, c0, cr), parabola(cu, c0, cd));
+    let sub = vec2<f32>(tdn_parabola(cl, c0, cr), tdn_parabola(cu, c0, cd));
     return vec4<f32>(best + sub * tx, 0.0, 0.0);
 }

@@ -41,14 +41,6 @@ fn cost(v: vec2<f32>) -> f32 {
     return s / f32(WINDOW * WINDOW);
 }
 
-fn parabola(a: f32, b: f32, c: f32) -> f32 {
-    let den = a - 2.0 * b + c;
-    if (den <= 1e-12) {
-        return 0.0;
-    }
-    return clamp(0.5 * (a - c) / den, -0.5, 0.5);
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let q = vec2<i32>(pos.xy);
@@ -89,7 +81,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     if (all(best == centre)) {
-        let sub = vec2<f32>(parabola(costs[3], costs[4], costs[5]), parabola(costs[1], costs[4], costs[7]));
+        let sub = vec2<f32>(tdn_parabola(costs[3], costs[4], costs[5]), tdn_parabola(costs[1], costs[4], costs[7]));
         best += sub * step;
     }
     return vec4<f32>(best, 0.0, 0.0);

@@ -23,3 +23,13 @@ fn tdn_field(mv: texture_2d<f32>, uv: vec2<f32>) -> vec2<f32> {
     let b = mix(tdn_load(mv, i + vec2<i32>(0, 1)).xy, tdn_load(mv, i + vec2<i32>(1, 1)).xy, f.x);
     return mix(a, b, f.y);
 }
+
+// Sub-texel offset of the minimum of the parabola through (-1, a), (0, b), (1, c)
+// (the block matcher's cost around its best integer step), in [-0.5, 0.5].
+fn tdn_parabola(a: f32, b: f32, c: f32) -> f32 {
+    let den = a - 2.0 * b + c;
+    if (den <= 1e-12) {
+        return 0.0;
+    }
+    return clamp(0.5 * (a - c) / den, -0.5, 0.5);
+}
