@@ -8,6 +8,8 @@
 
 mod common;
 
+use common::rng::hash01;
+
 use common::stream::run_stream;
 use common::*;
 use fxgraph::io::{Image, Pixels};
@@ -37,16 +39,6 @@ fn select_rgb(v: &[f32], w: u32, h: u32, keep: impl Fn(u32, u32) -> bool) -> Vec
         }
     }
     out
-}
-
-/// Deterministic pseudo-random numbers in [0, 1) (xorshift-multiply hash).
-fn hash01(mut k: u64) -> f32 {
-    k ^= k >> 33;
-    k = k.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    k ^= k >> 33;
-    k = k.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-    k ^= k >> 33;
-    (k >> 40) as f32 / (1u64 << 24) as f32
 }
 
 /// Deterministic zero-mean noise with standard deviation `sigma` (sum of 4 uniforms).

@@ -24,3 +24,13 @@ impl Rng {
         (0..n).map(|_| self.byte()).collect()
     }
 }
+
+/// Deterministic pseudo-random numbers in [0, 1) (xorshift-multiply hash).
+pub fn hash01(mut k: u64) -> f32 {
+    k ^= k >> 33;
+    k = k.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    k ^= k >> 33;
+    k = k.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    k ^= k >> 33;
+    (k >> 40) as f32 / (1u64 << 24) as f32
+}
