@@ -5,9 +5,10 @@
 //! adapter. The criterion figure is the CPU time (record+finish+submit) per frame.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use fxgraph::app::Effect;
 use fxgraph::gpu::context::{AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::{Engine, FrameInputs};
-use fxgraph::gpu::runner::{create_output, Effect};
+use fxgraph::gpu::transfer::create_output;
 use fxgraph::graph::plan::InputDesc;
 use fxgraph::script::types::Format;
 use std::time::{Duration, Instant};

@@ -8,9 +8,9 @@
 //!
 //! Run: `cargo run --release --example library_use [EFFECT...]` (default: glow).
 
+use fxgraph::app::Effect;
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::gpu::executor::{wgpu_format, Engine, FrameInputs};
-use fxgraph::gpu::runner::Effect;
 use fxgraph::graph::plan::InputDesc;
 use fxgraph::script::types::Format;
 use std::time::Instant;

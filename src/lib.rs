@@ -9,12 +9,21 @@
 //!   confinement), the policy `graph` takes as an [`graph::EffectSource`]. No GPU.
 //! - `gpu` (feature `gpu`): device, texture pool, pipeline cache and the executor
 //!   that interprets a [`graph::Plan`].
-//! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes.
+//! - [`pixels`]: images in memory (plain values every layer may use) and sRGB
+//!   conversions.
+//! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes,
+//!   sequences, y4m.
+//! - `deferred` (feature `gpu`): scenes, materials and the deferred renderer.
+//! - `app` (feature `gpu`): jobs joining sources, the effect on the GPU and sinks;
+//!   one report type. `fxrun` is a command line over it.
 pub mod graph;
 pub mod lookup;
+pub mod pixels;
 pub mod script;
 pub mod shader;
 
+#[cfg(feature = "gpu")]
+pub mod app;
 #[cfg(feature = "gpu")]
 pub mod deferred;
 #[cfg(feature = "gpu")]

@@ -170,7 +170,8 @@ fn the_effect_is_planned_again_only_when_the_size_changes() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(r["images"], 3, "{r}");
+    assert_eq!(r["frames_total"], 3, "{r}");
+    assert_eq!(r["job"], "batch", "{r}");
     assert_eq!(r["plans"], 2, "x1 and x2 share a plan: {r}");
     assert_eq!(r["done"].as_array().map(Vec::len), Some(3), "{r}");
     assert_eq!(r["done"][2]["width"], 30, "{r}");

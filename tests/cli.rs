@@ -263,7 +263,8 @@ fn applies_glow_to_an_image() {
     let t: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(t["passes"].as_array().unwrap().len(), 4);
-    assert!(t["total_ms"].as_f64().unwrap() > 0.0);
+    assert!(t["wall_ms"].as_f64().unwrap() > 0.0);
+    assert_eq!(t["job"], "image");
     // No temporary files are left beside the output.
     let names: Vec<String> = std::fs::read_dir(dir.path())
         .unwrap()

@@ -7,7 +7,7 @@
 mod common;
 
 use common::*;
-use fxgraph::gpu::runner::apply_in_memory;
+use fxgraph::app::apply_in_memory;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
 use fxgraph::graph::{compile, CompileRequest};
 use fxgraph::io::{Image, Pixels};

@@ -14,11 +14,10 @@
 mod common;
 
 use common::*;
+use fxgraph::app::{apply_in_memory, Effect};
 use fxgraph::deferred::published_aux;
 use fxgraph::gpu::executor::{wgpu_format, CameraStd, Engine, FrameInputs};
-use fxgraph::gpu::runner::{
-    apply_in_memory, create_output, input_format, read_pixels, upload_image, Effect,
-};
+use fxgraph::gpu::transfer::{create_output, input_format, read_pixels, upload_image};
 use fxgraph::graph::plan::InputDesc;
 use fxgraph::io::{Image, Pixels};
 use fxgraph::script::types::{ColorSpace, Format};

@@ -7,17 +7,23 @@ use std::path::Path;
 
 /// (module, modules it may use besides itself, may it use `std::fs`)
 const LAYERS: &[(&str, &[&str], bool)] = &[
+    ("pixels", &[], false),
     ("script", &[], false),
     ("graph", &["script"], false),
     ("shader", &["script", "graph"], true),
     ("lookup", &["script", "graph", "shader"], true),
-    ("io", &[], true),
-    // `gpu` still loads and saves images through `io` (issue 9 moves that to an
-    // application layer); no other use of `io` may be added.
-    ("gpu", &["script", "graph", "shader", "lookup", "io"], false),
+    ("io", &["pixels"], true),
+    ("gpu", &["pixels", "script", "graph", "shader"], false),
     (
         "deferred",
-        &["script", "graph", "shader", "lookup", "gpu", "io"],
+        &["pixels", "script", "graph", "shader", "lookup", "gpu", "io"],
+        true,
+    ),
+    (
+        "app",
+        &[
+            "pixels", "script", "graph", "shader", "lookup", "gpu", "io", "deferred",
+        ],
         true,
     ),
 ];

@@ -4,10 +4,11 @@
 
 mod common;
 
+use fxgraph::app::Effect;
 use fxgraph::gpu::context::{require_gpu, GpuContext};
 use fxgraph::gpu::executor::{Engine, FrameInputs, ParamError};
-use fxgraph::gpu::runner::{read_pixels, Effect};
 use fxgraph::gpu::stream::Stream;
+use fxgraph::gpu::transfer::read_pixels;
 use fxgraph::graph::plan::{InputDesc, PlanOptions};
 use fxgraph::io::Pixels;
 use fxgraph::script::types::{ColorSpace, Format};
@@ -289,7 +290,7 @@ fn pool_creates_nothing_after_the_first_frame() {
         };
         let mut prepared = effect.prepare_with(&mut engine, &input, &opts).unwrap();
         assert!(!prepared.plan.values.is_empty());
-        let out = fxgraph::gpu::runner::create_output(&ctx, 16, 8, Format::Rgba8Srgb);
+        let out = fxgraph::gpu::transfer::create_output(&ctx, 16, 8, Format::Rgba8Srgb);
         prepared
             .run(&mut engine, &FrameInputs::single(&tex), &out, false)
             .unwrap();
@@ -331,7 +332,7 @@ fn pool_creates_nothing_after_the_first_frame() {
             wgpu::TextureUsages::empty(),
         )
         .unwrap();
-    let out = fxgraph::gpu::runner::create_output(&ctx, 8, 4, Format::Rgba8Srgb);
+    let out = fxgraph::gpu::transfer::create_output(&ctx, 8, 4, Format::Rgba8Srgb);
     for _ in 0..3 {
         prepared
             .run(&mut engine, &FrameInputs::single(&tex), &out, false)

@@ -3,8 +3,9 @@
 
 mod common;
 
-use fxgraph::gpu::runner::{read_pixels, Effect};
+use fxgraph::app::Effect;
 use fxgraph::gpu::stream::Stream;
+use fxgraph::gpu::transfer::read_pixels;
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::io::Pixels;
 use fxgraph::script::types::{ColorSpace, Format};

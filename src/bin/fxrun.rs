@@ -4,14 +4,12 @@
 //! GPU or internal error.
 
 use clap::Parser;
+use fxgraph::app::{
+    apply_to_image, output_format_for, run_sequence, Effect, FilesSink, FilesSource, FrameSink,
+    FrameSource, ImageJob, Progress, RunError, SequenceOptions, Y4mSink, Y4mSource,
+};
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
 use fxgraph::gpu::executor::Engine;
-use fxgraph::gpu::runner::{apply_to_image, ImageJob, JobReport, RunError};
-use fxgraph::gpu::runner::{output_format_for, Effect};
-use fxgraph::gpu::sequence::{
-    run_sequence, FilesSink, FilesSource, FrameSink, FrameSource, Progress, SequenceOptions,
-    Y4mSink, Y4mSource,
-};
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::graph::{compile, dot, library};
 use fxgraph::io::sequence::{parse_frames, InputSequence, OutputPattern, SequenceSpec};
@@ -392,16 +390,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
         timings: cli.timings || cli.timings_json.is_some(),
     };
     let report = apply_to_image(&job, None, &adapter_choice(&cli.adapter))?;
-    if !report.warnings.is_empty() {
-        eprint!("{}", report.warnings);
-    }
-    // Notes (an automatic conversion) are informational: shown with -v only.
-    if cli.verbose && !report.notes.is_empty() {
-        eprint!("{}", report.notes);
-    }
-    if cli.timings {
-        print_timings(&report);
-    }
+    print_report(cli, &report);
     if let Some(path) = &cli.timings_json {
         write_json(path, &report)?;
     }
@@ -431,6 +420,8 @@ mod args;
 mod batch;
 #[path = "fxrun/describe.rs"]
 mod describe;
+#[path = "fxrun/report.rs"]
+mod report;
 #[path = "fxrun/scene.rs"]
 mod scene;
 #[path = "fxrun/sequence.rs"]
@@ -441,5 +432,6 @@ mod watch;
 use args::Cli;
 use batch::{check_outputs, check_same_size, collect_inputs, try_run_batch};
 use describe::{describe, pass_param_rows};
+use report::print_report;
 use scene::run_scene_cli;
-use sequence::{print_timings, run_sequence_cli, ProgressLine};
+use sequence::{print_diagnostics, run_sequence_cli, ProgressLine};

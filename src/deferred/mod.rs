@@ -51,7 +51,6 @@ mod gltf_lights_cameras;
 pub mod gltf_load;
 mod gltf_material;
 mod gpu_types;
-pub mod job;
 mod light;
 mod light_buffers;
 mod lights;

@@ -1,6 +1,8 @@
-pub mod batch;
+//! The GPU layer: device and adapter checks, transfers between images in memory and
+//! textures, the pipeline cache and the executor that interprets a plan, and streams
+//! of frames through it. No files: sources and sinks are the application's
+//! ([`crate::app`]).
 pub mod context;
 pub mod executor;
-pub mod runner;
-pub mod sequence;
 pub mod stream;
+pub mod transfer;

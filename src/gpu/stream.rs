@@ -20,9 +20,9 @@ use super::context::GpuError;
 use super::executor::{
     wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
 };
-use super::runner::create_output;
+use super::transfer::create_output;
 use crate::graph::plan::Resource;
-use crate::io::{Image, Pixels};
+use crate::pixels::{Image, Pixels};
 use crate::script::types::Format;
 use std::collections::{HashMap, VecDeque};
 

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use super::{
     check_dimensions, detect_format, image_dimensions, image_error_detail, panic_message,
-    read_image_file, FileFormat, IoError,
+    read_image_file, FileFormat, ImageCrateFormat, IoError,
 };
 
 /// The width and height of the image file at `path`, from its header alone (checked against

@@ -8,9 +8,9 @@ pub mod rng;
 pub mod scenes;
 pub mod stream;
 
+use fxgraph::app::{apply_in_memory, RunError};
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::Engine;
-use fxgraph::gpu::runner::{apply_in_memory, RunError};
 use fxgraph::io::{FileFormat, Image, Pixels, SourceInfo};
 use fxgraph::script::types::Format;
 use std::sync::{Mutex, OnceLock};

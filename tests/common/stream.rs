@@ -1,9 +1,10 @@
 //! Running an effect of effects/ over a frame sequence through the streaming
 //! runtime (`Stream`), for the temporal-effect tests.
 
+use fxgraph::app::Effect;
 use fxgraph::gpu::executor::Engine;
-use fxgraph::gpu::runner::{input_format, read_pixels, Effect};
 use fxgraph::gpu::stream::Stream;
+use fxgraph::gpu::transfer::{input_format, read_pixels};
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::io::{Image, Pixels};
 use fxgraph::script::types::Format;

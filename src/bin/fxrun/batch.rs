@@ -8,7 +8,7 @@
 //! `--fps`) make it a sequence instead (`sequence.rs`).
 
 use super::*;
-use fxgraph::gpu::batch::{run_batch, BatchItem, BatchOptions, BatchReport};
+use fxgraph::app::{run_batch, BatchItem, BatchOptions};
 use fxgraph::io::FileFormat;
 use std::collections::HashMap;
 use std::path::Path;
@@ -340,7 +340,7 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         progress.callback(),
     );
     progress.finish();
-    print_warnings(cli, effect);
+    print_diagnostics(cli, effect);
     let report = result?;
     print_report(cli, &report);
     if let Some(path) = &cli.timings_json {
@@ -364,81 +364,6 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
             message: String::new(),
         }),
         None => Ok(()),
-    }
-}
-
-/// The effect's warnings, each once (each plan, one per image size, may have added
-/// the same notes again); its notes (informational: an automatic conversion) with
-/// -v only.
-fn print_warnings(cli: &Cli, effect: &Effect) {
-    let mut seen = std::collections::HashSet::new();
-    let mut unique = fxgraph::script::Diagnostics::default();
-    for d in &effect.warnings.list {
-        if seen.insert(d.render(&effect.sources)) {
-            unique.push(d.clone());
-        }
-    }
-    let (warnings, notes) = unique.split_notes();
-    if !warnings.is_empty() {
-        eprint!("{}", warnings.render(&effect.sources));
-    }
-    if cli.verbose && !notes.is_empty() {
-        eprint!("{}", notes.render(&effect.sources));
-    }
-}
-
-fn print_report(cli: &Cli, r: &BatchReport) {
-    for f in &r.failed {
-        let path = f.input.display().to_string();
-        if f.message.contains(&path) {
-            eprintln!("fxrun: error: {}", f.message);
-        } else {
-            eprintln!("fxrun: error: {path}: {}", f.message);
-        }
-    }
-    if cli.verbose {
-        for d in &r.done {
-            eprintln!(
-                "fxrun: {} -> {} ({}x{}, {:.1} ms)",
-                d.input.display(),
-                d.output.display(),
-                d.width,
-                d.height,
-                d.total_ms()
-            );
-        }
-    }
-    let plural = |n: usize| if n == 1 { "image" } else { "images" };
-    eprintln!(
-        "fxrun: {} {} in {:.2} s, {:.1} ms per image (median), {} plan{} ({})",
-        r.done.len(),
-        plural(r.done.len()),
-        r.wall_ms / 1e3,
-        r.median_ms(),
-        r.plans,
-        if r.plans == 1 { "" } else { "s" },
-        r.adapter
-    );
-    if !r.failed.is_empty() {
-        let stopped = match r.not_run() {
-            0 => String::new(),
-            n => {
-                format!("; stopped at the first failure, {n} not run (--keep-going runs the rest)")
-            }
-        };
-        eprintln!(
-            "fxrun: {} of {} {} failed{stopped}",
-            r.failed.len(),
-            r.images,
-            plural(r.images)
-        );
-    }
-    if cli.timings {
-        eprintln!(
-            "stage busy: decode {:.0} ms, gpu {:.0} ms, encode {:.0} ms; wall {:.0} ms",
-            r.decode_busy_ms, r.gpu_busy_ms, r.encode_busy_ms, r.wall_ms
-        );
-        super::sequence::print_pass_gpu_times(&r.passes);
     }
 }
 

@@ -3,7 +3,7 @@
 use super::*;
 
 pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
-    use fxgraph::deferred::job::{run_scene_job, SceneJob, DEFAULT_CHAIN};
+    use fxgraph::app::scene::{run_scene_job, SceneJob, DEFAULT_CHAIN};
     if !cli.input.is_empty() {
         return Err(rejected("--scene renders the input: give no -i"));
     }
@@ -129,56 +129,18 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     );
     let report = run_scene_job(&job, &mut engine)?;
     if cli.describe_materials {
+        let stats = report.scene.clone().unwrap_or_default();
         outln!("materials ({} variants mode):", job.variants);
-        for line in &report.materials {
+        for line in &stats.materials {
             outln!("{line}");
         }
         outln!(
             "pipelines compiled: {}, shader modules: {}",
-            report.pipelines,
-            report.shader_modules
+            stats.pipelines,
+            stats.shader_modules
         );
     }
-    if cli.timings {
-        outln!(
-            "adapter: {}  scene {} ({} triangles, {} lights visible, {} culling: {} light-cluster entries, {:.1} KiB)  {}x{}",
-            report.adapter,
-            job.scene,
-            report.triangles,
-            report.lights_visible,
-            job.light_culling,
-            report.cluster_entries,
-            report.cluster_bytes as f64 / 1024.0,
-            width,
-            height
-        );
-        for (name, ms) in &report.render_passes {
-            outln!("  render {name:<26} gpu {ms:>8.2} ms");
-        }
-        for p in &report.effect_passes {
-            let gpu = p
-                .gpu_ms
-                .map(|g| format!("{g:.2}"))
-                .unwrap_or_else(|| "-".into());
-            outln!("  effect {:<26} gpu {:>8} ms", p.path, gpu);
-        }
-        outln!(
-            "  shadows {}: {} layers, {:.1} MiB of shadow maps",
-            job.shadows,
-            report.shadow_layers,
-            report.shadow_map_bytes as f64 / (1u64 << 20) as f64
-        );
-        outln!(
-            "load {:.1} ms | render cpu {:.1} gpu {} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
-            report.load_ms,
-            report.render_cpu_ms,
-            report.render_gpu_ms.map(|g| format!("{g:.1}")).unwrap_or_else(|| "-".into()),
-            report.effects_ms,
-            report.readback_ms,
-            report.encode_ms,
-            report.total_ms
-        );
-    }
+    print_report(cli, &report);
     if let Some(path) = &cli.timings_json {
         write_json(path, &report)?;
     }

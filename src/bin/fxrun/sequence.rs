@@ -1,69 +1,8 @@
 //! `fxrun`: frame sequences and y4m streams (`-i 'in/%04d.png'`, `-i -`), and the timings printer.
 
 use super::*;
-use fxgraph::gpu::batch::BatchItem;
+use fxgraph::app::BatchItem;
 use std::collections::HashMap;
-
-/// The passes of a batch or sequence with their median GPU time, one line each
-/// (on stderr, under the `stage busy` line).
-pub(crate) fn print_pass_gpu_times(passes: &[fxgraph::gpu::executor::PassTiming]) {
-    for p in passes {
-        let gpu = p
-            .gpu_ms
-            .map(|g| format!("{g:.2}"))
-            .unwrap_or_else(|| "-".into());
-        eprintln!(
-            "  {:<32} {:>11} {:<10} gpu {:>8} ms",
-            p.path,
-            format!("{}x{}", p.width, p.height),
-            p.format,
-            gpu
-        );
-    }
-}
-
-pub(crate) fn print_timings(r: &JobReport) {
-    outln!(
-        "adapter: {} ({})  image {}x{}",
-        r.adapter,
-        r.backend,
-        r.width,
-        r.height
-    );
-    outln!(
-        "{:<32} {:>11} {:<10} {:>9} {:>9}",
-        "pass",
-        "size",
-        "format",
-        "gpu ms",
-        "cpu ms"
-    );
-    for p in &r.passes {
-        let gpu = p
-            .gpu_ms
-            .map(|g| format!("{g:.2}"))
-            .unwrap_or_else(|| "-".into());
-        outln!(
-            "{:<32} {:>11} {:<10} {:>9} {:>9.2}",
-            p.path,
-            format!("{}x{}", p.width, p.height),
-            p.format,
-            gpu,
-            p.cpu_ms
-        );
-    }
-    outln!(
-        "compile {:.1} ms | decode {:.1} | device {:.1} (created in {:.1}, overlapping the decode) | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
-        r.compile_ms, r.decode_ms, r.device_ms, r.device_created_ms, r.pipeline_ms, r.upload_ms, r.passes_ms, r.readback_ms, r.encode_ms, r.total_ms
-    );
-    let mib = |b: u64| b as f64 / 1048576.0;
-    outln!(
-        "transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})",
-        mib(r.peak_bytes),
-        mib(r.lower_bound_bytes),
-        mib(r.naive_bytes)
-    );
-}
 
 /// `fxrun EFFECT -i 'in/%04d.png' -o 'out/%04d.png'` and `-i - -o -` (y4m streams).
 pub(crate) fn run_sequence_cli(
@@ -315,18 +254,7 @@ pub(crate) fn run_sequence_cli(
     );
     progress.finish();
     let report = result?;
-    if cli.timings {
-        let (d, g, e) = report.utilisation();
-        eprintln!(
-            "adapter: {}  frames: {} in, {} out  wall {:.1} ms  {:.2} fps",
-            report.adapter, report.frames_in, report.frames_out, report.wall_ms, report.fps
-        );
-        eprintln!(
-            "stage busy: decode {:.0} ms ({:.0}%), gpu {:.0} ms ({:.0}%), encode {:.0} ms ({:.0}%); the encoder waited {:.0} ms for the GPU  (frames held at most: {})",
-            report.decode_busy_ms, d * 100.0, report.gpu_busy_ms, g * 100.0, report.encode_busy_ms, e * 100.0, report.readback_wait_ms, report.frames_held_max
-        );
-        print_pass_gpu_times(&report.passes);
-    }
+    print_report(cli, &report);
     if let Some(path) = &cli.timings_json {
         write_json(path, &report)?;
     }
@@ -339,16 +267,24 @@ pub(crate) fn run_sequence_cli(
         };
         return Err(Fail {
             code: 130,
-            message: format!("interrupted after {} frames; {hint}", report.frames_out),
+            message: format!("interrupted after {} frames; {hint}", report.done.len()),
         });
     }
     Ok(())
 }
 
-/// The effect's warnings, and its notes (informational: an automatic conversion)
-/// with -v only.
+/// The effect's warnings, each once (each plan, one per image size, may have added
+/// the same notes again); its notes (informational: an automatic conversion) with
+/// -v only.
 pub(crate) fn print_diagnostics(cli: &Cli, effect: &Effect) {
-    let (warnings, notes) = effect.warnings.clone().split_notes();
+    let mut seen = std::collections::HashSet::new();
+    let mut unique = fxgraph::script::Diagnostics::default();
+    for d in &effect.warnings.list {
+        if seen.insert(d.render(&effect.sources)) {
+            unique.push(d.clone());
+        }
+    }
+    let (warnings, notes) = unique.split_notes();
     if !warnings.is_empty() {
         eprint!("{}", warnings.render(&effect.sources));
     }
@@ -477,7 +413,7 @@ impl FrameSink for NamedFilesSink {
         width: u32,
         height: u32,
         pixels: fxgraph::io::Pixels,
-    ) -> Result<(), fxgraph::io::IoError> {
+    ) -> Result<String, fxgraph::io::IoError> {
         let path = self
             .names
             .get(&number)
@@ -485,6 +421,7 @@ impl FrameSink for NamedFilesSink {
                 path: format!("frame {number}").into(),
                 message: "no output file name for this frame".into(),
             })?;
-        fxgraph::io::save_image(path, width, height, &pixels, &self.save)
+        fxgraph::io::save_image(path, width, height, &pixels, &self.save)?;
+        Ok(path.display().to_string())
     }
 }

@@ -3,6 +3,9 @@
 //! Colour channels go through the sRGB curve (unless `assume_linear`); alpha is always
 //! a plain linear scale. NaN becomes 0. Large buffers are split over threads.
 
+// The file-layout conversions serve `io`, which is built with the `gpu` feature only.
+#![cfg_attr(not(feature = "gpu"), allow(dead_code))]
+
 use super::srgb;
 use super::Pixels;
 

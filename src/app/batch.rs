@@ -2,7 +2,7 @@
 //! compiled pipelines and (while the size stays the same) the plan and its textures are
 //! reused from one image to the next.
 //!
-//! Every image is run as a one-frame still, exactly as [`super::runner::apply_to_image`]
+//! Every image is run as a one-frame still, exactly as [`super::still::apply_to_image`]
 //! runs it (frame 0, `time` 0, every `IN[n]` the image itself), so the images are
 //! independent and may differ in size: the effect is planned again (and its textures
 //! allocated again) only when the input size or format, or the output format, changes.
@@ -15,16 +15,17 @@
 //! existing output is replaced only by a complete one).
 //!
 //! A failed image (unreadable, corrupt, too large, unwritable output) is recorded in
-//! [`BatchReport::failed`]; with [`BatchOptions::keep_going`] the other images go on,
+//! [`RunReport::failed`]; with [`BatchOptions::keep_going`] the other images go on,
 //! otherwise the batch stops there: the images before it are finished and written, the
 //! ones after it are not started.
 
-use super::executor::{wgpu_format, Engine, FrameInputs, PassTiming, Prepared};
-use super::runner::{
-    create_output, image_bytes, input_format, output_format_for, pixels_from_bytes, Effect,
-    RunError,
-};
-use super::sequence::Progress;
+use super::effect::Effect;
+use super::error::RunError;
+use super::report::{ms, FrameDone, FrameFailure, JobKind, MemoryReport, Progress, RunReport};
+use super::still::output_format_for;
+use crate::gpu::context::PendingReadback;
+use crate::gpu::executor::{wgpu_format, Engine, FrameInputs, Prepared};
+use crate::gpu::transfer::{create_output, image_bytes, input_format, pixels_from_bytes};
 use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use crate::io::{self, Image, IoError, LoadOptions, SaveOptions};
 use crate::script::types::{ColorSpace, Format};
@@ -53,7 +54,7 @@ pub struct BatchOptions {
     /// Images held between the stages (decoded, waiting for the GPU; read back,
     /// waiting for the encoder).
     pub queue: usize,
-    /// Collect per-pass GPU timings (of the last image, in [`BatchReport::passes`]).
+    /// Collect per-pass GPU timings (of the last image, in [`RunReport::passes`]).
     pub timings: bool,
 }
 
@@ -67,95 +68,6 @@ impl Default for BatchOptions {
             timings: false,
         }
     }
-}
-
-/// An image of the batch that failed.
-#[derive(Debug, serde::Serialize)]
-pub struct BatchFailure {
-    /// Position of the image in the batch.
-    pub index: usize,
-    pub input: PathBuf,
-    /// The error, rendered (it names the file).
-    pub message: String,
-    #[serde(skip)]
-    pub error: RunError,
-}
-
-/// An image of the batch that was written.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct ImageDone {
-    pub index: usize,
-    pub input: PathBuf,
-    pub output: PathBuf,
-    /// Size of the output.
-    pub width: u32,
-    pub height: u32,
-    /// Time spent reading and decoding the input.
-    pub decode_ms: f64,
-    /// Time spent on the GPU thread (planning when the size changed, upload, passes).
-    pub gpu_ms: f64,
-    /// Time spent waiting for the read-back, converting and writing the output.
-    pub encode_ms: f64,
-}
-
-impl ImageDone {
-    /// The image's own processing time: decode + GPU + encode (its time in the queues
-    /// between the stages not counted).
-    pub fn total_ms(&self) -> f64 {
-        self.decode_ms + self.gpu_ms + self.encode_ms
-    }
-}
-
-/// What a batch did and where its time went.
-#[derive(Debug, Default, serde::Serialize)]
-pub struct BatchReport {
-    pub adapter: String,
-    /// Images in the batch.
-    pub images: usize,
-    /// Images written, in batch order.
-    pub done: Vec<ImageDone>,
-    /// Images that failed, in batch order.
-    pub failed: Vec<BatchFailure>,
-    /// Times the effect was planned and its textures allocated (once per run of
-    /// images of the same size and formats).
-    pub plans: usize,
-    pub wall_ms: f64,
-    /// Busy time of each stage.
-    pub decode_busy_ms: f64,
-    pub gpu_busy_ms: f64,
-    pub encode_busy_ms: f64,
-    /// Per-pass timings of the last image (with [`BatchOptions::timings`]).
-    pub passes: Vec<PassTiming>,
-    /// Stopped early by the `stop` flag (Ctrl-C).
-    pub interrupted: bool,
-}
-
-impl BatchReport {
-    /// Images neither written nor failed: those after the failure that stopped the
-    /// batch, or after an interruption.
-    pub fn not_run(&self) -> usize {
-        self.images - self.done.len() - self.failed.len()
-    }
-
-    /// Median of the written images' processing times ([`ImageDone::total_ms`]), 0 when
-    /// none was written.
-    pub fn median_ms(&self) -> f64 {
-        let mut t: Vec<f64> = self.done.iter().map(ImageDone::total_ms).collect();
-        if t.is_empty() {
-            return 0.0;
-        }
-        t.sort_by(f64::total_cmp);
-        let n = t.len();
-        if n % 2 == 1 {
-            t[n / 2]
-        } else {
-            (t[n / 2 - 1] + t[n / 2]) / 2.0
-        }
-    }
-}
-
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
 }
 
 /// What the plan and its textures depend on.
@@ -179,13 +91,7 @@ struct Current {
 /// A decoded image (or why it could not be), with its decode time.
 type Decoded = (usize, Result<(Image, Duration), IoError>);
 /// A read-back on its way to the encoder: index, copy, format, GPU-thread time, decode time.
-type Encoded = (
-    usize,
-    super::context::PendingReadback,
-    Format,
-    Duration,
-    Duration,
-);
+type Encoded = (usize, PendingReadback, Format, Duration, Duration);
 
 /// Run `effect` on every image of `items`, writing each result to its output.
 ///
@@ -201,18 +107,23 @@ pub fn run_batch(
     opts: &BatchOptions,
     stop: Arc<AtomicBool>,
     mut progress: impl FnMut(Progress),
-) -> Result<BatchReport, RunError> {
+) -> Result<RunReport, RunError> {
     let start = Instant::now();
     let out_formats = items
         .iter()
         .map(|it| output_format_for(&it.output, opts.bit_depth, opts.assume_linear))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut report = BatchReport {
+    let mut report = RunReport {
+        job: JobKind::Batch,
         adapter: engine.ctx.info.name.clone(),
-        images: items.len(),
+        backend: format!("{:?}", engine.ctx.info.backend),
+        frames_total: Some(items.len() as u64),
         ..Default::default()
     };
     let queue = opts.queue.max(1);
+    // Decoded images waiting for the GPU, the one on the GPU, read-backs waiting for
+    // the encoder, and the one being encoded.
+    report.frames_held_max = 2 * queue + 2;
     // Set when the batch must end early (a failure without keep_going, or `stop`).
     let halt = Arc::new(AtomicBool::new(false));
     let max_side = engine
@@ -280,14 +191,14 @@ pub fn run_batch(
                 let spent = t.elapsed();
                 busy += spent;
                 match result {
-                    Ok(()) => done.push(ImageDone {
+                    Ok(()) => done.push(FrameDone {
                         index: i,
-                        input: input.clone(),
-                        output: output.clone(),
+                        input: input.display().to_string(),
+                        output: output.display().to_string(),
                         width: w,
                         height: h,
-                        decode_ms: ms(decode),
-                        gpu_ms: ms(gpu),
+                        decode_ms: Some(ms(decode)),
+                        gpu_ms: Some(ms(gpu)),
                         encode_ms: ms(spent),
                     }),
                     Err(e) => {
@@ -310,6 +221,7 @@ pub fn run_batch(
         if halt.load(Ordering::Relaxed) {
             break;
         }
+        report.frames_in += 1;
         let (img, decode_time) = match item {
             Ok(x) => x,
             Err(e) => {
@@ -381,20 +293,15 @@ pub fn run_batch(
     report.done = done;
     report.failed.extend(enc_failed);
     report.failed.sort_by_key(|f| f.index);
-    report.decode_busy_ms = ms(decode_busy);
-    report.gpu_busy_ms = ms(gpu_busy);
-    report.encode_busy_ms = ms(encode_busy);
+    report.stages.decode_busy_ms = ms(decode_busy);
+    report.stages.gpu_busy_ms = ms(gpu_busy);
+    report.stages.encode_busy_ms = ms(encode_busy);
     report.wall_ms = ms(start.elapsed());
     Ok(report)
 }
 
-fn failure(index: usize, input: &std::path::Path, error: RunError) -> BatchFailure {
-    BatchFailure {
-        index,
-        input: input.to_path_buf(),
-        message: error.to_string(),
-        error,
-    }
+fn failure(index: usize, input: &std::path::Path, error: RunError) -> FrameFailure {
+    FrameFailure::new(index, input.display().to_string(), error)
 }
 
 /// Read an image file, refuse a size over `max_side` from its header, decode it.
@@ -421,8 +328,8 @@ fn gpu_one(
     img: &Image,
     out_format: Format,
     opts: &BatchOptions,
-    report: &mut BatchReport,
-) -> Result<super::context::PendingReadback, RunError> {
+    report: &mut RunReport,
+) -> Result<PendingReadback, RunError> {
     let (in_format, colorspace) = input_format(img, opts.assume_linear);
     let key = PlanKey {
         width: img.width,
@@ -464,6 +371,11 @@ fn gpu_one(
         // Transient textures come from the engine's pool, kept for the next image.
         let prepared = effect.prepare_with(engine, &desc, &plan_opts)?;
         report.plans += 1;
+        report.memory = MemoryReport {
+            peak_bytes: prepared.plan.peak_bytes,
+            lower_bound_bytes: prepared.plan.lower_bound_bytes,
+            naive_bytes: prepared.plan.naive_bytes,
+        };
         let input = ctx.upload_texture(
             "fxgraph batch input",
             img.width,

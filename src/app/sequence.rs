@@ -7,10 +7,13 @@
 //! transient textures (its `Pool` peak) and feedback rings, and at most `queue`
 //! read-back frames wait for the encoder.
 
-use super::context::GpuContext;
-use super::executor::{CameraStd, Engine, PassTiming};
-use super::runner::{input_format, Effect, RunError};
-use super::stream::Stream;
+use super::effect::Effect;
+use super::error::RunError;
+use super::report::{ms, FrameDone, JobKind, MemoryReport, Progress, RunReport};
+use crate::gpu::context::{GpuContext, PendingReadback};
+use crate::gpu::executor::{CameraStd, Engine};
+use crate::gpu::stream::Stream;
+use crate::gpu::transfer::{input_format, pixels_from_bytes};
 use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use crate::io::{Image, IoError, Pixels};
 use crate::script::types::Format;
@@ -33,14 +36,14 @@ pub trait FrameSource: Send {
 
 /// Where output frames go (runs on the encode thread).
 pub trait FrameSink: Send {
-    /// Write output frame `number`.
+    /// Write output frame `number`; returns where it went (a file name, `stdout`).
     fn write(
         &mut self,
         number: u64,
         width: u32,
         height: u32,
         pixels: Pixels,
-    ) -> Result<(), IoError>;
+    ) -> Result<String, IoError>;
     /// Called once after the last frame.
     fn finish(&mut self) -> Result<(), IoError> {
         Ok(())
@@ -78,53 +81,8 @@ impl Default for SequenceOptions {
     }
 }
 
-/// Progress of a run, for a progress bar.
-#[derive(Debug, Clone, Copy)]
-pub struct Progress {
-    pub done: u64,
-    pub total: Option<u64>,
-    pub elapsed: Duration,
-}
-
-/// What a sequence run did and where its time went.
-#[derive(Debug, Clone, Default, serde::Serialize)]
-pub struct SequenceReport {
-    pub adapter: String,
-    pub frames_in: u64,
-    pub frames_out: u64,
-    pub wall_ms: f64,
-    pub fps: f64,
-    /// Busy time of each stage (the rest it waited on a queue).
-    pub decode_busy_ms: f64,
-    pub gpu_busy_ms: f64,
-    pub encode_busy_ms: f64,
-    /// Time the encode thread waited for the GPU to finish frames (not busy).
-    pub readback_wait_ms: f64,
-    /// Per-pass timings of the last frame (with `timings`).
-    pub passes: Vec<PassTiming>,
-    pub interrupted: bool,
-    /// The bound on frames held in memory at once (queues + input ring).
-    pub frames_held_max: usize,
-}
-
-impl SequenceReport {
-    /// Busy fraction of each stage over the wall time: (decode, gpu, encode).
-    pub fn utilisation(&self) -> (f64, f64, f64) {
-        let w = self.wall_ms.max(1e-9);
-        (
-            self.decode_busy_ms / w,
-            self.gpu_busy_ms / w,
-            self.encode_busy_ms / w,
-        )
-    }
-}
-
 type Decoded = Result<(u64, Image), IoError>;
-type Encoded = (u64, super::context::PendingReadback, Format);
-
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
-}
+type Encoded = (u64, PendingReadback, Format);
 
 /// Run `effect` over every frame of `source`, writing to `sink`. `stop` ends the
 /// run early (Ctrl-C): frames already written stay, frames in flight are finished.
@@ -138,7 +96,7 @@ pub fn run_sequence(
     camera: Option<CameraStd>,
     stop: Arc<AtomicBool>,
     mut progress: impl FnMut(Progress),
-) -> Result<SequenceReport, RunError> {
+) -> Result<RunReport, RunError> {
     let start = Instant::now();
     source.set_max_side(engine.ctx.device.limits().max_texture_dimension_2d);
     let total = source.frame_count();
@@ -175,37 +133,52 @@ pub fn run_sequence(
         .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
     let encoder = std::thread::Builder::new()
         .name("fxgraph encode".into())
-        .spawn(move || -> (Duration, Duration, Result<u64, RunError>) {
-            // `wait`: blocked until the GPU finished the frame; `busy`: converting and
-            // writing it.
-            let mut busy = Duration::ZERO;
-            let mut wait = Duration::ZERO;
-            let mut written = 0u64;
-            for (number, pending, format) in enc_rx {
-                let t = Instant::now();
-                let (w, h) = (pending.width(), pending.height());
-                let raw = pending.finish().map_err(RunError::from);
-                wait += t.elapsed();
-                let t = Instant::now();
-                let result = raw.and_then(|raw| {
-                    let pixels = super::runner::pixels_from_bytes(raw, format)?;
-                    sink.write(number, w, h, pixels).map_err(RunError::from)
-                });
-                busy += t.elapsed();
-                if let Err(e) = result {
-                    return (busy, wait, Err(e));
+        .spawn(
+            move || -> (Duration, Duration, Result<Vec<FrameDone>, RunError>) {
+                // `wait`: blocked until the GPU finished the frame; `busy`: converting and
+                // writing it.
+                let mut busy = Duration::ZERO;
+                let mut wait = Duration::ZERO;
+                let mut written = Vec::new();
+                for (number, pending, format) in enc_rx {
+                    let t = Instant::now();
+                    let (w, h) = (pending.width(), pending.height());
+                    let raw = pending.finish().map_err(RunError::from);
+                    wait += t.elapsed();
+                    let t = Instant::now();
+                    let result = raw.and_then(|raw| {
+                        let pixels = pixels_from_bytes(raw, format)?;
+                        sink.write(number, w, h, pixels).map_err(RunError::from)
+                    });
+                    let spent = t.elapsed();
+                    busy += spent;
+                    match result {
+                        Ok(output) => written.push(FrameDone {
+                            index: written.len(),
+                            input: format!("frame {number}"),
+                            output,
+                            width: w,
+                            height: h,
+                            decode_ms: None,
+                            gpu_ms: None,
+                            encode_ms: ms(spent),
+                        }),
+                        Err(e) => return (busy, wait, Err(e)),
+                    }
                 }
-                written += 1;
-            }
-            let t = Instant::now();
-            let r = sink.finish().map_err(RunError::from).map(|_| written);
-            busy += t.elapsed();
-            (busy, wait, r)
-        })
+                let t = Instant::now();
+                let r = sink.finish().map_err(RunError::from).map(|_| written);
+                busy += t.elapsed();
+                (busy, wait, r)
+            },
+        )
         .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))?;
 
-    let mut report = SequenceReport {
+    let mut report = RunReport {
+        job: JobKind::Sequence,
         adapter: engine.ctx.info.name.clone(),
+        backend: format!("{:?}", engine.ctx.info.backend),
+        frames_total: total,
         ..Default::default()
     };
     let mut gpu_busy = Duration::ZERO;
@@ -297,6 +270,12 @@ pub fn run_sequence(
                 }
             };
             prepared.fps = opts.fps;
+            report.plans += 1;
+            report.memory = MemoryReport {
+                peak_bytes: prepared.plan.peak_bytes,
+                lower_bound_bytes: prepared.plan.lower_bound_bytes,
+                naive_bytes: prepared.plan.naive_bytes,
+            };
             let mut s = Stream::new(engine, prepared, fmt);
             s.rate = opts.rate.max(1);
             s.camera = camera;
@@ -377,194 +356,20 @@ pub fn run_sequence(
         Duration::ZERO,
         Err(RunError::Other("the encode thread panicked".into())),
     ));
-    report.readback_wait_ms = ms(readback_wait);
-    report.decode_busy_ms = ms(decode_busy);
-    report.gpu_busy_ms = ms(gpu_busy);
-    report.encode_busy_ms = ms(encode_busy);
+    report.stages.readback_wait_ms = ms(readback_wait);
+    report.stages.decode_busy_ms = ms(decode_busy);
+    report.stages.gpu_busy_ms = ms(gpu_busy);
+    report.stages.encode_busy_ms = ms(encode_busy);
     report.wall_ms = ms(start.elapsed());
     if let Some(e) = failure {
         return Err(e);
     }
-    report.frames_out = written?;
+    report.done = written?;
     if report.frames_in == 0 && !report.interrupted {
         return Err(RunError::BadInput(IoError::Decode {
             path: "sequence".into(),
             message: "no frames".into(),
         }));
     }
-    report.fps = report.frames_out as f64 / (report.wall_ms / 1e3).max(1e-9);
     Ok(report)
-}
-
-/// Numbered image files read in order.
-pub struct FilesSource {
-    pub frames: Vec<(u64, std::path::PathBuf)>,
-    pub load: crate::io::LoadOptions,
-    /// Largest width or height accepted (checked from the header, before decoding).
-    pub max_side: u32,
-    pos: usize,
-}
-
-impl FilesSource {
-    pub fn new(frames: Vec<(u64, std::path::PathBuf)>, load: crate::io::LoadOptions) -> Self {
-        FilesSource {
-            frames,
-            load,
-            max_side: crate::io::MAX_SIDE,
-            pos: 0,
-        }
-    }
-}
-
-impl FrameSource for FilesSource {
-    fn frame_count(&self) -> Option<u64> {
-        Some(self.frames.len() as u64)
-    }
-    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
-        let Some((n, path)) = self.frames.get(self.pos) else {
-            return Ok(None);
-        };
-        self.pos += 1;
-        let bytes = crate::io::read_image_file(path)?;
-        let (w, h) = crate::io::image_dimensions(&bytes, path)?;
-        if w.max(h) > self.max_side {
-            return Err(IoError::Decode {
-                path: path.clone(),
-                message: format!(
-                    "the image is {w}x{h}, larger than the GPU's limit of {} pixels per side",
-                    self.max_side
-                ),
-            });
-        }
-        Ok(Some((
-            *n,
-            crate::io::decode_image(&bytes, path, &self.load)?,
-        )))
-    }
-    fn set_max_side(&mut self, max: u32) {
-        self.max_side = max.min(crate::io::MAX_SIDE);
-    }
-}
-
-/// Numbered image files written atomically.
-pub struct FilesSink {
-    pub pattern: crate::io::sequence::OutputPattern,
-    pub save: crate::io::SaveOptions,
-}
-
-impl FrameSink for FilesSink {
-    fn write(
-        &mut self,
-        number: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<(), IoError> {
-        crate::io::save_image(
-            &self.pattern.path_for(number),
-            width,
-            height,
-            &pixels,
-            &self.save,
-        )
-    }
-}
-
-fn y4m_error(e: crate::io::y4m::Y4mError) -> IoError {
-    IoError::from(e)
-}
-
-/// A YUV4MPEG2 stream (e.g. stdin) decoded to 8-bit sRGB frames.
-pub struct Y4mSource<R: std::io::Read + Send> {
-    pub reader: crate::io::y4m::Y4mReader<R>,
-    pub conversion: crate::io::y4m::YuvConversion,
-    /// Frames to skip before the first one produced (a shard's start).
-    pub skip: u64,
-    /// Last frame number to read (a shard's end plus its context), if any.
-    pub last: Option<u64>,
-}
-
-impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
-    fn frame_count(&self) -> Option<u64> {
-        None
-    }
-    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
-        use crate::io::y4m::{yuv_to_image, RgbKind};
-        loop {
-            let n = self.reader.frames_read();
-            if self.last.is_some_and(|l| n > l) {
-                return Ok(None);
-            }
-            let Some(frame) = self.reader.next_frame().map_err(y4m_error)? else {
-                return Ok(None);
-            };
-            if n < self.skip {
-                continue;
-            }
-            let header = self.reader.header().clone();
-            let img =
-                yuv_to_image(&frame, &header, &self.conversion, RgbKind::SrgbU8).map_err(|m| {
-                    IoError::Decode {
-                        path: self.reader.name().into(),
-                        message: format!("y4m frame {n}: {m}"),
-                    }
-                })?;
-            return Ok(Some((n, img)));
-        }
-    }
-}
-
-/// A YUV4MPEG2 stream (e.g. stdout) written from the output frames; the header is
-/// written with the first frame (its size is the output's).
-pub struct Y4mSink<W: std::io::Write + Send> {
-    pub inner: Option<W>,
-    pub writer: Option<crate::io::y4m::Y4mWriter<W>>,
-    /// Header fields to pass on (frame rate, interlacing, aspect, chroma).
-    pub template: crate::io::y4m::Y4mHeader,
-    pub conversion: crate::io::y4m::YuvConversion,
-    pub name: String,
-}
-
-impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
-    fn write(
-        &mut self,
-        _number: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<(), IoError> {
-        use crate::io::y4m::{image_to_yuv, Y4mWriter};
-        if self.writer.is_none() {
-            let mut header = self.template.clone();
-            header.width = width;
-            header.height = height;
-            let inner = self.inner.take().expect("sink not started yet");
-            self.writer =
-                Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
-        }
-        let w = self.writer.as_mut().expect("writer created");
-        let header = w.header().clone();
-        let img = Image {
-            width,
-            height,
-            pixels,
-            source: crate::io::SourceInfo {
-                format: crate::io::FileFormat::Png,
-                bit_depth: 8,
-                has_alpha: false,
-                float: false,
-            },
-        };
-        let frame = image_to_yuv(&img, &header, &self.conversion).map_err(|m| IoError::Decode {
-            path: self.name.clone().into(),
-            message: m,
-        })?;
-        w.write_frame(&frame).map_err(y4m_error)
-    }
-    fn finish(&mut self) -> Result<(), IoError> {
-        if let Some(w) = self.writer.as_mut() {
-            w.flush().map_err(y4m_error)?;
-        }
-        Ok(())
-    }
 }

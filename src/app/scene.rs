@@ -2,10 +2,14 @@
 //! renderer and run an effect chain on it, with the G-buffer as `AUX.*` inputs and
 //! the camera as the standard values `near`, `far`, `proj`, `inv_proj`.
 
-use super::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
-use super::scene::{Camera, Scene, SceneError};
-use crate::gpu::executor::{Engine, FrameInputs, PassTiming};
-use crate::gpu::runner::{create_output, output_format_for, read_pixels, Effect, RunError};
+use super::effect::Effect;
+use super::error::RunError;
+use super::report::{ms, FrameDone, JobKind, MemoryReport, RunReport, SceneStats};
+use super::still::output_format_for;
+use crate::deferred::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
+use crate::deferred::scene::{Camera, Scene, SceneError};
+use crate::gpu::executor::{Engine, FrameInputs};
+use crate::gpu::transfer::{create_output, read_pixels};
 use crate::graph::plan::InputDesc;
 use crate::io::{self, IoError, SaveOptions};
 use crate::script::types::{ColorSpace, Format};
@@ -62,47 +66,20 @@ pub struct SceneJob {
     /// `SCENE_MATERIAL=DEFINITION` pairs (`*` for every scene material).
     pub material_map: Vec<(String, String)>,
     /// How material features select shader code.
-    pub variants: super::material::VariantMode,
+    pub variants: crate::deferred::material::VariantMode,
     /// How the light passes pick each pixel's lights.
-    pub light_culling: super::renderer::LightCulling,
+    pub light_culling: crate::deferred::renderer::LightCulling,
     /// Fog applied in the lighting template (no post pass).
-    pub fog: Option<super::fog::Fog>,
+    pub fog: Option<crate::deferred::fog::Fog>,
     /// Print each material, its shaders and variant, and the pipelines compiled.
     pub describe_materials: bool,
     /// An ambient light to add (linear RGB radiance); scenes otherwise render
     /// only the lights they have.
     pub ambient: Option<[f32; 3]>,
     /// Shadow maps: filter (or off), map size, layers per frame.
-    pub shadows: super::shadows::ShadowMode,
+    pub shadows: crate::deferred::shadows::ShadowMode,
     pub shadow_size: u32,
     pub shadow_layers: u32,
-}
-
-/// Timings of a scene job.
-#[derive(Debug, Clone, Default, serde::Serialize)]
-pub struct SceneReport {
-    pub adapter: String,
-    pub load_ms: f64,
-    pub render_cpu_ms: f64,
-    pub render_gpu_ms: Option<f64>,
-    pub render_passes: Vec<(String, f64)>,
-    pub triangles: usize,
-    pub lights_visible: usize,
-    /// Light × cluster entries and their upload bytes (clustered culling).
-    pub cluster_entries: usize,
-    pub cluster_bytes: u64,
-    /// Shadow-map layers rendered and the bytes of the shadow-map texture.
-    pub shadow_layers: usize,
-    pub shadow_map_bytes: u64,
-    /// One line per material (with `describe_materials`).
-    pub materials: Vec<String>,
-    pub pipelines: usize,
-    pub shader_modules: usize,
-    pub effect_passes: Vec<PassTiming>,
-    pub effects_ms: f64,
-    pub readback_ms: f64,
-    pub encode_ms: f64,
-    pub total_ms: f64,
 }
 
 /// A scene error as an input error naming the file (the glTF file, or the `--scene`
@@ -115,7 +92,7 @@ fn scene_error(scene: &str, e: SceneError) -> RunError {
             name,
             format!(
                 "{count} materials, at most {} are supported (8-bit material id)",
-                super::scene::MAX_MATERIALS
+                crate::deferred::scene::MAX_MATERIALS
             ),
         ),
         other => (scene.to_string(), other.to_string()),
@@ -140,10 +117,20 @@ fn render_error(scene: &str, e: RenderError) -> RunError {
 }
 
 /// Render the scene, run the effects, write the output (and the G-buffer).
-pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport, RunError> {
+pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, RunError> {
     let t_all = Instant::now();
-    let mut report = SceneReport {
+    let mut report = RunReport {
+        job: JobKind::Scene,
         adapter: engine.ctx.info.name.clone(),
+        backend: format!("{:?}", engine.ctx.info.backend),
+        frames_total: Some(1),
+        ..Default::default()
+    };
+    let mut stats = SceneStats {
+        scene: job.scene.clone(),
+        technique: job.technique.to_string(),
+        light_culling: job.light_culling.to_string(),
+        shadows: job.shadows.to_string(),
         ..Default::default()
     };
     // Check everything the user wrote before rendering.
@@ -186,7 +173,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             })
         })?;
         let rejected = |rendered: String| RunError::Rejected { rendered };
-        let file = super::material::script::load_materials(
+        let file = crate::deferred::material::script::load_materials(
             &path.display().to_string(),
             &text,
             path.parent(),
@@ -194,7 +181,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         )
         .map_err(rejected)?;
         let replaced =
-            super::material::script::apply_materials(&mut scene, file, &job.material_map)
+            crate::deferred::material::script::apply_materials(&mut scene, file, &job.material_map)
                 .map_err(|m| rejected(format!("{m}\n")))?;
         log::info!(
             "{}: materials replaced: {}",
@@ -210,9 +197,9 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         scene.add_random_point_lights(job.lights, job.seed);
     }
     if let Some([r, g, b]) = job.ambient {
-        scene.lights.push(super::scene::Light {
+        scene.lights.push(crate::deferred::scene::Light {
             name: "--ambient".into(),
-            ..super::scene::Light::ambient(glam::Vec3::new(r, g, b), 1.0)
+            ..crate::deferred::scene::Light::ambient(glam::Vec3::new(r, g, b), 1.0)
         });
     }
     scene.ensure_lights();
@@ -220,7 +207,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
         None => scene.default_camera(),
     };
-    report.load_ms = t.elapsed().as_secs_f64() * 1e3;
+    stats.load_ms = ms(t.elapsed());
     let ctx = engine.ctx.clone();
     let mut renderer = Renderer::new(
         &ctx,
@@ -241,7 +228,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
     } else {
         None
     };
-    let (out, stats): (_, RenderStats) = renderer
+    let (out, rs): (_, RenderStats) = renderer
         .render(
             &ctx,
             &camera,
@@ -251,25 +238,28 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             timer.as_ref(),
         )
         .map_err(|e| render_error(&job.scene, e))?;
-    report.render_cpu_ms = stats.cpu_ms;
-    report.render_gpu_ms = stats.gpu_ms;
-    report.render_passes = stats.pass_ms.clone();
-    report.triangles = stats.triangles;
-    report.lights_visible = stats.lights_visible;
-    report.cluster_entries = stats.cluster_entries;
-    report.cluster_bytes = stats.cluster_bytes;
-    report.shadow_layers = stats.shadow_layers;
-    report.shadow_map_bytes = stats.shadow_map_bytes;
-    report.pipelines = stats.pipelines;
-    report.shader_modules = stats.shader_modules;
+    stats.render_cpu_ms = rs.cpu_ms;
+    stats.render_gpu_ms = rs.gpu_ms;
+    stats.render_passes = rs.pass_ms.clone();
+    stats.triangles = rs.triangles;
+    stats.lights_visible = rs.lights_visible;
+    stats.cluster_entries = rs.cluster_entries;
+    stats.cluster_bytes = rs.cluster_bytes;
+    stats.shadow_layers = rs.shadow_layers;
+    stats.shadow_map_bytes = rs.shadow_map_bytes;
+    stats.pipelines = rs.pipelines;
+    stats.shader_modules = rs.shader_modules;
     if job.describe_materials {
-        report.materials = renderer.materials().describe();
+        stats.materials = renderer.materials().describe();
     }
+    report.frames_in = 1;
+    report.stages.decode_busy_ms = stats.load_ms + stats.render_cpu_ms;
+    report.scene = Some(stats);
     if let Some(dir) = &job.gbuffer {
-        super::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
+        crate::deferred::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
     }
     let Some(path) = &job.output else {
-        report.total_ms = t_all.elapsed().as_secs_f64() * 1e3;
+        report.wall_ms = ms(t_all.elapsed());
         return Ok(report);
     };
     let out_format = out_format.expect("output format checked");
@@ -283,15 +273,23 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
                 colorspace: ColorSpace::Linear,
                 aux: renderer.aux_formats().to_vec(),
             };
+            let t = Instant::now();
             let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
+            report.steps.pipeline_ms = ms(t.elapsed());
+            report.plans += 1;
+            report.memory = MemoryReport {
+                peak_bytes: prepared.plan.peak_bytes,
+                lower_bound_bytes: prepared.plan.lower_bound_bytes,
+                naive_bytes: prepared.plan.naive_bytes,
+            };
             let o = prepared.plan.output;
             let target = create_output(&ctx, o.width, o.height, o.format);
             let t = Instant::now();
             let mut inputs = FrameInputs::still(&out.scene, &prepared.plan);
             inputs.aux = out.aux.iter().map(|(n, t)| (n.clone(), t.into())).collect();
             inputs.camera = Some(out.camera);
-            report.effect_passes = prepared.run(engine, &inputs, &target, job.timings)?;
-            report.effects_ms = t.elapsed().as_secs_f64() * 1e3;
+            report.passes = prepared.run(engine, &inputs, &target, job.timings)?;
+            report.steps.passes_ms = ms(t.elapsed());
             (Some(target), o.format)
         }
     };
@@ -305,7 +303,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
         result_tex.as_ref().unwrap_or(&out.scene),
         result_format,
     )?;
-    report.readback_ms = t.elapsed().as_secs_f64() * 1e3;
+    report.steps.readback_ms = ms(t.elapsed());
     let t = Instant::now();
     io::save_image(
         path,
@@ -317,7 +315,19 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<SceneReport,
             assume_linear: false,
         },
     )?;
-    report.encode_ms = t.elapsed().as_secs_f64() * 1e3;
-    report.total_ms = t_all.elapsed().as_secs_f64() * 1e3;
+    let encode_ms = ms(t.elapsed());
+    report.stages.encode_busy_ms = encode_ms;
+    report.stages.gpu_busy_ms = report.steps.passes_ms + report.steps.readback_ms;
+    report.done.push(FrameDone {
+        index: 0,
+        input: job.scene.clone(),
+        output: path.display().to_string(),
+        width: w,
+        height: h,
+        decode_ms: None,
+        gpu_ms: None,
+        encode_ms,
+    });
+    report.wall_ms = ms(t_all.elapsed());
     Ok(report)
 }

@@ -1,0 +1,32 @@
+//! The application layer: jobs that join sources (image files, folders of stills,
+//! numbered frames, y4m files and pipes, the scene renderer, a caller's memory), a
+//! compiled effect on the GPU, and sinks (files, folders, patterns, y4m, memory),
+//! with one report type ([`RunReport`]) for all of them. `fxrun` is a thin command
+//! line over this module; Rust programs may use it or go one layer down to
+//! [`crate::gpu`] (device, transfers, executor) and record frames themselves.
+//!
+//! - [`effect`]: [`Effect`] (compile, prepare) and [`apply_in_memory`].
+//! - [`still`]: one image file to one output file ([`apply_to_image`]).
+//! - [`batch`]: independent stills of any size through one process ([`run_batch`]).
+//! - [`sequence`]: frames of one size in order, temporal effects ([`run_sequence`]),
+//!   over a [`FrameSource`] and a [`FrameSink`] ([`sources`]: files, y4m).
+//! - [`scene`]: render a scene, then the effects ([`run_scene_job`]).
+//! - [`report`]: [`RunReport`]; [`error`]: [`RunError`].
+
+pub mod batch;
+pub mod effect;
+pub mod error;
+pub mod report;
+pub mod scene;
+pub mod sequence;
+pub mod sources;
+pub mod still;
+
+pub use batch::{run_batch, BatchItem, BatchOptions};
+pub use effect::{apply_in_memory, Effect};
+pub use error::RunError;
+pub use report::{FrameDone, FrameFailure, JobKind, Progress, RunReport};
+pub use scene::{run_scene_job, SceneJob};
+pub use sequence::{run_sequence, FrameSink, FrameSource, SequenceOptions};
+pub use sources::{FilesSink, FilesSource, Y4mSink, Y4mSource};
+pub use still::{apply_to_image, output_format_for, ImageJob};

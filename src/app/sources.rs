@@ -1,0 +1,172 @@
+//! The sources and sinks of file and stream jobs: numbered image files, y4m streams
+//! (files or pipes). `fxrun` adds its own (e.g. named outputs for `-o DIR`).
+
+use super::sequence::{FrameSink, FrameSource};
+use crate::io::{self, Image, IoError, Pixels};
+
+/// Numbered image files read in order.
+pub struct FilesSource {
+    pub frames: Vec<(u64, std::path::PathBuf)>,
+    pub load: io::LoadOptions,
+    /// Largest width or height accepted (checked from the header, before decoding).
+    pub max_side: u32,
+    pos: usize,
+}
+
+impl FilesSource {
+    pub fn new(frames: Vec<(u64, std::path::PathBuf)>, load: io::LoadOptions) -> Self {
+        FilesSource {
+            frames,
+            load,
+            max_side: io::MAX_SIDE,
+            pos: 0,
+        }
+    }
+}
+
+impl FrameSource for FilesSource {
+    fn frame_count(&self) -> Option<u64> {
+        Some(self.frames.len() as u64)
+    }
+    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
+        let Some((n, path)) = self.frames.get(self.pos) else {
+            return Ok(None);
+        };
+        self.pos += 1;
+        let bytes = io::read_image_file(path)?;
+        let (w, h) = io::image_dimensions(&bytes, path)?;
+        if w.max(h) > self.max_side {
+            return Err(IoError::Decode {
+                path: path.clone(),
+                message: format!(
+                    "the image is {w}x{h}, larger than the GPU's limit of {} pixels per side",
+                    self.max_side
+                ),
+            });
+        }
+        Ok(Some((*n, io::decode_image(&bytes, path, &self.load)?)))
+    }
+    fn set_max_side(&mut self, max: u32) {
+        self.max_side = max.min(io::MAX_SIDE);
+    }
+}
+
+/// Numbered image files written atomically.
+pub struct FilesSink {
+    pub pattern: io::sequence::OutputPattern,
+    pub save: io::SaveOptions,
+}
+
+impl FrameSink for FilesSink {
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<String, IoError> {
+        let path = self.pattern.path_for(number);
+        io::save_image(&path, width, height, &pixels, &self.save)?;
+        Ok(path.display().to_string())
+    }
+}
+
+fn y4m_error(e: io::y4m::Y4mError) -> IoError {
+    IoError::from(e)
+}
+
+/// A YUV4MPEG2 stream (e.g. stdin) decoded to 8-bit sRGB frames.
+pub struct Y4mSource<R: std::io::Read + Send> {
+    pub reader: io::y4m::Y4mReader<R>,
+    pub conversion: io::y4m::YuvConversion,
+    /// Frames to skip before the first one produced (a shard's start).
+    pub skip: u64,
+    /// Last frame number to read (a shard's end plus its context), if any.
+    pub last: Option<u64>,
+}
+
+impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
+    fn frame_count(&self) -> Option<u64> {
+        None
+    }
+    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
+        use io::y4m::{yuv_to_image, RgbKind};
+        loop {
+            let n = self.reader.frames_read();
+            if self.last.is_some_and(|l| n > l) {
+                return Ok(None);
+            }
+            let Some(frame) = self.reader.next_frame().map_err(y4m_error)? else {
+                return Ok(None);
+            };
+            if n < self.skip {
+                continue;
+            }
+            let header = self.reader.header().clone();
+            let img =
+                yuv_to_image(&frame, &header, &self.conversion, RgbKind::SrgbU8).map_err(|m| {
+                    IoError::Decode {
+                        path: self.reader.name().into(),
+                        message: format!("y4m frame {n}: {m}"),
+                    }
+                })?;
+            return Ok(Some((n, img)));
+        }
+    }
+}
+
+/// A YUV4MPEG2 stream (e.g. stdout) written from the output frames; the header is
+/// written with the first frame (its size is the output's).
+pub struct Y4mSink<W: std::io::Write + Send> {
+    pub inner: Option<W>,
+    pub writer: Option<io::y4m::Y4mWriter<W>>,
+    /// Header fields to pass on (frame rate, interlacing, aspect, chroma).
+    pub template: io::y4m::Y4mHeader,
+    pub conversion: io::y4m::YuvConversion,
+    pub name: String,
+}
+
+impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<String, IoError> {
+        use io::y4m::{image_to_yuv, Y4mWriter};
+        if self.writer.is_none() {
+            let mut header = self.template.clone();
+            header.width = width;
+            header.height = height;
+            let inner = self.inner.take().expect("sink not started yet");
+            self.writer =
+                Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
+        }
+        let w = self.writer.as_mut().expect("writer created");
+        let header = w.header().clone();
+        let img = Image {
+            width,
+            height,
+            pixels,
+            source: io::SourceInfo {
+                format: io::FileFormat::Png,
+                bit_depth: 8,
+                has_alpha: false,
+                float: false,
+            },
+        };
+        let frame = image_to_yuv(&img, &header, &self.conversion).map_err(|m| IoError::Decode {
+            path: self.name.clone().into(),
+            message: m,
+        })?;
+        w.write_frame(&frame).map_err(y4m_error)?;
+        Ok(format!("{} frame {number}", self.name))
+    }
+    fn finish(&mut self) -> Result<(), IoError> {
+        if let Some(w) = self.writer.as_mut() {
+            w.flush().map_err(y4m_error)?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,216 @@
+//! `fxrun`: the one printer of a job's [`RunReport`] (an image, a batch, a sequence, a
+//! scene): failures always, each output with `-v`, a batch's summary line, and with
+//! `--timings` where the time went. Timings go to stdout for an image or a scene (the
+//! output is a file) and to stderr for batches and sequences (stdout may be a y4m
+//! stream).
+
+use super::*;
+use fxgraph::app::{JobKind, RunReport};
+use fxgraph::gpu::executor::PassTiming;
+
+/// Print what `fxrun` reports about a finished job.
+pub(crate) fn print_report(cli: &Cli, r: &RunReport) {
+    for f in &r.failed {
+        if f.message.contains(&f.input) {
+            eprintln!("fxrun: error: {}", f.message);
+        } else {
+            eprintln!("fxrun: error: {}: {}", f.input, f.message);
+        }
+    }
+    if !r.warnings.is_empty() {
+        eprint!("{}", r.warnings);
+    }
+    // Notes (an automatic conversion) are informational: shown with -v only.
+    if cli.verbose && !r.notes.is_empty() {
+        eprint!("{}", r.notes);
+    }
+    if cli.verbose && r.job != JobKind::Image {
+        for d in &r.done {
+            eprintln!(
+                "fxrun: {} -> {} ({}x{}, {:.1} ms)",
+                d.input,
+                d.output,
+                d.width,
+                d.height,
+                d.total_ms()
+            );
+        }
+    }
+    if r.job == JobKind::Batch {
+        print_batch_summary(r);
+    }
+    if cli.timings {
+        let to_stdout = matches!(r.job, JobKind::Image | JobKind::Scene);
+        for line in timing_lines(r) {
+            if to_stdout {
+                outln!("{line}");
+            } else {
+                eprintln!("{line}");
+            }
+        }
+    }
+}
+
+fn print_batch_summary(r: &RunReport) {
+    let plural = |n: u64| if n == 1 { "image" } else { "images" };
+    let done = r.done.len() as u64;
+    eprintln!(
+        "fxrun: {} {} in {:.2} s, {:.1} ms per image (median), {} plan{} ({})",
+        done,
+        plural(done),
+        r.wall_ms / 1e3,
+        r.median_ms(),
+        r.plans,
+        if r.plans == 1 { "" } else { "s" },
+        r.adapter
+    );
+    if !r.failed.is_empty() {
+        let stopped = match r.not_run() {
+            0 => String::new(),
+            n => {
+                format!("; stopped at the first failure, {n} not run (--keep-going runs the rest)")
+            }
+        };
+        let total = r.frames_total.unwrap_or(0);
+        eprintln!(
+            "fxrun: {} of {} {} failed{stopped}",
+            r.failed.len(),
+            total,
+            plural(total)
+        );
+    }
+}
+
+/// The `--timings` lines of a report.
+fn timing_lines(r: &RunReport) -> Vec<String> {
+    let mut out = Vec::new();
+    let size = r
+        .done
+        .last()
+        .map(|d| format!("{}x{}", d.width, d.height))
+        .unwrap_or_else(|| "-".into());
+    match (&r.scene, r.job) {
+        (Some(s), _) => {
+            out.push(format!(
+                "adapter: {} ({})  scene {} ({} triangles, {} lights visible, {} culling: {} light-cluster entries, {:.1} KiB)  {size}",
+                r.adapter,
+                r.backend,
+                s.scene,
+                s.triangles,
+                s.lights_visible,
+                s.light_culling,
+                s.cluster_entries,
+                s.cluster_bytes as f64 / 1024.0,
+            ));
+            for (name, ms) in &s.render_passes {
+                out.push(format!("  render {name:<26} gpu {ms:>8.2} ms"));
+            }
+            out.push(format!(
+                "  shadows {}: {} layers, {:.1} MiB of shadow maps",
+                s.shadows,
+                s.shadow_layers,
+                s.shadow_map_bytes as f64 / (1u64 << 20) as f64
+            ));
+        }
+        (None, JobKind::Image) => {
+            out.push(format!(
+                "adapter: {} ({})  image {size}",
+                r.adapter, r.backend
+            ));
+        }
+        (None, _) => {
+            out.push(format!(
+                "adapter: {} ({})  frames: {} in, {} out  wall {:.1} ms  {:.2} fps  ({} plan{})",
+                r.adapter,
+                r.backend,
+                r.frames_in,
+                r.done.len(),
+                r.wall_ms,
+                r.fps(),
+                r.plans,
+                if r.plans == 1 { "" } else { "s" }
+            ));
+        }
+    }
+    out.extend(pass_lines(&r.passes));
+    let st = &r.stages;
+    match (&r.scene, r.job) {
+        (Some(s), _) => out.push(format!(
+            "load {:.1} ms | render cpu {:.1} gpu {} | pipelines {:.1} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
+            s.load_ms,
+            s.render_cpu_ms,
+            s.render_gpu_ms
+                .map(|g| format!("{g:.1}"))
+                .unwrap_or_else(|| "-".into()),
+            r.steps.pipeline_ms,
+            r.steps.passes_ms,
+            r.steps.readback_ms,
+            st.encode_busy_ms,
+            r.wall_ms
+        )),
+        (None, JobKind::Image) => out.push(format!(
+            "compile {:.1} ms | decode {:.1} | device {:.1} (created in {:.1}, overlapping the decode) | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
+            r.compile_ms,
+            st.decode_busy_ms,
+            r.device_wait_ms,
+            r.device_created_ms,
+            r.steps.pipeline_ms,
+            r.steps.upload_ms,
+            r.steps.passes_ms,
+            r.steps.readback_ms,
+            st.encode_busy_ms,
+            r.wall_ms
+        )),
+        (None, _) => {
+            let (d, g, e) = r.utilisation();
+            out.push(format!(
+                "stage busy: decode {:.0} ms ({:.0}%), gpu {:.0} ms ({:.0}%), encode {:.0} ms ({:.0}%); the encoder waited {:.0} ms for the GPU; wall {:.0} ms  (frames held at most: {})",
+                st.decode_busy_ms,
+                d * 100.0,
+                st.gpu_busy_ms,
+                g * 100.0,
+                st.encode_busy_ms,
+                e * 100.0,
+                st.readback_wait_ms,
+                r.wall_ms,
+                r.frames_held_max
+            ));
+        }
+    }
+    if r.plans > 0 {
+        let mib = |b: u64| b as f64 / 1048576.0;
+        out.push(format!(
+            "transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})",
+            mib(r.memory.peak_bytes),
+            mib(r.memory.lower_bound_bytes),
+            mib(r.memory.naive_bytes)
+        ));
+    }
+    out
+}
+
+/// The passes with their GPU (and CPU recording) time, one line each.
+fn pass_lines(passes: &[PassTiming]) -> Vec<String> {
+    if passes.is_empty() {
+        return Vec::new();
+    }
+    let mut out = vec![format!(
+        "  {:<32} {:>11} {:<10} {:>9} {:>9}",
+        "pass", "size", "format", "gpu ms", "cpu ms"
+    )];
+    for p in passes {
+        let gpu = p
+            .gpu_ms
+            .map(|g| format!("{g:.2}"))
+            .unwrap_or_else(|| "-".into());
+        out.push(format!(
+            "  {:<32} {:>11} {:<10} {:>9} {:>9.2}",
+            p.path,
+            format!("{}x{}", p.width, p.height),
+            p.format,
+            gpu,
+            p.cpu_ms
+        ));
+    }
+    out
+}

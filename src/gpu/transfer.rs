@@ -1,0 +1,113 @@
+//! Images to textures and back: the texture format an [`Image`] is uploaded as, its
+//! texel bytes, uploads, output textures and read-backs. Plain pixels in, plain
+//! pixels out; files are the application's (`crate::app`).
+
+use super::context::{GpuContext, GpuError};
+use super::executor::wgpu_format;
+use crate::pixels::{Image, Pixels};
+use crate::script::types::{ColorSpace, Format};
+
+/// The texture format an image is uploaded as, and what its samples mean.
+pub fn input_format(img: &Image, assume_linear: bool) -> (Format, ColorSpace) {
+    match img.pixels {
+        Pixels::U8(_) if assume_linear => (Format::Rgba8, ColorSpace::Linear),
+        Pixels::U8(_) => (Format::Rgba8Srgb, ColorSpace::Linear),
+        Pixels::F32(_) => (Format::Rgba16f, ColorSpace::Linear),
+    }
+}
+
+/// Upload an image as a texture of `format` (from [`input_format`]).
+pub fn upload_image(
+    ctx: &GpuContext,
+    label: &str,
+    img: &Image,
+    format: Format,
+) -> Result<wgpu::Texture, GpuError> {
+    let bytes = image_bytes(img, format);
+    ctx.upload_texture(
+        label,
+        img.width,
+        img.height,
+        wgpu_format(format),
+        &bytes,
+        wgpu::TextureUsages::empty(),
+    )
+}
+
+/// An image's pixels as the tightly packed texel bytes of `format` (from [`input_format`]).
+pub fn image_bytes(img: &Image, format: Format) -> Vec<u8> {
+    match (&img.pixels, format) {
+        (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
+        (Pixels::F32(v), Format::Rgba16f) => v
+            .iter()
+            .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
+            .collect(),
+        (Pixels::F32(v), Format::Rgba32f) => v.iter().flat_map(|&x| x.to_le_bytes()).collect(),
+        (p, f) => {
+            let lin = p.to_f32_linear(false);
+            match f {
+                Format::Rgba16f => lin
+                    .iter()
+                    .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
+                    .collect(),
+                _ => lin.iter().flat_map(|&x| x.to_le_bytes()).collect(),
+            }
+        }
+    }
+}
+
+/// Read a texture back as pixels (U8 for 8-bit formats, linear F32 otherwise).
+pub fn read_pixels(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    format: Format,
+) -> Result<Pixels, GpuError> {
+    pixels_from_bytes(ctx.read_texture(texture)?, format)
+}
+
+/// Tightly packed texel bytes of `format` as pixels.
+pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuError> {
+    Ok(match format {
+        Format::Rgba8 | Format::Rgba8Srgb => Pixels::U8(raw),
+        Format::Rgba16f => Pixels::F32(
+            raw.chunks_exact(2)
+                .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
+                .collect(),
+        ),
+        Format::Rgba32f => Pixels::F32(
+            raw.chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        ),
+        other => {
+            return Err(GpuError::Map(format!(
+                "cannot read back {other} as an image"
+            )))
+        }
+    })
+}
+
+/// Create an output texture for a plan.
+pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("fxgraph output"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu_format(format),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::TEXTURE_BINDING,
+        // An sRGB output may be written through a raw 8-bit view (View::Raw).
+        view_formats: if format == Format::Rgba8Srgb && ctx.info.backend != wgpu::Backend::Gl {
+            &[wgpu::TextureFormat::Rgba8Unorm]
+        } else {
+            &[]
+        },
+    })
+}
