@@ -398,16 +398,15 @@ fn gpu_one(
     c.prepared.frame = 0;
     c.prepared.subframe = 0;
     let inputs = FrameInputs::still(&c.input, &c.prepared.plan);
-    let passes = c.prepared.run(engine, &inputs, &c.output, opts.timings)?;
+    // The passes and the copy into the read-back buffer: one submission.
+    let output = &c.output;
+    let (passes, pending) = c
+        .prepared
+        .run_then(engine, &inputs, output, opts.timings, |enc| {
+            ctx.encode_readback(enc, output)
+        })?;
     if opts.timings {
         report.passes = passes;
     }
-    let mut enc = ctx
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("fxgraph batch readback"),
-        });
-    let pending = ctx.encode_readback(&mut enc, &c.output)?;
-    ctx.queue.submit([enc.finish()]);
     Ok(pending)
 }

@@ -10,7 +10,7 @@
 use super::effect::Effect;
 use super::error::RunError;
 use super::report::{ms, FrameDone, JobKind, MemoryReport, Progress, RunReport};
-use crate::gpu::context::{GpuContext, PendingReadback};
+use crate::gpu::context::PendingReadback;
 use crate::gpu::executor::{CameraStd, Engine};
 use crate::gpu::stream::Stream;
 use crate::gpu::transfer::{input_format, pixels_from_bytes};
@@ -197,7 +197,9 @@ pub fn run_sequence(
      -> Result<bool, RunError> {
         loop {
             let t = Instant::now();
-            let Some(out) = stream.next(engine)? else {
+            // The frame's passes and the copy of its output for the encoder thread:
+            // one submission.
+            let Some((out, pending)) = stream.next_read_back(engine)? else {
                 *gpu_busy += t.elapsed();
                 return Ok(true);
             };
@@ -208,17 +210,6 @@ pub fn run_sequence(
                 .get(input_index as usize)
                 .copied()
                 .unwrap_or(first + input_index);
-            let pending = {
-                let ctx: &GpuContext = &engine.ctx;
-                let mut enc = ctx
-                    .device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("sequence readback"),
-                    });
-                let p = ctx.encode_readback(&mut enc, stream.output())?;
-                ctx.queue.submit([enc.finish()]);
-                p
-            };
             *gpu_busy += t.elapsed();
             let keep = opts
                 .emit

@@ -16,7 +16,7 @@
 //! after the first. Each output is one frame recorded by [`Prepared::run`]: one
 //! command encoder, one submission.
 
-use super::context::GpuError;
+use super::context::{GpuError, PendingReadback};
 use super::executor::{
     wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
 };
@@ -187,6 +187,24 @@ impl Stream {
     /// (`input frame * rate + subframe`), or `None` when no output is ready (push
     /// more frames, or call [`Stream::end`]).
     pub fn next(&mut self, engine: &mut Engine) -> Result<Option<u64>, ExecError> {
+        Ok(self.next_then(engine, |_, _| Ok(()))?.map(|(i, ())| i))
+    }
+
+    /// [`Stream::next`], copying the output into a read-back buffer in the same
+    /// submission as the frame's passes (one encoder, one submission per output).
+    pub fn next_read_back(
+        &mut self,
+        engine: &mut Engine,
+    ) -> Result<Option<(u64, PendingReadback)>, ExecError> {
+        let ctx = engine.ctx.clone();
+        self.next_then(engine, |enc, output| ctx.encode_readback(enc, output))
+    }
+
+    fn next_then<T>(
+        &mut self,
+        engine: &mut Engine,
+        then: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Texture) -> Result<T, GpuError>,
+    ) -> Result<Option<(u64, T)>, ExecError> {
         let t = self.emitted;
         let ready = if self.ended {
             t < self.pushed
@@ -199,7 +217,7 @@ impl Stream {
         let s = self.subframe;
         self.prepared.frame = t;
         self.prepared.subframe = s;
-        self.produce(engine)?;
+        let extra = self.produce(engine, then)?;
         self.subframe += 1;
         if self.subframe == self.rate {
             self.subframe = 0;
@@ -211,10 +229,14 @@ impl Stream {
                 self.spare.push(tex);
             }
         }
-        Ok(Some(t * self.rate as u64 + s as u64))
+        Ok(Some((t * self.rate as u64 + s as u64, extra)))
     }
 
-    fn produce(&mut self, engine: &mut Engine) -> Result<(), ExecError> {
+    fn produce<T>(
+        &mut self,
+        engine: &mut Engine,
+        then: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Texture) -> Result<T, GpuError>,
+    ) -> Result<T, ExecError> {
         let t = self.emitted;
         let last = self.pushed - 1;
         let mut inputs = FrameInputs {
@@ -236,12 +258,15 @@ impl Stream {
                 .ok_or_else(|| ExecError::Input(format!("input frame {idx} is no longer held")))?;
             inputs.frames.insert(k, tex.into());
         }
-        let timings = self
-            .prepared
-            .run(engine, &inputs, &self.output, self.want_timings)?;
+        let output = &self.output;
+        let (timings, extra) =
+            self.prepared
+                .run_then(engine, &inputs, output, self.want_timings, |enc| {
+                    then(enc, output)
+                })?;
         if self.want_timings {
             self.last_timings = timings;
         }
-        Ok(())
+        Ok(extra)
     }
 }

@@ -220,6 +220,21 @@ impl Prepared {
         output: impl Into<ImageRef<'a>>,
         want_timings: bool,
     ) -> Result<Vec<PassTiming>, ExecError> {
+        self.run_then(engine, inputs, output, want_timings, |_| Ok(()))
+            .map(|(timings, ())| timings)
+    }
+
+    /// [`Prepared::run`], with `then` recording more commands after the frame's passes
+    /// in the same encoder, submission and error scope (e.g. the copy of the output
+    /// into a read-back buffer: [`crate::gpu::context::GpuContext::encode_readback`]).
+    pub fn run_then<'a, T>(
+        &mut self,
+        engine: &mut Engine,
+        inputs: &FrameInputs<'a>,
+        output: impl Into<ImageRef<'a>>,
+        want_timings: bool,
+        then: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<T, GpuError>,
+    ) -> Result<(Vec<PassTiming>, T), ExecError> {
         let output = output.into();
         let ctx = engine.ctx.clone();
         let timer = if want_timings {
@@ -236,10 +251,11 @@ impl Prepared {
             if let Some(t) = &timer {
                 t.resolve(&mut encoder, timings.len() as u32);
             }
+            let extra = then(&mut encoder)?;
             ctx.queue.submit([encoder.finish()]);
-            Ok::<_, ExecError>(timings)
+            Ok::<_, ExecError>((timings, extra))
         });
-        let mut timings = match result {
+        let (mut timings, extra) = match result {
             Ok(Ok(t)) => t,
             Ok(Err(e)) => {
                 self.timer = self.timer.take().or(timer);
@@ -266,7 +282,7 @@ impl Prepared {
                 message: e.clone(),
             }));
         }
-        Ok(timings)
+        Ok((timings, extra))
     }
 
     /// The view of a caller image in `format`.
