@@ -9,10 +9,10 @@
 //! An effect that reads other frames (`IN[±n]`, feedback) is a sequence, not a batch:
 //! see [`super::sequence`].
 //!
-//! The work is pipelined like a sequence: a decode thread reads and decodes the next
-//! images, this thread runs the GPU, and an encode thread waits for each read-back and
-//! writes the file (atomically: a failed image never leaves a partial file, and an
-//! existing output is replaced only by a complete one).
+//! A batch is a run of [`super::pipeline`] in `Mode::Stills`: a decode thread reads
+//! and decodes the next images, this thread runs the GPU, and an encode thread waits
+//! for each read-back and writes the file (atomically: a failed image never leaves a
+//! partial file, and an existing output is replaced only by a complete one).
 //!
 //! A failed image (unreadable, corrupt, too large, unwritable output) is recorded in
 //! [`RunReport::failed`]; with [`BatchOptions::keep_going`] the other images go on,
@@ -21,19 +21,16 @@
 
 use super::effect::Effect;
 use super::error::RunError;
-use super::report::{ms, FrameDone, FrameFailure, JobKind, MemoryReport, Progress, RunReport};
+use super::pipeline::{run_frames, Device, FrameSink, Mode, PipelineOptions};
+use super::report::{JobKind, Progress, RunReport};
+use super::sources::FilesSource;
 use super::still::output_format_for;
-use crate::gpu::context::PendingReadback;
-use crate::gpu::executor::{wgpu_format, Engine, FrameInputs, Prepared};
-use crate::gpu::transfer::{create_output, image_bytes, input_format, pixels_from_bytes};
-use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
-use crate::io::{self, Image, IoError, LoadOptions, SaveOptions};
-use crate::script::types::{ColorSpace, Format};
+use crate::gpu::executor::Engine;
+use crate::io::{self, IoError, LoadOptions, Pixels, SaveOptions};
+use crate::script::types::Format;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::sync_channel;
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
 
 /// One image of a batch: where it comes from and where its result goes.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -70,28 +67,31 @@ impl Default for BatchOptions {
     }
 }
 
-/// What the plan and its textures depend on.
-#[derive(Clone, Copy, PartialEq, Eq)]
-struct PlanKey {
-    width: u32,
-    height: u32,
-    input: Format,
-    colorspace: ColorSpace,
-    output: Format,
+/// Outputs written atomically, one file per item (frame number = item index).
+struct ItemsSink {
+    outputs: Vec<PathBuf>,
+    save: SaveOptions,
 }
 
-/// The effect prepared for one [`PlanKey`], with its input and output textures.
-struct Current {
-    key: PlanKey,
-    prepared: Prepared,
-    input: wgpu::Texture,
-    output: wgpu::Texture,
+impl FrameSink for ItemsSink {
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<String, IoError> {
+        let path = usize::try_from(number)
+            .ok()
+            .and_then(|i| self.outputs.get(i))
+            .ok_or_else(|| IoError::Unsupported {
+                path: format!("image {number}").into(),
+                message: "no output for this image".into(),
+            })?;
+        io::save_image(path, width, height, &pixels, &self.save)?;
+        Ok(path.display().to_string())
+    }
 }
-
-/// A decoded image (or why it could not be), with its decode time.
-type Decoded = (usize, Result<(Image, Duration), IoError>);
-/// A read-back on its way to the encoder: index, copy, format, GPU-thread time, decode time.
-type Encoded = (usize, PendingReadback, Format, Duration, Duration);
 
 /// Run `effect` on every image of `items`, writing each result to its output.
 ///
@@ -106,307 +106,52 @@ pub fn run_batch(
     items: &[BatchItem],
     opts: &BatchOptions,
     stop: Arc<AtomicBool>,
-    mut progress: impl FnMut(Progress),
+    progress: impl FnMut(Progress),
 ) -> Result<RunReport, RunError> {
-    let start = Instant::now();
-    let out_formats = items
+    let output_formats = items
         .iter()
         .map(|it| output_format_for(&it.output, opts.bit_depth, opts.assume_linear))
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut report = RunReport {
-        job: JobKind::Batch,
-        adapter: engine.ctx.info.name.clone(),
-        backend: format!("{:?}", engine.ctx.info.backend),
-        frames_total: Some(items.len() as u64),
-        ..Default::default()
-    };
-    let queue = opts.queue.max(1);
-    // Decoded images waiting for the GPU, the one on the GPU, read-backs waiting for
-    // the encoder, and the one being encoded.
-    report.frames_held_max = 2 * queue + 2;
-    // Set when the batch must end early (a failure without keep_going, or `stop`).
-    let halt = Arc::new(AtomicBool::new(false));
-    let max_side = engine
-        .ctx
-        .device
-        .limits()
-        .max_texture_dimension_2d
-        .min(io::MAX_SIDE);
+        .collect::<Result<Vec<Format>, _>>()?;
     let load = LoadOptions {
         assume_linear: opts.assume_linear,
     };
-    let (dec_tx, dec_rx) = sync_channel::<Decoded>(queue);
-    let (enc_tx, enc_rx) = sync_channel::<Encoded>(queue);
-    let inputs: Vec<PathBuf> = items.iter().map(|it| it.input.clone()).collect();
-    let (halt_d, stop_d, keep_going) = (halt.clone(), stop.clone(), opts.keep_going);
-    let decoder = std::thread::Builder::new()
-        .name("fxgraph batch decode".into())
-        .spawn(move || -> Duration {
-            let mut busy = Duration::ZERO;
-            for (i, path) in inputs.iter().enumerate() {
-                if halt_d.load(Ordering::Relaxed) || stop_d.load(Ordering::Relaxed) {
-                    break;
-                }
-                let t = Instant::now();
-                let item = decode_one(path, max_side, &load);
-                let spent = t.elapsed();
-                busy += spent;
-                let failed = item.is_err();
-                if dec_tx.send((i, item.map(|img| (img, spent)))).is_err()
-                    || (failed && !keep_going)
-                {
-                    break;
-                }
-            }
-            busy
-        })
-        .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
-    let outputs: Vec<(PathBuf, PathBuf)> = items
-        .iter()
-        .map(|it| (it.input.clone(), it.output.clone()))
-        .collect();
-    let save = SaveOptions {
-        bit_depth: opts.bit_depth,
+    let source = FilesSource::new(
+        items
+            .iter()
+            .enumerate()
+            .map(|(i, it)| (i as u64, it.input.clone()))
+            .collect(),
+        load,
+    );
+    let sink = ItemsSink {
+        outputs: items.iter().map(|it| it.output.clone()).collect(),
+        save: SaveOptions {
+            bit_depth: opts.bit_depth,
+            assume_linear: opts.assume_linear,
+        },
+    };
+    let p = PipelineOptions {
+        mode: Mode::Stills,
+        job: JobKind::Batch,
+        output_format: output_formats.first().copied().unwrap_or(Format::Rgba8Srgb),
+        output_formats,
         assume_linear: opts.assume_linear,
+        keep_going: opts.keep_going,
+        queue: opts.queue,
+        timings: opts.timings,
+        ..Default::default()
     };
-    let halt_e = halt.clone();
-    let encoder = std::thread::Builder::new()
-        .name("fxgraph batch encode".into())
-        .spawn(move || {
-            let mut busy = Duration::ZERO;
-            let mut done = Vec::new();
-            let mut failed = Vec::new();
-            for (i, pending, format, gpu, decode) in enc_rx {
-                if !failed.is_empty() && !keep_going {
-                    continue; // stopped: images after the failure are not written
-                }
-                let t = Instant::now();
-                let (w, h) = (pending.width(), pending.height());
-                let (input, output) = &outputs[i];
-                let result = pending
-                    .finish()
-                    .and_then(|raw| pixels_from_bytes(raw, format))
-                    .map_err(RunError::from)
-                    .and_then(|px| io::save_image(output, w, h, &px, &save).map_err(Into::into));
-                let spent = t.elapsed();
-                busy += spent;
-                match result {
-                    Ok(()) => done.push(FrameDone {
-                        index: i,
-                        input: input.display().to_string(),
-                        output: output.display().to_string(),
-                        width: w,
-                        height: h,
-                        decode_ms: Some(ms(decode)),
-                        gpu_ms: Some(ms(gpu)),
-                        encode_ms: ms(spent),
-                    }),
-                    Err(e) => {
-                        if !keep_going {
-                            halt_e.store(true, Ordering::Relaxed);
-                        }
-                        failed.push(failure(i, input, e));
-                    }
-                }
-            }
-            (busy, done, failed)
-        })
-        .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))?;
-
-    let mut gpu_busy = Duration::ZERO;
-    let mut current: Option<Current> = None;
-    let mut fatal: Option<RunError> = None;
-    let mut through = 0u64;
-    for (i, item) in &dec_rx {
-        if halt.load(Ordering::Relaxed) {
-            break;
-        }
-        report.frames_in += 1;
-        let (img, decode_time) = match item {
-            Ok(x) => x,
-            Err(e) => {
-                report.failed.push(failure(i, &items[i].input, e.into()));
-                if !opts.keep_going {
-                    halt.store(true, Ordering::Relaxed);
-                    break;
-                }
-                continue;
-            }
-        };
-        let t = Instant::now();
-        match gpu_one(
-            engine,
-            effect,
-            &mut current,
-            &img,
-            out_formats[i],
-            opts,
-            &mut report,
-        ) {
-            Ok(pending) => {
-                let spent = t.elapsed();
-                gpu_busy += spent;
-                if enc_tx
-                    .send((i, pending, out_formats[i], spent, decode_time))
-                    .is_err()
-                {
-                    break;
-                }
-            }
-            Err(e @ RunError::Rejected { .. }) => {
-                // The effect or its shaders: every image would fail the same way.
-                fatal = Some(e);
-                halt.store(true, Ordering::Relaxed);
-                break;
-            }
-            Err(e) => {
-                gpu_busy += t.elapsed();
-                // The textures may be in any state after a GPU error: plan afresh.
-                current = None;
-                report.failed.push(failure(i, &items[i].input, e));
-                if !opts.keep_going {
-                    halt.store(true, Ordering::Relaxed);
-                    break;
-                }
-            }
-        }
-        through += 1;
-        progress(Progress {
-            done: through,
-            total: Some(items.len() as u64),
-            elapsed: start.elapsed(),
-        });
-        if stop.load(Ordering::Relaxed) {
-            report.interrupted = true;
-            break;
-        }
-    }
-    drop(enc_tx);
-    drop(dec_rx);
-    let decode_busy = decoder.join().unwrap_or_default();
-    let (encode_busy, done, enc_failed) = encoder
-        .join()
-        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
-    if let Some(e) = fatal {
-        return Err(e);
-    }
-    report.done = done;
-    report.failed.extend(enc_failed);
-    report.failed.sort_by_key(|f| f.index);
-    report.stages.decode_busy_ms = ms(decode_busy);
-    report.stages.gpu_busy_ms = ms(gpu_busy);
-    report.stages.encode_busy_ms = ms(encode_busy);
-    report.wall_ms = ms(start.elapsed());
+    let mut report = run_frames(
+        Device::Engine(engine),
+        effect,
+        Box::new(source),
+        Box::new(sink),
+        &p,
+        stop,
+        progress,
+    )?;
+    // Decoded images waiting for the GPU, the one on the GPU, read-backs waiting for
+    // the encoder, and the one being encoded.
+    report.frames_held_max = 2 * opts.queue.max(1) + 2;
     Ok(report)
-}
-
-fn failure(index: usize, input: &std::path::Path, error: RunError) -> FrameFailure {
-    FrameFailure::new(index, input.display().to_string(), error)
-}
-
-/// Read an image file, refuse a size over `max_side` from its header, decode it.
-fn decode_one(path: &std::path::Path, max_side: u32, load: &LoadOptions) -> Result<Image, IoError> {
-    let bytes = io::read_image_file(path)?;
-    let (w, h) = io::image_dimensions(&bytes, path)?;
-    if w.max(h) > max_side {
-        return Err(IoError::Decode {
-            path: path.to_path_buf(),
-            message: format!(
-                "the image is {w}x{h}, larger than the GPU's limit of {max_side} pixels per side"
-            ),
-        });
-    }
-    io::decode_image(&bytes, path, load)
-}
-
-/// Run one image on the GPU (planning again if its size or formats differ from the
-/// previous image's) and start reading its output back.
-fn gpu_one(
-    engine: &mut Engine,
-    effect: &mut Effect,
-    current: &mut Option<Current>,
-    img: &Image,
-    out_format: Format,
-    opts: &BatchOptions,
-    report: &mut RunReport,
-) -> Result<PendingReadback, RunError> {
-    let (in_format, colorspace) = input_format(img, opts.assume_linear);
-    let key = PlanKey {
-        width: img.width,
-        height: img.height,
-        input: in_format,
-        colorspace,
-        output: out_format,
-    };
-    let bytes = image_bytes(img, in_format);
-    let ctx = engine.ctx.clone();
-    let reuse = current.as_ref().is_some_and(|c| c.key == key);
-    if reuse {
-        let c = current.as_ref().expect("checked");
-        let texel = (bytes.len() / (img.width as usize * img.height as usize)) as u32;
-        ctx.queue.write_texture(
-            c.input.as_image_copy(),
-            &bytes,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(img.width * texel),
-                rows_per_image: None,
-            },
-            c.input.size(),
-        );
-    } else {
-        // Free the previous size's textures before allocating the new ones.
-        *current = None;
-        let desc = InputDesc {
-            width: img.width,
-            height: img.height,
-            format: in_format,
-            colorspace,
-            aux: Vec::new(),
-        };
-        let plan_opts = PlanOptions {
-            policy: ReusePolicy::Pool,
-            output_format: Some(out_format),
-        };
-        // Transient textures come from the engine's pool, kept for the next image.
-        let prepared = effect.prepare_with(engine, &desc, &plan_opts)?;
-        report.plans += 1;
-        report.memory = MemoryReport {
-            peak_bytes: prepared.plan.peak_bytes,
-            lower_bound_bytes: prepared.plan.lower_bound_bytes,
-            naive_bytes: prepared.plan.naive_bytes,
-        };
-        let input = ctx.upload_texture(
-            "fxgraph batch input",
-            img.width,
-            img.height,
-            wgpu_format(in_format),
-            &bytes,
-            wgpu::TextureUsages::empty(),
-        )?;
-        let out = prepared.plan.output;
-        let output = create_output(&ctx, out.width, out.height, out.format);
-        *current = Some(Current {
-            key,
-            prepared,
-            input,
-            output,
-        });
-    }
-    let c = current.as_mut().expect("prepared above");
-    // Every image is a still of its own: frame 0, as a one-image run.
-    c.prepared.frame = 0;
-    c.prepared.subframe = 0;
-    let inputs = FrameInputs::still(&c.input, &c.prepared.plan);
-    // The passes and the copy into the read-back buffer: one submission.
-    let output = &c.output;
-    let (passes, pending) = c
-        .prepared
-        .run_then(engine, &inputs, output, opts.timings, |enc| {
-            ctx.encode_readback(enc, output)
-        })?;
-    if opts.timings {
-        report.passes = passes;
-    }
-    Ok(pending)
 }

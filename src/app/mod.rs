@@ -8,14 +8,17 @@
 //! - [`effect`]: [`Effect`] (compile, prepare) and [`apply_in_memory`].
 //! - [`still`]: one image file to one output file ([`apply_to_image`]).
 //! - [`batch`]: independent stills of any size through one process ([`run_batch`]).
-//! - [`sequence`]: frames of one size in order, temporal effects ([`run_sequence`]),
-//!   over a [`FrameSource`] and a [`FrameSink`] ([`sources`]: files, y4m).
+//! - [`sequence`]: frames of one size in order, temporal effects ([`run_sequence`]).
+//! - [`pipeline`]: the one pipeline under all three ([`run_frames`]): a
+//!   [`FrameSource`] (decode thread) → the effect on the GPU → a [`FrameSink`] (encode
+//!   thread); [`sources`]: files, y4m.
 //! - [`scene`]: render a scene, then the effects ([`run_scene_job`]).
 //! - [`report`]: [`RunReport`]; [`error`]: [`RunError`].
 
 pub mod batch;
 pub mod effect;
 pub mod error;
+pub mod pipeline;
 pub mod report;
 pub mod scene;
 pub mod sequence;
@@ -25,8 +28,11 @@ pub mod still;
 pub use batch::{run_batch, BatchItem, BatchOptions};
 pub use effect::{apply_in_memory, Effect};
 pub use error::RunError;
+pub use pipeline::{
+    run_frames, Device, FrameSink, FrameSource, Mode, PipelineOptions, SourceFrame,
+};
 pub use report::{FrameDone, FrameFailure, JobKind, Progress, RunReport};
 pub use scene::{run_scene_job, SceneJob};
-pub use sequence::{run_sequence, FrameSink, FrameSource, SequenceOptions};
+pub use sequence::{run_sequence, SequenceOptions};
 pub use sources::{FilesSink, FilesSource, Y4mSink, Y4mSource};
 pub use still::{apply_to_image, output_format_for, ImageJob};

@@ -1,15 +1,15 @@
 //! The sources and sinks of file and stream jobs: numbered image files, y4m streams
 //! (files or pipes). `fxrun` adds its own (e.g. named outputs for `-o DIR`).
 
-use super::sequence::{FrameSink, FrameSource};
+use super::pipeline::{FrameSink, FrameSource, SideLimit, SourceFrame};
 use crate::io::{self, Image, IoError, Pixels};
 
-/// Numbered image files read in order.
+/// Image files read in order (numbered frames, or the images of a batch), each
+/// checked against the device's size limit from its header before it is decoded.
 pub struct FilesSource {
     pub frames: Vec<(u64, std::path::PathBuf)>,
     pub load: io::LoadOptions,
-    /// Largest width or height accepted (checked from the header, before decoding).
-    pub max_side: u32,
+    limit: SideLimit,
     pos: usize,
 }
 
@@ -18,36 +18,47 @@ impl FilesSource {
         FilesSource {
             frames,
             load,
-            max_side: io::MAX_SIDE,
+            limit: SideLimit::known(io::MAX_SIDE),
             pos: 0,
         }
     }
+}
+
+/// Read an image file, refuse a size over the device's limit from its header, decode.
+pub(crate) fn load_checked(
+    path: &std::path::Path,
+    limit: &SideLimit,
+    load: &io::LoadOptions,
+) -> Result<Image, IoError> {
+    let bytes = io::read_image_file(path)?;
+    let (w, h) = io::image_dimensions(&bytes, path)?;
+    if let Err(max) = limit.check(w, h) {
+        return Err(IoError::Decode {
+            path: path.to_path_buf(),
+            message: format!(
+                "the image is {w}x{h}, larger than the GPU's limit of {max} pixels per side"
+            ),
+        });
+    }
+    io::decode_image(&bytes, path, load)
 }
 
 impl FrameSource for FilesSource {
     fn frame_count(&self) -> Option<u64> {
         Some(self.frames.len() as u64)
     }
-    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
-        let Some((n, path)) = self.frames.get(self.pos) else {
-            return Ok(None);
-        };
+    fn next_frame(&mut self) -> Option<SourceFrame> {
+        let (n, path) = self.frames.get(self.pos)?;
         self.pos += 1;
-        let bytes = io::read_image_file(path)?;
-        let (w, h) = io::image_dimensions(&bytes, path)?;
-        if w.max(h) > self.max_side {
-            return Err(IoError::Decode {
-                path: path.clone(),
-                message: format!(
-                    "the image is {w}x{h}, larger than the GPU's limit of {} pixels per side",
-                    self.max_side
-                ),
-            });
-        }
-        Ok(Some((*n, io::decode_image(&bytes, path, &self.load)?)))
+        Some(SourceFrame {
+            number: *n,
+            name: path.display().to_string(),
+            image: load_checked(path, &self.limit, &self.load),
+            aux: Vec::new(),
+        })
     }
-    fn set_max_side(&mut self, max: u32) {
-        self.max_side = max.min(io::MAX_SIDE);
+    fn set_limit(&mut self, limit: SideLimit) {
+        self.limit = limit;
     }
 }
 
@@ -83,13 +94,12 @@ pub struct Y4mSource<R: std::io::Read + Send> {
     pub skip: u64,
     /// Last frame number to read (a shard's end plus its context), if any.
     pub last: Option<u64>,
+    /// A frame failed: the stream cannot go on.
+    pub failed: bool,
 }
 
-impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
-    fn frame_count(&self) -> Option<u64> {
-        None
-    }
-    fn next_frame(&mut self) -> Result<Option<(u64, Image)>, IoError> {
+impl<R: std::io::Read + Send> Y4mSource<R> {
+    fn read(&mut self) -> Result<Option<(u64, Image)>, IoError> {
         use io::y4m::{yuv_to_image, RgbKind};
         loop {
             let n = self.reader.frames_read();
@@ -112,6 +122,32 @@ impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
                 })?;
             return Ok(Some((n, img)));
         }
+    }
+}
+
+impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
+    fn frame_count(&self) -> Option<u64> {
+        None
+    }
+    fn next_frame(&mut self) -> Option<SourceFrame> {
+        if self.failed {
+            return None;
+        }
+        let n = self.reader.frames_read();
+        let (number, image) = match self.read() {
+            Ok(None) => return None,
+            Ok(Some((n, img))) => (n, Ok(img)),
+            Err(e) => {
+                self.failed = true;
+                (n, Err(e))
+            }
+        };
+        Some(SourceFrame {
+            number,
+            name: format!("{} frame {number}", self.reader.name()),
+            image,
+            aux: Vec::new(),
+        })
     }
 }
 

@@ -60,6 +60,7 @@ pub(crate) fn run_sequence_cli(
                 conversion,
                 skip,
                 last,
+                failed: false,
             })
         }
         SequenceSpec::Stdout => return Err(rejected("`-` as an input reads stdin; use -i - ")),
