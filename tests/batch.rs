@@ -339,3 +339,84 @@ fn the_header_probe_reads_sizes_without_decoding() {
     let e = image_file_dimensions(&photos).unwrap_err();
     assert!(e.to_string().contains("not a regular file"), "{e}");
 }
+
+/// The library's pipeline on the caller's memory: frames of three sizes as stills
+/// (`Mode::Stills`) equal one-image runs (`apply_in_memory`) exactly, in order; the
+/// same frames as a sequence are refused at the first frame of another size.
+#[test]
+fn memory_frames_of_mixed_sizes_through_the_pipeline() {
+    use fxgraph::app::{
+        apply_in_memory, run_frames, Device, Effect, JobKind, MemorySink, MemorySource, Mode,
+        PipelineOptions,
+    };
+    use fxgraph::script::types::Format;
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let frames: Vec<fxgraph::io::Image> = [(40, 24), (17, 33), (40, 24)]
+        .iter()
+        .enumerate()
+        .map(|(i, &(w, h))| {
+            common::image_u8(w, h, |x, y| {
+                [
+                    (x * 9 + i as u32 * 40) as u8,
+                    (y * 7) as u8,
+                    ((x ^ y) * 5) as u8,
+                    255,
+                ]
+            })
+        })
+        .collect();
+    let chain = ["glow".to_string()];
+    let mut effect = Effect::compile(&chain, &[]).unwrap();
+    let sink = MemorySink::default();
+    let out = sink.frames();
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let opts = PipelineOptions {
+        mode: Mode::Stills,
+        job: JobKind::Batch,
+        output_format: Format::Rgba8Srgb,
+        ..Default::default()
+    };
+    let report = run_frames(
+        Device::Engine(&mut engine),
+        &mut effect,
+        Box::new(MemorySource::new(frames.clone())),
+        Box::new(sink),
+        &opts,
+        stop.clone(),
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(report.done.len(), 3, "{:?}", report.failed);
+    assert_eq!(report.plans, 3, "a new plan per change of size");
+    let out = out.lock().unwrap();
+    for (i, img) in frames.iter().enumerate() {
+        let (n, w, h, px) = &out[i];
+        assert_eq!(*n, i as u64);
+        let (ew, eh, expected) =
+            apply_in_memory(&mut engine, &chain, &[], img, &[], Format::Rgba8Srgb, false).unwrap();
+        assert_eq!((*w, *h), (ew, eh));
+        assert!(*px == expected, "frame {i} differs from a one-image run");
+    }
+    // As a sequence: one size only, the error names the frame.
+    let opts = PipelineOptions {
+        mode: Mode::Sequence,
+        ..opts
+    };
+    let err = run_frames(
+        Device::Engine(&mut engine),
+        &mut effect,
+        Box::new(MemorySource::new(frames)),
+        Box::new(MemorySink::default()),
+        &opts,
+        stop,
+        |_| {},
+    )
+    .unwrap_err();
+    assert!(err.is_input_error(), "{err}");
+    assert!(
+        err.to_string().contains("frame 1") && err.to_string().contains("17x33"),
+        "{err}"
+    );
+}

@@ -790,3 +790,22 @@ impl GpuStage<'_, '_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::SideLimit;
+
+    #[test]
+    fn side_limit_waits_for_the_device_only_above_what_every_device_takes() {
+        let limit = SideLimit::default();
+        // Every device takes 8192 px per side: answered before the device exists.
+        assert_eq!(limit.check(8192, 100), Ok(()));
+        let l = limit.clone();
+        let waiter = std::thread::spawn(move || (l.check(10000, 10), l.check(20000, 10)));
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        limit.set(16384);
+        assert_eq!(waiter.join().unwrap(), (Ok(()), Err(16384)));
+        // The io layer's cap bounds any device's limit.
+        assert_eq!(SideLimit::known(1 << 20).check(40000, 1), Err(32768));
+    }
+}

@@ -206,3 +206,70 @@ impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
         Ok(())
     }
 }
+
+/// Frames from the caller's memory, numbered from 0 in order.
+pub struct MemorySource {
+    frames: std::vec::IntoIter<Image>,
+    count: u64,
+    next: u64,
+}
+
+impl MemorySource {
+    pub fn new(frames: Vec<Image>) -> Self {
+        MemorySource {
+            count: frames.len() as u64,
+            frames: frames.into_iter(),
+            next: 0,
+        }
+    }
+}
+
+impl FrameSource for MemorySource {
+    fn frame_count(&self) -> Option<u64> {
+        Some(self.count)
+    }
+    fn next_frame(&mut self) -> Option<SourceFrame> {
+        let img = self.frames.next()?;
+        let number = self.next;
+        self.next += 1;
+        Some(SourceFrame {
+            number,
+            name: format!("frame {number}"),
+            image: Ok(img),
+            aux: Vec::new(),
+        })
+    }
+}
+
+/// One output frame kept in memory: its number, size and pixels.
+pub type MemoryFrame = (u64, u32, u32, Pixels);
+
+/// Output frames collected in memory; [`MemorySink::frames`] is a handle that stays
+/// with the caller when the sink is moved into a run.
+#[derive(Default)]
+pub struct MemorySink {
+    frames: std::sync::Arc<std::sync::Mutex<Vec<MemoryFrame>>>,
+}
+
+impl MemorySink {
+    /// The frames written so far (all of them once the run returned).
+    pub fn frames(&self) -> std::sync::Arc<std::sync::Mutex<Vec<MemoryFrame>>> {
+        self.frames.clone()
+    }
+}
+
+impl FrameSink for MemorySink {
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<String, IoError> {
+        self.frames
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push((number, width, height, pixels));
+        Ok(format!("memory frame {number}"))
+    }
+}
