@@ -11,13 +11,16 @@
 //! - [`sequence`]: frames of one size in order, temporal effects ([`run_sequence`]).
 //! - [`pipeline`]: the one pipeline under all three ([`run_frames`]): a
 //!   [`FrameSource`] (decode thread) → the effect on the GPU → a [`FrameSink`] (encode
-//!   thread); [`sources`]: files, y4m.
+//!   thread) ([`frames`]: the traits; `gpu_stage.rs`: the GPU stage); [`sources`]:
+//!   files, y4m, memory.
 //! - [`scene`]: render a scene, then the effects ([`run_scene_job`]).
 //! - [`report`]: [`RunReport`]; [`error`]: [`RunError`].
 
 pub mod batch;
 pub mod effect;
 pub mod error;
+pub mod frames;
+mod gpu_stage;
 pub mod pipeline;
 pub mod report;
 pub mod scene;

@@ -1,7 +1,7 @@
 //! The sources and sinks of file and stream jobs: numbered image files, y4m streams
 //! (files or pipes). `fxrun` adds its own (e.g. named outputs for `-o DIR`).
 
-use super::pipeline::{FrameSink, FrameSource, SideLimit, SourceFrame};
+use super::frames::{FrameSink, FrameSource, SideLimit, SourceFrame};
 use crate::io::{self, Image, IoError, Pixels};
 
 /// Image files read in order (numbered frames, or the images of a batch), each

@@ -1,0 +1,102 @@
+//! What the pipeline ([`super::pipeline`]) joins: frames from a [`FrameSource`]
+//! (decode thread), outputs to a [`FrameSink`] (encode thread), and the device's size
+//! limit the sources check headers against ([`SideLimit`]).
+
+use crate::io::{Image, IoError, Pixels};
+use std::sync::{Arc, Condvar, Mutex};
+
+/// A frame from a source: its number, a name for messages (a file name, `stdin frame
+/// N`), the decoded image or why it could not be, and auxiliary images (`AUX.NAME`).
+pub struct SourceFrame {
+    pub number: u64,
+    pub name: String,
+    pub image: Result<Image, IoError>,
+    pub aux: Vec<(String, Image)>,
+}
+
+/// Where frames come from (runs on the decode thread).
+pub trait FrameSource: Send {
+    /// Number of frames, if known (for the progress bar and the report).
+    fn frame_count(&self) -> Option<u64>;
+    /// The next frame, or `None` at the end. A source that cannot go on after a failed
+    /// frame (a broken stream) returns `None` after it.
+    fn next_frame(&mut self) -> Option<SourceFrame>;
+    /// The device's size limit, for sources that read sizes from headers.
+    fn set_limit(&mut self, _limit: SideLimit) {}
+}
+
+/// Where output frames go (runs on the encode thread).
+pub trait FrameSink: Send {
+    /// Write output frame `number`; returns where it went (a file name, `stdout`).
+    fn write(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+    ) -> Result<String, IoError>;
+    /// Called once after the last frame.
+    fn finish(&mut self) -> Result<(), IoError> {
+        Ok(())
+    }
+}
+
+/// The largest width or height the device takes, known once the device exists.
+/// [`SideLimit::check`] answers sizes every device takes at once and waits for the
+/// device only for larger ones, so decoding overlaps device creation.
+#[derive(Clone, Default)]
+pub struct SideLimit(Arc<(Mutex<Option<u32>>, Condvar)>);
+
+impl SideLimit {
+    /// A limit already known.
+    pub fn known(max: u32) -> Self {
+        let l = SideLimit::default();
+        l.set(max);
+        l
+    }
+
+    /// Set the limit (once the device exists, or when it failed: then any value).
+    pub fn set(&self, max: u32) {
+        let (m, cv) = &*self.0;
+        *m.lock().unwrap_or_else(|e| e.into_inner()) = Some(max.min(crate::io::MAX_SIDE));
+        cv.notify_all();
+    }
+
+    /// Ok when an image of `width` × `height` fits the device; Err with the limit.
+    pub fn check(&self, width: u32, height: u32) -> Result<(), u32> {
+        let side = width.max(height);
+        if side <= wgpu::Limits::default().max_texture_dimension_2d {
+            return Ok(());
+        }
+        let (m, cv) = &*self.0;
+        let mut v = m.lock().unwrap_or_else(|e| e.into_inner());
+        while v.is_none() {
+            v = cv.wait(v).unwrap_or_else(|e| e.into_inner());
+        }
+        let max = v.expect("set");
+        if side <= max {
+            Ok(())
+        } else {
+            Err(max)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SideLimit;
+
+    #[test]
+    fn side_limit_waits_for_the_device_only_above_what_every_device_takes() {
+        let limit = SideLimit::default();
+        // Every device takes 8192 px per side: answered before the device exists.
+        assert_eq!(limit.check(8192, 100), Ok(()));
+        let l = limit.clone();
+        let waiter = std::thread::spawn(move || (l.check(10000, 10), l.check(20000, 10)));
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        limit.set(16384);
+        assert_eq!(waiter.join().unwrap(), (Ok(()), Err(16384)));
+        // The io layer's cap bounds any device's limit.
+        assert_eq!(SideLimit::known(1 << 20).check(40000, 1), Err(32768));
+    }
+}

@@ -1,0 +1,394 @@
+//! The GPU stage of the pipeline ([`super::pipeline`]): stills (planned again when
+//! the size or a format changes) or a sequence through a [`Stream`]; every frame one
+//! submission (its passes and the copy of its output for the encoder).
+
+use super::effect::Effect;
+use super::error::RunError;
+use super::pipeline::{Decoded, Encoded, Mode, PipelineOptions};
+use super::report::{ms, FrameFailure, MemoryReport, Progress, RunReport};
+use crate::gpu::context::PendingReadback;
+use crate::gpu::executor::{wgpu_format, Engine, FrameInputs, Prepared};
+use crate::gpu::stream::Stream;
+use crate::gpu::transfer::{create_output, image_bytes, input_format, upload_image};
+use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use crate::io::{Image, IoError};
+use crate::script::types::{ColorSpace, Format};
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// What the plan of a still and its textures depend on.
+#[derive(Clone, PartialEq, Eq)]
+struct PlanKey {
+    width: u32,
+    height: u32,
+    input: Format,
+    colorspace: ColorSpace,
+    output: Format,
+    aux: Vec<(String, Format)>,
+}
+
+/// The effect prepared for one [`PlanKey`], with its input and output textures.
+struct Current {
+    key: PlanKey,
+    prepared: Prepared,
+    input: wgpu::Texture,
+    output: wgpu::Texture,
+}
+
+/// The GPU thread's state.
+pub(super) struct GpuStage<'a, 'r> {
+    engine: &'a mut Engine,
+    effect: &'a mut Effect,
+    opts: &'a PipelineOptions,
+    report: &'r mut RunReport,
+    enc_tx: std::sync::mpsc::SyncSender<Encoded>,
+    /// Time this stage was busy.
+    pub(super) busy: Duration,
+    /// Stills: the plan of the last size.
+    current: Option<Current>,
+    /// Sequences: the stream, the frame numbers pushed and not yet output, the first.
+    stream: Option<Stream>,
+    numbers: VecDeque<(u64, String)>,
+    first_number: Option<u64>,
+}
+
+impl<'a, 'r> GpuStage<'a, 'r> {
+    pub(super) fn new(
+        engine: &'a mut Engine,
+        effect: &'a mut Effect,
+        opts: &'a PipelineOptions,
+        report: &'r mut RunReport,
+        enc_tx: std::sync::mpsc::SyncSender<Encoded>,
+    ) -> Self {
+        GpuStage {
+            engine,
+            effect,
+            opts,
+            report,
+            enc_tx,
+            busy: Duration::ZERO,
+            current: None,
+            stream: None,
+            numbers: VecDeque::new(),
+            first_number: None,
+        }
+    }
+
+    /// Take every decoded frame through the GPU; `Some` error ends the run.
+    pub(super) fn run(
+        &mut self,
+        dec_rx: &std::sync::mpsc::Receiver<Decoded>,
+        halt: &AtomicBool,
+        stop: &AtomicBool,
+        start: Instant,
+        total: Option<u64>,
+        progress: &mut impl FnMut(Progress),
+    ) -> Option<RunError> {
+        let stills = self.opts.mode == Mode::Stills;
+        for (index, number, name, item, decode_time) in dec_rx {
+            if halt.load(Ordering::Relaxed) {
+                break;
+            }
+            self.report.frames_in += 1;
+            let (img, aux) = match item {
+                Ok(x) => x,
+                Err(e) => {
+                    if !stills {
+                        return Some(e.into());
+                    }
+                    self.report
+                        .failed
+                        .push(FrameFailure::new(index, name, e.into()));
+                    if !self.opts.keep_going {
+                        halt.store(true, Ordering::Relaxed);
+                        break;
+                    }
+                    continue;
+                }
+            };
+            let t = Instant::now();
+            let sent = if stills {
+                match self.still(&img, &aux, number) {
+                    Ok(pending) => {
+                        let spent = t.elapsed();
+                        self.busy += spent;
+                        self.enc_tx
+                            .send(Encoded {
+                                index,
+                                number,
+                                name,
+                                pending,
+                                format: self.opts.format_for(number),
+                                gpu: Some(spent),
+                                decode: Some(decode_time),
+                            })
+                            .is_ok()
+                    }
+                    Err(e @ RunError::Rejected { .. }) => {
+                        // The effect or its shaders: every frame would fail the same way.
+                        halt.store(true, Ordering::Relaxed);
+                        return Some(e);
+                    }
+                    Err(e) => {
+                        self.busy += t.elapsed();
+                        // The textures may be in any state after a GPU error: plan afresh.
+                        self.current = None;
+                        self.report.failed.push(FrameFailure::new(index, name, e));
+                        if !self.opts.keep_going {
+                            halt.store(true, Ordering::Relaxed);
+                            break;
+                        }
+                        true
+                    }
+                }
+            } else {
+                match self.push(&img, number, name).and_then(|()| self.drain()) {
+                    Ok(open) => open,
+                    Err(e) => return Some(e),
+                }
+            };
+            if !sent {
+                break;
+            }
+            progress(Progress {
+                done: self.report.frames_in,
+                total,
+                elapsed: start.elapsed(),
+            });
+            if stop.load(Ordering::Relaxed) {
+                self.report.interrupted = true;
+                break;
+            }
+        }
+        if !stills && !self.report.interrupted && !halt.load(Ordering::Relaxed) {
+            if let Some(s) = self.stream.as_mut() {
+                s.end();
+                if let Err(e) = self.drain() {
+                    return Some(e);
+                }
+            }
+        }
+        if let Some(s) = &self.stream {
+            self.report.passes = s.last_timings.clone();
+        }
+        None
+    }
+
+    fn plan_opts(&self, output: Format) -> PlanOptions {
+        PlanOptions {
+            policy: ReusePolicy::Pool,
+            output_format: Some(output),
+        }
+    }
+
+    fn note_plan(&mut self, prepared: &Prepared, spent: Duration) {
+        self.report.plans += 1;
+        self.report.steps.pipeline_ms = ms(spent);
+        self.report.memory = MemoryReport {
+            peak_bytes: prepared.plan.peak_bytes,
+            lower_bound_bytes: prepared.plan.lower_bound_bytes,
+            naive_bytes: prepared.plan.naive_bytes,
+        };
+    }
+
+    /// Run one still (planning again if its size or formats differ from the previous
+    /// one's) and start reading its output back.
+    fn still(
+        &mut self,
+        img: &Image,
+        aux: &[(String, Image)],
+        number: u64,
+    ) -> Result<PendingReadback, RunError> {
+        let assume_linear = self.opts.assume_linear;
+        let (in_format, colorspace) = input_format(img, assume_linear);
+        let out_format = self.opts.format_for(number);
+        let key = PlanKey {
+            width: img.width,
+            height: img.height,
+            input: in_format,
+            colorspace,
+            output: out_format,
+            aux: aux
+                .iter()
+                .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
+                .collect(),
+        };
+        let ctx = self.engine.ctx.clone();
+        let t = Instant::now();
+        let mut planning = Duration::ZERO;
+        let bytes = image_bytes(img, in_format);
+        if self.current.as_ref().is_some_and(|c| c.key == key) {
+            let c = self.current.as_ref().expect("checked");
+            let texel = (bytes.len() / (img.width as usize * img.height as usize)) as u32;
+            ctx.queue.write_texture(
+                c.input.as_image_copy(),
+                &bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(img.width * texel),
+                    rows_per_image: None,
+                },
+                c.input.size(),
+            );
+        } else {
+            // Free the previous size's textures before allocating the new ones.
+            self.current = None;
+            let desc = InputDesc {
+                width: img.width,
+                height: img.height,
+                format: in_format,
+                colorspace,
+                aux: key.aux.clone(),
+            };
+            // Transient textures come from the engine's pool, kept for the next frame.
+            let tp = Instant::now();
+            let prepared =
+                self.effect
+                    .prepare_with(self.engine, &desc, &self.plan_opts(out_format))?;
+            planning = tp.elapsed();
+            self.note_plan(&prepared, planning);
+            let input = ctx.upload_texture(
+                "fxgraph input",
+                img.width,
+                img.height,
+                wgpu_format(in_format),
+                &bytes,
+                wgpu::TextureUsages::empty(),
+            )?;
+            let out = prepared.plan.output;
+            let output = create_output(&ctx, out.width, out.height, out.format);
+            self.current = Some(Current {
+                key,
+                prepared,
+                input,
+                output,
+            });
+        }
+        let aux_tex = aux
+            .iter()
+            .map(|(n, a)| {
+                let f = input_format(a, assume_linear).0;
+                Ok((n.clone(), upload_image(&ctx, &format!("aux {n}"), a, f)?))
+            })
+            .collect::<Result<Vec<_>, crate::gpu::context::GpuError>>()?;
+        self.report.steps.upload_ms = ms(t.elapsed().saturating_sub(planning));
+        let t = Instant::now();
+        let c = self.current.as_mut().expect("prepared above");
+        // Every image is a still of its own: frame 0, as a one-image run.
+        c.prepared.frame = 0;
+        c.prepared.subframe = 0;
+        let mut inputs = FrameInputs::still(&c.input, &c.prepared.plan);
+        for (n, tex) in &aux_tex {
+            inputs.aux.insert(n.clone(), tex.into());
+        }
+        inputs.camera = self.opts.camera;
+        // The passes and the copy into the read-back buffer: one submission.
+        let output = &c.output;
+        let (passes, pending) =
+            c.prepared
+                .run_then(self.engine, &inputs, output, self.opts.timings, |enc| {
+                    ctx.encode_readback(enc, output)
+                })?;
+        self.report.steps.passes_ms = ms(t.elapsed());
+        if self.opts.timings {
+            self.report.passes = passes;
+        }
+        Ok(pending)
+    }
+
+    /// Push a frame of a sequence into the stream (created for the first frame).
+    fn push(&mut self, img: &Image, number: u64, name: String) -> Result<(), RunError> {
+        let t = Instant::now();
+        if self.stream.is_none() {
+            self.first_number = Some(number);
+            let (fmt, cs) = input_format(img, self.opts.assume_linear);
+            let desc = InputDesc {
+                width: img.width,
+                height: img.height,
+                format: fmt,
+                colorspace: cs,
+                aux: Vec::new(),
+            };
+            let mut prepared = self.effect.prepare_with(
+                self.engine,
+                &desc,
+                &self.plan_opts(self.opts.output_format),
+            )?;
+            self.note_plan(&prepared, t.elapsed());
+            prepared.fps = self.opts.fps;
+            let mut s = Stream::new(self.engine, prepared, fmt);
+            s.rate = self.opts.rate.max(1);
+            s.camera = self.opts.camera;
+            s.want_timings = self.opts.timings;
+            self.report.frames_held_max = 2 * self.opts.queue.max(1) + s.ring_len();
+            self.stream = Some(s);
+        }
+        let s = self.stream.as_mut().expect("stream created");
+        let (w, h) = (s.prepared.plan.input.width, s.prepared.plan.input.height);
+        if (img.width, img.height) != (w, h) {
+            // An input error, not a GPU one: the frames of a sequence have one size.
+            return Err(RunError::BadInput(IoError::Decode {
+                path: name.into(),
+                message: format!(
+                    "the frame is {}x{}, the sequence started at {w}x{h} (frame {}): the frames of a sequence must have one size",
+                    img.width,
+                    img.height,
+                    self.first_number.unwrap_or(0)
+                ),
+            }));
+        }
+        self.numbers.push_back((number, name));
+        s.push_image(self.engine, img)?;
+        self.busy += t.elapsed();
+        Ok(())
+    }
+
+    /// Send the stream's ready outputs to the encoder; false when the encoder is gone.
+    fn drain(&mut self) -> Result<bool, RunError> {
+        let first = self.first_number.unwrap_or(0);
+        let Some(stream) = self.stream.as_mut() else {
+            return Ok(true);
+        };
+        loop {
+            let t = Instant::now();
+            // The frame's passes and the copy of its output: one submission.
+            let Some((out, pending)) = stream.next_read_back(self.engine)? else {
+                self.busy += t.elapsed();
+                return Ok(true);
+            };
+            self.busy += t.elapsed();
+            let rate = stream.rate as u64;
+            let (input_index, sub) = (out / rate, out % rate);
+            let (input_number, name) = self
+                .numbers
+                .get(input_index as usize)
+                .cloned()
+                .unwrap_or((first + input_index, String::new()));
+            let keep = self
+                .opts
+                .emit
+                .is_none_or(|(lo, hi)| input_number >= lo && input_number <= hi);
+            if !keep {
+                continue;
+            }
+            let number = if rate == 1 {
+                input_number
+            } else {
+                first * rate + input_index * rate + sub
+            };
+            let e = Encoded {
+                index: out as usize,
+                number,
+                name,
+                pending,
+                format: stream.prepared.plan.output.format,
+                gpu: None,
+                decode: None,
+            };
+            if self.enc_tx.send(e).is_err() {
+                return Ok(false);
+            }
+        }
+    }
+}
