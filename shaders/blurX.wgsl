@@ -22,49 +22,14 @@ struct Params {
 
 #include "lib/prefilter.wgsl"
 
-// The mean of the input texels under the output texel whose centre is `p`
-// (pixel coordinates of the output).
-fn prefiltered(p: vec2<f32>, m: vec2<i32>) -> vec4<f32> {
-    return lib_box_prefilter(img, img_sampler, p * params.out_texel, 2.0 / params.img_size, m);
-}
-
-fn downsampling_blur(pos: vec2<f32>, ratio: vec2<f32>) -> vec4<f32> {
-    let m = max(vec2<i32>(ceil(ratio * 0.5 - 1e-4)), vec2<i32>(1));
-    let r = i32(ceil(3.0 * params.sigma));
-    let last = params.out_size.x - 1.0;
-    // w(i) = q^(i*i) for i = -r..r, advanced by products (no exp per tap):
-    // w(i+1) = w(i) * q^(2i+1).
-    let q = exp(-0.5 / (params.sigma * params.sigma));
-    var w = pow(q, f32(r * r));
-    var step = pow(q, f32(1 - 2 * r));
-    let q2 = q * q;
-    var sum = vec4<f32>(0.0);
-    var total = 0.0;
-    // One fetch per tap when the ratio is at most 2 per axis (glow's half-size
-    // pass): the bilinear fetch at a texel-pair centre is the whole box.
-    let single = all(m == vec2<i32>(1));
-    for (var i = -r; i <= r; i++) {
-        var p = pos + vec2<f32>(f32(i), 0.0);
-        p.x = clamp(floor(p.x), 0.0, last) + 0.5;
-        var v: vec4<f32>;
-        if (single) {
-            v = textureSampleLevel(img, img_sampler, p * params.out_texel, 0.0);
-        } else {
-            v = prefiltered(p, m);
-        }
-        sum += w * v;
-        total += w;
-        w *= step;
-        step *= q2;
-    }
-    return sum / total;
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
     let ratio = params.img_size / params.out_size;
     if (any(ratio > vec2<f32>(1.0))) {
-        return downsampling_blur(pos.xy, ratio);
+        return lib_downsampling_blur(
+            img, img_sampler, pos.xy, vec2<f32>(1.0, 0.0), params.sigma,
+            params.out_texel, params.out_size, params.img_size,
+        );
     }
     let dir = vec2<f32>(params.out_texel.x, 0.0);
     let r = i32(ceil(3.0 * params.sigma));

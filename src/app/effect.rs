@@ -135,11 +135,7 @@ pub(crate) fn run_on_image(
     let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
     report.steps.pipeline_ms = ms(t.elapsed());
     report.plans += 1;
-    report.memory = MemoryReport {
-        peak_bytes: prepared.plan.peak_bytes,
-        lower_bound_bytes: prepared.plan.lower_bound_bytes,
-        naive_bytes: prepared.plan.naive_bytes,
-    };
+    report.memory = MemoryReport::of(&prepared.plan);
     let t = Instant::now();
     let ctx = engine.ctx.clone();
     let input_tex = upload_image(&ctx, "fxgraph input", img, in_format)?;

@@ -185,11 +185,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
     fn note_plan(&mut self, prepared: &Prepared, spent: Duration) {
         self.report.plans += 1;
         self.report.steps.pipeline_ms = ms(spent);
-        self.report.memory = MemoryReport {
-            peak_bytes: prepared.plan.peak_bytes,
-            lower_bound_bytes: prepared.plan.lower_bound_bytes,
-            naive_bytes: prepared.plan.naive_bytes,
-        };
+        self.report.memory = MemoryReport::of(&prepared.plan);
     }
 
     /// Run one still (planning again if its size or formats differ from the previous

@@ -100,6 +100,17 @@ pub struct MemoryReport {
     pub naive_bytes: u64,
 }
 
+impl MemoryReport {
+    /// The memory figures of a plan.
+    pub fn of(plan: &crate::graph::plan::Plan) -> Self {
+        MemoryReport {
+            peak_bytes: plan.peak_bytes,
+            lower_bound_bytes: plan.lower_bound_bytes,
+            naive_bytes: plan.naive_bytes,
+        }
+    }
+}
+
 /// What the deferred renderer did (scene jobs).
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct SceneStats {

@@ -277,11 +277,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
             let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
             report.steps.pipeline_ms = ms(t.elapsed());
             report.plans += 1;
-            report.memory = MemoryReport {
-                peak_bytes: prepared.plan.peak_bytes,
-                lower_bound_bytes: prepared.plan.lower_bound_bytes,
-                naive_bytes: prepared.plan.naive_bytes,
-            };
+            report.memory = MemoryReport::of(&prepared.plan);
             let o = prepared.plan.output;
             let target = create_output(&ctx, o.width, o.height, o.format);
             let t = Instant::now();
