@@ -84,54 +84,76 @@ fn at(t: texture_2d<f32>, u: f32, v: f32) -> vec4<f32> {
 }
 
 #if STAGE == 0
+// The missing field's rows before and after the output time are in (prev, cur)
+// when the first field is kept (subframe 0), in (cur, next) when the second is.
+// The very first output has no earlier field: there the later pair (cur, next) is
+// used, for the still test only (moving pixels are interpolated spatially).
+fn first_output() -> bool {
+    return params.frame == 0u && params.subframe == 0u;
+}
+
 // The reconstructed missing row y at column centre u (bob or adaptive).
 fn reconstruct(s: vec2<i32>, u: f32, y: i32) -> vec4<f32> {
-    let vm1 = row_v(y - 1, s.y);
-    let vp1 = row_v(y + 1, s.y);
-    let c = at(cur, u, vm1);
-    let e = at(cur, u, vp1);
 #if MODE == 0
-    return 0.5 * (c + e);
+    return 0.5 * (at(cur, u, row_v(y - 1, s.y)) + at(cur, u, row_v(y + 1, s.y)));
 #else
-    let vm3 = row_v(y - 3, s.y);
-    let vp3 = row_v(y + 3, s.y);
-    let v0 = row_v(y, s.y);
-    let vm2 = row_v(y - 2, s.y);
-    let vp2 = row_v(y + 2, s.y);
-    // The missing field's rows before (a*) and after (b*) the output time: in
-    // (prev, cur) when the first field is kept (subframe 0), in (cur, next) when
-    // the second is. The very first output has no earlier field: there the later
-    // pair (cur, next) is used, for the still test only (moving pixels are
-    // interpolated spatially).
-    let first = params.frame == 0u && params.subframe == 0u;
-    var a0: vec4<f32>;
+    // All reads by constant row offsets from one coordinate (cheaper on lavapipe
+    // than a coordinate per read). Rows past the top or bottom edge clamp there;
+    // the selects below replace them by the nearest row of the same parity, which
+    // is always one of the texels read (so no read needs a folded coordinate).
+    let uv = vec2<f32>(u, (f32(y) + 0.5) / f32(s.y));
+    let c_ = textureSampleLevel(cur, cur_sampler, uv, 0.0, vec2<i32>(0, -1));
+    let e_ = textureSampleLevel(cur, cur_sampler, uv, 0.0, vec2<i32>(0, 1));
     var a2u: vec4<f32>;
+    var a0: vec4<f32>;
     var a2d: vec4<f32>;
-    if (params.subframe == 0u && !first) {
-        a0 = at(prev, u, v0);
-        a2u = at(prev, u, vm2);
-        a2d = at(prev, u, vp2);
+    if (params.subframe == 0u && !first_output()) {
+        a2u = textureSampleLevel(prev, cur_sampler, uv, 0.0, vec2<i32>(0, -2));
+        a0 = textureSampleLevel(prev, cur_sampler, uv, 0.0);
+        a2d = textureSampleLevel(prev, cur_sampler, uv, 0.0, vec2<i32>(0, 2));
     } else {
-        a0 = at(next, u, v0);
-        a2u = at(next, u, vm2);
-        a2d = at(next, u, vp2);
+        a2u = textureSampleLevel(next, cur_sampler, uv, 0.0, vec2<i32>(0, -2));
+        a0 = textureSampleLevel(next, cur_sampler, uv, 0.0);
+        a2d = textureSampleLevel(next, cur_sampler, uv, 0.0, vec2<i32>(0, 2));
     }
-    let b0 = at(cur, u, v0);
-    let b2u = at(cur, u, vm2);
-    let b2d = at(cur, u, vp2);
+    let b2u_ = textureSampleLevel(cur, cur_sampler, uv, 0.0, vec2<i32>(0, -2));
+    let b0 = textureSampleLevel(cur, cur_sampler, uv, 0.0);
+    let b2d_ = textureSampleLevel(cur, cur_sampler, uv, 0.0, vec2<i32>(0, 2));
+    let pc_ = textureSampleLevel(prev, cur_sampler, uv, 0.0, vec2<i32>(0, -1));
+    let pe_ = textureSampleLevel(prev, cur_sampler, uv, 0.0, vec2<i32>(0, 1));
+    let nc_ = textureSampleLevel(next, cur_sampler, uv, 0.0, vec2<i32>(0, -1));
+    let ne_ = textureSampleLevel(next, cur_sampler, uv, 0.0, vec2<i32>(0, 1));
+    let c3_ = textureSampleLevel(cur, cur_sampler, uv, 0.0, vec2<i32>(0, -3));
+    let e3_ = textureSampleLevel(cur, cur_sampler, uv, 0.0, vec2<i32>(0, 3));
+    // Edges: row -1 is row 1, -2 is 0, -3 is 1; row h is h - 2, h + 1 is h - 1,
+    // h + 2 is h - 2 (clamping already gives -2 -> 0 and h + 1 -> h - 1).
+    let top = y == 0;
+    let bottom = y == s.y - 1;
+    let c = select(c_, e_, top);
+    let e = select(e_, c_, bottom);
+    let pc = select(pc_, pe_, top);
+    let pe = select(pe_, pc_, bottom);
+    let nc = select(nc_, ne_, top);
+    let ne = select(ne_, nc_, bottom);
+    let c3 = select(select(c3_, e_, top), c_, y == 2);
+    let e3 = select(select(e3_, c_, bottom), e_, y == s.y - 3);
+    let a2u_f = select(a2u, a0, y == 1);
+    let b2u = select(b2u_, b0, y == 1);
+    let a2d_f = select(a2d, a0, y == s.y - 2);
+    let b2d = select(b2d_, b0, y == s.y - 2);
     // Temporal prediction and motion: the missing row's change across the output
     // time, and the kept rows' change from the previous and to the next frame.
     let d = 0.5 * (a0 + b0);
     let td0 = abs(a0 - b0);
-    let td1 = 0.5 * (abs(at(prev, u, vm1) - c) + abs(at(prev, u, vp1) - e));
-    let td2 = 0.5 * (abs(at(next, u, vm1) - c) + abs(at(next, u, vp1) - e));
+    let td1 = 0.5 * (abs(pc - c) + abs(pe - e));
+    let td2 = 0.5 * (abs(nc - c) + abs(ne - e));
     var diff = max(0.5 * td0, max(td1, td2));
     let still = diff <= vec4<f32>(params.threshold);
     // Spatial-temporal check: widen the margin where the temporal prediction is an
     // extremum against the rows above and below that the field two rows away
     // (predicted the same way) does not confirm.
-    let bb = 0.5 * (a2u + b2u);
-    let ff = 0.5 * (a2d + b2d);
+    let bb = 0.5 * (a2u_f + b2u);
+    let ff = 0.5 * (a2d_f + b2d);
     let hi = max(max(d - e, d - c), min(bb - c, ff - e));
     let lo = min(min(d - e, d - c), max(bb - c, ff - e));
     diff = max(diff, max(lo, -hi));
@@ -140,11 +162,11 @@ fn reconstruct(s: vec2<i32>, u: f32, y: i32) -> vec4<f32> {
     // frequencies of the temporal prediction (d against the mean of the
     // predictions two rows above and below).
     let ce = c + e;
-    let ce3 = at(cur, u, vm3) + at(cur, u, vp3);
+    let ce3 = c3 + e3;
     let sp = SP0 * ce - SP1 * ce3;
     let with_hf = LF0 * ce - LF1 * ce3 + HF * (d - 0.5 * (bb + ff));
     let interp = select(sp, with_hf, abs(c - e) > td0);
-    let moving = select(clamp(interp, d - diff, d + diff), sp, first);
+    let moving = select(clamp(interp, d - diff, d + diff), sp, first_output());
     return select(moving, d, still);
 #endif
 }
