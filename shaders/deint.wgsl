@@ -24,9 +24,11 @@
 //            adaptive reconstruct the missing rows here (blend writes nothing useful)
 //   STAGE 1  `weave`: full size; kept rows from cur, missing rows from `missing`
 //            (blend computes every row here)
-// Every texel is read with a nearest-filter sample at its centre: on lavapipe that
-// is cheaper than textureLoad (which gets bounds checks), and the raw 8-bit views
-// are much cheaper than sRGB-decoding ones.
+// Every texel is read with a nearest-filter sample at its centre (the adaptive
+// mode's 14 reads at constant row offsets from one coordinate, which on lavapipe
+// made the pass 10-15 % cheaper than a coordinate per read); the raw 8-bit views
+// are much cheaper than sRGB-decoding ones (720x576 `rows` pass, same maths: about
+// 10.5 against 19 ms a frame, best of 8 runs).
 #ifndef MODE
 #define MODE 2
 #endif
