@@ -9,7 +9,9 @@
 # looped to FRAMES frames, into $BENCH_DIR (never into the repo). Interleaved runs
 # (bench/timeit.py), medians; ffmpeg runs with 2 threads (-threads 2
 # -filter_threads 2); every tool writes PNG at zlib level 1. Ratio = peer / fxrun
-# (wall): above 1 means fxrun is faster. Then fxrun's stage-busy split (--timings).
+# (wall): above 1 means fxrun is faster. The machine load (and the CPU pressure, where
+# /proc/pressure/cpu exists) is printed before and after: the timings are only
+# comparable on a quiet machine. Then fxrun's stage-busy split (--timings).
 #
 # Quality: a camera move over ../shared/corpus/photos/seeding_by_Clements_Engelhardt.jpg
 # rendered at field rate and woven bottom field first (bench/deint_psnr.py, 20
@@ -30,7 +32,8 @@ cargo build --release --quiet
 FX="$PWD/target/release/fxrun"
 FF="ffmpeg -v error -y -threads 2 -filter_threads 2"
 echo "fxrun adapter: $($FX --adapters | head -1)"
-echo "machine: $(nproc) cores, $(uname -m), load $(cut -d' ' -f1-3 /proc/loadavg)"
+load() { echo "load $(cut -d' ' -f1-3 /proc/loadavg)$(sed -n 's/^some avg10=\([^ ]*\) avg60=\([^ ]*\).*/, cpu pressure (PSI some) 10 s: \1 %, 60 s: \2 %/p' /proc/pressure/cpu 2>/dev/null)"; }
+echo "machine: $(nproc) cores, $(uname -m), $(load)"
 SIZES="720x576 1920x1080"
 for size in $SIZES; do
     d="$WORK/in_$size"
@@ -50,6 +53,7 @@ for size in $SIZES; do
         "fxrun adaptive" "$FX deinterlace --set mode=adaptive --set field_order=bff -i $in -o $out/f%04d.png" \
         "ffmpeg bwdif (2 threads)" "$FF -i $in -vf bwdif=mode=0:parity=bff -compression_level 1 $out/b%04d.png" \
         "ffmpeg yadif (2 threads)" "$FF -i $in -vf yadif=mode=0:parity=bff -compression_level 1 $out/y%04d.png"
+    echo "  after the rounds: $(load)"
     "$FX" deinterlace --set mode=adaptive --set field_order=bff -i "$in" -o "$out/t%04d.png" --timings 2>&1 |
         grep -E "stage busy|frames:|deinterlace/" | sed "s/^/    /"
     q="$WORK/q_$size"

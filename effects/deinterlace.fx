@@ -37,40 +37,52 @@
 //                            (|IN[+1][y-1] - c| + |IN[+1][y+1] - e|) / 2)
 //             If motion <= threshold (still), the output is d: in still areas the
 //             missing row is the real row of the other field, so the image keeps its
-//             full vertical resolution (exactly, for identical frames). Otherwise the
-//             spatial prediction s (edge-directed: the mean of row y-1 at x+j and row
-//             y+1 at x-j for the slope j in {-2..2} whose 3-pixel match score is
-//             lowest, vertical preferred; then limited to [min(c, e), max(c, e)], so
-//             a wrong slope across an object's edge cannot invent a value) is clamped
-//             to [d - m, d + m], where m is the motion widened by the
-//             spatial-temporal check
-//               B = temporal prediction of row y-2, F = of row y+2,
+//             full vertical resolution (exactly, for identical frames). Otherwise an
+//             interpolation i, clamped to [d - m, d + m]:
+//               i = 0.6197 (c + e) - 0.1197 (cur[y-3] + cur[y+3])   (4-tap vertical,
+//                   the w3fdif / bwdif spatial filter), or, where |c - e| > |a - b|
+//                   (vertical contrast beyond the temporal change),
+//               i = 0.5260 (c + e) - 0.0260 (cur[y-3] + cur[y+3]) + (d - (B + F) / 2) / 6
+//                   (a softer 4-tap plus the vertical high frequencies of the
+//                   temporal prediction),
+//             where B = temporal prediction of row y-2, F = of row y+2, and m is the
+//             motion widened by the spatial-temporal check
 //               m = max(motion, min(d-e, d-c, max(B-c, F-e)), -max(d-e, d-c, min(B-c, F-e)))
 //             so a temporal prediction that sticks out of its vertical neighbours
 //             (combing) is not trusted, while slow motion keeps temporal detail.
+//             The first output of a sequence (frame 0, subframe 0) has no earlier
+//             field: there a, b = (IN, IN[+1]) serve the still test only, and moving
+//             pixels get the 4-tap vertical interpolation unclamped.
 //
-// Rows outside the image reflect onto rows of the same parity; columns clamp. IN[-1]
-// and IN[+1] clamp at the ends of the sequence (the first frame's missing rows use
-// the first frame itself). The effect reads IN[+1], so output t is produced when
-// input t + 1 has arrived (latency 1), in every mode. A single image is a one-frame
-// sequence (IN[-1] = IN[+1] = IN): bob and blend work as on any frame, but adaptive
-// sees no motion and returns the woven image unchanged; use bob for stills.
+// Rows outside the image are replaced by the nearest row of the same parity; columns
+// clamp. IN[-1] and IN[+1] clamp at the ends of the sequence. The effect reads
+// IN[+1], so output t is produced when input t + 1 has arrived (latency 1), in every
+// mode. A single image is a one-frame sequence (IN[-1] = IN[+1] = IN): bob and blend
+// work as on any frame, but adaptive sees no motion and returns the woven image
+// unchanged; use bob for stills.
 //
-// Values are processed in linear light, per channel (alpha too); the edge direction
-// is chosen on r + g + b so colours do not separate.
+// Values: every mode works per channel (alpha too) on sRGB-encoded values, like
+// yadif / bwdif on 8-bit video (the interpolation weights and the motion threshold
+// are meant for perceptually even steps). For an 8-bit input this costs nothing:
+// the passes read and write the raw 8-bit values (COLORSPACE = srgb), and the
+// output file gets them unchanged. A float input is encoded by the runtime (one
+// conversion pass per input frame read; values above 1 follow the extended sRGB
+// curve, negative values clip to 0), the missing rows are kept in rgba16f, and the
+// result is decoded back to linear light (rgba32f before the output's format), so
+// HDR values survive; the encode / decode round trip changes the kept rows by
+// about one half-float step of the encoded value.
 //
 // Parameters: mode, field_order, threshold (below).
 // Passes: `rows` (SHADER.deint STAGE 0 with IN, IN[-1], IN[+1]) reconstructs the
-// missing rows at half height; `deint` (STAGE 1) weaves them with the kept rows at
-// the input's size. FORMAT = IN (8-bit stays 8-bit; the half-height rows are stored
-// in the output's format, so the result is the same as computing it in one pass).
+// missing rows at half height (rgba16f, encoded); `deint` (STAGE 1) weaves them with
+// the kept rows at the input's size (rgba32f, encoded; written straight into an
+// 8-bit output).
 EFFECT.deinterlace = {
-    DESCRIPTION = "Deinterlace: bob, blend or motion-adaptive (yadif-like) field reconstruction.\nField-rate output at rate 2 (subframe 0/1 = first/second field); at rate 1 the first field is kept."
-    FORMAT = IN
+    DESCRIPTION = "Deinterlace: bob, blend or motion-adaptive (yadif/bwdif-like) field reconstruction.\nField-rate output at rate 2 (subframe 0/1 = first/second field); at rate 1 the first field is kept."
     PARAM = {
-        mode = ENUM { VALUES = (bob, blend, adaptive)  DEFAULT = adaptive  DESCRIPTION = "bob: line doubling; blend: average of the fields; adaptive: temporal where still, edge-directed spatial where moving" }
+        mode = ENUM { VALUES = (bob, blend, adaptive)  DEFAULT = adaptive  DESCRIPTION = "bob: line doubling; blend: average of the fields; adaptive: temporal where still, vertical 4-tap interpolation clamped around it where moving" }
         field_order = ENUM { VALUES = (tff, bff)  DEFAULT = tff  DESCRIPTION = "which field was captured first: top (even rows) or bottom (odd rows)" }
-        threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "adaptive: temporal difference (linear units) at or below which a pixel counts as still" }
+        threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "adaptive: temporal difference (sRGB-encoded 0..1) at or below which a pixel counts as still" }
     }
     PASS = {
         // The missing rows only, at half height (row r is image row 2r + 1 - p;
@@ -79,20 +91,28 @@ EFFECT.deinterlace = {
             cur = IN
             prev = IN[-1]
             next = IN[+1]
+            cur.COLORSPACE = srgb
+            prev.COLORSPACE = srgb
+            next.COLORSPACE = srgb
             cur.FILTER = nearest
             field_order = PARAM.field_order
             threshold = PARAM.threshold
             DEFINE.MODE = PARAM.mode
             DEFINE.STAGE = 0
             OUT.SCALE = (1, 0.5)
-            OUT.FORMAT = IN
+            OUT.FORMAT = rgba16f
+            OUT.COLORSPACE = srgb
         }
         // Full size: the kept rows from IN, the missing rows from `rows` (blend
         // computes every row here).
         deint = SHADER.deint {
             cur = IN
             missing = PASS.rows
+            cur.COLORSPACE = srgb
+            missing.COLORSPACE = srgb
             cur.FILTER = nearest
+            OUT.FORMAT = rgba32f
+            OUT.COLORSPACE = srgb
             field_order = PARAM.field_order
             DEFINE.MODE = PARAM.mode
             DEFINE.STAGE = 1

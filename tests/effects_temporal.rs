@@ -127,6 +127,12 @@ fn is_static(y: u32) -> bool {
     !(BOX_Y0 - 4..BOX_Y1 + 4).contains(&y)
 }
 
+/// Largest change of a linear value in [0, 1] by the effect's round trip of float
+/// inputs (encoded to sRGB in an rgba16f conversion pass, decoded back): one
+/// half-float step of the encoded value (2^-11 below 1; lavapipe may truncate),
+/// times the slope of the decoding curve (at most about 2.3), with a margin.
+const F16_ROUND_TRIP: f32 = 1.5e-3;
+
 /// Pooled PSNR of the deinterlaced outputs against the progressive truth over the
 /// whole image, the moving box at the output's time, its neighbourhood (the box
 /// and the background it covers and uncovers, 3-5 px around it) and the static
@@ -238,9 +244,16 @@ fn deinterlace_synthetic_ground_truth() {
         let bob = &scores[&("tff", rate, "bob")];
         let blend = &scores[&("tff", rate, "blend")];
         let ad = &scores[&("tff", rate, "adaptive")];
-        // Static content: the adaptive output is the source, exactly.
-        assert_eq!(ad.static_max_err, 0.0, "rate {rate}: static rows not exact");
-        assert!(ad.fixed.is_infinite());
+        // Static content: the adaptive output is the source, up to the round trip
+        // of a float input through sRGB-encoded half floats (the effect works on
+        // encoded values; 8-bit inputs are exact, see
+        // deinterlace_8bit_static_rows_exact_and_first_frame_spatial).
+        assert!(
+            ad.static_max_err <= F16_ROUND_TRIP,
+            "rate {rate}: static rows off by {}",
+            ad.static_max_err
+        );
+        assert!(ad.fixed > 60.0, "rate {rate}: static {:.2} dB", ad.fixed);
         // Moving content: adaptive beats bob and blend on the box, around it and
         // overall.
         for (name, other) in [("bob", bob), ("blend", blend)] {
@@ -255,7 +268,7 @@ fn deinterlace_synthetic_ground_truth() {
         assert!(bob.fixed < 30.0 && blend.fixed < 30.0);
         // bff material with field_order = bff scores like tff material with tff.
         let bff = &scores[&("bff", rate, "adaptive")];
-        assert_eq!(bff.static_max_err, 0.0);
+        assert!(bff.static_max_err <= F16_ROUND_TRIP);
         assert!(
             (bff.moving - ad.moving).abs() < 1.5,
             "bff {:.2} vs tff {:.2}",
@@ -315,6 +328,169 @@ fn deinterlace_rate_two_outputs_one_image_per_field() {
     }
     println!("rate 2: smallest mean |field 0 - field 1| on the moving box: {min_box_diff:.4}");
     assert!(min_box_diff > 0.05, "{min_box_diff}");
+}
+
+/// 8-bit code of an output value (linear light, as read back).
+fn code_of(v: f32) -> i32 {
+    (linear_to_srgb(v) * 255.0).round() as i32
+}
+
+/// Row `y` moved into [0, h) keeping its parity (the shader's rule for rows outside).
+fn same_parity_row(y: i32, h: i32) -> i32 {
+    let r = if y < 0 {
+        y & 1
+    } else if y >= h {
+        y - 2 * ((y - h) / 2 + 1)
+    } else {
+        y
+    };
+    r.clamp(0, h - 1)
+}
+
+/// 8-bit input (the effect works on the encoded values as stored): the static rows
+/// of every adaptive output are the input's codes exactly, at rate 1 and 2 and for
+/// both field orders. The first output has no earlier field: its missing rows are
+/// the still value where IN and IN[+1] agree, and the 4-tap vertical
+/// interpolation of the kept rows where they differ.
+#[test]
+fn deinterlace_8bit_static_rows_exact_and_first_frame_spatial() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let truth: Vec<Vec<f32>> = (0..16).map(progressive).collect();
+    let to_u8 = |v: &[f32]| -> Image {
+        image_u8(DW, DH, |x, y| {
+            let i = ((y * DW + x) * 4) as usize;
+            let q = |c: f32| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
+            [q(v[i]), q(v[i + 1]), q(v[i + 2]), 255]
+        })
+    };
+    let codes = |img: &Image| -> Vec<u8> {
+        let Pixels::U8(px) = &img.pixels else {
+            unreachable!()
+        };
+        px.clone()
+    };
+    for (order, tff) in [("tff", true), ("bff", false)] {
+        let frames: Vec<Image> = (0..8).map(|k| to_u8(&weave(&truth, k, tff))).collect();
+        let set_order = format!("field_order={order}");
+        for rate in [1u32, 2] {
+            let outs = run_stream(
+                &mut engine,
+                "deinterlace",
+                &["mode=adaptive", &set_order],
+                &frames,
+                rate,
+            );
+            for (i, o) in outs.iter().enumerate() {
+                let t = if rate == 1 { 2 * i } else { i };
+                let want = codes(&to_u8(&truth[t]));
+                for y in (0..DH).filter(|&y| is_static(y)) {
+                    for x in 0..DW {
+                        for c in 0..3 {
+                            let j = ((y * DW + x) * 4) as usize + c;
+                            assert_eq!(
+                                code_of(o[j]),
+                                want[j] as i32,
+                                "{order} rate {rate} output {i}: static pixel ({x}, {y}) channel {c}"
+                            );
+                        }
+                    }
+                }
+            }
+            // The first output: missing rows have the other parity than the first
+            // field (tff: odd rows).
+            let cur = codes(&frames[0]);
+            let next = codes(&frames[1]);
+            let (mut spatial, mut still) = (0, 0);
+            for y in (0..DH as i32).filter(|y| (y & 1 == 1) == tff) {
+                for x in 0..DW as i32 {
+                    for c in 0..3 {
+                        let at = |img: &[u8], yy: i32| {
+                            img[((same_parity_row(yy, DH as i32) * DW as i32 + x) * 4) as usize + c]
+                                as f32
+                        };
+                        let (ce, ce3) = (
+                            at(&cur, y - 1) + at(&cur, y + 1),
+                            at(&cur, y - 3) + at(&cur, y + 3),
+                        );
+                        let moving = at(&cur, y) != at(&next, y)
+                            || at(&cur, y - 1) != at(&next, y - 1)
+                            || at(&cur, y + 1) != at(&next, y + 1);
+                        let got = code_of(outs[0][((y * DW as i32 + x) * 4) as usize + c]);
+                        if moving {
+                            let sp = (5077.0 * ce - 981.0 * ce3) / 8192.0;
+                            let want = sp.round().clamp(0.0, 255.0) as i32;
+                            assert!(
+                                (got.clamp(0, 255) - want).abs() <= 1,
+                                "{order} rate {rate}, first output ({x}, {y}) channel {c}: {got} vs spatial {sp:.2}"
+                            );
+                            spatial += 1;
+                        } else {
+                            assert_eq!(got, at(&cur, y) as i32, "({x}, {y}) channel {c}");
+                            still += 1;
+                        }
+                    }
+                }
+            }
+            assert!(
+                spatial > 1000 && still > 1000,
+                "{spatial} moving, {still} still samples"
+            );
+        }
+    }
+}
+
+/// Float input with HDR values (up to 4): the result stays linear light in a float
+/// format, values above 1 survive (the sRGB curve is extended above 1), the static
+/// rows are the source up to the encode / decode round trip, and the moving box
+/// stays within the input's range.
+#[test]
+fn deinterlace_float_hdr_input() {
+    let Some(mut engine) = engine() else {
+        return;
+    };
+    let hdr = |t: u32| -> Vec<f32> {
+        progressive(t)
+            .chunks_exact(4)
+            .flat_map(|p| {
+                [
+                    f16r(4.0 * p[0] * p[0]),
+                    f16r(4.0 * p[1]),
+                    f16r(0.25 * p[2]),
+                    1.0,
+                ]
+            })
+            .collect()
+    };
+    let truth: Vec<Vec<f32>> = (0..16).map(hdr).collect();
+    let frames: Vec<Image> = (0..8)
+        .map(|k| float_image(DW, DH, weave(&truth, k, true)))
+        .collect();
+    let outs = run_stream(&mut engine, "deinterlace", &["mode=adaptive"], &frames, 1);
+    let (mut max_rel, mut max_out) = (0f32, 0f32);
+    for (i, o) in outs.iter().enumerate() {
+        let t = &truth[2 * i];
+        for y in 0..DH {
+            for x in 0..DW {
+                for c in 0..3 {
+                    let j = ((y * DW + x) * 4) as usize + c;
+                    assert!(
+                        o[j].is_finite() && (-1e-3..=4.2).contains(&o[j]),
+                        "{}",
+                        o[j]
+                    );
+                    max_out = max_out.max(o[j]);
+                    if is_static(y) {
+                        max_rel = max_rel.max((o[j] - t[j]).abs() / t[j].max(0.05));
+                    }
+                }
+            }
+        }
+    }
+    println!("HDR input: largest output {max_out:.3}, static rows relative error {max_rel:.2e}");
+    assert!(max_out > 3.5, "values above 1 were lost: {max_out}");
+    assert!(max_rel < 4e-3, "static rows relative error {max_rel}");
 }
 
 // ----------------------------------------------- deinterlace: a real PAL clip
@@ -462,8 +638,11 @@ fn deinterlace_real_pal_clip_removes_combing() {
     }
     // bob cannot comb but halves the vertical detail; adaptive keeps more vertical
     // high frequencies (a higher index than bob, still below the progressive ~1).
+    // Measured on these 12 frames: bob 0.42, adaptive 0.57 (the bwdif-like 4-tap
+    // interpolation; ffmpeg bwdif gives 0.64 with its rounding noise, and the
+    // earlier edge-directed yadif-like interpolation 0.88, yadif 0.92).
     assert!(
-        bob < 0.7 && adaptive > bob + 0.2,
+        bob < 0.7 && adaptive > bob + 0.1,
         "bob {bob:.2}, adaptive {adaptive:.2}"
     );
     let saved = save_for_review(
