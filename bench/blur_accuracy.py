@@ -7,6 +7,7 @@ the stored 8-bit values (what vips, ffmpeg and `fxrun --assume-linear` compute).
 each output: the largest difference in LSB, the share of samples more than 1 LSB off,
 and the PSNR against the reference.
 """
+import os
 import sys
 
 import cv2
@@ -17,10 +18,10 @@ sigma = float(sys.argv[2])
 ref = cv2.GaussianBlur(src, (0, 0), sigma, borderType=cv2.BORDER_REPLICATE).astype(np.float64)
 print(f"  {'output':<36} {'max LSB':>8} {'> 1 LSB':>9} {'PSNR':>9}")
 for arg in sys.argv[3:]:
-    name, path = arg.split("=", 1)
-    out = cv2.imread(path, cv2.IMREAD_UNCHANGED)
+    name, path = arg.rsplit("=", 1)
+    out = cv2.imread(path, cv2.IMREAD_UNCHANGED) if os.path.exists(path) else None
     if out is None:
-        print(f"  {name:<36} (missing)")
+        print(f"  {name:<36} (not run)")
         continue
     out = out.astype(np.float64)
     if out.ndim == 3 and out.shape[2] != ref.shape[2]:
