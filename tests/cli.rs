@@ -928,6 +928,35 @@ fn an_image_over_the_device_limit_is_refused_before_decoding() {
     );
 }
 
+/// An image wider than every device is guaranteed to take (8192) is checked against
+/// this device's own limit, which the decode waits for while the device is created
+/// on its thread: accepted when the device takes it.
+#[test]
+fn an_image_over_the_guaranteed_limit_waits_for_the_devices_own() {
+    let Some(max) = common::engine().map(|e| e.ctx.device.limits().max_texture_dimension_2d) else {
+        return;
+    };
+    if max < 10000 {
+        eprintln!("skipping: the device takes only {max} pixels per side");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let wide = dir.path().join("wide.png");
+    let img = common::image_u8(10000, 2, |x, y| [(x % 251) as u8, (y * 90) as u8, 7, 255]);
+    fxgraph::io::save_image(&wide, 10000, 2, &img.pixels, &Default::default()).unwrap();
+    let out = dir.path().join("o.png");
+    let o = fxrun(&[
+        "vignette",
+        "-i",
+        wide.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let r = fxgraph::io::load_image(&out, &Default::default()).unwrap();
+    assert_eq!((r.width, r.height), (10000, 2));
+}
+
 #[test]
 fn no_error_line_starts_with_an_empty_path() {
     for args in [
