@@ -61,28 +61,26 @@
 // work as on any frame, but adaptive sees no motion and returns the woven image
 // unchanged; use bob for stills.
 //
-// Values: every mode works per channel (alpha too) on sRGB-encoded values, like
-// yadif / bwdif on 8-bit video (the interpolation weights and the motion threshold
-// are meant for perceptually even steps). For an 8-bit input this costs nothing:
-// the passes read and write the raw 8-bit values (COLORSPACE = srgb), and the
-// output file gets them unchanged. A float input is encoded by the runtime (one
-// conversion pass per input frame read; values above 1 follow the extended sRGB
-// curve, negative values clip to 0), the missing rows are kept in rgba16f, and the
-// result is decoded back to linear light (rgba32f before the output's format), so
-// HDR values survive; the encode / decode round trip changes the kept rows by
-// about one half-float step of the encoded value.
+// Values: every mode works per channel (alpha too) on the values as the input
+// stores them (COLORSPACE = stored). For an 8-bit input these are the sRGB-encoded
+// codes, like yadif / bwdif on 8-bit video (the interpolation weights and the motion
+// threshold are meant for perceptually even steps): the passes read and write the
+// raw 8-bit values, no decode or encode per texel, and the output file gets them
+// unchanged. A float input (EXR, 16-bit, HDR) is deinterlaced in linear light as
+// stored, with no conversion: kept rows are exact, values above 1 and below 0
+// survive; the 4-tap interpolation is kept from ringing below zero next to
+// non-negative neighbours.
 //
 // Parameters: mode, field_order, threshold (below).
 // Passes: `rows` (SHADER.deint STAGE 0 with IN, IN[-1], IN[+1]) reconstructs the
-// missing rows at half height (rgba16f, encoded); `deint` (STAGE 1) weaves them with
-// the kept rows at the input's size (rgba32f, encoded; written straight into an
-// 8-bit output).
+// missing rows at half height (rgba16f); `deint` (STAGE 1) weaves them with the kept
+// rows at the input's size (rgba32f; written straight into an 8-bit output).
 EFFECT.deinterlace = {
     DESCRIPTION = "Deinterlace: bob, blend or motion-adaptive (yadif/bwdif-like) field reconstruction.\nField-rate output at rate 2 (subframe 0/1 = first/second field); at rate 1 the first field is kept."
     PARAM = {
         mode = ENUM { VALUES = (bob, blend, adaptive)  DEFAULT = adaptive  DESCRIPTION = "bob: line doubling; blend: average of the fields; adaptive: temporal where still, vertical 4-tap interpolation clamped around it where moving" }
         field_order = ENUM { VALUES = (tff, bff)  DEFAULT = tff  DESCRIPTION = "which field was captured first: top (even rows) or bottom (odd rows)" }
-        threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "adaptive: temporal difference (sRGB-encoded 0..1) at or below which a pixel counts as still" }
+        threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "adaptive: temporal difference (0..1, in the stored values: sRGB-encoded for 8-bit inputs) at or below which a pixel counts as still" }
     }
     PASS = {
         // The missing rows only, at half height (row r is image row 2r + 1 - p;
@@ -91,9 +89,9 @@ EFFECT.deinterlace = {
             cur = IN
             prev = IN[-1]
             next = IN[+1]
-            cur.COLORSPACE = srgb
-            prev.COLORSPACE = srgb
-            next.COLORSPACE = srgb
+            cur.COLORSPACE = stored
+            prev.COLORSPACE = stored
+            next.COLORSPACE = stored
             cur.FILTER = nearest
             field_order = PARAM.field_order
             threshold = PARAM.threshold
@@ -101,18 +99,18 @@ EFFECT.deinterlace = {
             DEFINE.STAGE = 0
             OUT.SCALE = (1, 0.5)
             OUT.FORMAT = rgba16f
-            OUT.COLORSPACE = srgb
+            OUT.COLORSPACE = stored
         }
         // Full size: the kept rows from IN, the missing rows from `rows` (blend
         // computes every row here).
         deint = SHADER.deint {
             cur = IN
             missing = PASS.rows
-            cur.COLORSPACE = srgb
-            missing.COLORSPACE = srgb
+            cur.COLORSPACE = stored
+            missing.COLORSPACE = stored
             cur.FILTER = nearest
             OUT.FORMAT = rgba32f
-            OUT.COLORSPACE = srgb
+            OUT.COLORSPACE = stored
             field_order = PARAM.field_order
             DEFINE.MODE = PARAM.mode
             DEFINE.STAGE = 1

@@ -168,7 +168,11 @@ fn reconstruct(s: vec2<i32>, u: f32, y: i32) -> vec4<f32> {
     let sp = SP0 * ce - SP1 * ce3;
     let with_hf = LF0 * ce - LF1 * ce3 + HF * (d - 0.5 * (bb + ff));
     let interp = select(sp, with_hf, abs(c - e) > td0);
-    let moving = select(clamp(interp, d - diff, d + diff), sp, first_output());
+    // The 4-tap's negative lobes may ring below zero next to a bright edge: not
+    // below the darker neighbour where both are non-negative (8-bit outputs clamp
+    // there anyway; float / HDR inputs, deinterlaced in linear light, would keep it).
+    let floor_ = min(min(c, e), vec4<f32>(0.0));
+    let moving = max(select(clamp(interp, d - diff, d + diff), sp, first_output()), floor_);
     return select(moving, d, still);
 #endif
 }

@@ -268,6 +268,44 @@ fn colour_space_mismatch_on_8_bit_is_a_free_view() {
     assert_eq!(p.passes[2].inputs[0].view, View::Raw);
 }
 
+/// `COLORSPACE = stored`: the codes of an 8-bit input through raw views (no
+/// conversion pass, no note) with the output written raw into an 8-bit sRGB target,
+/// and a float input as stored (linear, no conversion).
+#[test]
+fn stored_colour_space_follows_the_input() {
+    use fxgraph::graph::plan::View;
+    use fxgraph::script::types::{ColorSpace, Format};
+    let g = ok("EFFECT.c = { COLORSPACE = stored  PASS = {
+        rows = SHADER.s { img = IN  OUT.FORMAT = rgba16f }
+        weave = SHADER.s { img = IN  rows = PASS.rows  OUT.FORMAT = rgba32f }
+    } OUT = weave }");
+    let to_8bit = PlanOptions {
+        output_format: Some(Format::Rgba8Srgb),
+        ..Default::default()
+    };
+    let (p, notes) = plan(&g, &InputDesc::rgba8_srgb(16, 16), &to_8bit).unwrap();
+    assert!(notes.list.is_empty(), "{:?}", notes.list);
+    assert_eq!(p.passes.len(), 2);
+    assert!(p.passes.iter().all(|p| p.colorspace == ColorSpace::Srgb));
+    assert_eq!(p.passes[0].inputs[0].view, View::Raw);
+    assert_eq!(p.passes[1].inputs[0].view, View::Raw);
+    assert_eq!(p.passes[1].inputs[1].view, View::Natural);
+    assert_eq!(p.passes[1].target_view, View::Raw);
+    let float_in = InputDesc {
+        format: Format::Rgba16f,
+        ..InputDesc::rgba8_srgb(16, 16)
+    };
+    let (p, notes) = plan(&g, &float_in, &PlanOptions::default()).unwrap();
+    assert!(notes.list.is_empty(), "{:?}", notes.list);
+    assert_eq!(p.passes.len(), 2, "no conversion pass");
+    assert!(p.passes.iter().all(|p| p.colorspace == ColorSpace::Linear));
+    assert!(p
+        .passes
+        .iter()
+        .all(|p| p.inputs.iter().all(|i| i.view == View::Natural)));
+    p.validate().unwrap();
+}
+
 #[test]
 fn every_shipped_effect_plans_at_the_lower_bound() {
     for (name, _) in library::builtin_effects() {

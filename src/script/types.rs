@@ -101,6 +101,13 @@ pub enum ColorSpace {
     Linear,
     /// sRGB-encoded (gamma) values.
     Srgb,
+    /// The values as the effect's input stores them: `srgb` when the input is 8-bit
+    /// sRGB (the stored codes, read and written raw: no decode or encode per texel),
+    /// `linear` otherwise (float and `--assume-linear` inputs, no conversion). For
+    /// filters meant for code values (deinterlacing, like yadif/bwdif on video) that
+    /// must still keep float and HDR inputs exact. Resolved when the effect is
+    /// planned ([`ColorSpace::resolve`]).
+    Stored,
 }
 
 impl ColorSpace {
@@ -108,13 +115,30 @@ impl ColorSpace {
         match self {
             ColorSpace::Linear => "linear",
             ColorSpace::Srgb => "srgb",
+            ColorSpace::Stored => "stored",
         }
     }
     pub fn from_name(s: &str) -> Option<ColorSpace> {
         match s {
             "linear" => Some(ColorSpace::Linear),
             "srgb" => Some(ColorSpace::Srgb),
+            "stored" => Some(ColorSpace::Stored),
             _ => None,
+        }
+    }
+
+    /// `Stored` for an effect whose input has `input_format` and `input_space`:
+    /// `Srgb` for an 8-bit sRGB input, `Linear` otherwise; other spaces as they are.
+    pub fn resolve(self, input_format: Format, input_space: ColorSpace) -> ColorSpace {
+        match self {
+            ColorSpace::Stored
+                if input_format == Format::Rgba8Srgb
+                    || (input_format == Format::Rgba8 && input_space == ColorSpace::Srgb) =>
+            {
+                ColorSpace::Srgb
+            }
+            ColorSpace::Stored => ColorSpace::Linear,
+            other => other,
         }
     }
 }

@@ -313,10 +313,13 @@ pub fn plan(
             View::Natural
         }
     };
+    // `stored` is `srgb` or `linear` depending on the input.
+    let space = |c: ColorSpace| c.resolve(input.format, input.colorspace);
     for &n in &graph.schedule {
         let p = graph.pass(n);
+        let p_space = space(p.colorspace);
         let Some(mut desc) = r.desc(n) else { continue };
-        if p.colorspace == ColorSpace::Srgb && desc.format.is_srgb() {
+        if p_space == ColorSpace::Srgb && desc.format.is_srgb() {
             r.diags.push(
                 Diagnostic::error(format!("pass `{}` writes sRGB-encoded values into an rgba8-srgb texture, which encodes them again", p.path))
                     .at(p.name_span, "double sRGB encoding")
@@ -330,18 +333,19 @@ pub fn plan(
                 continue;
             };
             let have = r.colorspace(src);
+            let want = space(inp.colorspace);
             let mut resource = resource_of(graph, src, &produced, &ring_of);
             let mut view = View::Natural;
             let mut in_desc = src_desc;
-            if have != inp.colorspace {
-                match (src_desc.format, have, inp.colorspace) {
+            if have != want {
+                match (src_desc.format, have, want) {
                     (Format::Rgba8Srgb, ColorSpace::Linear, ColorSpace::Srgb) => view = View::Raw,
                     (Format::Rgba8, ColorSpace::Srgb, ColorSpace::Linear) => {
                         view = View::SrgbDecode
                     }
                     _ => {
                         // An explicit conversion pass (once per source and target space).
-                        let key = (src, inp.colorspace);
+                        let key = (src, want);
                         if let Some(res) = conversions.get(&key) {
                             resource = res.clone();
                         } else {
@@ -360,9 +364,9 @@ pub fn plan(
                                     graph.label(src),
                                     p.path,
                                     inp.name,
-                                    inp.colorspace
+                                    want
                                 ))
-                                .at(inp.span, format!("converted from {have} to {}", inp.colorspace)),
+                                .at(inp.span, format!("converted from {have} to {}", want)),
                             );
                             let v = values.len();
                             values.push(Value {
@@ -373,8 +377,8 @@ pub fn plan(
                             });
                             passes.push(PlannedPass {
                                 node: None,
-                                path: format!("{}:{}:{}", p.path, inp.name, inp.colorspace),
-                                shader: PassShader::Convert { to: inp.colorspace },
+                                path: format!("{}:{}:{}", p.path, inp.name, want),
+                                shader: PassShader::Convert { to: want },
                                 inputs: vec![PlannedInput {
                                     name: "img".into(),
                                     resource: resource.clone(),
@@ -384,7 +388,7 @@ pub fn plan(
                                 }],
                                 output: Resource::Value(v),
                                 desc: conv_desc,
-                                colorspace: inp.colorspace,
+                                colorspace: want,
                                 target_view: View::Natural,
                             });
                             resource = Resource::Value(v);
@@ -410,7 +414,7 @@ pub fn plan(
             if let Some(f) = opts.output_format {
                 desc.format = f;
             }
-            target_view = output_view(desc.format, p.colorspace);
+            target_view = output_view(desc.format, p_space);
             Resource::Output
         } else if let Some(&ring) = ring_of.get(&n) {
             Resource::Persistent { ring, back: 0 }
@@ -433,7 +437,7 @@ pub fn plan(
             inputs,
             output,
             desc,
-            colorspace: p.colorspace,
+            colorspace: p_space,
             target_view,
         });
     }

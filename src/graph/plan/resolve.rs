@@ -97,7 +97,9 @@ impl Resolver<'_> {
             Node::Input { .. } | Node::Output => self.input.colorspace,
             Node::Aux { .. } => ColorSpace::Linear,
             Node::Feedback { pass, .. } => self.colorspace(*pass),
-            Node::Pass(p) => p.colorspace,
+            Node::Pass(p) => p
+                .colorspace
+                .resolve(self.input.format, self.input.colorspace),
         }
     }
 

@@ -288,7 +288,7 @@ pub(super) fn colorspace_value(
             None => {
                 diags.push(
                     Diagnostic::error(format!("unknown colour space `{w}`"))
-                        .at(stmt.value.span, "expected `linear` or `srgb`"),
+                        .at(stmt.value.span, "expected `linear`, `srgb` or `stored`"),
                 );
                 None
             }
