@@ -48,7 +48,9 @@
 
 struct Params {
     field_order: u32, // @default(0) @range(0, 1) 0: top field first (tff), 1: bottom field first (bff)
-    threshold: f32,   // @default(0) @range(0, 1) adaptive: temporal difference (sRGB-encoded 0..1) at or below which a pixel is still (the temporal prediction is used as it is)
+#if STAGE == 0
+    threshold: f32,   // @default(0) @range(0, 1) adaptive: temporal difference (0..1 in the stored values: sRGB-encoded for 8-bit inputs) at or below which a pixel is still (the temporal prediction is used as it is)
+#endif
     frame: u32,
     subframe: u32,
 }
