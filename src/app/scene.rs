@@ -313,15 +313,17 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     )?;
     let encode_ms = ms(t.elapsed());
     report.stages.encode_busy_ms = encode_ms;
-    report.stages.gpu_busy_ms = report.steps.passes_ms + report.steps.readback_ms;
+    report.stages.gpu_busy_ms =
+        report.steps.pipeline_ms + report.steps.passes_ms + report.steps.readback_ms;
     report.done.push(FrameDone {
         index: 0,
         input: job.scene.clone(),
         output: path.display().to_string(),
         width: w,
         height: h,
-        decode_ms: None,
-        gpu_ms: None,
+        // The scene's "input": loading and rendering it; its GPU part: the effects.
+        decode_ms: Some(report.stages.decode_busy_ms),
+        gpu_ms: Some(report.stages.gpu_busy_ms),
         encode_ms,
     });
     report.wall_ms = ms(t_all.elapsed());

@@ -24,7 +24,7 @@ pub(crate) fn print_report(cli: &Cli, r: &RunReport) {
     if cli.verbose && !r.notes.is_empty() {
         eprint!("{}", r.notes);
     }
-    if cli.verbose && r.job != JobKind::Image {
+    if cli.verbose {
         for d in &r.done {
             eprintln!(
                 "fxrun: {} -> {} ({}x{}, {:.1} ms)",
