@@ -25,7 +25,6 @@ use super::pipeline::{run_frames, Device, FrameSink, Mode, PipelineOptions};
 use super::report::{JobKind, Progress, RunReport};
 use super::sources::FilesSource;
 use super::still::output_format_for;
-use crate::gpu::executor::Engine;
 use crate::io::{self, IoError, LoadOptions, Pixels, SaveOptions};
 use crate::script::types::Format;
 use std::path::PathBuf;
@@ -99,9 +98,10 @@ impl FrameSink for ItemsSink {
 /// chosen format cannot be written as is an error, and nothing is written). Per-image
 /// failures are in the report; `Err` is returned only when the batch cannot run at all
 /// (an output format refused, the effect or its shaders rejected, a thread that cannot
-/// start). `stop` ends the batch early: images in flight are finished.
+/// start). `stop` ends the batch early: images in flight are finished. With
+/// [`Device::Create`] the device is made while the first image decodes.
 pub fn run_batch(
-    engine: &mut Engine,
+    device: Device,
     effect: &mut Effect,
     items: &[BatchItem],
     opts: &BatchOptions,
@@ -142,7 +142,7 @@ pub fn run_batch(
         ..Default::default()
     };
     let mut report = run_frames(
-        Device::Engine(engine),
+        device,
         effect,
         Box::new(source),
         Box::new(sink),

@@ -11,7 +11,7 @@ use super::effect::Effect;
 use super::error::RunError;
 use super::pipeline::{run_frames, Device, FrameSink, FrameSource, Mode, PipelineOptions};
 use super::report::{JobKind, Progress, RunReport};
-use crate::gpu::executor::{CameraStd, Engine};
+use crate::gpu::executor::CameraStd;
 use crate::script::types::Format;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -49,10 +49,11 @@ impl Default for SequenceOptions {
 
 /// Run `effect` over every frame of `source`, writing to `sink`. `stop` ends the
 /// run early (Ctrl-C): frames already written stay, frames in flight are finished.
-/// Any failed frame ends the run with its error.
+/// Any failed frame ends the run with its error. With [`Device::Create`] the device
+/// is made while the first frames decode.
 #[allow(clippy::too_many_arguments)]
 pub fn run_sequence(
-    engine: &mut Engine,
+    device: Device,
     effect: &mut Effect,
     source: Box<dyn FrameSource>,
     sink: Box<dyn FrameSink>,
@@ -75,13 +76,5 @@ pub fn run_sequence(
         queue: opts.queue,
         timings: opts.timings,
     };
-    run_frames(
-        Device::Engine(engine),
-        effect,
-        source,
-        sink,
-        &p,
-        stop,
-        progress,
-    )
+    run_frames(device, effect, source, sink, &p, stop, progress)
 }

@@ -8,7 +8,7 @@
 //! `--fps`) make it a sequence instead (`sequence.rs`).
 
 use super::*;
-use fxgraph::app::{run_batch, BatchItem, BatchOptions};
+use fxgraph::app::{run_batch, BatchItem, BatchOptions, Device};
 use fxgraph::io::FileFormat;
 use std::collections::HashMap;
 use std::path::Path;
@@ -319,10 +319,7 @@ pub(crate) fn check_outputs(items: &[BatchItem]) -> Result<(), Fail> {
 
 fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> {
     let stop = stop_flag();
-    let mut engine = Engine::new(
-        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
-            .map_err(RunError::from)?,
-    );
+    let adapter = adapter_choice(&cli.adapter);
     let opts = BatchOptions {
         bit_depth: cli.bit_depth,
         assume_linear: cli.assume_linear,
@@ -331,8 +328,9 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         timings: cli.timings || cli.timings_json.is_some(),
     };
     let progress = ProgressLine::new("images");
+    // The device is created while the first image decodes.
     let result = run_batch(
-        &mut engine,
+        Device::Create(&adapter),
         effect,
         items,
         &opts,

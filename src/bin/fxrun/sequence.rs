@@ -238,13 +238,11 @@ pub(crate) fn run_sequence_cli(
         queue: cli.queue.max(1),
         timings: cli.timings,
     };
-    let mut engine = Engine::new(
-        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
-            .map_err(RunError::from)?,
-    );
+    let adapter = adapter_choice(&cli.adapter);
     let progress = ProgressLine::new("frames");
+    // The device is created while the first frames decode.
     let result = run_sequence(
-        &mut engine,
+        fxgraph::app::Device::Create(&adapter),
         &mut effect,
         source,
         sink,
