@@ -957,6 +957,38 @@ fn an_image_over_the_guaranteed_limit_waits_for_the_devices_own() {
     assert_eq!((r.width, r.height), (10000, 2));
 }
 
+/// An auxiliary image of another size than the input is an input error (exit 1)
+/// naming it, and nothing is written.
+#[test]
+fn an_auxiliary_image_of_another_size_is_refused() {
+    if common::engine().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_png(dir.path());
+    let bg = dir.path().join("bg.png");
+    let img = common::pattern_u8(20, 10);
+    fxgraph::io::save_image(&bg, 20, 10, &img.pixels, &Default::default()).unwrap();
+    let out = dir.path().join("o.png");
+    let aux = format!("background={}", bg.display());
+    let o = fxrun(&[
+        "chroma_composite",
+        "-i",
+        input.to_str().unwrap(),
+        "--aux",
+        &aux,
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("AUX.background") && e.contains("20x10, the input is 48x32"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
 #[test]
 fn no_error_line_starts_with_an_empty_path() {
     for args in [

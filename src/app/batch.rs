@@ -21,11 +21,11 @@
 
 use super::effect::Effect;
 use super::error::RunError;
-use super::pipeline::{run_frames, Device, FrameSink, Mode, PipelineOptions};
+use super::pipeline::{run_frames, Device, Mode, PipelineOptions};
 use super::report::{JobKind, Progress, RunReport};
-use super::sources::FilesSource;
+use super::sources::{FilesSink, FilesSource, OutputNames};
 use super::still::output_format_for;
-use crate::io::{self, IoError, LoadOptions, Pixels, SaveOptions};
+use crate::io::{LoadOptions, SaveOptions};
 use crate::script::types::Format;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -66,32 +66,6 @@ impl Default for BatchOptions {
     }
 }
 
-/// Outputs written atomically, one file per item (frame number = item index).
-struct ItemsSink {
-    outputs: Vec<PathBuf>,
-    save: SaveOptions,
-}
-
-impl FrameSink for ItemsSink {
-    fn write(
-        &mut self,
-        number: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<String, IoError> {
-        let path = usize::try_from(number)
-            .ok()
-            .and_then(|i| self.outputs.get(i))
-            .ok_or_else(|| IoError::Unsupported {
-                path: format!("image {number}").into(),
-                message: "no output for this image".into(),
-            })?;
-        io::save_image(path, width, height, &pixels, &self.save)?;
-        Ok(path.display().to_string())
-    }
-}
-
 /// Run `effect` on every image of `items`, writing each result to its output.
 ///
 /// The output formats are checked for every item before any work starts (an output the
@@ -123,8 +97,12 @@ pub fn run_batch(
             .collect(),
         load,
     );
-    let sink = ItemsSink {
-        outputs: items.iter().map(|it| it.output.clone()).collect(),
+    let sink = FilesSink {
+        names: OutputNames::Named(
+            (0u64..)
+                .zip(items.iter().map(|it| it.output.clone()))
+                .collect(),
+        ),
         save: SaveOptions {
             bit_depth: opts.bit_depth,
             assume_linear: opts.assume_linear,
@@ -141,7 +119,7 @@ pub fn run_batch(
         timings: opts.timings,
         ..Default::default()
     };
-    let mut report = run_frames(
+    run_frames(
         device,
         effect,
         Box::new(source),
@@ -149,9 +127,5 @@ pub fn run_batch(
         &p,
         stop,
         progress,
-    )?;
-    // Decoded images waiting for the GPU, the one on the GPU, read-backs waiting for
-    // the encoder, and the one being encoded.
-    report.frames_held_max = 2 * opts.queue.max(1) + 2;
-    Ok(report)
+    )
 }

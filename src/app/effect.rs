@@ -7,16 +7,17 @@
 //!   [`crate::gpu::context::GpuContext::from_existing`]).
 
 use super::error::RunError;
-use super::report::{ms, MemoryReport, RunReport};
-use crate::gpu::context::GpuError;
-use crate::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
-use crate::gpu::transfer::{create_output, input_format, read_pixels, upload_image};
+use super::pipeline::{run_frames, Device, Mode, PipelineOptions};
+use super::report::JobKind;
+use super::sources::{MemorySink, MemorySource};
+use crate::gpu::executor::{Engine, ExecError, Prepared};
 use crate::graph::plan::{plan, InputDesc, PlanOptions};
 use crate::graph::Graph;
 use crate::pixels::{Image, Pixels};
 use crate::script::types::Format;
 use crate::script::{Diagnostics, SourceMap};
-use std::time::Instant;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// A compiled effect chain.
 pub struct Effect {
@@ -84,7 +85,9 @@ impl Effect {
 
 /// Apply an effect chain to an in-memory image on `engine`; returns the output
 /// size and pixels read back in `out_format` (rgba8-srgb gives sRGB-encoded U8,
-/// rgba16f/rgba32f give linear F32). Used by tests and Rust programs.
+/// rgba16f/rgba32f give linear F32). A one-frame run of the pipeline
+/// ([`super::pipeline::run_frames`]) from and to memory, exactly as a one-image
+/// `fxrun` run. Used by tests and Rust programs.
 pub fn apply_in_memory(
     engine: &mut Engine,
     effects: &[String],
@@ -95,76 +98,33 @@ pub fn apply_in_memory(
     assume_linear: bool,
 ) -> Result<(u32, u32, Pixels), RunError> {
     let mut effect = Effect::compile(effects, overrides)?;
-    run_on_image(
-        engine,
-        &mut effect,
-        img,
-        aux,
-        out_format,
+    let source = MemorySource::new(vec![img.clone()])
+        .with_aux(aux.iter().map(|(n, a)| (n.clone(), (*a).clone())).collect());
+    let sink = MemorySink::default();
+    let frames = sink.frames();
+    let opts = PipelineOptions {
+        mode: Mode::Stills,
+        job: JobKind::Image,
+        output_format: out_format,
         assume_linear,
-        false,
-        &mut RunReport::default(),
-    )
-}
-
-/// Plan `effect` for `img`, upload it, run it once and read the output back,
-/// recording the stage times (pipelines, upload, passes, readback) in `report`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn run_on_image(
-    engine: &mut Engine,
-    effect: &mut Effect,
-    img: &Image,
-    aux: &[(String, &Image)],
-    out_format: Format,
-    assume_linear: bool,
-    timings: bool,
-    report: &mut RunReport,
-) -> Result<(u32, u32, Pixels), RunError> {
-    let (in_format, in_cs) = input_format(img, assume_linear);
-    let desc = InputDesc {
-        width: img.width,
-        height: img.height,
-        format: in_format,
-        colorspace: in_cs,
-        aux: aux
-            .iter()
-            .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
-            .collect(),
+        queue: 1,
+        ..Default::default()
     };
-    let t = Instant::now();
-    let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
-    report.steps.pipeline_ms = ms(t.elapsed());
-    report.plans += 1;
-    report.memory = MemoryReport::of(&prepared.plan);
-    let t = Instant::now();
-    let ctx = engine.ctx.clone();
-    let input_tex = upload_image(&ctx, "fxgraph input", img, in_format)?;
-    let aux_tex: Vec<(String, wgpu::Texture)> = aux
-        .iter()
-        .map(|(n, a)| {
-            Ok((
-                n.clone(),
-                upload_image(
-                    &ctx,
-                    &format!("aux {n}"),
-                    a,
-                    input_format(a, assume_linear).0,
-                )?,
-            ))
-        })
-        .collect::<Result<_, GpuError>>()?;
-    let out = prepared.plan.output;
-    let output_tex = create_output(&ctx, out.width, out.height, out.format);
-    report.steps.upload_ms = ms(t.elapsed());
-    let t = Instant::now();
-    let mut inputs = FrameInputs::still(&input_tex, &prepared.plan);
-    for (n, tex) in &aux_tex {
-        inputs.aux.insert(n.clone(), tex.into());
+    let mut report = run_frames(
+        Device::Engine(engine),
+        &mut effect,
+        Box::new(source),
+        Box::new(sink),
+        &opts,
+        Arc::new(AtomicBool::new(false)),
+        |_| {},
+    )?;
+    if let Some(f) = report.failed.drain(..).next() {
+        return Err(f.error);
     }
-    report.passes = prepared.run(engine, &inputs, &output_tex, timings)?;
-    report.steps.passes_ms = ms(t.elapsed());
-    let t = Instant::now();
-    let pixels = read_pixels(&ctx, &output_tex, out.format)?;
-    report.steps.readback_ms = ms(t.elapsed());
-    Ok((out.width, out.height, pixels))
+    let mut frames = frames.lock().unwrap_or_else(|e| e.into_inner());
+    let (_, width, height, pixels) = frames
+        .pop()
+        .ok_or_else(|| RunError::Other("the run wrote no frame".into()))?;
+    Ok((width, height, pixels))
 }

@@ -47,7 +47,8 @@ pub(super) struct GpuStage<'a, 'r> {
     pub(super) busy: Duration,
     /// Stills: the plan of the last size.
     current: Option<Current>,
-    /// Sequences: the stream, the frame numbers pushed and not yet output, the first.
+    /// Sequences: the stream, the numbers and names of the frames pushed and not yet
+    /// output (all their subframes), the first number.
     stream: Option<Stream>,
     numbers: VecDeque<(u64, String)>,
     first_number: Option<u64>,
@@ -197,6 +198,18 @@ impl<'a, 'r> GpuStage<'a, 'r> {
         number: u64,
     ) -> Result<PendingReadback, RunError> {
         let assume_linear = self.opts.assume_linear;
+        if let Some((name, a)) = aux
+            .iter()
+            .find(|(_, a)| (a.width, a.height) != (img.width, img.height))
+        {
+            return Err(RunError::BadInput(IoError::Unsupported {
+                path: format!("AUX.{name}").into(),
+                message: format!(
+                    "the auxiliary image is {}x{}, the input is {}x{}: they must have one size",
+                    a.width, a.height, img.width, img.height
+                ),
+            }));
+        }
         let (in_format, colorspace) = input_format(img, assume_linear);
         let out_format = self.opts.format_for(number);
         let key = PlanKey {
@@ -356,11 +369,15 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             self.busy += t.elapsed();
             let rate = stream.rate as u64;
             let (input_index, sub) = (out / rate, out % rate);
-            let (input_number, name) = self
-                .numbers
-                .get(input_index as usize)
-                .cloned()
-                .unwrap_or((first + input_index, String::new()));
+            // Outputs come in input order: the front frame is this output's; it is
+            // done after its last subframe (so the queue stays as short as the
+            // stream's latency, whatever the sequence's length).
+            let frame = if sub + 1 == rate {
+                self.numbers.pop_front()
+            } else {
+                self.numbers.front().cloned()
+            };
+            let (input_number, name) = frame.unwrap_or((first + input_index, String::new()));
             let keep = self
                 .opts
                 .emit

@@ -37,5 +37,7 @@ pub use pipeline::{
 pub use report::{FrameDone, FrameFailure, JobKind, Progress, RunReport};
 pub use scene::{run_scene_job, SceneJob};
 pub use sequence::{run_sequence, SequenceOptions};
-pub use sources::{FilesSink, FilesSource, MemorySink, MemorySource, Y4mSink, Y4mSource};
+pub use sources::{
+    FilesSink, FilesSource, MemorySink, MemorySource, OutputNames, Y4mSink, Y4mSource,
+};
 pub use still::{apply_to_image, output_format_for, ImageJob};

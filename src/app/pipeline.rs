@@ -274,6 +274,10 @@ pub fn run_frames(
     let mut report = RunReport {
         job: opts.job,
         frames_total: total,
+        // Stills: decoded frames waiting for the GPU, the one on the GPU, read-backs
+        // waiting for the encoder, the one being encoded (sequences add their ring:
+        // set when the stream is made).
+        frames_held_max: 2 * queue + 2,
         ..Default::default()
     };
     let mut own_engine = None;

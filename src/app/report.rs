@@ -217,11 +217,6 @@ impl RunReport {
             self.stages.encode_busy_ms / w,
         )
     }
-
-    /// The exit-status-worthy error of the job: the first failure, if any.
-    pub fn first_error(&self) -> Option<&RunError> {
-        self.failed.first().map(|f| &f.error)
-    }
 }
 
 /// Milliseconds of a duration.

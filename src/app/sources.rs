@@ -62,9 +62,18 @@ impl FrameSource for FilesSource {
     }
 }
 
-/// Numbered image files written atomically.
+/// Where each output frame's file goes.
+pub enum OutputNames {
+    /// A numbered pattern (`out/%04d.png`).
+    Pattern(io::sequence::OutputPattern),
+    /// A name per frame number (a batch's outputs, one image's output, a sequence's
+    /// `-o DIR` names).
+    Named(std::collections::HashMap<u64, std::path::PathBuf>),
+}
+
+/// Image files written atomically, named by [`OutputNames`].
 pub struct FilesSink {
-    pub pattern: io::sequence::OutputPattern,
+    pub names: OutputNames,
     pub save: io::SaveOptions,
 }
 
@@ -76,7 +85,18 @@ impl FrameSink for FilesSink {
         height: u32,
         pixels: Pixels,
     ) -> Result<String, IoError> {
-        let path = self.pattern.path_for(number);
+        let path = match &self.names {
+            OutputNames::Pattern(p) => p.path_for(number),
+            OutputNames::Named(names) => {
+                names
+                    .get(&number)
+                    .cloned()
+                    .ok_or_else(|| IoError::Unsupported {
+                        path: format!("frame {number}").into(),
+                        message: "no output file name for this frame".into(),
+                    })?
+            }
+        };
         io::save_image(&path, width, height, &pixels, &self.save)?;
         Ok(path.display().to_string())
     }
@@ -210,6 +230,7 @@ impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
 /// Frames from the caller's memory, numbered from 0 in order.
 pub struct MemorySource {
     frames: std::vec::IntoIter<Image>,
+    aux: Vec<(String, Image)>,
     count: u64,
     next: u64,
 }
@@ -219,8 +240,15 @@ impl MemorySource {
         MemorySource {
             count: frames.len() as u64,
             frames: frames.into_iter(),
+            aux: Vec::new(),
             next: 0,
         }
+    }
+
+    /// Auxiliary images (`AUX.NAME`) given with every frame.
+    pub fn with_aux(mut self, aux: Vec<(String, Image)>) -> Self {
+        self.aux = aux;
+        self
     }
 }
 
@@ -236,7 +264,7 @@ impl FrameSource for MemorySource {
             number,
             name: format!("frame {number}"),
             image: Ok(img),
-            aux: Vec::new(),
+            aux: self.aux.clone(),
         })
     }
 }

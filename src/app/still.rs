@@ -5,13 +5,13 @@
 use super::effect::Effect;
 use super::error::RunError;
 use super::pipeline::{
-    run_frames, Device, FrameSink, FrameSource, Mode, PipelineOptions, SideLimit, SourceFrame,
+    run_frames, Device, FrameSource, Mode, PipelineOptions, SideLimit, SourceFrame,
 };
 use super::report::{ms, JobKind, RunReport};
-use super::sources::load_checked;
+use super::sources::{load_checked, FilesSink, OutputNames};
 use crate::gpu::context::AdapterChoice;
 use crate::gpu::executor::Engine;
-use crate::io::{self, FileFormat, IoError, LoadOptions, Pixels, SaveOptions};
+use crate::io::{self, FileFormat, IoError, LoadOptions, SaveOptions};
 use crate::script::types::Format;
 use crate::script::Diagnostics;
 use std::path::{Path, PathBuf};
@@ -64,7 +64,7 @@ pub struct ImageJob {
     pub timings: bool,
 }
 
-/// The image and its auxiliary images (which must have its size).
+/// The image and its auxiliary images.
 struct StillSource {
     input: PathBuf,
     aux: Vec<(String, PathBuf)>,
@@ -78,17 +78,7 @@ impl StillSource {
         let img = load_checked(&self.input, &self.limit, &self.load)?;
         let mut aux = Vec::new();
         for (name, path) in &self.aux {
-            let a = load_checked(path, &self.limit, &self.load)?;
-            if (a.width, a.height) != (img.width, img.height) {
-                return Err(IoError::Unsupported {
-                    path: path.clone(),
-                    message: format!(
-                        "auxiliary image is {}x{}, the input is {}x{}",
-                        a.width, a.height, img.width, img.height
-                    ),
-                });
-            }
-            aux.push((name.clone(), a));
+            aux.push((name.clone(), load_checked(path, &self.limit, &self.load)?));
         }
         Ok((img, aux))
     }
@@ -118,25 +108,6 @@ impl FrameSource for StillSource {
     }
 }
 
-/// One output file, written atomically.
-struct FileSink {
-    path: PathBuf,
-    save: SaveOptions,
-}
-
-impl FrameSink for FileSink {
-    fn write(
-        &mut self,
-        _: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<String, IoError> {
-        io::save_image(&self.path, width, height, &pixels, &self.save)?;
-        Ok(self.path.display().to_string())
-    }
-}
-
 /// Apply an effect chain to an image file and write the result atomically. With no
 /// `engine`, the device is created on a thread while the image is read and decoded.
 /// A failure of the image is returned as the error (nothing is written).
@@ -160,8 +131,8 @@ pub fn apply_to_image(
         limit: SideLimit::known(io::MAX_SIDE),
         done: false,
     };
-    let sink = FileSink {
-        path: job.output.clone(),
+    let sink = FilesSink {
+        names: OutputNames::Named([(0, job.output.clone())].into()),
         save: SaveOptions {
             bit_depth: job.bit_depth,
             assume_linear: job.assume_linear,

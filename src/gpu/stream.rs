@@ -20,9 +20,9 @@ use super::context::{GpuError, PendingReadback};
 use super::executor::{
     wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
 };
-use super::transfer::create_output;
+use super::transfer::{create_output, image_bytes};
 use crate::graph::plan::Resource;
-use crate::pixels::{Image, Pixels};
+use crate::pixels::Image;
 use crate::script::types::Format;
 use std::collections::{HashMap, VecDeque};
 
@@ -132,19 +132,7 @@ impl Stream {
                 ),
             });
         }
-        let bytes: Vec<u8> = match (&img.pixels, self.input_format) {
-            (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
-            (p, Format::Rgba16f) => p
-                .to_f32_linear(false)
-                .iter()
-                .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
-                .collect(),
-            (p, _) => p
-                .to_f32_linear(false)
-                .iter()
-                .flat_map(|&x| x.to_le_bytes())
-                .collect(),
-        };
+        let bytes = image_bytes(img, self.input_format);
         match self.spare.pop() {
             Some(tex) => {
                 let texel = (bytes.len() / (w as usize * h as usize)) as u32;

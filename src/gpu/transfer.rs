@@ -6,6 +6,7 @@ use super::context::{GpuContext, GpuError};
 use super::executor::wgpu_format;
 use crate::pixels::{Image, Pixels};
 use crate::script::types::{ColorSpace, Format};
+use std::borrow::Cow;
 
 /// The texture format an image is uploaded as, and what its samples mean.
 pub fn input_format(img: &Image, assume_linear: bool) -> (Format, ColorSpace) {
@@ -34,25 +35,24 @@ pub fn upload_image(
     )
 }
 
-/// An image's pixels as the tightly packed texel bytes of `format` (from [`input_format`]).
-pub fn image_bytes(img: &Image, format: Format) -> Vec<u8> {
+/// An image's pixels as the tightly packed texel bytes of `format` (from
+/// [`input_format`]): 8-bit pixels as they are (borrowed, no copy), floats as half or
+/// single floats with NaN as 0, 8-bit to float through the sRGB curve.
+pub fn image_bytes(img: &Image, format: Format) -> Cow<'_, [u8]> {
+    let finite = |x: f32| if x.is_nan() { 0.0 } else { x };
+    let half = |v: &[f32]| -> Vec<u8> {
+        v.iter()
+            .flat_map(|&x| half::f16::from_f32(finite(x)).to_le_bytes())
+            .collect()
+    };
+    let single =
+        |v: &[f32]| -> Vec<u8> { v.iter().flat_map(|&x| finite(x).to_le_bytes()).collect() };
     match (&img.pixels, format) {
-        (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => v.clone(),
-        (Pixels::F32(v), Format::Rgba16f) => v
-            .iter()
-            .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
-            .collect(),
-        (Pixels::F32(v), Format::Rgba32f) => v.iter().flat_map(|&x| x.to_le_bytes()).collect(),
-        (p, f) => {
-            let lin = p.to_f32_linear(false);
-            match f {
-                Format::Rgba16f => lin
-                    .iter()
-                    .flat_map(|&x| half::f16::from_f32(x).to_le_bytes())
-                    .collect(),
-                _ => lin.iter().flat_map(|&x| x.to_le_bytes()).collect(),
-            }
-        }
+        (Pixels::U8(v), Format::Rgba8 | Format::Rgba8Srgb) => Cow::Borrowed(v),
+        (Pixels::F32(v), Format::Rgba16f) => Cow::Owned(half(v)),
+        (Pixels::F32(v), Format::Rgba32f) => Cow::Owned(single(v)),
+        (p, Format::Rgba16f) => Cow::Owned(half(&p.to_f32_linear(false))),
+        (p, _) => Cow::Owned(single(&p.to_f32_linear(false))),
     }
 }
 

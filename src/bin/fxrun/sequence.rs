@@ -188,7 +188,10 @@ pub(crate) fn run_sequence_cli(
                 assume_linear: cli.assume_linear,
             };
             (
-                Box::new(NamedFilesSink { names, save }) as Box<dyn FrameSink>,
+                Box::new(FilesSink {
+                    names: fxgraph::app::OutputNames::Named(names),
+                    save,
+                }) as Box<dyn FrameSink>,
                 format,
             )
         }
@@ -203,7 +206,10 @@ pub(crate) fn run_sequence_cli(
                 assume_linear: cli.assume_linear,
             };
             (
-                Box::new(FilesSink { pattern, save }) as Box<dyn FrameSink>,
+                Box::new(FilesSink {
+                    names: fxgraph::app::OutputNames::Pattern(pattern),
+                    save,
+                }) as Box<dyn FrameSink>,
                 format,
             )
         }
@@ -397,30 +403,4 @@ fn named_outputs(
         .zip(items)
         .map(|((n, _), it)| (*n, it.output))
         .collect())
-}
-
-/// Output frames written atomically under the names [`named_outputs`] gave them.
-struct NamedFilesSink {
-    names: HashMap<u64, PathBuf>,
-    save: fxgraph::io::SaveOptions,
-}
-
-impl FrameSink for NamedFilesSink {
-    fn write(
-        &mut self,
-        number: u64,
-        width: u32,
-        height: u32,
-        pixels: fxgraph::io::Pixels,
-    ) -> Result<String, fxgraph::io::IoError> {
-        let path = self
-            .names
-            .get(&number)
-            .ok_or_else(|| fxgraph::io::IoError::Unsupported {
-                path: format!("frame {number}").into(),
-                message: "no output file name for this frame".into(),
-            })?;
-        fxgraph::io::save_image(path, width, height, &pixels, &self.save)?;
-        Ok(path.display().to_string())
-    }
 }
