@@ -15,11 +15,11 @@ mod common;
 
 use common::*;
 use fxgraph::app::{apply_in_memory, Effect};
-use fxgraph::deferred::published_aux;
 use fxgraph::gpu::executor::{wgpu_format, CameraStd, Engine, FrameInputs};
 use fxgraph::gpu::transfer::{create_output, input_format, read_pixels, upload_image};
 use fxgraph::graph::plan::InputDesc;
 use fxgraph::io::{Image, Pixels};
+use fxgraph::render::published_aux;
 use fxgraph::script::types::{ColorSpace, Format};
 use glam::{DMat4, DVec3, DVec4, Mat4};
 use std::collections::HashMap;

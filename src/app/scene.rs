@@ -6,12 +6,12 @@ use super::effect::Effect;
 use super::error::RunError;
 use super::report::{ms, FrameDone, JobKind, MemoryReport, RunReport, SceneStats};
 use super::still::output_format_for;
-use crate::deferred::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
-use crate::deferred::scene::{Camera, Scene, SceneError};
 use crate::gpu::executor::{Engine, FrameInputs};
 use crate::gpu::transfer::{create_output, read_pixels};
 use crate::graph::plan::InputDesc;
 use crate::io::{self, IoError, SaveOptions};
+use crate::render::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
+use crate::scene::{Camera, Scene, SceneError};
 use crate::script::types::{ColorSpace, Format};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -66,18 +66,18 @@ pub struct SceneJob {
     /// `SCENE_MATERIAL=DEFINITION` pairs (`*` for every scene material).
     pub material_map: Vec<(String, String)>,
     /// How material features select shader code.
-    pub variants: crate::deferred::material::VariantMode,
+    pub variants: crate::render::material::VariantMode,
     /// How the light passes pick each pixel's lights.
-    pub light_culling: crate::deferred::renderer::LightCulling,
+    pub light_culling: crate::render::renderer::LightCulling,
     /// Fog applied in the lighting template (no post pass).
-    pub fog: Option<crate::deferred::fog::Fog>,
+    pub fog: Option<crate::render::fog::Fog>,
     /// Print each material, its shaders and variant, and the pipelines compiled.
     pub describe_materials: bool,
     /// An ambient light to add (linear RGB radiance); scenes otherwise render
     /// only the lights they have.
     pub ambient: Option<[f32; 3]>,
     /// Shadow maps: filter (or off), map size, layers per frame.
-    pub shadows: crate::deferred::shadows::ShadowMode,
+    pub shadows: crate::render::shadows::ShadowMode,
     pub shadow_size: u32,
     pub shadow_layers: u32,
 }
@@ -92,7 +92,7 @@ fn scene_error(scene: &str, e: SceneError) -> RunError {
             name,
             format!(
                 "{count} materials, at most {} are supported (8-bit material id)",
-                crate::deferred::scene::MAX_MATERIALS
+                crate::scene::MAX_MATERIALS
             ),
         ),
         other => (scene.to_string(), other.to_string()),
@@ -173,7 +173,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
             })
         })?;
         let rejected = |rendered: String| RunError::Rejected { rendered };
-        let file = crate::deferred::material::script::load_materials(
+        let file = crate::scene::material_file::load_materials(
             &path.display().to_string(),
             &text,
             path.parent(),
@@ -181,7 +181,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         )
         .map_err(rejected)?;
         let replaced =
-            crate::deferred::material::script::apply_materials(&mut scene, file, &job.material_map)
+            crate::scene::material_file::apply_materials(&mut scene, file, &job.material_map)
                 .map_err(|m| rejected(format!("{m}\n")))?;
         log::info!(
             "{}: materials replaced: {}",
@@ -197,9 +197,9 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         scene.add_random_point_lights(job.lights, job.seed);
     }
     if let Some([r, g, b]) = job.ambient {
-        scene.lights.push(crate::deferred::scene::Light {
+        scene.lights.push(crate::scene::Light {
             name: "--ambient".into(),
-            ..crate::deferred::scene::Light::ambient(glam::Vec3::new(r, g, b), 1.0)
+            ..crate::scene::Light::ambient(glam::Vec3::new(r, g, b), 1.0)
         });
     }
     scene.ensure_lights();
@@ -256,7 +256,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     report.stages.decode_busy_ms = stats.load_ms + stats.render_cpu_ms;
     report.scene = Some(stats);
     if let Some(dir) = &job.gbuffer {
-        crate::deferred::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
+        crate::render::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
     }
     let Some(path) = &job.output else {
         report.wall_ms = ms(t_all.elapsed());

@@ -194,10 +194,10 @@ pub(crate) struct Cli {
     #[arg(help_heading = SCENES, long, default_value = "pcf")]
     pub(crate) shadows: String,
     /// Scene: side of each shadow map in texels (256 to 8192, and the GPU's limit).
-    #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_SIZE)]
+    #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::render::renderer::DEFAULT_SHADOW_SIZE)]
     pub(crate) shadow_size: u32,
     /// Scene: shadow-map layers per frame (directional light 4, point 6, spot 1);
     /// lights past it are unshadowed, with a warning.
-    #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::deferred::renderer::DEFAULT_SHADOW_LAYERS)]
+    #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::render::renderer::DEFAULT_SHADOW_LAYERS)]
     pub(crate) shadow_layers: u32,
 }

@@ -32,7 +32,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         None
     } else {
         Some(
-            fxgraph::deferred::fog::Fog::parse(&cli.fog).map_err(|errors| {
+            fxgraph::render::fog::Fog::parse(&cli.fog).map_err(|errors| {
                 rejected(
                     errors
                         .iter()
@@ -82,7 +82,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         .shadows
         .parse()
         .map_err(|e: String| rejected(format!("--shadows {}: {e}", cli.shadows)))?;
-    use fxgraph::deferred::renderer::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
+    use fxgraph::render::renderer::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
     if !(MIN_SHADOW_SIZE..=MAX_SHADOW_SIZE).contains(&cli.shadow_size) {
         return Err(rejected(format!(
             "--shadow-size {}: must be {MIN_SHADOW_SIZE} to {MAX_SHADOW_SIZE} texels",

@@ -10,13 +10,12 @@
 //! lighting shaders of the scene, so the deferred light pass is compiled with
 //! exactly the models present.
 
-pub mod script;
 pub mod template;
 pub mod variant;
 
 pub use variant::{VariantKey, VariantMode, ENGINE_FLAGS};
 
-use super::scene::{AlphaMode, Material, Scene, ShaderBinding};
+use crate::scene::{AlphaMode, Material, Scene, ShaderBinding};
 use crate::script::diag::{Diagnostics, SourceMap};
 use crate::shader::material::{MaterialShader, MaterialShaderKind};
 use crate::shader::reflect::FieldType;
@@ -35,14 +34,6 @@ pub struct ShaderInfo {
     pub flags: Vec<String>,
 }
 
-/// "surface" or "lighting".
-pub fn kind_name(kind: MaterialShaderKind) -> &'static str {
-    match kind {
-        MaterialShaderKind::Surface => "surface",
-        MaterialShaderKind::Lighting => "lighting",
-    }
-}
-
 /// Finds and checks material shader `name` (a user's `NAME.wgsl` under `dir`
 /// first, then the built-in library); problems come back as a rendered report
 /// with file:line:col.
@@ -54,7 +45,7 @@ pub fn load_shader(
     let Some(file) = crate::shader::material::find_material_shader(name, dir) else {
         return Err(format!(
             "no {} shader `{name}` (built-in: {}; a user's is `{name}.wgsl` next to the material file)",
-            kind_name(kind),
+            kind.name(),
             crate::shader::material::builtin_material_shaders().join(", ")
         ));
     };
@@ -182,7 +173,7 @@ impl MaterialSet {
         let loaded = load_shader(kind, &b.shader, b.dir.as_deref()).map_err(|e| {
             vec![format!(
                 "material `{material}`: {} shader `{}`:\n{e}",
-                kind_name(kind),
+                kind.name(),
                 b.shader
             )]
         })?;

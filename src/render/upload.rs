@@ -7,8 +7,8 @@ use super::gpu_types::*;
 use super::material::template::{feature_words, FEATURES_BINDING};
 use super::material::{variant, MaterialSet};
 use super::renderer::RenderError;
-use super::scene::{AlphaMode, Scene};
 use crate::gpu::context::{GpuContext, GpuError};
+use crate::scene::{AlphaMode, Scene};
 use glam::{Vec2, Vec3, Vec4};
 use std::collections::HashMap;
 use std::ops::Range;
@@ -84,7 +84,7 @@ fn mesh_flags() -> u64 {
 /// [`mesh_flags`] as a constant (bits 3..5 of the engine flags).
 const MESH_FLAGS: u64 = 0b111000;
 
-fn mesh_features(m: &super::scene::Mesh) -> u64 {
+fn mesh_features(m: &crate::scene::Mesh) -> u64 {
     let mut f = 0;
     if !m.uvs1.is_empty() {
         f |= variant::engine_bit("HAS_UV1");
@@ -144,7 +144,7 @@ impl Geometry {
                 )));
             }
         }
-        let cull_of = |inst: &super::scene::Instance| -> Cull {
+        let cull_of = |inst: &crate::scene::Instance| -> Cull {
             let mirrored = inst.transform.determinant() < 0.0;
             match (scene.materials[inst.material].double_sided, mirrored) {
                 (true, false) => Cull::None,

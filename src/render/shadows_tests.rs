@@ -2,7 +2,7 @@
 //! the layer budget, spot and point maps.
 
 use super::*;
-use crate::deferred::gpu_types::VOLUME_FULLSCREEN;
+use crate::render::gpu_types::VOLUME_FULLSCREEN;
 
 fn camera() -> Camera {
     Camera {

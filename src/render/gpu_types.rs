@@ -83,7 +83,7 @@ pub(crate) struct GpuLight {
     pub shadow_count: u32,
     /// 1 hard, 2 PCF (`ShadowMode::filter_id`).
     pub shadow_filter: u32,
-    /// 1: the light may get a shadow map ([`super::scene::Light::casts_shadows`];
+    /// 1: the light may get a shadow map ([`crate::scene::Light::casts_shadows`];
     /// read on the CPU only).
     pub casts_shadows: u32,
 }

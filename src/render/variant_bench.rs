@@ -11,8 +11,8 @@
 
 use super::material::VariantMode;
 use super::renderer::{RenderError, Renderer, RendererOptions, Technique};
-use super::scene::{Camera, Scene};
 use crate::gpu::context::{GpuContext, GpuTimer};
+use crate::scene::{Camera, Scene};
 use std::fmt;
 use std::time::Instant;
 

@@ -3,8 +3,8 @@
 //! `KHR_materials_emissive_strength`, `KHR_materials_ior`, `KHR_materials_specular`),
 //! `KHR_texture_transform` on every texture, and images decoded to RGBA8.
 
-use super::gltf_load::Converter;
-use super::scene::{AlphaMode, Material, TextureImage};
+use super::Converter;
+use crate::scene::model::{AlphaMode, Material, TextureImage};
 use glam::{Vec2, Vec3, Vec4};
 
 impl Converter<'_> {

@@ -137,7 +137,7 @@ impl ClusterGrid {
 /// The view-depth range of world box `bounds` seen through `view`, clamped to
 /// `near..far` and widened by 1 % so that depth-buffer rounding stays inside.
 pub(crate) fn depth_range(
-    bounds: &super::scene::Aabb,
+    bounds: &crate::scene::Aabb,
     view: &Mat4,
     near: f32,
     far: f32,
@@ -208,7 +208,7 @@ pub(crate) struct TooManyEntries {
 }
 
 /// Bins `locals` into `grid` for projection `proj` (a perspective projection
-/// without shear in z, as [`super::camera::perspective_rh`] makes; an off-centre
+/// without shear in z, as [`crate::scene::camera::perspective_rh`] makes; an off-centre
 /// frustum is handled through its x/y offsets).
 pub(crate) fn build(
     grid: ClusterGrid,
@@ -342,7 +342,7 @@ pub(crate) fn build(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::deferred::camera::perspective_rh;
+    use crate::scene::camera::perspective_rh;
 
     /// The cluster a view-space point falls in, as the shaders compute it.
     fn cluster_of(grid: &ClusterGrid, proj: &Mat4, w: u32, h: u32, p: Vec3) -> Option<u32> {

@@ -10,8 +10,8 @@ use super::renderer::{
     RenderError, Renderer, RendererOptions, Technique, GBUFFER_BYTES_COMPRESSED,
     GBUFFER_BYTES_TRADITIONAL,
 };
-use super::scene::Scene;
 use crate::gpu::context::{GpuContext, GpuTimer};
+use crate::scene::Scene;
 use std::fmt;
 use std::time::Instant;
 

@@ -5,11 +5,11 @@
 //! +Y up. Colours are linear RGB.
 //!
 //! The scene's other parts have files of their own and are re-exported here: lights
-//! (`light.rs`), cameras (`camera.rs`) and materials (`material_model.rs`).
+//! (`light.rs`), cameras (`camera.rs`) and materials (`material.rs`).
 
 pub use super::camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
 pub use super::light::{Light, LightKind, ATTENUATION_THRESHOLD};
-pub use super::material_model::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
+pub use super::material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// Most materials a scene may have: the material id is stored in 8 bits.
@@ -267,7 +267,7 @@ impl Scene {
         let mut scene = if let Some(name) = source.strip_prefix("builtin:") {
             super::builtin::builtin(name)?
         } else {
-            super::gltf_load::load_gltf(std::path::Path::new(source))?
+            super::gltf::load_gltf(std::path::Path::new(source))?
         };
         scene.ensure_lights();
         scene.validate()?;
@@ -450,7 +450,7 @@ mod tests {
 
     #[test]
     fn flat_meshes_have_face_normals_and_own_vertices() {
-        let mut m = crate::deferred::builtin::icosphere(1);
+        let mut m = crate::scene::builtin::icosphere(1);
         let tris = m.triangle_count();
         m.make_flat();
         assert_eq!(m.positions.len(), tris * 3);
@@ -465,7 +465,7 @@ mod tests {
     fn derived_tangents_follow_the_gltf_convention() {
         // The built-in plane's hand-written frame: t = +X (increasing u), and the
         // bitangent cross(+Y, +X) = -Z points to decreasing v (v grows with z).
-        let mut m = crate::deferred::builtin::grid_plane(2);
+        let mut m = crate::scene::builtin::grid_plane(2);
         let given = m.tangents.clone().unwrap();
         m.compute_tangents();
         for (a, b) in given.iter().zip(m.tangents.as_ref().unwrap()) {

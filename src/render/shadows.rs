@@ -17,7 +17,7 @@
 //! because lights and shading points are in view space in the shaders.
 
 use super::gpu_types::{mat_array, GpuLight, KIND_DIRECTIONAL, KIND_POINT, KIND_SPOT};
-use super::scene::{look_to_rh, perspective_rh, Aabb, Camera};
+use crate::scene::{look_to_rh, perspective_rh, Aabb, Camera};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
 use std::fmt;

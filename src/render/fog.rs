@@ -11,7 +11,7 @@
 //! the view-axis distance `far` without the height term, one colour for the
 //! whole sky in every technique (the effect fogs it per pixel).
 
-use super::scene::Camera;
+use crate::scene::Camera;
 use glam::{Mat4, Vec3};
 use std::fmt;
 

@@ -1,7 +1,7 @@
 //! Built-in procedural scenes (`builtin:room`, `builtin:bench`) and the mesh
 //! generators they and the light volumes use.
 
-use super::scene::{Camera, Instance, Light, Material, Mesh, NamedCamera, Scene, SceneError};
+use super::model::{Camera, Instance, Light, Material, Mesh, NamedCamera, Scene, SceneError};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 use std::collections::HashMap;
 use std::f32::consts::PI;
@@ -253,7 +253,7 @@ impl Builder {
     /// built-in files are tested to load, so a failure here is a bug.
     fn materials_from(&mut self, text: &str, shown: &str) -> HashMap<String, usize> {
         let file =
-            super::material::script::load_materials(shown, text, None, self.scene.textures.len())
+            super::material_file::load_materials(shown, text, None, self.scene.textures.len())
                 .unwrap_or_else(|report| panic!("built-in materials do not load:\n{report}"));
         self.scene.textures.extend(file.textures);
         file.materials

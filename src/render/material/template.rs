@@ -1,4 +1,4 @@
-//! Generates the renderer's WGSL from templates (`src/deferred/shaders/`) and the
+//! Generates the renderer's WGSL from templates (`src/render/shaders/`) and the
 //! materials' surface and lighting shaders (seed 003: "the vertex and pixel shader
 //! code is generated from the high-level shaders by a template that supports
 //! several light sources").

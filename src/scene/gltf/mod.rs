@@ -8,7 +8,7 @@
 //! `catch_unwind` as a last defence.
 //!
 //! Supported: triangle lists, strips and fans; node hierarchy transforms;
-//! perspective cameras; `KHR_lights_punctual` (`gltf_lights_cameras.rs`);
+//! perspective cameras; `KHR_lights_punctual` (`lights_cameras.rs`);
 //! metallic-roughness materials mapped exactly onto the `standard` surface and the
 //! `cook_torrance` lighting shader (every core factor and texture, alpha mode,
 //! double-sided, `KHR_materials_emissive_strength`, `KHR_materials_ior`,
@@ -21,14 +21,17 @@
 //! settings (textures always repeat).
 //!
 //! This file reads the node tree and the meshes; materials and textures are mapped
-//! in `gltf_material.rs`, lights and cameras converted in `gltf_lights_cameras.rs`.
+//! in `material.rs`, lights and cameras converted in `lights_cameras.rs`.
 
-use super::gltf_lights_cameras::{convert_camera, convert_light};
-pub use super::gltf_material::UvTransform;
-use super::gltf_material::{texture_refs, TexRef};
-use super::scene::{Instance, Mesh, Scene, SceneError};
+mod lights_cameras;
+mod material;
+
+use super::model::{Instance, Mesh, Scene, SceneError};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
+use lights_cameras::{convert_camera, convert_light};
+pub use material::UvTransform;
+use material::{texture_refs, TexRef};
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
@@ -221,7 +224,7 @@ type Imported = (
 );
 
 /// The conversion of one glTF file into a [`Scene`] (its material and texture
-/// methods are in `gltf_material.rs`).
+/// methods are in `material.rs`).
 pub(super) struct Converter<'a> {
     pub(super) name: &'a str,
     buffers: &'a [gltf::buffer::Data],

@@ -3,8 +3,7 @@
 //! texture files loaded (relative to the material file, confined to its folder),
 //! and every setting checked against its shader with the setting's span.
 
-use super::kind_name;
-use crate::deferred::scene::{AlphaMode, Material, ShaderBinding, TextureImage};
+use crate::scene::model::{AlphaMode, Material, ShaderBinding, TextureImage};
 use crate::script::diag::{Diagnostic, Diagnostics, SourceMap};
 use crate::script::material::{AlphaSpec, MaterialDef, MaterialShader, MaterialValue};
 use crate::shader::material::{self as shader_material, MaterialShaderKind};
@@ -188,7 +187,7 @@ fn binding(
     let name = &use_.shader.node;
     let Some(file) = shader_material::find_material_shader(name, dir) else {
         diags.push(
-            Diagnostic::error(format!("unknown {} shader `{name}`", kind_name(kind)))
+            Diagnostic::error(format!("unknown {} shader `{name}`", kind.name()))
                 .at(use_.shader.span, "no such shader")
                 .note(format!(
                     "built-in shaders: {}; a user's shader is `{name}.wgsl` next to the material file",
@@ -205,7 +204,7 @@ fn binding(
             diags.push(
                 Diagnostic::error(format!(
                     "{} shader `{name}` has {} error{}",
-                    kind_name(kind),
+                    kind.name(),
                     errors.len(),
                     if errors.len() == 1 { "" } else { "s" }
                 ))
@@ -305,7 +304,7 @@ fn binding(
                 diags.push(
                     Diagnostic::error(format!(
                         "{} shader `{name}` has no setting `{key}`",
-                        kind_name(kind)
+                        kind.name()
                     ))
                     .at(s.name.span, "unknown setting")
                     .note(if known.is_empty() {
@@ -367,7 +366,7 @@ fn material(
 /// (`*` for every scene material), and definitions whose name equals a scene
 /// material's name.
 pub fn apply_materials(
-    scene: &mut crate::deferred::Scene,
+    scene: &mut crate::scene::Scene,
     file: MaterialFile,
     mapping: &[(String, String)],
 ) -> Result<Vec<String>, String> {

@@ -1,7 +1,7 @@
 //! The material model: a [`Material`] is a surface shader and a lighting shader,
 //! each a [`ShaderBinding`] with its parameter values and textures, plus the alpha
 //! mode and sidedness. The shaders are checked in `shader/material/` and resolved
-//! for the renderer in `deferred/material/`.
+//! for the renderer in `render/material/`.
 
 use glam::{Vec3, Vec4};
 

@@ -78,7 +78,7 @@ fn fx_fs_light(in: FxLightVsOut) -> FxLightOut {
 
 // The clustered light pass: one full-screen triangle; each pixel reads the
 // G-buffer once and shades the global lights and the lights of its cluster
-// (src/deferred/clusters.rs).
+// (src/render/clusters.rs).
 @fragment
 fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
     let c = vec2<i32>(pos.xy);

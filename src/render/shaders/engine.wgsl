@@ -2,7 +2,7 @@
 // per-material data (group 0) and shared helpers. The host prepends
 // `const NORMAL_ENCODING: u32 = N;` (0 octahedral, 1 spheremap).
 
-// Fog (src/deferred/fog.rs; the maths of the `fog` effect, effects/fog.fx).
+// Fog (src/render/fog.rs; the maths of the `fog` effect, effects/fog.fx).
 struct FxFog {
     color: vec3<f32>,
     density: f32,
@@ -101,7 +101,7 @@ const FX_KIND_SPOT: u32 = 3u;
 @group(0) @binding(6) var<storage, read> fx_cluster_lights: array<u32>;
 
 // The cluster of the pixel at `frag_xy` with view depth `depth` (positive), as
-// src/deferred/clusters.rs bins them: tiles of cluster.w pixels, slices spaced
+// src/render/clusters.rs bins them: tiles of cluster.w pixels, slices spaced
 // exponentially from near to far.
 fn fx_cluster_range(frag_xy: vec2<f32>, depth: f32) -> vec2<u32> {
     let g = fx_frame.cluster;
@@ -120,7 +120,7 @@ fn fx_safe_normalize(v: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.0, 0.0, 1.0);
 }
 
-// Unit normal -> [0,1]^2 (src/deferred/normal.rs has the same maths on the CPU).
+// Unit normal -> [0,1]^2 (src/render/normal.rs has the same maths on the CPU).
 fn fx_encode_normal(n: vec3<f32>) -> vec2<f32> {
     if NORMAL_ENCODING == 1u {
         // seed 001, table 3 (spheremap / Lambert azimuthal equal-area)

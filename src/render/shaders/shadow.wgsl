@@ -1,5 +1,5 @@
 // Shadow-map lookups, part of the geometry and the light modules (after the
-// engine part). src/deferred/shadows.rs plans the layers, shadow_pass.rs renders
+// engine part). src/render/shadows.rs plans the layers, shadow_pass.rs renders
 // them. Every light's sample goes through `fx_light_sample_shadowed`, so every
 // lighting shader, the users' included, is shadowed without knowing it.
 

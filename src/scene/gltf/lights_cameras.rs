@@ -1,7 +1,7 @@
 //! glTF lights and cameras: `KHR_lights_punctual` lights and perspective cameras,
 //! placed by their node's world transform and checked.
 
-use super::scene::{Camera, Light, LightKind, NamedCamera};
+use crate::scene::model::{Camera, Light, LightKind, NamedCamera};
 use glam::{Mat4, Vec3};
 
 /// A perspective camera placed by the node's world transform (at its origin,

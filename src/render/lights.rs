@@ -6,7 +6,7 @@
 use super::clusters::{self, ClusterLists, LightCulling, TooManyEntries};
 use super::frame::FrameLists;
 use super::gpu_types::*;
-use super::scene::{Camera, Light, LightKind};
+use crate::scene::{Camera, Light, LightKind};
 use glam::{Mat4, Vec3, Vec4};
 use std::ops::Range;
 
@@ -34,9 +34,9 @@ impl LightVolumes {
         ctx: &crate::gpu::context::GpuContext,
     ) -> Result<LightVolumes, crate::gpu::context::GpuError> {
         use wgpu::util::DeviceExt;
-        let sphere = super::builtin::icosphere(2);
-        let cone = super::builtin::cone(CONE_SEGMENTS);
-        let sphere_scale = 1.0 / super::builtin::inradius(&sphere);
+        let sphere = crate::scene::builtin::icosphere(2);
+        let cone = crate::scene::builtin::cone(CONE_SEGMENTS);
+        let sphere_scale = 1.0 / crate::scene::builtin::inradius(&sphere);
         let cone_poly_scale = 1.0 / (std::f32::consts::PI / CONE_SEGMENTS as f32).cos();
         let mut vol_v: Vec<[f32; 3]> = sphere.positions.iter().map(|p| (*p).into()).collect();
         let cone_base_vertex = vol_v.len() as i32;
@@ -324,7 +324,7 @@ mod tests {
 
     #[test]
     fn frustum_planes_contain_the_view_axis() {
-        let proj = super::super::scene::perspective_rh(1.0, 1.5, 0.1, 100.0);
+        let proj = crate::scene::perspective_rh(1.0, 1.5, 0.1, 100.0);
         let planes = frustum_planes(&proj);
         let inside = Vec3::new(0.0, 0.0, -10.0);
         assert!(planes.iter().all(|p| p.truncate().dot(inside) + p.w > 0.0));

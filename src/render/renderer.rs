@@ -41,7 +41,6 @@ use super::lights::{LightLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
 use super::normal::NormalEncoding;
 use super::pipelines::{Layouts, Pipelines};
-use super::scene::{Camera, Light, Scene, SceneError};
 use super::shadow_pass::ShadowMaps;
 use super::shadows::ShadowFrame;
 pub use super::shadows::{
@@ -50,6 +49,7 @@ pub use super::shadows::{
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
+use crate::scene::{Camera, Light, Scene, SceneError};
 use glam::Vec3;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
@@ -140,7 +140,7 @@ pub struct Renderer {
     /// The background of the last frame (fogged).
     pub(crate) frame_background: Vec3,
     /// World-space bounds of the geometry: the cluster slices span its depth.
-    bounds: super::scene::Aabb,
+    bounds: crate::scene::Aabb,
     pub(crate) shadow_maps: ShadowMaps,
     triangles: usize,
     pub(crate) materials: MaterialSet,
@@ -592,7 +592,7 @@ impl Renderer {
                 .iter()
                 .map(|(n, tex)| (n.clone(), tex.texture.clone()))
                 .collect(),
-            camera: camera.camera_std(aspect),
+            camera: super::camera_std(camera, aspect),
             gbuffer: GBufferTextures {
                 depth: t.depth.texture.clone(),
                 albedo: t.albedo.texture.clone(),

@@ -1,7 +1,7 @@
 //! Cameras: the perspective [`Camera`], its view and projection matrices, framing
 //! a scene, `--camera` spec parsing, and the scene's named cameras.
 
-use super::scene::{Aabb, Scene, SceneError};
+use super::model::{Aabb, Scene, SceneError};
 use glam::{Mat4, Vec3, Vec4};
 use std::fmt;
 
@@ -36,17 +36,6 @@ impl Camera {
     /// Projection with depth 0 (near) .. 1 (far), as wgpu uses.
     pub fn proj(&self, aspect: f32) -> Mat4 {
         perspective_rh(self.fov_y, aspect, self.near, self.far)
-    }
-
-    /// The camera as the effect runtime's standard values.
-    pub fn camera_std(&self, aspect: f32) -> crate::gpu::executor::CameraStd {
-        let proj = self.proj(aspect);
-        crate::gpu::executor::CameraStd {
-            near: self.near,
-            far: self.far,
-            proj: proj.to_cols_array(),
-            inv_proj: proj.inverse().to_cols_array(),
-        }
     }
 
     /// A camera in front of (+Z) and above the box, framing its bounding sphere with
