@@ -15,6 +15,7 @@
 
 pub mod builtin;
 pub mod camera;
+pub mod camera_path;
 pub mod gltf;
 pub mod light;
 pub mod material;
@@ -22,6 +23,7 @@ pub mod material_file;
 pub mod model;
 
 pub use camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
+pub use camera_path::{CameraPath, Orbit};
 pub use light::{Light, LightKind, ATTENUATION_THRESHOLD};
 pub use material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
 pub use model::{Aabb, Instance, Mesh, Rng, Scene, SceneError, TextureImage, MAX_MATERIALS};
