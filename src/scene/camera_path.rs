@@ -217,9 +217,17 @@ mod tests {
         let s = scene();
         let p = CameraPath::parse(Some("eye=0,2,9;target=0,1,0"), &s).unwrap();
         assert!(matches!(p, CameraPath::Fixed(c) if c.eye == Vec3::new(0.0, 2.0, 9.0)));
-        assert!(matches!(
+        // no --camera: the scene's first camera (the room has some), else a
+        // framing of the bounds, as for a still
+        assert_eq!(
             CameraPath::parse(None, &s).unwrap(),
-            CameraPath::Fixed(_)
-        ));
+            CameraPath::SceneCamera(0)
+        );
+        let mut bare = s.clone();
+        bare.cameras.clear();
+        assert_eq!(
+            CameraPath::parse(None, &bare).unwrap(),
+            CameraPath::Fixed(bare.default_camera())
+        );
     }
 }
