@@ -150,7 +150,7 @@ pub(crate) struct Cli {
     pub(crate) camera: Option<String>,
     /// Scene: render the scene at this time in seconds (0 or more); with
     /// --frames A..B, frame n is rendered at n / --fps (default 30) as a sequence.
-    #[arg(help_heading = SCENES, long, value_name = "SECONDS")]
+    #[arg(help_heading = SCENES, long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub(crate) time: Option<f64>,
     /// Scene: add N random point lights (at most 100000).
     #[arg(help_heading = SCENES, long, default_value_t = 0,
