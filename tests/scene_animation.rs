@@ -12,79 +12,10 @@
 
 mod common;
 
-use common::anim_gltf::{node_scene, write, ChannelSpec, GltfBuilder};
+use common::anim_gltf::{appendix_c as oracle, node_scene, write, ChannelSpec, GltfBuilder};
 use fxgraph::scene::{Playback, Scene, Selection};
 use glam::{DQuat, DVec4, Mat4, Quat, Vec3};
 use serde_json::{json, Value};
-
-/// The interpolated value at `tc` from the formulas of glTF 2.0 Appendix C, in
-/// f64: `values` holds `width` floats per element, one element per key (three —
-/// in-tangent, value, out-tangent — for CUBICSPLINE). Before the first key the
-/// first value, after the last the last (§3.11).
-fn oracle(interp: &str, times: &[f32], values: &[f32], width: usize, rotation: bool, tc: f64) -> Vec<f64> {
-    let per_key = if interp == "CUBICSPLINE" { 3 } else { 1 };
-    let elem = |k: usize, e: usize| -> Vec<f64> {
-        let i = (k * per_key + e) * width;
-        values[i..i + width].iter().map(|&v| v as f64).collect()
-    };
-    let value = |k: usize| elem(k, if per_key == 3 { 1 } else { 0 });
-    let n = times.len();
-    let t = |k: usize| times[k] as f64;
-    if tc <= t(0) {
-        return value(0);
-    }
-    if tc >= t(n - 1) {
-        return value(n - 1);
-    }
-    // t_k <= t_c < t_{k+1}
-    let k = (0..n - 1).find(|&k| t(k) <= tc && tc < t(k + 1)).unwrap();
-    if tc == t(k) {
-        return value(k);
-    }
-    let td = t(k + 1) - t(k);
-    let s = (tc - t(k)) / td;
-    let mut out: Vec<f64> = match interp {
-        "STEP" => value(k),
-        "LINEAR" if rotation => {
-            let (vk, vk1) = (value(k), value(k + 1));
-            let dot: f64 = vk.iter().zip(&vk1).map(|(a, b)| a * b).sum();
-            let a = dot.abs().min(1.0).acos();
-            let sign = dot.signum();
-            if a < 1e-9 {
-                vk.iter().zip(&vk1).map(|(x, y)| (1.0 - s) * x + s * sign * y).collect()
-            } else {
-                vk.iter()
-                    .zip(&vk1)
-                    .map(|(x, y)| {
-                        (a * (1.0 - s)).sin() / a.sin() * x + sign * (a * s).sin() / a.sin() * y
-                    })
-                    .collect()
-            }
-        }
-        "LINEAR" => value(k)
-            .iter()
-            .zip(value(k + 1))
-            .map(|(x, y)| (1.0 - s) * x + s * y)
-            .collect(),
-        "CUBICSPLINE" => {
-            let (vk, bk, vk1, ak1) = (elem(k, 1), elem(k, 2), elem(k + 1, 1), elem(k + 1, 0));
-            (0..width)
-                .map(|i| {
-                    (2.0 * s.powi(3) - 3.0 * s * s + 1.0) * vk[i]
-                        + td * (s.powi(3) - 2.0 * s * s + s) * bk[i]
-                        + (-2.0 * s.powi(3) + 3.0 * s * s) * vk1[i]
-                        + td * (s.powi(3) - s * s) * ak1[i]
-                })
-                .collect()
-        }
-        other => panic!("{other}"),
-    };
-    if rotation {
-        let len = out.iter().map(|v| v * v).sum::<f64>().sqrt();
-        out.iter_mut().for_each(|v| *v /= len);
-    }
-    out
-}
 
 /// Times to sample: before, at, between and after the keys.
 fn sample_times(times: &[f32]) -> Vec<f64> {
@@ -142,9 +73,24 @@ const TIMES: [f32; 4] = [0.5, 1.0, 2.25, 3.0];
 
 /// Translation keys (per key: in-tangent, value, out-tangent when `cubic`).
 fn vec3_keys(cubic: bool) -> Vec<f32> {
-    let values = [[0.0, 1.0, -2.0], [3.0, -1.0, 0.5], [-2.0, 4.0, 1.0], [1.0, 1.0, 1.0]];
-    let tangents_in = [[9.0, 9.0, 9.0], [1.0, -2.0, 0.5], [-3.0, 0.0, 2.0], [0.5, 0.5, -1.0]];
-    let tangents_out = [[2.0, 1.0, -1.0], [-1.0, 3.0, 0.0], [0.0, -2.0, 4.0], [9.0, 9.0, 9.0]];
+    let values = [
+        [0.0, 1.0, -2.0],
+        [3.0, -1.0, 0.5],
+        [-2.0, 4.0, 1.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let tangents_in = [
+        [9.0, 9.0, 9.0],
+        [1.0, -2.0, 0.5],
+        [-3.0, 0.0, 2.0],
+        [0.5, 0.5, -1.0],
+    ];
+    let tangents_out = [
+        [2.0, 1.0, -1.0],
+        [-1.0, 3.0, 0.0],
+        [0.0, -2.0, 4.0],
+        [9.0, 9.0, 9.0],
+    ];
     (0..4)
         .flat_map(|k| {
             if cubic {
@@ -165,7 +111,12 @@ fn translation_follows_appendix_c_in_every_mode() {
         assert_eq!(scene.animation_duration(&Playback::default()), 3.0);
         for tc in sample_times(&TIMES) {
             let pose = scene.pose(tc, &Playback::default());
-            let got = pose.instances[0].world.w_axis.truncate().as_dvec3().to_array();
+            let got = pose.instances[0]
+                .world
+                .w_axis
+                .truncate()
+                .as_dvec3()
+                .to_array();
             let want = oracle(interp, &TIMES, &keys, 3, false, tc);
             close(&got, &want, &format!("{interp} translation at {tc}"));
         }
@@ -195,7 +146,10 @@ fn same_rotation(world: Mat4, q: [f64; 4], what: &str) {
     for axis in [Vec3::X, Vec3::Y] {
         let got = world.transform_vector3(axis).as_dvec3();
         let want = q * axis.as_dvec3();
-        assert!((got - want).length() < 1e-5, "{what}: {got} vs oracle {want}");
+        assert!(
+            (got - want).length() < 1e-5,
+            "{what}: {got} vs oracle {want}"
+        );
     }
 }
 
@@ -211,14 +165,21 @@ fn rotation_slerps_on_the_shortest_arc() {
     ];
     let dot = DVec4::from(q[1].to_array().map(f64::from))
         .dot(DVec4::from(q[2].to_array().map(f64::from)));
-    assert!(dot < 0.0, "the test needs a pair with a negative dot product");
+    assert!(
+        dot < 0.0,
+        "the test needs a pair with a negative dot product"
+    );
     let keys: Vec<f32> = q.iter().flat_map(|q| q.to_array()).collect();
     for interp in ["STEP", "LINEAR"] {
         let scene = one_channel("rotation", interp, &TIMES, &keys);
         for tc in sample_times(&TIMES) {
             let world = scene.pose(tc, &Playback::default()).instances[0].world;
             let want = oracle(interp, &TIMES, &keys, 4, true, tc);
-            same_rotation(world, [want[0], want[1], want[2], want[3]], &format!("{interp} at {tc}"));
+            same_rotation(
+                world,
+                [want[0], want[1], want[2], want[3]],
+                &format!("{interp} at {tc}"),
+            );
         }
     }
     // Halfway between 0° and a key of 90° stored as its negative: 45°, not 225°.
@@ -247,7 +208,11 @@ fn cubic_spline_rotation_is_normalised() {
     for tc in sample_times(&TIMES) {
         let world = scene.pose(tc, &Playback::default()).instances[0].world;
         let want = oracle("CUBICSPLINE", &TIMES, &keys, 4, true, tc);
-        same_rotation(world, [want[0], want[1], want[2], want[3]], &format!("cubic at {tc}"));
+        same_rotation(
+            world,
+            [want[0], want[1], want[2], want[3]],
+            &format!("cubic at {tc}"),
+        );
     }
 }
 
@@ -297,7 +262,11 @@ fn morph_weights_follow_appendix_c() {
         );
         for tc in sample_times(&TIMES) {
             let pose = scene.pose(tc, &Playback::default());
-            let got: Vec<f64> = pose.instances[0].morph_weights.iter().map(|&w| w as f64).collect();
+            let got: Vec<f64> = pose.instances[0]
+                .morph_weights
+                .iter()
+                .map(|&w| w as f64)
+                .collect();
             let want = oracle(interp, &TIMES, &keys, 2, false, tc);
             close(&got, &want, &format!("{interp} weights at {tc}"));
             // and the vertices move by Σ wᵢ Δᵢ (targets +Y and +X)
@@ -329,7 +298,10 @@ fn looping_wraps_the_clock_and_holding_clamps_it() {
         let want = at(t, &hold);
         for k in [-2.0, 1.0, 5.0] {
             let got = at(t + 3.0 * k, &looping);
-            assert!((got - want).length() < 1e-4, "t {t} + {k} periods: {got} vs {want}");
+            assert!(
+                (got - want).length() < 1e-4,
+                "t {t} + {k} periods: {got} vs {want}"
+            );
         }
     }
     assert_eq!(scene.pose(7.5, &looping).time, 1.5);
@@ -377,7 +349,10 @@ fn all_animations_play_on_one_clock() {
     assert_eq!(pose.nodes[0].w_axis.x, 2.0);
     let spin = pose.nodes[1].transform_vector3(Vec3::X);
     assert!((spin - Quat::from_rotation_y(0.25) * Vec3::X).length() < 1e-6);
-    assert_eq!(pose.nodes[1].w_axis.y, 2.0, "untouched TRS parts keep their rest value");
+    assert_eq!(
+        pose.nodes[1].w_axis.y, 2.0,
+        "untouched TRS parts keep their rest value"
+    );
     let only1 = Playback::parse("anim1", &scene, false).unwrap();
     assert_eq!(only1.selection, Selection::One(1));
     assert_eq!(scene.animation_duration(&only1), 4.0);
@@ -403,7 +378,10 @@ fn playback_parse_accepts_names_indices_and_keywords() {
     for bad in ["2", "walk"] {
         let e = p(bad).unwrap_err().to_string();
         assert!(e.contains(&format!("animation `{bad}`")), "{e}");
-        assert!(e.contains("0 `anim0`, 1 `anim1`"), "the error lists the animations: {e}");
+        assert!(
+            e.contains("0 `anim0`, 1 `anim1`"),
+            "the error lists the animations: {e}"
+        );
     }
     let still = Scene::load("builtin:room").unwrap();
     let e = Playback::parse("0", &still, false).unwrap_err().to_string();
@@ -432,7 +410,10 @@ fn channel_doc(node: usize, path: &str, interp: &str, times: &[f32], values: &[f
 
 fn assert_names_channel(e: &str) {
     assert!(e.contains("broken_anim.gltf: "), "names the file: {e}");
-    assert!(e.contains("animation 0 (`anim0`) channel 0"), "names the channel: {e}");
+    assert!(
+        e.contains("animation 0 (`anim0`) channel 0"),
+        "names the channel: {e}"
+    );
     assert!(!e.contains("panicked"), "{e}");
 }
 
@@ -443,29 +424,68 @@ fn broken_channels_are_clear_errors() {
     assert_names_channel(&e);
     assert!(e.contains("node 7 does not exist"), "{e}");
 
-    let e = load_err(channel_doc(0, "translation", "LINEAR", &[0.0, 2.0, 1.0], &[&t3[..], &[2.0; 3]].concat()));
+    let e = load_err(channel_doc(
+        0,
+        "translation",
+        "LINEAR",
+        &[0.0, 2.0, 1.0],
+        &[&t3[..], &[2.0; 3]].concat(),
+    ));
     assert_names_channel(&e);
-    assert!(e.contains("not strictly increasing: key 2 at 1 s follows key 1 at 2 s"), "{e}");
+    assert!(
+        e.contains("not strictly increasing: key 2 at 1 s follows key 1 at 2 s"),
+        "{e}"
+    );
 
-    let e = load_err(channel_doc(0, "translation", "LINEAR", &[0.0, 1.0, 1.0], &[&t3[..], &[2.0; 3]].concat()));
+    let e = load_err(channel_doc(
+        0,
+        "translation",
+        "LINEAR",
+        &[0.0, 1.0, 1.0],
+        &[&t3[..], &[2.0; 3]].concat(),
+    ));
     assert!(e.contains("not strictly increasing"), "equal keys: {e}");
 
-    let e = load_err(channel_doc(0, "translation", "LINEAR", &[0.0, f32::NAN], &t3));
+    let e = load_err(channel_doc(
+        0,
+        "translation",
+        "LINEAR",
+        &[0.0, f32::NAN],
+        &t3,
+    ));
     assert_names_channel(&e);
     assert!(e.contains("key time 1 is NaN"), "{e}");
 
-    let e = load_err(channel_doc(0, "translation", "LINEAR", &[0.0, 1.0], &[0.0, f32::NAN, 0.0, 1.0, 1.0, 1.0]));
+    let e = load_err(channel_doc(
+        0,
+        "translation",
+        "LINEAR",
+        &[0.0, 1.0],
+        &[0.0, f32::NAN, 0.0, 1.0, 1.0, 1.0],
+    ));
     assert_names_channel(&e);
     assert!(e.contains("value 1 of key 0 is NaN"), "{e}");
 
-    let e = load_err(channel_doc(0, "translation", "CUBICSPLINE", &[0.0, 1.0], &t3));
+    let e = load_err(channel_doc(
+        0,
+        "translation",
+        "CUBICSPLINE",
+        &[0.0, 1.0],
+        &t3,
+    ));
     assert_names_channel(&e);
     assert!(e.contains("6 values for 2 keys (18 expected"), "{e}");
 
     let e = load_err(channel_doc(0, "rotation", "LINEAR", &[0.0, 1.0], &[0.0; 8]));
     assert!(e.contains("rotation key 0 is the zero quaternion"), "{e}");
 
-    let e = load_err(channel_doc(0, "weights", "LINEAR", &[0.0, 1.0], &[0.0, 1.0]));
+    let e = load_err(channel_doc(
+        0,
+        "weights",
+        "LINEAR",
+        &[0.0, 1.0],
+        &[0.0, 1.0],
+    ));
     assert_names_channel(&e);
     assert!(e.contains("no mesh with morph targets"), "{e}");
 }
@@ -474,11 +494,16 @@ fn broken_channels_are_clear_errors() {
 fn a_skin_over_the_joint_limit_is_refused() {
     let mut b = GltfBuilder::default();
     let joints = fxgraph::scene::MAX_JOINTS + 1;
-    let extra: Vec<Value> = (0..joints).map(|i| json!({"name": format!("j{i}")})).collect();
+    let extra: Vec<Value> = (0..joints)
+        .map(|i| json!({"name": format!("j{i}")}))
+        .collect();
     let mut doc = node_scene(&mut b, json!({}), None, extra, &[], &[]);
     doc["skins"] = json!([{"name": "big", "joints": (1..=joints).collect::<Vec<_>>()}]);
     let e = load_err(b.finish(doc));
-    assert!(e.contains("skin 0 (`big`): 257 joints, at most 256 are supported"), "{e}");
+    assert!(
+        e.contains("skin 0 (`big`): 257 joints, at most 256 are supported"),
+        "{e}"
+    );
 }
 
 #[test]

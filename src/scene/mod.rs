@@ -26,13 +26,13 @@ pub mod material_file;
 pub mod model;
 pub mod node;
 
-pub use camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
-pub use light::{Light, LightKind, ATTENUATION_THRESHOLD};
-pub use material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
 pub use animation::{
     Animation, Channel, ChannelPath, InstancePose, Interpolation, Playback, Pose, PosedMesh,
     Sampler, Selection, Skin, MAX_JOINTS, MAX_MORPH_TARGETS,
 };
+pub use camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
+pub use light::{Light, LightKind, ATTENUATION_THRESHOLD};
+pub use material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
 pub use model::{
     Aabb, Instance, Mesh, MorphTarget, Rng, Scene, SceneError, TextureImage, MAX_MATERIALS,
 };

@@ -7,10 +7,10 @@
 //! The scene's other parts have files of their own and are re-exported here: lights
 //! (`light.rs`), cameras (`camera.rs`) and materials (`material.rs`).
 
+pub use super::animation::{Animation, Skin};
 pub use super::camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
 pub use super::light::{Light, LightKind, ATTENUATION_THRESHOLD};
 pub use super::material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
-pub use super::animation::{Animation, Skin};
 pub use super::node::Node;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -167,7 +167,10 @@ impl Mesh {
 
     /// The largest joint index of an influence with a weight other than 0, if any.
     pub fn max_joint(&self) -> Option<u16> {
-        let sets = [(&self.joints, &self.weights), (&self.joints1, &self.weights1)];
+        let sets = [
+            (&self.joints, &self.weights),
+            (&self.joints1, &self.weights1),
+        ];
         sets.iter()
             .flat_map(|(j, w)| j.iter().zip(w.iter()))
             .flat_map(|(j, w)| (0..4).filter(|&k| w[k] != 0.0).map(move |k| j[k]))

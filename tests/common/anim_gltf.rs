@@ -11,6 +11,85 @@ use glam::{Mat4, Quat, Vec3};
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
+/// The interpolated value at `tc` from the formulas of glTF 2.0 Appendix C, in
+/// f64: `values` holds `width` floats per element, one element per key (three —
+/// in-tangent, value, out-tangent — for CUBICSPLINE). Before the first key the
+/// first value, after the last the last (§3.11).
+pub fn appendix_c(
+    interp: &str,
+    times: &[f32],
+    values: &[f32],
+    width: usize,
+    rotation: bool,
+    tc: f64,
+) -> Vec<f64> {
+    let per_key = if interp == "CUBICSPLINE" { 3 } else { 1 };
+    let elem = |k: usize, e: usize| -> Vec<f64> {
+        let i = (k * per_key + e) * width;
+        values[i..i + width].iter().map(|&v| v as f64).collect()
+    };
+    let value = |k: usize| elem(k, if per_key == 3 { 1 } else { 0 });
+    let n = times.len();
+    let t = |k: usize| times[k] as f64;
+    if tc <= t(0) {
+        return value(0);
+    }
+    if tc >= t(n - 1) {
+        return value(n - 1);
+    }
+    // t_k <= t_c < t_{k+1}
+    let k = (0..n - 1).find(|&k| t(k) <= tc && tc < t(k + 1)).unwrap();
+    if tc == t(k) {
+        return value(k);
+    }
+    let td = t(k + 1) - t(k);
+    let s = (tc - t(k)) / td;
+    let mut out: Vec<f64> = match interp {
+        "STEP" => value(k),
+        "LINEAR" if rotation => {
+            let (vk, vk1) = (value(k), value(k + 1));
+            let dot: f64 = vk.iter().zip(&vk1).map(|(a, b)| a * b).sum();
+            let a = dot.abs().min(1.0).acos();
+            let sign = dot.signum();
+            if a < 1e-9 {
+                vk.iter()
+                    .zip(&vk1)
+                    .map(|(x, y)| (1.0 - s) * x + s * sign * y)
+                    .collect()
+            } else {
+                vk.iter()
+                    .zip(&vk1)
+                    .map(|(x, y)| {
+                        (a * (1.0 - s)).sin() / a.sin() * x + sign * (a * s).sin() / a.sin() * y
+                    })
+                    .collect()
+            }
+        }
+        "LINEAR" => value(k)
+            .iter()
+            .zip(value(k + 1))
+            .map(|(x, y)| (1.0 - s) * x + s * y)
+            .collect(),
+        "CUBICSPLINE" => {
+            let (vk, bk, vk1, ak1) = (elem(k, 1), elem(k, 2), elem(k + 1, 1), elem(k + 1, 0));
+            (0..width)
+                .map(|i| {
+                    (2.0 * s.powi(3) - 3.0 * s * s + 1.0) * vk[i]
+                        + td * (s.powi(3) - 2.0 * s * s + s) * bk[i]
+                        + (-2.0 * s.powi(3) + 3.0 * s * s) * vk1[i]
+                        + td * (s.powi(3) - s * s) * ak1[i]
+                })
+                .collect()
+        }
+        other => panic!("{other}"),
+    };
+    if rotation {
+        let len = out.iter().map(|v| v * v).sum::<f64>().sqrt();
+        out.iter_mut().for_each(|v| *v /= len);
+    }
+    out
+}
+
 /// The animated corpus model `NAME/NAME.gltf` (../shared/corpus/gltf/animated);
 /// panics with a clear message when the corpus is absent.
 pub fn animated_corpus(name: &str) -> PathBuf {
@@ -255,9 +334,7 @@ impl RawGltf {
                             5126 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
                             5121 if normalized => b[0] as f32 / 255.0,
                             5121 => b[0] as f32,
-                            5123 if normalized => {
-                                u16::from_le_bytes([b[0], b[1]]) as f32 / 65535.0
-                            }
+                            5123 if normalized => u16::from_le_bytes([b[0], b[1]]) as f32 / 65535.0,
                             5123 => u16::from_le_bytes([b[0], b[1]]) as f32,
                             other => panic!("component type {other} not read here"),
                         }
@@ -292,15 +369,11 @@ impl RawGltf {
 
     /// The parent of node `i` from the `children` lists.
     pub fn parent(&self, i: usize) -> Option<usize> {
-        self.json["nodes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .position(|n| {
-                n["children"]
-                    .as_array()
-                    .is_some_and(|c| c.iter().any(|x| x.as_u64() == Some(i as u64)))
-            })
+        self.json["nodes"].as_array().unwrap().iter().position(|n| {
+            n["children"]
+                .as_array()
+                .is_some_and(|c| c.iter().any(|x| x.as_u64() == Some(i as u64)))
+        })
     }
 
     /// Node `i`'s global matrix with the local matrices `local` gives.

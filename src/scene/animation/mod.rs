@@ -129,10 +129,7 @@ pub struct Animation {
 impl Animation {
     /// An animation whose duration is its channels' last key time.
     pub fn new(name: impl Into<String>, channels: Vec<Channel>) -> Animation {
-        let duration = channels
-            .iter()
-            .map(|c| c.sampler.end())
-            .fold(0.0, f64::max);
+        let duration = channels.iter().map(|c| c.sampler.end()).fold(0.0, f64::max);
         Animation {
             name: name.into(),
             channels,
@@ -282,8 +279,7 @@ impl Scene {
             name: self.name.clone(),
             message,
         };
-        super::node::check_hierarchy(&self.nodes, super::node::MAX_NODE_DEPTH)
-            .map_err(err)?;
+        super::node::check_hierarchy(&self.nodes, super::node::MAX_NODE_DEPTH).map_err(err)?;
         let node_count = self.nodes.len();
         for (si, skin) in self.skins.iter().enumerate() {
             if skin.joints.len() > MAX_JOINTS {
@@ -350,9 +346,10 @@ impl Scene {
         for (ai, anim) in self.animations.iter().enumerate() {
             for (ci, ch) in anim.channels.iter().enumerate() {
                 let label = || format!("animation {ai} (`{}`) channel {ci}", anim.name);
-                let node = self.nodes.get(ch.node).ok_or_else(|| {
-                    err(format!("{}: node {} is out of range", label(), ch.node))
-                })?;
+                let node = self
+                    .nodes
+                    .get(ch.node)
+                    .ok_or_else(|| err(format!("{}: node {} is out of range", label(), ch.node)))?;
                 let width = match ch.path {
                     ChannelPath::Translation | ChannelPath::Scale => 3,
                     ChannelPath::Rotation => 4,

@@ -238,7 +238,11 @@ mod tests {
         let want = Quat::from_rotation_z(-5f32.to_radians());
         assert!(q.dot(want).abs() > 1.0 - 1e-6, "{q:?}");
         // identical keys: no 0/0
-        let s = sampler(Interpolation::Linear, &[0.0, 1.0], &[0., 0., 0., 1., 0., 0., 0., 1.]);
+        let s = sampler(
+            Interpolation::Linear,
+            &[0.0, 1.0],
+            &[0., 0., 0., 1., 0., 0., 0., 1.],
+        );
         assert_eq!(s.sample_rotation(0.3), Some(Quat::IDENTITY));
     }
 

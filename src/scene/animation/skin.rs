@@ -73,7 +73,10 @@ pub fn skin_matrix(mesh: &Mesh, v: usize, joint_matrices: &[Mat4]) -> Option<Mat
         return None;
     }
     let mut m = Mat4::ZERO;
-    let sets = [(&mesh.joints, &mesh.weights), (&mesh.joints1, &mesh.weights1)];
+    let sets = [
+        (&mesh.joints, &mesh.weights),
+        (&mesh.joints1, &mesh.weights1),
+    ];
     for (joints, weights) in sets {
         let (Some(j), Some(w)) = (joints.get(v), weights.get(v)) else {
             continue;
@@ -169,7 +172,10 @@ mod tests {
             ..Default::default()
         };
         let m = morph(&mesh, &[0.5, 2.0]);
-        assert_eq!(m.positions, vec![Vec3::new(0.0, 0.5, 2.0), Vec3::new(1.0, 0.5, 0.0)]);
+        assert_eq!(
+            m.positions,
+            vec![Vec3::new(0.0, 0.5, 2.0), Vec3::new(1.0, 0.5, 0.0)]
+        );
         assert_eq!(m.normals[0], Vec3::new(2.0, 0.0, 1.0));
     }
 

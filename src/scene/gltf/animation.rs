@@ -67,9 +67,7 @@ impl Converter<'_> {
                         return Err(format!("{label}: inverseBindMatrices are unreadable"));
                     }
                     if let Some(i) = m.iter().position(|m| !m.is_finite()) {
-                        return Err(format!(
-                            "{label}: inverse bind matrix {i} is not finite"
-                        ));
+                        return Err(format!("{label}: inverse bind matrix {i} is not finite"));
                     }
                     m
                 }
@@ -182,7 +180,9 @@ impl Converter<'_> {
             DataType::U16,
         ];
         let (dims, types, width): (Dimensions, &[DataType], usize) = match path {
-            ChannelPath::Translation | ChannelPath::Scale => (Dimensions::Vec3, &[DataType::F32], 3),
+            ChannelPath::Translation | ChannelPath::Scale => {
+                (Dimensions::Vec3, &[DataType::F32], 3)
+            }
             ChannelPath::Rotation => (Dimensions::Vec4, &normalised, 4),
             ChannelPath::Weights => {
                 let targets = self.scene.nodes[node].weights.len();
@@ -196,7 +196,12 @@ impl Converter<'_> {
                 (Dimensions::Scalar, &normalised, targets)
             }
         };
-        self.check_accessor(&format!("{label} output"), &sampler.output(), &[dims], types)?;
+        self.check_accessor(
+            &format!("{label} output"),
+            &sampler.output(),
+            &[dims],
+            types,
+        )?;
         let buffers = self.buffers;
         let reader = channel.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
         let times: Vec<f32> = reader

@@ -32,9 +32,9 @@ mod skin_attributes;
 
 use super::model::{Instance, Mesh, Scene, SceneError};
 use glam::{Mat4, Vec2, Vec3, Vec4};
-use json_checks::{check_json_schema, check_uris};
-pub use json_checks::MAX_GLTF_FILE_BYTES;
 use gltf::accessor::{DataType, Dimensions};
+pub use json_checks::MAX_GLTF_FILE_BYTES;
+use json_checks::{check_json_schema, check_uris};
 use lights_cameras::{convert_camera, convert_light};
 pub use material::UvTransform;
 use material::{texture_refs, TexRef};

@@ -200,7 +200,11 @@ impl Converter<'_> {
             );
             return Ok(None);
         }
-        let joints = self.scene.skins.get(skin.index()).map_or(0, |s| s.joints.len());
+        let joints = self
+            .scene
+            .skins
+            .get(skin.index())
+            .map_or(0, |s| s.joints.len());
         if let Some(j) = mesh.max_joint() {
             if j as usize >= joints {
                 return Err(format!(
