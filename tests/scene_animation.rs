@@ -479,6 +479,13 @@ fn broken_channels_are_clear_errors() {
     let e = load_err(channel_doc(0, "rotation", "LINEAR", &[0.0, 1.0], &[0.0; 8]));
     assert!(e.contains("rotation key 0 is the zero quaternion"), "{e}");
 
+    let e = load_err(channel_doc(0, "traNslation", "LINEAR", &[0.0, 1.0], &t3));
+    assert_names_channel(&e);
+    assert!(
+        e.contains("the target path is not translation, rotation, scale or weights"),
+        "{e}"
+    );
+
     let e = load_err(channel_doc(
         0,
         "weights",

@@ -97,14 +97,27 @@ impl Converter<'_> {
             let mut channels = Vec::new();
             let mut targets = HashSet::new();
             for (ci, channel) in anim.channels().enumerate() {
-                // The `gltf` crate does not check channel target indices (and
-                // panics on a bad one), so read it from the JSON first.
-                let node = json.animations[ai].channels[ci].target.node.value();
-                let path = match channel.target().property() {
-                    gltf::animation::Property::Translation => ChannelPath::Translation,
-                    gltf::animation::Property::Rotation => ChannelPath::Rotation,
-                    gltf::animation::Property::Scale => ChannelPath::Scale,
-                    gltf::animation::Property::MorphTargetWeights => ChannelPath::Weights,
+                // The `gltf` crate validates neither channel targets' node
+                // indices nor their paths (and panics on a bad one), so both are
+                // read from the JSON.
+                let target = &json.animations[ai].channels[ci].target;
+                let node = target.node.value();
+                use gltf::json::validation::Checked;
+                let path = match target.path {
+                    Checked::Valid(gltf::animation::Property::Translation) => {
+                        ChannelPath::Translation
+                    }
+                    Checked::Valid(gltf::animation::Property::Rotation) => ChannelPath::Rotation,
+                    Checked::Valid(gltf::animation::Property::Scale) => ChannelPath::Scale,
+                    Checked::Valid(gltf::animation::Property::MorphTargetWeights) => {
+                        ChannelPath::Weights
+                    }
+                    Checked::Invalid => {
+                        return Err(format!(
+                            "animation {ai} (`{name}`) channel {ci}: the target path is not \
+                             translation, rotation, scale or weights"
+                        ))
+                    }
                 };
                 let label = format!(
                     "animation {ai} (`{name}`) channel {ci} ({} of node {node})",

@@ -4,24 +4,36 @@
 //! checked and reported as [`SceneError::Gltf`] naming the file: JSON schema
 //! problems (including extension values that are not objects), accessor types and
 //! byte ranges, index ranges, vertex counts, non-finite values (positions, normals,
-//! transforms), node cycles and hierarchy depth. The `gltf` crate runs behind
-//! `catch_unwind` as a last defence.
+//! transforms, skin weights, morph displacements, key times and values), node
+//! cycles, nodes with two parents and hierarchy depth, and every animation channel
+//! and skin (`animation.rs`). The `gltf` crate runs behind `catch_unwind` as a
+//! last defence.
 //!
-//! Supported: triangle lists, strips and fans; node hierarchy transforms;
-//! perspective cameras; `KHR_lights_punctual` (`lights_cameras.rs`);
+//! Supported: triangle lists, strips and fans; the node hierarchy, kept in
+//! [`Scene::nodes`] (`nodes.rs`) so that instances, lights and cameras move with
+//! their nodes; perspective cameras; `KHR_lights_punctual` (`lights_cameras.rs`);
 //! metallic-roughness materials mapped exactly onto the `standard` surface and the
 //! `cook_torrance` lighting shader (every core factor and texture, alpha mode,
 //! double-sided, `KHR_materials_emissive_strength`, `KHR_materials_ior`,
 //! `KHR_materials_specular` factors, `KHR_texture_transform` on every texture;
 //! see [`UvTransform`]); texture coordinate sets 0 and 1 (`TEXCOORD_1` is loaded
 //! into [`Mesh::uvs1`]; a texture reading a higher set reads set 0, with a
-//! warning) and vertex colours (`COLOR_0` into [`Mesh::colors`]). Ignored with a
-//! log message: points and lines, orthographic cameras, `KHR_materials_specular`
-//! textures; ignored silently: skins, morph targets, animations and sampler
-//! settings (textures always repeat).
+//! warning) and vertex colours (`COLOR_0` into [`Mesh::colors`]); animations of
+//! node translation, rotation, scale and morph weights with STEP, LINEAR and
+//! CUBICSPLINE keys (`animation.rs`, played by [`crate::scene::animation`]);
+//! skins of up to [`crate::scene::MAX_JOINTS`] joints with 4 or 8 influences
+//! (`JOINTS_0/1`, `WEIGHTS_0/1`: unsigned bytes or shorts, float or normalised
+//! weights, renormalised to sum 1) and morph targets of `POSITION`, `NORMAL` and
+//! `TANGENT` (at most [`crate::scene::MAX_MORPH_TARGETS`]), with the mesh's and
+//! the node's default weights (`skin_attributes.rs`). Ignored with a log message:
+//! points and lines, orthographic cameras, `KHR_materials_specular` textures,
+//! `JOINTS_2`/`WEIGHTS_2` and later sets; ignored silently: morphed `TEXCOORD_n`
+//! and `COLOR_n`, tangents of morphed meshes whose tangents are derived (not
+//! given), `KHR_animation_pointer` and sampler settings (textures always repeat).
 //!
 //! This file reads the node tree and the meshes; materials and textures are mapped
-//! in `material.rs`, lights and cameras converted in `lights_cameras.rs`.
+//! in `material.rs`, lights and cameras converted in `lights_cameras.rs`, the raw
+//! bytes pre-checked in `json_checks.rs`.
 
 mod animation;
 mod json_checks;
@@ -276,6 +288,10 @@ impl Converter<'_> {
                     .join(" or ")
             ));
         }
+        if acc.count() == 0 {
+            // (the `gltf` crate's readers underflow on it)
+            return Err(format!("{label}: count 0 (glTF requires at least 1)"));
+        }
         if acc.count() > MAX_VERTICES {
             return Err(format!("{label}: {} elements is too many", acc.count()));
         }
@@ -288,9 +304,19 @@ impl Converter<'_> {
                 ));
             }
             let needed = if acc.count() == 0 {
-                0
+                Some(0)
             } else {
-                acc.offset() + stride * (acc.count() - 1) + elem
+                stride
+                    .checked_mul(acc.count() - 1)
+                    .and_then(|n| n.checked_add(acc.offset()))
+                    .and_then(|n| n.checked_add(elem))
+            };
+            let Some(needed) = needed else {
+                return Err(format!(
+                    "{label}: offset {} + stride {stride} × {} elements overflows",
+                    acc.offset(),
+                    acc.count()
+                ));
             };
             if needed > view.length() {
                 return Err(format!(
@@ -301,12 +327,16 @@ impl Converter<'_> {
             }
             let buffer = view.buffer().index();
             let have = self.buffers.get(buffer).map_or(0, |b| b.len());
-            if view.offset() + view.length() > have {
+            if view
+                .offset()
+                .checked_add(view.length())
+                .map_or(true, |end| end > have)
+            {
                 return Err(format!(
                     "buffer view {} (bytes {}..{}) is outside buffer {buffer} ({have} bytes)",
                     view.index(),
                     view.offset(),
-                    view.offset() + view.length()
+                    view.offset().saturating_add(view.length())
                 ));
             }
         } else if acc.sparse().is_none() {
