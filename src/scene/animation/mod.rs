@@ -86,11 +86,7 @@ impl Sampler {
     /// number of morph targets for weights); 0 when there are no keys.
     pub fn width(&self) -> usize {
         let elements = self.times.len() * self.elements_per_key();
-        if elements == 0 {
-            0
-        } else {
-            self.values.len() / elements
-        }
+        self.values.len().checked_div(elements).unwrap_or(0)
     }
 
     /// Elements stored per key: 3 for CUBICSPLINE, else 1.

@@ -139,10 +139,7 @@ impl Sampler {
                 let mut out = [0.0f32; 4];
                 self.sample_into(time, &mut out);
                 let v = Vec4::from_array(out);
-                if !(v.length_squared() > 0.0) {
-                    return None;
-                }
-                Quat::from_vec4(v.normalize())
+                Quat::from_vec4(v.try_normalize()?)
             }
         };
         q.is_finite().then_some(q)

@@ -330,7 +330,7 @@ impl Converter<'_> {
             if view
                 .offset()
                 .checked_add(view.length())
-                .map_or(true, |end| end > have)
+                .is_none_or(|end| end > have)
             {
                 return Err(format!(
                     "buffer view {} (bytes {}..{}) is outside buffer {buffer} ({have} bytes)",
