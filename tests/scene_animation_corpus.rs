@@ -73,21 +73,7 @@ fn reference(raw: &RawGltf, channels: &[RawChannel], t: f64) -> Reference {
         if mine.is_empty() {
             continue;
         }
-        let json = &raw.json["nodes"][node];
-        let get = |key: &str, default: &[f32]| -> Vec<f32> {
-            json.get(key).map_or(default.to_vec(), |v| {
-                v.as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|x| x.as_f64().unwrap() as f32)
-                    .collect()
-            })
-        };
-        let (mut tr, mut rot, mut sc) = (
-            Vec3::from_slice(&get("translation", &[0.0; 3])),
-            Quat::from_slice(&get("rotation", &[0.0, 0.0, 0.0, 1.0])),
-            Vec3::from_slice(&get("scale", &[1.0; 3])),
-        );
+        let (mut tr, mut rot, mut sc) = raw.trs(node);
         for c in mine {
             let per_key = if c.interpolation == "CUBICSPLINE" {
                 3

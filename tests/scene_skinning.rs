@@ -311,73 +311,64 @@ fn quantised_weights_are_renormalised() {
     }
 }
 
+/// A triangle on node 0 skinned by `joints` and `weights` (4 per vertex, the
+/// same for the 3 vertices) with skin 0 = nodes 1 and 2 and the given inverse
+/// bind matrices.
+fn skinned_triangle(
+    joints: [u16; 4],
+    weights: [f32; 4],
+    ibm: Option<&[Mat4]>,
+) -> serde_json::Value {
+    let mut b = GltfBuilder::default();
+    let attributes = json!({
+        "JOINTS_0": b.u16s(&joints.repeat(3), "VEC4", false),
+        "WEIGHTS_0": b.f32s(&weights.repeat(3), "VEC4"),
+    });
+    let ibm = ibm.map(|m| {
+        b.f32s(
+            &m.iter().flat_map(|m| m.to_cols_array()).collect::<Vec<_>>(),
+            "MAT4",
+        )
+    });
+    let mut doc = node_scene(
+        &mut b,
+        attributes,
+        None,
+        vec![json!({}), json!({})],
+        &[1, 2],
+        &[],
+    );
+    doc["skins"] = json!([{"joints": [1, 2]}]);
+    if let Some(ibm) = ibm {
+        doc["skins"][0]["inverseBindMatrices"] = json!(ibm);
+    }
+    doc["nodes"][0]["skin"] = json!(0);
+    b.finish(doc)
+}
+
 #[test]
 fn broken_skins_are_clear_errors() {
-    let load_err = |doc: serde_json::Value| {
+    let cases = [
+        (
+            skinned_triangle([0, 2, 0, 0], [0.5, 0.5, 0.0, 0.0], None),
+            "uses joint 2 but skin 0 has 2 joints",
+        ),
+        (
+            skinned_triangle([0, 1, 0, 0], [1.5, -0.5, 0.0, 0.0], None),
+            "WEIGHTS_0 of vertex 0 is [1.5, -0.5, 0, 0] (weights must be finite and not negative)",
+        ),
+        (
+            skinned_triangle([0, 1, 0, 0], [0.5, 0.5, 0.0, 0.0], Some(&[Mat4::IDENTITY])),
+            "1 inverse bind matrices for 2 joints",
+        ),
+    ];
+    for (doc, expected) in cases {
         let (_dir, path) = write(&doc, "broken_skin.gltf");
         let e = Scene::load(path.to_str().unwrap())
             .map(|_| ())
             .unwrap_err()
             .to_string();
         assert!(e.contains("broken_skin.gltf: "), "{e}");
-        e
-    };
-    // a joint index beyond the skin's joints
-    let mut b = GltfBuilder::default();
-    let attributes = json!({
-        "JOINTS_0": b.u16s(&[0, 2, 0, 0].repeat(3), "VEC4", false),
-        "WEIGHTS_0": b.f32s(&[0.5, 0.5, 0.0, 0.0].repeat(3), "VEC4"),
-    });
-    let mut doc = node_scene(
-        &mut b,
-        attributes,
-        None,
-        vec![json!({}), json!({})],
-        &[1, 2],
-        &[],
-    );
-    doc["skins"] = json!([{"joints": [1, 2]}]);
-    doc["nodes"][0]["skin"] = json!(0);
-    let e = load_err(b.finish(doc));
-    assert!(e.contains("uses joint 2 but skin 0 has 2 joints"), "{e}");
-    // negative weights
-    let mut b = GltfBuilder::default();
-    let attributes = json!({
-        "JOINTS_0": b.u16s(&[0, 1, 0, 0].repeat(3), "VEC4", false),
-        "WEIGHTS_0": b.f32s(&[1.5, -0.5, 0.0, 0.0].repeat(3), "VEC4"),
-    });
-    let mut doc = node_scene(
-        &mut b,
-        attributes,
-        None,
-        vec![json!({}), json!({})],
-        &[1, 2],
-        &[],
-    );
-    doc["skins"] = json!([{"joints": [1, 2]}]);
-    doc["nodes"][0]["skin"] = json!(0);
-    let e = load_err(b.finish(doc));
-    assert!(
-        e.contains("WEIGHTS_0 of vertex 0") && e.contains("not negative"),
-        "{e}"
-    );
-    // too few inverse bind matrices
-    let mut b = GltfBuilder::default();
-    let attributes = json!({
-        "JOINTS_0": b.u16s(&[0, 1, 0, 0].repeat(3), "VEC4", false),
-        "WEIGHTS_0": b.f32s(&[0.5, 0.5, 0.0, 0.0].repeat(3), "VEC4"),
-    });
-    let ibm = b.f32s(&Mat4::IDENTITY.to_cols_array(), "MAT4");
-    let mut doc = node_scene(
-        &mut b,
-        attributes,
-        None,
-        vec![json!({}), json!({})],
-        &[1, 2],
-        &[],
-    );
-    doc["skins"] = json!([{"joints": [1, 2], "inverseBindMatrices": ibm}]);
-    doc["nodes"][0]["skin"] = json!(0);
-    let e = load_err(b.finish(doc));
-    assert!(e.contains("1 inverse bind matrices for 2 joints"), "{e}");
+        assert!(e.contains(expected), "{e}");
+    }
 }

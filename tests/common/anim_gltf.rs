@@ -344,27 +344,36 @@ impl RawGltf {
             .collect()
     }
 
-    /// Node `i`'s local matrix from its JSON (`matrix`, or T · R · S).
-    pub fn local(&self, i: usize) -> Mat4 {
-        let node = &self.json["nodes"][i];
-        let f = |key: &str, default: &[f32]| -> Vec<f32> {
-            node.get(key).map_or(default.to_vec(), |v| {
+    /// A float array of node `i`'s JSON (`default` when absent).
+    fn node_floats(&self, i: usize, key: &str, default: &[f32]) -> Vec<f32> {
+        self.json["nodes"][i]
+            .get(key)
+            .map_or(default.to_vec(), |v| {
                 v.as_array()
                     .unwrap()
                     .iter()
                     .map(|x| x.as_f64().unwrap() as f32)
                     .collect()
             })
-        };
-        if node.get("matrix").is_some() {
-            return Mat4::from_cols_slice(&f("matrix", &[]));
+    }
+
+    /// Node `i`'s translation, rotation and scale from its JSON (defaults where
+    /// absent).
+    pub fn trs(&self, i: usize) -> (Vec3, Quat, Vec3) {
+        (
+            Vec3::from_slice(&self.node_floats(i, "translation", &[0.0; 3])),
+            Quat::from_slice(&self.node_floats(i, "rotation", &[0.0, 0.0, 0.0, 1.0])),
+            Vec3::from_slice(&self.node_floats(i, "scale", &[1.0; 3])),
+        )
+    }
+
+    /// Node `i`'s local matrix from its JSON (`matrix`, or T · R · S).
+    pub fn local(&self, i: usize) -> Mat4 {
+        if self.json["nodes"][i].get("matrix").is_some() {
+            return Mat4::from_cols_slice(&self.node_floats(i, "matrix", &[]));
         }
-        let t = f("translation", &[0.0; 3]);
-        let r = f("rotation", &[0.0, 0.0, 0.0, 1.0]);
-        let s = f("scale", &[1.0; 3]);
-        Mat4::from_translation(Vec3::from_slice(&t))
-            * Mat4::from_quat(Quat::from_slice(&r))
-            * Mat4::from_scale(Vec3::from_slice(&s))
+        let (t, r, s) = self.trs(i);
+        Mat4::from_translation(t) * Mat4::from_quat(r) * Mat4::from_scale(s)
     }
 
     /// The parent of node `i` from the `children` lists.
