@@ -38,22 +38,7 @@ fn close(a: &[f64], b: &[f64], what: &str) {
 
 /// A file with one channel on node 0 (the triangle).
 fn one_channel(path: &str, interp: &str, times: &[f32], values: &[f32]) -> Scene {
-    let mut b = GltfBuilder::default();
-    let doc = node_scene(
-        &mut b,
-        json!({}),
-        None,
-        vec![],
-        &[],
-        &[vec![ChannelSpec {
-            node: 0,
-            path,
-            interpolation: interp,
-            times,
-            values,
-        }]],
-    );
-    load(b.finish(doc))
+    load(channel_doc(0, path, interp, times, values))
 }
 
 fn load(doc: Value) -> Scene {
@@ -408,12 +393,14 @@ fn channel_doc(node: usize, path: &str, interp: &str, times: &[f32], values: &[f
     b.finish(doc)
 }
 
+/// node, path, interpolation, times, values, expected message
+type BrokenChannel<'a> = (usize, &'a str, &'a str, &'a [f32], &'a [f32], &'a str);
+
 #[test]
 fn broken_channels_are_clear_errors() {
     let t3 = [0.0, 0.0, 0.0, 1.0, 1.0, 1.0];
     let t6 = [&t3[..], &[2.0; 3]].concat();
-    // (node, path, interpolation, times, values, expected message)
-    let cases: [(usize, &str, &str, &[f32], &[f32], &str); 9] = [
+    let cases: [BrokenChannel; 9] = [
         (
             7,
             "translation",
