@@ -397,6 +397,7 @@ fn depth_aux_is_the_linear_depth_of_a_plane() {
         transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -distance))
             * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
             * Mat4::from_scale(Vec3::splat(100.0)),
+        ..Default::default()
     });
     scene.ensure_lights();
     let camera = Camera {
@@ -501,6 +502,7 @@ fn normal_encodings_agree_through_the_gpu() {
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        ..Default::default()
     });
     scene.ensure_lights();
     let camera = Camera::parse_spec("eye=0,0,2.2;target=0,0,0;fov=60", &scene).unwrap();
@@ -597,6 +599,7 @@ fn default_light_makes_an_unlit_scene_visible() {
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        ..Default::default()
     });
     assert!(scene.lights.is_empty());
     scene.ensure_lights();

@@ -120,6 +120,7 @@ fn sphere_scene(material: Material, lights: Vec<Light>) -> Scene {
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        ..Default::default()
     });
     scene.lights = lights;
     scene
@@ -375,6 +376,7 @@ fn pairs_scene() -> (Scene, tempfile::TempDir) {
             transform: Mat4::from_translation(Vec3::new(x, 0.0, z))
                 * Mat4::from_rotation_y(0.4 + i as f32)
                 * Mat4::from_scale(Vec3::splat(0.9)),
+            ..Default::default()
         });
         scene.materials.push(m);
     }
@@ -698,6 +700,7 @@ fn mesh_flags_follow_the_mesh_in_every_mode() {
             mesh: i,
             material: 0,
             transform: Mat4::from_translation(Vec3::new(*x, 0.0, 0.0)),
+            ..Default::default()
         });
     }
     scene.lights = vec![Light::directional(

@@ -1,6 +1,7 @@
 //! Shared helpers of the GPU tests: one engine per test binary, CPU images, metrics.
 #![allow(dead_code)]
 
+pub mod anim_gltf;
 pub mod brdf;
 pub mod cli;
 pub mod gltf_gen;

@@ -34,12 +34,14 @@ pub fn scene(light: Light) -> Scene {
         mesh: 0,
         material: 0,
         transform: Mat4::from_scale(Vec3::new(2.0 * GROUND, 1.0, 2.0 * GROUND)),
+        ..Default::default()
     });
     s.instances.push(Instance {
         name: "box".into(),
         mesh: 1,
         material: 0,
         transform: Mat4::from_translation(BOX_CENTER),
+        ..Default::default()
     });
     s.lights.push(light);
     s
