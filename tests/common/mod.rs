@@ -5,6 +5,7 @@ pub mod brdf;
 pub mod cli;
 pub mod gltf_gen;
 pub mod rng;
+pub mod samples;
 pub mod scenes;
 pub mod stream;
 

@@ -1,39 +1,19 @@
 //! `fxrun` on frame sequences: patterns, sharding, resume, y4m pipes.
 
-mod common;
-
-use common::cli::stderr;
+use crate::common::cli::{
+    apply, arg as s, command, exits, exits_with, files, fxrun, fxrun_stdin, stderr, stdout,
+    write_effect,
+};
+use crate::common::image_u8;
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-
-fn fxrun(args: &[&str], stdin: Option<&[u8]>) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_fxrun"));
-    cmd.args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    let mut child = cmd.spawn().expect("run fxrun");
-    let mut child_stdin = child.stdin.take().unwrap();
-    let data = stdin.map(|d| d.to_vec());
-    let writer = std::thread::spawn(move || {
-        use std::io::Write;
-        if let Some(d) = data {
-            let _ = child_stdin.write_all(&d);
-        }
-    });
-    let out = child.wait_with_output().unwrap();
-    writer.join().unwrap();
-    out
-}
+use std::process::Stdio;
 
 /// A moving pattern: frame i has a bright bar at x = 3i.
 fn write_frames(dir: &Path, n: u32) {
     std::fs::create_dir_all(dir).unwrap();
     for i in 0..n {
-        let img = common::image_u8(40, 24, |x, y| {
+        let img = image_u8(40, 24, |x, y| {
             let bar = x / 3 == i;
             [
                 if bar { 250 } else { (x * 5) as u8 },
@@ -66,30 +46,19 @@ const TEMPORAL_WGSL: &str = "@group(0) @binding(0) var a: texture_2d<f32>;
 ";
 
 fn setup(dir: &Path) -> String {
-    std::fs::write(dir.join("tmean.wgsl"), TEMPORAL_WGSL).unwrap();
-    let fx = dir.join("tmean.fx");
-    std::fs::write(&fx, TEMPORAL_FX).unwrap();
-    fx.display().to_string()
+    write_effect(dir, "tmean", TEMPORAL_FX, ("tmean", TEMPORAL_WGSL))
 }
 
-fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .map(|p| {
-            (
-                p.file_name().unwrap().to_string_lossy().into_owned(),
-                std::fs::read(&p).unwrap(),
-            )
-        })
-        .collect();
-    v.sort();
-    v
+/// The identity effect `id.fx` in `dir`.
+fn identity(dir: &Path) -> std::path::PathBuf {
+    let id = dir.join("id.fx");
+    std::fs::write(&id, "EFFECT.id = { OUT = IN }").unwrap();
+    id
 }
 
 #[test]
 fn three_slices_concatenate_to_one_run_byte_for_byte() {
-    if common::engine().is_none() {
+    if !crate::gpu() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -97,36 +66,11 @@ fn three_slices_concatenate_to_one_run_byte_for_byte() {
     write_frames(&dir.path().join("in"), 9);
     let input = dir.path().join("in/f%03d.png");
     let whole = dir.path().join("whole/o%03d.png");
-    let o = fxrun(
-        &[
-            &fx,
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            whole.to_str().unwrap(),
-        ],
-        None,
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(
-        o.stderr.is_empty(),
-        "quiet when not a terminal: {}",
-        stderr(&o)
-    );
+    let e = exits(&apply(&fx, &input, &whole, &[]), 0);
+    assert!(e.is_empty(), "quiet when not a terminal: {e}");
     let sliced = dir.path().join("sliced/o%03d.png");
     for range in ["1..3", "4..6", "7..9"] {
-        let o = fxrun(
-            &[
-                &fx,
-                "-i",
-                input.to_str().unwrap(),
-                "-o",
-                sliced.to_str().unwrap(),
-                "--frames",
-                range,
-            ],
-            None,
-        );
+        let o = apply(&fx, &input, &sliced, &["--frames", range]);
         assert_eq!(o.status.code(), Some(0), "{range}: {}", stderr(&o));
     }
     let (a, b) = (
@@ -145,7 +89,7 @@ fn three_slices_concatenate_to_one_run_byte_for_byte() {
 
 #[test]
 fn skip_existing_resumes_and_feedback_slices_warn() {
-    if common::engine().is_none() {
+    if !crate::gpu() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -153,35 +97,12 @@ fn skip_existing_resumes_and_feedback_slices_warn() {
     write_frames(&dir.path().join("in"), 6);
     let input = dir.path().join("in/f%03d.png");
     let out = dir.path().join("out/o%03d.png");
-    let o = fxrun(
-        &[
-            &fx,
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--frames",
-            "1..3",
-        ],
-        None,
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    exits(&apply(&fx, &input, &out, &["--frames", "1..3"]), 0);
     let before = files(&dir.path().join("out"));
     assert_eq!(before.len(), 3);
     // A stale temporary of a killed run is cleaned up.
     std::fs::write(dir.path().join("out/.o004.png.fxtmp-999999-0"), b"partial").unwrap();
-    let o = fxrun(
-        &[
-            &fx,
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--skip-existing",
-        ],
-        None,
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    exits(&apply(&fx, &input, &out, &["--skip-existing"]), 0);
     let after = files(&dir.path().join("out"));
     assert_eq!(
         after.len(),
@@ -191,22 +112,8 @@ fn skip_existing_resumes_and_feedback_slices_warn() {
     );
     assert_eq!(&after[..3], &before[..]);
     // Resuming again does nothing.
-    let o = fxrun(
-        &[
-            &fx,
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--skip-existing",
-        ],
-        None,
-    );
-    assert!(
-        stderr(&o).contains("every output frame exists"),
-        "{}",
-        stderr(&o)
-    );
+    let e = stderr(&apply(&fx, &input, &out, &["--skip-existing"]));
+    assert!(e.contains("every output frame exists"), "{e}");
     // An effect with feedback warns when sliced.
     let fb = dir.path().join("fb.fx");
     std::fs::write(
@@ -214,22 +121,11 @@ fn skip_existing_resumes_and_feedback_slices_warn() {
         "EFFECT.fb = { PASS = { m = SHADER.tmean { a = PASS.m[-1]  b = IN  c = IN } } OUT = m }",
     )
     .unwrap();
-    let o = fxrun(&[fb.to_str().unwrap(), "--describe"], None);
-    assert!(String::from_utf8_lossy(&o.stdout).contains("uses feedback"));
-    let o = fxrun(
-        &[
-            fb.to_str().unwrap(),
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            dir.path().join("fbo/%d.png").to_str().unwrap(),
-            "--frames",
-            "3..4",
-        ],
-        None,
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stderr(&o).contains("uses feedback"), "{}", stderr(&o));
+    let o = fxrun(&[fb.to_str().unwrap(), "--describe"]);
+    assert!(stdout(&o).contains("uses feedback"));
+    let fbo = dir.path().join("fbo/%d.png");
+    let o = apply(&fb, &input, fbo, &["--frames", "3..4"]);
+    exits_with(&o, 0, &["uses feedback"]);
 }
 
 fn y4m_stream(w: u32, h: u32, frames: u32) -> Vec<u8> {
@@ -255,15 +151,14 @@ fn y4m_stream(w: u32, h: u32, frames: u32) -> Vec<u8> {
 
 #[test]
 fn y4m_round_trip_through_an_identity_effect() {
-    if common::engine().is_none() {
+    if !crate::gpu() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let id = dir.path().join("id.fx");
-    std::fs::write(&id, "EFFECT.id = { OUT = IN }").unwrap();
+    let id = identity(dir.path());
     let input = y4m_stream(32, 16, 3);
-    let o = fxrun(&[id.to_str().unwrap(), "-i", "-", "-o", "-"], Some(&input));
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = fxrun_stdin(&[id.to_str().unwrap(), "-i", "-", "-o", "-"], Some(&input));
+    exits(&o, 0);
     let out = o.stdout;
     let header_end = out.iter().position(|&b| b == b'\n').unwrap();
     assert_eq!(
@@ -284,31 +179,22 @@ fn y4m_round_trip_through_an_identity_effect() {
 
 #[test]
 fn truncated_y4m_is_an_error_naming_the_frame() {
-    if common::engine().is_none() {
+    if !crate::gpu() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let id = dir.path().join("id.fx");
-    std::fs::write(&id, "EFFECT.id = { OUT = IN }").unwrap();
+    let id = identity(dir.path());
+    let id = id.to_str().unwrap();
     let mut input = y4m_stream(32, 16, 3);
     input.truncate(input.len() - 100);
-    let o = fxrun(
-        &[
-            id.to_str().unwrap(),
-            "-i",
-            "-",
-            "-o",
-            dir.path().join("o%02d.png").to_str().unwrap(),
-        ],
+    let frames = dir.path().join("o%02d.png");
+    let o = fxrun_stdin(
+        &[id, "-i", "-", "-o", frames.to_str().unwrap()],
         Some(&input),
     );
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(stderr(&o).contains("frame 2"), "{}", stderr(&o));
-    let o = fxrun(
-        &[id.to_str().unwrap(), "-i", "-", "-o", "-"],
-        Some(b"NOT A Y4M\n"),
-    );
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    exits_with(&o, 1, &["frame 2"]);
+    let o = fxrun_stdin(&[id, "-i", "-", "-o", "-"], Some(b"NOT A Y4M\n"));
+    exits(&o, 1);
 }
 
 /// Ctrl-C (SIGINT) mid-sequence: exit 130, every written frame complete, no
@@ -316,7 +202,7 @@ fn truncated_y4m_is_an_error_naming_the_frame() {
 #[cfg(unix)]
 #[test]
 fn interrupt_leaves_complete_frames_and_resumes() {
-    if common::engine().is_none() {
+    if !crate::gpu() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -326,17 +212,7 @@ fn interrupt_leaves_complete_frames_and_resumes() {
     let input = dir.path().join("in/f%03d.png");
     let out_dir = dir.path().join("out");
     let out = out_dir.join("o%03d.png");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args([
-            &fx,
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--queue",
-            "1",
-        ])
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+    let mut child = command([&fx, "-i", s(&input), "-o", s(&out), "--queue", "1"])
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
@@ -346,7 +222,7 @@ fn interrupt_leaves_complete_frames_and_resumes() {
         assert!(t0.elapsed().as_secs() < 60, "no output appeared");
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
-    Command::new("kill")
+    std::process::Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .unwrap();
@@ -372,17 +248,6 @@ fn interrupt_leaves_complete_frames_and_resumes() {
     // The signal comes after 3 of 120 frames (here it stopped after about 8).
     assert!(written.len() < n as usize, "the run was not interrupted");
     assert_eq!(status.code(), Some(130), "an interrupted run exits 130");
-    let o = fxrun(
-        &[
-            &fx,
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--skip-existing",
-        ],
-        None,
-    );
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    exits(&apply(&fx, &input, &out, &["--skip-existing"]), 0);
     assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), n as usize);
 }
