@@ -336,7 +336,7 @@ fn image_conversion_checks_sizes() {
 }
 
 /// Conversion speed of one 1920x1080 4:2:0 frame (meaningful in release builds:
-/// `cargo test --release --test sequence_io conversion_speed -- --nocapture`).
+/// `cargo test --release --test io conversion_speed -- --nocapture`).
 #[test]
 fn conversion_speed_1080p() {
     let mut hd = header(1920, 1080, Chroma::C420Mpeg2);
