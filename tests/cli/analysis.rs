@@ -1,7 +1,9 @@
 //! The analysis modes, which need no GPU: `--check`, `--plan`, `--dot`, `--list`,
 //! `--describe` and `--help`, and how their output fails.
 
-use crate::common::cli::{code, command, exits, exits_with, fxrun, stderr, stdout};
+use crate::common::cli::{
+    code, command, exits, exits_with, fxrun, fxrun_line, stderr, stdout, write,
+};
 use std::path::Path;
 
 #[test]
@@ -67,13 +69,8 @@ fn dot_draws_passes_with_sizes_and_dashed_feedback() {
         "{text}"
     );
     let dir = tempfile::tempdir().unwrap();
-    let fx = dir.path().join("fb.fx");
-    std::fs::write(
-        &fx,
-        "EFFECT.fb = { PASS = { a = SHADER.s { img = IN  prev = PASS.a[-1] } } OUT = a }",
-    )
-    .unwrap();
-    let o = fxrun(&[fx.to_str().unwrap(), "--dot", "-"]);
+    let fb = "EFFECT.fb = { PASS = { a = SHADER.s { img = IN  prev = PASS.a[-1] } } OUT = a }";
+    let o = fxrun_line("{} --dot -", &[&write(dir.path(), "fb.fx", fb)]);
     assert!(stdout(&o).contains("style=dashed"));
 }
 

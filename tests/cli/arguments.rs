@@ -1,7 +1,9 @@
 //! Arguments `fxrun` rejects (exit 1): unknown flags and effects, `--set` values,
 //! counts out of range, empty paths, and several mistakes reported in one run.
 
-use crate::common::cli::{code, exits, exits_with, fxrun, input_png, write_effect};
+use crate::common::cli::{
+    code, exits, exits_with, fxrun, fxrun_line, input_png, write, write_effect,
+};
 use std::path::PathBuf;
 
 #[test]
@@ -91,39 +93,25 @@ fn no_error_line_starts_with_an_empty_path() {
     assert_eq!(e.to_string(), "(empty path): m");
 }
 
+/// An effect with a parameter `gain` whose second pass reads an unknown pass.
+const MINE_FX: &str = "EFFECT.mine = {\n    PARAM = { gain = FLOAT { DEFAULT = 1 } }\n    PASS = {\n        a = SHADER.bad { src = IN }\n        b = SHADER.bad { src = PASS.nope }\n    }\n    OUT = b\n}\n";
+/// A shader with a type error on line 4.
+const BAD_WGSL: &str = "@group(0) @binding(0) var src: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    let c: vec3<f32> = textureLoad(src, vec2<i32>(p.xy), 0);\n    return vec4<f32>(c, 1.0);\n}\n";
+
 /// A misspelt `--set`, an unknown pass and a WGSL type error come back in one
 /// report (exit 1, no output written), on a run and on `--check` alike.
 #[test]
 fn three_mistakes_are_reported_in_one_run() {
     let dir = tempfile::tempdir().unwrap();
-    let fx = dir.path().join("mine.fx");
-    std::fs::write(
-        &fx,
-        "EFFECT.mine = {\n    PARAM = { gain = FLOAT { DEFAULT = 1 } }\n    PASS = {\n        a = SHADER.bad { src = IN }\n        b = SHADER.bad { src = PASS.nope }\n    }\n    OUT = b\n}\n",
-    )
-    .unwrap();
+    let fx = write(dir.path(), "mine.fx", MINE_FX);
     std::fs::create_dir(dir.path().join("shaders")).unwrap();
-    std::fs::write(
-        dir.path().join("shaders/bad.wgsl"),
-        "@group(0) @binding(0) var src: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    let c: vec3<f32> = textureLoad(src, vec2<i32>(p.xy), 0);\n    return vec4<f32>(c, 1.0);\n}\n",
-    )
-    .unwrap();
+    write(dir.path(), "shaders/bad.wgsl", BAD_WGSL);
     let input = input_png(dir.path());
     let out = dir.path().join("out.png");
-    let fx = fx.to_str().unwrap();
-    for args in [
-        vec![
-            fx,
-            "-i",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--set",
-            "gian=2",
-        ],
-        vec![fx, "--check", "--set", "gian=2"],
+    for o in [
+        fxrun_line("{} -i {} -o {} --set gian=2", &[&fx, &input, &out]),
+        fxrun_line("{} --check --set gian=2", &[&fx]),
     ] {
-        let o = fxrun(&args);
         exits_with(
             &o,
             1,
@@ -139,14 +127,7 @@ fn three_mistakes_are_reported_in_one_run() {
     }
     // The script and WGSL errors are both reported, and a name the
     // broken script could still mean (`a.anything`) is not invented as an error.
-    let o = fxrun(&[
-        fx,
-        "--check",
-        "--set",
-        "a.anything=1",
-        "--set",
-        "mine.gain=2",
-    ]);
+    let o = fxrun_line("{} --check --set a.anything=1 --set mine.gain=2", &[&fx]);
     let e = crate::common::cli::stderr(&o);
     assert!(e.contains("2 errors"), "{e}");
     assert!(!e.contains("--set"), "{e}");

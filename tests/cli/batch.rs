@@ -2,9 +2,8 @@
 //! exactly, names and formats are kept, patterns number, failures stop the batch or
 //! not (`--keep-going`), and temporal effects refuse frames of different sizes.
 
-use crate::common::cli::{apply, arg as s, exits, exits_with, fxrun, names};
-use crate::common::{self, image_u8, pattern_u8};
-use crate::gpu;
+use crate::common::cli::{apply, arg as s, exits, exits_with, fxrun_line, names};
+use crate::common::{self, gpu_scratch, image_u8, pattern_u8};
 
 use std::path::{Path, PathBuf};
 
@@ -22,14 +21,25 @@ fn write_image(path: &Path, w: u32, h: u32, seed: u32) {
     fxgraph::io::save_image(path, w, h, &img.pixels, &Default::default()).unwrap();
 }
 
+/// A folder `dir/name` of test patterns: (file name, width, height, seed).
+fn images(dir: &Path, name: &str, files: &[(&str, u32, u32, u32)]) -> PathBuf {
+    let d = dir.join(name);
+    std::fs::create_dir_all(&d).unwrap();
+    for &(f, w, h, seed) in files {
+        write_image(&d.join(f), w, h, seed);
+    }
+    d
+}
+
 /// The folder of the batch: three images of different sizes and formats, and a file
 /// that is not an image.
 fn photos(dir: &Path) -> PathBuf {
-    let d = dir.join("photos");
-    std::fs::create_dir_all(&d).unwrap();
-    write_image(&d.join("a.png"), 96, 64, 0);
-    write_image(&d.join("b.jpg"), 64, 128, 3);
-    write_image(&d.join("c.png"), 80, 80, 7);
+    let files = [
+        ("a.png", 96, 64, 0),
+        ("b.jpg", 64, 128, 3),
+        ("c.png", 80, 80, 7),
+    ];
+    let d = images(dir, "photos", &files);
     std::fs::write(d.join("notes.txt"), "not an image").unwrap();
     d
 }
@@ -46,10 +56,7 @@ fn single(input: &Path, output: &Path) {
 
 #[test]
 fn mixed_size_folder_equals_one_image_runs_exactly() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let photos = photos(dir.path());
     let out = dir.path().join("out");
     let e = exits(&apply("glow", &photos, &out, &["-v"]), 0);
@@ -78,10 +85,7 @@ fn mixed_size_folder_equals_one_image_runs_exactly() {
 
 #[test]
 fn wildcards_lists_and_patterns_name_the_outputs() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let photos = photos(dir.path());
     // A quoted wildcard, expanded by fxrun, numbered into a pattern (names without
     // numbers: by position in name order).
@@ -92,30 +96,14 @@ fn wildcards_lists_and_patterns_name_the_outputs() {
     assert_eq!(names(&ndir), ["000.png", "001.png"]);
     // Several inputs after one -i (as a shell expands photos/*), --format for all.
     let conv = dir.path().join("conv");
-    let o = fxrun(&[
-        "glow",
-        "-i",
-        s(&photos.join("b.jpg")),
-        s(&photos.join("a.png")),
-        "-o",
-        s(&conv),
-        "--format",
-        "png",
-    ]);
+    let (a, b) = (photos.join("a.png"), photos.join("b.jpg"));
+    let o = fxrun_line("glow -i {} {} -o {} --format png", &[&b, &a, &conv]);
     exits(&o, 0);
     assert_eq!(names(&conv), ["a.png", "b.png"]);
     assert!(pixels(&ndir.join("000.png")).pixels == pixels(&conv.join("a.png")).pixels);
     // Repeated -i gives the same.
     let rep = dir.path().join("rep");
-    let o = fxrun(&[
-        "glow",
-        "-i",
-        s(&photos.join("c.png")),
-        "-i",
-        s(&photos.join("a.png")),
-        "-o",
-        s(&rep),
-    ]);
+    let o = fxrun_line("glow -i {} -i {} -o {}", &[&photos.join("c.png"), &a, &rep]);
     exits(&o, 0);
     assert_eq!(names(&rep), ["a.png", "c.png"]);
     assert!(pixels(&rep.join("c.png")).pixels == pixels(&ndir.join("001.png")).pixels);
@@ -123,21 +111,20 @@ fn wildcards_lists_and_patterns_name_the_outputs() {
 
 #[test]
 fn the_effect_is_planned_again_only_when_the_size_changes() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path().join("in");
-    std::fs::create_dir_all(&d).unwrap();
-    write_image(&d.join("x1.png"), 40, 30, 0);
-    write_image(&d.join("x2.png"), 40, 30, 1);
-    write_image(&d.join("y.png"), 30, 40, 2);
+    let Some(dir) = gpu_scratch() else { return };
+    let d = images(
+        dir.path(),
+        "in",
+        &[
+            ("x1.png", 40, 30, 0),
+            ("x2.png", 40, 30, 1),
+            ("y.png", 30, 40, 2),
+        ],
+    );
     let json = dir.path().join("report.json");
-    let o = apply(
-        "glow",
-        &d,
-        dir.path().join("out"),
-        &["--timings-json", s(&json)],
+    let o = fxrun_line(
+        "glow -i {} -o {} --timings-json {}",
+        &[&d, &dir.path().join("out"), &json],
     );
     exits(&o, 0);
     let r: serde_json::Value =
@@ -151,10 +138,7 @@ fn the_effect_is_planned_again_only_when_the_size_changes() {
 
 #[test]
 fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let photos = photos(dir.path());
     // b.jpg cut in half: a truncated JPEG.
     let b = photos.join("b.jpg");
@@ -193,15 +177,13 @@ fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
 
 #[test]
 fn a_temporal_effect_refuses_frames_of_different_sizes_before_writing() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let frames = dir.path().join("frames");
-    std::fs::create_dir_all(&frames).unwrap();
-    write_image(&frames.join("f1.png"), 64, 48, 0);
-    write_image(&frames.join("f2.png"), 64, 48, 1);
-    write_image(&frames.join("f3.png"), 48, 64, 2);
+    let Some(dir) = gpu_scratch() else { return };
+    let sizes = [
+        ("f1.png", 64, 48, 0),
+        ("f2.png", 64, 48, 1),
+        ("f3.png", 48, 64, 2),
+    ];
+    let frames = images(dir.path(), "frames", &sizes);
     let out = dir.path().join("out");
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("000001.png"), "earlier").unwrap();
@@ -211,14 +193,8 @@ fn a_temporal_effect_refuses_frames_of_different_sizes_before_writing() {
     assert_eq!(names(&out), ["000001.png"]);
     assert_eq!(std::fs::read(out.join("000001.png")).unwrap(), b"earlier");
     // The same frames as several inputs: a temporal effect needs one sequence.
-    let o = fxrun(&[
-        "temporal_denoise",
-        "-i",
-        s(&frames.join("f1.png")),
-        s(&frames.join("f2.png")),
-        "-o",
-        s(&out),
-    ]);
+    let (f1, f2) = (frames.join("f1.png"), frames.join("f2.png"));
+    let o = fxrun_line("temporal_denoise -i {} {} -o {}", &[&f1, &f2, &out]);
     exits_with(&o, 1, &["reads other frames"]);
     // Frames of one size run as a sequence; -o DIR keeps their names there too.
     write_image(&frames.join("f3.png"), 64, 48, 2);
@@ -246,17 +222,14 @@ fn batches_that_would_lose_data_are_refused_up_front() {
     );
     assert_eq!(std::fs::read(photos.join("a.png")).unwrap(), before);
     // Several inputs into one file name.
-    let o = fxrun(&[
-        "glow",
-        "-i",
-        s(&photos.join("a.png")),
-        s(&photos.join("c.png")),
-        "-o",
-        s(&dir.path().join("one.png")),
-    ]);
+    let (a, c) = (photos.join("a.png"), photos.join("c.png"));
+    let o = fxrun_line(
+        "glow -i {} {} -o {}",
+        &[&a, &c, &dir.path().join("one.png")],
+    );
     exits_with(&o, 1, &["need an output folder"]);
     // An effect given after -i is named as such.
-    let o = fxrun(&["-i", s(&photos.join("a.png")), "glow", "-o", s(&out)]);
+    let o = fxrun_line("-i {} glow -o {}", &[&a, &out]);
     exits_with(&o, 1, &["effects go before -i"]);
 }
 

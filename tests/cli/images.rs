@@ -2,32 +2,28 @@
 //! run leaves the old output alone, and broken or oversized inputs are rejected with
 //! the file named (exit 1; a missing file: exit 2).
 
-use crate::common::cli::{apply, assert_no_temporaries, exits, exits_with, input_png, save};
-use crate::common::{self, image_f32, image_u8, pattern_u8};
-use crate::gpu;
+use crate::common::cli::{
+    apply, assert_no_temporaries, code, cut, exits, exits_with, fxrun_line, input_png, save,
+    stderr, stdout,
+};
+use crate::common::{self, gpu_scratch, image_f32, image_u8, pattern_u8};
 use fxgraph::script::types::Format;
 use std::path::Path;
 
 #[test]
 fn applies_glow_to_an_image() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let input = input_png(dir.path());
     let out = dir.path().join("out.png");
     let json = dir.path().join("t.json");
-    let json_arg = json.to_str().unwrap();
-    let o = apply(
-        "glow",
-        &input,
-        &out,
-        &["--timings", "--timings-json", json_arg],
+    let o = fxrun_line(
+        "glow -i {} -o {} --timings --timings-json {}",
+        &[&input, &out, &json],
     );
     exits(&o, 0);
     let img = fxgraph::io::load_image(&out, &Default::default()).unwrap();
     assert_eq!((img.width, img.height), (48, 32));
-    let stdout = crate::common::cli::stdout(&o);
+    let stdout = stdout(&o);
     assert!(
         stdout.contains("glow/blurX") && stdout.contains("total"),
         "{stdout}"
@@ -43,10 +39,7 @@ fn applies_glow_to_an_image() {
 
 #[test]
 fn a_failed_run_leaves_the_existing_output_untouched() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let input = input_png(dir.path());
     let out = dir.path().join("out.png");
     std::fs::write(&out, b"precious").unwrap();
@@ -58,8 +51,7 @@ fn a_failed_run_leaves_the_existing_output_untouched() {
     let o = apply("glow", "no/such/file.png", &out, &[]);
     exits_with(&o, 2, &["no/such/file.png"]);
     let corrupt = dir.path().join("corrupt.png");
-    let bytes = std::fs::read(&input).unwrap();
-    std::fs::write(&corrupt, &bytes[..bytes.len() / 2]).unwrap();
+    cut(&input, &corrupt, 1, 2);
     exits_with(&apply("glow", &corrupt, &out, &[]), 1, &["corrupt.png"]);
     assert_eq!(std::fs::read(&out).unwrap(), b"precious");
     assert_no_temporaries(dir.path());
@@ -67,17 +59,13 @@ fn a_failed_run_leaves_the_existing_output_untouched() {
 
 #[test]
 fn truncated_exr_and_unknown_output_type_are_rejected() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let exr = dir.path().join("t.exr");
     save(
         &exr,
         &image_f32(16, 8, |x, _| [x as f32 * 10.0, 1.0, 0.5, 1.0]),
     );
-    let bytes = std::fs::read(&exr).unwrap();
-    std::fs::write(&exr, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    cut(&exr, &exr, 2, 3);
     let out = dir.path().join("o.exr");
     exits(&apply("glow", &exr, &out, &[]), 1);
     assert!(!out.exists());
@@ -89,10 +77,7 @@ fn truncated_exr_and_unknown_output_type_are_rejected() {
 
 #[test]
 fn hdr_values_survive_an_exr_round_trip_through_an_identity_chain() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let exr = dir.path().join("hdr.exr");
     let img = image_f32(9, 5, |x, y| [x as f32 * 50.0, y as f32 * 0.25, 413.0, 1.0]);
     save(&exr, &img);
@@ -153,36 +138,24 @@ fn srgb_labelled_output_is_encoded_once() {
 /// A still image is a one-frame sequence: temporal effects run on it.
 #[test]
 fn temporal_effects_run_on_a_still_image() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let input = input_png(dir.path());
     for effect in ["deinterlace", "frame_blend", "temporal_denoise"] {
         let out = dir.path().join(format!("{effect}.png"));
         let o = apply(effect, &input, &out, &[]);
-        assert_eq!(
-            crate::common::cli::code(&o),
-            0,
-            "{effect}: {}",
-            crate::common::cli::stderr(&o)
-        );
+        assert_eq!(code(&o), 0, "{effect}: {}", stderr(&o));
         assert!(out.exists());
     }
 }
 
 #[test]
 fn truncated_jpeg_input_is_rejected_naming_the_file() {
-    let bytes = std::fs::read("examples/data/rocket.jpg")
-        .or_else(|_| {
-            std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/rocket.jpg"))
-        })
-        .unwrap();
+    let rocket = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/rocket.jpg");
     let dir = tempfile::tempdir().unwrap();
-    let cut = dir.path().join("half.jpg");
-    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let half = dir.path().join("half.jpg");
+    cut(&rocket, &half, 1, 2);
     let out = dir.path().join("o.png");
-    let o = apply("tonemap", &cut, &out, &[]);
+    let o = apply("tonemap", &half, &out, &[]);
     exits_with(&o, 1, &["half.jpg: not a valid JPEG file"]);
     assert!(!out.exists());
 }
@@ -201,11 +174,8 @@ fn an_image_over_the_device_limit_is_refused_before_decoding() {
     let big = dir.path().join("big.pgm");
     std::fs::write(&big, b"P5\n20000 20000\n255\n\0\0\0\0").unwrap();
     let o = apply("tonemap", &big, dir.path().join("o.png"), &[]);
-    exits_with(
-        &o,
-        1,
-        &["big.pgm: the image is 20000x20000, larger than the GPU's limit"],
-    );
+    let message = "big.pgm: the image is 20000x20000, larger than the GPU's limit";
+    exits_with(&o, 1, &[message]);
 }
 
 /// An image wider than every device is guaranteed to take (8192) is checked against
@@ -222,10 +192,8 @@ fn an_image_over_the_guaranteed_limit_waits_for_the_devices_own() {
     }
     let dir = tempfile::tempdir().unwrap();
     let wide = dir.path().join("wide.png");
-    save(
-        &wide,
-        &image_u8(10000, 2, |x, y| [(x % 251) as u8, (y * 90) as u8, 7, 255]),
-    );
+    let img = image_u8(10000, 2, |x, y| [(x % 251) as u8, (y * 90) as u8, 7, 255]);
+    save(&wide, &img);
     let out = dir.path().join("o.png");
     exits(&apply("vignette", &wide, &out, &[]), 0);
     let r = fxgraph::io::load_image(&out, &Default::default()).unwrap();
@@ -236,10 +204,7 @@ fn an_image_over_the_guaranteed_limit_waits_for_the_devices_own() {
 /// naming it, and nothing is written.
 #[test]
 fn an_auxiliary_image_of_another_size_is_refused() {
-    if common::engine().is_none() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let input = input_png(dir.path());
     let bg = dir.path().join("bg.png");
     save(&bg, &pattern_u8(20, 10));

@@ -2,33 +2,20 @@
 //! technique, and broken scenes, sizes and materials files are input errors (exit 1)
 //! that name what is wrong.
 
-use crate::common::cli::{code, exits, exits_with, fxrun};
-use crate::gpu;
+use crate::common::cli::{code, exits, exits_with, fxrun, fxrun_line, stderr};
+use crate::common::{gpu_scratch, linear};
 use std::path::Path;
 
 #[test]
 fn renders_the_built_in_scene_through_the_default_chain() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let out = dir.path().join("scene.png");
-    let out_arg = out.to_str().unwrap();
     let gb = dir.path().join("gbuffer");
-    let o = fxrun(&[
-        "-o",
-        out_arg,
-        "--size",
-        "96x54",
-        "--gbuffer",
-        gb.to_str().unwrap(),
-        "--lights",
-        "16",
-    ]);
+    let o = fxrun_line("-o {} --size 96x54 --gbuffer {} --lights 16", &[&out, &gb]);
     exits(&o, 0);
     let img = fxgraph::io::load_image(&out, &Default::default()).unwrap();
     assert_eq!((img.width, img.height), (96, 54));
-    let v = crate::common::linear(&img.pixels);
+    let v = linear(&img.pixels);
     let mean: f32 = v.iter().sum::<f32>() / v.len() as f32;
     assert!(
         mean > 0.05 && mean < 0.95,
@@ -38,22 +25,18 @@ fn renders_the_built_in_scene_through_the_default_chain() {
         assert!(gb.join(f).exists(), "missing G-buffer image {f}");
     }
     // Each technique renders.
-    let room = ["--scene", "builtin:room", "--renderer"];
     for r in ["forward", "light-prepass"] {
-        let o = fxrun(&[&["fog"][..], &room, &[r, "--size", "48x27", "-o", out_arg]].concat());
-        assert_eq!(code(&o), 0, "{r}: {}", crate::common::cli::stderr(&o));
+        let line = format!("fog --scene builtin:room --renderer {r} --size 48x27 -o {{}}");
+        let o = fxrun_line(&line, &[&out]);
+        assert_eq!(code(&o), 0, "{r}: {}", stderr(&o));
     }
-    assert_eq!(
-        code(&fxrun(&[&room[..], &["raytraced", "-o", out_arg]].concat())),
-        1
-    );
+    let raytraced = fxrun_line("--scene builtin:room --renderer raytraced -o {}", &[&out]);
+    assert_eq!(code(&raytraced), 1);
 }
 
 #[test]
 fn malformed_gltf_is_rejected_with_exit_1() {
-    if !gpu() {
-        return;
-    }
+    let Some(dir) = gpu_scratch() else { return };
     let broken = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/gltf/broken");
     let Ok(entries) = std::fs::read_dir(&broken) else {
         eprintln!("skipping: {} is absent", broken.display());
@@ -69,28 +52,16 @@ fn malformed_gltf_is_rejected_with_exit_1() {
                 && p.to_string_lossy().contains("IndexOutOfRange")
         })
         .expect("a broken .gltf");
-    let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o.png");
-    let o = fxrun(&[
-        "--scene",
-        file.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--size",
-        "32x32",
-    ]);
+    let o = fxrun_line("--scene {} -o {} --size 32x32", &[&file, &out]);
     let e = exits(&o, 1);
     assert!(!e.contains("panicked"), "{e}");
 }
 
 #[test]
 fn scene_errors_name_the_scene() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("o.png");
-    let o = fxrun(&["--scene", "builtin:nope", "-o", out.to_str().unwrap()]);
+    let Some(dir) = gpu_scratch() else { return };
+    let o = fxrun_line("--scene builtin:nope -o {}", &[&dir.path().join("o.png")]);
     let e = exits(&o, 1);
     assert!(e.starts_with("fxrun: error: builtin:nope: "), "{e}");
     assert!(!e.contains("error: : "), "{e}");
@@ -108,16 +79,9 @@ fn a_render_size_over_the_device_limit_is_an_input_error() {
 
 #[test]
 fn a_device_as_the_materials_file_is_refused() {
-    if !gpu() || !Path::new("/dev/zero").exists() {
+    if !crate::gpu() || !Path::new("/dev/zero").exists() {
         return;
     }
-    let o = fxrun(&[
-        "--scene",
-        "builtin:room",
-        "--materials",
-        "/dev/zero",
-        "-o",
-        "o.png",
-    ]);
+    let o = fxrun_line("--scene builtin:room --materials /dev/zero -o o.png", &[]);
     exits_with(&o, 1, &["/dev/zero: not a regular file"]);
 }

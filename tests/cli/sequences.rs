@@ -1,15 +1,16 @@
 //! `fxrun` on frame sequences: patterns, sharding, resume, y4m pipes.
 
 use crate::common::cli::{
-    apply, arg as s, command, exits, exits_with, files, fxrun, fxrun_stdin, stderr, stdout,
-    write_effect,
+    apply, arg as s, command, exits, exits_with, files, fxrun, fxrun_stdin, save, stderr, stdout,
+    write, write_effect,
 };
-use crate::common::image_u8;
+use crate::common::{gpu_scratch, image_u8};
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Stdio;
 
-/// A moving pattern: frame i has a bright bar at x = 3i.
+/// `n` frames `dir/f001.png`, ... of a moving pattern: frame i has a bright bar at
+/// x = 3i.
 fn write_frames(dir: &Path, n: u32) {
     std::fs::create_dir_all(dir).unwrap();
     for i in 0..n {
@@ -22,14 +23,7 @@ fn write_frames(dir: &Path, n: u32) {
                 255,
             ]
         });
-        fxgraph::io::save_image(
-            &dir.join(format!("f{:03}.png", i + 1)),
-            40,
-            24,
-            &img.pixels,
-            &Default::default(),
-        )
-        .unwrap();
+        save(&dir.join(format!("f{:03}.png", i + 1)), &img);
     }
 }
 
@@ -45,26 +39,24 @@ const TEMPORAL_WGSL: &str = "@group(0) @binding(0) var a: texture_2d<f32>;
 }
 ";
 
-fn setup(dir: &Path) -> String {
-    write_effect(dir, "tmean", TEMPORAL_FX, ("tmean", TEMPORAL_WGSL))
+/// The effect `tmean.fx` in `dir` and the pattern of `n` frames written to `dir/in`:
+/// (effect, input pattern).
+fn setup(dir: &Path, n: u32) -> (String, PathBuf) {
+    write_frames(&dir.join("in"), n);
+    let fx = write_effect(dir, "tmean", TEMPORAL_FX, ("tmean", TEMPORAL_WGSL));
+    (fx, dir.join("in/f%03d.png"))
 }
 
-/// The identity effect `id.fx` in `dir`.
-fn identity(dir: &Path) -> std::path::PathBuf {
-    let id = dir.join("id.fx");
-    std::fs::write(&id, "EFFECT.id = { OUT = IN }").unwrap();
-    id
+/// `fxrun ID -i - -o OUTPUT` reading `stdin`, ID the identity effect.
+fn identity_from_stdin(dir: &Path, output: &str, stdin: &[u8]) -> std::process::Output {
+    let id = write(dir, "id.fx", "EFFECT.id = { OUT = IN }");
+    fxrun_stdin(&[s(&id), "-i", "-", "-o", output], Some(stdin))
 }
 
 #[test]
 fn three_slices_concatenate_to_one_run_byte_for_byte() {
-    if !crate::gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let fx = setup(dir.path());
-    write_frames(&dir.path().join("in"), 9);
-    let input = dir.path().join("in/f%03d.png");
+    let Some(dir) = gpu_scratch() else { return };
+    let (fx, input) = setup(dir.path(), 9);
     let whole = dir.path().join("whole/o%03d.png");
     let e = exits(&apply(&fx, &input, &whole, &[]), 0);
     assert!(e.is_empty(), "quiet when not a terminal: {e}");
@@ -89,13 +81,8 @@ fn three_slices_concatenate_to_one_run_byte_for_byte() {
 
 #[test]
 fn skip_existing_resumes_and_feedback_slices_warn() {
-    if !crate::gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let fx = setup(dir.path());
-    write_frames(&dir.path().join("in"), 6);
-    let input = dir.path().join("in/f%03d.png");
+    let Some(dir) = gpu_scratch() else { return };
+    let (fx, input) = setup(dir.path(), 6);
     let out = dir.path().join("out/o%03d.png");
     exits(&apply(&fx, &input, &out, &["--frames", "1..3"]), 0);
     let before = files(&dir.path().join("out"));
@@ -115,13 +102,10 @@ fn skip_existing_resumes_and_feedback_slices_warn() {
     let e = stderr(&apply(&fx, &input, &out, &["--skip-existing"]));
     assert!(e.contains("every output frame exists"), "{e}");
     // An effect with feedback warns when sliced.
-    let fb = dir.path().join("fb.fx");
-    std::fs::write(
-        &fb,
-        "EFFECT.fb = { PASS = { m = SHADER.tmean { a = PASS.m[-1]  b = IN  c = IN } } OUT = m }",
-    )
-    .unwrap();
-    let o = fxrun(&[fb.to_str().unwrap(), "--describe"]);
+    let fb =
+        "EFFECT.fb = { PASS = { m = SHADER.tmean { a = PASS.m[-1]  b = IN  c = IN } } OUT = m }";
+    let fb = write(dir.path(), "fb.fx", fb);
+    let o = fxrun(&[s(&fb), "--describe"]);
     assert!(stdout(&o).contains("uses feedback"));
     let fbo = dir.path().join("fbo/%d.png");
     let o = apply(&fb, &input, fbo, &["--frames", "3..4"]);
@@ -151,13 +135,9 @@ fn y4m_stream(w: u32, h: u32, frames: u32) -> Vec<u8> {
 
 #[test]
 fn y4m_round_trip_through_an_identity_effect() {
-    if !crate::gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let id = identity(dir.path());
+    let Some(dir) = gpu_scratch() else { return };
     let input = y4m_stream(32, 16, 3);
-    let o = fxrun_stdin(&[id.to_str().unwrap(), "-i", "-", "-o", "-"], Some(&input));
+    let o = identity_from_stdin(dir.path(), "-", &input);
     exits(&o, 0);
     let out = o.stdout;
     let header_end = out.iter().position(|&b| b == b'\n').unwrap();
@@ -179,22 +159,13 @@ fn y4m_round_trip_through_an_identity_effect() {
 
 #[test]
 fn truncated_y4m_is_an_error_naming_the_frame() {
-    if !crate::gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let id = identity(dir.path());
-    let id = id.to_str().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let mut input = y4m_stream(32, 16, 3);
     input.truncate(input.len() - 100);
     let frames = dir.path().join("o%02d.png");
-    let o = fxrun_stdin(
-        &[id, "-i", "-", "-o", frames.to_str().unwrap()],
-        Some(&input),
-    );
+    let o = identity_from_stdin(dir.path(), s(&frames), &input);
     exits_with(&o, 1, &["frame 2"]);
-    let o = fxrun_stdin(&[id, "-i", "-", "-o", "-"], Some(b"NOT A Y4M\n"));
-    exits(&o, 1);
+    exits(&identity_from_stdin(dir.path(), "-", b"NOT A Y4M\n"), 1);
 }
 
 /// Ctrl-C (SIGINT) mid-sequence: exit 130, every written frame complete, no
@@ -202,14 +173,9 @@ fn truncated_y4m_is_an_error_naming_the_frame() {
 #[cfg(unix)]
 #[test]
 fn interrupt_leaves_complete_frames_and_resumes() {
-    if !crate::gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let fx = setup(dir.path());
+    let Some(dir) = gpu_scratch() else { return };
     let n = 120;
-    write_frames(&dir.path().join("in"), n);
-    let input = dir.path().join("in/f%03d.png");
+    let (fx, input) = setup(dir.path(), n);
     let out_dir = dir.path().join("out");
     let out = out_dir.join("o%03d.png");
     let mut child = command([&fx, "-i", s(&input), "-o", s(&out), "--queue", "1"])

@@ -3,14 +3,12 @@
 //! the snapshots), on a run and on `--check` alike.
 
 use crate::common::cli::{apply, code, fxrun, input_png, stderr};
+use crate::common::gpu_scratch;
 use std::path::Path;
 
 #[test]
 fn shader_diagnostics_match_their_snapshots() {
-    if !crate::gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let input = input_png(dir.path());
     let out = dir.path().join("o.png");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

@@ -11,6 +11,21 @@ pub fn fxrun(args: &[&str]) -> Output {
     fxrun_in(Path::new(env!("CARGO_MANIFEST_DIR")), args)
 }
 
+/// `fxrun` with the command line `line`: its words split at spaces, each `{}`
+/// replaced by the next of `paths` (as one argument, whatever it holds).
+pub fn fxrun_line(line: &str, paths: &[&Path]) -> Output {
+    let mut paths = paths.iter();
+    let args: Vec<&OsStr> = line
+        .split_whitespace()
+        .map(|w| match w {
+            "{}" => paths.next().expect("a path for each {}").as_os_str(),
+            w => OsStr::new(w),
+        })
+        .collect();
+    assert!(paths.next().is_none(), "more paths than {{}} in `{line}`");
+    command(args).output().expect("run fxrun")
+}
+
 /// `fxrun ARGS` in `dir`.
 pub fn fxrun_in(dir: &Path, args: &[&str]) -> Output {
     command(args).current_dir(dir).output().expect("run fxrun")
@@ -151,6 +166,19 @@ pub fn save(path: &Path, img: &fxgraph::io::Image) {
 pub fn input_png(dir: &Path) -> PathBuf {
     let p = dir.join("in.png");
     save(&p, &super::pattern_u8(48, 32));
+    p
+}
+
+/// Writes the first `num / den` of the bytes of `src` to `dst` (a truncated file).
+pub fn cut(src: &Path, dst: &Path, num: usize, den: usize) {
+    let bytes = std::fs::read(src).unwrap();
+    std::fs::write(dst, &bytes[..bytes.len() * num / den]).unwrap();
+}
+
+/// Writes `text` to `dir/name` and returns its path.
+pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
     p
 }
 

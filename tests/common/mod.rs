@@ -37,6 +37,12 @@ pub fn engine() -> Option<std::sync::MutexGuard<'static, Engine>> {
         .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
 }
 
+/// A scratch folder for a test that needs the GPU, or `None` (test skipped) when
+/// [`engine`] has no adapter.
+pub fn gpu_scratch() -> Option<tempfile::TempDir> {
+    engine().map(|_| tempfile::tempdir().unwrap())
+}
+
 /// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
 pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
     let mut v = Vec::with_capacity((w * h * 4) as usize);
