@@ -116,6 +116,20 @@ pub fn run(
     apply_in_memory(engine, &e, &o, img, &[], out, false)
 }
 
+/// Runs the effect `name` with `sets` (`NAME=VALUE`) on `img`, output read back in
+/// `out`: its pixels (panics, naming the effect, on an error).
+pub fn apply_fx(
+    engine: &mut Engine,
+    name: &str,
+    sets: &[&str],
+    img: &Image,
+    out: Format,
+) -> Pixels {
+    run(engine, &[name], sets, img, out)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .2
+}
+
 /// Like [`run`] with `--assume-linear` (8-bit values are used as they are).
 pub fn run_raw(
     engine: &mut Engine,

@@ -100,14 +100,7 @@ fn bloom_energy_and_identity() {
     let src = uploaded_f16(&img);
     let Some(mut eng) = engine() else { return };
     // intensity 0: exactly the input.
-    let (_, _, px) = run(
-        &mut eng,
-        &["bloom"],
-        &["intensity=0"],
-        &img,
-        Format::Rgba32f,
-    )
-    .unwrap();
+    let px = apply_fx(&mut eng, "bloom", &["intensity=0"], &img, Format::Rgba32f);
     assert_eq!(
         max_diff(f32s(&px), &src),
         0.0,
@@ -125,7 +118,7 @@ fn bloom_energy_and_identity() {
                 "knee=0".to_string(),
             ];
             let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-            let (_, _, px) = run(&mut eng, &["bloom"], &sets, &img, Format::Rgba32f).unwrap();
+            let px = apply_fx(&mut eng, "bloom", &sets, &img, Format::Rgba32f);
             let out = f32s(&px);
             assert_finite(out, "bloom");
             let added: f64 = (0..out.len())
@@ -152,14 +145,13 @@ fn bloom_threshold_keeps_dim_images() {
     let img = pattern_f32(64, 48);
     let src = uploaded_f16(&img);
     let Some(mut eng) = engine() else { return };
-    let (_, _, px) = run(
+    let px = apply_fx(
         &mut eng,
-        &["bloom"],
+        "bloom",
         &["threshold=2", "knee=0.5"],
         &img,
         Format::Rgba32f,
-    )
-    .unwrap();
+    );
     assert_eq!(max_diff(f32s(&px), &src), 0.0);
     // An 8-bit photo-like input and odd size: runs, stays finite, only brightens.
     let img = pattern_u8(67, 41);

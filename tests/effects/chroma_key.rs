@@ -99,22 +99,20 @@ fn chroma_key_spill_suppression_and_output_forms() {
     });
     let excess = |p: &[u8]| p[1] as f64 - (p[0] as f64 + p[2] as f64) / 2.0;
     let luma8 = |p: &[u8]| luma709(&[p[0] as f64, p[1] as f64, p[2] as f64]);
-    let (_, _, off) = run(
+    let off = apply_fx(
         &mut eng,
-        &["chroma_key"],
+        "chroma_key",
         &["spill=0"],
         &img,
         Format::Rgba8Srgb,
-    )
-    .unwrap();
-    let (_, _, on) = run(
+    );
+    let on = apply_fx(
         &mut eng,
-        &["chroma_key"],
+        "chroma_key",
         &["spill=1"],
         &img,
         Format::Rgba8Srgb,
-    )
-    .unwrap();
+    );
     let (off, on) = (u8s(&off), u8s(&on));
     assert_eq!((off[3], on[3]), (255, 255), "skin must stay opaque");
     assert!(
@@ -156,23 +154,21 @@ fn chroma_key_spill_suppression_and_output_forms() {
         a_want > 0.1 && a_want < 0.9,
         "test pixel not in the soft band: {a_want}"
     );
-    let (_, _, st) = run(&mut eng, &["chroma_key"], &[], &img, Format::Rgba32f).unwrap();
-    let (_, _, pm) = run(
+    let st = apply_fx(&mut eng, "chroma_key", &[], &img, Format::Rgba32f);
+    let pm = apply_fx(
         &mut eng,
-        &["chroma_key"],
+        "chroma_key",
         &["output=premultiplied"],
         &img,
         Format::Rgba32f,
-    )
-    .unwrap();
-    let (_, _, mt) = run(
+    );
+    let mt = apply_fx(
         &mut eng,
-        &["chroma_key"],
+        "chroma_key",
         &["output=matte"],
         &img,
         Format::Rgba8Srgb,
-    )
-    .unwrap();
+    );
     let (st, pm, mt) = (f32s(&st), f32s(&pm), u8s(&mt));
     let a = st[i + 3] as f64;
     assert!(

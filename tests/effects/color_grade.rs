@@ -153,19 +153,18 @@ fn color_grade_identity_is_identity() {
     // Float: the default parameters change nothing (clamp off for values above 1).
     let img = image_f32(64, 8, |x, y| [x as f32 / 16.0, y as f32 / 7.0, 0.3, 0.5]);
     let src = uploaded_f16(&img);
-    let (_, _, px) = run(
+    let px = apply_fx(
         &mut eng,
-        &["color_grade"],
+        "color_grade",
         &["clamp=false"],
         &img,
         Format::Rgba32f,
-    )
-    .unwrap();
+    );
     let d = max_diff(f32s(&px), &src);
     assert!(d < 1e-6, "identity changed a float image by {d}");
     // 8-bit sRGB: bit-exact.
     let img = pattern_u8(96, 64);
-    let (_, _, px) = run(&mut eng, &["color_grade"], &[], &img, Format::Rgba8Srgb).unwrap();
+    let px = apply_fx(&mut eng, "color_grade", &[], &img, Format::Rgba8Srgb);
     assert_eq!(
         u8s(&px),
         u8s(&img.pixels),

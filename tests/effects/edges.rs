@@ -86,7 +86,7 @@ fn edges_flat_is_zero_and_step_gives_the_analytic_magnitude() {
     let Some(mut eng) = engine() else { return };
     // Flat colour: no gradient anywhere, borders included.
     let flat = image_u8(67, 41, |_, _| [90, 140, 200, 255]);
-    let (_, _, px) = run(&mut eng, &["edges"], &[], &flat, Format::Rgba8Srgb).unwrap();
+    let px = apply_fx(&mut eng, "edges", &[], &flat, Format::Rgba8Srgb);
     assert!(
         u8s(&px).chunks(4).all(|p| p == [0, 0, 0, 255]),
         "flat image has edges"

@@ -101,14 +101,13 @@ fn format_convert_known_values() {
             [16.0 / 255.0, 128.0 / 255.0, 128.0 / 255.0, 1.0]
         }
     });
-    let (_, _, px) = run(
+    let px = apply_fx(
         &mut eng,
-        &["format_convert"],
+        "format_convert",
         &["direction=ycbcr_to_rgb", "range=limited"],
         &lim,
         Format::Rgba32f,
-    )
-    .unwrap();
+    );
     let v = f32s(&px);
     // The inputs are f16-rounded (rgba16f upload): 1e-3 covers that.
     assert!(
@@ -131,14 +130,13 @@ fn format_convert_ycbcr_matches_the_matrices_and_round_trips() {
                 let r = format!("range={range}");
                 let t = format!("transfer={transfer}");
                 // Forward, against the f64 matrices.
-                let (_, _, px) = run(
+                let px = apply_fx(
                     &mut eng,
-                    &["format_convert"],
+                    "format_convert",
                     &[&m, &r, &t],
                     &img,
                     Format::Rgba32f,
-                )
-                .unwrap();
+                );
                 let got = f32s(&px);
                 for (p, q) in src.chunks(4).zip(got.chunks(4)) {
                     let e = if transfer == "srgb" {
@@ -203,14 +201,7 @@ fn format_convert_srgb_curves_are_exact() {
         ("srgb_to_linear", srgb_decode),
     ] {
         let set = format!("direction={dir}");
-        let (_, _, px) = run(
-            &mut eng,
-            &["format_convert"],
-            &[&set],
-            &img,
-            Format::Rgba32f,
-        )
-        .unwrap();
+        let px = apply_fx(&mut eng, "format_convert", &[&set], &img, Format::Rgba32f);
         let got = f32s(&px);
         let mut worst: f64 = 0.0;
         for (i, &v) in vals.iter().enumerate() {

@@ -24,7 +24,7 @@ fn fxaa_smooths_a_staircase_and_stays_in_range() {
     let Some(mut eng) = engine() else { return };
     for (w, h) in [(64, 40), (67, 41)] {
         let img = staircase(w, h);
-        let (_, _, px) = run(&mut eng, &["fxaa"], &[], &img, Format::Rgba32f).unwrap();
+        let px = apply_fx(&mut eng, "fxaa", &[], &img, Format::Rgba32f);
         let out = f32s(&px);
         let inp = f32s(&img.pixels);
         assert!(
@@ -87,7 +87,7 @@ fn fxaa_leaves_flat_and_low_contrast_areas_exactly_unchanged() {
     let Some(mut eng) = engine() else { return };
     // Flat 8-bit image: bytes identical.
     let flat = image_u8(67, 41, |_, _| [37, 120, 201, 255]);
-    let (_, _, px) = run(&mut eng, &["fxaa"], &[], &flat, Format::Rgba8Srgb).unwrap();
+    let px = apply_fx(&mut eng, "fxaa", &[], &flat, Format::Rgba8Srgb);
     assert_eq!(u8s(&px), u8s(&flat.pixels));
     // A smooth horizontal ramp (constant down each column, contrast below the
     // threshold): identical floats.
@@ -95,7 +95,7 @@ fn fxaa_leaves_flat_and_low_contrast_areas_exactly_unchanged() {
         let v = 0.3 + 0.002 * x as f64;
         [f16r(v) as f32, f16r(v * 0.5) as f32, f16r(0.2) as f32, 1.0]
     });
-    let (_, _, px) = run(&mut eng, &["fxaa"], &[], &ramp, Format::Rgba32f).unwrap();
+    let px = apply_fx(&mut eng, "fxaa", &[], &ramp, Format::Rgba32f);
     let d = max_abs_diff(f32s(&px), f32s(&ramp.pixels));
     assert!(d == 0.0, "low-contrast ramp changed by {d}");
     // An 8-bit pattern: every pixel whose local contrast (luma of the sRGB-encoded
@@ -165,13 +165,13 @@ fn fxaa_keeps_a_straight_horizontal_edge_without_subpixel_blend() {
             [hi, hi, hi, 1.0]
         }
     });
-    let (_, _, px) = run(&mut eng, &["fxaa"], &["subpix=0"], &img, Format::Rgba32f).unwrap();
+    let px = apply_fx(&mut eng, "fxaa", &["subpix=0"], &img, Format::Rgba32f);
     let d = max_abs_diff(f32s(&px), f32s(&img.pixels));
     eprintln!("fxaa horizontal edge, subpix 0: max change {d:.2e}");
     assert!(d == 0.0, "straight edge changed by {d}");
     // With the default subpix, FXAA 3.11 softens it slightly (its 3x3 low-pass sees
     // a third of a step): bounded.
-    let (_, _, px) = run(&mut eng, &["fxaa"], &[], &img, Format::Rgba32f).unwrap();
+    let px = apply_fx(&mut eng, "fxaa", &[], &img, Format::Rgba32f);
     let d = max_abs_diff(f32s(&px), f32s(&img.pixels));
     eprintln!("fxaa horizontal edge, default subpix: max change {d:.3}");
     assert!(d < 0.1, "straight edge changed by {d}");

@@ -75,7 +75,7 @@ fn glow_halo_is_isotropic() {
     for sigma in [2.0, 4.0, 8.0] {
         let sx = format!("blurX.sigma={sigma}");
         let sy = format!("blurY.sigma={sigma}");
-        let (_, _, px) = run(&mut eng, &["glow"], &[&sx, &sy], &img, Format::Rgba32f).unwrap();
+        let px = apply_fx(&mut eng, "glow", &[&sx, &sy], &img, Format::Rgba32f);
         // The halo: what glow adds.
         let halo: Vec<f64> = f64s(&px).iter().zip(&src).map(|(a, b)| a - b).collect();
         let peak = halo.iter().cloned().fold(0.0, f64::max);
@@ -262,7 +262,7 @@ fn glow_matches_the_cpu_model() {
         });
         let src = f64s(&img.pixels);
         let want = glow_oracle(&src, w, h);
-        let (_, _, px) = run(&mut eng, &["glow"], &[], &img, Format::Rgba32f).unwrap();
+        let px = apply_fx(&mut eng, "glow", &[], &img, Format::Rgba32f);
         let got = f32s(&px);
         // Error relative to the glow added (output - input), in units of the
         // largest glow value.

@@ -46,7 +46,7 @@ fn pencil_matches_the_dodge_oracle() {
         let img = pattern_u8(w, h);
         let set = [format!("sigma={sigma}"), format!("darkness={darkness}")];
         let set: Vec<&str> = set.iter().map(|s| s.as_str()).collect();
-        let (_, _, px) = run(&mut eng, &["pencil"], &set, &img, Format::Rgba8Srgb).unwrap();
+        let px = apply_fx(&mut eng, "pencil", &set, &img, Format::Rgba8Srgb);
         let s = pencil_oracle(&unit_u8(&img), w, h, sigma, darkness);
         let want: Vec<f64> = s
             .iter()
@@ -71,7 +71,7 @@ fn pencil_is_grey_white_on_flat_areas_dark_at_edges_and_deterministic() {
     let Some(mut eng) = engine() else { return };
     // Grey: r = g = b on a colourful pattern.
     let img = pattern_u8(67, 41);
-    let (_, _, a) = run(&mut eng, &["pencil"], &[], &img, Format::Rgba8Srgb).unwrap();
+    let a = apply_fx(&mut eng, "pencil", &[], &img, Format::Rgba8Srgb);
     assert!(
         u8s(&a)
             .chunks(4)
@@ -79,30 +79,16 @@ fn pencil_is_grey_white_on_flat_areas_dark_at_edges_and_deterministic() {
         "pencil output is not grey"
     );
     // Deterministic, with and without paper grain.
-    let (_, _, b) = run(&mut eng, &["pencil"], &[], &img, Format::Rgba8Srgb).unwrap();
+    let b = apply_fx(&mut eng, "pencil", &[], &img, Format::Rgba8Srgb);
     assert_eq!(u8s(&a), u8s(&b));
-    let (_, _, g1) = run(
-        &mut eng,
-        &["pencil"],
-        &["paper=0.4"],
-        &img,
-        Format::Rgba8Srgb,
-    )
-    .unwrap();
-    let (_, _, g2) = run(
-        &mut eng,
-        &["pencil"],
-        &["paper=0.4"],
-        &img,
-        Format::Rgba8Srgb,
-    )
-    .unwrap();
+    let g1 = apply_fx(&mut eng, "pencil", &["paper=0.4"], &img, Format::Rgba8Srgb);
+    let g2 = apply_fx(&mut eng, "pencil", &["paper=0.4"], &img, Format::Rgba8Srgb);
     assert_eq!(u8s(&g1), u8s(&g2), "paper grain is not deterministic");
     assert_ne!(u8s(&g1), u8s(&a), "paper grain changes nothing");
     // Flat areas are white, whatever their colour (black included).
     for c in [[0, 0, 0, 255], [30, 140, 60, 255], [255, 255, 255, 255]] {
         let flat = image_u8(40, 30, |_, _| c);
-        let (_, _, px) = run(&mut eng, &["pencil"], &[], &flat, Format::Rgba8Srgb).unwrap();
+        let px = apply_fx(&mut eng, "pencil", &[], &flat, Format::Rgba8Srgb);
         assert!(
             u8s(&px).chunks(4).all(|p| p == [255, 255, 255, 255]),
             "flat {c:?} is not white"

@@ -88,57 +88,47 @@ fn sharpen_flat_and_identity() {
     // A flat image stays flat.
     let flat = image_f32(50, 40, |_, _| [0.4, 0.1, 0.9, 1.0]);
     let src = uploaded_f16(&flat);
-    let (_, _, px) = run(
+    let px = apply_fx(
         &mut eng,
-        &["sharpen"],
+        "sharpen",
         &["amount=5", "sigma=4"],
         &flat,
         Format::Rgba32f,
-    )
-    .unwrap();
+    );
     let d = max_diff(f32s(&px), &src);
     assert!(d < 1e-6, "flat float image changed by {d}");
     let flat8 = image_u8(50, 40, |_, _| [12, 200, 99, 255]);
-    let (_, _, px) = run(
+    let px = apply_fx(
         &mut eng,
-        &["sharpen"],
+        "sharpen",
         &["amount=5"],
         &flat8,
         Format::Rgba8Srgb,
-    )
-    .unwrap();
+    );
     assert_eq!(u8s(&px), u8s(&flat8.pixels), "flat 8-bit image changed");
     // amount 0 is the identity.
     let img = pattern_u8(96, 64);
-    let (_, _, px) = run(
-        &mut eng,
-        &["sharpen"],
-        &["amount=0"],
-        &img,
-        Format::Rgba8Srgb,
-    )
-    .unwrap();
+    let px = apply_fx(&mut eng, "sharpen", &["amount=0"], &img, Format::Rgba8Srgb);
     assert_eq!(
         u8s(&px),
         u8s(&img.pixels),
         "amount 0 changed an 8-bit image"
     );
     let img = pattern_f32(96, 64);
-    let (_, _, px) = run(&mut eng, &["sharpen"], &["amount=0"], &img, Format::Rgba32f).unwrap();
+    let px = apply_fx(&mut eng, "sharpen", &["amount=0"], &img, Format::Rgba32f);
     assert_eq!(
         max_diff(f32s(&px), &uploaded_f16(&img)),
         0.0,
         "amount 0 changed a float image"
     );
     // A threshold above every difference leaves the image unchanged too.
-    let (_, _, px) = run(
+    let px = apply_fx(
         &mut eng,
-        &["sharpen"],
+        "sharpen",
         &["amount=2", "threshold=1"],
         &img,
         Format::Rgba32f,
-    )
-    .unwrap();
+    );
     assert_eq!(
         max_diff(f32s(&px), &uploaded_f16(&img)),
         0.0,

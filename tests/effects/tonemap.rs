@@ -94,14 +94,13 @@ fn tonemap_writes_8bit_output() {
     });
     let src = uploaded_f16(&img);
     let Some(mut eng) = engine() else { return };
-    let (_, _, px) = run(
+    let px = apply_fx(
         &mut eng,
-        &["tonemap"],
+        "tonemap",
         &["operator=reinhard"],
         &img,
         Format::Rgba8Srgb,
-    )
-    .unwrap();
+    );
     let want: Vec<f64> = src
         .iter()
         .enumerate()

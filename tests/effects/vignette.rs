@@ -105,7 +105,7 @@ fn vignette_matches_oracle() {
         let Some(mut eng) = engine() else { return };
         let sets = vg.sets();
         let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-        let (_, _, px) = run(&mut eng, &["vignette"], &sets, &img, Format::Rgba32f).unwrap();
+        let px = apply_fx(&mut eng, "vignette", &sets, &img, Format::Rgba32f);
         let out = f32s(&px);
         let mut want = src.clone();
         for y in 0..h {

@@ -14,6 +14,28 @@ fn checker(w: u32, h: u32) -> Image {
     })
 }
 
+/// An `n` x `n` scene: the pixels where `square` holds in `colour` at depth
+/// `depths.0`, the checker elsewhere at depth `depths.1`: (G-buffer, scene).
+fn square_over_checker(
+    n: u32,
+    square: impl Fn(u32, u32) -> bool,
+    depths: (f32, f32),
+    colour: [f32; 4],
+) -> (GBuffer, Image) {
+    let g = depth_map(n, n, |x, y| if square(x, y) { depths.0 } else { depths.1 });
+    let bg = checker(n, n);
+    let b = f32s(&bg.pixels);
+    let scene = image_f32(n, n, |x, y| {
+        let i = ((y * n + x) * 4) as usize;
+        if square(x, y) {
+            colour
+        } else {
+            [b[i], b[i + 1], b[i + 2], 1.0]
+        }
+    });
+    (g, scene)
+}
+
 #[test]
 fn dof_in_focus_is_identity() {
     let Some(mut eng) = engine() else { return };
@@ -27,13 +49,13 @@ fn dof_in_focus_is_identity() {
         &["focus_distance=5", "focal_range=0", "aperture=30"][..],
         &["focus_distance=4.5", "focal_range=1.5", "max_radius=64"][..],
     ] {
-        let out = run_gbuffer(&mut eng, "dof", o, &scene, &g, &cam, DOF_AUX);
+        let out = run_gbuffer(&mut eng, "dof", o, &scene, &g, &cam);
         let d = max_abs_diff(&out, src);
         eprintln!("dof {o:?}, depth = focus: max diff {d:e}");
         assert!(d < 1e-3, "{o:?}: in-focus scene changed by {d}");
     }
     // The same through apply_in_memory (depth as an rgba16f image).
-    let out = run_aux(&mut eng, "dof", &["focus_distance=5"], &scene, &g, DOF_AUX);
+    let out = run_aux(&mut eng, "dof", &["focus_distance=5"], &scene, &g);
     let d = max_abs_diff(&out, src);
     assert!(d < 1e-3, "in-focus scene changed by {d}");
 }
@@ -46,15 +68,7 @@ fn dof_blurs_a_far_checker() {
     let g = depth_map(n, n, |_, _| 50.0);
     let cam = perspective(60.0, 1.0);
     // CoC radius 8 (1 - 3 / 50) = 7.52 px.
-    let out = run_gbuffer(
-        &mut eng,
-        "dof",
-        &["focus_distance=2"],
-        &scene,
-        &g,
-        &cam,
-        DOF_AUX,
-    );
+    let out = run_gbuffer(&mut eng, "dof", &["focus_distance=2"], &scene, &g, &cam);
     assert_finite(&out, "dof");
     // Away from the border (clamped taps there).
     let inner = |v: &[f32]| region(&channel(v, 1), n, 12, n - 12, 12, n - 12);
@@ -71,15 +85,8 @@ fn dof_blurs_a_far_checker() {
     let m = mean(&inner(&out));
     assert!((m - 0.5).abs() < 0.02, "mean green {m}");
     // A smaller aperture blurs less.
-    let out2 = run_gbuffer(
-        &mut eng,
-        "dof",
-        &["focus_distance=2", "aperture=2"],
-        &scene,
-        &g,
-        &cam,
-        DOF_AUX,
-    );
+    let sets = ["focus_distance=2", "aperture=2"];
+    let out2 = run_gbuffer(&mut eng, "dof", &sets, &scene, &g, &cam);
     let small = variance(&inner(&out2));
     eprintln!("aperture 2: variance {small:.5}");
     assert!(
@@ -94,28 +101,10 @@ fn dof_sharp_foreground_keeps_its_edge_without_halo() {
     // An in-focus red square (depth 5 = focus) in front of a far checker (depth 50).
     let n = 64;
     let fg = |x: u32, y: u32| (16..40).contains(&x) && (20..44).contains(&y);
-    let g = depth_map(n, n, |x, y| if fg(x, y) { 5.0 } else { 50.0 });
-    let bg = checker(n, n);
-    let scene = image_f32(n, n, |x, y| {
-        if fg(x, y) {
-            [1.0, 0.25, 0.125, 1.0]
-        } else {
-            let i = ((y * n + x) * 4) as usize;
-            let b = f32s(&bg.pixels);
-            [b[i], b[i + 1], b[i + 2], 1.0]
-        }
-    });
+    let (g, scene) = square_over_checker(n, fg, (5.0, 50.0), [1.0, 0.25, 0.125, 1.0]);
     let src = f32s(&scene.pixels);
     let cam = perspective(60.0, 1.0);
-    let out = run_gbuffer(
-        &mut eng,
-        "dof",
-        &["focus_distance=5"],
-        &scene,
-        &g,
-        &cam,
-        DOF_AUX,
-    );
+    let out = run_gbuffer(&mut eng, "dof", &["focus_distance=5"], &scene, &g, &cam);
     assert_finite(&out, "dof");
     let (mut fg_diff, mut halo) = (0.0f32, 0.0f32);
     for y in 0..n {
@@ -152,28 +141,11 @@ fn dof_blurred_foreground_spreads_over_a_sharp_background() {
     // CoC of the square -2 (4.5 / 1 - 1) = -7 px.
     let n = 64;
     let fg = |x: u32, y: u32| (20..44).contains(&x) && (20..44).contains(&y);
-    let g = depth_map(n, n, |x, y| if fg(x, y) { 1.0 } else { 5.0 });
-    let bg = checker(n, n);
-    let scene = image_f32(n, n, |x, y| {
-        if fg(x, y) {
-            [1.0, 0.0, 0.0, 1.0]
-        } else {
-            let b = f32s(&bg.pixels);
-            let i = ((y * n + x) * 4) as usize;
-            [b[i], b[i + 1], b[i + 2], 1.0]
-        }
-    });
+    let (g, scene) = square_over_checker(n, fg, (1.0, 5.0), [1.0, 0.0, 0.0, 1.0]);
     let src = f32s(&scene.pixels);
     let cam = perspective(60.0, 1.0);
-    let out = run_gbuffer(
-        &mut eng,
-        "dof",
-        &["focus_distance=5", "focal_range=1", "aperture=2"],
-        &scene,
-        &g,
-        &cam,
-        DOF_AUX,
-    );
+    let sets = ["focus_distance=5", "focal_range=1", "aperture=2"];
+    let out = run_gbuffer(&mut eng, "dof", &sets, &scene, &g, &cam);
     assert_finite(&out, "dof");
     let red = channel(&out, 0);
     dump("dof near field (red)", &red, n, 0.0, 1.0);

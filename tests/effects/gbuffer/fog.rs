@@ -48,7 +48,7 @@ fn fog_matches_the_analytic_blend_at_constant_depth() {
             ];
             let o: Vec<&str> = o.iter().map(|s| s.as_str()).collect();
             let f = fog_transmittance(mode, d as f64, density, start, end);
-            let out = run_gbuffer(&mut eng, "fog", &o, &scene, &g, &cam, FOG_AUX);
+            let out = run_gbuffer(&mut eng, "fog", &o, &scene, &g, &cam);
             let err = fog_error(&out, &scene, |_| f);
             eprintln!("fog {mode} at depth {d}: f = {f:.4}, max error {err:.2e}");
             assert!(err < 1e-3, "{mode} at depth {d}: error {err}");
@@ -56,7 +56,7 @@ fn fog_matches_the_analytic_blend_at_constant_depth() {
     }
     // The defaults (exponential, density 0.05) through apply_in_memory.
     let g = depth_map(n, n, |_, _| 10.0);
-    let out = run_aux(&mut eng, "fog", &[], &scene, &g, FOG_AUX);
+    let out = run_aux(&mut eng, "fog", &[], &scene, &g);
     let err = fog_error(&out, &scene, |_| (-0.5f64).exp());
     eprintln!("fog defaults at depth 10 (apply_in_memory): max error {err:.2e}");
     assert!(err < 1e-3, "defaults: error {err}");
@@ -83,7 +83,7 @@ fn fog_leaves_depth_zero_unchanged() {
             ];
             o.extend(extra.iter().map(|s| s.to_string()));
             let o: Vec<&str> = o.iter().map(|s| s.as_str()).collect();
-            let out = run_gbuffer(&mut eng, "fog", &o, &scene, &g, &cam, FOG_AUX);
+            let out = run_gbuffer(&mut eng, "fog", &o, &scene, &g, &cam);
             let mut worst = 0.0f32;
             for (i, (a, b)) in out.iter().zip(src).enumerate() {
                 if (i / 4) as u32 % n != 5 {
@@ -115,7 +115,6 @@ fn fog_radial_distance_and_height_falloff() {
         &scene,
         &g,
         &cam,
-        FOG_AUX,
     );
     let err = fog_error(&out, &scene, |i| (-density * dist(i)).exp());
     eprintln!(
@@ -156,7 +155,7 @@ fn fog_radial_distance_and_height_falloff() {
             format!("up=({},{},{})", up.x, up.y, up.z),
         ];
         let o: Vec<&str> = o.iter().map(|s| s.as_str()).collect();
-        let out = run_gbuffer(&mut eng, "fog", &o, &scene, &g, &cam, FOG_AUX);
+        let out = run_gbuffer(&mut eng, "fog", &o, &scene, &g, &cam);
         assert_finite(&out, "fog");
         let f = |i: usize| {
             let p = DVec3::from(g.position[i].map(|v| v as f64));
@@ -189,7 +188,7 @@ fn fog_radial_distance_and_height_falloff() {
         format!("up=({},{},{})", up.x, up.y, up.z),
     ];
     let o: Vec<&str> = o.iter().map(|s| s.as_str()).collect();
-    let low = run_gbuffer(&mut eng, "fog", &o, &grey(n, n, 0.0), &g, &cam, FOG_AUX);
+    let low = run_gbuffer(&mut eng, "fog", &o, &grey(n, n, 0.0), &g, &cam);
     let i = (((n - 1) * n + n / 2) * 4) as usize;
     let at_camera = 1.0 - (-density * (-k * ROOM.height).exp() * g.depth[i / 4] as f64).exp();
     eprintln!(

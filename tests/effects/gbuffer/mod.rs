@@ -212,6 +212,15 @@ fn gbuffer_bytes(g: &GBuffer, name: &str, format: Format) -> Vec<u8> {
     }
 }
 
+/// The G-buffer images `effect` reads.
+fn aux_of(effect: &str) -> &'static [&'static str] {
+    match effect {
+        "ssao" | "outline" => &["depth", "normal"],
+        "dof" | "fog" => &["depth"],
+        other => panic!("{other} is not a G-buffer effect"),
+    }
+}
+
 /// Run an effect as the deferred renderer will: G-buffer textures in the formats of
 /// `published_aux()`, the camera in `FrameInputs`. The scene is uploaded as rgba16f;
 /// the output is read back as rgba32f.
@@ -222,8 +231,8 @@ fn run_gbuffer(
     scene: &Image,
     g: &GBuffer,
     cam: &Camera,
-    aux: &[&str],
 ) -> Vec<f32> {
+    let aux = aux_of(effect);
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let mut e = Effect::compile(&[effect_path(effect)], &overrides).unwrap();
     let formats: HashMap<String, Format> = published_aux(true).into_iter().collect();
@@ -277,8 +286,8 @@ fn run_aux(
     overrides: &[&str],
     scene: &Image,
     g: &GBuffer,
-    aux: &[&str],
 ) -> Vec<f32> {
+    let aux = aux_of(effect);
     let imgs: Vec<(String, Image)> = aux
         .iter()
         .map(|&n| {
@@ -417,14 +426,6 @@ fn corner_scene(n: u32, extra: Vec<Plane>) -> (GBuffer, Camera, u32) {
     (g, cam, row)
 }
 
-// ---------------------------------------------------------------- G-buffer images
-
-/// The G-buffer images each effect reads.
-const SSAO_AUX: &[&str] = &["depth", "normal"];
-const DOF_AUX: &[&str] = &["depth"];
-const FOG_AUX: &[&str] = &["depth"];
-const OUTLINE_AUX: &[&str] = &["depth", "normal"];
-
 // ---------------------------------------------------------------- all four
 
 #[test]
@@ -447,20 +448,16 @@ fn degenerate_gbuffer_values_give_finite_output() {
         }
     }
     let scene = colourful(n, n);
-    for (effect, o, aux) in [
-        ("ssao", &["radius=1"][..], SSAO_AUX),
-        ("ssao", &["output=ao", "blur=false"][..], SSAO_AUX),
-        ("dof", &["focus_distance=3"][..], DOF_AUX),
-        (
-            "fog",
-            &["height_falloff=0.5", "distance=radial"][..],
-            FOG_AUX,
-        ),
-        ("fog", &["mode=linear"][..], FOG_AUX),
-        ("outline", &[][..], OUTLINE_AUX),
-        ("outline", &["mode=antialias"][..], OUTLINE_AUX),
+    for (effect, o) in [
+        ("ssao", &["radius=1"][..]),
+        ("ssao", &["output=ao", "blur=false"][..]),
+        ("dof", &["focus_distance=3"][..]),
+        ("fog", &["height_falloff=0.5", "distance=radial"][..]),
+        ("fog", &["mode=linear"][..]),
+        ("outline", &[][..]),
+        ("outline", &["mode=antialias"][..]),
     ] {
-        let out = run_gbuffer(&mut eng, effect, o, &scene, &g, &cam, aux);
+        let out = run_gbuffer(&mut eng, effect, o, &scene, &g, &cam);
         assert_finite(&out, &format!("{effect} {o:?}"));
     }
 }

@@ -11,18 +11,25 @@ fn marked_columns(mask: &[f32], w: u32) -> Vec<Vec<u32>> {
         .collect()
 }
 
+/// The largest |out - want(x, i, c)| over the samples of an `n` x `n` image: x the
+/// pixel's column, i the index of its first sample, c the channel.
+fn worst_diff(out: &[f32], n: u32, want: impl Fn(u32, usize, usize) -> f32) -> f32 {
+    let mut worst = 0.0f32;
+    for y in 0..n {
+        for x in 0..n {
+            let i = ((y * n + x) * 4) as usize;
+            for c in 0..4 {
+                worst = worst.max((out[i + c] - want(x, i, c)).abs());
+            }
+        }
+    }
+    worst
+}
+
 fn outline_mask(eng: &mut Engine, o: &[&str], g: &GBuffer, cam: &Camera) -> Vec<f32> {
     let mut o = o.to_vec();
     o.push("mode=mask");
-    let out = run_gbuffer(
-        eng,
-        "outline",
-        &o,
-        &grey(g.w, g.h, 0.5),
-        g,
-        cam,
-        OUTLINE_AUX,
-    );
+    let out = run_gbuffer(eng, "outline", &o, &grey(g.w, g.h, 0.5), g, cam);
     assert_finite(&out, "outline");
     // The mask is binary at width 1 and grey.
     channel(&out, 0)
@@ -69,41 +76,20 @@ fn outline_marks_a_depth_step_exactly() {
     assert!(marked_columns(&m, n).iter().all(|c| c == &vec![30, 31, 32]));
     let scene = colourful(n, n);
     let src = f32s(&scene.pixels);
-    let out = run_gbuffer(
-        &mut eng,
-        "outline",
-        &["color=(1,0,1)", "opacity=0.5"],
-        &scene,
-        &g,
-        &cam,
-        OUTLINE_AUX,
-    );
-    let mut worst = 0.0f32;
-    for y in 0..n {
-        for x in 0..n {
-            let i = ((y * n + x) * 4) as usize;
-            for c in 0..4 {
-                let want = if x == 31 && c < 3 {
-                    0.5 * src[i + c] + 0.5 * [1.0, 0.0, 1.0][c]
-                } else {
-                    src[i + c]
-                };
-                worst = worst.max((out[i + c] - want).abs());
-            }
+    let sets = ["color=(1,0,1)", "opacity=0.5"];
+    let out = run_gbuffer(&mut eng, "outline", &sets, &scene, &g, &cam);
+    let worst = worst_diff(&out, n, |x, i, c| {
+        if x == 31 && c < 3 {
+            0.5 * src[i + c] + 0.5 * [1.0, 0.0, 1.0][c]
+        } else {
+            src[i + c]
         }
-    }
+    });
     eprintln!("overlay: max diff from the expected image {worst:e}");
     assert!(worst < 1e-6, "overlay differs by {worst}");
 
     // The same through apply_in_memory (rgba16f G-buffer images, no camera).
-    let out = run_aux(
-        &mut eng,
-        "outline",
-        &["mode=mask"],
-        &grey(n, n, 0.5),
-        &g,
-        OUTLINE_AUX,
-    );
+    let out = run_aux(&mut eng, "outline", &["mode=mask"], &grey(n, n, 0.5), &g);
     assert!(marked_columns(&channel(&out, 0), n)
         .iter()
         .all(|c| c == &vec![31]));
@@ -172,7 +158,6 @@ fn outline_detects_a_normal_crease() {
             &["mode=mask", &o],
             &grey(n, n, 0.5),
             &valley,
-            OUTLINE_AUX,
         );
         let cols = marked_columns(&channel(&out, 0), n);
         eprintln!("valley, normal_threshold {t}: columns {:?}", cols[0]);
@@ -236,26 +221,18 @@ fn outline_antialias_blends_across_edges_only() {
             &scene,
             &g,
             &cam,
-            OUTLINE_AUX,
         );
-        let mut worst = 0.0f32;
-        for y in 0..n {
-            for x in 0..n {
-                let i = ((y * n + x) * 4) as usize;
-                let across = match x {
-                    15 => Some(i + 4),
-                    16 => Some(i - 4),
-                    _ => None,
-                };
-                for c in 0..4 {
-                    let want = match across {
-                        Some(j) => src[i + c] + 0.5 * strength * (src[j + c] - src[i + c]),
-                        None => src[i + c],
-                    };
-                    worst = worst.max((out[i + c] - want).abs());
-                }
+        let worst = worst_diff(&out, n, |x, i, c| {
+            let across = match x {
+                15 => Some(i + 4),
+                16 => Some(i - 4),
+                _ => None,
+            };
+            match across {
+                Some(j) => src[i + c] + 0.5 * strength * (src[j + c] - src[i + c]),
+                None => src[i + c],
             }
-        }
+        });
         eprintln!("antialias strength {strength}: max diff from the expected blend {worst:e}");
         assert!(worst < 1e-6, "antialias strength {strength}: {worst}");
     }

@@ -4,6 +4,14 @@
 
 use super::*;
 
+/// The AO of `g` seen by `cam` with `sets` (`output=ao` among them): asserted finite,
+/// one value per pixel.
+fn ao_map(eng: &mut Engine, sets: &[&str], scene: &Image, g: &GBuffer, cam: &Camera) -> Vec<f32> {
+    let v = run_gbuffer(eng, "ssao", sets, scene, g, cam);
+    assert_finite(&v, "ssao");
+    channel(&v, 0)
+}
+
 #[test]
 fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
     let Some(mut eng) = engine() else { return };
@@ -17,17 +25,13 @@ fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
         "{above} {below}"
     );
     let scene = grey(n, n, 0.5);
-    let ao = run_gbuffer(
+    let ao = ao_map(
         &mut eng,
-        "ssao",
         &["output=ao", "radius=1", "intensity=1"],
         &scene,
         &g,
         &cam,
-        SSAO_AUX,
     );
-    assert_finite(&ao, "ssao");
-    let ao = channel(&ao, 0);
     dump("ssao corner", &ao, n, 1.0, 0.0);
     eprintln!("corner row {row}");
     // Along the corner (both sides, central columns): clearly darkened.
@@ -53,16 +57,8 @@ fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
     assert!(band(row + 1) < band(row + 8) && band(row + 8) <= band(n - 8) + 1e-6);
 
     // The intensity scales the occlusion (the blur is linear in the AO).
-    let ao2 = run_gbuffer(
-        &mut eng,
-        "ssao",
-        &["output=ao", "radius=1", "intensity=2"],
-        &scene,
-        &g,
-        &cam,
-        SSAO_AUX,
-    );
-    let ao2 = channel(&ao2, 0);
+    let sets = ["output=ao", "radius=1", "intensity=2"];
+    let ao2 = channel(&run_gbuffer(&mut eng, "ssao", &sets, &scene, &g, &cam), 0);
     let scaled = ao
         .iter()
         .zip(&ao2)
@@ -83,7 +79,6 @@ fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
         &scene,
         &g,
         &cam,
-        SSAO_AUX,
     );
     let src = f32s(&scene.pixels);
     let mut worst = 0.0f32;
@@ -104,17 +99,7 @@ fn ssao_defaults_give_visible_contact_shadows() {
     let Some(mut eng) = engine() else { return };
     let n = 96;
     let (g, cam, row) = corner_scene(n, Vec::new());
-    let ao = run_gbuffer(
-        &mut eng,
-        "ssao",
-        &["output=ao"],
-        &grey(n, n, 0.5),
-        &g,
-        &cam,
-        SSAO_AUX,
-    );
-    assert_finite(&ao, "ssao");
-    let ao = channel(&ao, 0);
+    let ao = ao_map(&mut eng, &["output=ao"], &grey(n, n, 0.5), &g, &cam);
     let darkest = min_of(&region(&ao, n, 0, n, row - 4, row + 4));
     let corner_mean = mean(&region(&ao, n, 16, 80, row - 1, row + 2));
     let floor_min = min_of(&region(&ao, n, 0, n, n - 12, n));
@@ -136,17 +121,14 @@ fn ssao_of_a_flat_plane_is_one_everywhere() {
     let cam = perspective(70.0, 1.0);
     let g = raycast(n, n, &cam, &[plane([0.0, 0.0, -5.0], [0.4, 0.5, 0.75])]);
     assert!(g.depth.iter().all(|&d| d > 0.0));
-    let ao = run_gbuffer(
+    let ao = ao_map(
         &mut eng,
-        "ssao",
         &["output=ao", "samples=32"],
         &grey(n, n, 1.0),
         &g,
         &cam,
-        SSAO_AUX,
     );
-    assert_finite(&ao, "ssao");
-    let lo = min_of(&channel(&ao, 0));
+    let lo = min_of(&ao);
     eprintln!("tilted plane (perspective): min AO {lo:.5}");
     assert!(lo > 0.99, "flat plane AO min {lo}");
 
@@ -161,17 +143,14 @@ fn ssao_of_a_flat_plane_is_one_everywhere() {
         })],
     );
     assert_eq!((g.depth_at(0, 0), g.normal[0]), (100.0, [0.0; 3]));
-    let ao = run_gbuffer(
+    let ao = ao_map(
         &mut eng,
-        "ssao",
         &["output=ao", "radius=1"],
         &grey(n, n, 1.0),
         &g,
         &cam,
-        SSAO_AUX,
     );
-    assert_finite(&ao, "ssao");
-    let lo = min_of(&channel(&ao, 0));
+    let lo = min_of(&ao);
     eprintln!("floor and sky: min AO {lo:.5}");
     assert!(lo > 0.99, "floor AO min {lo}");
 
@@ -184,7 +163,6 @@ fn ssao_of_a_flat_plane_is_one_everywhere() {
         &["output=ao", "radius=0.3"],
         &grey(n, n, 1.0),
         &g,
-        SSAO_AUX,
     );
     assert_finite(&ao, "ssao");
     let lo = min_of(&channel(&ao, 0));
@@ -205,11 +183,7 @@ fn ssao_blur_does_not_cross_depth_discontinuities() {
     let (g, cam, row) = corner_scene(n, vec![board]);
     let half = n / 2;
     assert!(g.depth_at(half - 1, row) < 4.0 && g.depth_at(half, row) > 5.0);
-    let ao = |eng: &mut Engine, o: &[&str]| {
-        let v = run_gbuffer(eng, "ssao", o, &grey(n, n, 1.0), &g, &cam, SSAO_AUX);
-        assert_finite(&v, "ssao");
-        channel(&v, 0)
-    };
+    let ao = |eng: &mut Engine, o: &[&str]| ao_map(eng, o, &grey(n, n, 1.0), &g, &cam);
     let raw = ao(
         &mut eng,
         &["output=ao", "radius=1", "intensity=1", "blur=false"],
