@@ -43,45 +43,48 @@ pub fn gpu_scratch() -> Option<tempfile::TempDir> {
     engine().map(|_| tempfile::tempdir().unwrap())
 }
 
-/// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
-pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
+/// The RGBA samples of a `w` x `h` image from a closure of (x, y), row by row.
+fn samples<T: Copy>(w: u32, h: u32, f: impl Fn(u32, u32) -> [T; 4]) -> Vec<T> {
     let mut v = Vec::with_capacity((w * h * 4) as usize);
     for y in 0..h {
         for x in 0..w {
             v.extend_from_slice(&f(x, y));
         }
     }
+    v
+}
+
+/// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
+pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
+    let source = SourceInfo {
+        format: FileFormat::Png,
+        bit_depth: 8,
+        has_alpha: true,
+        float: false,
+    };
+    let pixels = Pixels::U8(samples(w, h, f));
     Image {
         width: w,
         height: h,
-        pixels: Pixels::U8(v),
-        source: SourceInfo {
-            format: FileFormat::Png,
-            bit_depth: 8,
-            has_alpha: true,
-            float: false,
-        },
+        pixels,
+        source,
     }
 }
 
 /// A linear float RGBA image from a closure.
 pub fn image_f32(w: u32, h: u32, f: impl Fn(u32, u32) -> [f32; 4]) -> Image {
-    let mut v = Vec::with_capacity((w * h * 4) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            v.extend_from_slice(&f(x, y));
-        }
-    }
+    let source = SourceInfo {
+        format: FileFormat::Exr,
+        bit_depth: 32,
+        has_alpha: true,
+        float: true,
+    };
+    let pixels = Pixels::F32(samples(w, h, f));
     Image {
         width: w,
         height: h,
-        pixels: Pixels::F32(v),
-        source: SourceInfo {
-            format: FileFormat::Exr,
-            bit_depth: 32,
-            has_alpha: true,
-            float: true,
-        },
+        pixels,
+        source,
     }
 }
 

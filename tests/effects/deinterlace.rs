@@ -5,7 +5,21 @@
 use crate::common::samples::*;
 use crate::common::stream::run_stream;
 use crate::common::*;
+use fxgraph::gpu::executor::Engine;
 use fxgraph::io::{Image, Pixels};
+
+/// `deinterlace` in `mode` with `field_order` = `order` over `frames` at `rate`
+/// outputs per frame (linear RGBA f32).
+fn deinterlace(
+    engine: &mut Engine,
+    mode: &str,
+    order: &str,
+    frames: &[Image],
+    rate: u32,
+) -> Vec<Vec<f32>> {
+    let sets = [format!("mode={mode}"), format!("field_order={order}")];
+    run_stream(engine, "deinterlace", &[&sets[0], &sets[1]], frames, rate)
+}
 
 const DW: u32 = 96;
 const DH: u32 = 64;
@@ -137,15 +151,7 @@ fn deinterlace_synthetic_ground_truth() {
                 if !tff && mode != "adaptive" {
                     continue;
                 }
-                let set_mode = format!("mode={mode}");
-                let set_order = format!("field_order={order}");
-                let outs = run_stream(
-                    &mut engine,
-                    "deinterlace",
-                    &[&set_mode, &set_order],
-                    &frames,
-                    rate,
-                );
+                let outs = deinterlace(&mut engine, mode, order, &frames, rate);
                 let s = score_deint(&outs, &truth, |i| {
                     if rate == 1 {
                         2 * i as u32
@@ -165,13 +171,7 @@ fn deinterlace_synthetic_ground_truth() {
     let frames: Vec<Image> = (0..8)
         .map(|k| float_image(DW, DH, weave(&truth, k, false)))
         .collect();
-    let outs = run_stream(
-        &mut engine,
-        "deinterlace",
-        &["mode=adaptive", "field_order=tff"],
-        &frames,
-        2,
-    );
+    let outs = deinterlace(&mut engine, "adaptive", "tff", &frames, 2);
     let wrong = score_deint(&outs, &truth, |i| i as u32);
     table.push(format!(
         "bff material as tff, rate 2 adaptive: full {:6.2}  box {:6.2}  box+around {:6.2} dB",
@@ -310,15 +310,8 @@ fn deinterlace_8bit_static_rows_exact_and_first_frame_spatial() {
     };
     for (order, tff) in [("tff", true), ("bff", false)] {
         let frames: Vec<Image> = (0..8).map(|k| to_u8(&weave(&truth, k, tff))).collect();
-        let set_order = format!("field_order={order}");
         for rate in [1u32, 2] {
-            let outs = run_stream(
-                &mut engine,
-                "deinterlace",
-                &["mode=adaptive", &set_order],
-                &frames,
-                rate,
-            );
+            let outs = deinterlace(&mut engine, "adaptive", order, &frames, rate);
             for (i, o) in outs.iter().enumerate() {
                 let t = if rate == 1 { 2 * i } else { i };
                 let want = codes(&to_u8(&truth[t]));
@@ -520,15 +513,7 @@ fn deinterlace_real_pal_clip_removes_combing() {
         ("blend", "bff"),
         ("adaptive", "tff"),
     ] {
-        let set_mode = format!("mode={mode}");
-        let set_order = format!("field_order={order}");
-        let outs = run_stream(
-            &mut engine,
-            "deinterlace",
-            &[&set_mode, &set_order],
-            &frames,
-            1,
-        );
+        let outs = deinterlace(&mut engine, mode, order, &frames, 1);
         let ci = outs
             .iter()
             .map(|o| comb_index(&luma_of_linear(o), w, h))

@@ -93,13 +93,7 @@ fn edges_flat_is_zero_and_step_gives_the_analytic_magnitude() {
     );
     // Vertical step of grey 40 | 200 between x = 29 and x = 30: |G| / 4 = 160 / 255 on
     // both columns beside it, 0 elsewhere (also at the replicated borders).
-    let step = image_u8(67, 41, |x, _| {
-        if x < 30 {
-            [40, 40, 40, 255]
-        } else {
-            [200, 200, 200, 255]
-        }
-    });
+    let step = grey_step_u8(67, 41, 30, 40, 200);
     let (w, _, px) = run(&mut eng, &["edges"], &[], &step, Format::Rgba8Srgb).unwrap();
     let v = u8s(&px);
     for y in 0..41u32 {
@@ -139,13 +133,7 @@ fn edges_flat_is_zero_and_step_gives_the_analytic_magnitude() {
 #[test]
 fn edges_overlay_mixes_the_edge_colour_into_the_image() {
     let Some(mut eng) = engine() else { return };
-    let step = image_u8(40, 20, |x, _| {
-        if x < 20 {
-            [40, 40, 40, 255]
-        } else {
-            [200, 200, 200, 255]
-        }
-    });
+    let step = grey_step_u8(40, 20, 20, 40, 200);
     let (w, _, px) = run(
         &mut eng,
         &["edges"],

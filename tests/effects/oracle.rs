@@ -237,6 +237,14 @@ pub fn at_u8(v: &[u8], w: u32, x: u32, y: u32) -> u8 {
     v[((y * w + x) * 4) as usize]
 }
 
+/// A `w` x `h` 8-bit image: grey `lo` left of column `x0`, grey `hi` from it on.
+pub fn grey_step_u8(w: u32, h: u32, x0: u32, lo: u8, hi: u8) -> Image {
+    image_u8(w, h, |x, _| {
+        let v = if x < x0 { lo } else { hi };
+        [v, v, v, 255]
+    })
+}
+
 // ---------------------------------------------------------------- blurs
 
 /// The taps of blurX/blurY/pencil_blur for a standard deviation of `sigma` output

@@ -96,13 +96,7 @@ fn pencil_is_grey_white_on_flat_areas_dark_at_edges_and_deterministic() {
     }
     // A vertical step 60 | 200: a dark stroke on the dark side of the edge, white
     // on the bright side and far from the edge.
-    let step = image_u8(80, 20, |x, _| {
-        if x < 40 {
-            [60, 60, 60, 255]
-        } else {
-            [200, 200, 200, 255]
-        }
-    });
+    let step = grey_step_u8(80, 20, 40, 60, 200);
     let (w, _, px) = run(&mut eng, &["pencil"], &[], &step, Format::Rgba8Srgb).unwrap();
     let v = u8s(&px);
     let row: Vec<u8> = (0..w).map(|x| at_u8(v, w, x, 10)).collect();

@@ -12,6 +12,14 @@ fn ao_map(eng: &mut Engine, sets: &[&str], scene: &Image, g: &GBuffer, cam: &Cam
     channel(&v, 0)
 }
 
+/// Asserts that no pixel of a flat surface's AO is occluded: all above 0.99.
+#[track_caller]
+fn assert_unoccluded(what: &str, ao: &[f32]) {
+    let lo = min_of(ao);
+    eprintln!("{what}: min AO {lo:.5}");
+    assert!(lo > 0.99, "{what}: AO min {lo}");
+}
+
 #[test]
 fn ssao_darkens_a_concave_corner_and_leaves_the_open_floor() {
     let Some(mut eng) = engine() else { return };
@@ -121,16 +129,9 @@ fn ssao_of_a_flat_plane_is_one_everywhere() {
     let cam = perspective(70.0, 1.0);
     let g = raycast(n, n, &cam, &[plane([0.0, 0.0, -5.0], [0.4, 0.5, 0.75])]);
     assert!(g.depth.iter().all(|&d| d > 0.0));
-    let ao = ao_map(
-        &mut eng,
-        &["output=ao", "samples=32"],
-        &grey(n, n, 1.0),
-        &g,
-        &cam,
-    );
-    let lo = min_of(&ao);
-    eprintln!("tilted plane (perspective): min AO {lo:.5}");
-    assert!(lo > 0.99, "flat plane AO min {lo}");
+    let white = grey(n, n, 1.0);
+    let ao = ao_map(&mut eng, &["output=ao", "samples=32"], &white, &g, &cam);
+    assert_unoccluded("tilted plane (perspective)", &ao);
 
     // The floor alone under an empty sky (the renderer's background: depth = far,
     // normal 0), grazing far away.
@@ -143,16 +144,8 @@ fn ssao_of_a_flat_plane_is_one_everywhere() {
         })],
     );
     assert_eq!((g.depth_at(0, 0), g.normal[0]), (100.0, [0.0; 3]));
-    let ao = ao_map(
-        &mut eng,
-        &["output=ao", "radius=1"],
-        &grey(n, n, 1.0),
-        &g,
-        &cam,
-    );
-    let lo = min_of(&ao);
-    eprintln!("floor and sky: min AO {lo:.5}");
-    assert!(lo > 0.99, "floor AO min {lo}");
+    let ao = ao_map(&mut eng, &["output=ao", "radius=1"], &white, &g, &cam);
+    assert_unoccluded("floor and sky", &ao);
 
     // Without a renderer (identity camera, rgba16f G-buffer images): a slanted plane.
     let cam = identity_camera();
@@ -165,9 +158,7 @@ fn ssao_of_a_flat_plane_is_one_everywhere() {
         &g,
     );
     assert_finite(&ao, "ssao");
-    let lo = min_of(&channel(&ao, 0));
-    eprintln!("slanted plane (identity camera): min AO {lo:.5}");
-    assert!(lo > 0.99, "flat plane AO min {lo}");
+    assert_unoccluded("slanted plane (identity camera)", &channel(&ao, 0));
 }
 
 #[test]
