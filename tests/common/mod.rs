@@ -106,17 +106,30 @@ pub fn pattern_u8(w: u32, h: u32) -> Image {
     })
 }
 
-/// Run `effects` with `overrides` on `img`; output read back in `out`.
-pub fn run(
-    engine: &mut Engine,
-    effects: &[&str],
-    overrides: &[&str],
+/// What [`run`] returns: the output's width, height and pixels.
+pub type Ran = Result<(u32, u32, Pixels), RunError>;
+
+/// Run the effects `fx` with `sets` (`NAME=VALUE`) on `img`; output read back in `out`.
+pub fn run(eng: &mut Engine, fx: &[&str], sets: &[&str], img: &Image, out: Format) -> Ran {
+    run_with(eng, fx, sets, img, out, false)
+}
+
+/// Like [`run`] with `--assume-linear` (8-bit values are used as they are).
+pub fn run_raw(eng: &mut Engine, fx: &[&str], sets: &[&str], img: &Image, out: Format) -> Ran {
+    run_with(eng, fx, sets, img, out, true)
+}
+
+fn run_with(
+    eng: &mut Engine,
+    fx: &[&str],
+    sets: &[&str],
     img: &Image,
     out: Format,
-) -> Result<(u32, u32, Pixels), RunError> {
-    let e: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    apply_in_memory(engine, &e, &o, img, &[], out, false)
+    raw: bool,
+) -> Ran {
+    let e: Vec<String> = fx.iter().map(|s| s.to_string()).collect();
+    let o: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    apply_in_memory(eng, &e, &o, img, &[], out, raw)
 }
 
 /// Runs the effect `name` with `sets` (`NAME=VALUE`) on `img`, output read back in
@@ -131,19 +144,6 @@ pub fn apply_fx(
     run(engine, &[name], sets, img, out)
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .2
-}
-
-/// Like [`run`] with `--assume-linear` (8-bit values are used as they are).
-pub fn run_raw(
-    engine: &mut Engine,
-    effects: &[&str],
-    overrides: &[&str],
-    img: &Image,
-    out: Format,
-) -> Result<(u32, u32, Pixels), RunError> {
-    let e: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    apply_in_memory(engine, &e, &o, img, &[], out, true)
 }
 
 /// Largest absolute difference between two sample arrays.
