@@ -4,10 +4,11 @@
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1. glTF tests skip with a
 //! message when ../shared/corpus is absent.
 
-#[path = "common/scenes.rs"]
-mod scenes;
+mod common;
 
-use scenes::opaque_room;
+use common::gpu_context as gpu;
+use common::renders::{rgb_psnr, save_rgb_review};
+use common::scenes::opaque_room;
 
 use fxgraph::deferred::builtin::{box_mesh, grid_plane};
 use fxgraph::deferred::gbuffer::read_rgba_f32;
@@ -17,34 +18,12 @@ use fxgraph::deferred::{
     Camera, Instance, Light, Material, RenderOutput, RenderStats, Renderer, RendererOptions, Scene,
     Technique,
 };
-use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
+use fxgraph::gpu::context::GpuContext;
 use glam::{Mat4, Vec3};
 use std::path::PathBuf;
-use std::sync::{Mutex, MutexGuard, OnceLock};
 
 const W: u32 = 128;
 const H: u32 = 96;
-
-/// The test device, or `None` (test skipped) when there is no adapter and
-/// FX_REQUIRE_GPU is not set.
-fn gpu() -> Option<MutexGuard<'static, GpuContext>> {
-    static CTX: OnceLock<Option<Mutex<GpuContext>>> = OnceLock::new();
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
-    }
-    let c = CTX.get_or_init(|| match GpuContext::new(&AdapterChoice::Auto) {
-        Ok(ctx) => Some(Mutex::new(ctx)),
-        Err(e) => {
-            if require_gpu() {
-                panic!("FX_REQUIRE_GPU=1 but no GPU adapter: {e}");
-            }
-            eprintln!("skipping GPU test: no adapter ({e})");
-            None
-        }
-    });
-    c.as_ref()
-        .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
-}
 
 fn corpus() -> Option<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/gltf");
@@ -70,41 +49,19 @@ fn render(
     (pixels, out, stats)
 }
 
+/// Writes `pixels` to tests/output/deferred_NAME.png for review.
 fn save_review(name: &str, pixels: &[[f32; 4]]) {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
-    std::fs::create_dir_all(&dir).unwrap();
-    let data: Vec<f32> = pixels
-        .iter()
-        .flat_map(|p| [p[0], p[1], p[2], 1.0])
-        .collect();
-    fxgraph::io::save_image(
-        &dir.join(format!("deferred_{name}.png")),
-        W,
-        H,
-        &fxgraph::io::Pixels::F32(data),
-        &Default::default(),
-    )
-    .unwrap();
+    save_rgb_review(&format!("deferred_{name}"), (W, H), pixels);
 }
 
 /// PSNR (dB) over RGB clamped to [0, 1], and the largest absolute RGB difference.
 fn compare(a: &[[f32; 4]], b: &[[f32; 4]]) -> (f64, f32) {
-    let mut mse = 0.0f64;
-    let mut max = 0.0f32;
-    for (p, q) in a.iter().zip(b) {
-        for c in 0..3 {
-            let d = p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0);
-            mse += f64::from(d * d);
-            max = max.max((p[c] - q[c]).abs());
-        }
-    }
-    mse /= (a.len() * 3) as f64;
-    let psnr = if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (1.0 / mse).log10()
-    };
-    (psnr, max)
+    let max = a
+        .iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0f32, f32::max);
+    (rgb_psnr(a, b, true), max)
 }
 
 fn mean_rgb(p: &[[f32; 4]]) -> f32 {

@@ -12,6 +12,7 @@ mod common;
 #[path = "common/shadow_scene.rs"]
 mod shadow_scene;
 
+use common::renders::rgb_psnr;
 use fxgraph::deferred::gbuffer::read_rgba_f32;
 use fxgraph::deferred::renderer::DEFAULT_SHADOW_SIZE;
 use fxgraph::deferred::{
@@ -107,7 +108,7 @@ fn techniques_agree_with_shadows() {
         let (reference, _) = render(&s, &options(ShadowMode::Pcf), Technique::Deferred);
         for t in [Technique::LightPrepass, Technique::Forward] {
             let (pixels, _) = render(&s, &options(ShadowMode::Pcf), t);
-            let db = psnr(&reference, &pixels);
+            let db = rgb_psnr(&reference, &pixels, true);
             eprintln!("{name}: deferred vs {t}: {db:.1} dB");
             assert!(db >= 40.0, "{name}: deferred vs {t}: {db:.1} dB");
             check_against_oracle(&format!("{name} {t}"), &pixels, &light);

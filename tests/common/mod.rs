@@ -4,6 +4,7 @@
 pub mod brdf;
 pub mod cli;
 pub mod gltf_gen;
+pub mod renders;
 pub mod rng;
 pub mod samples;
 pub mod scenes;
@@ -35,6 +36,22 @@ pub fn engine() -> Option<std::sync::MutexGuard<'static, Engine>> {
     });
     e.as_ref()
         .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
+}
+
+/// The test engine's GPU context (held locked, like [`engine`]), or `None` (test
+/// skipped): for the renderer tests, which need the device and not the engine.
+pub fn gpu_context() -> Option<Gpu> {
+    engine().map(Gpu)
+}
+
+/// The GPU context of the locked test engine.
+pub struct Gpu(std::sync::MutexGuard<'static, Engine>);
+
+impl std::ops::Deref for Gpu {
+    type Target = GpuContext;
+    fn deref(&self) -> &GpuContext {
+        &self.0.ctx
+    }
 }
 
 /// A scratch folder for a test that needs the GPU, or `None` (test skipped) when
