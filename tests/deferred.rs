@@ -64,6 +64,17 @@ fn compare(a: &[[f32; 4]], b: &[[f32; 4]]) -> (f64, f32) {
     (rgb_psnr(a, b, true), max)
 }
 
+/// The built-in room rendered deferred from its default camera: (scene, output).
+fn room_deferred(ctx: &GpuContext) -> (Scene, RenderOutput) {
+    let scene = Scene::load("builtin:room").unwrap();
+    let mut r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
+    let camera = scene.default_camera();
+    let (out, _) = r
+        .render(ctx, &camera, W, H, Technique::Deferred, None)
+        .unwrap();
+    (scene, out)
+}
+
 fn mean_rgb(p: &[[f32; 4]]) -> f32 {
     p.iter().map(|v| v[0] + v[1] + v[2]).sum::<f32>() / (p.len() * 3) as f32
 }
@@ -402,18 +413,7 @@ fn depth_aux_is_the_linear_depth_of_a_plane() {
 #[test]
 fn aux_images_have_the_planned_names_and_formats() {
     let Some(ctx) = gpu() else { return };
-    let scene = Scene::load("builtin:room").unwrap();
-    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
-    let (out, _) = r
-        .render(
-            &ctx,
-            &scene.default_camera(),
-            W,
-            H,
-            Technique::Deferred,
-            None,
-        )
-        .unwrap();
+    let (scene, out) = room_deferred(&ctx);
     let planned = fxgraph::deferred::published_aux(true);
     assert_eq!(out.aux.len(), planned.len());
     for ((name, tex), (pname, pformat)) in out.aux.iter().zip(&planned) {
@@ -507,18 +507,7 @@ fn normal_encodings_agree_through_the_gpu() {
 #[test]
 fn gbuffer_files_are_written() {
     let Some(ctx) = gpu() else { return };
-    let scene = Scene::load("builtin:room").unwrap();
-    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
-    let (out, _) = r
-        .render(
-            &ctx,
-            &scene.default_camera(),
-            W,
-            H,
-            Technique::Deferred,
-            None,
-        )
-        .unwrap();
+    let (_scene, out) = room_deferred(&ctx);
     let dir = tempfile::tempdir().unwrap();
     let files = fxgraph::deferred::write_gbuffer(dir.path(), &out, &ctx).unwrap();
     for name in [

@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::gpu_context;
 use common::renders::rgb_psnr;
 
 use fxgraph::deferred::gbuffer::read_rgba_f32;
@@ -124,9 +125,7 @@ fn camera_inside_volumes_and_clipping_planes_cull_exactly() {
 /// warning once), and do not change the image.
 #[test]
 fn dark_lights_are_ignored() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let scene = room_with_lights(20, 5);
     let camera = scene.default_camera();
@@ -163,9 +162,7 @@ fn dark_lights_are_ignored() {
 /// culled images equal the reference.
 #[test]
 fn extreme_spot_cones() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let mut scene = Scene::load("builtin:room").unwrap();
     scene.lights.clear();
@@ -220,9 +217,7 @@ fn extreme_spot_cones() {
 /// culled exactly, finite everywhere.
 #[test]
 fn light_inside_an_object() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let mut scene = Scene::load("builtin:room").unwrap();
     scene.lights.clear();
@@ -244,9 +239,7 @@ fn light_inside_an_object() {
 /// 10,000 lights render without error and report the bytes of their lists.
 #[test]
 fn ten_thousand_lights() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let scene = room_with_lights(10_000, 11);
     let camera = scene.default_camera();

@@ -8,6 +8,7 @@ mod common;
 
 use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen;
+use common::gpu_context;
 use common::renders::{rgb_psnr, save_rgb_review};
 use fxgraph::deferred::builtin::{box_mesh, uv_sphere};
 use fxgraph::deferred::gbuffer::read_rgba_f32;
@@ -133,9 +134,7 @@ fn test_lights() -> Vec<Light> {
 
 #[test]
 fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let (camera, ocam) = sphere_camera();
     let base = Vec3::new(0.7, 0.45, 0.3);
@@ -228,9 +227,7 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
 
 #[test]
 fn gltf_metallic_roughness_spheres_follow_the_specification() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     let path = gltf_gen::write_spheres_gltf(dir.path());
@@ -370,9 +367,7 @@ fn pairs_scene() -> (Scene, tempfile::TempDir) {
 
 #[test]
 fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let (scene, _dir) = pairs_scene();
     let size = (192, 144);
@@ -412,9 +407,7 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
 
 #[test]
 fn variants_are_compiled_once_and_counted_by_mode() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let scene = Scene::load("builtin:room").unwrap();
     let camera = scene.default_camera();
@@ -478,9 +471,7 @@ fn variants_are_compiled_once_and_counted_by_mode() {
 
 #[test]
 fn user_materials_replace_scene_materials_by_name_and_star() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("stripes.wgsl"), USER_SURFACE).unwrap();
@@ -537,9 +528,7 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
 #[ignore]
 fn variant_benchmark() {
     use fxgraph::deferred::variant_bench::run_variant_benchmark;
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
     let size = env("FX_BENCH_SIZE", "1920x1080");
@@ -591,9 +580,7 @@ fn variant_benchmark() {
 /// and the three variant modes give the same image.
 #[test]
 fn textured_gltf_material_agrees_across_techniques_and_modes() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     let path = gltf_gen::write_spheres_gltf_textured(dir.path());
@@ -634,9 +621,7 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
 /// preprocessor variants and run-time branches.
 #[test]
 fn mesh_flags_follow_the_mesh_in_every_mode() {
-    let Some(gpu) = common::gpu_context() else {
-        return;
-    };
+    let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(
