@@ -46,7 +46,7 @@ fn rgb(v: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(r, g, b);
 }
 
-#include "lib/srgb.wgsl"
+#include "lib/keyed.wgsl"
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
@@ -67,11 +67,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 #if COMPOSITE
     let b = textureLoad(bg, p, 0);
     return vec4<f32>(fg * a + b.rgb * (1.0 - a), a + b.a * (1.0 - a));
-#elif OUTPUT == 0
-    return vec4<f32>(fg, a);
-#elif OUTPUT == 1
-    return vec4<f32>(fg * a, a);
 #else
-    return vec4<f32>(lib_srgb_to_linear(vec3<f32>(a)), 1.0);
+    return lib_keyed_output(fg, a);
 #endif
 }

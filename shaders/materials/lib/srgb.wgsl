@@ -1,6 +1,6 @@
 // The sRGB transfer curve for shaders that compute in sRGB-encoded values and
-// write linear ones (shaders/chroma_key.wgsl, ckt_out.wgsl, sobel.wgsl,
-// pencil.wgsl): `#include "lib/srgb.wgsl"`.
+// write linear ones (shaders/chroma_key.wgsl, sobel.wgsl, pencil.wgsl, and
+// lib/keyed.wgsl): `#include "lib/srgb.wgsl"`.
 
 // sRGB-encoded -> linear (the exact curve), the input clamped to [0, 1] first.
 fn lib_srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
