@@ -8,7 +8,7 @@ use fxgraph::app::Effect;
 use fxgraph::gpu::context::{require_gpu, GpuContext};
 use fxgraph::gpu::executor::{Engine, FrameInputs, ParamError};
 use fxgraph::gpu::stream::Stream;
-use fxgraph::gpu::transfer::read_pixels;
+use fxgraph::gpu::transfer::{read_pixels, texture_2d};
 use fxgraph::graph::plan::{InputDesc, PlanOptions};
 use fxgraph::io::Pixels;
 use fxgraph::script::types::{ColorSpace, Format};
@@ -89,23 +89,11 @@ fn app_engine() -> Option<(Engine, wgpu::Device, wgpu::Queue)> {
 }
 
 fn texture(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: W,
-            height: H,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_DST
-            | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    })
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING
+        | wgpu::TextureUsages::COPY_DST
+        | wgpu::TextureUsages::COPY_SRC
+        | wgpu::TextureUsages::RENDER_ATTACHMENT;
+    device.create_texture(&texture_2d(label, (W, H), format, usage, &[]))
 }
 
 fn write_f32(queue: &wgpu::Queue, tex: &wgpu::Texture, texels: &[f32]) {
