@@ -14,7 +14,7 @@ fn bench(c: &mut Criterion) {
         };
         let (g, _, _) = compile(&req);
         let input = InputDesc::rgba8_srgb(1920, 1080)
-            .with_aux(&fxgraph::deferred::published_aux(true))
+            .with_aux(&fxgraph::render::published_aux(true))
             .with_aux_of(&g.expect("shipped effect compiles"));
         group.bench_function(&name, |b| {
             b.iter(|| {

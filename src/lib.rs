@@ -13,7 +13,10 @@
 //!   conversions.
 //! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes,
 //!   sequences, y4m.
-//! - `deferred` (feature `gpu`): scenes, materials and the deferred renderer.
+//! - `scene` (feature `gpu`): the scene model without the GPU (meshes, materials as
+//!   data, lights, cameras, the glTF and built-in loaders).
+//! - `render` (feature `gpu`): the deferred / light pre-pass / forward renderer that
+//!   consumes a scene.
 //! - `app` (feature `gpu`): jobs joining sources, the effect on the GPU and sinks;
 //!   one report type. `fxrun` is a command line over it.
 pub mod graph;
@@ -25,8 +28,10 @@ pub mod shader;
 #[cfg(feature = "gpu")]
 pub mod app;
 #[cfg(feature = "gpu")]
-pub mod deferred;
-#[cfg(feature = "gpu")]
 pub mod gpu;
 #[cfg(feature = "gpu")]
 pub mod io;
+#[cfg(feature = "gpu")]
+pub mod render;
+#[cfg(feature = "gpu")]
+pub mod scene;

@@ -1,4 +1,4 @@
-//! Tests of the deferred renderer (src/deferred): scene loading, normal encodings,
+//! Tests of the deferred renderer (src/render, src/scene): scene loading, normal encodings,
 //! agreement of the three techniques, light volumes, aux images, G-buffer files.
 //!
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1. glTF tests skip with a
@@ -10,15 +10,13 @@ use common::gpu_context as gpu;
 use common::renders::{rgb_psnr, save_rgb_review};
 use common::scenes::opaque_room;
 
-use fxgraph::deferred::builtin::{box_mesh, grid_plane};
-use fxgraph::deferred::gbuffer::read_rgba_f32;
-use fxgraph::deferred::normal::{self, NormalEncoding};
-use fxgraph::deferred::renderer::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
-use fxgraph::deferred::{
-    Camera, Instance, Light, Material, RenderOutput, RenderStats, Renderer, RendererOptions, Scene,
-    Technique,
-};
 use fxgraph::gpu::context::GpuContext;
+use fxgraph::render::gbuffer::read_rgba_f32;
+use fxgraph::render::normal::{self, NormalEncoding};
+use fxgraph::render::renderer::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
+use fxgraph::render::{RenderOutput, RenderStats, Renderer, RendererOptions, Technique};
+use fxgraph::scene::builtin::{box_mesh, grid_plane};
+use fxgraph::scene::{Camera, Instance, Light, Material, Scene};
 use glam::{Mat4, Vec3};
 use std::path::PathBuf;
 
@@ -414,7 +412,7 @@ fn depth_aux_is_the_linear_depth_of_a_plane() {
 fn aux_images_have_the_planned_names_and_formats() {
     let Some(ctx) = gpu() else { return };
     let (scene, out) = room_deferred(&ctx);
-    let planned = fxgraph::deferred::published_aux(true);
+    let planned = fxgraph::render::published_aux(true);
     assert_eq!(out.aux.len(), planned.len());
     for ((name, tex), (pname, pformat)) in out.aux.iter().zip(&planned) {
         assert_eq!(name, pname);
@@ -451,7 +449,7 @@ fn normal_encodings_agree_through_the_gpu() {
     };
     scene
         .meshes
-        .push(fxgraph::deferred::builtin::uv_sphere(64, 32));
+        .push(fxgraph::scene::builtin::uv_sphere(64, 32));
     scene
         .materials
         .push(Material::phong("white", Vec3::ONE, 0.5, 32.0));
@@ -509,7 +507,7 @@ fn gbuffer_files_are_written() {
     let Some(ctx) = gpu() else { return };
     let (_scene, out) = room_deferred(&ctx);
     let dir = tempfile::tempdir().unwrap();
-    let files = fxgraph::deferred::write_gbuffer(dir.path(), &out, &ctx).unwrap();
+    let files = fxgraph::render::write_gbuffer(dir.path(), &out, &ctx).unwrap();
     for name in [
         "depth.png",
         "depth.exr",
@@ -589,7 +587,7 @@ fn gltf_scenes_render() {
 #[test]
 #[ignore]
 fn renderer_benchmark() {
-    use fxgraph::deferred::bench::{run_benchmark, BenchConfig};
+    use fxgraph::render::bench::{run_benchmark, BenchConfig};
     let Some(ctx) = gpu() else { return };
     let mut cfg = BenchConfig::default();
     if let Ok(s) = std::env::var("FX_BENCH_SIZE") {

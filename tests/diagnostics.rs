@@ -17,7 +17,7 @@ fn render(rel: &str) -> String {
     if let Some(g) = graph {
         let mut input = InputDesc::rgba8_srgb(1920, 1080);
         if !rel.ends_with("aux_missing.fx") {
-            input = input.with_aux(&fxgraph::deferred::published_aux(true));
+            input = input.with_aux(&fxgraph::render::published_aux(true));
         }
         match plan(&g, &input, &PlanOptions::default()) {
             Ok((_, notes)) => diags.extend(notes),

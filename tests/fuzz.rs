@@ -168,7 +168,7 @@ fn script_target() -> Target {
                 return Err("a graph came back with errors".into());
             }
             let input =
-                InputDesc::rgba8_srgb(64, 48).with_aux(&fxgraph::deferred::published_aux(true));
+                InputDesc::rgba8_srgb(64, 48).with_aux(&fxgraph::render::published_aux(true));
             match plan(&g, &input, &PlanOptions::default()) {
                 Ok((_, notes)) => render_all(&notes, &sources),
                 Err(d) => {
@@ -325,7 +325,7 @@ fn gltf_target() -> Target {
             } else {
                 path.to_path_buf()
             };
-            Ok(fxgraph::deferred::gltf_load::load_gltf(&path).is_ok())
+            Ok(fxgraph::scene::gltf::load_gltf(&path).is_ok())
         }),
     }
 }

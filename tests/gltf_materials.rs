@@ -8,7 +8,7 @@ mod common;
 
 use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen::{self, textured, GltfLight, SpheresGltf};
-use fxgraph::deferred::{AlphaMode, Camera, Light, LightKind, Material, Scene};
+use fxgraph::scene::{AlphaMode, Camera, Light, LightKind, Material, Scene};
 use glam::{Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
@@ -504,7 +504,7 @@ fn oracle_lambert_energy() {
 }
 
 fn directions() -> Vec<Vec3> {
-    let mut rng = fxgraph::deferred::scene::Rng::new(5);
+    let mut rng = fxgraph::scene::Rng::new(5);
     (0..200)
         .map(|_| {
             let z = rng.next_f32();

@@ -318,7 +318,7 @@ fn every_shipped_effect_plans_at_the_lower_bound() {
         let g = g.unwrap();
         for (w, h) in [(1920, 1080), (67, 41), (1, 1)] {
             let input = InputDesc::rgba8_srgb(w, h)
-                .with_aux(&fxgraph::deferred::published_aux(true))
+                .with_aux(&fxgraph::render::published_aux(true))
                 .with_aux_of(&g);
             let (p, _) = plan(&g, &input, &PlanOptions::default())
                 .unwrap_or_else(|d| panic!("{name}: {}", d.render(&s)));
@@ -423,7 +423,7 @@ proptest! {
         let text = tokens.join(" ");
         let (g, _, _) = compile_text(&text);
         if let Some(g) = g {
-            let _ = plan(&g, &InputDesc::rgba8_srgb(33, 17).with_aux(&fxgraph::deferred::published_aux(true)), &PlanOptions::default());
+            let _ = plan(&g, &InputDesc::rgba8_srgb(33, 17).with_aux(&fxgraph::render::published_aux(true)), &PlanOptions::default());
         }
     }
 }

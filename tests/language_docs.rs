@@ -47,8 +47,7 @@ fn every_documented_example_compiles_and_plans() {
             diags.render(&sources)
         );
         let graph = graph.unwrap_or_else(|| panic!("docs/language.md:{line}: no graph"));
-        let input =
-            InputDesc::rgba8_srgb(256, 256).with_aux(&fxgraph::deferred::published_aux(true));
+        let input = InputDesc::rgba8_srgb(256, 256).with_aux(&fxgraph::render::published_aux(true));
         let (p, notes) = plan(&graph, &input, &PlanOptions::default()).unwrap_or_else(|d| {
             panic!(
                 "docs/language.md:{line}: plan failed:\n{}",

@@ -14,15 +14,19 @@ const LAYERS: &[(&str, &[&str], bool)] = &[
     ("lookup", &["script", "graph", "shader"], true),
     ("io", &["pixels"], true),
     ("gpu", &["pixels", "script", "graph", "shader"], false),
+    // The scene model: plain data and loaders, no GPU (no `gpu`, no wgpu).
+    ("scene", &["pixels", "script", "shader", "io"], true),
     (
-        "deferred",
-        &["pixels", "script", "graph", "shader", "lookup", "gpu", "io"],
+        "render",
+        &[
+            "pixels", "script", "graph", "shader", "lookup", "gpu", "io", "scene",
+        ],
         true,
     ),
     (
         "app",
         &[
-            "pixels", "script", "graph", "shader", "lookup", "gpu", "io", "deferred",
+            "pixels", "script", "graph", "shader", "lookup", "gpu", "io", "scene", "render",
         ],
         true,
     ),
@@ -73,6 +77,29 @@ fn modules_use_only_the_layers_below_them() {
                         n + 1
                     ));
                 }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// The scene model is plain data: no file under `src/scene/` names wgpu (the
+/// renderer in `src/render/` turns scenes into GPU work).
+#[test]
+fn the_scene_layer_uses_no_wgpu() {
+    let mut files = Vec::new();
+    rust_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src/scene"),
+        &mut files,
+    );
+    assert!(!files.is_empty());
+    let mut problems = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if code.contains("wgpu") {
+                problems.push(format!("{}:{}: {}", f.display(), n + 1, line.trim()));
             }
         }
     }

@@ -1,4 +1,4 @@
-//! Light culling (src/deferred/clusters.rs and the light volumes): the clustered
+//! Light culling (src/render/clusters.rs and the light volumes): the clustered
 //! lists and the volumes must give the image that shading every light at every
 //! pixel gives, in the three techniques, with many lights, with the camera
 //! inside light volumes, and with volumes cut by the near and far planes; and
@@ -10,10 +10,11 @@ mod common;
 use common::gpu_context;
 use common::renders::rgb_psnr;
 
-use fxgraph::deferred::gbuffer::read_rgba_f32;
-use fxgraph::deferred::renderer::LightCulling;
-use fxgraph::deferred::{Camera, Light, Renderer, RendererOptions, Scene, Technique};
 use fxgraph::gpu::context::GpuContext;
+use fxgraph::render::gbuffer::read_rgba_f32;
+use fxgraph::render::renderer::LightCulling;
+use fxgraph::render::{Renderer, RendererOptions, Technique};
+use fxgraph::scene::{Camera, Light, Scene};
 use glam::Vec3;
 
 const W: u32 = 192;
@@ -25,7 +26,7 @@ fn render(
     camera: &Camera,
     technique: Technique,
     culling: LightCulling,
-) -> (Vec<[f32; 4]>, fxgraph::deferred::RenderStats) {
+) -> (Vec<[f32; 4]>, fxgraph::render::RenderStats) {
     let mut r = Renderer::new(
         ctx,
         scene,

@@ -6,7 +6,7 @@ mod common;
 
 use common::cli::fxrun;
 
-use fxgraph::deferred::material::script::load_materials;
+use fxgraph::scene::material_file::load_materials;
 use proptest::prelude::*;
 use std::path::Path;
 use std::process::Command;

@@ -10,14 +10,13 @@ use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen;
 use common::gpu_context;
 use common::renders::{rgb_psnr, save_rgb_review};
-use fxgraph::deferred::builtin::{box_mesh, uv_sphere};
-use fxgraph::deferred::gbuffer::read_rgba_f32;
-use fxgraph::deferred::material::script::{apply_materials, load_materials};
-use fxgraph::deferred::material::VariantMode;
-use fxgraph::deferred::{
-    Camera, Instance, Light, Material, Renderer, RendererOptions, Scene, ShaderBinding, Technique,
-};
 use fxgraph::gpu::context::GpuContext;
+use fxgraph::render::gbuffer::read_rgba_f32;
+use fxgraph::render::material::VariantMode;
+use fxgraph::render::{Renderer, RendererOptions, Technique};
+use fxgraph::scene::builtin::{box_mesh, uv_sphere};
+use fxgraph::scene::material_file::{apply_materials, load_materials};
+use fxgraph::scene::{Camera, Instance, Light, Material, Scene, ShaderBinding};
 use glam::{Mat4, Vec3, Vec4};
 
 fn render(
@@ -155,7 +154,7 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
             Surface::new(
                 base,
                 Vec3::splat(0.3),
-                fxgraph::deferred::scene::roughness_from_shininess(24.0),
+                fxgraph::scene::roughness_from_shininess(24.0),
             ),
             Model::Phong(24.0),
         ),
@@ -527,7 +526,7 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
 #[test]
 #[ignore]
 fn variant_benchmark() {
-    use fxgraph::deferred::variant_bench::run_variant_benchmark;
+    use fxgraph::render::variant_bench::run_variant_benchmark;
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());

@@ -1,4 +1,4 @@
-//! Fog in the lighting template (src/deferred/fog.rs): the same image as the
+//! Fog in the lighting template (src/render/fog.rs): the same image as the
 //! `fog` post effect with the same parameters, the three techniques agreeing,
 //! height fog thicker low down, and bad settings rejected together.
 
@@ -7,10 +7,11 @@ mod common;
 use common::cli::fxrun;
 use common::scenes::opaque_room;
 
-use fxgraph::deferred::fog::Fog;
-use fxgraph::deferred::gbuffer::read_rgba_f32;
-use fxgraph::deferred::{Renderer, RendererOptions, Scene, Technique};
 use fxgraph::io::{load_image, Pixels};
+use fxgraph::render::fog::Fog;
+use fxgraph::render::gbuffer::read_rgba_f32;
+use fxgraph::render::{Renderer, RendererOptions, Technique};
+use fxgraph::scene::Scene;
 use glam::Vec3;
 use std::path::Path;
 

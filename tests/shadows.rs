@@ -1,4 +1,4 @@
-//! Shadow maps (src/deferred/shadows.rs, shadow_pass.rs, shaders/shadow.wgsl) on
+//! Shadow maps (src/render/shadows.rs, shadow_pass.rs, shaders/shadow.wgsl) on
 //! a box floating over a plane, no ambient light, white Lambertian material:
 //! the shadow's position against a CPU ray-cast oracle, the shadowed radiance
 //! near zero, the lit radiance at the analytic value E · albedo / π · cos θ, the
@@ -13,11 +13,10 @@ mod common;
 mod shadow_scene;
 
 use common::renders::rgb_psnr;
-use fxgraph::deferred::gbuffer::read_rgba_f32;
-use fxgraph::deferred::renderer::DEFAULT_SHADOW_SIZE;
-use fxgraph::deferred::{
-    Light, RenderStats, Renderer, RendererOptions, Scene, ShadowMode, Technique,
-};
+use fxgraph::render::gbuffer::read_rgba_f32;
+use fxgraph::render::renderer::DEFAULT_SHADOW_SIZE;
+use fxgraph::render::{RenderStats, Renderer, RendererOptions, ShadowMode, Technique};
+use fxgraph::scene::{Light, Scene};
 use glam::Vec3;
 use shadow_scene::*;
 use std::f32::consts::PI;
@@ -248,13 +247,9 @@ fn a_user_lighting_shader_is_shadowed_too() {
     )
     .unwrap();
     let text = "MATERIAL.wrapped = { SURFACE = SHADER.standard { base_color = (1, 1, 1, 1) } LIGHTING = SHADER.wrap_lambert { wrap = 0.3 } }\n";
-    let file = fxgraph::deferred::material::script::load_materials(
-        "wrapped.fx",
-        text,
-        Some(dir.path()),
-        0,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let file =
+        fxgraph::scene::material_file::load_materials("wrapped.fx", text, Some(dir.path()), 0)
+            .unwrap_or_else(|e| panic!("{e}"));
     let light = directional();
     let mut s = scene(light.clone());
     s.materials = file.materials;
@@ -370,7 +365,7 @@ fn shadows_work_with_every_light_culling() {
     if gpu().is_none() {
         return;
     }
-    use fxgraph::deferred::renderer::LightCulling;
+    use fxgraph::render::renderer::LightCulling;
     let light = point();
     for culling in [
         LightCulling::Clustered,

@@ -6,12 +6,12 @@ use super::effect::Effect;
 use super::error::RunError;
 use super::report::{ms, FrameDone, JobKind, MemoryReport, RunReport, SceneStats};
 use super::still::output_format_for;
-use crate::deferred::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
-use crate::deferred::scene::{Camera, Scene, SceneError};
 use crate::gpu::executor::{Engine, FrameInputs};
 use crate::gpu::transfer::{create_output, read_pixels};
 use crate::graph::plan::InputDesc;
 use crate::io::{self, IoError, SaveOptions};
+use crate::render::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
+use crate::scene::{Camera, Scene, SceneError};
 use crate::script::types::{ColorSpace, Format};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -66,25 +66,25 @@ pub struct SceneJob {
     /// `SCENE_MATERIAL=DEFINITION` pairs (`*` for every scene material).
     pub material_map: Vec<(String, String)>,
     /// How material features select shader code.
-    pub variants: crate::deferred::material::VariantMode,
+    pub variants: crate::render::material::VariantMode,
     /// How the light passes pick each pixel's lights.
-    pub light_culling: crate::deferred::renderer::LightCulling,
+    pub light_culling: crate::render::renderer::LightCulling,
     /// Fog applied in the lighting template (no post pass).
-    pub fog: Option<crate::deferred::fog::Fog>,
+    pub fog: Option<crate::render::fog::Fog>,
     /// Print each material, its shaders and variant, and the pipelines compiled.
     pub describe_materials: bool,
     /// An ambient light to add (linear RGB radiance); scenes otherwise render
     /// only the lights they have.
     pub ambient: Option<[f32; 3]>,
     /// Shadow maps: filter (or off), map size, layers per frame.
-    pub shadows: crate::deferred::shadows::ShadowMode,
+    pub shadows: crate::render::shadows::ShadowMode,
     pub shadow_size: u32,
     pub shadow_layers: u32,
 }
 
 /// A scene error as an input error naming the file (the glTF file, or the `--scene`
 /// argument where there is none).
-fn scene_error(scene: &str, e: SceneError) -> RunError {
+pub(super) fn scene_error(scene: &str, e: SceneError) -> RunError {
     let (path, message) = match e {
         SceneError::Gltf { path, message } => (path, message),
         SceneError::Empty(name) => (name, "the scene has no triangles to draw".to_string()),
@@ -92,7 +92,7 @@ fn scene_error(scene: &str, e: SceneError) -> RunError {
             name,
             format!(
                 "{count} materials, at most {} are supported (8-bit material id)",
-                crate::deferred::scene::MAX_MATERIALS
+                crate::scene::MAX_MATERIALS
             ),
         ),
         other => (scene.to_string(), other.to_string()),
@@ -103,7 +103,7 @@ fn scene_error(scene: &str, e: SceneError) -> RunError {
     })
 }
 
-fn render_error(scene: &str, e: RenderError) -> RunError {
+pub(super) fn render_error(scene: &str, e: RenderError) -> RunError {
     match e {
         RenderError::Gpu(g) => RunError::Gpu(g),
         RenderError::Scene(s) => scene_error(scene, s),
@@ -116,23 +116,15 @@ fn render_error(scene: &str, e: RenderError) -> RunError {
     }
 }
 
-/// Render the scene, run the effects, write the output (and the G-buffer).
-pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, RunError> {
-    let t_all = Instant::now();
-    let mut report = RunReport {
-        job: JobKind::Scene,
-        adapter: engine.ctx.info.name.clone(),
-        backend: format!("{:?}", engine.ctx.info.backend),
-        frames_total: Some(1),
-        ..Default::default()
-    };
-    let mut stats = SceneStats {
-        scene: job.scene.clone(),
-        technique: job.technique.to_string(),
-        light_culling: job.light_culling.to_string(),
-        shadows: job.shadows.to_string(),
-        ..Default::default()
-    };
+/// Everything a scene job does before rendering: the user's input checked (the
+/// size, the effect compiled first so that script errors come first), the scene
+/// loaded with its materials, lights and ambient, the renderer made. Shared by
+/// stills ([`run_scene_job`]) and rendered sequences (`scene_sequence.rs`).
+pub(super) fn prepare(
+    job: &SceneJob,
+    engine: &mut Engine,
+    stats: &mut SceneStats,
+) -> Result<(Scene, Renderer, Option<Effect>), RunError> {
     // Check everything the user wrote before rendering.
     let max = engine.ctx.device.limits().max_texture_dimension_2d;
     if job.width.max(job.height) > max {
@@ -150,10 +142,6 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         None
     } else {
         Some(Effect::compile(&job.effects, &job.overrides)?)
-    };
-    let out_format = match &job.output {
-        Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
-        None => None,
     };
     let t = Instant::now();
     let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
@@ -173,7 +161,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
             })
         })?;
         let rejected = |rendered: String| RunError::Rejected { rendered };
-        let file = crate::deferred::material::script::load_materials(
+        let file = crate::scene::material_file::load_materials(
             &path.display().to_string(),
             &text,
             path.parent(),
@@ -181,7 +169,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         )
         .map_err(rejected)?;
         let replaced =
-            crate::deferred::material::script::apply_materials(&mut scene, file, &job.material_map)
+            crate::scene::material_file::apply_materials(&mut scene, file, &job.material_map)
                 .map_err(|m| rejected(format!("{m}\n")))?;
         log::info!(
             "{}: materials replaced: {}",
@@ -197,16 +185,12 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         scene.add_random_point_lights(job.lights, job.seed);
     }
     if let Some([r, g, b]) = job.ambient {
-        scene.lights.push(crate::deferred::scene::Light {
+        scene.lights.push(crate::scene::Light {
             name: "--ambient".into(),
-            ..crate::deferred::scene::Light::ambient(glam::Vec3::new(r, g, b), 1.0)
+            ..crate::scene::Light::ambient(glam::Vec3::new(r, g, b), 1.0)
         });
     }
     scene.ensure_lights();
-    let camera = match &job.camera {
-        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
-        None => scene.default_camera(),
-    };
     stats.load_ms = ms(t.elapsed());
     let ctx = engine.ctx.clone();
     let mut renderer = Renderer::new(
@@ -223,6 +207,36 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     )
     .map_err(|e| render_error(&job.scene, e))?;
     renderer.set_fog(job.fog);
+    Ok((scene, renderer, effect))
+}
+
+/// Render the scene, run the effects, write the output (and the G-buffer).
+pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, RunError> {
+    let t_all = Instant::now();
+    let mut report = RunReport {
+        job: JobKind::Scene,
+        adapter: engine.ctx.info.name.clone(),
+        backend: format!("{:?}", engine.ctx.info.backend),
+        frames_total: Some(1),
+        ..Default::default()
+    };
+    let mut stats = SceneStats {
+        scene: job.scene.clone(),
+        technique: job.technique.to_string(),
+        light_culling: job.light_culling.to_string(),
+        shadows: job.shadows.to_string(),
+        ..Default::default()
+    };
+    let out_format = match &job.output {
+        Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
+        None => None,
+    };
+    let (scene, mut renderer, mut effect) = prepare(job, engine, &mut stats)?;
+    let ctx = engine.ctx.clone();
+    let camera = match &job.camera {
+        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
+        None => scene.default_camera(),
+    };
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {
@@ -256,7 +270,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     report.stages.decode_busy_ms = stats.load_ms + stats.render_cpu_ms;
     report.scene = Some(stats);
     if let Some(dir) = &job.gbuffer {
-        crate::deferred::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
+        crate::render::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
     }
     let Some(path) = &job.output else {
         report.wall_ms = ms(t_all.elapsed());

@@ -58,7 +58,7 @@ struct Fail {
 /// `--watch`'s shader list): a `w`x`h` 8-bit sRGB image with the renderer's AUX
 /// images, and the `--aux NAME=FILE` images as 8-bit sRGB.
 fn planning_input(cli: &Cli, w: u32, h: u32) -> InputDesc {
-    let mut desc = InputDesc::rgba8_srgb(w, h).with_aux(&fxgraph::deferred::published_aux(true));
+    let mut desc = InputDesc::rgba8_srgb(w, h).with_aux(&fxgraph::render::published_aux(true));
     for a in &cli.aux {
         let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);
         desc.aux.retain(|(n, _)| n != name);

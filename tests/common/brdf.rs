@@ -16,7 +16,7 @@
 //!     + Σ_ambient (ambient colour · intensity) · occlusion · diffuse_colour
 //! ```
 
-use fxgraph::deferred::{Light, LightKind};
+use fxgraph::scene::{Light, LightKind};
 use glam::Vec3;
 use std::f32::consts::PI;
 
@@ -231,7 +231,7 @@ impl Surface {
 /// `clamp(1 − (d/range)⁴, 0, 1)` when the light has a range, times `t²` for spots
 /// with `t = clamp((cos θ − cos outer)/(cos inner − cos outer), 0, 1)`. With
 /// `cut_off`, also zero beyond [`Light::radius`] (the scene model's
-/// [`fxgraph::deferred::ATTENUATION_THRESHOLD`] cut-off). Directional lights:
+/// [`fxgraph::scene::ATTENUATION_THRESHOLD`] cut-off). Directional lights:
 /// `colour · intensity` from `−direction`.
 pub fn illuminance(light: &Light, p: Vec3, cut_off: bool) -> Option<(Vec3, Vec3)> {
     let rgb = light.color * light.intensity;

@@ -1,7 +1,7 @@
 //! Scenes shared by the renderer tests.
 #![allow(dead_code)]
 
-use fxgraph::deferred::{AlphaMode, Scene};
+use fxgraph::scene::{AlphaMode, Scene};
 
 /// The built-in room without its blended (transparent) objects: what every
 /// technique renders alike (transparency is forward-shaded after the opaque pass).

@@ -4,7 +4,7 @@
 //! and whether a ray from it to the light hits the box.
 
 use super::common::brdf::illuminance;
-use fxgraph::deferred::{Camera, Instance, Light, Material, Scene, ShaderBinding};
+use fxgraph::scene::{Camera, Instance, Light, Material, Scene, ShaderBinding};
 use glam::{Mat4, Vec3, Vec4};
 use std::f32::consts::PI;
 
@@ -21,9 +21,9 @@ pub fn scene(light: Light) -> Scene {
         name: "box over a plane".into(),
         ..Default::default()
     };
-    s.meshes.push(fxgraph::deferred::builtin::grid_plane(4));
+    s.meshes.push(fxgraph::scene::builtin::grid_plane(4));
     s.meshes
-        .push(fxgraph::deferred::builtin::box_mesh(BOX_HALF * 2.0));
+        .push(fxgraph::scene::builtin::box_mesh(BOX_HALF * 2.0));
     s.materials.push(Material::new(
         "white lambert",
         ShaderBinding::new("standard").with("base_color", &[1.0, 1.0, 1.0, 1.0]),
@@ -137,7 +137,7 @@ pub fn oracle_wrap(light: &Light, wrap: f32) -> Vec<Option<Ground>> {
             };
             let lit = e.x * ((l.y + wrap) / ((1.0 + wrap) * (1.0 + wrap))).max(0.0) / PI;
             let reach = match light.kind {
-                fxgraph::deferred::LightKind::Directional => f32::INFINITY,
+                fxgraph::scene::LightKind::Directional => f32::INFINITY,
                 _ => (light.position - p).length(),
             };
             let shadowed = hit_box(p + l * 1e-4, l).is_some_and(|(near, _)| near < reach);

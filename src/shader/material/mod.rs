@@ -72,7 +72,9 @@ pub enum MaterialShaderKind {
 }
 
 impl MaterialShaderKind {
-    fn function(self) -> &'static str {
+    /// "surface" or "lighting": the function a shader of this kind defines, and
+    /// the word messages use.
+    pub fn name(self) -> &'static str {
         match self {
             MaterialShaderKind::Surface => "surface",
             MaterialShaderKind::Lighting => "lighting",

@@ -43,7 +43,7 @@ impl Checker<'_> {
             lighting_takes_params: false,
         };
         // The function.
-        let fname = kind.function();
+        let fname = kind.name();
         let expected = match kind {
             MaterialShaderKind::Surface => "fn surface(in: SurfaceInput) -> SurfaceOutput".to_string(),
             MaterialShaderKind::Lighting => "fn lighting(in: LightingInput) -> LightingOutput` or `fn lighting(in: LightingInput, params: LightingParams) -> LightingOutput".to_string(),

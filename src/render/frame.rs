@@ -1,0 +1,488 @@
+//! Encoding one frame: the passes of each technique (deferred, light pre-pass,
+//! forward), transparency and the AUX resolve, through one render-pass helper.
+
+use super::motion::MotionCameras;
+use super::pipelines::{GeoKey, GeoPass, LightPipe};
+use super::renderer::{RenderError, Renderer, Technique};
+use super::upload::Batch;
+use crate::gpu::context::{GpuContext, GpuTimer};
+use glam::{Mat4, Vec4};
+use std::ops::Range;
+
+/// The frame's light ranges in the visible-index buffer.
+pub(crate) struct FrameLists {
+    pub fullscreen: Range<u32>,
+    pub sphere_out: Range<u32>,
+    pub sphere_in: Range<u32>,
+    pub cone_out: Range<u32>,
+    pub cone_in: Range<u32>,
+    /// The forward loop's (constant) light count.
+    pub forward_lights: u32,
+    /// Cluster lists are bound: one clustered full-screen light pass.
+    pub clustered: bool,
+}
+
+fn geo_key(r: &Renderer, pass: GeoPass, b: &Batch, lights: u32) -> GeoKey {
+    let m = &r.materials.materials[b.material];
+    let features = match r.pipelines.mode {
+        super::material::VariantMode::Branch => 0,
+        _ => b.features,
+    };
+    GeoKey {
+        pass,
+        variant: super::material::VariantKey {
+            surface: m.surface,
+            lighting: m.lighting,
+            features,
+        },
+        cull: b.cull,
+        lights: match pass {
+            GeoPass::Forward | GeoPass::ForwardBlend => match r.pipelines.mode {
+                super::material::VariantMode::Branch => 0,
+                _ => lights,
+            },
+            _ => 0,
+        },
+    }
+}
+
+/// The geometry passes a technique draws opaque batches with.
+fn opaque_passes(technique: Technique) -> &'static [GeoPass] {
+    match technique {
+        Technique::Deferred => &[GeoPass::GBuffer],
+        Technique::LightPrepass => &[GeoPass::Prepass, GeoPass::LppFinal],
+        Technique::Forward => &[GeoPass::Forward],
+    }
+}
+
+/// Creates every pipeline the frame needs (shader generation errors are material
+/// errors: they name the material's shaders).
+pub(crate) fn ensure_pipelines(
+    r: &mut Renderer,
+    ctx: &GpuContext,
+    technique: Technique,
+    lights: u32,
+) -> Result<(), String> {
+    let mut keys: Vec<(GeoKey, usize)> = Vec::new();
+    for b in &r.geometry.batches {
+        for &pass in opaque_passes(technique) {
+            keys.push((
+                geo_key(r, pass, b, lights),
+                r.materials.materials[b.material].surface,
+            ));
+        }
+    }
+    for item in &r.geometry.blend_items {
+        let b = &item.batch;
+        keys.push((
+            geo_key(r, GeoPass::ForwardBlend, b, lights),
+            r.materials.materials[b.material].surface,
+        ));
+    }
+    for (key, surface) in keys {
+        r.pipelines.geometry(
+            ctx,
+            &r.materials,
+            &r.layouts,
+            &r.material_gpu.layouts[surface],
+            &r.material_gpu.params_layout,
+            key,
+        )?;
+    }
+    let aux: Vec<(String, wgpu::TextureFormat)> = r
+        .aux_formats()
+        .iter()
+        .map(|(n, f)| (n.clone(), crate::gpu::executor::wgpu_format(*f)))
+        .collect();
+    let mut light = vec![LightPipe::AuxA, LightPipe::AuxB];
+    if technique != Technique::Forward {
+        if r.options().light_culling == super::clusters::LightCulling::Volumes {
+            light.extend([
+                LightPipe::Fullscreen,
+                LightPipe::VolumeFront,
+                LightPipe::VolumeBack,
+            ]);
+        } else {
+            light.push(LightPipe::Clustered);
+        }
+    }
+    if technique == Technique::Deferred {
+        light.push(LightPipe::Compose);
+    }
+    for which in light {
+        r.pipelines.light(
+            ctx,
+            &r.materials,
+            &r.layouts,
+            &r.material_gpu.params_layout,
+            &aux,
+            which,
+        )?;
+    }
+    Ok(())
+}
+
+fn attach(
+    view: &wgpu::TextureView,
+    ops: wgpu::Operations<wgpu::Color>,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops,
+    })
+}
+
+fn clear_to(c: Vec4) -> wgpu::Operations<wgpu::Color> {
+    wgpu::Operations {
+        load: wgpu::LoadOp::Clear(wgpu::Color {
+            r: f64::from(c.x),
+            g: f64::from(c.y),
+            b: f64::from(c.z),
+            a: f64::from(c.w),
+        }),
+        store: wgpu::StoreOp::Store,
+    }
+}
+
+const LOAD: wgpu::Operations<wgpu::Color> = wgpu::Operations {
+    load: wgpu::LoadOp::Load,
+    store: wgpu::StoreOp::Store,
+};
+
+/// How a pass uses the depth buffer.
+#[derive(Clone, Copy, PartialEq)]
+enum Depth {
+    None,
+    /// Cleared to 1 and written.
+    Clear,
+    /// Attached read-only (the pass also samples it).
+    Read,
+}
+
+/// Begins a render pass with `colors`, the depth attachment as `depth`, and the
+/// pass's timestamp named `name`.
+fn begin<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    r: &'e Renderer,
+    names: &mut Vec<String>,
+    timer: Option<&'e GpuTimer>,
+    name: &str,
+    colors: &[Option<wgpu::RenderPassColorAttachment<'e>>],
+    depth: Depth,
+) -> wgpu::RenderPass<'e> {
+    let t = r.targets.as_ref().expect("targets exist");
+    let i = names.len() as u32;
+    names.push(name.to_string());
+    let depth_stencil_attachment = match depth {
+        Depth::None => None,
+        Depth::Clear => Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &t.depth.view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        Depth::Read => Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &t.depth.view,
+            depth_ops: None,
+            stencil_ops: None,
+        }),
+    };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(name),
+        color_attachments: colors,
+        depth_stencil_attachment,
+        timestamp_writes: timer.and_then(|t| t.pass_writes(i)),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// Draws `batches` with the pipeline of each, switching pipelines and material
+/// bind groups only when they change.
+fn draw_batches<'a>(
+    r: &Renderer,
+    rp: &mut wgpu::RenderPass<'_>,
+    batches: impl Iterator<Item = &'a Batch>,
+    pass: GeoPass,
+    lights: u32,
+    draws: &mut usize,
+) {
+    rp.set_bind_group(0, &r.g0, &[]);
+    rp.set_bind_group(3, &r.material_gpu.params_group, &[]);
+    rp.set_vertex_buffer(0, r.geometry.vertex_buffer.slice(..));
+    rp.set_index_buffer(r.geometry.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+    let mut current_key: Option<GeoKey> = None;
+    let mut current_material: Option<(usize, u64)> = None;
+    for b in batches {
+        let key = geo_key(r, pass, b, lights);
+        if current_key != Some(key) {
+            rp.set_pipeline(r.pipelines.geo_cached(&key));
+            current_key = Some(key);
+        }
+        if current_material != Some((b.material, b.features)) {
+            rp.set_bind_group(2, r.material_gpu.group(b.material, b.features), &[]);
+            current_material = Some((b.material, b.features));
+        }
+        rp.draw_indexed(b.indices.clone(), b.base_vertex, b.instances.clone());
+        *draws += 1;
+    }
+}
+
+/// Encodes and submits the frame. Returns the timed pass names and the draw count.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn encode(
+    r: &Renderer,
+    ctx: &GpuContext,
+    label: &str,
+    technique: Technique,
+    fl: &FrameLists,
+    view: &Mat4,
+    timer: Option<&GpuTimer>,
+    (motion, moving): (&MotionCameras, &[Batch]),
+) -> Result<(Vec<String>, usize), RenderError> {
+    let t = r.targets.as_ref().expect("targets exist");
+    let mut names: Vec<String> = Vec::new();
+    let mut draws = 0usize;
+    let lights = fl.forward_lights;
+    // Transparent instances, far to near.
+    let mut blend: Vec<(f32, &Batch)> = r
+        .geometry
+        .blend_items
+        .iter()
+        .map(|b| (view.transform_point3(b.center).z, &b.batch))
+        .collect();
+    blend.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let background = clear_to(r.frame_background.extend(1.0));
+    let zero = clear_to(Vec4::ZERO);
+    let mut motion_result = Ok(0);
+    ctx.scoped(label, |device| {
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+        // Shadow maps first: every technique's light passes read them.
+        draws += r
+            .shadow_maps
+            .encode(&mut encoder, &r.geometry, &mut names, timer);
+        let light_pass = |encoder: &mut wgpu::CommandEncoder,
+                          names: &mut Vec<String>,
+                          specular_ops: wgpu::Operations<wgpu::Color>,
+                          draws: &mut usize| {
+            let mut rp = begin(
+                encoder,
+                r,
+                names,
+                timer,
+                "lights",
+                &[
+                    attach(&t.light_diffuse.view, zero),
+                    attach(&t.light_specular.view, specular_ops),
+                ],
+                Depth::Read,
+            );
+            rp.set_bind_group(0, &r.g0, &[]);
+            rp.set_bind_group(1, &t.bg_light, &[]);
+            rp.set_bind_group(3, &r.material_gpu.params_group, &[]);
+            if fl.clustered {
+                rp.set_pipeline(r.pipelines.light_cached(LightPipe::Clustered));
+                rp.draw(0..3, 0..1);
+                *draws += 1;
+                return;
+            }
+            if !fl.fullscreen.is_empty() {
+                rp.set_pipeline(r.pipelines.light_cached(LightPipe::Fullscreen));
+                rp.draw(0..3, fl.fullscreen.clone());
+                *draws += 1;
+            }
+            rp.set_vertex_buffer(0, r.volumes.vertices.slice(..));
+            rp.set_index_buffer(r.volumes.indices.slice(..), wgpu::IndexFormat::Uint32);
+            for (pipe, spheres, cones) in [
+                (LightPipe::VolumeFront, &fl.sphere_out, &fl.cone_out),
+                (LightPipe::VolumeBack, &fl.sphere_in, &fl.cone_in),
+            ] {
+                if spheres.is_empty() && cones.is_empty() {
+                    continue;
+                }
+                rp.set_pipeline(r.pipelines.light_cached(pipe));
+                if !spheres.is_empty() {
+                    rp.draw_indexed(r.volumes.sphere_indices.clone(), 0, spheres.clone());
+                    *draws += 1;
+                }
+                if !cones.is_empty() {
+                    rp.draw_indexed(
+                        r.volumes.cone_indices.clone(),
+                        r.volumes.cone_base_vertex,
+                        cones.clone(),
+                    );
+                    *draws += 1;
+                }
+            }
+        };
+        let fullscreen = |encoder: &mut wgpu::CommandEncoder,
+                          names: &mut Vec<String>,
+                          name: &str,
+                          pipe: LightPipe,
+                          colors: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+                          draws: &mut usize| {
+            let mut rp = begin(encoder, r, names, timer, name, colors, Depth::None);
+            rp.set_pipeline(r.pipelines.light_cached(pipe));
+            rp.set_bind_group(0, &r.g0, &[]);
+            rp.set_bind_group(1, &t.bg_all, &[]);
+            rp.set_bind_group(3, &r.material_gpu.params_group, &[]);
+            rp.draw(0..3, 0..1);
+            *draws += 1;
+        };
+        // A geometry pass: every batch (opaque) or the sorted transparent ones.
+        let geometry = |encoder: &mut wgpu::CommandEncoder,
+                        names: &mut Vec<String>,
+                        name: &str,
+                        colors: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+                        depth: Depth,
+                        pass: GeoPass,
+                        draws: &mut usize| {
+            let mut rp = begin(encoder, r, names, timer, name, colors, depth);
+            if pass == GeoPass::LppFinal {
+                rp.set_bind_group(1, &t.bg_final, &[]);
+            }
+            if pass == GeoPass::ForwardBlend {
+                draw_batches(
+                    r,
+                    &mut rp,
+                    blend.iter().map(|(_, b)| *b),
+                    pass,
+                    lights,
+                    draws,
+                );
+            } else {
+                draw_batches(r, &mut rp, r.geometry.batches.iter(), pass, lights, draws);
+            }
+        };
+        let (albedo, normal, specular) = (
+            attach(&t.albedo.view, zero),
+            attach(&t.normal.view, zero),
+            attach(&t.specular.view, zero),
+        );
+        match technique {
+            Technique::Deferred => {
+                let colors = [
+                    albedo,
+                    normal,
+                    specular,
+                    attach(&t.light_specular.view, zero),
+                ];
+                geometry(
+                    &mut encoder,
+                    &mut names,
+                    "geometry",
+                    &colors,
+                    Depth::Clear,
+                    GeoPass::GBuffer,
+                    &mut draws,
+                );
+                light_pass(&mut encoder, &mut names, LOAD, &mut draws);
+                let colors = [attach(&t.scene.view, zero)];
+                fullscreen(
+                    &mut encoder,
+                    &mut names,
+                    "composition",
+                    LightPipe::Compose,
+                    &colors,
+                    &mut draws,
+                );
+            }
+            Technique::LightPrepass => {
+                let colors = [albedo, normal, specular];
+                geometry(
+                    &mut encoder,
+                    &mut names,
+                    "depth+normals",
+                    &colors,
+                    Depth::Clear,
+                    GeoPass::Prepass,
+                    &mut draws,
+                );
+                light_pass(&mut encoder, &mut names, zero, &mut draws);
+                let colors = [
+                    attach(&t.scene.view, background),
+                    attach(&t.albedo.view, LOAD),
+                ];
+                geometry(
+                    &mut encoder,
+                    &mut names,
+                    "final geometry",
+                    &colors,
+                    Depth::Read,
+                    GeoPass::LppFinal,
+                    &mut draws,
+                );
+            }
+            Technique::Forward => {
+                let colors = [attach(&t.scene.view, background), albedo, normal, specular];
+                geometry(
+                    &mut encoder,
+                    &mut names,
+                    "forward",
+                    &colors,
+                    Depth::Clear,
+                    GeoPass::Forward,
+                    &mut draws,
+                );
+            }
+        }
+        if !blend.is_empty() {
+            let colors = [attach(&t.scene.view, LOAD)];
+            geometry(
+                &mut encoder,
+                &mut names,
+                "transparency",
+                &colors,
+                Depth::Read,
+                GeoPass::ForwardBlend,
+                &mut draws,
+            );
+        }
+        // Motion vectors (AUX.motion, the last aux image) from the frame's depth.
+        let first = names.len() as u32;
+        names.push("motion (camera)".into());
+        if !moving.is_empty() {
+            names.push("motion (objects)".into());
+        }
+        let (_, motion_target) = t.aux.last().expect("AUX.motion exists");
+        motion_result = r.motion.encode(
+            ctx,
+            &mut encoder,
+            &r.geometry,
+            motion,
+            (t.width, t.height),
+            &t.depth.view,
+            &motion_target.view,
+            moving,
+            timer.map(|t| (t, first)),
+        );
+        for (pipe, range, name) in [
+            (LightPipe::AuxA, 0..3, "aux depth/normal/position"),
+            (LightPipe::AuxB, 3..6, "aux albedo/material/specular"),
+        ] {
+            let attachments: Vec<_> = t.aux[range]
+                .iter()
+                .map(|(_, a)| attach(&a.view, zero))
+                .collect();
+            fullscreen(
+                &mut encoder,
+                &mut names,
+                name,
+                pipe,
+                &attachments,
+                &mut draws,
+            );
+        }
+        if let Some(timer) = timer {
+            timer.resolve(&mut encoder, names.len() as u32);
+        }
+        ctx.queue.submit([encoder.finish()]);
+    })?;
+    draws += motion_result?;
+    Ok((names, draws))
+}

@@ -1,0 +1,73 @@
+//! The built-in renderer: a [`crate::scene::Scene`] in, a linear HDR image plus
+//! the G-buffer images that effects read as `AUX.*` out.
+//!
+//! The scene model (meshes, materials as data, lights, cameras, loaders) lives in
+//! `crate::scene`, without the GPU; this layer turns it into GPU work.
+//!
+//! - [`material`]: the material system (seed 003, section 2) on the renderer's
+//!   side: surface + lighting shaders per material, the generated shaders
+//!   (`shaders/` holds the templates) and the three variant modes
+//!   (`docs/materials.md`).
+//! - [`renderer`]: [`Renderer`] with three techniques ([`Technique`]): deferred
+//!   shading with the compressed G-buffer and light volumes (seed 001), light
+//!   pre-pass (seed 000) and forward shading, plus forward transparency. Its
+//!   parts: `targets.rs` (G-buffer, light buffers, AUX images), `upload.rs`
+//!   (geometry, textures, material bind groups), `lights.rs` (per-frame light
+//!   lists, light volumes), `light_buffers.rs`, `clusters.rs` (clustered light
+//!   lists binned on the CPU), `pipelines.rs` (layouts, module and pipeline
+//!   caches), `frame.rs` (the passes of each technique), [`shadows`] (which lights
+//!   get shadow maps, cascades, light matrices) and `shadow_pass.rs` (the
+//!   shadow-map array and its depth pass), [`fog`] (fog in the lighting template),
+//!   `gpu_types.rs`, `technique.rs`, `output.rs` ([`RenderOutput`],
+//!   [`RenderStats`], [`published_aux`]).
+//! - [`normal`]: the two-channel normal encodings (octahedral, spheremap) on the CPU.
+//! - [`gbuffer`]: [`write_gbuffer`], every G-buffer image as viewable files.
+//! - [`bench`]: the technique benchmark (frame times vs light count);
+//!   [`variant_bench`]: the material variant-mode benchmark.
+//!
+//! ```no_run
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! use fxgraph::render::{Renderer, RendererOptions, Technique};
+//! use fxgraph::scene::Scene;
+//! use fxgraph::gpu::context::{AdapterChoice, GpuContext};
+//! let ctx = GpuContext::new(&AdapterChoice::Auto)?;
+//! let mut scene = Scene::load("builtin:room")?;
+//! scene.add_random_point_lights(64, 1);
+//! let camera = scene.default_camera();
+//! let mut renderer = Renderer::new(&ctx, &scene, &RendererOptions::default())?;
+//! let (out, stats) = renderer.render(&ctx, &camera, 640, 360, Technique::Deferred, None)?;
+//! // out.scene: Rgba16Float linear HDR; out.aux: the AUX.* images; out.camera: CameraStd
+//! # let _ = (out, stats); Ok(()) }
+//! ```
+
+pub mod bench;
+mod camera_std;
+mod clusters;
+pub mod fog;
+mod frame;
+pub mod gbuffer;
+mod gpu_types;
+mod light_buffers;
+mod lights;
+pub mod material;
+mod motion;
+pub mod normal;
+mod output;
+mod pipelines;
+pub mod renderer;
+mod shadow_pass;
+pub mod shadows;
+pub mod targets;
+mod technique;
+mod upload;
+pub mod variant_bench;
+
+pub use camera_std::camera_std;
+pub use gbuffer::write_gbuffer;
+pub use normal::NormalEncoding;
+pub use output::published_aux;
+pub use renderer::{
+    jittered, render, FrameMotion, GBufferTextures, RenderError, RenderOutput, RenderStats,
+    Renderer, RendererOptions, Technique,
+};
+pub use shadows::ShadowMode;

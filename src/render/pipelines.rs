@@ -1,0 +1,582 @@
+//! Render pipelines of the renderer, created on first use and cached by key:
+//! geometry pipelines per (pass, material variant, culling, forward light count),
+//! light-pass pipelines once per scene. Shader modules are cached separately, so
+//! the count of each is what the variant mode costs.
+
+use super::gpu_types::Vertex;
+use super::material::template::{self, Generated};
+use super::material::{MaterialSet, VariantKey, VariantMode};
+use super::targets::*;
+use super::upload::Cull;
+use crate::gpu::context::GpuContext;
+use std::collections::HashMap;
+
+/// A geometry pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum GeoPass {
+    GBuffer,
+    Prepass,
+    LppFinal,
+    Forward,
+    ForwardBlend,
+}
+
+/// A light-module pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum LightPipe {
+    Clustered,
+    Fullscreen,
+    VolumeFront,
+    VolumeBack,
+    Compose,
+    AuxA,
+    AuxB,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) struct GeoKey {
+    pub pass: GeoPass,
+    pub variant: VariantKey,
+    pub cull: Cull,
+    /// Forward light-loop bound (0 for passes without the loop).
+    pub lights: u32,
+}
+
+/// Bind group layouts shared by all pipelines.
+pub(crate) struct Layouts {
+    pub g0: wgpu::BindGroupLayout,
+    pub g1_gbuffer: wgpu::BindGroupLayout,
+    pub g1_light_buffers: wgpu::BindGroupLayout,
+}
+
+pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+pub(crate) fn texture_entry(
+    binding: u32,
+    sample_type: wgpu::TextureSampleType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+impl Layouts {
+    /// Group 0 (frame, material info, instances, lights, visible light indices),
+    /// group 1 of the light passes (G-buffer) and of the light pre-pass final pass
+    /// (light buffers).
+    pub fn new(device: &wgpu::Device) -> Layouts {
+        let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred group 0 (frame, materials, instances, lights)"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                storage_entry(1),
+                storage_entry(2),
+                storage_entry(3),
+                storage_entry(4),
+                storage_entry(5),
+                storage_entry(6),
+                // 8–10: shadow maps, sampler, layers
+                super::shadow_pass::g0_layout_entries()[0],
+                super::shadow_pass::g0_layout_entries()[1],
+                super::shadow_pass::g0_layout_entries()[2],
+            ],
+        });
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let g1_gbuffer = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred group 1 (G-buffer)"),
+            entries: &[
+                texture_entry(0, wgpu::TextureSampleType::Depth),
+                texture_entry(1, unfilterable),
+                texture_entry(2, unfilterable),
+                texture_entry(3, unfilterable),
+                texture_entry(4, unfilterable),
+                texture_entry(5, unfilterable),
+            ],
+        });
+        let g1_light_buffers = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred group 1 (light buffers)"),
+            entries: &[
+                texture_entry(0, unfilterable),
+                texture_entry(1, unfilterable),
+            ],
+        });
+        Layouts {
+            g0,
+            g1_gbuffer,
+            g1_light_buffers,
+        }
+    }
+}
+
+pub(crate) struct Pipelines {
+    pub mode: VariantMode,
+    normal_encoding: u32,
+    modules: HashMap<(VariantKey, u32), wgpu::ShaderModule>,
+    light_module: Option<wgpu::ShaderModule>,
+    geo: HashMap<GeoKey, wgpu::RenderPipeline>,
+    light: HashMap<LightPipe, wgpu::RenderPipeline>,
+    /// Pipelines and shader modules created so far.
+    pub pipelines_created: usize,
+    pub modules_created: usize,
+}
+
+pub(crate) fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
+    Some(wgpu::ColorTargetState {
+        format,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    })
+}
+
+fn additive(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    Some(wgpu::ColorTargetState {
+        format,
+        blend: Some(wgpu::BlendState {
+            color: add,
+            alpha: add,
+        }),
+        write_mask: wgpu::ColorWrites::ALL,
+    })
+}
+
+pub(crate) fn depth(
+    write: bool,
+    compare: wgpu::CompareFunction,
+) -> Option<wgpu::DepthStencilState> {
+    Some(wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState::default(),
+    })
+}
+
+/// Checks generated WGSL with naga first: a failure here is an engine bug (the
+/// material shaders were checked on their own), reported with the module text's
+/// line so it can be found in the log.
+pub(crate) fn check(label: &str, wgsl: &str) -> Result<(), String> {
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
+        format!(
+            "{label}: generated WGSL does not parse: {}",
+            e.emit_to_string(wgsl)
+        )
+    })?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| {
+        format!(
+            "{label}: generated WGSL is invalid: {}",
+            e.emit_to_string(wgsl)
+        )
+    })?;
+    Ok(())
+}
+
+impl Pipelines {
+    pub fn new(mode: VariantMode, normal_encoding: u32) -> Pipelines {
+        Pipelines {
+            mode,
+            normal_encoding,
+            modules: HashMap::new(),
+            light_module: None,
+            geo: HashMap::new(),
+            light: HashMap::new(),
+            pipelines_created: 0,
+            modules_created: 0,
+        }
+    }
+
+    fn module(
+        &mut self,
+        ctx: &GpuContext,
+        set: &MaterialSet,
+        variant: VariantKey,
+        lights: u32,
+    ) -> Result<(wgpu::ShaderModule, Vec<(String, f64)>), String> {
+        // One module per feature set and light count only when preprocessing.
+        let (module_key, light_key) = match self.mode {
+            VariantMode::Preprocess => (variant, lights),
+            _ => (
+                VariantKey {
+                    features: 0,
+                    ..variant
+                },
+                0,
+            ),
+        };
+        if !self.modules.contains_key(&(module_key, light_key)) {
+            let Generated { wgsl, .. } = template::geometry_module(
+                set,
+                module_key,
+                self.mode,
+                lights,
+                self.normal_encoding,
+            )?;
+            let label = format!(
+                "deferred geometry shaders ({} + {}, {}, features {:#x}, {} lights)",
+                set.surfaces[variant.surface].name,
+                set.lightings[variant.lighting].name,
+                self.mode,
+                module_key.features,
+                light_key
+            );
+            check(&label, &wgsl)?;
+            log::debug!("{label}: {} bytes of WGSL", wgsl.len());
+            let module = ctx
+                .scoped(&label, |device| {
+                    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                        label: Some(&label),
+                        source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                    })
+                })
+                .map_err(|e| e.to_string())?;
+            self.modules_created += 1;
+            self.modules.insert((module_key, light_key), module);
+        }
+        let module = self.modules[&(module_key, light_key)].clone();
+        // The constants of this variant (override mode).
+        let constants = match self.mode {
+            VariantMode::Override => {
+                let s = &set.surfaces[variant.surface];
+                let mut c: Vec<(String, f64)> = s
+                    .flags
+                    .iter()
+                    .enumerate()
+                    .map(|(i, f)| {
+                        (
+                            f.clone(),
+                            if variant.features & (1 << i) != 0 {
+                                1.0
+                            } else {
+                                0.0
+                            },
+                        )
+                    })
+                    .collect();
+                c.push(("FX_LIGHT_COUNT".into(), f64::from(lights.max(1))));
+                c
+            }
+            _ => Vec::new(),
+        };
+        Ok((module, constants))
+    }
+
+    /// The geometry pipeline `key`, created if needed.
+    pub fn geometry(
+        &mut self,
+        ctx: &GpuContext,
+        set: &MaterialSet,
+        layouts: &Layouts,
+        material_layout: &wgpu::BindGroupLayout,
+        params_layout: &wgpu::BindGroupLayout,
+        key: GeoKey,
+    ) -> Result<&wgpu::RenderPipeline, String> {
+        if !self.geo.contains_key(&key) {
+            let (module, constants) = self.module(ctx, set, key.variant, key.lights)?;
+            let (fs, targets, depth_state) = match key.pass {
+                GeoPass::GBuffer => (
+                    "fx_fs_gbuffer",
+                    vec![
+                        target(ALBEDO_FORMAT),
+                        target(NORMAL_FORMAT),
+                        target(SPECULAR_FORMAT),
+                        target(LIGHT_FORMAT),
+                    ],
+                    depth(true, wgpu::CompareFunction::Less),
+                ),
+                GeoPass::Prepass => (
+                    "fx_fs_prepass",
+                    vec![
+                        Some(wgpu::ColorTargetState {
+                            format: ALBEDO_FORMAT,
+                            blend: None,
+                            write_mask: wgpu::ColorWrites::ALPHA,
+                        }),
+                        target(NORMAL_FORMAT),
+                        target(SPECULAR_FORMAT),
+                    ],
+                    depth(true, wgpu::CompareFunction::Less),
+                ),
+                GeoPass::LppFinal => (
+                    "fx_fs_lpp_final",
+                    vec![target(SCENE_FORMAT), target(ALBEDO_FORMAT)],
+                    depth(false, wgpu::CompareFunction::LessEqual),
+                ),
+                GeoPass::Forward => (
+                    "fx_fs_forward",
+                    vec![
+                        target(SCENE_FORMAT),
+                        target(ALBEDO_FORMAT),
+                        target(NORMAL_FORMAT),
+                        target(SPECULAR_FORMAT),
+                    ],
+                    depth(true, wgpu::CompareFunction::Less),
+                ),
+                GeoPass::ForwardBlend => (
+                    "fx_fs_forward_blend",
+                    vec![Some(wgpu::ColorTargetState {
+                        format: SCENE_FORMAT,
+                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                        write_mask: wgpu::ColorWrites::COLOR,
+                    })],
+                    depth(false, wgpu::CompareFunction::Less),
+                ),
+            };
+            let g1 = (key.pass == GeoPass::LppFinal).then_some(&layouts.g1_light_buffers);
+            let groups = [
+                Some(&layouts.g0),
+                g1,
+                Some(material_layout),
+                Some(params_layout),
+            ];
+            let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x2, 4 => Float32x4, 5 => Float32x4];
+            let buffers = [Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &attrs,
+            })];
+            let label = format!("deferred pipeline {key:?}");
+            let pipeline = create(
+                ctx,
+                &label,
+                &module,
+                ("fx_vs_geometry", fs),
+                &buffers,
+                &targets,
+                depth_state,
+                key.cull.primitive(),
+                &groups,
+                &constants,
+            )?;
+            self.pipelines_created += 1;
+            self.geo.insert(key, pipeline);
+        }
+        Ok(&self.geo[&key])
+    }
+
+    /// The light-module pipeline `which`, created if needed.
+    pub fn light(
+        &mut self,
+        ctx: &GpuContext,
+        set: &MaterialSet,
+        layouts: &Layouts,
+        params_layout: &wgpu::BindGroupLayout,
+        aux_formats: &[(String, wgpu::TextureFormat)],
+        which: LightPipe,
+    ) -> Result<&wgpu::RenderPipeline, String> {
+        if !self.light.contains_key(&which) {
+            if self.light_module.is_none() {
+                let Generated { wgsl, .. } = template::light_module(set, self.normal_encoding)?;
+                let label = format!(
+                    "deferred light shaders ({} lighting models)",
+                    set.lightings.len()
+                );
+                check(&label, &wgsl)?;
+                let module = ctx
+                    .scoped(&label, |device| {
+                        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                            label: Some(&label),
+                            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                        })
+                    })
+                    .map_err(|e| e.to_string())?;
+                self.modules_created += 1;
+                self.light_module = Some(module);
+            }
+            let module = self.light_module.clone().expect("created above");
+            let volume_attrs = wgpu::vertex_attr_array![0 => Float32x3];
+            let volume_vb = [Some(wgpu::VertexBufferLayout {
+                array_stride: 12,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &volume_attrs,
+            })];
+            let aux = |i: usize| target(aux_formats[i].1);
+            let lights_targets = vec![additive(LIGHT_FORMAT), additive(LIGHT_FORMAT)];
+            use wgpu::CompareFunction as C;
+            #[allow(clippy::type_complexity)]
+            let (vs, fs, buffers, targets, depth_state, primitive): (
+                &str,
+                &str,
+                &[Option<wgpu::VertexBufferLayout>],
+                Vec<Option<wgpu::ColorTargetState>>,
+                Option<wgpu::DepthStencilState>,
+                wgpu::PrimitiveState,
+            ) = match which {
+                LightPipe::Clustered => (
+                    "fx_vs_fullscreen",
+                    "fx_fs_light_clustered",
+                    &[],
+                    lights_targets,
+                    depth(false, C::Always),
+                    wgpu::PrimitiveState::default(),
+                ),
+                LightPipe::Fullscreen => (
+                    "fx_vs_light_fullscreen",
+                    "fx_fs_light",
+                    &[],
+                    lights_targets,
+                    depth(false, C::Always),
+                    wgpu::PrimitiveState::default(),
+                ),
+                LightPipe::VolumeFront => (
+                    "fx_vs_volume",
+                    "fx_fs_light",
+                    &volume_vb,
+                    lights_targets,
+                    depth(false, C::Less),
+                    Cull::BackCcw.primitive(),
+                ),
+                LightPipe::VolumeBack => (
+                    "fx_vs_volume",
+                    "fx_fs_light",
+                    &volume_vb,
+                    lights_targets,
+                    depth(false, C::GreaterEqual),
+                    wgpu::PrimitiveState {
+                        cull_mode: Some(wgpu::Face::Front),
+                        ..Default::default()
+                    },
+                ),
+                LightPipe::Compose => (
+                    "fx_vs_fullscreen",
+                    "fx_fs_compose",
+                    &[],
+                    vec![target(SCENE_FORMAT)],
+                    None,
+                    wgpu::PrimitiveState::default(),
+                ),
+                LightPipe::AuxA => (
+                    "fx_vs_fullscreen",
+                    "fx_fs_aux_a",
+                    &[],
+                    vec![aux(0), aux(1), aux(2)],
+                    None,
+                    wgpu::PrimitiveState::default(),
+                ),
+                LightPipe::AuxB => (
+                    "fx_vs_fullscreen",
+                    "fx_fs_aux_b",
+                    &[],
+                    vec![aux(3), aux(4), aux(5)],
+                    None,
+                    wgpu::PrimitiveState::default(),
+                ),
+            };
+            let groups = [
+                Some(&layouts.g0),
+                Some(&layouts.g1_gbuffer),
+                None,
+                Some(params_layout),
+            ];
+            let label = format!("deferred pipeline {which:?}");
+            let pipeline = create(
+                ctx,
+                &label,
+                &module,
+                (vs, fs),
+                buffers,
+                &targets,
+                depth_state,
+                primitive,
+                &groups,
+                &[],
+            )?;
+            self.pipelines_created += 1;
+            self.light.insert(which, pipeline);
+        }
+        Ok(&self.light[&which])
+    }
+
+    pub fn geo_cached(&self, key: &GeoKey) -> &wgpu::RenderPipeline {
+        &self.geo[key]
+    }
+
+    pub fn light_cached(&self, which: LightPipe) -> &wgpu::RenderPipeline {
+        &self.light[&which]
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn create(
+    ctx: &GpuContext,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    (vs, fs): (&str, &str),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth_stencil: Option<wgpu::DepthStencilState>,
+    primitive: wgpu::PrimitiveState,
+    groups: &[Option<&wgpu::BindGroupLayout>],
+    constants: &[(String, f64)],
+) -> Result<wgpu::RenderPipeline, String> {
+    let constants: Vec<(&str, f64)> = constants.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+    ctx.scoped(label, |device| {
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: groups,
+            immediate_size: 0,
+        });
+        let options = wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            ..Default::default()
+        };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(vs),
+                compilation_options: options.clone(),
+                buffers,
+            },
+            primitive,
+            depth_stencil,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fs),
+                compilation_options: options,
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    })
+    .map_err(|e| e.to_string())
+}

@@ -1,0 +1,750 @@
+//! The GPU renderer: deferred shading with a compressed G-buffer and light volumes,
+//! light pre-pass, and forward shading, all producing the same outputs from the
+//! same materials (surface + lighting shaders, see [`super::material`]).
+//!
+//! # Frame (deferred)
+//!
+//! 1. Geometry pass: opaque and MASK objects run their surface shader and fill the
+//!    G-buffer ([`super::targets`]); emission and ambient × occlusion start the
+//!    specular light buffer.
+//! 2. Light pass into two `Rgba16Float` light buffers: every light's lighting
+//!    shader (chosen per pixel by the lighting-model id in the G-buffer). By
+//!    default ([`LightCulling::Clustered`], [`super::clusters`]) one full-screen
+//!    pass in which each pixel shades the directional lights and the point and
+//!    spot lights listed for its cluster (32-pixel tiles × 24 depth slices over
+//!    the geometry's depth range, binned on the CPU). [`LightCulling::Volumes`]
+//!    keeps seed 001's light volumes: directional lights as full-screen
+//!    triangles, point lights as icosphere volumes and spot lights as cone
+//!    volumes, culled against the view frustum on the CPU, all lights of a kind
+//!    in one instanced additive draw; volumes that hold the camera (or the near
+//!    plane) are drawn as back faces with depth test `GREATER_EQUAL`, the others
+//!    as front faces with `LESS`, and one that holds the camera and crosses the
+//!    far plane full-screen. [`LightCulling::None`] shades every light at every
+//!    pixel (the reference).
+//! 3. Composition: `diffuse colour × diffuse light + specular light`, through the
+//!    fog when there is one ([`super::fog`]), into the HDR scene texture
+//!    (`Rgba16Float`, linear radiance); the background where nothing was drawn.
+//! 4. Transparency: BLEND objects forward, sorted back to front, depth-tested (not
+//!    written) against the opaque depth, lit by every visible light.
+//! 5. Resolve: the G-buffer decoded into the `AUX.*` images.
+//!
+//! [`Technique::LightPrepass`] (seed 000) replaces 1–3 with a depth + normal +
+//! specular pass, the same light pass, and a second geometry pass that runs the
+//! surface shader again and reads the light buffers; [`Technique::Forward`] runs
+//! the surface shader and the lighting shader of the lights of the fragment's
+//! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
+
+use super::frame;
+use super::gpu_types::*;
+use super::light_buffers::LightBuffers;
+use super::lights::{LightLists, LightVolumes};
+use super::material::{MaterialSet, VariantMode};
+use super::motion::{MotionCameras, MotionPass};
+use super::normal::NormalEncoding;
+use super::pipelines::{Layouts, Pipelines};
+use super::shadow_pass::ShadowMaps;
+use super::shadows::ShadowFrame;
+pub use super::shadows::{
+    ShadowMode, DEFAULT_SHADOW_LAYERS, DEFAULT_SHADOW_SIZE, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE,
+};
+use super::targets::{TargetLayouts, Targets};
+use super::upload::{Geometry, MaterialResources};
+use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
+use crate::scene::{Camera, Light, Scene, SceneError};
+use glam::{Mat4, Vec3};
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+pub use super::clusters::LightCulling;
+pub use super::output::{GBufferTextures, RenderOutput, RenderStats};
+pub use super::targets::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
+pub use super::technique::Technique;
+
+/// Errors of rendering.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Io(#[from] crate::io::IoError),
+    /// Something about the request itself (size, texture too large, ...).
+    #[error("{0}")]
+    Invalid(String),
+    /// A material that cannot be used (unknown shader, bad parameter, ...).
+    #[error("{0}")]
+    Material(String),
+}
+
+/// Options fixed when a [`Renderer`] is created.
+#[derive(Debug, Clone)]
+pub struct RendererOptions {
+    /// How normals are stored in the G-buffer.
+    pub normal_encoding: NormalEncoding,
+    /// Generate mipmaps for scene textures (box filter).
+    pub mipmaps: bool,
+    /// How material features select shader code.
+    pub variants: VariantMode,
+    /// How the light passes pick the lights of a pixel.
+    pub light_culling: LightCulling,
+    /// Shadow maps for the scene's lights, and their filter (`shadows.rs`).
+    pub shadows: ShadowMode,
+    /// Side of each shadow map in texels ([`MIN_SHADOW_SIZE`]..=[`MAX_SHADOW_SIZE`]
+    /// and the device's limit).
+    pub shadow_size: u32,
+    /// Shadow-map layers per frame (a directional light takes 4, a point light
+    /// 6, a spot light 1); lights past it are unshadowed, with a warning.
+    pub shadow_budget: u32,
+}
+
+impl Default for RendererOptions {
+    fn default() -> Self {
+        RendererOptions {
+            normal_encoding: NormalEncoding::default(),
+            mipmaps: true,
+            variants: VariantMode::default(),
+            light_culling: LightCulling::default(),
+            shadows: ShadowMode::default(),
+            shadow_size: DEFAULT_SHADOW_SIZE,
+            shadow_budget: DEFAULT_SHADOW_LAYERS,
+        }
+    }
+}
+
+/// What a frame of a sequence adds to a still: where everything was one frame
+/// earlier (for the motion vectors, `AUX.motion`) and the sub-pixel jitter of the
+/// frame's samples. The default is a still: the scene's own transforms, no
+/// motion, no jitter.
+#[derive(Debug, Clone, Default)]
+pub struct FrameMotion {
+    /// World transforms of the scene's instances (in `Scene::instances` order)
+    /// at this frame; empty: the scene's (`Instance::transform`).
+    pub transforms: Vec<Mat4>,
+    /// The same one frame earlier (t − 1/fps); empty: as `transforms`.
+    pub prev_transforms: Vec<Mat4>,
+    /// The camera one frame earlier; `None`: this frame's camera.
+    pub prev_camera: Option<Camera>,
+    /// Offset of every pixel's sample from the pixel centre, in pixels (x right,
+    /// y down): the projection is shifted so that pixel p shows what the
+    /// unjittered camera shows at p + jitter. Motion vectors never contain it.
+    pub jitter: [f32; 2],
+}
+
+/// `proj` shifted so that pixel p samples the unjittered image at p + `jitter`
+/// (pixels, x right, y down) on a `width`×`height` target.
+pub fn jittered(proj: Mat4, jitter: [f32; 2], width: u32, height: u32) -> Mat4 {
+    if jitter == [0.0, 0.0] {
+        return proj;
+    }
+    let t = Vec3::new(
+        -2.0 * jitter[0] / width as f32,
+        2.0 * jitter[1] / height as f32,
+        0.0,
+    );
+    Mat4::from_translation(t) * proj
+}
+
+/// Renders `scene` once (creating a [`Renderer`] for it). Use a [`Renderer`] to
+/// render several frames without uploading the scene again.
+pub fn render(
+    ctx: &GpuContext,
+    scene: &Scene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    technique: Technique,
+    timer: Option<&GpuTimer>,
+) -> Result<(RenderOutput, RenderStats), RenderError> {
+    let mut r = Renderer::new(ctx, scene, &RendererOptions::default())?;
+    r.render(ctx, camera, width, height, technique, timer)
+}
+
+/// GPU resources of one scene; renders frames of any size, camera and technique.
+pub struct Renderer {
+    opts: RendererOptions,
+    /// The auxiliary images and formats: [`super::published_aux`] (depth is
+    /// R16Float where R32Float cannot be rendered: GL on llvmpipe).
+    aux_formats: Vec<(String, crate::script::types::Format)>,
+    name: String,
+    lights: Vec<Light>,
+    background: Vec3,
+    /// The fog of the template (none by default).
+    fog: Option<super::fog::Fog>,
+    /// The background of the last frame (fogged).
+    pub(crate) frame_background: Vec3,
+    /// World-space bounds of the geometry: the cluster slices span its depth.
+    bounds: crate::scene::Aabb,
+    pub(crate) shadow_maps: ShadowMaps,
+    triangles: usize,
+    pub(crate) materials: MaterialSet,
+    pub(crate) geometry: Geometry,
+    pub(crate) material_gpu: MaterialResources,
+    pub(crate) volumes: LightVolumes,
+    frame_buffer: wgpu::Buffer,
+    material_info_buffer: wgpu::Buffer,
+    light_buffers: LightBuffers,
+    pub(crate) layouts: Layouts,
+    pub(crate) g0: wgpu::BindGroup,
+    pub(crate) pipelines: Pipelines,
+    dummy_light: wgpu::TextureView,
+    pub(crate) targets: Option<Targets>,
+    /// (technique, forward light count) whose pipelines all exist.
+    ensured: std::collections::HashSet<(Technique, u32)>,
+    /// The motion-vector passes (`AUX.motion`).
+    pub(crate) motion: MotionPass,
+    /// The instances' rest transforms (scene order), and whether the instance
+    /// buffer holds other ones (a posed frame was rendered).
+    rest_transforms: Vec<Mat4>,
+    posed: bool,
+}
+
+/// A 1x1 texture view with one texel.
+fn one_texel(
+    ctx: &GpuContext,
+    label: &str,
+    format: wgpu::TextureFormat,
+    texel: &[u8],
+) -> Result<wgpu::TextureView, GpuError> {
+    Ok(ctx
+        .upload_texture(label, 1, 1, format, texel, wgpu::TextureUsages::empty())?
+        .create_view(&wgpu::TextureViewDescriptor {
+            label: Some(&format!("{label} view")),
+            ..Default::default()
+        }))
+}
+
+/// Lights of zero, negative or non-finite intensity are ignored, not an error
+/// (glTF files and generators produce them, e.g. a light animated to off): one
+/// warning names how many.
+fn warn_dark_lights(scene: &str, lights: &[Light]) {
+    let dark: Vec<&str> = lights
+        .iter()
+        .filter(|l| {
+            let c = l.color * l.intensity;
+            !(c.is_finite() && c.max_element() > 0.0)
+        })
+        .map(|l| l.name.as_str())
+        .collect();
+    if let Some(first) = dark.first() {
+        log::warn!(
+            "{scene}: {} light(s) with zero, negative or non-finite intensity ignored (first: `{first}`)",
+            dark.len()
+        );
+    }
+}
+
+impl Renderer {
+    /// Resolves the scene's materials, uploads the scene (geometry, materials,
+    /// textures); shaders are generated and compiled on first use.
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &Scene,
+        opts: &RendererOptions,
+    ) -> Result<Renderer, RenderError> {
+        let start = Instant::now();
+        if ctx.info.backend == wgpu::Backend::Gl {
+            // Its shaders read the depth buffer with textureLoad, which naga cannot
+            // translate to GLSL.
+            return Err(RenderError::Gpu(GpuError::UnsupportedFormat {
+                what: "the deferred renderer".into(),
+                format: "Depth32Float read in shaders".into(),
+                adapter: ctx.info.name.clone(),
+                reason: "the GL backend cannot read depth textures in shaders; use Vulkan (software: apt-get install mesa-vulkan-drivers)".into(),
+            }));
+        }
+        scene.validate()?;
+        let materials = MaterialSet::build(scene).map_err(|e| RenderError::Material(e.0))?;
+        let device = &ctx.device;
+        let name = scene.name.clone();
+        let geometry = Geometry::upload(ctx, scene, &materials)?;
+        let white = one_texel(
+            ctx,
+            "deferred default white texture",
+            wgpu::TextureFormat::Rgba8Unorm,
+            &[255, 255, 255, 255],
+        )?;
+        let dummy_light = one_texel(
+            ctx,
+            "deferred dummy rgba16f",
+            wgpu::TextureFormat::Rgba16Float,
+            &[0; 8],
+        )?;
+        let material_gpu =
+            MaterialResources::upload(ctx, scene, &materials, &geometry, opts.mipmaps, &white)?;
+
+        let mut infos: Vec<GpuMaterialInfo> = materials
+            .materials
+            .iter()
+            .map(|m| GpuMaterialInfo {
+                model: m.lighting as u32,
+                alpha_cutoff: m.alpha_cutoff,
+                _pad: [0; 2],
+            })
+            .collect();
+        if infos.is_empty() {
+            infos.push(bytemuck::Zeroable::zeroed());
+        }
+        let built = ctx.scoped("deferred renderer: scene upload", |device| {
+            let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                })
+            };
+            let material_info_buffer = init(
+                "deferred material info",
+                bytemuck::cast_slice(&infos),
+                wgpu::BufferUsages::STORAGE,
+            );
+            let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("deferred frame uniforms"),
+                size: std::mem::size_of::<GpuFrame>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            (material_info_buffer, frame_buffer, Layouts::new(device))
+        })?;
+        let (material_info_buffer, frame_buffer, layouts) = built;
+        let volumes = LightVolumes::new(ctx)?;
+        let light_buffers = LightBuffers::new(device);
+        let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
+        let g0 = light_buffers.group0(
+            device,
+            &layouts.g0,
+            &frame_buffer,
+            &material_info_buffer,
+            &geometry.instance_buffer,
+            &shadow_maps,
+        );
+        let triangles = scene.triangle_count();
+        log::info!(
+            "{name}: renderer ready in {:.1} ms: {} vertices, {} triangles, {} opaque batches, {} transparent instances, {} materials ({} surface, {} lighting shaders), {} textures",
+            start.elapsed().as_secs_f64() * 1e3,
+            geometry.vertices,
+            triangles,
+            geometry.batches.len(),
+            geometry.blend_items.len(),
+            materials.materials.len(),
+            materials.surfaces.len(),
+            materials.lightings.len(),
+            material_gpu.textures
+        );
+        let depth_renderable = ctx.format_support(wgpu::TextureFormat::R32Float).render;
+        if !depth_renderable {
+            log::warn!(
+                "this adapter cannot render to R32Float: AUX.depth is R16Float (half precision)"
+            );
+        }
+        let aux_formats = super::output::published_aux(depth_renderable);
+        warn_dark_lights(&name, &scene.lights);
+        let motion = MotionPass::new(ctx)?;
+        Ok(Renderer {
+            aux_formats,
+            opts: opts.clone(),
+            name,
+            lights: scene.lights.clone(),
+            background: scene.background,
+            fog: None,
+            frame_background: scene.background,
+            bounds: scene.bounds(),
+            shadow_maps,
+            triangles,
+            pipelines: Pipelines::new(opts.variants, opts.normal_encoding.shader_id()),
+            materials,
+            geometry,
+            material_gpu,
+            volumes,
+            frame_buffer,
+            material_info_buffer,
+            light_buffers,
+            layouts,
+            g0,
+            dummy_light,
+            targets: None,
+            ensured: Default::default(),
+            motion,
+            rest_transforms: scene.instances.iter().map(|i| i.transform).collect(),
+            posed: false,
+        })
+    }
+
+    /// The lights rendered (the scene's, or those given to [`Renderer::set_lights`]).
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// Replaces the lights without uploading the scene again.
+    pub fn set_lights(&mut self, lights: Vec<Light>) {
+        warn_dark_lights(&self.name, &lights);
+        self.lights = lights;
+    }
+
+    /// Fog applied by the lighting template (`None`: no fog).
+    pub fn set_fog(&mut self, fog: Option<super::fog::Fog>) {
+        self.fog = fog;
+    }
+
+    /// Linear colour of pixels without geometry.
+    pub fn background_color(&self) -> Vec3 {
+        self.background
+    }
+
+    /// The options the renderer was created with.
+    pub fn options(&self) -> &RendererOptions {
+        &self.opts
+    }
+
+    /// The scene's materials: shaders, variant features, lighting-model ids.
+    pub fn materials(&self) -> &MaterialSet {
+        &self.materials
+    }
+
+    /// Pipelines compiled so far.
+    pub fn pipelines_created(&self) -> usize {
+        self.pipelines.pipelines_created
+    }
+
+    /// Shader modules compiled so far.
+    pub fn modules_created(&self) -> usize {
+        self.pipelines.modules_created
+    }
+
+    /// The auxiliary images this renderer produces, with their formats (plan effects
+    /// with these).
+    pub fn aux_formats(&self) -> &[(String, crate::script::types::Format)] {
+        &self.aux_formats
+    }
+
+    /// Creates the frame targets for `width`×`height` if the size changed.
+    fn ensure_targets(
+        &mut self,
+        ctx: &GpuContext,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        if self
+            .targets
+            .as_ref()
+            .is_some_and(|t| t.width == width && t.height == height)
+        {
+            return Ok(());
+        }
+        let aux: Vec<(String, wgpu::TextureFormat)> = self
+            .aux_formats
+            .iter()
+            .map(|(n, f)| (n.clone(), crate::gpu::executor::wgpu_format(*f)))
+            .collect();
+        let targets = Targets::new(
+            ctx,
+            width,
+            height,
+            &aux,
+            &TargetLayouts {
+                gbuffer: &self.layouts.g1_gbuffer,
+                light_buffers: &self.layouts.g1_light_buffers,
+                dummy_light: &self.dummy_light,
+            },
+        )?;
+        self.targets = Some(targets);
+        Ok(())
+    }
+
+    /// Renders one still frame (no motion, no jitter): [`Renderer::render_frame`]
+    /// with [`FrameMotion::default`].
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        technique: Technique,
+        timer: Option<&GpuTimer>,
+    ) -> Result<(RenderOutput, RenderStats), RenderError> {
+        self.render_frame(
+            ctx,
+            camera,
+            &FrameMotion::default(),
+            width,
+            height,
+            technique,
+            timer,
+        )
+    }
+
+    /// Writes the instance transforms of `motion` (or the rest pose) and returns
+    /// the world bounds and the draws of the instances that moved.
+    fn pose(
+        &mut self,
+        ctx: &GpuContext,
+        motion: &FrameMotion,
+    ) -> Result<(crate::scene::Aabb, Vec<super::upload::Batch>), RenderError> {
+        let n = self.rest_transforms.len();
+        for (what, t) in [
+            ("transforms", &motion.transforms),
+            ("previous transforms", &motion.prev_transforms),
+        ] {
+            if !t.is_empty() && t.len() != n {
+                return Err(RenderError::Invalid(format!(
+                    "{}: {} {what} for {n} instances",
+                    self.name,
+                    t.len()
+                )));
+            }
+        }
+        let now = if motion.transforms.is_empty() {
+            &self.rest_transforms
+        } else {
+            &motion.transforms
+        };
+        let prev = if motion.prev_transforms.is_empty() {
+            now
+        } else {
+            &motion.prev_transforms
+        };
+        if motion.transforms.is_empty() && motion.prev_transforms.is_empty() && !self.posed {
+            return Ok((self.bounds, Vec::new()));
+        }
+        let moving = self.geometry.moving(now, prev);
+        let (now, prev) = (now.clone(), prev.clone());
+        let bounds = self.geometry.write_transforms(ctx, &now, &prev);
+        self.posed = !(motion.transforms.is_empty() && motion.prev_transforms.is_empty());
+        self.motion.prepare(ctx, &moving)?;
+        Ok((bounds, moving))
+    }
+
+    /// Renders one frame of a sequence: the instances where `motion` puts them,
+    /// `AUX.motion` from where they and the camera were one frame earlier, the
+    /// projection jittered by `motion.jitter`.
+    ///
+    /// With a `timer` (see [`GpuTimer::new`]; 16 passes are enough) the GPU time of
+    /// every pass is measured and returned in [`RenderStats::pass_ms`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_frame(
+        &mut self,
+        ctx: &GpuContext,
+        camera: &Camera,
+        motion: &FrameMotion,
+        width: u32,
+        height: u32,
+        technique: Technique,
+        timer: Option<&GpuTimer>,
+    ) -> Result<(RenderOutput, RenderStats), RenderError> {
+        let start = Instant::now();
+        if !(camera.near > 0.0
+            && camera.far > camera.near
+            && camera.fov_y > 0.0
+            && camera.fov_y < std::f32::consts::PI)
+        {
+            return Err(RenderError::Invalid(format!(
+                "invalid camera ({camera}): need 0 < near < far and 0 < fov < 180°"
+            )));
+        }
+        self.ensure_targets(ctx, width, height)?;
+        let (bounds, moving) = self.pose(ctx, motion)?;
+        let aspect = width as f32 / height as f32;
+        let view = camera.view();
+        let unjittered = camera.proj(aspect);
+        let proj = jittered(unjittered, motion.jitter, width, height);
+        let prev_camera = motion.prev_camera.unwrap_or(*camera);
+        let motion_cams = MotionCameras {
+            view,
+            proj,
+            curr_vp: unjittered * view,
+            prev_vp: prev_camera.proj(aspect) * prev_camera.view(),
+            eye: camera.eye,
+        };
+        let mut lists = LightLists::classify(
+            &self.lights,
+            self.volumes.sphere_scale,
+            self.volumes.cone_poly_scale,
+            camera,
+            &view,
+            &proj,
+            aspect,
+        );
+        // Shadow maps: which lights get layers (written into their GpuLight).
+        let shadows_grown = self.shadow_maps.prepare(
+            ctx,
+            &self.name,
+            &mut lists.gpu,
+            &ShadowFrame {
+                camera,
+                view,
+                aspect,
+                bounds,
+                mode: self.opts.shadows,
+                size: self.opts.shadow_size,
+                budget: self.opts.shadow_budget,
+            },
+        )?;
+        let culling = self.opts.light_culling;
+        let visible_count = lists.forward.len() as u32;
+        let (depth_near, depth_far) =
+            super::clusters::depth_range(&bounds, &view, camera.near, camera.far);
+        let (fl, visible, clusters) = lists
+            .frame_lists(culling, &proj, width, height, depth_near, depth_far)
+            .map_err(|e| RenderError::Invalid(e.to_string()))?;
+        let loop_count = fl.forward_lights;
+        let (range_bytes, index_bytes) = clusters.as_ref().map_or((0, 0), |c| {
+            (c.ranges.len() as u64 * 8, c.indices.len() as u64 * 4)
+        });
+        let grown = self
+            .light_buffers
+            .upload(ctx, &lists.gpu, &visible, clusters.as_ref());
+        if grown || shadows_grown {
+            self.g0 = self.light_buffers.group0(
+                &ctx.device,
+                &self.layouts.g0,
+                &self.frame_buffer,
+                &self.material_info_buffer,
+                &self.geometry.instance_buffer,
+                &self.shadow_maps,
+            );
+        }
+        let (cluster, cluster_z, global_lights) = match &clusters {
+            Some(c) => (
+                [
+                    c.grid.tiles_x,
+                    c.grid.tiles_y,
+                    c.grid.slices,
+                    c.grid.tile_px,
+                ],
+                [c.grid.log_scale, c.grid.near, 0.0, 0.0],
+                c.globals,
+            ),
+            None => ([0; 4], [0.0; 4], 0),
+        };
+        self.frame_background = match &self.fog {
+            Some(f) => f.background(self.background, camera.far),
+            None => self.background,
+        };
+        let gpu_frame = GpuFrame {
+            view: mat_array(view),
+            proj: mat_array(proj),
+            inv_proj: mat_array(proj.inverse()),
+            viewport: [
+                width as f32,
+                height as f32,
+                1.0 / width as f32,
+                1.0 / height as f32,
+            ],
+            background: self.frame_background.extend(1.0).into(),
+            ambient: lists.ambient.extend(0.0).into(),
+            near: camera.near,
+            far: camera.far,
+            light_count: visible_count,
+            global_lights,
+            cluster,
+            cluster_z,
+            fog: super::fog::Fog::gpu(self.fog.as_ref(), camera, &view),
+        };
+        ctx.queue
+            .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&gpu_frame));
+        // Pipelines depend only on the technique and the forward loop bound: the
+        // batches are fixed when the renderer is made.
+        if !self.ensured.contains(&(technique, loop_count)) {
+            frame::ensure_pipelines(self, ctx, technique, loop_count)
+                .map_err(RenderError::Material)?;
+            self.ensured.insert((technique, loop_count));
+        }
+
+        let mut stats = RenderStats {
+            technique,
+            width,
+            height,
+            triangles: self.triangles,
+            lights_total: self.lights.len(),
+            lights_visible: lists.forward.len(),
+            lights_fullscreen: lists.fullscreen.len(),
+            volumes_outside: lists.sphere_out.len() + lists.cone_out.len(),
+            volumes_inside: lists.sphere_in.len() + lists.cone_in.len(),
+            lights_dark: lists.dark,
+            light_culling: culling,
+            cluster_entries: clusters
+                .as_ref()
+                .map_or(0, |c| c.indices.len() - c.globals as usize),
+            cluster_max: clusters.as_ref().map_or(0, |c| c.max_per_cluster as usize),
+            cluster_bytes: range_bytes + index_bytes,
+            gbuffer_bytes_per_pixel: match technique {
+                Technique::Deferred => GBUFFER_BYTES_COMPRESSED,
+                Technique::LightPrepass => 13,
+                // depth for shading + the three colour targets for the AUX images
+                Technique::Forward => GBUFFER_BYTES_COMPRESSED,
+            },
+            shadow_layers: self.shadow_maps.used as usize,
+            shadow_map_bytes: self.shadow_maps.bytes(),
+            ..Default::default()
+        };
+        let label = format!("deferred frame ({technique}, {width}x{height})");
+        let (pass_names, draws) = frame::encode(
+            self,
+            ctx,
+            &label,
+            technique,
+            &fl,
+            &view,
+            timer,
+            (&motion_cams, &moving),
+        )?;
+        stats.draw_calls = draws;
+        stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        stats.pipelines = self.pipelines.pipelines_created;
+        stats.shader_modules = self.pipelines.modules_created;
+        if let Some(timer) = timer {
+            let ms = timer.read_ms(ctx, pass_names.len() as u32)?;
+            stats.gpu_ms = Some(ms.iter().sum());
+            stats.pass_ms = pass_names.into_iter().zip(ms).collect();
+        }
+        let errors = ctx.take_uncaptured_errors();
+        if let Some(first) = errors.first() {
+            return Err(RenderError::Gpu(GpuError::Validation {
+                what: label,
+                message: first.clone(),
+            }));
+        }
+        log::debug!(
+            "{}: {technique} frame {width}x{height}: {} lights visible of {}, {} draws, cpu {:.2} ms",
+            self.name,
+            stats.lights_visible,
+            stats.lights_total,
+            stats.draw_calls,
+            stats.cpu_ms
+        );
+        let t = self.targets.as_ref().expect("targets were just created");
+        let output = RenderOutput {
+            width,
+            height,
+            scene: t.scene.texture.clone(),
+            aux: t
+                .aux
+                .iter()
+                .map(|(n, tex)| (n.clone(), tex.texture.clone()))
+                .collect(),
+            camera: super::camera_std(camera, &proj),
+            gbuffer: GBufferTextures {
+                depth: t.depth.texture.clone(),
+                albedo: t.albedo.texture.clone(),
+                normal: t.normal.texture.clone(),
+                specular: t.specular.texture.clone(),
+                light_diffuse: t.light_diffuse.texture.clone(),
+                light_specular: t.light_specular.texture.clone(),
+            },
+        };
+        Ok((output, stats))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn technique_names_parse() {
+        for t in Technique::ALL {
+            assert_eq!(t.name().parse::<Technique>().unwrap(), t);
+        }
+        assert!("tiled".parse::<Technique>().is_err());
+    }
+}

@@ -1,0 +1,186 @@
+// Light-pass template: light volumes and full-screen lights over the G-buffer
+// (deferred and light pre-pass), composition, and the G-buffer resolve into the
+// AUX images. The generator appends every lighting shader of the scene renamed
+// `lmK_*` and the dispatch `fx_lighting(material, in)`, which switches on the
+// lighting model id stored in the G-buffer.
+
+@group(1) @binding(0) var fx_t_depth: texture_depth_2d;
+// rgb diffuse colour (sRGB storage, linear when loaded), a = material id / 255
+@group(1) @binding(1) var fx_t_albedo: texture_2d<f32>;
+// rg encoded view-space normal, b = roughness
+@group(1) @binding(2) var fx_t_normal: texture_2d<f32>;
+// rgb specular colour F0, a = lighting model id / 255
+@group(1) @binding(3) var fx_t_specular: texture_2d<f32>;
+@group(1) @binding(4) var fx_t_light_diffuse: texture_2d<f32>;
+@group(1) @binding(5) var fx_t_light_specular: texture_2d<f32>;
+
+struct FxLightVsOut {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) @interpolate(flat) light: u32,
+}
+
+// A light volume: unit icosphere scaled to the light's radius, or a unit cone
+// (apex at the origin, axis +Z, base radius 1 at z = 1) oriented along the light.
+@vertex
+fn fx_vs_volume(@location(0) p: vec3<f32>, @builtin(instance_index) ii: u32) -> FxLightVsOut {
+    let index = fx_visible[ii];
+    let l = fx_lights[index];
+    var vp: vec3<f32>;
+    if l.volume == 2u {
+        let d = l.direction;
+        let helper = select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(d.y) > 0.9);
+        let t = normalize(cross(helper, d));
+        let b = cross(d, t);
+        vp = l.position + (t * p.x + b * p.y) * l.cone_radius + d * (p.z * l.radius * l.volume_scale);
+    } else {
+        vp = l.position + p * (l.radius * l.volume_scale);
+    }
+    var out: FxLightVsOut;
+    out.pos = fx_frame.proj * vec4<f32>(vp, 1.0);
+    out.light = index;
+    return out;
+}
+
+@vertex
+fn fx_vs_light_fullscreen(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FxLightVsOut {
+    var out: FxLightVsOut;
+    out.pos = fx_fullscreen_pos(vi);
+    out.light = fx_visible[ii];
+    return out;
+}
+
+struct FxLightOut {
+    @location(0) diffuse: vec4<f32>,
+    @location(1) specular: vec4<f32>,
+}
+
+@fragment
+fn fx_fs_light(in: FxLightVsOut) -> FxLightOut {
+    let c = vec2<i32>(in.pos.xy);
+    let depth = textureLoad(fx_t_depth, c, 0);
+    if depth >= 1.0 {
+        return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
+    }
+    let p = fx_view_position(in.pos.xy, depth);
+    let g = textureLoad(fx_t_normal, c, 0);
+    let n = fx_decode_normal(g.xy);
+    let ls = fx_light_sample_shadowed(fx_lights[in.light], p, n);
+    if !ls.lit {
+        return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
+    }
+    let sp = textureLoad(fx_t_specular, c, 0);
+    let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
+    let model = u32(round(sp.a * 255.0));
+    let li = LightingInput(n, fx_safe_normalize(-p), ls.dir, ls.light, sp.rgb, g.z);
+    let lo = fx_lighting_model(model, material, li);
+    return FxLightOut(vec4<f32>(lo.diffuse, 0.0), vec4<f32>(lo.specular, 0.0));
+}
+
+// The clustered light pass: one full-screen triangle; each pixel reads the
+// G-buffer once and shades the global lights and the lights of its cluster
+// (src/render/clusters.rs).
+@fragment
+fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
+    let c = vec2<i32>(pos.xy);
+    let depth = textureLoad(fx_t_depth, c, 0);
+    if depth >= 1.0 {
+        return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
+    }
+    let p = fx_view_position(pos.xy, depth);
+    let g = textureLoad(fx_t_normal, c, 0);
+    let sp = textureLoad(fx_t_specular, c, 0);
+    let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
+    let model = u32(round(sp.a * 255.0));
+    let n = fx_decode_normal(g.xy);
+    let v = fx_safe_normalize(-p);
+    var diffuse = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
+    let range = fx_cluster_range(pos.xy, -p.z);
+    let globals = fx_frame.global_lights;
+    for (var i = 0u; i < globals + range.y; i++) {
+        // (the unselected operand may wrap round: u32 arithmetic is modular)
+        let j = select(range.x + i - globals, i, i < globals);
+        let ls = fx_light_sample_shadowed(fx_lights[fx_cluster_lights[j]], p, n);
+        if ls.lit {
+            let lo = fx_lighting_model(model, material, LightingInput(n, v, ls.dir, ls.light, sp.rgb, g.z));
+            diffuse += lo.diffuse;
+            specular += lo.specular;
+        }
+    }
+    return FxLightOut(vec4<f32>(diffuse, 0.0), vec4<f32>(specular, 0.0));
+}
+
+@vertex
+fn fx_vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fx_fullscreen_pos(vi);
+}
+
+// diffuse colour × diffuse light + specular light (which started as emission +
+// ambient in the geometry pass), through the fog
+@fragment
+fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let c = vec2<i32>(pos.xy);
+    let depth = textureLoad(fx_t_depth, c, 0);
+    if depth >= 1.0 {
+        return vec4<f32>(fx_frame.background.rgb, 1.0);
+    }
+    let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
+    let diffuse = textureLoad(fx_t_light_diffuse, c, 0).rgb;
+    let specular = textureLoad(fx_t_light_specular, c, 0).rgb;
+    let p = fx_view_position(pos.xy, depth);
+    return vec4<f32>(fx_fog(albedo * diffuse + specular, p), 1.0);
+}
+
+struct FxAuxA {
+    // linear view depth (positive distance along the view axis)
+    @location(0) depth: vec4<f32>,
+    @location(1) normal: vec4<f32>,
+    @location(2) position: vec4<f32>,
+}
+
+@fragment
+fn fx_fs_aux_a(@builtin(position) pos: vec4<f32>) -> FxAuxA {
+    let c = vec2<i32>(pos.xy);
+    let depth = textureLoad(fx_t_depth, c, 0);
+    var out: FxAuxA;
+    if depth >= 1.0 {
+        let p = fx_view_position(pos.xy, 1.0);
+        out.depth = vec4<f32>(fx_frame.far, 0.0, 0.0, 0.0);
+        out.normal = vec4<f32>(0.0);
+        out.position = vec4<f32>(p, 0.0);
+        return out;
+    }
+    let p = fx_view_position(pos.xy, depth);
+    let g = textureLoad(fx_t_normal, c, 0);
+    out.depth = vec4<f32>(-p.z, 0.0, 0.0, 0.0);
+    out.normal = vec4<f32>(fx_decode_normal(g.xy), 1.0);
+    out.position = vec4<f32>(p, 1.0);
+    return out;
+}
+
+struct FxAuxB {
+    @location(0) albedo: vec4<f32>,
+    // r = material id / 255, g = lighting model id / 255, b = roughness, a = 1
+    @location(1) material: vec4<f32>,
+    // mean specular reflectance F0
+    @location(2) specular: vec4<f32>,
+}
+
+@fragment
+fn fx_fs_aux_b(@builtin(position) pos: vec4<f32>) -> FxAuxB {
+    let c = vec2<i32>(pos.xy);
+    let depth = textureLoad(fx_t_depth, c, 0);
+    var out: FxAuxB;
+    if depth >= 1.0 {
+        out.albedo = vec4<f32>(0.0);
+        out.material = vec4<f32>(0.0);
+        out.specular = vec4<f32>(0.0);
+        return out;
+    }
+    let a = textureLoad(fx_t_albedo, c, 0);
+    let sp = textureLoad(fx_t_specular, c, 0);
+    out.albedo = vec4<f32>(a.rgb, 1.0);
+    out.material = vec4<f32>(a.a, sp.a, textureLoad(fx_t_normal, c, 0).z, 1.0);
+    out.specular = vec4<f32>(dot(sp.rgb, vec3<f32>(1.0 / 3.0)), 0.0, 0.0, 0.0);
+    return out;
+}

@@ -1,0 +1,262 @@
+//! Unit tests of `shadows.rs`: modes, splits, cascade fitting and stability,
+//! the layer budget, spot and point maps.
+
+use super::*;
+use crate::render::gpu_types::VOLUME_FULLSCREEN;
+
+fn camera() -> Camera {
+    Camera {
+        eye: Vec3::new(0.0, 3.0, 8.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 1.0,
+        near: 0.1,
+        far: 50.0,
+    }
+}
+
+fn light(kind: u32, position: Vec3, direction: Vec3, intensity: f32) -> GpuLight {
+    GpuLight {
+        position: position.into(),
+        radius: 20.0,
+        color: [intensity; 3],
+        kind,
+        direction: direction.normalize().into(),
+        volume_scale: 1.0,
+        atten: [1.0, 0.0, 1.0],
+        cos_outer: 0.6f32.cos(),
+        cos_inner: 0.5f32.cos(),
+        cone_radius: 0.0,
+        volume: VOLUME_FULLSCREEN,
+        range: 0.0,
+        casts_shadows: 1,
+        ..Zeroable::zeroed()
+    }
+}
+
+fn frame(cam: &Camera, budget: u32) -> ShadowFrame<'_> {
+    ShadowFrame {
+        camera: cam,
+        view: cam.view(),
+        aspect: 1.5,
+        bounds: Aabb {
+            min: Vec3::new(-10.0, -1.0, -10.0),
+            max: Vec3::new(10.0, 4.0, 10.0),
+        },
+        mode: ShadowMode::Pcf,
+        size: 1024,
+        budget,
+    }
+}
+
+#[test]
+fn modes_parse_and_print() {
+    for m in ShadowMode::ALL {
+        assert_eq!(m.name().parse::<ShadowMode>().unwrap(), m);
+    }
+    assert!("soft".parse::<ShadowMode>().is_err());
+    assert_eq!(ShadowMode::default(), ShadowMode::Pcf);
+}
+
+#[test]
+fn splits_grow_between_near_and_far() {
+    let s = cascade_splits(0.1, 100.0);
+    assert_eq!(s[0], 0.1);
+    assert_eq!(s[CASCADES], 100.0);
+    for w in s.windows(2) {
+        assert!(w[1] > w[0], "{s:?}");
+    }
+    // the practical scheme lies between the uniform and the logarithmic split
+    let uniform = 0.1 + 99.9 / CASCADES as f32;
+    let log = 0.1 * 1000f32.powf(1.0 / CASCADES as f32);
+    assert!(s[1] > log && s[1] < uniform, "{s:?}");
+}
+
+#[test]
+fn slice_sphere_holds_the_slice_corners() {
+    for (d0, d1, k) in [(0.1, 1.0, 0.7), (1.0, 30.0, 1.2), (5.0, 5.5, 0.3)] {
+        let (zc, r) = slice_sphere(d0, d1, k);
+        for (d, s) in [(d0, 1.0), (d1, 1.0), (d0, -1.0), (d1, -1.0)] {
+            let corner_dist = ((d - zc) * (d - zc) + k * k * d * d).sqrt();
+            assert!(corner_dist <= r * (1.0 + 1e-5), "{d0} {d1} {k} {s}");
+        }
+    }
+}
+
+#[test]
+fn budget_prefers_directional_then_the_important_lights() {
+    let cam = camera();
+    let view = cam.view();
+    let near_pos = view.transform_point3(Vec3::new(0.0, 2.0, 5.0));
+    let far_pos = view.transform_point3(Vec3::new(0.0, 2.0, -9.0));
+    let mut lights = vec![
+        light(KIND_POINT, far_pos, Vec3::NEG_Y, 5.0),
+        light(KIND_POINT, near_pos, Vec3::NEG_Y, 5.0),
+        light(KIND_DIRECTIONAL, Vec3::ZERO, Vec3::new(0.3, -1.0, 0.2), 1.0),
+        light(KIND_SPOT, near_pos, Vec3::NEG_Y, 5.0),
+    ];
+    // 4 cascades + one cube (6) + one spot (1) = 11 of the 12 needed... budget 11
+    let plan = plan(&mut lights, &frame(&cam, 11));
+    assert_eq!(plan.layers.len(), 11);
+    assert_eq!(plan.clip_from_world.len(), 11);
+    assert_eq!((lights[2].shadow_first, lights[2].shadow_count), (0, 4));
+    // the near point light and the spot beat the far point light
+    assert_eq!(lights[1].shadow_count, 6);
+    assert_eq!(lights[3].shadow_count, 1);
+    assert_eq!(lights[0].shadow_count, 0, "the far light lost its shadows");
+    assert_eq!((plan.lights_lost, plan.layers_lost), (1, 6));
+    let mut firsts: Vec<u32> = lights
+        .iter()
+        .filter(|l| l.shadow_count > 0)
+        .map(|l| l.shadow_first)
+        .collect();
+    firsts.sort();
+    assert_eq!(firsts, vec![0, 4, 10]);
+}
+
+#[test]
+fn off_plans_nothing() {
+    let cam = camera();
+    let mut f = frame(&cam, 24);
+    f.mode = ShadowMode::Off;
+    let mut lights = vec![light(KIND_DIRECTIONAL, Vec3::ZERO, Vec3::NEG_Y, 1.0)];
+    let p = plan(&mut lights, &f);
+    assert!(p.layers.is_empty());
+    assert_eq!(lights[0].shadow_count, 0);
+}
+
+#[test]
+fn cascades_cover_their_slice_and_the_scene_depth() {
+    let cam = camera();
+    let f = frame(&cam, 24);
+    let mut lights = vec![light(
+        KIND_DIRECTIONAL,
+        Vec3::ZERO,
+        cam.view().transform_vector3(Vec3::new(0.3, -1.0, 0.2)),
+        1.0,
+    )];
+    let p = plan(&mut lights, &f);
+    assert_eq!(p.layers.len(), CASCADES);
+    let k_y = (cam.fov_y * 0.5).tan();
+    let mut prev = cam.near;
+    for l in &p.layers {
+        assert!(l.split > prev);
+        // the slice's corners land inside the map, depth inside 0..1
+        for d in [prev, l.split] {
+            for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                let q = project(l, Vec3::new(sx * d * k_y * f.aspect, sy * d * k_y, -d));
+                assert!(
+                    (0.0..=1.0).contains(&q.x) && (0.0..=1.0).contains(&q.y),
+                    "{q}"
+                );
+                assert!((0.0..=1.0).contains(&q.z), "{q}");
+            }
+        }
+        // every scene corner is inside the depth range (casters outside the
+        // slice still cast)
+        for c in corners(&f.bounds) {
+            let q = project(l, f.view.transform_point3(c));
+            assert!((0.0..=1.0).contains(&q.z), "{q}");
+        }
+        prev = l.split;
+    }
+}
+
+#[test]
+fn cascade_texel_grid_is_stable_under_camera_motion() {
+    // A small sideways step of the camera moves the map by whole texels: a
+    // fixed world point keeps its sub-texel position.
+    let cam = camera();
+    let mut moved = cam;
+    moved.eye.x += 0.0123;
+    moved.target.x += 0.0123;
+    let world_dir = Vec3::new(0.3, -1.0, 0.2);
+    let p_world = Vec3::new(0.4, 0.0, -0.3);
+    let frac = |c: &Camera| {
+        let f = frame(c, 24);
+        let mut lights = vec![light(
+            KIND_DIRECTIONAL,
+            Vec3::ZERO,
+            c.view().transform_vector3(world_dir),
+            1.0,
+        )];
+        let p = plan(&mut lights, &f);
+        let q = project(&p.layers[0], c.view().transform_point3(p_world)) * f.size as f32;
+        (q.x.fract(), q.y.fract())
+    };
+    let (a, b) = (frac(&cam), frac(&moved));
+    assert!(
+        (a.0 - b.0).abs() < 1e-2 && (a.1 - b.1).abs() < 1e-2,
+        "{a:?} {b:?}"
+    );
+}
+
+#[test]
+fn spot_and_point_maps_see_what_the_light_lights() {
+    let cam = camera();
+    let f = frame(&cam, 24);
+    let view = cam.view();
+    let pos = Vec3::new(1.0, 3.0, 0.5);
+    let spot_dir = Vec3::new(0.0, -1.0, 0.3).normalize();
+    let mut lights = vec![
+        light(
+            KIND_SPOT,
+            view.transform_point3(pos),
+            view.transform_vector3(spot_dir),
+            5.0,
+        ),
+        light(KIND_POINT, view.transform_point3(pos), Vec3::NEG_Y, 5.0),
+    ];
+    let p = plan(&mut lights, &f);
+    assert_eq!(p.layers.len(), 7);
+    // a point on the spot's axis lands in the centre of the spot map
+    let on_axis = view.transform_point3(pos + spot_dir * 2.0);
+    let q = project(&p.layers[0], on_axis);
+    assert!((q.x - 0.5).abs() < 1e-3 && (q.y - 0.5).abs() < 1e-3, "{q}");
+    assert!(q.z > 0.0 && q.z < 1.0);
+    // a point along each world axis lands in the middle of its cube face
+    for (face, d) in CUBE_FACES.iter().enumerate() {
+        let q = project(&p.layers[1 + face], view.transform_point3(pos + *d * 3.0));
+        assert!(
+            (q.x - 0.5).abs() < 1e-3 && (q.y - 0.5).abs() < 1e-3,
+            "{face}: {q}"
+        );
+        // the face's corner direction stays inside (the border)
+        let side = if d.y.abs() > 0.5 {
+            Vec3::X + Vec3::Z
+        } else {
+            Vec3::Y + d.cross(Vec3::Y)
+        };
+        let q = project(
+            &p.layers[1 + face],
+            view.transform_point3(pos + (*d + side) * 3.0),
+        );
+        assert!(
+            (0.0..1.0).contains(&q.x) && (0.0..1.0).contains(&q.y),
+            "{face}: {q}"
+        );
+        assert!(p.layers[1 + face].perspective == 1);
+    }
+}
+
+#[test]
+fn lights_that_cast_no_shadows_get_no_layers() {
+    let cam = Camera {
+        eye: Vec3::new(0.0, 2.0, 8.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 1.0,
+        near: 0.1,
+        far: 50.0,
+    };
+    let mut lights = vec![
+        light(KIND_POINT, Vec3::new(0.0, 3.0, 0.0), Vec3::NEG_Y, 5.0),
+        light(KIND_POINT, Vec3::new(1.0, 3.0, 0.0), Vec3::NEG_Y, 5.0),
+    ];
+    lights[0].casts_shadows = 0;
+    let plan = plan(&mut lights, &frame(&cam, 24));
+    assert_eq!(plan.layers.len(), 6);
+    assert_eq!(lights[0].shadow_count, 0);
+    assert_eq!(lights[1].shadow_count, 6);
+    assert_eq!(plan.lights_lost, 0);
+}

@@ -1,0 +1,29 @@
+//! The scene model, without the GPU: what is drawn, not how.
+//!
+//! Meshes, instances, textures (decoded pixels), materials as data, lights and
+//! cameras, and the loaders that build them (the built-in scenes, glTF 2.0, and
+//! material files in the EFFECT language). Everything here is plain data tested on
+//! the CPU like `script` and `graph`; the renderer (`crate::render`) consumes it.
+//!
+//! - [`model`]: [`Scene`], [`Mesh`], [`Instance`], [`TextureImage`], bounds.
+//! - [`camera`]: [`Camera`] and the `--camera` specs; [`light`]: [`Light`];
+//!   [`material`]: [`Material`] (a surface + a lighting shader binding).
+//! - [`builtin`]: the procedural scenes (`builtin:room`, `builtin:bench`, ...).
+//! - [`gltf`]: validated glTF 2.0 loading (nodes, meshes, materials, lights,
+//!   cameras).
+//! - [`material_file`]: `MATERIAL.name = { ... }` files turned into [`Material`]s.
+
+pub mod builtin;
+pub mod camera;
+pub mod camera_path;
+pub mod gltf;
+pub mod light;
+pub mod material;
+pub mod material_file;
+pub mod model;
+
+pub use camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
+pub use camera_path::{CameraPath, Orbit};
+pub use light::{Light, LightKind, ATTENUATION_THRESHOLD};
+pub use material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
+pub use model::{Aabb, Instance, Mesh, Rng, Scene, SceneError, TextureImage, MAX_MATERIALS};
