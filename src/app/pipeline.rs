@@ -216,6 +216,11 @@ pub fn run_frames(
         })
         .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
     let halt_e = halt.clone();
+    // Set by this thread once the GPU stage has ended (before the encoder sees the
+    // end of its queue): whether the run completed, so the sink can make its output
+    // final (`finish`) or discard it (`abort`).
+    let complete = Arc::new(AtomicBool::new(false));
+    let complete_e = complete.clone();
     let encoder = std::thread::Builder::new()
         .name("fxgraph encode".into())
         .spawn(move || {
@@ -262,9 +267,14 @@ pub fn run_frames(
                 }
             }
             let t = Instant::now();
-            if let Err(err) = sink.finish() {
-                let n = r.done.len();
-                r.failed.push(FrameFailure::new(n, "output", err.into()));
+            // Complete: every frame read went through and was written, not stopped.
+            if complete_e.load(Ordering::SeqCst) && r.failed.is_empty() {
+                if let Err(err) = sink.finish() {
+                    let n = r.done.len();
+                    r.failed.push(FrameFailure::new(n, "output", err.into()));
+                }
+            } else {
+                sink.abort();
             }
             r.busy += t.elapsed();
             r
@@ -316,6 +326,13 @@ pub fn run_frames(
             let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
             fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);
             gpu_busy = gpu.busy;
+            // A stop seen by the decoder alone (between two frames) ended the input
+            // early: the run was interrupted all the same.
+            if stop.load(Ordering::SeqCst) {
+                gpu.mark_interrupted();
+            }
+            let done = fatal.is_none() && gpu.completed() && !halt.load(Ordering::Relaxed);
+            complete.store(done, Ordering::SeqCst);
         }
     }
     // (the stage's sender is dropped with it: the encoder ends after the last frame)

@@ -6,7 +6,7 @@
 use clap::Parser;
 use fxgraph::app::{
     apply_to_image, output_format_for, run_sequence, Effect, FilesSink, FilesSource, FrameSink,
-    FrameSource, ImageJob, Progress, RunError, SequenceOptions, Y4mSink, Y4mSource,
+    FrameSource, ImageJob, Progress, RunError, SequenceOptions,
 };
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
 use fxgraph::gpu::executor::Engine;
@@ -426,6 +426,8 @@ mod report;
 mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
+#[path = "fxrun/streams.rs"]
+mod streams;
 #[path = "fxrun/watch.rs"]
 mod watch;
 

@@ -35,7 +35,7 @@ impl OutputPattern {
             SequenceSpec::Dir(dir) => OutputPattern::in_dir(dir, OutputPattern::DIR_EXTENSION),
             other => Err(IoError::unsupported(
                 &other.display_path(),
-                "the output of a sequence must be a pattern such as out/%04d.png or a folder",
+                "the output of a sequence must be a pattern such as out/%04d.png, a folder, a .y4m or video file, or - (y4m on stdout)",
             )),
         }
     }
@@ -101,8 +101,9 @@ impl OutputPattern {
     }
 }
 
-/// The process id in the name of a temporary made by [`super::write_atomic`]
-/// (`.NAME.fxtmp-<pid>-<n>`, NAME non-empty, pid and n decimal), or `None` for any other
+/// The process id in the name of a temporary made by [`super::write_atomic`] or
+/// [`super::create_temporary`] (`.NAME.fxtmp-<pid>-<n>`, optionally followed by `.EXT`
+/// (letters and digits), NAME non-empty, pid and n decimal), or `None` for any other
 /// name.
 pub fn atomic_temporary_pid(file_name: &str) -> Option<u32> {
     let rest = file_name.strip_prefix('.')?;
@@ -110,7 +111,13 @@ pub fn atomic_temporary_pid(file_name: &str) -> Option<u32> {
     if at == 0 {
         return None;
     }
-    let (pid, n) = rest[at + ".fxtmp-".len()..].split_once('-')?;
+    let tail = &rest[at + ".fxtmp-".len()..];
+    let tail = match tail.split_once('.') {
+        Some((t, ext)) if !ext.is_empty() && ext.bytes().all(|b| b.is_ascii_alphanumeric()) => t,
+        Some(_) => return None,
+        None => tail,
+    };
+    let (pid, n) = tail.split_once('-')?;
     let digits = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
     if !digits(pid) || !digits(n) {
         return None;
@@ -132,7 +139,7 @@ fn process_alive(pid: u32) -> bool {
 }
 
 /// Delete the temporaries that [`super::write_atomic`] leaves in `dir` when a process is
-/// killed mid-write: regular files named exactly `.NAME.fxtmp-<pid>-<n>` (see
+/// killed mid-write: regular files named exactly `.NAME.fxtmp-<pid>-<n>[.EXT]` (see
 /// [`atomic_temporary_pid`]) whose process is no longer running (ours and, on Linux, any
 /// other live process's are kept, so a concurrent run writing into the same folder is not
 /// disturbed; a process on another machine sharing the folder is not seen). Nothing else
