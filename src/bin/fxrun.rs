@@ -106,6 +106,21 @@ fn main() -> ExitCode {
     env_logger::Builder::from_env(
         env_logger::Env::default().default_filter_or("warn,wgpu_hal::gles::egl=off"),
     )
+    // Warnings read like fxrun's own (`fxrun: warning: ...`); RUST_LOG=debug lines
+    // name their module.
+    .format(|buf, record| {
+        let msg = record.args().to_string();
+        match record.level() {
+            // Rendered diagnostics carry their own `path:line:col: warning:`.
+            log::Level::Warn if msg.contains(": warning:") => writeln!(buf, "{msg}"),
+            log::Level::Error | log::Level::Warn => writeln!(
+                buf,
+                "fxrun: {}: {msg}",
+                record.level().as_str().to_lowercase()
+            ),
+            level => writeln!(buf, "fxrun: {level} {}: {msg}", record.target()),
+        }
+    })
     .init();
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         // Silences a harmless warning of the Vulkan loader on headless machines.

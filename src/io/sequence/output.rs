@@ -101,10 +101,9 @@ impl OutputPattern {
     }
 }
 
-/// The process id in the name of a temporary made by [`super::write_atomic`] or
-/// [`super::create_temporary`] (`.NAME.fxtmp-<pid>-<n>`, optionally followed by `.EXT`
-/// (letters and digits), NAME non-empty, pid and n decimal), or `None` for any other
-/// name.
+/// The process id in the name of a temporary made by [`super::write_atomic`]
+/// (`.NAME.fxtmp-<pid>-<n>`, NAME non-empty, pid and n decimal), or `None` for any other
+/// name (a video encoder's temporary, `.NAME.fxtmp-<pid>-<n>.EXT`, is not one).
 pub fn atomic_temporary_pid(file_name: &str) -> Option<u32> {
     let rest = file_name.strip_prefix('.')?;
     let at = rest.rfind(".fxtmp-")?;
@@ -139,7 +138,7 @@ fn process_alive(pid: u32) -> bool {
 }
 
 /// Delete the temporaries that [`super::write_atomic`] leaves in `dir` when a process is
-/// killed mid-write: regular files named exactly `.NAME.fxtmp-<pid>-<n>[.EXT]` (see
+/// killed mid-write: regular files named exactly `.NAME.fxtmp-<pid>-<n>` (see
 /// [`atomic_temporary_pid`]) whose process is no longer running (ours and, on Linux, any
 /// other live process's are kept, so a concurrent run writing into the same folder is not
 /// disturbed; a process on another machine sharing the folder is not seen). Nothing else

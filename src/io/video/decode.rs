@@ -15,14 +15,24 @@ pub struct Decoder {
 }
 
 /// The ffmpeg arguments [`Decoder::spawn`] uses: the video stream `info.index`,
-/// converted to the planar format of its layout and depth (`yuv420p10le`); `-strict
-/// -1` lets ffmpeg write the y4m formats above 8 bits.
+/// converted to the planar format of its layout and depth (`yuv420p10le`), at a
+/// constant frame rate; `-strict -1` lets ffmpeg write the y4m formats above 8 bits.
 pub fn decode_args(info: &VideoInfo) -> Vec<String> {
     let depth = pix_fmt::y4m_depth(info.layout, info.depth);
-    let mut a: Vec<String> = ["-hide_banner", "-nostdin", "-loglevel", "error", "-i"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+    // `-copyts`: ffmpeg's constant-rate output then starts at the first frame instead
+    // of padding from the file's start with copies of it (a video stream starting
+    // after the audio), and still fills gaps of variable-rate video.
+    let mut a: Vec<String> = [
+        "-hide_banner",
+        "-nostdin",
+        "-loglevel",
+        "error",
+        "-copyts",
+        "-i",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     a.push(file_arg(&info.path));
     for s in [
         "-map".to_string(),

@@ -25,6 +25,21 @@ const CRF_DEFAULTS: &[(&str, u32)] = &[
     ("libsvtav1", 30),
 ];
 
+/// The `-preset` values of libx264 and libx265 (checked before ffmpeg starts: ffmpeg
+/// would only fail once the first frame arrives).
+const X26X_PRESETS: [&str; 10] = [
+    "ultrafast",
+    "superfast",
+    "veryfast",
+    "faster",
+    "fast",
+    "medium",
+    "slow",
+    "slower",
+    "veryslow",
+    "placebo",
+];
+
 /// Where the audio and subtitles of the output come from: the input video, and the
 /// part of it the output covers (`--frames`).
 #[derive(Debug, Clone)]
@@ -164,6 +179,14 @@ impl Encoder {
                     .collect::<Vec<_>>()
                     .join(", ")
             )));
+        }
+        if let Some(p) = &opts.preset {
+            if (codec == "libx264" || codec == "libx265") && !X26X_PRESETS.contains(&p.as_str()) {
+                return Err(option(format!(
+                    "--preset {p}: {codec} takes {}",
+                    X26X_PRESETS.join(", ")
+                )));
+            }
         }
         let ext = output
             .extension()

@@ -45,7 +45,7 @@ pub const INSTALL_HINT: &str = "install it (Debian/Ubuntu: apt-get install ffmpe
 #[derive(Debug, thiserror::Error)]
 pub enum VideoError {
     /// `ffmpeg` or `ffprobe` is not on `PATH` (input rejected: exit 1 in fxrun).
-    #[error("{}: video files are read and written with {program}, which was not found on PATH: {INSTALL_HINT}", path.display())]
+    #[error("{}: {program} was not found on PATH (fxrun reads and writes video files with ffmpeg and ffprobe): {INSTALL_HINT}", path.display())]
     Missing {
         path: PathBuf,
         program: &'static str,
@@ -75,7 +75,7 @@ impl From<VideoError> for IoError {
             VideoError::Missing { path, program } => IoError::Unsupported {
                 path,
                 message: format!(
-                    "video files are read and written with {program}, which was not found on PATH: {INSTALL_HINT}"
+                    "{program} was not found on PATH (fxrun reads and writes video files with ffmpeg and ffprobe): {INSTALL_HINT}"
                 ),
             },
             VideoError::Io {

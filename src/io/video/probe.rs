@@ -174,7 +174,7 @@ pub fn parse(path: &Path, json: &[u8]) -> Result<VideoInfo, VideoError> {
     let pix = v.pix_fmt.clone().unwrap_or_default();
     if pix.is_empty() {
         return Err(input(
-            "the video stream has no pixel format (an unknown codec?)".into(),
+            "ffprobe finds no pixel format for the video stream (a damaged file, or a codec this ffmpeg cannot decode)".into(),
         ));
     }
     let (layout, mut depth) = pix_fmt::parse(&pix);
