@@ -14,7 +14,7 @@ const IDENTITY: &str = "EFFECT.id = { OUT = IN }";
 /// A temporary folder with `id.fx`, or `None` without a GPU or ffmpeg (in CI: a
 /// panic).
 fn setup() -> Option<tempfile::TempDir> {
-    common::engine()?;
+    drop(common::engine()?);
     if !have_ffmpeg() {
         return None;
     }

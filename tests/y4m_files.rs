@@ -13,7 +13,7 @@ const IDENTITY: &str = "EFFECT.id = { OUT = IN }";
 
 /// A temporary folder with `id.fx`, or `None` without a GPU (or, in CI, a panic).
 fn setup() -> Option<tempfile::TempDir> {
-    common::engine()?;
+    drop(common::engine()?);
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("id.fx"), IDENTITY).unwrap();
     Some(dir)
@@ -284,7 +284,11 @@ fn ten_bit_streams_keep_every_level() {
     let f = ramp(w, h, 10, false);
     std::fs::write(
         d.join("in.y4m"),
-        y4m("W160 H64 F25:1 Ip A1:1 C420p10", 10, &[f.clone()]),
+        y4m(
+            "W160 H64 F25:1 Ip A1:1 C420p10",
+            10,
+            std::slice::from_ref(&f),
+        ),
     )
     .unwrap();
     let o = fxrun_in(
@@ -339,7 +343,11 @@ fn twelve_bit_and_mono16_are_read_and_written() {
     let f = ramp(w, h, 12, false);
     std::fs::write(
         d.join("in12.y4m"),
-        y4m("W160 H64 F25:1 Ip A1:1 C420p12", 12, &[f.clone()]),
+        y4m(
+            "W160 H64 F25:1 Ip A1:1 C420p12",
+            12,
+            std::slice::from_ref(&f),
+        ),
     )
     .unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "in12.y4m", "-o", "out12.y4m"]);

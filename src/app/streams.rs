@@ -66,7 +66,7 @@ pub fn texture_format_for_depth(depth: u8) -> Format {
 enum Reader {
     Stdin(Y4mReader<std::io::BufReader<std::io::Stdin>>),
     File(Y4mReader<std::fs::File>),
-    Video(Y4mReader<ChildStdout>, Decoder),
+    Video(Y4mReader<ChildStdout>, Box<Decoder>),
 }
 
 /// An input stream whose header has been read.
@@ -131,8 +131,11 @@ impl OpenedInput {
                     }
                 };
                 let frames = info.frames;
-                let mut opened =
-                    OpenedInput::new(Reader::Video(reader, decoder), Some(info), commands);
+                let mut opened = OpenedInput::new(
+                    Reader::Video(reader, Box::new(decoder)),
+                    Some(info),
+                    commands,
+                );
                 opened.frames = frames;
                 Ok(opened)
             }
@@ -196,7 +199,7 @@ impl OpenedInput {
 /// it ends ffmpeg.
 struct VideoSource {
     inner: Y4mSource<ChildStdout>,
-    decoder: Decoder,
+    decoder: Box<Decoder>,
     ended: bool,
 }
 

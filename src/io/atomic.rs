@@ -42,15 +42,16 @@ pub fn create_temporary(path: &Path, extension: Option<&str>) -> Result<(PathBuf
             std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"),
         )
     })?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
     let pid = std::process::id();
     let ext = extension.map(|e| format!(".{e}")).unwrap_or_default();
     loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let tmp = dir.join(format!(".{}.fxtmp-{pid}-{n}{ext}", name.to_string_lossy()));
+        let file = format!(".{}.fxtmp-{pid}-{n}{ext}", name.to_string_lossy());
+        let tmp = match dir {
+            Some(d) => d.join(file),
+            None => PathBuf::from(file),
+        };
         match OpenOptions::new().write(true).create_new(true).open(&tmp) {
             Ok(file) => return Ok((tmp, file)),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,

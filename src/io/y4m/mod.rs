@@ -193,7 +193,6 @@ pub use super::yuv::*;
 #[cfg(test)]
 mod tests {
     use super::super::srgb;
-    use super::super::yuv::*;
     use super::*;
 
     #[test]
