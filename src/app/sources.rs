@@ -230,8 +230,8 @@ impl<W: io::OutputTarget> Y4mSink<W> {
         }
     }
 
-    /// The target back (flushed when frames were written; errors ignored), if it has
-    /// not been handed back already.
+    /// The target back (flushed when frames were written), if it has not been handed
+    /// back already.
     fn take_target(&mut self) -> Result<Option<W>, IoError> {
         match self.writer.take() {
             Some(w) => w.into_inner().map(Some).map_err(y4m_error),
@@ -294,12 +294,14 @@ impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
         }
     }
     fn abort(&mut self) {
-        match self.take_target() {
-            Ok(Some(mut t)) => t.abandon(),
-            Ok(None) => {}
-            // The flush failed: dropping the target discards it (a file's temporary
-            // is removed, an encoder killed).
-            Err(_) => {}
+        // Not flushed here: the target decides (stdout keeps what was written, a
+        // file's temporary is removed, an encoder is killed first).
+        let target = match self.writer.take() {
+            Some(w) => Some(w.into_unflushed()),
+            None => self.inner.take(),
+        };
+        if let Some(mut t) = target {
+            t.abandon();
         }
     }
 }

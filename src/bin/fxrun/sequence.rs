@@ -16,6 +16,9 @@ pub(crate) fn run_sequence_cli(
     if cli.rate == 0 || cli.rate > 4 {
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
+    // Ctrl-C stops the run from here on (the ffmpeg children started below are in
+    // their own process group: fxrun ends them).
+    let stop = stop_flag();
     let mut effect = Effect::compile(&cli.effects, &cli.set)?;
     print_diagnostics(cli, &effect);
     let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
@@ -225,7 +228,6 @@ pub(crate) fn run_sequence_cli(
             effect = Effect::compile(&cli.effects, &set)?;
         }
     }
-    let stop = stop_flag();
     let opts = SequenceOptions {
         output_format,
         assume_linear: cli.assume_linear,

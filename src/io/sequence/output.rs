@@ -110,13 +110,7 @@ pub fn atomic_temporary_pid(file_name: &str) -> Option<u32> {
     if at == 0 {
         return None;
     }
-    let tail = &rest[at + ".fxtmp-".len()..];
-    let tail = match tail.split_once('.') {
-        Some((t, ext)) if !ext.is_empty() && ext.bytes().all(|b| b.is_ascii_alphanumeric()) => t,
-        Some(_) => return None,
-        None => tail,
-    };
-    let (pid, n) = tail.split_once('-')?;
+    let (pid, n) = rest[at + ".fxtmp-".len()..].split_once('-')?;
     let digits = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
     if !digits(pid) || !digits(n) {
         return None;
