@@ -196,6 +196,14 @@ fn a_failed_run_keeps_the_existing_output() {
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(stderr(&o).contains("exists already"), "{}", stderr(&o));
     assert_eq!(std::fs::read(d.join("out.y4m")).unwrap(), b"the old output");
+    // The input as the output is refused (it would be replaced).
+    let o = fxrun_in(d, &["id.fx", "-i", "cut.y4m", "-o", "./cut.y4m"]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("would replace the input"),
+        "{}",
+        stderr(&o)
+    );
     // A good run replaces it.
     std::fs::write(
         d.join("in.y4m"),

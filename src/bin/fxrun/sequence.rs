@@ -35,6 +35,21 @@ pub(crate) fn run_sequence_cli(
     let load = fxgraph::io::LoadOptions {
         assume_linear: cli.assume_linear,
     };
+    // A y4m or video file read and written at once would be replaced by the output.
+    if let (
+        SequenceSpec::Y4m(i) | SequenceSpec::Video(i),
+        SequenceSpec::Y4m(o) | SequenceSpec::Video(o),
+    ) = (&ispec, &ospec)
+    {
+        if let (Ok(a), Ok(b)) = (std::fs::canonicalize(i), std::fs::canonicalize(o)) {
+            if a == b {
+                return Err(rejected(format!(
+                    "-o {}: the output would replace the input; write another file",
+                    o.display()
+                )));
+            }
+        }
+    }
     // A whole y4m or video file is written or not: with --skip-existing, an existing
     // one is kept and the run skipped.
     if let (true, SequenceSpec::Y4m(p) | SequenceSpec::Video(p)) = (cli.skip_existing, &ospec) {

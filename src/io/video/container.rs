@@ -98,7 +98,8 @@ pub const CONTAINERS: &[Container] = &[
         extensions: &["mxf"],
         codecs_8bit: &["libx264", "mpeg2video"],
         codecs_high: &["libx264"],
-        audio_copy: Some(&["pcm_s16le", "pcm_s24le"]),
+        // MXF takes 48 kHz PCM only: every stream is converted (PCM losslessly).
+        audio_copy: Some(&[]),
         audio_convert: &["pcm_s24le", "-ar", "48000"],
         subtitles: Subtitles::Only(&[]),
     },
