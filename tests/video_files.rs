@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::cli::{code, fxrun_in, fxrun_with, stderr};
+use common::cli::{assert_run, fxrun_in, fxrun_with};
 use common::video::{ffmpeg, frame_count, have_ffmpeg, probe, streams};
 use std::path::Path;
 
@@ -89,17 +89,15 @@ fn an_mkv_with_audio_becomes_an_mp4_with_its_audio_and_subtitles() {
     let d = dir.path();
     make_mkv(d, "in.mkv", 10, "yuv420p", true);
     let o = fxrun_in(d, &["id.fx", "-i", "in.mkv", "-o", "out.mp4", "-v"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let err = stderr(&o);
-    assert!(
-        err.contains("running: ffprobe -v error -print_format json"),
-        "{err}"
-    );
-    assert!(err.contains("-f yuv4mpegpipe -"), "{err}");
-    assert!(err.contains("-c:v libx264 -pix_fmt yuv420p"), "{err}");
-    assert!(
-        err.contains("subtitle stream 2 (subrip) is converted to mov_text"),
-        "{err}"
+    assert_run(
+        &o,
+        0,
+        &[
+            "running: ffprobe -v error -print_format json",
+            "-f yuv4mpegpipe -",
+            "-c:v libx264 -pix_fmt yuv420p",
+            "subtitle stream 2 (subrip) is converted to mov_text",
+        ],
     );
     let out = d.join("out.mp4");
     let probe = probe(&out);
@@ -140,7 +138,7 @@ fn an_mkv_with_audio_becomes_an_mp4_with_its_audio_and_subtitles() {
             "id.fx", "-i", "in.mkv", "-o", "part.mkv", "--frames", "2..6",
         ],
     );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     assert_eq!(frame_count(&d.join("part.mkv")), 5);
     let probe = common::video::probe(&d.join("part.mkv"));
     let dur: f64 = probe["format"]["duration"]
@@ -163,12 +161,12 @@ fn a_10_bit_video_gives_a_10_bit_output() {
     let d = dir.path();
     make_mkv(d, "in10.mkv", 6, "yuv420p10le", false);
     let o = fxrun_in(d, &["deinterlace", "-i", "in10.mkv", "-o", "out.mp4"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     let v = probe(&d.join("out.mp4"));
     assert_eq!(streams(&v, "video")[0]["pix_fmt"], "yuv420p10le");
     assert_eq!(frame_count(&d.join("out.mp4")), 6);
     let o = fxrun_in(d, &["id.fx", "-i", "in10.mkv", "-o", "out.y4m"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     let y = std::fs::read(d.join("out.y4m")).unwrap();
     assert!(
         y.starts_with(b"YUV4MPEG2 W96 H64 F25:1 Ip A1:1 C420p10"),
@@ -177,7 +175,7 @@ fn a_10_bit_video_gives_a_10_bit_output() {
     );
     // A 10-bit y4m to WebM: VP9 at 10 bits.
     let o = fxrun_in(d, &["id.fx", "-i", "out.y4m", "-o", "out.webm", "-v"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     let v = probe(&d.join("out.webm"));
     assert_eq!(streams(&v, "video")[0]["codec_name"], "vp9");
     assert_eq!(streams(&v, "video")[0]["pix_fmt"], "yuv420p10le");
@@ -198,7 +196,7 @@ fn a_10_bit_video_gives_a_10_bit_output() {
             "veryfast",
         ],
     );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     assert_eq!(
         streams(&probe(&d.join("out8.mp4")), "video")[0]["pix_fmt"],
         "yuv420p"
@@ -223,24 +221,13 @@ fn without_ffmpeg_the_error_says_how_to_install_it() {
     std::fs::create_dir(&empty).unwrap();
     let env = [("PATH", empty.to_str().unwrap())];
     let o = fxrun_with(d, &["id.fx", "-i", "in.mkv", "-o", "out.y4m"], &env, b"");
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("ffprobe was not found on PATH"),
-        "{}",
-        stderr(&o)
-    );
-    assert!(
-        stderr(&o).contains("apt-get install ffmpeg"),
-        "{}",
-        stderr(&o)
+    assert_run(
+        &o,
+        1,
+        &["ffprobe was not found on PATH", "apt-get install ffmpeg"],
     );
     let o = fxrun_with(d, &["id.fx", "-i", "in.y4m", "-o", "out.mp4"], &env, b"");
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("out.mp4: ffmpeg was not found on PATH"),
-        "{}",
-        stderr(&o)
-    );
+    assert_run(&o, 1, &["out.mp4: ffmpeg was not found on PATH"]);
     assert!(!d.join("out.mp4").exists() && !d.join("out.y4m").exists());
     assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
 }
@@ -282,57 +269,47 @@ fn ffmpeg_failures_are_reported_with_its_stderr_and_leave_no_output() {
     // A file ffprobe rejects.
     std::fs::write(d.join("bad.mkv"), common::rng::Rng(7).bytes(4000)).unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "bad.mkv", "-o", "out.mp4"]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("bad.mkv: ffprobe cannot read the file"),
-        "{}",
-        stderr(&o)
-    );
-    assert!(
-        stderr(&o).contains("ffprobe: bad.mkv: Invalid data found"),
-        "{}",
-        stderr(&o)
+    assert_run(
+        &o,
+        1,
+        &[
+            "bad.mkv: ffprobe cannot read the file",
+            "ffprobe: bad.mkv: Invalid data found",
+        ],
     );
     assert!(!d.join("out.mp4").exists());
-    // ffmpeg fails while decoding: the input is rejected (exit 1), with its stderr.
+    // ffmpeg fails while decoding: the input is rejected (exit 1); while encoding:
+    // an output fault (exit 2). Either way with its stderr, and the old output kept.
     make_mkv(d, "in.mkv", 10, "yuv420p", true);
     std::fs::write(d.join("out.mp4"), b"the old output").unwrap();
-    let path = fake_ffmpeg(d, "decode");
-    let o = fxrun_with(
-        d,
-        &["id.fx", "-i", "in.mkv", "-o", "out.mp4"],
-        &[("PATH", &path)],
-        b"",
-    );
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("in.mkv: ffmpeg could not decode the video (exit status 1)"),
-        "{}",
-        stderr(&o)
-    );
-    assert!(
-        stderr(&o).contains("ffmpeg: fake decoder: corrupt macroblock"),
-        "{}",
-        stderr(&o)
-    );
-    assert_eq!(std::fs::read(d.join("out.mp4")).unwrap(), b"the old output");
-    assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
-    // ffmpeg fails while encoding: an output fault (exit 2), the old output kept.
-    let path = fake_ffmpeg(d, "encode");
-    let o = fxrun_with(
-        d,
-        &["id.fx", "-i", "in.mkv", "-o", "out.mp4"],
-        &[("PATH", &path)],
-        b"",
-    );
-    assert_eq!(code(&o), 2, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("ffmpeg: fake encoder: the disk is on fire"),
-        "{}",
-        stderr(&o)
-    );
-    assert_eq!(std::fs::read(d.join("out.mp4")).unwrap(), b"the old output");
-    assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+    for (mode, status, says) in [
+        (
+            "decode",
+            1,
+            [
+                "in.mkv: ffmpeg could not decode the video (exit status 1)",
+                "ffmpeg: fake decoder: corrupt macroblock",
+            ],
+        ),
+        (
+            "encode",
+            2,
+            [
+                "out.mp4: ", // on writing or on finishing: ffmpeg may read it all first
+                "ffmpeg: fake encoder: the disk is on fire",
+            ],
+        ),
+    ] {
+        let path = fake_ffmpeg(d, mode);
+        let args = ["id.fx", "-i", "in.mkv", "-o", "out.mp4"];
+        assert_run(
+            &fxrun_with(d, &args, &[("PATH", &path)], b""),
+            status,
+            &says,
+        );
+        assert_eq!(std::fs::read(d.join("out.mp4")).unwrap(), b"the old output");
+        assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+    }
     // Options ffmpeg would refuse are refused before it starts (exit 1).
     for (opt, val, says) in [
         (
@@ -344,8 +321,7 @@ fn ffmpeg_failures_are_reported_with_its_stderr_and_leave_no_output() {
         ("--preset", "warp9", "libx264 takes ultrafast"),
     ] {
         let o = fxrun_in(d, &["id.fx", "-i", "in.mkv", "-o", "out.mp4", opt, val]);
-        assert_eq!(code(&o), 1, "{}", stderr(&o));
-        assert!(stderr(&o).contains(says), "{}", stderr(&o));
+        assert_run(&o, 1, &[says]);
     }
     assert_eq!(std::fs::read(d.join("out.mp4")).unwrap(), b"the old output");
 }

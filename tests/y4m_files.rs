@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::cli::{code, fxrun_in, fxrun_with, stderr};
+use common::cli::{assert_run, fxrun_in, fxrun_with};
 use common::video::{ffmpeg, have_ffmpeg, probe, read_y4m, samples_420, streams, y4m};
 use std::path::Path;
 
@@ -46,6 +46,19 @@ fn frame_420(
     ]
 }
 
+/// `fxrun ARGS` in `d` (expected to succeed), then the y4m file `out` it wrote: its
+/// header line and frames of `samples` samples at `depth` bits.
+fn run_read(d: &Path, args: &str, out: &str, depth: u8, samples: usize) -> (String, Vec<Vec<u16>>) {
+    let args: Vec<&str> = args.split(' ').collect();
+    assert_run(&fxrun_in(d, &args), 0, &[]);
+    read_y4m(&std::fs::read(d.join(out)).unwrap(), depth, samples)
+}
+
+/// Write the y4m file `name` in `d` (see [`y4m`]).
+fn put(d: &Path, name: &str, header: &str, depth: u8, frames: &[Vec<Vec<u16>>]) {
+    std::fs::write(d.join(name), y4m(header, depth, frames)).unwrap();
+}
+
 fn max_diff(a: &[u16], b: &[u16]) -> u16 {
     assert_eq!(a.len(), b.len());
     a.iter()
@@ -70,7 +83,7 @@ fn an_8bit_file_round_trip_equals_the_pipe() {
     let input = y4m("W64 H48 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "out.y4m"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     let out = std::fs::read(d.join("out.y4m")).unwrap();
     let (header, got) = read_y4m(&out, 8, samples_420(w, h));
     assert_eq!(header, "YUV4MPEG2 W64 H48 F25:1 Ip A1:1 C420jpeg");
@@ -82,7 +95,7 @@ fn an_8bit_file_round_trip_equals_the_pipe() {
     }
     // The same bytes as the stream through a pipe.
     let piped = fxrun_with(d, &["id.fx", "-i", "-", "-o", "-"], &[], &input);
-    assert_eq!(code(&piped), 0, "{}", stderr(&piped));
+    assert_run(&piped, 0, &[]);
     assert!(piped.stdout == out, "file and pipe outputs differ");
     assert_no_temporaries(d);
     if have_ffmpeg() {
@@ -109,10 +122,10 @@ fn deinterlace_reads_and_writes_y4m_files() {
         .collect();
     let input = y4m("W64 H48 F25:1 It A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
-    let o = fxrun_in(d, &["deinterlace", "-i", "in.y4m", "-o", "out.y4m"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let (header, got) = read_y4m(
-        &std::fs::read(d.join("out.y4m")).unwrap(),
+    let (header, got) = run_read(
+        d,
+        "deinterlace -i in.y4m -o out.y4m",
+        "out.y4m",
         8,
         samples_420(w, h),
     );
@@ -129,42 +142,20 @@ fn deinterlace_reads_and_writes_y4m_files() {
         }
     }
     // Field rate: two frames per input frame, at twice the rate.
-    let o = fxrun_in(
+    let (header, got) = run_read(
         d,
-        &[
-            "deinterlace",
-            "-i",
-            "in.y4m",
-            "-o",
-            "out2.y4m",
-            "--rate",
-            "2",
-        ],
-    );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let (header, got) = read_y4m(
-        &std::fs::read(d.join("out2.y4m")).unwrap(),
+        "deinterlace -i in.y4m -o out2.y4m --rate 2",
+        "out2.y4m",
         8,
         samples_420(w, h),
     );
     assert_eq!(header, "YUV4MPEG2 W64 H48 F50:1 Ip A1:1 C420jpeg");
     assert_eq!(got.len(), 8);
     // --frames takes part of the file.
-    let o = fxrun_in(
+    let (_, got) = run_read(
         d,
-        &[
-            "deinterlace",
-            "-i",
-            "in.y4m",
-            "-o",
-            "part.y4m",
-            "--frames",
-            "1..2",
-        ],
-    );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let (_, got) = read_y4m(
-        &std::fs::read(d.join("part.y4m")).unwrap(),
+        "deinterlace -i in.y4m -o part.y4m --frames 1..2",
+        "part.y4m",
         8,
         samples_420(w, h),
     );
@@ -184,8 +175,7 @@ fn a_failed_run_keeps_the_existing_output() {
     std::fs::write(d.join("cut.y4m"), &input).unwrap();
     std::fs::write(d.join("out.y4m"), b"the old output").unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "cut.y4m", "-o", "out.y4m"]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(stderr(&o).contains("frame 2"), "{}", stderr(&o));
+    assert_run(&o, 1, &["frame 2"]);
     assert_eq!(std::fs::read(d.join("out.y4m")).unwrap(), b"the old output");
     assert_no_temporaries(d);
     // --skip-existing: a whole file exists, nothing to do.
@@ -193,32 +183,22 @@ fn a_failed_run_keeps_the_existing_output() {
         d,
         &["id.fx", "-i", "cut.y4m", "-o", "out.y4m", "--skip-existing"],
     );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    assert!(stderr(&o).contains("exists already"), "{}", stderr(&o));
+    assert_run(&o, 0, &["exists already"]);
     assert_eq!(std::fs::read(d.join("out.y4m")).unwrap(), b"the old output");
     // The input as the output is refused (it would be replaced).
     let o = fxrun_in(d, &["id.fx", "-i", "cut.y4m", "-o", "./cut.y4m"]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("would replace the input"),
-        "{}",
-        stderr(&o)
-    );
+    assert_run(&o, 1, &["would replace the input"]);
     // A good run replaces it.
-    std::fs::write(
-        d.join("in.y4m"),
-        y4m("W32 H16 F25:1 Ip A1:1 C420jpeg", 8, &frames),
-    )
-    .unwrap();
+    put(d, "in.y4m", "W32 H16 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "out.y4m"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     assert!(std::fs::read(d.join("out.y4m"))
         .unwrap()
         .starts_with(b"YUV4MPEG2 W32 H16"));
     // Image frames to a y4m file: the rate is --fps.
     std::fs::create_dir(d.join("png")).unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "png/%02d.png"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     let o = fxrun_in(
         d,
         &[
@@ -231,7 +211,7 @@ fn a_failed_run_keeps_the_existing_output() {
             "29.97",
         ],
     );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     let back = std::fs::read(d.join("back.y4m")).unwrap();
     assert!(
         back.starts_with(b"YUV4MPEG2 W32 H16 F30000:1001 Ip"),
@@ -264,11 +244,11 @@ fn ten_bit_streams_keep_every_level() {
     for (range, full) in [("LIMITED", false), ("FULL", true)] {
         let f = ramp(w, h, 10, full);
         let header = format!("W160 H64 F25:1 Ip A1:1 C420p10 XYSCSS=420P10 XCOLORRANGE={range}");
-        std::fs::write(d.join("in.y4m"), y4m(&header, 10, &[f.clone(), f.clone()])).unwrap();
-        let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "out.y4m"]);
-        assert_eq!(code(&o), 0, "{}", stderr(&o));
-        let (head, got) = read_y4m(
-            &std::fs::read(d.join("out.y4m")).unwrap(),
+        put(d, "in.y4m", &header, 10, &[f.clone(), f.clone()]);
+        let (head, got) = run_read(
+            d,
+            "id.fx -i in.y4m -o out.y4m",
+            "out.y4m",
             10,
             samples_420(w, h),
         );
@@ -290,30 +270,17 @@ fn ten_bit_streams_keep_every_level() {
     }
     // 10 bits in, 12 bits out (--bit-depth): the same levels times 4.
     let f = ramp(w, h, 10, false);
-    std::fs::write(
-        d.join("in.y4m"),
-        y4m(
-            "W160 H64 F25:1 Ip A1:1 C420p10",
-            10,
-            std::slice::from_ref(&f),
-        ),
-    )
-    .unwrap();
-    let o = fxrun_in(
+    put(
         d,
-        &[
-            "id.fx",
-            "-i",
-            "in.y4m",
-            "-o",
-            "out12.y4m",
-            "--bit-depth",
-            "12",
-        ],
+        "in.y4m",
+        "W160 H64 F25:1 Ip A1:1 C420p10",
+        10,
+        std::slice::from_ref(&f),
     );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let (head, got) = read_y4m(
-        &std::fs::read(d.join("out12.y4m")).unwrap(),
+    let (head, got) = run_read(
+        d,
+        "id.fx -i in.y4m -o out12.y4m --bit-depth 12",
+        "out12.y4m",
         12,
         samples_420(w, h),
     );
@@ -333,12 +300,7 @@ fn ten_bit_streams_keep_every_level() {
             "11",
         ],
     );
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("8, 9, 10, 12, 14, 16"),
-        "{}",
-        stderr(&o)
-    );
+    assert_run(&o, 1, &["8, 9, 10, 12, 14, 16"]);
     assert!(!d.join("bad.y4m").exists());
     assert_no_temporaries(d);
 }
@@ -349,19 +311,17 @@ fn twelve_bit_and_mono16_are_read_and_written() {
     let d = dir.path();
     let (w, h) = (160, 64);
     let f = ramp(w, h, 12, false);
-    std::fs::write(
-        d.join("in12.y4m"),
-        y4m(
-            "W160 H64 F25:1 Ip A1:1 C420p12",
-            12,
-            std::slice::from_ref(&f),
-        ),
-    )
-    .unwrap();
-    let o = fxrun_in(d, &["id.fx", "-i", "in12.y4m", "-o", "out12.y4m"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let (head, got) = read_y4m(
-        &std::fs::read(d.join("out12.y4m")).unwrap(),
+    put(
+        d,
+        "in12.y4m",
+        "W160 H64 F25:1 Ip A1:1 C420p12",
+        12,
+        std::slice::from_ref(&f),
+    );
+    let (head, got) = run_read(
+        d,
+        "id.fx -i in12.y4m -o out12.y4m",
+        "out12.y4m",
         12,
         samples_420(w, h),
     );
@@ -374,10 +334,9 @@ fn twelve_bit_and_mono16_are_read_and_written() {
         .map(|i| ((i as u32 * 7 * 6) % 65536) as u16)
         .collect();
     let header = "W160 H64 F25:1 Ip A1:1 Cmono16 XCOLORRANGE=FULL";
-    std::fs::write(d.join("in16.y4m"), y4m(header, 16, &[vec![mono.clone()]])).unwrap();
-    let o = fxrun_in(d, &["id.fx", "-i", "in16.y4m", "-o", "out16.y4m"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let (head, got) = read_y4m(&std::fs::read(d.join("out16.y4m")).unwrap(), 16, w * h);
+    put(d, "in16.y4m", header, 16, &[vec![mono.clone()]]);
+    let args = "id.fx -i in16.y4m -o out16.y4m";
+    let (head, got) = run_read(d, args, "out16.y4m", 16, w * h);
     assert_eq!(head, format!("YUV4MPEG2 {header}"));
     let diff = max_diff(&got[0], &mono);
     eprintln!("Cmono16: max difference {diff}");
@@ -410,7 +369,7 @@ fn ten_bit_colours_match_the_bt601_formulas() {
         |f: &dyn Fn(usize, usize) -> u16| -> Vec<u16> { (0..n).map(|i| f(i % w, i / w)).collect() };
     let f = vec![plane(&yf), plane(&uf), plane(&vf)];
     let header = "W64 H32 F25:1 Ip A1:1 C444p10 XCOLORRANGE=LIMITED";
-    std::fs::write(d.join("in.y4m"), y4m(header, 10, &[f])).unwrap();
+    put(d, "in.y4m", header, 10, &[f]);
     let o = fxrun_in(
         d,
         &[
@@ -423,7 +382,7 @@ fn ten_bit_colours_match_the_bt601_formulas() {
             "16",
         ],
     );
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_run(&o, 0, &[]);
     let load = |p: &Path| -> Vec<f32> {
         let opts = fxgraph::io::LoadOptions {
             assume_linear: true,

@@ -56,3 +56,12 @@ pub fn fxrun_with(dir: &Path, args: &[&str], env: &[(&str, &str)], stdin: &[u8])
     writer.join().expect("stdin writer");
     out
 }
+
+/// Assert that a run ended with `status` and that its stderr says each of `says`.
+pub fn assert_run(o: &Output, status: i32, says: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(code(o), status, "exit status; stderr:\n{err}");
+    for s in says {
+        assert!(err.contains(s), "stderr lacks `{s}`:\n{err}");
+    }
+}

@@ -42,14 +42,7 @@ pub fn ffmpeg(args: &[&str]) {
 /// `ffprobe -show_streams -show_format` of a file, as JSON.
 pub fn probe(path: &Path) -> serde_json::Value {
     let o = Command::new("ffprobe")
-        .args([
-            "-v",
-            "error",
-            "-print_format",
-            "json",
-            "-show_streams",
-            "-show_format",
-        ])
+        .args("-v error -print_format json -show_streams -show_format".split(' '))
         .arg(path)
         .output()
         .expect("run ffprobe");
