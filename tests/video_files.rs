@@ -349,17 +349,28 @@ fn interrupting_a_video_run_ends_ffmpeg_and_writes_nothing() {
     let mut stdin = child.stdin.take().unwrap();
     stdin.write_all(&stream).unwrap();
     // The encoder's temporary exists once fxrun is about to run (its Ctrl-C handler
-    // is installed right after); then the stream is left open, fxrun waiting on it.
+    // is installed before); the stream is left open, fxrun waiting on it.
     let t0 = std::time::Instant::now();
     while temporaries(d).is_empty() {
         assert!(t0.elapsed().as_secs() < 60, "the encoder did not start");
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
-    std::thread::sleep(std::time::Duration::from_millis(500));
     Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .unwrap();
+    // fxrun sees the stop between two frames: more frames come until it has ended
+    // (its decoder would otherwise wait on the open stream), then the end.
+    let one = common::video::y4m("W64 H64 F25:1 Ip A1:1 C420jpeg", 8, &frames[..1]);
+    let frame_bytes = &one[one.iter().position(|&b| b == b'\n').unwrap() + 1..];
+    let t0 = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        assert!(t0.elapsed().as_secs() < 120, "fxrun did not stop");
+        if stdin.write_all(frame_bytes).is_err() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
     drop(stdin);
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
