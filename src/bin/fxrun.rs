@@ -113,11 +113,8 @@ fn main() -> ExitCode {
         match record.level() {
             // Rendered diagnostics carry their own `path:line:col: warning:`.
             log::Level::Warn if msg.contains(": warning:") => writeln!(buf, "{msg}"),
-            log::Level::Error | log::Level::Warn => writeln!(
-                buf,
-                "fxrun: {}: {msg}",
-                record.level().as_str().to_lowercase()
-            ),
+            log::Level::Error => writeln!(buf, "fxrun: error: {msg}"),
+            log::Level::Warn => writeln!(buf, "fxrun: warning: {msg}"),
             level => writeln!(buf, "fxrun: {level} {}: {msg}", record.target()),
         }
     })

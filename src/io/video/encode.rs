@@ -423,6 +423,10 @@ fn encode_args(
     if codec == "libvpx-vp9" {
         push(&["-row-mt", "1", "-cpu-used", "4"]);
     }
+    if codec == "libx265" {
+        // x265 logs its statistics itself, whatever ffmpeg's log level.
+        push(&["-x265-params", "log-level=error"]);
+    }
     if let Some(p) = &opts.preset {
         push(&["-preset", p]);
     }
