@@ -169,7 +169,8 @@ pub fn run_scene_sequence(
     report.frames_held_max = 2 + stream.as_ref().map_or(1, |s| s.ring_len());
     let (enc_tx, enc_rx) = sync_channel::<Encoded>(2);
     let halt = Arc::new(AtomicBool::new(false));
-    let encoder = spawn_encoder(sink, enc_rx, false, halt.clone())?;
+    let complete = Arc::new(AtomicBool::new(false));
+    let encoder = spawn_encoder(sink, enc_rx, false, halt.clone(), complete.clone())?;
     let dt = 1.0 / times.fps;
     let mut gpu_busy = Duration::ZERO;
     let mut fatal = None;
@@ -280,6 +281,11 @@ pub fn run_scene_sequence(
             break;
         }
     }
+    // a y4m or video output is made final only when every frame went through
+    complete.store(
+        fatal.is_none() && !report.interrupted && !halt.load(Ordering::Relaxed),
+        Ordering::SeqCst,
+    );
     drop(enc_tx);
     let enc = encoder
         .join()

@@ -6,7 +6,7 @@
 use clap::Parser;
 use fxgraph::app::{
     apply_to_image, output_format_for, run_sequence, Effect, FilesSink, FilesSource, FrameSink,
-    FrameSource, ImageJob, Progress, RunError, SequenceOptions, Y4mSink, Y4mSource,
+    FrameSource, ImageJob, Progress, RunError, SequenceOptions,
 };
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
 use fxgraph::gpu::executor::Engine;
@@ -106,6 +106,18 @@ fn main() -> ExitCode {
     env_logger::Builder::from_env(
         env_logger::Env::default().default_filter_or("warn,wgpu_hal::gles::egl=off"),
     )
+    // Warnings read like fxrun's own (`fxrun: warning: ...`); RUST_LOG=debug lines
+    // name their module.
+    .format(|buf, record| {
+        let msg = record.args().to_string();
+        match record.level() {
+            // Rendered diagnostics carry their own `path:line:col: warning:`.
+            log::Level::Warn if msg.contains(": warning:") => writeln!(buf, "{msg}"),
+            log::Level::Error => writeln!(buf, "fxrun: error: {msg}"),
+            log::Level::Warn => writeln!(buf, "fxrun: warning: {msg}"),
+            level => writeln!(buf, "fxrun: {level} {}: {msg}", record.target()),
+        }
+    })
     .init();
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         // Silences a harmless warning of the Vulkan loader on headless machines.
@@ -426,6 +438,8 @@ mod report;
 mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
+#[path = "fxrun/streams.rs"]
+mod streams;
 #[path = "fxrun/watch.rs"]
 mod watch;
 

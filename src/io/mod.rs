@@ -18,6 +18,7 @@ mod encode;
 mod exr_io;
 mod probe;
 pub mod sequence;
+pub mod video;
 pub mod y4m;
 pub mod yuv;
 
@@ -27,7 +28,7 @@ use image::{DynamicImage, ImageDecoder, ImageEncoder};
 
 use crate::pixels::convert;
 pub use crate::pixels::{srgb, FileFormat, Image, Pixels, SourceInfo};
-pub use atomic::write_atomic;
+pub use atomic::{create_temporary, rename_into_place, write_atomic, AtomicFile, OutputTarget};
 use decode::image_error_detail;
 pub use decode::{
     decode_image, detect_format, image_dimensions, load_image, load_image_from_memory,

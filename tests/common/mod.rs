@@ -10,6 +10,7 @@ pub mod rng;
 pub mod samples;
 pub mod scenes;
 pub mod stream;
+pub mod video;
 
 use fxgraph::app::{apply_in_memory, RunError};
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
