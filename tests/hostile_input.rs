@@ -371,7 +371,7 @@ fn an_internal_panic_is_one_line_and_exit_2() {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_fxrun"))
         .arg("--list")
         .env("FXRUN_TEST_INTERNAL_PANIC", "1")
-        .env_remove("RUST_BACKTRACE")
+        .env("RUST_BACKTRACE", "1")
         .output()
         .unwrap();
     let err = stderr(&out);

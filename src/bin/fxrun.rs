@@ -116,7 +116,8 @@ fn log_filter(verbose: bool) -> &'static str {
 
 /// A panic that no library `catch_quiet` caught is a bug of fxrun: one line on
 /// stderr (the first one only, if several threads panic) and, from `main`, exit
-/// status 2. No backtrace hint; `RUST_BACKTRACE=1` adds the backtrace.
+/// status 2. No backtrace, whatever `RUST_BACKTRACE` says (it is often set for
+/// everything on a machine); `FXRUN_BACKTRACE=1` adds one.
 fn install_panic_hook() {
     static REPORTED: AtomicBool = AtomicBool::new(false);
     std::panic::set_hook(Box::new(|info| {
@@ -129,7 +130,7 @@ fn install_panic_hook() {
             .map(|l| format!(" (at {}:{})", l.file(), l.line()))
             .unwrap_or_default();
         eprintln!("fxrun: internal error (a bug): {message}{place}; please report it");
-        if std::env::var_os("RUST_BACKTRACE").is_some_and(|v| v != "0") {
+        if std::env::var_os("FXRUN_BACKTRACE").is_some_and(|v| v != "0") {
             eprintln!("{}", std::backtrace::Backtrace::force_capture());
         }
     }));
