@@ -5,6 +5,7 @@
 
 pub mod features;
 pub mod include;
+pub mod interface;
 pub mod load;
 pub mod material;
 pub mod preprocess;

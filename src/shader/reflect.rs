@@ -273,6 +273,8 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
     if let Err(e) = validator.validate(&module) {
         return Err(vec![validation_diagnostic(
             &e,
+            &module,
+            wgsl,
             |s| Some(span(file, s)),
             Span::new(file, 0, 0),
         )]);
@@ -302,6 +304,18 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             String::new()
         }
     };
+    if !entry_point.is_empty() {
+        let vs = crate::shader::interface::fullscreen_outputs();
+        let stage = "the pass's vertex stage";
+        diags.extend(crate::shader::interface::check_fragment_inputs(
+            &module,
+            wgsl,
+            file,
+            &entry_point,
+            vs,
+            stage,
+        ));
+    }
     let mut textures = Vec::new();
     let mut samplers = Vec::new();
     let mut uniform = None;

@@ -135,6 +135,8 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         feedback: HashMap::new(),
         edges: Vec::new(),
         stack: Vec::new(),
+        depth: 0,
+        too_deep: false,
         overrides,
         params: Vec::new(),
     };
