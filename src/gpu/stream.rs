@@ -9,6 +9,8 @@
 //!   one output per input (`rate` outputs with `rate > 1`), in order.
 //! - `PASS.x[-n]` (feedback) reads the persistent ring of the pass, zero before the
 //!   first frame.
+//! - Each input frame may come with its own [`FrameData`] (sub-pixel jitter, camera,
+//!   auxiliary images): output `t` runs with the data of input frame `t`.
 //!
 //! Each input frame is uploaded once into a texture that stays in a ring of
 //! `history + latency + 1` textures (recycled, never re-uploaded), and transient
@@ -18,7 +20,7 @@
 
 use super::context::{GpuError, PendingReadback};
 use super::executor::{
-    wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
+    wgpu_format, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming, Prepared,
 };
 use super::transfer::{create_output, image_bytes};
 use crate::graph::plan::Resource;
@@ -26,13 +28,33 @@ use crate::pixels::Image;
 use crate::script::types::Format;
 use std::collections::{HashMap, VecDeque};
 
+/// Values that come with one input frame ([`Stream::push_texture_with`]).
+#[derive(Debug, Clone, Default)]
+pub struct FrameData {
+    /// The sub-pixel jitter the frame was rendered with (the standard value
+    /// `jitter`; see [`FrameInputs::jitter`]). `[0, 0]`: none.
+    pub jitter: [f32; 2],
+    /// The frame's camera; `None`: the stream's [`Stream::camera`].
+    pub camera: Option<CameraStd>,
+    /// The frame's auxiliary images (`AUX.name`: depth, motion, ...); a name not
+    /// given here is taken from the stream's [`Stream::aux`].
+    pub aux: HashMap<String, wgpu::Texture>,
+}
+
+/// An input frame held by a stream.
+struct Held {
+    index: u64,
+    texture: wgpu::Texture,
+    data: FrameData,
+}
+
 /// A prepared effect run over a sequence of frames.
 pub struct Stream {
     pub prepared: Prepared,
     offsets: Vec<i32>,
     history: u32,
     latency: u32,
-    frames: VecDeque<(u64, wgpu::Texture)>,
+    frames: VecDeque<Held>,
     spare: Vec<wgpu::Texture>,
     pushed: u64,
     emitted: u64,
@@ -43,8 +65,9 @@ pub struct Stream {
     pub rate: u32,
     output: wgpu::Texture,
     input_format: Format,
-    /// Auxiliary images, the same for every frame.
+    /// Auxiliary images of every frame (a frame's own [`FrameData::aux`] come first).
     pub aux: HashMap<String, wgpu::Texture>,
+    /// The camera of every frame without one of its own ([`FrameData::camera`]).
     pub camera: Option<CameraStd>,
     /// Collect per-pass timings of every frame.
     pub want_timings: bool,
@@ -112,8 +135,18 @@ impl Stream {
 
     /// Upload an image (into a recycled texture) and queue it.
     pub fn push_image(&mut self, engine: &Engine, img: &Image) -> Result<(), GpuError> {
+        self.push_image_with(engine, img, FrameData::default())
+    }
+
+    /// [`Stream::push_image`] with the frame's own data (jitter, camera, aux images).
+    pub fn push_image_with(
+        &mut self,
+        engine: &Engine,
+        img: &Image,
+        data: FrameData,
+    ) -> Result<(), GpuError> {
         let input = self.input_texture(engine, img)?;
-        self.push_texture(input);
+        self.push_texture_with(input, data);
         Ok(())
     }
 
@@ -162,7 +195,18 @@ impl Stream {
     /// Queue the next input frame (uploaded once). Outputs become ready as the
     /// graph's latency allows: run them with [`Stream::next`].
     pub fn push_texture(&mut self, input: wgpu::Texture) {
-        self.frames.push_back((self.pushed, input));
+        self.push_texture_with(input, FrameData::default());
+    }
+
+    /// [`Stream::push_texture`] with the frame's own data: the sub-pixel jitter it
+    /// was rendered with (when [`Prepared::jitter`] asks for one), its camera and
+    /// its auxiliary images. Output `t` is run with the data of input frame `t`.
+    pub fn push_texture_with(&mut self, input: wgpu::Texture, data: FrameData) {
+        self.frames.push_back(Held {
+            index: self.pushed,
+            texture: input,
+            data,
+        });
         self.pushed += 1;
     }
 
@@ -212,9 +256,9 @@ impl Stream {
             self.emitted += 1;
             // Output t+1 needs frames from t+1-history on.
             let keep_from = (t + 1).saturating_sub(self.history as u64);
-            while self.frames.front().is_some_and(|(i, _)| *i < keep_from) {
-                let (_, tex) = self.frames.pop_front().expect("front exists");
-                self.spare.push(tex);
+            while self.frames.front().is_some_and(|f| f.index < keep_from) {
+                let held = self.frames.pop_front().expect("front exists");
+                self.spare.push(held.texture);
             }
         }
         Ok(Some((t * self.rate as u64 + s as u64, extra)))
@@ -227,22 +271,33 @@ impl Stream {
     ) -> Result<T, ExecError> {
         let t = self.emitted;
         let last = self.pushed - 1;
+        let current = self
+            .frames
+            .iter()
+            .find(|f| f.index == t)
+            .map(|f| &f.data)
+            .ok_or_else(|| ExecError::Input(format!("input frame {t} is no longer held")))?;
+        let mut aux: HashMap<String, ImageRef> = self
+            .aux
+            .iter()
+            .map(|(n, t)| (n.clone(), t.into()))
+            .collect();
+        for (n, tex) in &current.aux {
+            aux.insert(n.clone(), tex.into());
+        }
         let mut inputs = FrameInputs {
             frames: HashMap::new(),
-            aux: self
-                .aux
-                .iter()
-                .map(|(n, t)| (n.clone(), t.into()))
-                .collect(),
-            camera: self.camera,
+            aux,
+            camera: current.camera.or(self.camera),
+            jitter: current.jitter,
         };
         for &k in &self.offsets {
             let idx = (t as i64 + k as i64).clamp(0, last as i64) as u64;
             let tex = self
                 .frames
                 .iter()
-                .find(|(i, _)| *i == idx)
-                .map(|(_, tex)| tex)
+                .find(|f| f.index == idx)
+                .map(|f| &f.texture)
                 .ok_or_else(|| ExecError::Input(format!("input frame {idx} is no longer held")))?;
             inputs.frames.insert(k, tex.into());
         }

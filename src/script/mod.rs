@@ -1,14 +1,16 @@
 //! The EFFECT language: grammar ([`parse`]), typed AST and checks ([`ast`], and
 //! [`material`] for `MATERIAL.name = { ... }` definitions), shared value types
-//! ([`types`]) and diagnostics ([`diag`]). No GPU code here.
+//! ([`types`]), sub-pixel jitter sequences ([`jitter`]) and diagnostics ([`diag`]). No GPU code here.
 
 pub mod ast;
 pub mod diag;
+pub mod jitter;
 pub mod material;
 pub mod parse;
 pub mod types;
 
 pub use ast::Module;
+pub use jitter::{halton23, JitterPattern};
 pub use diag::{Diagnostic, Diagnostics, FileId, Severity, SourceMap, Span, Spanned};
 pub use material::{AlphaSpec, MaterialDef, MaterialSetting, MaterialShader, MaterialValue};
 

@@ -153,6 +153,9 @@ pub enum StdValue {
     /// `proj`, `inv_proj`: camera projection (identity without a renderer).
     Proj,
     InvProj,
+    /// `jitter`: the frame's sub-pixel jitter in pixels (offset of the sample
+    /// position from the pixel centre, x right, y down; 0 without jitter).
+    Jitter,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -188,6 +191,7 @@ pub struct StdContext {
     pub far: f32,
     pub proj: [f32; 16],
     pub inv_proj: [f32; 16],
+    pub jitter: [f32; 2],
 }
 
 impl UniformLayout {
@@ -217,6 +221,7 @@ impl UniformLayout {
                     StdValue::Far => vec![ctx.far as f64],
                     StdValue::Proj => ctx.proj.iter().map(|&x| x as f64).collect(),
                     StdValue::InvProj => ctx.inv_proj.iter().map(|&x| x as f64).collect(),
+                    StdValue::Jitter => vec![ctx.jitter[0] as f64, ctx.jitter[1] as f64],
                 },
             };
             for (i, &x) in values.iter().take(f.ty.components()).enumerate() {
@@ -237,7 +242,9 @@ impl UniformLayout {
         self.fields.iter().any(|f| {
             matches!(
                 f.source,
-                UniformSource::Std(StdValue::Frame | StdValue::Time | StdValue::Subframe)
+                UniformSource::Std(
+                    StdValue::Frame | StdValue::Time | StdValue::Subframe | StdValue::Jitter
+                )
             )
         })
     }
@@ -472,6 +479,7 @@ pub(crate) fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'st
         "far" => (StdValue::Far, F1),
         "proj" => (StdValue::Proj, M4),
         "inv_proj" => (StdValue::InvProj, M4),
+        "jitter" => (StdValue::Jitter, V2),
         _ => {
             for (i, inp) in inputs.iter().enumerate() {
                 if name.strip_prefix(inp.as_str()) == Some("_size") {
