@@ -24,7 +24,11 @@
 //    estimates the scene at p's centre.
 // 3. History: the state of the previous frame at p - motion (motion of step 1),
 //    resampled with a Catmull-Rom bicubic (9 bilinear taps) for rgb and bilinearly
-//    for n. It is dropped (n = 0) when p - motion is outside the frame (content
+//    for n. Each resampling at a fractional position softens the history a little,
+//    and the softening builds up with its length: with f the fraction of
+//    p - motion (from the texel centres) and s = fx (1 - fx) + fy (1 - fy) (0 for
+//    whole-pixel motion, at most 0.5), n_prev is capped at resample_limit / s.
+//    The history is dropped (n = 0) when p - motion is outside the frame (content
 //    entering at an edge), or when the data stored there one frame earlier shows
 //    another surface: its nearest depth differs by more than depth_tolerance
 //    times the current one, or its motion by more than motion_tolerance pixels
@@ -48,7 +52,10 @@
 //   clip_gamma        clipping box half-width in standard deviations (default 1.25;
 //                     lower: less ghosting, more flicker)
 //   filter_width      reconstruction Gaussian of the current frame, sigma in pixels
-//                     (default 0.4; smaller: sharper, more flicker)
+//                     (default 0.33; smaller: sharper, more flicker)
+//   resample_limit    history length in sub-pixel motion, resample_limit / s frames
+//                     (default 0.5: 2 to 4 frames at half-pixel fractions; higher:
+//                     less aliasing and more blur in motion)
 //   depth_tolerance   relative nearest-depth change that counts as a disocclusion (0.1)
 //   motion_tolerance  motion change in pixels that counts as a disocclusion (2)
 //   view              taa (default) | history (n / frames as grey, for inspection)
@@ -63,7 +70,8 @@ EFFECT.taa = {
     PARAM = {
         frames = FLOAT { DEFAULT = 10  RANGE = (1, 64)  DESCRIPTION = "most frames the history stands for: the current frame weighs at least 1 / frames" }
         clip_gamma = FLOAT { DEFAULT = 1.25  RANGE = (0.25, 8)  DESCRIPTION = "history clipping box half-width, in standard deviations of the 3x3 neighbourhood (lower: less ghosting, more flicker)" }
-        filter_width = FLOAT { DEFAULT = 0.4  RANGE = (0.1, 2)  DESCRIPTION = "sigma in pixels of the Gaussian that rebuilds the unjittered current pixel from its 3x3 samples" }
+        filter_width = FLOAT { DEFAULT = 0.33  RANGE = (0.1, 2)  DESCRIPTION = "sigma in pixels of the Gaussian that rebuilds the unjittered current pixel from its 3x3 samples" }
+        resample_limit = FLOAT { DEFAULT = 0.5  RANGE = (0.01, 1000)  DESCRIPTION = "in sub-pixel motion the history stands for at most resample_limit / s frames, s = fx (1 - fx) + fy (1 - fy) of the reprojection's fraction (less blur builds up; 1000: no limit)" }
         depth_tolerance = FLOAT { DEFAULT = 0.1  RANGE = (0, 10)  DESCRIPTION = "relative change of the nearest depth beyond which the reprojected history is a disocclusion" }
         motion_tolerance = FLOAT { DEFAULT = 2  RANGE = (0, 1000)  DESCRIPTION = "change of the motion vector, in pixels, beyond which the reprojected history is a disocclusion" }
         view = ENUM { VALUES = (taa, history)  DEFAULT = taa  DESCRIPTION = "output: the anti-aliased image, or for inspection the history length n / frames as grey" }
@@ -82,6 +90,7 @@ EFFECT.taa = {
             frames = PARAM.frames
             clip_gamma = PARAM.clip_gamma
             filter_width = PARAM.filter_width
+            resample_limit = PARAM.resample_limit
             depth_tolerance = PARAM.depth_tolerance
             motion_tolerance = PARAM.motion_tolerance
             OUT.FORMAT = rgba16f

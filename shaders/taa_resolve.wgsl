@@ -16,9 +16,10 @@
 struct Params {
     frames: f32,           // @default(10) @range(1, 64) most frames the history stands for: the current frame's weight is at least 1 / frames
     clip_gamma: f32,       // @default(1.25) @range(0.25, 8) half-width of the history clipping box, in standard deviations of the 3x3 neighbourhood (YCoCg)
-    filter_width: f32,     // @default(0.4) @range(0.1, 2) standard deviation in pixels of the Gaussian that rebuilds the unjittered current pixel from its 3x3 jittered samples
+    filter_width: f32,     // @default(0.33) @range(0.1, 2) standard deviation in pixels of the Gaussian that rebuilds the unjittered current pixel from its 3x3 jittered samples
     depth_tolerance: f32,  // @default(0.1) @range(0, 10) relative depth change beyond which the reprojected history is a disocclusion
     motion_tolerance: f32, // @default(2) @range(0, 1000) change of the motion vector, in pixels, beyond which the reprojected history is a disocclusion
+    resample_limit: f32,   // @default(0.5) @range(0.01, 1000) caps the history length in sub-pixel motion at resample_limit / s frames, s = fx (1 - fx) + fy (1 - fy) of the reprojected position's fraction
     jitter: vec2<f32>,
     out_size: vec2<f32>,
 }
@@ -130,6 +131,12 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     if (valid) {
         n_prev = textureSampleLevel(hist, hist_sampler, prev / params.out_size, 0.0).a;
         history = sane(history_catmull_rom(prev));
+        // Each resampling at a fractional position softens the history a little
+        // (s: the blur a bilinear one would add, px^2; 0 for whole-pixel motion):
+        // in sub-pixel motion it may stand for fewer frames.
+        let f = fract(prev - 0.5);
+        let s = dot(f, vec2<f32>(1.0) - f);
+        n_prev = min(n_prev, params.resample_limit / max(s, 1e-6));
     }
     // 4. Variance clipping in YCoCg: the box mean +- gamma sigma of the 3x3
     // samples, within their min/max, always holding the current pixel.
