@@ -58,15 +58,24 @@ fn metering_is_the_log_average_and_the_result_averages_middle_grey() {
     for (img, log_avg) in [(two, two_avg), (colour, y709)] {
         for comp in [0.0, 1.5, -2.0] {
             let set = format!("compensation={comp}");
-            let out = run_stream_frames(&mut engine, "auto_exposure", &[&set], &seq(vec![img.clone()]), 25.0)
-                .remove(0);
+            let out = run_stream_frames(
+                &mut engine,
+                "auto_exposure",
+                &[&set],
+                &seq(vec![img.clone()]),
+                25.0,
+            )
+            .remove(0);
             let input = common::raster::samples(&img);
             // Every sample scaled by 2^(comp - ev), ev = log2(log-average / 0.18).
             let gain = (comp - (log_avg / 0.18).log2()).exp2();
             for (o, i) in out.chunks(4).zip(input.chunks(4)) {
                 for c in 0..3 {
                     let want = i[c] as f64 * gain;
-                    assert!(((o[c] as f64) / want).log2().abs() < EV_TOL, "{o:?} vs {want}");
+                    assert!(
+                        ((o[c] as f64) / want).log2().abs() < EV_TOL,
+                        "{o:?} vs {want}"
+                    );
                 }
                 assert_eq!(o[3], i[3], "alpha kept");
             }
@@ -103,10 +112,17 @@ fn adaptation_follows_at_speed_up_and_speed_down() {
             } else {
                 want = target;
             }
-            assert!((ev[t] - want).abs() < EV_TOL, "{set:?} frame {t}: ev {} expected {want}", ev[t]);
+            assert!(
+                (ev[t] - want).abs() < EV_TOL,
+                "{set:?} frame {t}: ev {} expected {want}",
+                ev[t]
+            );
             if t > 0 {
                 let d = ev[t] - ev[t - 1];
-                assert!(d <= up * dt + EV_TOL && d >= -down * dt - EV_TOL, "{set:?} frame {t}: step {d}");
+                assert!(
+                    d <= up * dt + EV_TOL && d >= -down * dt - EV_TOL,
+                    "{set:?} frame {t}: step {d}"
+                );
             }
         }
         // The rise (4 EV) is complete within the 44 bright frames at 3 EV/s: ev = 4.
@@ -128,13 +144,28 @@ fn ev_limits_clamp() {
         (vec!["min_ev=-1"], 0.18 / 16.0, -1.0),
         (vec!["max_ev=2"], 0.18 * 2.0, 1.0), // within the limits
     ] {
-        let outs = run_stream_frames(&mut engine, "auto_exposure", &set, &seq(vec![grey(l); 3]), 25.0);
+        let outs = run_stream_frames(
+            &mut engine,
+            "auto_exposure",
+            &set,
+            &seq(vec![grey(l); 3]),
+            25.0,
+        );
         for e in evs(&outs, &[l; 3], 0.0) {
-            assert!((e - ev).abs() < EV_TOL, "{set:?} L {l}: ev {e}, expected {ev}");
+            assert!(
+                (e - ev).abs() < EV_TOL,
+                "{set:?} L {l}: ev {e}, expected {ev}"
+            );
         }
     }
     // A black frame is metered at min_ev (no infinite exposure).
-    let outs = run_stream_frames(&mut engine, "auto_exposure", &[], &seq(vec![grey(0.0)]), 25.0);
+    let outs = run_stream_frames(
+        &mut engine,
+        "auto_exposure",
+        &[],
+        &seq(vec![grey(0.0)]),
+        25.0,
+    );
     assert!(outs[0].chunks(4).all(|p| p[..3] == [0.0, 0.0, 0.0]));
 }
 
@@ -149,9 +180,19 @@ fn the_chain_with_tonemap_gives_middle_grey() {
     let x = 0.18f64;
     let aces = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14);
     for l in [0.02f32, 3.0, 100.0] {
-        let (_, _, px) =
-            common::run(&mut engine, &["auto_exposure", "tonemap"], &[], &grey(l), Format::Rgba32f).unwrap();
+        let (_, _, px) = common::run(
+            &mut engine,
+            &["auto_exposure", "tonemap"],
+            &[],
+            &grey(l),
+            Format::Rgba32f,
+        )
+        .unwrap();
         let v = common::linear(&px);
-        assert!((v[0] as f64 - aces).abs() < 2e-3, "L {l}: {} vs {aces}", v[0]);
+        assert!(
+            (v[0] as f64 - aces).abs() < 2e-3,
+            "L {l}: {} vs {aces}",
+            v[0]
+        );
     }
 }

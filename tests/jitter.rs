@@ -20,9 +20,7 @@ fn compile_text(dir: &tempfile::TempDir, text: &str) -> (Option<Graph>, Diagnost
     let p = dir.path().join("t.fx");
     std::fs::write(&p, text).unwrap();
     compile(&CompileRequest {
-        source: Some(std::sync::Arc::new(
-            fxgraph::lookup::DiskEffects::default(),
-        )),
+        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: vec![p.display().to_string()],
         ..Default::default()
     })
@@ -172,7 +170,14 @@ fn the_standard_value_reaches_a_shader_per_frame() {
     assert_eq!(effect.jitter(), Some(JitterPattern::Halton23));
     let img = common::image_f32(3, 2, |_, _| [0.5, 0.5, 0.5, 1.0]);
     let mut prepared = effect
-        .prepare(&mut engine, &InputDesc { format: Format::Rgba16f, ..InputDesc::rgba8_srgb(3, 2) }, Some(Format::Rgba32f))
+        .prepare(
+            &mut engine,
+            &InputDesc {
+                format: Format::Rgba16f,
+                ..InputDesc::rgba8_srgb(3, 2)
+            },
+            Some(Format::Rgba32f),
+        )
         .unwrap();
     assert_eq!(prepared.jitter(), Some(JitterPattern::Halton23));
     let ctx = engine.ctx.clone();
@@ -185,7 +190,10 @@ fn the_standard_value_reaches_a_shader_per_frame() {
         v
     };
     for (inputs, want) in [
-        (FrameInputs::single(&tex).with_jitter([0.25, -0.375]), [0.25, -0.375]),
+        (
+            FrameInputs::single(&tex).with_jitter([0.25, -0.375]),
+            [0.25, -0.375],
+        ),
         (FrameInputs::single(&tex), [0.0, 0.0]),
     ] {
         prepared.frame = 0;

@@ -50,7 +50,11 @@ fn surface(tau: f32, x: f32, y: f32) -> ([f32; 3], f32, bool) {
         return ([0.1, 0.8, 0.2], 3.0, false);
     }
     let stripe = (x / 8.0).floor().rem_euclid(2.0);
-    ([0.2 + 0.15 * stripe, 0.25, 0.3 + 0.1 * y / H as f32], 10.0, false)
+    (
+        [0.2 + 0.15 * stripe, 0.25, 0.3 + 0.1 * y / H as f32],
+        10.0,
+        false,
+    )
 }
 
 /// The shutter's sub-frame times: 32 evenly spaced over `shutter` of the frame
@@ -120,9 +124,14 @@ fn max_diff(a: &[f32], b: &[f32], keep: impl Fn(u32, u32) -> bool) -> (f32, usiz
 fn inside(region: impl Fn(f32, f32) -> bool, x: u32, y: u32, margin: f32) -> bool {
     let (x0, y0) = (x as f32 - margin, y as f32 - margin);
     let (x1, y1) = (x as f32 + 1.0 + margin, y as f32 + 1.0 + margin);
-    [(x0, y0), (x1 - 1e-3, y0), (x0, y1 - 1e-3), (x1 - 1e-3, y1 - 1e-3)]
-        .iter()
-        .all(|&(px, py)| region(px, py))
+    [
+        (x0, y0),
+        (x1 - 1e-3, y0),
+        (x0, y1 - 1e-3),
+        (x1 - 1e-3, y1 - 1e-3),
+    ]
+    .iter()
+    .all(|&(px, py)| region(px, py))
 }
 
 #[test]
@@ -135,8 +144,14 @@ fn motion_blur_is_near_the_true_blur_and_keeps_static_objects_sharp() {
     for shutter in [0.5f32, 1.0] {
         let truth = true_blur(shutter);
         let set = format!("shutter={shutter}");
-        let out = run_stream_frames(&mut engine, "motion_blur", &[&set], std::slice::from_ref(&f), 25.0)
-            .remove(0);
+        let out = run_stream_frames(
+            &mut engine,
+            "motion_blur",
+            &[&set],
+            std::slice::from_ref(&f),
+            25.0,
+        )
+        .remove(0);
         let e_out = rgb_rmse(&out, samples(&truth), W, H, 0);
         let e_in = rgb_rmse(&sharp, samples(&truth), W, H, 0);
         // Static box B, behind, outside the reach of the disc's blur (its pixels 1 px
@@ -161,7 +176,10 @@ fn motion_blur_is_near_the_true_blur_and_keeps_static_objects_sharp() {
         assert!(e_out < 0.5 * e_in, "shutter {shutter}: {e_out} vs {e_in}");
         assert!(b_n > 500 && b_diff <= 2e-3, "box B smeared: {b_diff}");
         assert!(a_n > 200 && a_diff <= 2e-3, "bar A smeared: {a_diff}");
-        assert!(d_n > 20 && d_diff <= 0.5 * d_sharp, "disc interior: {d_diff} vs {d_sharp}");
+        assert!(
+            d_n > 20 && d_diff <= 0.5 * d_sharp,
+            "disc interior: {d_diff} vs {d_sharp}"
+        );
     }
 }
 
@@ -173,17 +191,32 @@ fn no_blur_without_exposure_time_or_motion() {
     };
     let f = frame();
     let sharp = samples(&f.image).to_vec();
-    let out = run_stream_frames(&mut engine, "motion_blur", &["shutter=0"], std::slice::from_ref(&f), 25.0)
-        .remove(0);
+    let out = run_stream_frames(
+        &mut engine,
+        "motion_blur",
+        &["shutter=0"],
+        std::slice::from_ref(&f),
+        25.0,
+    )
+    .remove(0);
     assert!(common::max_abs_diff(&out, &sharp) <= 2e-3);
     let still = SeqFrame {
         aux: vec![
-            ("motion".into(), common::raster::constant(W, H, [0.0, 0.0, 0.0, 1.0])),
+            (
+                "motion".into(),
+                common::raster::constant(W, H, [0.0, 0.0, 0.0, 1.0]),
+            ),
             f.aux[1].clone(),
         ],
         ..frame()
     };
-    let out = run_stream_frames(&mut engine, "motion_blur", &[], std::slice::from_ref(&still), 25.0)
-        .remove(0);
+    let out = run_stream_frames(
+        &mut engine,
+        "motion_blur",
+        &[],
+        std::slice::from_ref(&still),
+        25.0,
+    )
+    .remove(0);
     assert!(common::max_abs_diff(&out, &sharp) <= 2e-3);
 }

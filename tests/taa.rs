@@ -61,13 +61,21 @@ fn taa_of_a_moving_pattern_is_closer_to_the_box_filtered_frame_than_aliased_and_
         let reference = supersampled(W, H, 4, moved(vel, t));
         let r = samples(&reference);
         let raw = samples(&seq[t as usize].image);
-        let (_, _, fx) = common::run(&mut engine, &["fxaa"], &[], &seq[t as usize].image, Format::Rgba32f)
-            .unwrap();
+        let (_, _, fx) = common::run(
+            &mut engine,
+            &["fxaa"],
+            &[],
+            &seq[t as usize].image,
+            Format::Rgba32f,
+        )
+        .unwrap();
         e_taa += rgb_rmse(&outs[t as usize], r, W, H, 4) / 8.0;
         e_raw += rgb_rmse(raw, r, W, H, 4) / 8.0;
         e_fxaa += rgb_rmse(&common::linear(&fx), r, W, H, 4) / 8.0;
     }
-    eprintln!("RMSE against the box-filtered frame: taa {e_taa:.4}, aliased {e_raw:.4}, fxaa {e_fxaa:.4}");
+    eprintln!(
+        "RMSE against the box-filtered frame: taa {e_taa:.4}, aliased {e_raw:.4}, fxaa {e_fxaa:.4}"
+    );
     assert!(e_taa < 0.5 * e_raw, "taa {e_taa} vs aliased {e_raw}");
     assert!(e_taa < 0.75 * e_fxaa, "taa {e_taa} vs fxaa {e_fxaa}");
 }
@@ -79,13 +87,18 @@ fn square_frame(vel: [f32; 2], t: u32) -> SeqFrame {
     let (x0, y0) = (10.0 + vel[0] * t as f32, 20.0 + vel[1] * t as f32);
     let inside = move |x: f32, y: f32| x >= x0 && x < x0 + 14.0 && y >= y0 && y < y0 + 14.0;
     let j = halton23(t as u64);
-    let image = point_sampled(W, H, j, |x, y| {
-        if inside(x, y) {
-            [1.0, 0.9, 0.8]
-        } else {
-            BG
-        }
-    });
+    let image = point_sampled(
+        W,
+        H,
+        j,
+        |x, y| {
+            if inside(x, y) {
+                [1.0, 0.9, 0.8]
+            } else {
+                BG
+            }
+        },
+    );
     let motion = common::image_f32(W, H, |x, y| {
         if inside(x as f32 + 0.5, y as f32 + 0.5) {
             [vel[0], vel[1], 0.0, 1.0]
@@ -94,7 +107,11 @@ fn square_frame(vel: [f32; 2], t: u32) -> SeqFrame {
         }
     });
     let depth = common::image_f32(W, H, |x, y| {
-        let d = if inside(x as f32 + 0.5, y as f32 + 0.5) { 2.0 } else { 10.0 };
+        let d = if inside(x as f32 + 0.5, y as f32 + 0.5) {
+            2.0
+        } else {
+            10.0
+        };
         [d, d, d, 1.0]
     });
     SeqFrame {
@@ -122,7 +139,12 @@ fn covered(vel: [f32; 2], t: u32, x: u32, y: u32) -> bool {
     cx >= x0 && cx < x0 + 14.0 && cy >= y0 && cy < y0 + 14.0
 }
 
-fn square_run(engine: &mut fxgraph::gpu::executor::Engine, set: &[&str], vel: [f32; 2], n: u32) -> Vec<Vec<f32>> {
+fn square_run(
+    engine: &mut fxgraph::gpu::executor::Engine,
+    set: &[&str],
+    vel: [f32; 2],
+    n: u32,
+) -> Vec<Vec<f32>> {
     let seq: Vec<SeqFrame> = (0..n).map(|t| square_frame(vel, t)).collect();
     run_stream_frames(engine, "taa", set, &seq, 25.0)
 }
@@ -179,14 +201,22 @@ fn history_is_reset_where_it_falls_off_screen_or_is_disoccluded() {
         for x in 0..W {
             if covered(vel, last - 1, x, y) && square_distance(vel, last, x, y) >= 1.5 {
                 uncovered += 1;
-                assert!((conf(x, y) - 0.1).abs() < 0.01, "({x}, {y}): {}", conf(x, y));
+                assert!(
+                    (conf(x, y) - 0.1).abs() < 0.01,
+                    "({x}, {y}): {}",
+                    conf(x, y)
+                );
             }
         }
     }
     assert!(uncovered >= 14, "{uncovered}");
     // The static background far from the square's path: a full history.
     for (x, y) in [(5, 5), (90, 90), (50, 5), (5, 60)] {
-        assert!((conf(x, y) - 1.0).abs() < 0.01, "({x}, {y}): {}", conf(x, y));
+        assert!(
+            (conf(x, y) - 1.0).abs() < 0.01,
+            "({x}, {y}): {}",
+            conf(x, y)
+        );
     }
     // Content entering at the left edge (the pattern moves right 2 px per frame;
     // whole pixels, so the history is not shortened for resampling): columns 0
@@ -199,9 +229,17 @@ fn history_is_reset_where_it_falls_off_screen_or_is_disoccluded() {
     let conf = |x: u32, y: u32| out[((y * W + x) * 4) as usize];
     for y in 0..H {
         for x in [0, 1] {
-            assert!((conf(x, y) - 0.1).abs() < 0.01, "column {x}, row {y}: {}", conf(x, y));
+            assert!(
+                (conf(x, y) - 0.1).abs() < 0.01,
+                "column {x}, row {y}: {}",
+                conf(x, y)
+            );
         }
-        assert!((conf(48, y) - 1.0).abs() < 0.01, "column 48, row {y}: {}", conf(48, y));
+        assert!(
+            (conf(48, y) - 1.0).abs() < 0.01,
+            "column 48, row {y}: {}",
+            conf(48, y)
+        );
     }
 }
 
@@ -267,8 +305,20 @@ fn the_jitter_is_removed_from_the_current_frame() {
             .map(|o| rgb_rmse(o, samples(&truth), W, H, 2))
             .sum()
     };
-    let with = err(&run_stream_frames(&mut engine, "taa", &["frames=1"], &told, 25.0));
-    let without = err(&run_stream_frames(&mut engine, "taa", &["frames=1"], &frames(false), 25.0));
+    let with = err(&run_stream_frames(
+        &mut engine,
+        "taa",
+        &["frames=1"],
+        &told,
+        25.0,
+    ));
+    let without = err(&run_stream_frames(
+        &mut engine,
+        "taa",
+        &["frames=1"],
+        &frames(false),
+        25.0,
+    ));
     eprintln!("ramp error over 16 frames: jittered frames {raw:.4}, taa told the jitter {with:.4}, not told {without:.4}");
     assert!(with < 0.6 * raw, "{with} vs {raw}");
     assert!((without - raw).abs() < 0.05 * raw, "{without} vs {raw}");

@@ -109,7 +109,12 @@ mod tests {
             assert!(all[..k].iter().all(|o| o != j), "repeat at {k}");
         }
         let mean = |c: usize| all.iter().map(|j| j[c] as f64).sum::<f64>() / 16.0;
-        assert!(mean(0).abs() < 0.04 && mean(1).abs() < 0.04, "{} {}", mean(0), mean(1));
+        assert!(
+            mean(0).abs() < 0.04 && mean(1).abs() < 0.04,
+            "{} {}",
+            mean(0),
+            mean(1)
+        );
         // x: the base-2 elements 1..=16 are k/16 for k = 1..15 and 1/32.
         let mut xs: Vec<f64> = all.iter().map(|j| j[0] as f64 + 0.5).collect();
         xs.sort_by(f64::total_cmp);

@@ -10,8 +10,8 @@ pub mod parse;
 pub mod types;
 
 pub use ast::Module;
-pub use jitter::{halton23, JitterPattern};
 pub use diag::{Diagnostic, Diagnostics, FileId, Severity, SourceMap, Span, Spanned};
+pub use jitter::{halton23, JitterPattern};
 pub use material::{AlphaSpec, MaterialDef, MaterialSetting, MaterialShader, MaterialValue};
 
 /// Parse and check one source text already added to `sources`: its effects,

@@ -145,7 +145,10 @@ pub fn run_stream_frames(
         }
     }
     stream.end();
-    assert!(stream.next(engine).unwrap().is_none(), "no latency expected");
+    assert!(
+        stream.next(engine).unwrap().is_none(),
+        "no latency expected"
+    );
     assert_eq!(outs.len(), frames.len());
     outs
 }

@@ -7,8 +7,8 @@ use super::*;
 use crate::script::ast::{
     self, convert_arg, DefineArg, EffectDef, OutRef, ParamArg, PassKind, Source,
 };
-use crate::script::parse::{parse_value, RawValue};
 use crate::script::jitter::JitterPattern;
+use crate::script::parse::{parse_value, RawValue};
 use crate::script::types::{ColorSpace, Format, ParamType, Value};
 use crate::script::{Diagnostic, Diagnostics, Span, Spanned};
 use petgraph::visit::EdgeRef;

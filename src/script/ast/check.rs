@@ -321,7 +321,11 @@ fn jitter_value(stmt: &Stmt, diags: &mut Diagnostics) -> Option<Spanned<JitterPa
             }
         },
         None => {
-            diags.push(type_error(stmt, "a jitter sequence name (`halton23`)", &stmt.value.node));
+            diags.push(type_error(
+                stmt,
+                "a jitter sequence name (`halton23`)",
+                &stmt.value.node,
+            ));
             None
         }
     }
