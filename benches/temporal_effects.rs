@@ -83,6 +83,9 @@ fn frame(w: u32, h: u32, t: u32, jitter: [f32; 2]) -> (Image, Image, Image) {
     (img, motion, depth)
 }
 
+/// One frame of one effect: the GPU time of all its passes, and of each (ms).
+type FrameTimes = (f64, Vec<(String, f64)>);
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -134,8 +137,7 @@ fn main() {
             (p, create_output(&ctx, w, h, Format::Rgba16f))
         })
         .collect();
-    // per effect: per frame, (total, per pass)
-    let mut times: Vec<Vec<(f64, Vec<(String, f64)>)>> = vec![Vec::new(); names.len()];
+    let mut times: Vec<Vec<FrameTimes>> = vec![Vec::new(); names.len()];
     for t in 0..warmup + measured {
         let jitter = halton23(t as u64);
         let (img, motion, depth) = frame(w, h, t, jitter);

@@ -51,7 +51,7 @@ fn metering_is_the_log_average_and_the_result_averages_middle_grey() {
         let l = if x < 33 { 0.5 } else { 8.0 };
         [l, l, l, 1.0]
     });
-    let two_avg = ((33.0 * -1.0 + 34.0 * 3.0) / 67.0f64).exp2();
+    let two_avg = ((33.0 * 0.5f64.log2() + 34.0 * 8.0f64.log2()) / 67.0).exp2();
     // A colour: Rec. 709 luminance 0.2126 r + 0.7152 g + 0.0722 b.
     let colour = constant(W, H, [0.9, 0.3, 0.1, 1.0]);
     let y709 = 0.2126 * 0.9 + 0.7152 * 0.3 + 0.0722 * 0.1;
