@@ -17,32 +17,16 @@ use fxgraph::gpu::context::{AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::{Engine, FrameInputs, Prepared};
 use fxgraph::gpu::transfer::{create_output, upload_image};
 use fxgraph::graph::plan::InputDesc;
-use fxgraph::io::{FileFormat, Image, Pixels, SourceInfo};
+use fxgraph::io::Image;
 use fxgraph::script::halton23;
 use fxgraph::script::types::{ColorSpace, Format};
 
+// The tests' helpers (CPU-made images).
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 const PAN: [f32; 2] = [5.3, 2.1];
 const DISC_VEL: [f32; 2] = [-9.0, 4.0];
-
-fn float_image(w: u32, h: u32, f: impl Fn(u32, u32) -> [f32; 4]) -> Image {
-    let mut v = Vec::with_capacity((w * h * 4) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            v.extend_from_slice(&f(x, y));
-        }
-    }
-    Image {
-        width: w,
-        height: h,
-        pixels: Pixels::F32(v),
-        source: SourceInfo {
-            format: FileFormat::Exr,
-            bit_depth: 32,
-            has_alpha: true,
-            float: true,
-        },
-    }
-}
 
 /// Frame `t`: (colour, motion, depth), the scene sampled at the pixel centres
 /// plus `jitter`.
@@ -61,25 +45,12 @@ fn frame(w: u32, h: u32, t: u32, jitter: [f32; 2]) -> (Image, Image, Image) {
         let k = ((u / 9.0).floor() + (v / 9.0).floor()).rem_euclid(2.0);
         [0.05 + 0.9 * k, 0.1 + 0.6 * k, 0.9 - 0.8 * k, 1.0]
     };
-    let img = float_image(w, h, |x, y| {
+    let img = common::image_f32(w, h, |x, y| {
         colour(x as f32 + 0.5 + jitter[0], y as f32 + 0.5 + jitter[1])
     });
-    let motion = float_image(w, h, |x, y| {
-        let v = if on_disc(x as f32 + 0.5, y as f32 + 0.5) {
-            DISC_VEL
-        } else {
-            PAN
-        };
-        [v[0], v[1], 0.0, 1.0]
-    });
-    let depth = float_image(w, h, |x, y| {
-        let d = if on_disc(x as f32 + 0.5, y as f32 + 0.5) {
-            2.0
-        } else {
-            10.0
-        };
-        [d, d, d, 1.0]
-    });
+    let mut aux = common::raster::object_aux(w, h, on_disc, (DISC_VEL, 2.0), (PAN, 10.0));
+    let (_, depth) = aux.pop().expect("depth");
+    let (_, motion) = aux.pop().expect("motion");
     (img, motion, depth)
 }
 

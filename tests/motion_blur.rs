@@ -102,6 +102,11 @@ fn frame() -> SeqFrame {
     }
 }
 
+/// `motion_blur` with `set` on one frame.
+fn blur(engine: &mut fxgraph::gpu::executor::Engine, set: &[&str], f: &SeqFrame) -> Vec<f32> {
+    run_stream_frames(engine, "motion_blur", set, std::slice::from_ref(f), 25.0).remove(0)
+}
+
 /// The largest difference over r, g, b between `a` and `b` at the pixels `keep` selects.
 fn max_diff(a: &[f32], b: &[f32], keep: impl Fn(u32, u32) -> bool) -> (f32, usize) {
     let (mut worst, mut n) = (0.0f32, 0);
@@ -144,14 +149,7 @@ fn motion_blur_is_near_the_true_blur_and_keeps_static_objects_sharp() {
     for shutter in [0.5f32, 1.0] {
         let truth = true_blur(shutter);
         let set = format!("shutter={shutter}");
-        let out = run_stream_frames(
-            &mut engine,
-            "motion_blur",
-            &[&set],
-            std::slice::from_ref(&f),
-            25.0,
-        )
-        .remove(0);
+        let out = blur(&mut engine, &[&set], &f);
         let e_out = rgb_rmse(&out, samples(&truth), W, H, 0);
         let e_in = rgb_rmse(&sharp, samples(&truth), W, H, 0);
         // Static box B, behind, outside the reach of the disc's blur (its pixels 1 px
@@ -191,14 +189,7 @@ fn no_blur_without_exposure_time_or_motion() {
     };
     let f = frame();
     let sharp = samples(&f.image).to_vec();
-    let out = run_stream_frames(
-        &mut engine,
-        "motion_blur",
-        &["shutter=0"],
-        std::slice::from_ref(&f),
-        25.0,
-    )
-    .remove(0);
+    let out = blur(&mut engine, &["shutter=0"], &f);
     assert!(common::max_abs_diff(&out, &sharp) <= 2e-3);
     let still = SeqFrame {
         aux: vec![
@@ -210,13 +201,6 @@ fn no_blur_without_exposure_time_or_motion() {
         ],
         ..frame()
     };
-    let out = run_stream_frames(
-        &mut engine,
-        "motion_blur",
-        &[],
-        std::slice::from_ref(&still),
-        25.0,
-    )
-    .remove(0);
+    let out = blur(&mut engine, &[], &still);
     assert!(common::max_abs_diff(&out, &sharp) <= 2e-3);
 }

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::raster::{constant, point_sampled, rgb_rmse, samples, supersampled};
+use common::raster::{constant, object_aux, point_sampled, rgb_rmse, samples, supersampled};
 use common::stream::{run_stream_frames, SeqFrame};
 use fxgraph::io::Image;
 use fxgraph::script::halton23;
@@ -31,14 +31,19 @@ fn moved(vel: [f32; 2], t: u32) -> impl Fn(f32, f32) -> [f32; 3] {
     move |x, y| checker(x - vel[0] * t as f32, y - vel[1] * t as f32)
 }
 
+/// AUX.motion = `vel` everywhere, AUX.depth = 5: a scene moving as one.
+fn uniform_aux(vel: [f32; 2]) -> Vec<(String, Image)> {
+    vec![
+        ("motion".into(), constant(W, H, [vel[0], vel[1], 0.0, 1.0])),
+        ("depth".into(), constant(W, H, [5.0, 5.0, 5.0, 1.0])),
+    ]
+}
+
 fn translating_sequence(vel: [f32; 2], frames: u32) -> Vec<SeqFrame> {
     (0..frames)
         .map(|t| SeqFrame {
             image: point_sampled(W, H, halton23(t as u64), moved(vel, t)),
-            aux: vec![
-                ("motion".into(), constant(W, H, [vel[0], vel[1], 0.0, 1.0])),
-                ("depth".into(), constant(W, H, [5.0, 5.0, 5.0, 1.0])),
-            ],
+            aux: uniform_aux(vel),
             jitter: halton23(t as u64),
         })
         .collect()
@@ -99,24 +104,9 @@ fn square_frame(vel: [f32; 2], t: u32) -> SeqFrame {
             }
         },
     );
-    let motion = common::image_f32(W, H, |x, y| {
-        if inside(x as f32 + 0.5, y as f32 + 0.5) {
-            [vel[0], vel[1], 0.0, 1.0]
-        } else {
-            [0.0, 0.0, 0.0, 1.0]
-        }
-    });
-    let depth = common::image_f32(W, H, |x, y| {
-        let d = if inside(x as f32 + 0.5, y as f32 + 0.5) {
-            2.0
-        } else {
-            10.0
-        };
-        [d, d, d, 1.0]
-    });
     SeqFrame {
         image,
-        aux: vec![("motion".into(), motion), ("depth".into(), depth)],
+        aux: object_aux(W, H, inside, (vel, 2.0), ([0.0, 0.0], 10.0)),
         jitter: j,
     }
 }
@@ -254,10 +244,7 @@ fn a_static_unjittered_sequence_passes_through() {
     let seq: Vec<SeqFrame> = (0..4)
         .map(|_| SeqFrame {
             image: img.clone(),
-            aux: vec![
-                ("motion".into(), constant(W, H, [0.0, 0.0, 0.0, 1.0])),
-                ("depth".into(), constant(W, H, [5.0, 5.0, 5.0, 1.0])),
-            ],
+            aux: uniform_aux([0.0, 0.0]),
             jitter: [0.0, 0.0],
         })
         .collect();
@@ -287,10 +274,7 @@ fn the_jitter_is_removed_from_the_current_frame() {
         (0..16u64)
             .map(|t| SeqFrame {
                 image: point_sampled(W, H, halton23(t), ramp),
-                aux: vec![
-                    ("motion".into(), constant(W, H, [0.0, 0.0, 0.0, 1.0])),
-                    ("depth".into(), constant(W, H, [5.0, 5.0, 5.0, 1.0])),
-                ],
+                aux: uniform_aux([0.0, 0.0]),
                 jitter: if told { halton23(t) } else { [0.0, 0.0] },
             })
             .collect()

@@ -65,3 +65,31 @@ pub fn rgb_rmse(a: &[f32], b: &[f32], w: u32, h: u32, border: u32) -> f64 {
     }
     (s / n as f64).sqrt()
 }
+
+/// AUX.motion and AUX.depth of an object over a background, taken at the pixel
+/// centres: `object` = (motion, depth) where `on_object(x, y)`, `background`
+/// elsewhere. Motion in pixels in r, g; depth in r, g, b.
+pub fn object_aux(
+    w: u32,
+    h: u32,
+    on_object: impl Fn(f32, f32) -> bool,
+    object: ([f32; 2], f32),
+    background: ([f32; 2], f32),
+) -> Vec<(String, Image)> {
+    let at = |x: u32, y: u32| {
+        if on_object(x as f32 + 0.5, y as f32 + 0.5) {
+            object
+        } else {
+            background
+        }
+    };
+    let motion = image_f32(w, h, |x, y| {
+        let m = at(x, y).0;
+        [m[0], m[1], 0.0, 1.0]
+    });
+    let depth = image_f32(w, h, |x, y| {
+        let d = at(x, y).1;
+        [d, d, d, 1.0]
+    });
+    vec![("motion".into(), motion), ("depth".into(), depth)]
+}
