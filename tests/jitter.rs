@@ -14,7 +14,6 @@ use fxgraph::graph::{compile, CompileRequest, Graph};
 use fxgraph::io::Pixels;
 use fxgraph::script::types::Format;
 use fxgraph::script::{halton23, Diagnostics, JitterPattern, SourceMap};
-use std::path::PathBuf;
 
 fn compile_text(dir: &tempfile::TempDir, text: &str) -> (Option<Graph>, Diagnostics, SourceMap) {
     let p = dir.path().join("t.fx");
@@ -132,15 +131,13 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 }
 ";
 
-fn show_effect(dir: &tempfile::TempDir) -> PathBuf {
-    std::fs::write(dir.path().join("show_jitter.wgsl"), SHOW).unwrap();
-    let fx = dir.path().join("show.fx");
-    std::fs::write(
-        &fx,
+fn show_effect(dir: &tempfile::TempDir) -> String {
+    common::cli::write_effect(
+        dir.path(),
+        "show",
         "EFFECT.show = { JITTER = halton23  PASS = { s = SHADER.show_jitter { img = IN  OUT.FORMAT = rgba32f } } OUT = s }",
+        ("show_jitter", SHOW),
     )
-    .unwrap();
-    fx
 }
 
 #[test]
@@ -158,7 +155,7 @@ fn the_standard_value_reaches_a_shader_per_frame() {
             jitter: halton23(i),
         })
         .collect();
-    let outs = run_stream_frames(&mut engine, &fx.display().to_string(), &[], &frames, 25.0);
+    let outs = run_stream_frames(&mut engine, &fx, &[], &frames, 25.0);
     for (i, out) in outs.iter().enumerate() {
         let j = halton23(i as u64);
         for px in out.chunks(4) {
@@ -166,7 +163,7 @@ fn the_standard_value_reaches_a_shader_per_frame() {
         }
     }
     // Through Prepared::run: the offset given with the frame, and 0 by default.
-    let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
+    let mut effect = Effect::compile(std::slice::from_ref(&fx), &[]).unwrap();
     assert_eq!(effect.jitter(), Some(JitterPattern::Halton23));
     let img = common::image_f32(3, 2, |_, _| [0.5, 0.5, 0.5, 1.0]);
     let mut prepared = effect

@@ -9,8 +9,8 @@
 //!   one output per input (`rate` outputs with `rate > 1`), in order.
 //! - `PASS.x[-n]` (feedback) reads the persistent ring of the pass, zero before the
 //!   first frame.
-//! - Each input frame may come with its own [`FrameData`] (sub-pixel jitter, camera,
-//!   auxiliary images): output `t` runs with the data of input frame `t`.
+//! - A frame pushed with [`FrameExtras`] (its own auxiliary images, camera and
+//!   sub-pixel jitter) gives them to its output `t`.
 //!
 //! Each input frame is uploaded once into a texture that stays in a ring of
 //! `history + latency + 1` textures (recycled, never re-uploaded), and transient
@@ -20,7 +20,7 @@
 
 use super::context::{GpuError, PendingReadback};
 use super::executor::{
-    wgpu_format, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming, Prepared,
+    wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
 };
 use super::transfer::{create_output, image_bytes};
 use crate::graph::plan::Resource;
@@ -28,24 +28,30 @@ use crate::pixels::Image;
 use crate::script::types::Format;
 use std::collections::{HashMap, VecDeque};
 
-/// Values that come with one input frame ([`Stream::push_texture_with`]).
+/// What a frame made on the device (a rendered scene) brings besides its image:
+/// its own auxiliary images and camera, which the effect reads with that frame's
+/// output (the stream's [`Stream::aux`] and [`Stream::camera`] are for frames
+/// without them), and the sub-pixel jitter it was rendered with.
 #[derive(Debug, Clone, Default)]
-pub struct FrameData {
-    /// The sub-pixel jitter the frame was rendered with (the standard value
-    /// `jitter`; see [`FrameInputs::jitter`]). `[0, 0]`: none.
-    pub jitter: [f32; 2],
-    /// The frame's camera; `None`: the stream's [`Stream::camera`].
-    pub camera: Option<CameraStd>,
-    /// The frame's auxiliary images (`AUX.name`: depth, motion, ...); a name not
-    /// given here is taken from the stream's [`Stream::aux`].
+pub struct FrameExtras {
     pub aux: HashMap<String, wgpu::Texture>,
+    pub camera: Option<CameraStd>,
+    /// The offset the frame was rendered with, in pixels from the pixel centre, x
+    /// right, y down: the standard value `jitter` ([`FrameInputs::jitter`]). A
+    /// renderer sets it to `pattern.offset(n)` for frame `n` when
+    /// [`Prepared::jitter`] asks for a pattern; `[0, 0]` otherwise.
+    pub jitter: [f32; 2],
 }
 
-/// An input frame held by a stream.
+/// An input frame held in the ring.
 struct Held {
     index: u64,
-    texture: wgpu::Texture,
-    data: FrameData,
+    input: wgpu::Texture,
+    /// Set for frames pushed with [`Stream::push_frame`] or [`Stream::push_image_with`].
+    extras: Option<FrameExtras>,
+    /// The input texture is the stream's own (an uploaded image): reused for a
+    /// later upload once the frame leaves the ring.
+    recycle: bool,
 }
 
 /// A prepared effect run over a sequence of frames.
@@ -65,10 +71,13 @@ pub struct Stream {
     pub rate: u32,
     output: wgpu::Texture,
     input_format: Format,
-    /// Auxiliary images of every frame (a frame's own [`FrameData::aux`] come first).
+    /// Auxiliary images, the same for every frame.
     pub aux: HashMap<String, wgpu::Texture>,
-    /// The camera of every frame without one of its own ([`FrameData::camera`]).
     pub camera: Option<CameraStd>,
+    /// Number of the first pushed frame: the standard values `frame` and `time`
+    /// (= frame / fps) of output t are those of frame `frame_offset + t` (a
+    /// rendered sequence starts at its first frame's scene time). Default 0.
+    pub frame_offset: u64,
     /// Collect per-pass timings of every frame.
     pub want_timings: bool,
     /// Timings of the last frame run (when `want_timings`).
@@ -108,6 +117,7 @@ impl Stream {
             prepared,
             aux: HashMap::new(),
             camera: None,
+            frame_offset: 0,
             want_timings: false,
             last_timings: Vec::new(),
         }
@@ -135,18 +145,27 @@ impl Stream {
 
     /// Upload an image (into a recycled texture) and queue it.
     pub fn push_image(&mut self, engine: &Engine, img: &Image) -> Result<(), GpuError> {
-        self.push_image_with(engine, img, FrameData::default())
+        let input = self.input_texture(engine, img)?;
+        self.push_texture(input);
+        Ok(())
     }
 
-    /// [`Stream::push_image`] with the frame's own data (jitter, camera, aux images).
+    /// [`Stream::push_image`] with the frame's own auxiliary images, camera and
+    /// jitter (as [`Stream::push_frame`] for a frame made on the device).
     pub fn push_image_with(
         &mut self,
         engine: &Engine,
         img: &Image,
-        data: FrameData,
+        extras: FrameExtras,
     ) -> Result<(), GpuError> {
         let input = self.input_texture(engine, img)?;
-        self.push_texture_with(input, data);
+        self.frames.push_back(Held {
+            index: self.pushed,
+            input,
+            extras: Some(extras),
+            recycle: true,
+        });
+        self.pushed += 1;
         Ok(())
     }
 
@@ -195,17 +214,25 @@ impl Stream {
     /// Queue the next input frame (uploaded once). Outputs become ready as the
     /// graph's latency allows: run them with [`Stream::next`].
     pub fn push_texture(&mut self, input: wgpu::Texture) {
-        self.push_texture_with(input, FrameData::default());
-    }
-
-    /// [`Stream::push_texture`] with the frame's own data: the sub-pixel jitter it
-    /// was rendered with (when [`Prepared::jitter`] asks for one), its camera and
-    /// its auxiliary images. Output `t` is run with the data of input frame `t`.
-    pub fn push_texture_with(&mut self, input: wgpu::Texture, data: FrameData) {
         self.frames.push_back(Held {
             index: self.pushed,
-            texture: input,
-            data,
+            input,
+            extras: None,
+            recycle: true,
+        });
+        self.pushed += 1;
+    }
+
+    /// Queue a frame made on the device with its own auxiliary images and camera
+    /// (a rendered scene). The textures must stay unchanged while the ring holds
+    /// the frame ([`Stream::ring_len`] frames): a producer that draws every frame
+    /// into the same textures passes copies unless the ring holds one frame.
+    pub fn push_frame(&mut self, input: wgpu::Texture, extras: FrameExtras) {
+        self.frames.push_back(Held {
+            index: self.pushed,
+            input,
+            extras: Some(extras),
+            recycle: false,
         });
         self.pushed += 1;
     }
@@ -247,7 +274,7 @@ impl Stream {
             return Ok(None);
         }
         let s = self.subframe;
-        self.prepared.frame = t;
+        self.prepared.frame = self.frame_offset + t;
         self.prepared.subframe = s;
         let extra = self.produce(engine, then)?;
         self.subframe += 1;
@@ -257,8 +284,10 @@ impl Stream {
             // Output t+1 needs frames from t+1-history on.
             let keep_from = (t + 1).saturating_sub(self.history as u64);
             while self.frames.front().is_some_and(|f| f.index < keep_from) {
-                let held = self.frames.pop_front().expect("front exists");
-                self.spare.push(held.texture);
+                let f = self.frames.pop_front().expect("front exists");
+                if f.recycle {
+                    self.spare.push(f.input);
+                }
             }
         }
         Ok(Some((t * self.rate as u64 + s as u64, extra)))
@@ -271,25 +300,20 @@ impl Stream {
     ) -> Result<T, ExecError> {
         let t = self.emitted;
         let last = self.pushed - 1;
-        let current = self
+        let extras = self
             .frames
             .iter()
             .find(|f| f.index == t)
-            .map(|f| &f.data)
-            .ok_or_else(|| ExecError::Input(format!("input frame {t} is no longer held")))?;
-        let mut aux: HashMap<String, ImageRef> = self
-            .aux
-            .iter()
-            .map(|(n, t)| (n.clone(), t.into()))
-            .collect();
-        for (n, tex) in &current.aux {
-            aux.insert(n.clone(), tex.into());
-        }
+            .and_then(|f| f.extras.as_ref());
+        let (aux, camera, jitter) = match extras {
+            Some(e) => (&e.aux, e.camera, e.jitter),
+            None => (&self.aux, self.camera, [0.0, 0.0]),
+        };
         let mut inputs = FrameInputs {
             frames: HashMap::new(),
-            aux,
-            camera: current.camera.or(self.camera),
-            jitter: current.jitter,
+            aux: aux.iter().map(|(n, t)| (n.clone(), t.into())).collect(),
+            camera,
+            jitter,
         };
         for &k in &self.offsets {
             let idx = (t as i64 + k as i64).clamp(0, last as i64) as u64;
@@ -297,7 +321,7 @@ impl Stream {
                 .frames
                 .iter()
                 .find(|f| f.index == idx)
-                .map(|f| &f.texture)
+                .map(|f| &f.input)
                 .ok_or_else(|| ExecError::Input(format!("input frame {idx} is no longer held")))?;
             inputs.frames.insert(k, tex.into());
         }

@@ -5,7 +5,7 @@
 //! top-left corner of the top-left pixel, y down (pixel centres at i + 0.5).
 
 use super::image_f32;
-use fxgraph::io::{Image, Pixels};
+use fxgraph::io::Image;
 
 /// One sample per pixel at (x + 0.5 + jitter.x, y + 0.5 + jitter.y); alpha 1.
 pub fn point_sampled(w: u32, h: u32, jitter: [f32; 2], f: impl Fn(f32, f32) -> [f32; 3]) -> Image {
@@ -39,14 +39,6 @@ pub fn supersampled(w: u32, h: u32, n: u32, f: impl Fn(f32, f32) -> [f32; 3]) ->
 /// A constant image (aux inputs: motion in r, g; depth in r).
 pub fn constant(w: u32, h: u32, v: [f32; 4]) -> Image {
     image_f32(w, h, |_, _| v)
-}
-
-/// The RGBA f32 samples of a float image.
-pub fn samples(img: &Image) -> &[f32] {
-    match &img.pixels {
-        Pixels::F32(v) => v,
-        Pixels::U8(_) => panic!("float image expected"),
-    }
 }
 
 /// Root-mean-square difference of r, g, b over the pixels at least `border`
