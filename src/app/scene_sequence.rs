@@ -384,6 +384,7 @@ fn push_and_drain(
         FrameExtras {
             aux,
             camera: Some(out.camera),
+            jitter: [0.0, 0.0],
         },
     );
     if is_last {

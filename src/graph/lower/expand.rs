@@ -25,6 +25,8 @@ pub(super) struct Lowerer<'a> {
     pub(super) too_deep: bool,
     pub(super) overrides: Vec<ParsedOverride>,
     pub(super) params: Vec<EffectParam>,
+    /// `JITTER` requests: (namespace of the effect instance, sequence).
+    pub(super) jitter: Vec<(String, JitterPattern)>,
 }
 
 impl Lowerer<'_> {
@@ -108,6 +110,9 @@ impl Lowerer<'_> {
     ) -> Option<SourceRef> {
         let def = self.loader.effect_def(at).clone();
         let shader_dir = self.loader.module_dir(at.0);
+        if let Some(j) = &def.jitter {
+            self.jitter.push((ns.to_string(), j.node));
+        }
         // Parameter values of this instance.
         let mut values: HashMap<String, (Value, ParamType, Span)> = HashMap::new();
         for decl in &def.params {
