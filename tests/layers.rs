@@ -17,7 +17,11 @@ const LAYERS: &[(&str, &[&str], bool)] = &[
     ("io", &["pixels", "unwind"], true),
     ("gpu", &["pixels", "script", "graph", "shader"], false),
     // The scene model: plain data and loaders, no GPU (no `gpu`, no wgpu).
-    ("scene", &["pixels", "script", "shader", "io", "unwind"], true),
+    (
+        "scene",
+        &["pixels", "script", "shader", "io", "unwind"],
+        true,
+    ),
     (
         "render",
         &[

@@ -187,6 +187,12 @@ pub fn run_scene_sequence(
         let t0 = Instant::now();
         let t = times.time_of(n);
         let (pose, prev) = (scene.pose(t, &playback), scene.pose(t - dt, &playback));
+        // the frame's sub-pixel offset when the chain declares JITTER (its index
+        // is the frame number, so a frame's jitter depends on n alone)
+        let jitter = stream
+            .as_ref()
+            .and_then(|s| s.prepared.jitter())
+            .map_or([0.0, 0.0], |p| p.offset(n));
         if animated {
             // lights on animated nodes move with them
             renderer.set_lights(pose.lights.clone());
@@ -195,7 +201,7 @@ pub fn run_scene_sequence(
             transforms: transforms(&pose),
             prev_transforms: transforms(&prev),
             prev_camera: Some(path.at(&scene, Some(&prev), t - dt)),
-            jitter: [0.0, 0.0],
+            jitter,
             deformed: deform(&pose),
             prev_deformed: deform(&prev),
         };
@@ -231,6 +237,7 @@ pub fn run_scene_sequence(
                 engine,
                 s,
                 &out,
+                jitter,
                 n == to,
                 (first, last),
                 &mut emitted,
@@ -349,6 +356,7 @@ fn push_and_drain(
     engine: &mut Engine,
     stream: &mut Stream,
     out: &crate::render::RenderOutput,
+    jitter: [f32; 2],
     is_last: bool,
     (first, last): (u64, u64),
     emitted: &mut u64,
@@ -384,7 +392,7 @@ fn push_and_drain(
         FrameExtras {
             aux,
             camera: Some(out.camera),
-            jitter: [0.0, 0.0],
+            jitter,
         },
     );
     if is_last {

@@ -108,7 +108,10 @@ fn describe_gltf_error(e: &gltf::Error) -> String {
             format!("invalid glTF: {}", items.join("; "))
         }
         // (An embedded PNG's error names chunks by their `Debug` form.)
-        other => format!("invalid glTF: {}", crate::io::tidy_png_message(&other.to_string())),
+        other => format!(
+            "invalid glTF: {}",
+            crate::io::tidy_png_message(&other.to_string())
+        ),
     }
 }
 
