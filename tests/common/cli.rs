@@ -189,6 +189,7 @@ pub fn write_effect(dir: &Path, name: &str, fx: &str, shader: (&str, &str)) -> S
     let p = dir.join(format!("{name}.fx"));
     std::fs::write(&p, fx).unwrap();
     p.display().to_string()
+}
 
 /// `fxrun ARGS` in `dir`, with extra environment variables (`PATH` to hide ffmpeg)
 /// and `stdin` as its standard input.
