@@ -8,6 +8,8 @@
 //! - [`model`]: [`Scene`], [`Mesh`], [`Instance`], [`TextureImage`], bounds.
 //! - [`camera`]: [`Camera`] and the `--camera` specs; [`light`]: [`Light`];
 //!   [`material`]: [`Material`] (a surface + a lighting shader binding).
+//! - [`environment`]: the light of the world around a scene ([`Environment`]: an
+//!   equirectangular map from a file, the analytic sky, the studio), as data.
 //! - [`builtin`]: the procedural scenes (`builtin:room`, `builtin:bench`, ...).
 //! - [`gltf`]: validated glTF 2.0 loading (nodes, meshes, materials, lights,
 //!   cameras).
@@ -15,6 +17,7 @@
 
 pub mod builtin;
 pub mod camera;
+pub mod environment;
 pub mod gltf;
 pub mod light;
 pub mod material;
@@ -22,6 +25,9 @@ pub mod material_file;
 pub mod model;
 
 pub use camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
+pub use environment::{
+    Background, Environment, EnvironmentError, EnvironmentMap, EnvironmentSource,
+};
 pub use light::{Light, LightKind, ATTENUATION_THRESHOLD};
 pub use material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
 pub use model::{Aabb, Instance, Mesh, Rng, Scene, SceneError, TextureImage, MAX_MATERIALS};

@@ -257,6 +257,9 @@ pub struct Scene {
     pub cameras: Vec<NamedCamera>,
     /// Linear colour of pixels without geometry.
     pub background: Vec3,
+    /// The light of the world around the scene (`None`: its lights only); see
+    /// [`Scene::set_environment`].
+    pub environment: Option<super::environment::Environment>,
 }
 
 impl Scene {

@@ -4,6 +4,7 @@
 pub mod brdf;
 pub mod cli;
 pub mod gltf_gen;
+pub mod ibl;
 pub mod rng;
 pub mod scenes;
 pub mod stream;
