@@ -54,6 +54,7 @@ mod gpu_types;
 mod light_buffers;
 mod lights;
 pub mod material;
+mod motion;
 pub mod normal;
 mod output;
 mod pipelines;
@@ -70,7 +71,7 @@ pub use gbuffer::write_gbuffer;
 pub use normal::NormalEncoding;
 pub use output::published_aux;
 pub use renderer::{
-    render, GBufferTextures, RenderError, RenderOutput, RenderStats, Renderer, RendererOptions,
-    Technique,
+    jittered, render, FrameMotion, GBufferTextures, RenderError, RenderOutput, RenderStats,
+    Renderer, RendererOptions, Technique,
 };
 pub use shadows::ShadowMode;

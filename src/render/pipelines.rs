@@ -51,7 +51,7 @@ pub(crate) struct Layouts {
     pub g1_light_buffers: wgpu::BindGroupLayout,
 }
 
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
@@ -64,7 +64,10 @@ fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn texture_entry(
+    binding: u32,
+    sample_type: wgpu::TextureSampleType,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
@@ -153,7 +156,7 @@ pub(crate) struct Pipelines {
     pub modules_created: usize,
 }
 
-fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
+pub(crate) fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
     Some(wgpu::ColorTargetState {
         format,
         blend: None,
@@ -177,7 +180,10 @@ fn additive(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
     })
 }
 
-fn depth(write: bool, compare: wgpu::CompareFunction) -> Option<wgpu::DepthStencilState> {
+pub(crate) fn depth(
+    write: bool,
+    compare: wgpu::CompareFunction,
+) -> Option<wgpu::DepthStencilState> {
     Some(wgpu::DepthStencilState {
         format: DEPTH_FORMAT,
         depth_write_enabled: Some(write),
@@ -190,7 +196,7 @@ fn depth(write: bool, compare: wgpu::CompareFunction) -> Option<wgpu::DepthStenc
 /// Checks generated WGSL with naga first: a failure here is an engine bug (the
 /// material shaders were checked on their own), reported with the module text's
 /// line so it can be found in the log.
-fn check(label: &str, wgsl: &str) -> Result<(), String> {
+pub(crate) fn check(label: &str, wgsl: &str) -> Result<(), String> {
     let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
         format!(
             "{label}: generated WGSL does not parse: {}",
@@ -505,7 +511,7 @@ impl Pipelines {
                     "fx_vs_fullscreen",
                     "fx_fs_aux_a",
                     &[],
-                    vec![aux(0), aux(1), aux(2)],
+                    vec![aux(0), aux(1), aux(2), aux(6)],
                     None,
                     wgpu::PrimitiveState::default(),
                 ),
@@ -553,7 +559,7 @@ impl Pipelines {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn create(
+pub(crate) fn create(
     ctx: &GpuContext,
     label: &str,
     module: &wgpu::ShaderModule,

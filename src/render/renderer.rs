@@ -39,6 +39,7 @@ use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
 use super::lights::{LightLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
+use super::motion::{MotionCameras, MotionPass};
 use super::normal::NormalEncoding;
 use super::pipelines::{Layouts, Pipelines};
 use super::shadow_pass::ShadowMaps;
@@ -50,7 +51,7 @@ use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use crate::scene::{Camera, Light, Scene, SceneError};
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
@@ -114,6 +115,39 @@ impl Default for RendererOptions {
     }
 }
 
+/// What a frame of a sequence adds to a still: where everything was one frame
+/// earlier (for the motion vectors, `AUX.motion`) and the sub-pixel jitter of the
+/// frame's samples. The default is a still: the scene's own transforms, no
+/// motion, no jitter.
+#[derive(Debug, Clone, Default)]
+pub struct FrameMotion {
+    /// World transforms of the scene's instances (in `Scene::instances` order)
+    /// at this frame; empty: the scene's (`Instance::transform`).
+    pub transforms: Vec<Mat4>,
+    /// The same one frame earlier (t − 1/fps); empty: as `transforms`.
+    pub prev_transforms: Vec<Mat4>,
+    /// The camera one frame earlier; `None`: this frame's camera.
+    pub prev_camera: Option<Camera>,
+    /// Offset of every pixel's sample from the pixel centre, in pixels (x right,
+    /// y down): the projection is shifted so that pixel p shows what the
+    /// unjittered camera shows at p + jitter. Motion vectors never contain it.
+    pub jitter: [f32; 2],
+}
+
+/// `proj` shifted so that pixel p samples the unjittered image at p + `jitter`
+/// (pixels, x right, y down) on a `width`×`height` target.
+pub fn jittered(proj: Mat4, jitter: [f32; 2], width: u32, height: u32) -> Mat4 {
+    if jitter == [0.0, 0.0] {
+        return proj;
+    }
+    let t = Vec3::new(
+        -2.0 * jitter[0] / width as f32,
+        2.0 * jitter[1] / height as f32,
+        0.0,
+    );
+    Mat4::from_translation(t) * proj
+}
+
 /// Renders `scene` once (creating a [`Renderer`] for it). Use a [`Renderer`] to
 /// render several frames without uploading the scene again.
 pub fn render(
@@ -162,6 +196,12 @@ pub struct Renderer {
     pub(crate) environment: super::environment::EnvironmentLighting,
     /// (technique, forward light count) whose pipelines all exist.
     ensured: std::collections::HashSet<(Technique, u32)>,
+    /// The motion-vector passes (`AUX.motion`).
+    pub(crate) motion: MotionPass,
+    /// The instances' rest transforms (scene order), and whether the instance
+    /// buffer holds other ones (a posed frame was rendered).
+    rest_transforms: Vec<Mat4>,
+    posed: bool,
 }
 
 /// A 1x1 texture view with one texel.
@@ -310,6 +350,7 @@ impl Renderer {
         }
         let aux_formats = super::output::published_aux(depth_renderable);
         warn_dark_lights(&name, &scene.lights);
+        let motion = MotionPass::new(ctx)?;
         Ok(Renderer {
             aux_formats,
             opts: opts.clone(),
@@ -335,6 +376,9 @@ impl Renderer {
             targets: None,
             environment,
             ensured: Default::default(),
+            motion,
+            rest_transforms: scene.instances.iter().map(|i| i.transform).collect(),
+            posed: false,
         })
     }
 
@@ -479,14 +523,81 @@ impl Renderer {
         Ok(())
     }
 
-    /// Renders one frame.
-    ///
-    /// With a `timer` (see [`GpuTimer::new`]; 16 passes are enough) the GPU time of
-    /// every pass is measured and returned in [`RenderStats::pass_ms`].
+    /// Renders one still frame (no motion, no jitter): [`Renderer::render_frame`]
+    /// with [`FrameMotion::default`].
     pub fn render(
         &mut self,
         ctx: &GpuContext,
         camera: &Camera,
+        width: u32,
+        height: u32,
+        technique: Technique,
+        timer: Option<&GpuTimer>,
+    ) -> Result<(RenderOutput, RenderStats), RenderError> {
+        self.render_frame(
+            ctx,
+            camera,
+            &FrameMotion::default(),
+            width,
+            height,
+            technique,
+            timer,
+        )
+    }
+
+    /// Writes the instance transforms of `motion` (or the rest pose) and returns
+    /// the world bounds and the draws of the instances that moved.
+    fn pose(
+        &mut self,
+        ctx: &GpuContext,
+        motion: &FrameMotion,
+    ) -> Result<(crate::scene::Aabb, Vec<super::upload::Batch>), RenderError> {
+        let n = self.rest_transforms.len();
+        for (what, t) in [
+            ("transforms", &motion.transforms),
+            ("previous transforms", &motion.prev_transforms),
+        ] {
+            if !t.is_empty() && t.len() != n {
+                return Err(RenderError::Invalid(format!(
+                    "{}: {} {what} for {n} instances",
+                    self.name,
+                    t.len()
+                )));
+            }
+        }
+        let now = if motion.transforms.is_empty() {
+            &self.rest_transforms
+        } else {
+            &motion.transforms
+        };
+        let prev = if motion.prev_transforms.is_empty() {
+            now
+        } else {
+            &motion.prev_transforms
+        };
+        if motion.transforms.is_empty() && motion.prev_transforms.is_empty() && !self.posed {
+            return Ok((self.bounds, Vec::new()));
+        }
+        let moving = self.geometry.moving(now, prev);
+        let (now, prev) = (now.clone(), prev.clone());
+        let bounds = self.geometry.write_transforms(ctx, &now, &prev);
+        self.posed = !(motion.transforms.is_empty() && motion.prev_transforms.is_empty());
+        self.motion.prepare(ctx, &moving)?;
+        Ok((bounds, moving))
+    }
+
+    /// Renders one frame of a sequence: the instances where `motion` puts them,
+    /// `AUX.motion` from where they and the camera were one frame earlier, the
+    /// projection jittered by `motion.jitter`.
+    ///
+    /// With a `timer` (see [`GpuTimer::new`]; 16 passes are enough) the GPU time of
+    /// every pass is measured and returned in [`RenderStats::pass_ms`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_frame(
+        &mut self,
+        ctx: &GpuContext,
+        camera: &Camera,
+        motion: &FrameMotion,
         width: u32,
         height: u32,
         technique: Technique,
@@ -503,9 +614,18 @@ impl Renderer {
             )));
         }
         self.ensure_targets(ctx, width, height)?;
+        let (bounds, moving) = self.pose(ctx, motion)?;
         let aspect = width as f32 / height as f32;
         let view = camera.view();
-        let proj = camera.proj(aspect);
+        let unjittered = camera.proj(aspect);
+        let proj = jittered(unjittered, motion.jitter, width, height);
+        let prev_camera = motion.prev_camera.unwrap_or(*camera);
+        let motion_cams = MotionCameras {
+            view,
+            proj,
+            curr_vp: unjittered * view,
+            prev_vp: prev_camera.proj(aspect) * prev_camera.view(),
+        };
         let mut lists = LightLists::classify(
             &self.lights,
             self.volumes.sphere_scale,
@@ -524,7 +644,7 @@ impl Renderer {
                 camera,
                 view,
                 aspect,
-                bounds: self.bounds,
+                bounds,
                 mode: self.opts.shadows,
                 size: self.opts.shadow_size,
                 budget: self.opts.shadow_budget,
@@ -533,7 +653,7 @@ impl Renderer {
         let culling = self.opts.light_culling;
         let visible_count = lists.forward.len() as u32;
         let (depth_near, depth_far) =
-            super::clusters::depth_range(&self.bounds, &view, camera.near, camera.far);
+            super::clusters::depth_range(&bounds, &view, camera.near, camera.far);
         let (fl, visible, clusters) = lists
             .frame_lists(culling, &proj, width, height, depth_near, depth_far)
             .map_err(|e| RenderError::Invalid(e.to_string()))?;
@@ -576,6 +696,13 @@ impl Renderer {
             view: mat_array(view),
             proj: mat_array(proj),
             inv_proj: mat_array(proj.inverse()),
+            proj_unjittered: mat_array(unjittered),
+            // a camera that did not move reprojects exactly (motion 0, not noise)
+            reproject: mat_array(if prev_camera == *camera {
+                unjittered
+            } else {
+                motion_cams.prev_vp * view.inverse()
+            }),
             viewport: [
                 width as f32,
                 height as f32,
@@ -634,7 +761,16 @@ impl Renderer {
             ..Default::default()
         };
         let label = format!("deferred frame ({technique}, {width}x{height})");
-        let (pass_names, draws) = frame::encode(self, ctx, &label, technique, &fl, &view, timer)?;
+        let (pass_names, draws) = frame::encode(
+            self,
+            ctx,
+            &label,
+            technique,
+            &fl,
+            &view,
+            timer,
+            (&motion_cams, &moving),
+        )?;
         stats.draw_calls = draws;
         stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         stats.pipelines = self.pipelines.pipelines_created;
@@ -669,7 +805,7 @@ impl Renderer {
                 .iter()
                 .map(|(n, tex)| (n.clone(), tex.texture.clone()))
                 .collect(),
-            camera: super::camera_std(camera, aspect),
+            camera: super::camera_std(camera, &proj),
             gbuffer: GBufferTextures {
                 depth: t.depth.texture.clone(),
                 albedo: t.albedo.texture.clone(),

@@ -60,17 +60,33 @@ pub(crate) struct Batch {
 #[derive(Debug, Clone)]
 pub(crate) struct BlendItem {
     pub batch: Batch,
+    /// World-space centre of the instance's bounds (updated with its transform).
     pub center: Vec3,
 }
 
 /// The scene's geometry on the GPU.
+///
+/// Instances live in the instance buffer in *slot* order (sorted into batches);
+/// [`Geometry::slots`] maps a slot back to the scene's instance, so transforms
+/// that change per frame (animation) are written in place
+/// ([`Geometry::write_transforms`]) without uploading anything else.
 pub(crate) struct Geometry {
     pub vertex_buffer: wgpu::Buffer,
     pub index_buffer: wgpu::Buffer,
     pub instance_buffer: wgpu::Buffer,
+    /// One model matrix per slot: the instances' transforms one frame earlier,
+    /// read by the motion-vector pass (`motion.rs`).
+    pub prev_model_buffer: wgpu::Buffer,
     pub batches: Vec<Batch>,
     pub blend_items: Vec<BlendItem>,
     pub vertices: usize,
+    /// Slot → index of the scene's instance.
+    pub slots: Vec<usize>,
+    /// Per slot: the material index and the mesh's local bounds.
+    slot_material: Vec<u32>,
+    slot_bounds: Vec<crate::scene::Aabb>,
+    /// Per blend item: its slot.
+    blend_slots: Vec<usize>,
 }
 
 /// The feature bits a mesh sets (texture coordinates 1, vertex colours, tangents).
@@ -163,16 +179,12 @@ impl Geometry {
         let mut gpu_instances = Vec::with_capacity(order.len());
         let mut batches: Vec<Batch> = Vec::new();
         let mut blend_items = Vec::new();
+        let mut blend_slots = Vec::new();
         let mesh_bounds: Vec<_> = scene.meshes.iter().map(|m| m.bounds()).collect();
         for (slot, &i) in order.iter().enumerate() {
             let inst = &scene.instances[i];
             let model = inst.transform;
-            gpu_instances.push(GpuInstance {
-                model: mat_array(model),
-                normal: mat_array(model.inverse().transpose()),
-                material: inst.material as u32,
-                _pad: [0; 3],
-            });
+            gpu_instances.push(gpu_instance(model, inst.material as u32));
             let (base_vertex, ref idx) = ranges[inst.mesh];
             let batch = Batch {
                 cull: cull_of(inst),
@@ -187,6 +199,7 @@ impl Geometry {
                 continue;
             }
             if scene.materials[inst.material].alpha_mode == AlphaMode::Blend {
+                blend_slots.push(slot);
                 blend_items.push(BlendItem {
                     batch,
                     center: mesh_bounds[inst.mesh].transformed(&model).center(),
@@ -207,10 +220,24 @@ impl Geometry {
                 _ => batches.push(batch),
             }
         }
+        let slot_material: Vec<u32> = order
+            .iter()
+            .map(|&i| scene.instances[i].material as u32)
+            .collect();
+        let slot_bounds = order
+            .iter()
+            .map(|&i| mesh_bounds[scene.instances[i].mesh])
+            .collect();
+        let prev_models: Vec<[f32; 16]> = gpu_instances.iter().map(|g| g.model).collect();
         if gpu_instances.is_empty() {
             gpu_instances.push(bytemuck::Zeroable::zeroed());
         }
-        let (vertex_buffer, index_buffer, instance_buffer) =
+        let prev_models = if prev_models.is_empty() {
+            vec![[0.0; 16]]
+        } else {
+            prev_models
+        };
+        let (vertex_buffer, index_buffer, instance_buffer, prev_model_buffer) =
             ctx.scoped("deferred renderer: geometry upload", |device| {
                 let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
                     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -233,7 +260,12 @@ impl Geometry {
                     init(
                         "deferred instances",
                         bytemuck::cast_slice(&gpu_instances),
-                        wgpu::BufferUsages::STORAGE,
+                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    ),
+                    init(
+                        "deferred previous instance transforms",
+                        bytemuck::cast_slice(&prev_models),
+                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                     ),
                 )
             })?;
@@ -241,10 +273,86 @@ impl Geometry {
             vertex_buffer,
             index_buffer,
             instance_buffer,
+            prev_model_buffer,
             batches,
             blend_items,
             vertices: vertices.len(),
+            slots: order,
+            slot_material,
+            slot_bounds,
+            blend_slots,
         })
+    }
+
+    /// Writes the instances' world transforms (`transforms[i]` for the scene's
+    /// instance `i`) now and one frame earlier; updates the transparent
+    /// instances' sort centres and returns the world bounds of the geometry.
+    /// Face culling was chosen from the rest pose: an animation that mirrors an
+    /// instance (negative determinant) keeps the rest pose's winding.
+    pub fn write_transforms(
+        &mut self,
+        ctx: &GpuContext,
+        transforms: &[glam::Mat4],
+        prev: &[glam::Mat4],
+    ) -> crate::scene::Aabb {
+        let mut bounds = crate::scene::Aabb::EMPTY;
+        let gpu: Vec<GpuInstance> = self
+            .slots
+            .iter()
+            .enumerate()
+            .map(|(slot, &i)| {
+                let t = self.slot_bounds[slot].transformed(&transforms[i]);
+                if !t.is_empty() {
+                    bounds.add(t.min);
+                    bounds.add(t.max);
+                }
+                gpu_instance(transforms[i], self.slot_material[slot])
+            })
+            .collect();
+        let prev: Vec<[f32; 16]> = self.slots.iter().map(|&i| mat_array(prev[i])).collect();
+        for (item, &slot) in self.blend_items.iter_mut().zip(&self.blend_slots) {
+            item.center = self.slot_bounds[slot]
+                .transformed(&transforms[self.slots[slot]])
+                .center();
+        }
+        if !gpu.is_empty() {
+            ctx.queue
+                .write_buffer(&self.instance_buffer, 0, bytemuck::cast_slice(&gpu));
+            ctx.queue
+                .write_buffer(&self.prev_model_buffer, 0, bytemuck::cast_slice(&prev));
+        }
+        bounds
+    }
+}
+
+impl Geometry {
+    /// The opaque draws, one instance each, of the instances whose transform
+    /// differs between `transforms` and `prev` (scene order): what the motion
+    /// pass draws again.
+    pub fn moving(&self, transforms: &[glam::Mat4], prev: &[glam::Mat4]) -> Vec<Batch> {
+        let mut out = Vec::new();
+        for b in &self.batches {
+            for slot in b.instances.clone() {
+                let i = self.slots[slot as usize];
+                if transforms[i] != prev[i] {
+                    out.push(Batch {
+                        instances: slot..slot + 1,
+                        ..b.clone()
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The GPU record of an instance with world transform `model`.
+fn gpu_instance(model: glam::Mat4, material: u32) -> GpuInstance {
+    GpuInstance {
+        model: mat_array(model),
+        normal: mat_array(model.inverse().transpose()),
+        material,
+        _pad: [0; 3],
     }
 }
 

@@ -2,11 +2,8 @@
 //! defaults must visibly do the documented thing on an ordinary photo.
 //!
 //! Needs the corpus at `../shared/corpus` (skips with a message when absent).
-//! Run with `FX_REQUIRE_GPU=1 XDG_RUNTIME_DIR=/tmp cargo test --test effects_defaults`.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use fxgraph::io::{Image, Pixels};
 use fxgraph::script::types::Format;
 use std::path::PathBuf;

@@ -2,25 +2,16 @@
 //! exactly, names and formats are kept, patterns number, failures stop the batch or
 //! not (`--keep-going`), and temporal effects refuse frames of different sizes.
 
-mod common;
-
-use common::cli::{code, fxrun, stderr};
+use crate::common::cli::{apply, arg as s, exits, exits_with, fxrun_line, names};
+use crate::common::{self, gpu_scratch, image_u8, pattern_u8};
 
 use std::path::{Path, PathBuf};
-
-fn gpu() -> bool {
-    common::engine().is_some()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("UTF-8 test path")
-}
 
 /// Writes a test pattern of `w`x`h` to `path` (format from the extension); the
 /// `seed` shifts the pattern so the images differ.
 fn write_image(path: &Path, w: u32, h: u32, seed: u32) {
-    let base = common::pattern_u8(w + seed, h);
-    let img = common::image_u8(w, h, |x, y| {
+    let base = pattern_u8(w + seed, h);
+    let img = image_u8(w, h, |x, y| {
         let i = ((y * (w + seed) + x + seed) * 4) as usize;
         match &base.pixels {
             fxgraph::io::Pixels::U8(v) => [v[i], v[i + 1], v[i + 2], 255],
@@ -30,14 +21,25 @@ fn write_image(path: &Path, w: u32, h: u32, seed: u32) {
     fxgraph::io::save_image(path, w, h, &img.pixels, &Default::default()).unwrap();
 }
 
+/// A folder `dir/name` of test patterns: (file name, width, height, seed).
+fn images(dir: &Path, name: &str, files: &[(&str, u32, u32, u32)]) -> PathBuf {
+    let d = dir.join(name);
+    std::fs::create_dir_all(&d).unwrap();
+    for &(f, w, h, seed) in files {
+        write_image(&d.join(f), w, h, seed);
+    }
+    d
+}
+
 /// The folder of the batch: three images of different sizes and formats, and a file
 /// that is not an image.
 fn photos(dir: &Path) -> PathBuf {
-    let d = dir.join("photos");
-    std::fs::create_dir_all(&d).unwrap();
-    write_image(&d.join("a.png"), 96, 64, 0);
-    write_image(&d.join("b.jpg"), 64, 128, 3);
-    write_image(&d.join("c.png"), 80, 80, 7);
+    let files = [
+        ("a.png", 96, 64, 0),
+        ("b.jpg", 64, 128, 3),
+        ("c.png", 80, 80, 7),
+    ];
+    let d = images(dir, "photos", &files);
     std::fs::write(d.join("notes.txt"), "not an image").unwrap();
     d
 }
@@ -47,36 +49,17 @@ fn pixels(p: &Path) -> fxgraph::io::Image {
         .unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
-/// Names of the files in a folder, sorted (temporaries included, so a stray one shows).
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .map(|rd| {
-            rd.flatten()
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    v.sort();
-    v
-}
-
 /// `fxrun glow -i IN -o OUT` for one image.
 fn single(input: &Path, output: &Path) {
-    let o = fxrun(&["glow", "-i", s(input), "-o", s(output)]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    exits(&apply("glow", input, output, &[]), 0);
 }
 
 #[test]
 fn mixed_size_folder_equals_one_image_runs_exactly() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let photos = photos(dir.path());
     let out = dir.path().join("out");
-    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out), "-v"]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let e = stderr(&o);
+    let e = exits(&apply("glow", &photos, &out, &["-v"]), 0);
     assert!(e.contains("skipped") && e.contains("notes.txt"), "{e}");
     assert!(e.contains("3 images in"), "{e}");
     assert!(e.contains("per image (median)"), "{e}");
@@ -102,72 +85,48 @@ fn mixed_size_folder_equals_one_image_runs_exactly() {
 
 #[test]
 fn wildcards_lists_and_patterns_name_the_outputs() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let photos = photos(dir.path());
     // A quoted wildcard, expanded by fxrun, numbered into a pattern (names without
     // numbers: by position in name order).
     let glob = format!("{}/*.png", s(&photos));
     let numbered = dir.path().join("numbered/%03d.png");
-    let o = fxrun(&["glow", "-i", &glob, "-o", s(&numbered)]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    exits(&apply("glow", &glob, &numbered, &[]), 0);
     let ndir = dir.path().join("numbered");
     assert_eq!(names(&ndir), ["000.png", "001.png"]);
     // Several inputs after one -i (as a shell expands photos/*), --format for all.
     let conv = dir.path().join("conv");
-    let o = fxrun(&[
-        "glow",
-        "-i",
-        s(&photos.join("b.jpg")),
-        s(&photos.join("a.png")),
-        "-o",
-        s(&conv),
-        "--format",
-        "png",
-    ]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let (a, b) = (photos.join("a.png"), photos.join("b.jpg"));
+    let o = fxrun_line("glow -i {} {} -o {} --format png", &[&b, &a, &conv]);
+    exits(&o, 0);
     assert_eq!(names(&conv), ["a.png", "b.png"]);
     assert!(pixels(&ndir.join("000.png")).pixels == pixels(&conv.join("a.png")).pixels);
     // Repeated -i gives the same.
     let rep = dir.path().join("rep");
-    let o = fxrun(&[
-        "glow",
-        "-i",
-        s(&photos.join("c.png")),
-        "-i",
-        s(&photos.join("a.png")),
-        "-o",
-        s(&rep),
-    ]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let o = fxrun_line("glow -i {} -i {} -o {}", &[&photos.join("c.png"), &a, &rep]);
+    exits(&o, 0);
     assert_eq!(names(&rep), ["a.png", "c.png"]);
     assert!(pixels(&rep.join("c.png")).pixels == pixels(&ndir.join("001.png")).pixels);
 }
 
 #[test]
 fn the_effect_is_planned_again_only_when_the_size_changes() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path().join("in");
-    std::fs::create_dir_all(&d).unwrap();
-    write_image(&d.join("x1.png"), 40, 30, 0);
-    write_image(&d.join("x2.png"), 40, 30, 1);
-    write_image(&d.join("y.png"), 30, 40, 2);
+    let Some(dir) = gpu_scratch() else { return };
+    let d = images(
+        dir.path(),
+        "in",
+        &[
+            ("x1.png", 40, 30, 0),
+            ("x2.png", 40, 30, 1),
+            ("y.png", 30, 40, 2),
+        ],
+    );
     let json = dir.path().join("report.json");
-    let o = fxrun(&[
-        "glow",
-        "-i",
-        s(&d),
-        "-o",
-        s(&dir.path().join("out")),
-        "--timings-json",
-        s(&json),
-    ]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let o = fxrun_line(
+        "glow -i {} -o {} --timings-json {}",
+        &[&d, &dir.path().join("out"), &json],
+    );
+    exits(&o, 0);
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(r["frames_total"], 3, "{r}");
@@ -179,10 +138,7 @@ fn the_effect_is_planned_again_only_when_the_size_changes() {
 
 #[test]
 fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    let Some(dir) = gpu_scratch() else { return };
     let photos = photos(dir.path());
     // b.jpg cut in half: a truncated JPEG.
     let b = photos.join("b.jpg");
@@ -193,16 +149,14 @@ fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("b.jpg"), "earlier b").unwrap();
     std::fs::write(out.join("c.png"), "earlier c").unwrap();
-    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out)]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    let e = stderr(&o);
+    let e = exits(&apply("glow", &photos, &out, &[]), 1);
     assert!(
         e.contains(&format!("{}:", b.display())),
         "names the file: {e}"
     );
-    assert!(e.contains("truncated"), "{e}");
-    assert!(e.contains("1 of 3 images failed"), "{e}");
-    assert!(e.contains("1 not run"), "{e}");
+    for needle in ["truncated", "1 of 3 images failed", "1 not run"] {
+        assert!(e.contains(needle), "{e}");
+    }
     // a.png finished before the failure; b and c untouched; no temporaries.
     assert_eq!(names(&out), ["a.png", "b.jpg", "c.png"]);
     assert_eq!(std::fs::read(out.join("b.jpg")).unwrap(), b"earlier b");
@@ -210,11 +164,12 @@ fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
     pixels(&out.join("a.png"));
 
     let out2 = dir.path().join("out2");
-    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out2), "--keep-going"]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    let e = stderr(&o);
-    assert!(e.contains(&format!("{}:", b.display())), "{e}");
-    assert!(e.contains("1 of 3 images failed"), "{e}");
+    let o = apply("glow", &photos, &out2, &["--keep-going"]);
+    let e = exits_with(
+        &o,
+        1,
+        &[&format!("{}:", b.display()), "1 of 3 images failed"],
+    );
     assert!(!e.contains("not run"), "{e}");
     assert_eq!(names(&out2), ["a.png", "c.png"]);
     assert_eq!((pixels(&out2.join("c.png")).width), 80);
@@ -222,44 +177,29 @@ fn a_failed_image_stops_the_batch_or_not_and_never_leaves_a_partial_file() {
 
 #[test]
 fn a_temporal_effect_refuses_frames_of_different_sizes_before_writing() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let frames = dir.path().join("frames");
-    std::fs::create_dir_all(&frames).unwrap();
-    write_image(&frames.join("f1.png"), 64, 48, 0);
-    write_image(&frames.join("f2.png"), 64, 48, 1);
-    write_image(&frames.join("f3.png"), 48, 64, 2);
+    let Some(dir) = gpu_scratch() else { return };
+    let sizes = [
+        ("f1.png", 64, 48, 0),
+        ("f2.png", 64, 48, 1),
+        ("f3.png", 48, 64, 2),
+    ];
+    let frames = images(dir.path(), "frames", &sizes);
     let out = dir.path().join("out");
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("000001.png"), "earlier").unwrap();
-    let o = fxrun(&["temporal_denoise", "-i", s(&frames), "-o", s(&out)]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    let e = stderr(&o);
-    assert!(
-        e.contains(&format!("{}:", frames.join("f3.png").display())),
-        "{e}"
-    );
+    let o = apply("temporal_denoise", &frames, &out, &[]);
+    let e = exits_with(&o, 1, &[&format!("{}:", frames.join("f3.png").display())]);
     assert!(e.contains("48x64") && e.contains("64x48"), "{e}");
     assert_eq!(names(&out), ["000001.png"]);
     assert_eq!(std::fs::read(out.join("000001.png")).unwrap(), b"earlier");
     // The same frames as several inputs: a temporal effect needs one sequence.
-    let o = fxrun(&[
-        "temporal_denoise",
-        "-i",
-        s(&frames.join("f1.png")),
-        s(&frames.join("f2.png")),
-        "-o",
-        s(&out),
-    ]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(stderr(&o).contains("reads other frames"), "{}", stderr(&o));
+    let (f1, f2) = (frames.join("f1.png"), frames.join("f2.png"));
+    let o = fxrun_line("temporal_denoise -i {} {} -o {}", &[&f1, &f2, &out]);
+    exits_with(&o, 1, &["reads other frames"]);
     // Frames of one size run as a sequence; -o DIR keeps their names there too.
     write_image(&frames.join("f3.png"), 64, 48, 2);
     let seq = dir.path().join("seq");
-    let o = fxrun(&["temporal_denoise", "-i", s(&frames), "-o", s(&seq)]);
-    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    exits(&apply("temporal_denoise", &frames, &seq, &[]), 0);
     assert_eq!(names(&seq), ["f1.png", "f2.png", "f3.png"]);
 }
 
@@ -270,47 +210,27 @@ fn batches_that_would_lose_data_are_refused_up_front() {
     write_image(&photos.join("a.bmp"), 16, 16, 0);
     // Two inputs, one output name.
     let out = dir.path().join("out");
-    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&out), "--format", "png"]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("would both be written"),
-        "{}",
-        stderr(&o)
-    );
+    let o = apply("glow", &photos, &out, &["--format", "png"]);
+    exits_with(&o, 1, &["would both be written"]);
     assert!(names(&out).is_empty(), "{:?}", names(&out));
     // Writing over the inputs.
     let before = std::fs::read(photos.join("a.png")).unwrap();
-    let o = fxrun(&["glow", "-i", s(&photos), "-o", s(&photos)]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("would replace the input"),
-        "{}",
-        stderr(&o)
+    exits_with(
+        &apply("glow", &photos, &photos, &[]),
+        1,
+        &["would replace the input"],
     );
     assert_eq!(std::fs::read(photos.join("a.png")).unwrap(), before);
     // Several inputs into one file name.
-    let o = fxrun(&[
-        "glow",
-        "-i",
-        s(&photos.join("a.png")),
-        s(&photos.join("c.png")),
-        "-o",
-        s(&dir.path().join("one.png")),
-    ]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("need an output folder"),
-        "{}",
-        stderr(&o)
+    let (a, c) = (photos.join("a.png"), photos.join("c.png"));
+    let o = fxrun_line(
+        "glow -i {} {} -o {}",
+        &[&a, &c, &dir.path().join("one.png")],
     );
+    exits_with(&o, 1, &["need an output folder"]);
     // An effect given after -i is named as such.
-    let o = fxrun(&["-i", s(&photos.join("a.png")), "glow", "-o", s(&out)]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("effects go before -i"),
-        "{}",
-        stderr(&o)
-    );
+    let o = fxrun_line("-i {} glow -o {}", &[&a, &out]);
+    exits_with(&o, 1, &["effects go before -i"]);
 }
 
 #[test]
@@ -357,7 +277,7 @@ fn memory_frames_of_mixed_sizes_through_the_pipeline() {
         .iter()
         .enumerate()
         .map(|(i, &(w, h))| {
-            common::image_u8(w, h, |x, y| {
+            image_u8(w, h, |x, y| {
                 [
                     (x * 9 + i as u32 * 40) as u8,
                     (y * 7) as u8,

@@ -1,102 +1,21 @@
 //! The seed `glow` and its downsampling blurs: the halo is isotropic (no stripes
 //! from skipped input columns), the downsampling blurX/blurY match a CPU oracle
-//! that prefilters, and the defaults visibly glow on an ordinary photo.
-//!
-//! Run with `FX_REQUIRE_GPU=1 XDG_RUNTIME_DIR=/tmp cargo test --test glow`;
-//! without an adapter (and without FX_REQUIRE_GPU) the GPU tests skip.
+//! that prefilters, the whole effect matches a CPU model, its plan peaks at the
+//! lower bound, and the defaults visibly glow on an ordinary photo.
 
-mod common;
-
-use common::*;
+use crate::common::samples::{f16r, f32s};
+use crate::common::*;
+use crate::oracle::*;
 use fxgraph::io::Pixels;
 use fxgraph::script::types::Format;
 use std::path::PathBuf;
 
-fn f32s(p: &Pixels) -> Vec<f64> {
+/// Float pixels as f64 samples.
+fn f64s(p: &Pixels) -> Vec<f64> {
     match p {
         Pixels::F32(v) => v.iter().map(|&x| x as f64).collect(),
         Pixels::U8(_) => panic!("expected float pixels"),
     }
-}
-
-/// `x` rounded to the nearest half float (what an rgba16f texture stores).
-fn f16r(x: f64) -> f64 {
-    half::f16::from_f64(x).to_f64()
-}
-
-/// Sample (x, y, c) of an RGBA buffer with clamped (replicated) coordinates.
-fn clamped(v: &[f64], w: u32, h: u32, x: i64, y: i64, c: usize) -> f64 {
-    let x = x.clamp(0, w as i64 - 1) as usize;
-    let y = y.clamp(0, h as i64 - 1) as usize;
-    v[(y * w as usize + x) * 4 + c]
-}
-
-/// Bilinear sample at texel-space coordinates (texel centres at integers), clamp
-/// to edge: what a linear, clamp-to-edge sampler returns.
-fn bilinear(v: &[f64], w: u32, h: u32, x: f64, y: f64, c: usize) -> f64 {
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let (x0, y0) = (x0 as i64, y0 as i64);
-    let t = |dx: i64, dy: i64| clamped(v, w, h, x0 + dx, y0 + dy, c);
-    (1.0 - fy) * ((1.0 - fx) * t(0, 0) + fx * t(1, 0)) + fy * ((1.0 - fx) * t(0, 1) + fx * t(1, 1))
-}
-
-/// CPU oracle of a downsampling blurX (`horizontal`) or blurY: `src` (`iw` x `ih`)
-/// is box-prefiltered over the texels under each output texel (m = ceil(ratio / 2)
-/// bilinear fetches per axis, 2 input texels apart, each the mean of 2x2 texels),
-/// then blurred at the output resolution with the exact weights
-/// exp(-i^2 / (2 sigma^2)), |i| <= ceil(3 sigma), edge texels repeated.
-/// Rounded to half floats (rgba16f storage).
-fn down_blur(
-    src: &[f64],
-    (iw, ih): (u32, u32),
-    (ow, oh): (u32, u32),
-    sigma: f64,
-    horizontal: bool,
-) -> Vec<f64> {
-    let (rx, ry) = (iw as f64 / ow as f64, ih as f64 / oh as f64);
-    let m = |r: f64| ((r * 0.5 - 1e-4).ceil() as i64).max(1);
-    let (mx, my) = (m(rx), m(ry));
-    let prefiltered = |px: i64, py: i64, c: usize| {
-        let (u, v) = ((px as f64 + 0.5) / ow as f64, (py as f64 + 0.5) / oh as f64);
-        let mut s = 0.0;
-        for j in 0..my {
-            for k in 0..mx {
-                let ox = (k as f64 - 0.5 * (mx - 1) as f64) * 2.0;
-                let oy = (j as f64 - 0.5 * (my - 1) as f64) * 2.0;
-                s += bilinear(
-                    src,
-                    iw,
-                    ih,
-                    u * iw as f64 - 0.5 + ox,
-                    v * ih as f64 - 0.5 + oy,
-                    c,
-                );
-            }
-        }
-        s / (mx * my) as f64
-    };
-    let r = (3.0 * sigma).ceil() as i64;
-    let mut out = vec![0.0; (ow * oh * 4) as usize];
-    for y in 0..oh as i64 {
-        for x in 0..ow as i64 {
-            for c in 0..4 {
-                let (mut sum, mut total) = (0.0, 0.0);
-                for i in -r..=r {
-                    let w = (-((i * i) as f64) / (2.0 * sigma * sigma)).exp();
-                    let v = if horizontal {
-                        prefiltered((x + i).clamp(0, ow as i64 - 1), y, c)
-                    } else {
-                        prefiltered(x, (y + i).clamp(0, oh as i64 - 1), c)
-                    };
-                    sum += w * v;
-                    total += w;
-                }
-                out[((y as u32 * ow + x as u32) * 4) as usize + c] = f16r(sum / total);
-            }
-        }
-    }
-    out
 }
 
 /// A one-pass effect file `SHADER.{shader} { img = IN  OUT.SCALE = scale  sigma }`
@@ -151,14 +70,14 @@ fn glow_halo_is_isotropic() {
         };
         [v, v, v, 1.0]
     });
-    let src = f32s(&img.pixels);
+    let src = f64s(&img.pixels);
     let mut ratios = Vec::new();
     for sigma in [2.0, 4.0, 8.0] {
         let sx = format!("blurX.sigma={sigma}");
         let sy = format!("blurY.sigma={sigma}");
-        let (_, _, px) = run(&mut eng, &["glow"], &[&sx, &sy], &img, Format::Rgba32f).unwrap();
+        let px = apply_fx(&mut eng, "glow", &[&sx, &sy], &img, Format::Rgba32f);
         // The halo: what glow adds.
-        let halo: Vec<f64> = f32s(&px).iter().zip(&src).map(|(a, b)| a - b).collect();
+        let halo: Vec<f64> = f64s(&px).iter().zip(&src).map(|(a, b)| a - b).collect();
         let peak = halo.iter().cloned().fold(0.0, f64::max);
         // Around the square (within 20 px), off it and its edges.
         let (dx, dy) = second_differences(&halo, w, 40..88, 58..70);
@@ -199,7 +118,7 @@ fn downsampling_blurs_match_the_prefiltering_oracle() {
             }
             [f16r(c[0]) as f32, f16r(c[1]) as f32, f16r(c[2]) as f32, 1.0]
         });
-        let src = f32s(&img.pixels);
+        let src = f64s(&img.pixels);
         for (shader, horizontal) in [("blurX", true), ("blurY", false)] {
             for (scale, sigma) in [(0.5, 1.5), (0.5, 4.0), (0.25, 2.0)] {
                 let fx = one_pass_effect(&format!("down_{shader}"), shader, scale, sigma);
@@ -217,7 +136,7 @@ fn downsampling_blurs_match_the_prefiltering_oracle() {
                 );
                 assert_eq!((ow, oh), expect_size);
                 let want = down_blur(&src, (w, h), (ow, oh), sigma, horizontal);
-                let got = f32s(&px);
+                let got = f64s(&px);
                 // Half-float storage is modelled; what remains is f32 arithmetic,
                 // the sampler's weight precision and rounding-boundary flips:
                 // relative to max(1, |value|).
@@ -280,4 +199,106 @@ fn default_glow_visibly_glows_on_a_photo_without_blowing_it_out() {
         "default glow clips {:.2} % of the pixels",
         clipped * 100.0
     );
+}
+
+/// CPU model of the seed `glow` (effects/glow.fx) on a float image: brightPass at
+/// full size, blurX at half size (a prefiltering downsampling blur, sigma 4 in
+/// half-size pixels) and blurY at half size (the shader's tap positions and paired
+/// weights, bilinear sampling, clamp to edge),
+/// then add with a bilinear upsample. rgba16f intermediates are rounded to half.
+fn glow_oracle(src: &[f64], w: u32, h: u32) -> Vec<f64> {
+    let (threshold, knee, sigma): (f64, f64, f64) = (0.4, 0.3, 4.0);
+    let bright: Vec<f64> = src
+        .chunks(4)
+        .flat_map(|c| {
+            let luma = luma709(c);
+            let soft = (luma - threshold + knee).clamp(0.0, 2.0 * knee);
+            let contribution = (soft * soft / (4.0 * knee)).max(luma - threshold);
+            let scale = contribution.max(0.0) / luma.max(1e-5);
+            [
+                f16r(c[0] * scale),
+                f16r(c[1] * scale),
+                f16r(c[2] * scale),
+                f16r(c[3]),
+            ]
+        })
+        .collect();
+    let hs = half_size(w, h);
+    let bx = down_blur(&bright, (w, h), hs, sigma, true);
+    let by = blur_pass(&bx, hs, hs, sigma, false);
+    let mut out = Vec::with_capacity(src.len());
+    for y in 0..h {
+        for x in 0..w {
+            let i = ((y * w + x) * 4) as usize;
+            for c in 0..3 {
+                out.push(src[i + c] + upsample(&by, hs, x, y, (w, h), c));
+            }
+            out.push(src[i + 3]);
+        }
+    }
+    out
+}
+
+#[test]
+fn glow_matches_the_cpu_model() {
+    let Some(mut eng) = engine() else { return };
+    for (w, h) in [(64, 48), (67, 41)] {
+        // A dim gradient with HDR highlights (a bright disc, a line, single pixels)
+        // and a soft-knee band around the threshold.
+        let img = image_f32(w, h, |x, y| {
+            let (fx, fy) = (x as f64, y as f64);
+            let disc = (fx - 20.0).powi(2) + (fy - 15.0).powi(2) < 25.0;
+            let mut c = [0.1 + 0.6 * fx / w as f64, 0.2, 0.15 + 0.5 * fy / h as f64];
+            if disc {
+                c = [3.0, 2.5, 1.0];
+            }
+            if y == 30 && x > 30 {
+                c = [0.2, 1.5, 4.0];
+            }
+            if (x * 7 + y * 13) % 97 == 0 {
+                c = [8.0, 8.0, 8.0];
+            }
+            [f16r(c[0]) as f32, f16r(c[1]) as f32, f16r(c[2]) as f32, 1.0]
+        });
+        let src = f64s(&img.pixels);
+        let want = glow_oracle(&src, w, h);
+        let px = apply_fx(&mut eng, "glow", &[], &img, Format::Rgba32f);
+        let got = f32s(&px);
+        // Error relative to the glow added (output - input), in units of the
+        // largest glow value.
+        let glow_max = want
+            .iter()
+            .zip(&src)
+            .map(|(a, b)| a - b)
+            .fold(0.0, f64::max);
+        let mut max_abs: f64 = 0.0;
+        for (&g, &o) in got.iter().zip(&want) {
+            // Half-float rounding of the intermediates is modelled; what remains is
+            // f32 vs f64 arithmetic, the sampler's weight precision and
+            // rounding-boundary flips of the halves: relative to max(1, |value|).
+            max_abs = max_abs.max((g as f64 - o).abs() / o.abs().max(1.0));
+        }
+        eprintln!("glow {w}x{h}: max error {max_abs:.2e} (largest glow {glow_max:.3})");
+        assert!(glow_max > 0.5, "test image does not glow");
+        assert!(max_abs < 2e-3, "glow {w}x{h}: {max_abs} from the CPU model");
+    }
+}
+
+#[test]
+fn glow_plan_peak_is_the_lower_bound() {
+    for (w, h) in [(64, 64), (67, 41), (1920, 1080)] {
+        let (p, warnings, _) = plan_for(&["effects/glow.fx"], w, h);
+        assert_eq!(warnings, 0);
+        assert_eq!(p.peak_bytes, p.lower_bound_bytes, "{w}x{h}");
+        assert_eq!(p.validate(), Ok(p.peak_bytes));
+        // brightPass (full, rgba16f) is still alive while blurX (half) runs; then
+        // blurX and blurY (both half) are alive together.
+        let (w2, h2) = (
+            ((w as f64) * 0.5).round() as u64,
+            ((h as f64) * 0.5).round() as u64,
+        );
+        let full = w as u64 * h as u64 * 8;
+        let half = w2 * h2 * 8;
+        assert_eq!(p.lower_bound_bytes, (full + half).max(2 * half), "{w}x{h}");
+    }
 }

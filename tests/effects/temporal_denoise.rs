@@ -1,21 +1,16 @@
 //! GPU tests of the temporal_denoise effect (motion-compensated recursive
 //! filtering, spatial fallback, noise estimate): quality on moving and static
 //! noisy sequences, ghosting behind a moving edge, scene cuts, the noise estimate.
-//!
-//! Run with `FX_REQUIRE_GPU=1 XDG_RUNTIME_DIR=/tmp cargo test --test temporal_denoise`;
-//! without an adapter (and without FX_REQUIRE_GPU) the tests skip. Measured values
-//! are printed (`-- --nocapture`).
+//! Measured values are printed (`-- --nocapture`).
 //!
 //! The effect works on sRGB code values (0..1 = 0..255 in 8 bits): the frames here
 //! are 8-bit images, their noise is added to the code values, and the outputs are
 //! compared as code values.
 
-mod common;
+use crate::common::rng::hash01;
 
-use common::rng::hash01;
-
-use common::stream::run_stream;
-use common::*;
+use crate::common::stream::run_stream;
+use crate::common::*;
 use fxgraph::gpu::executor::Engine;
 use fxgraph::io::Image;
 

@@ -1,63 +1,25 @@
-//! GPU tests of the temporal effects: deinterlace, frame_blend, motion_trail and
-//! chroma_key_temporal, driven through the streaming runtime (`Stream`) like
-//! tests/temporal.rs (temporal_denoise: tests/temporal_denoise.rs).
-//!
-//! Run with `FX_REQUIRE_GPU=1 XDG_RUNTIME_DIR=/tmp cargo test --test effects_temporal`;
-//! without an adapter (and without FX_REQUIRE_GPU) the GPU tests skip. Measured
-//! values are printed (`-- --nocapture`).
+//! `deinterlace` through the streaming runtime: against the progressive ground truth
+//! of a synthetic moving box, one image per field at rate 2, static rows exact and the
+//! first frame spatial in 8 bits, float HDR input, and a real PAL clip (combing gone).
 
-mod common;
-
-use common::rng::hash01;
-
-use common::stream::run_stream;
-use common::*;
+use crate::common::samples::*;
+use crate::common::stream::run_stream;
+use crate::common::*;
+use fxgraph::gpu::executor::Engine;
 use fxgraph::io::{Image, Pixels};
 
-// ---------------------------------------------------------------- helpers
-
-/// `x` rounded to the nearest half float (what an rgba16f input texture holds).
-fn f16r(x: f32) -> f32 {
-    half::f16::from_f32(x).to_f32()
+/// `deinterlace` in `mode` with `field_order` = `order` over `frames` at `rate`
+/// outputs per frame (linear RGBA f32).
+fn deinterlace(
+    engine: &mut Engine,
+    mode: &str,
+    order: &str,
+    frames: &[Image],
+    rate: u32,
+) -> Vec<Vec<f32>> {
+    let sets = [format!("mode={mode}"), format!("field_order={order}")];
+    run_stream(engine, "deinterlace", &[&sets[0], &sets[1]], frames, rate)
 }
-
-fn float_image(w: u32, h: u32, px: Vec<f32>) -> Image {
-    let mut img = image_f32(w, h, |_, _| [0.0; 4]);
-    img.pixels = Pixels::F32(px);
-    img
-}
-
-/// RGB samples (alpha left out) of the pixels where `keep(x, y)`.
-fn select_rgb(v: &[f32], w: u32, h: u32, keep: impl Fn(u32, u32) -> bool) -> Vec<f32> {
-    let mut out = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            if keep(x, y) {
-                let i = ((y * w + x) * 4) as usize;
-                out.extend_from_slice(&v[i..i + 3]);
-            }
-        }
-    }
-    out
-}
-
-/// Deterministic zero-mean noise with standard deviation `sigma` (sum of 4 uniforms).
-fn noise(seed: u64, sigma: f32) -> f32 {
-    let s: f32 = (0..4).map(|i| hash01(seed * 4 + i)).sum::<f32>() - 2.0;
-    // Var of a sum of 4 U(0,1) is 4/12 = 1/3.
-    s * sigma * 3f32.sqrt()
-}
-
-fn mean(v: &[f32]) -> f64 {
-    v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64
-}
-
-fn std_dev(v: &[f32]) -> f64 {
-    let m = mean(v);
-    (v.iter().map(|&x| (x as f64 - m).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
-}
-
-// ---------------------------------------------------------------- deinterlace
 
 const DW: u32 = 96;
 const DH: u32 = 64;
@@ -90,7 +52,7 @@ fn progressive(t: u32) -> Vec<f32> {
                     0.5 + 0.25 * (1.7 * yf + 0.4 * xf).sin() + 0.15 * (0.6 * xf - 1.1 * yf).cos();
                 [s, 0.6 * s + 0.2, 1.0 - s]
             };
-            v.extend_from_slice(&[f16r(c[0]), f16r(c[1]), f16r(c[2]), 1.0]);
+            v.extend_from_slice(&[f16r32(c[0]), f16r32(c[1]), f16r32(c[2]), 1.0]);
         }
     }
     v
@@ -189,15 +151,7 @@ fn deinterlace_synthetic_ground_truth() {
                 if !tff && mode != "adaptive" {
                     continue;
                 }
-                let set_mode = format!("mode={mode}");
-                let set_order = format!("field_order={order}");
-                let outs = run_stream(
-                    &mut engine,
-                    "deinterlace",
-                    &[&set_mode, &set_order],
-                    &frames,
-                    rate,
-                );
+                let outs = deinterlace(&mut engine, mode, order, &frames, rate);
                 let s = score_deint(&outs, &truth, |i| {
                     if rate == 1 {
                         2 * i as u32
@@ -217,13 +171,7 @@ fn deinterlace_synthetic_ground_truth() {
     let frames: Vec<Image> = (0..8)
         .map(|k| float_image(DW, DH, weave(&truth, k, false)))
         .collect();
-    let outs = run_stream(
-        &mut engine,
-        "deinterlace",
-        &["mode=adaptive", "field_order=tff"],
-        &frames,
-        2,
-    );
+    let outs = deinterlace(&mut engine, "adaptive", "tff", &frames, 2);
     let wrong = score_deint(&outs, &truth, |i| i as u32);
     table.push(format!(
         "bff material as tff, rate 2 adaptive: full {:6.2}  box {:6.2}  box+around {:6.2} dB",
@@ -362,15 +310,8 @@ fn deinterlace_8bit_static_rows_exact_and_first_frame_spatial() {
     };
     for (order, tff) in [("tff", true), ("bff", false)] {
         let frames: Vec<Image> = (0..8).map(|k| to_u8(&weave(&truth, k, tff))).collect();
-        let set_order = format!("field_order={order}");
         for rate in [1u32, 2] {
-            let outs = run_stream(
-                &mut engine,
-                "deinterlace",
-                &["mode=adaptive", &set_order],
-                &frames,
-                rate,
-            );
+            let outs = deinterlace(&mut engine, "adaptive", order, &frames, rate);
             for (i, o) in outs.iter().enumerate() {
                 let t = if rate == 1 { 2 * i } else { i };
                 let want = codes(&to_u8(&truth[t]));
@@ -443,9 +384,9 @@ fn deinterlace_float_hdr_input() {
             .chunks_exact(4)
             .flat_map(|p| {
                 [
-                    f16r(4.0 * p[0] * p[0]),
-                    f16r(4.0 * p[1]),
-                    f16r(0.25 * p[2]),
+                    f16r32(4.0 * p[0] * p[0]),
+                    f16r32(4.0 * p[1]),
+                    f16r32(0.25 * p[2]),
                     1.0,
                 ]
             })
@@ -572,15 +513,7 @@ fn deinterlace_real_pal_clip_removes_combing() {
         ("blend", "bff"),
         ("adaptive", "tff"),
     ] {
-        let set_mode = format!("mode={mode}");
-        let set_order = format!("field_order={order}");
-        let outs = run_stream(
-            &mut engine,
-            "deinterlace",
-            &[&set_mode, &set_order],
-            &frames,
-            1,
-        );
+        let outs = deinterlace(&mut engine, mode, order, &frames, 1);
         let ci = outs
             .iter()
             .map(|o| comb_index(&luma_of_linear(o), w, h))
@@ -642,324 +575,4 @@ fn deinterlace_real_pal_clip_removes_combing() {
         &Pixels::F32(adaptive_out[4].clone()),
     );
     println!("review image: {}", saved.display());
-}
-
-// ---------------------------------------------------------------- frame_blend
-
-/// Frame i has the value (i + 1) / 64 in every channel (exact in half floats).
-fn index_frame(i: u64) -> Image {
-    let v = (i + 1) as f32 / 64.0;
-    image_f32(6, 4, |_, _| [v, v, v, 1.0])
-}
-
-fn index_value(i: i64) -> f64 {
-    (i + 1) as f64 / 64.0
-}
-
-/// frame_blend against the analytic weighted mean, with IN[-i] clamped to frame 0:
-/// every output of a 12-frame sequence (start, middle, end), for several settings.
-#[test]
-fn frame_blend_equals_the_weighted_mean() {
-    let Some(mut engine) = engine() else {
-        return;
-    };
-    let n = 12u64;
-    let frames: Vec<Image> = (0..n).map(index_frame).collect();
-    let cases: [(&[&str], &[f64], f64); 5] = [
-        (&[], &[1.0, 1.0, 1.0], 0.0),
-        (&["frames=1"], &[1.0], 0.0),
-        (
-            &[
-                "frames=5",
-                "weights=(5, 4, 3, 2)",
-                "weights_more=(1, 0, 0, 0)",
-            ],
-            &[5.0, 4.0, 3.0, 2.0, 1.0],
-            0.0,
-        ),
-        (
-            &[
-                "frames=8",
-                "weights=(1, 2, 3, 4)",
-                "weights_more=(5, 6, 7, 8)",
-                "scale=0.01",
-            ],
-            &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
-            0.01,
-        ),
-        // A temporal second difference (ffmpeg's example weights), scale 1.
-        (
-            &["weights=(-1, 2, -1, 0)", "scale=1"],
-            &[-1.0, 2.0, -1.0],
-            1.0,
-        ),
-    ];
-    for (overrides, w, scale) in cases {
-        let outs = run_stream(&mut engine, "frame_blend", overrides, &frames, 1);
-        let k = if scale == 0.0 {
-            1.0 / w.iter().sum::<f64>()
-        } else {
-            scale
-        };
-        let mut got = Vec::new();
-        for (t, o) in outs.iter().enumerate() {
-            let want: f64 = k * w
-                .iter()
-                .enumerate()
-                .map(|(i, wi)| wi * index_value((t as i64 - i as i64).max(0)))
-                .sum::<f64>();
-            let alpha = k * w.iter().sum::<f64>();
-            for px in o.chunks_exact(4) {
-                for v in &px[..3] {
-                    assert!(
-                        (*v as f64 - want).abs() < 1e-5,
-                        "{overrides:?} t={t}: {v} vs {want}"
-                    );
-                }
-                assert!((px[3] as f64 - alpha).abs() < 1e-5);
-            }
-            got.push(o[0]);
-        }
-        println!(
-            "frame_blend {overrides:?}: outputs x64 {:?}",
-            got.iter()
-                .map(|v| format!("{:.3}", v * 64.0))
-                .collect::<Vec<_>>()
-        );
-    }
-}
-
-// ---------------------------------------------------------------- motion_trail
-
-/// A bright 1-px dot moving 5 px per frame over black: the trail it leaves holds
-/// decay^k k frames later (both modes); a static grey stripe is unchanged by max and
-/// brightened to grey * (1 - decay^(t+1)) / (1 - decay) by add.
-#[test]
-fn motion_trail_decays_geometrically() {
-    let Some(mut engine) = engine() else {
-        return;
-    };
-    let n = 10u32;
-    let (w, h) = (64u32, 16u32);
-    let dot_x = |t: u32| 4 + 5 * t;
-    let frames: Vec<Image> = (0..n)
-        .map(|t| {
-            image_f32(w, h, |x, y| {
-                let v = if y == 5 && x == dot_x(t) {
-                    1.0
-                } else if y >= 12 {
-                    0.25
-                } else {
-                    0.0
-                };
-                [v, v, v, 1.0]
-            })
-        })
-        .collect();
-    let decay = 0.7f64;
-    for mode in ["max", "add"] {
-        let set_mode = format!("mode={mode}");
-        let outs = run_stream(
-            &mut engine,
-            "motion_trail",
-            &[&set_mode, "decay=0.7"],
-            &frames,
-            1,
-        );
-        let last = &outs[(n - 1) as usize];
-        let trail: Vec<f64> = (0..n)
-            .map(|k| at(last, w, dot_x(n - 1 - k), 5, 0) as f64)
-            .collect();
-        println!(
-            "motion_trail {mode}: trail values at k = 0..9 frames back {:?}",
-            trail.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>()
-        );
-        for (k, v) in trail.iter().enumerate() {
-            let want = decay.powi(k as i32);
-            assert!(
-                (v - want).abs() < 0.01 * want + 1e-3,
-                "{mode} k={k}: {v} vs {want}"
-            );
-        }
-        for k in 0..(n - 1) as usize {
-            let ratio = trail[k + 1] / trail[k];
-            assert!((ratio - decay).abs() < 0.01, "{mode}: ratio {ratio}");
-        }
-        // Nothing else on the dot's row lights up; alpha stays 1.
-        for x in 0..w {
-            if (x as i64 - 4) % 5 != 0 || x > dot_x(n - 1) {
-                assert_eq!(at(last, w, x, 5, 0), 0.0, "{mode} x={x}");
-            }
-            assert!((at(last, w, x, 5, 3) - 1.0).abs() < 1e-6);
-        }
-        let grey = at(last, w, 10, 13, 0) as f64;
-        let want = if mode == "max" {
-            0.25
-        } else {
-            0.25 * (1.0 - decay.powi(n as i32)) / (1.0 - decay)
-        };
-        assert!(
-            (grey - want).abs() < 0.005,
-            "{mode}: static grey {grey} vs {want}"
-        );
-    }
-}
-
-// ---------------------------------------------------------------- chroma_key_temporal
-
-const KW: u32 = 64;
-const KH: u32 = 64;
-
-/// Frame `t` of a green-screen shot: a backdrop slightly off the key colour with
-/// per-frame noise (8 codes per channel), which makes chroma_key's soft band
-/// flicker; a static red square; a blue square moving 4 px per frame.
-fn green_screen(t: u32) -> Image {
-    image_u8(KW, KH, |x, y| {
-        let moving_x = 2 + 4 * t;
-        if (4..20).contains(&x) && (4..20).contains(&y) {
-            [200, 50, 40, 255]
-        } else if (40..52).contains(&y) && (moving_x..moving_x + 12).contains(&x) {
-            [50, 70, 200, 255]
-        } else {
-            let seed = ((t as u64 * KH as u64 + y as u64) * KW as u64 + x as u64) * 3;
-            let px =
-                |base: f32, c: u64| (base + noise(seed + c, 8.0)).round().clamp(0.0, 255.0) as u8;
-            [px(95.0, 0), px(196.0, 1), px(74.0, 2), 255]
-        }
-    })
-}
-
-fn alphas(v: &[f32], keep: impl Fn(u32, u32) -> bool) -> Vec<f32> {
-    let mut out = Vec::new();
-    for y in 0..KH {
-        for x in 0..KW {
-            if keep(x, y) {
-                out.push(at(v, KW, x, y, 3));
-            }
-        }
-    }
-    out
-}
-
-/// Mean squared frame-to-frame change of the alpha over `keep`, frames `from..`.
-fn alpha_flicker(outs: &[Vec<f32>], from: usize, keep: impl Fn(u32, u32) -> bool + Copy) -> f64 {
-    let mut sum = 0.0;
-    let mut n = 0.0;
-    for t in from..outs.len() {
-        let (a, b) = (alphas(&outs[t], keep), alphas(&outs[t - 1], keep));
-        sum += a
-            .iter()
-            .zip(&b)
-            .map(|(p, q)| ((p - q) as f64).powi(2))
-            .sum::<f64>();
-        n += a.len() as f64;
-    }
-    sum / n
-}
-
-/// Mean over the pixels of `keep` of the alpha's variance over the frames `outs`.
-fn alpha_temporal_variance(outs: &[Vec<f32>], keep: impl Fn(u32, u32) -> bool + Copy) -> f64 {
-    let series: Vec<Vec<f32>> = outs.iter().map(|o| alphas(o, keep)).collect();
-    let n = series[0].len();
-    (0..n)
-        .map(|i| {
-            let v: Vec<f32> = series.iter().map(|s| s[i]).collect();
-            std_dev(&v).powi(2)
-        })
-        .sum::<f64>()
-        / n as f64
-}
-
-/// The temporally smoothed matte flickers much less than chroma_key's on a noisy
-/// backdrop, starts equal to it, and follows a moving foreground at once.
-#[test]
-fn chroma_key_temporal_stabilises_a_flickering_matte() {
-    let Some(mut engine) = engine() else {
-        return;
-    };
-    let n = 12u32;
-    let frames: Vec<Image> = (0..n).map(green_screen).collect();
-    let plain = run_stream(&mut engine, "chroma_key", &[], &frames, 1);
-    let temporal = run_stream(&mut engine, "chroma_key_temporal", &[], &frames, 1);
-    // Frame 0: chroma_key's matte (8-bit alpha inside the effect) and colour.
-    let d0 = max_abs_diff(
-        &alphas(&temporal[0], |_, _| true),
-        &alphas(&plain[0], |_, _| true),
-    );
-    // 8-bit alpha inside the effect, then the r16f matte.
-    assert!(d0 <= 1.0 / 255.0, "frame 0 alpha differs by {d0}");
-    let c0 = max_abs_diff(
-        &select_rgb(&temporal[0], KW, KH, |_, _| true),
-        &select_rgb(&plain[0], KW, KH, |_, _| true),
-    );
-    assert!(c0 < 0.01, "frame 0 colour differs by {c0}");
-    // Backdrop only: away from the squares.
-    let backdrop = |x: u32, y: u32| !((x < 23 && y < 23) || (37..55).contains(&y));
-    let bg_alpha = mean(&alphas(&plain[5], backdrop));
-    let f_plain = alpha_flicker(&plain, 4, backdrop);
-    let f_temporal = alpha_flicker(&temporal, 4, backdrop);
-    let (v_plain, v_temporal) = (
-        alpha_temporal_variance(&plain[4..], backdrop),
-        alpha_temporal_variance(&temporal[4..], backdrop),
-    );
-    println!(
-        "chroma_key_temporal: backdrop mean alpha {bg_alpha:.3}; frames 4-11: mean squared frame-to-frame alpha change chroma_key {f_plain:.5}, temporal {f_temporal:.5} (ratio {:.3}); per-pixel alpha variance over time {v_plain:.5} vs {v_temporal:.5} (ratio {:.3})",
-        f_temporal / f_plain,
-        v_temporal / v_plain
-    );
-    assert!(
-        f_plain > 0.002,
-        "the test backdrop should flicker: {f_plain}"
-    );
-    assert!(f_temporal < 0.25 * f_plain, "{f_temporal} vs {f_plain}");
-    assert!(v_temporal < 0.5 * v_plain, "{v_temporal} vs {v_plain}");
-    // The static red square stays opaque.
-    let red = |x: u32, y: u32| (5..19).contains(&x) && (5..19).contains(&y);
-    for out in &temporal {
-        assert!(alphas(out, red).iter().all(|&a| a > 0.999));
-    }
-    // The moving square: opaque where it arrives, the current matte where it left.
-    let mut worst_left = 0f32;
-    for t in 1..n {
-        let (x0, x1) = (2 + 4 * (t - 1), 2 + 4 * t);
-        let arrived = alphas(&temporal[t as usize], |x, y| {
-            (41..51).contains(&y) && (x1 + 1..x1 + 11).contains(&x)
-        });
-        assert!(arrived.iter().all(|&a| a > 0.98), "frame {t}: {arrived:?}");
-        let left = |x: u32, y: u32| (41..51).contains(&y) && (x0 + 1..x1 - 1).contains(&x);
-        let d = max_abs_diff(
-            &alphas(&temporal[t as usize], left),
-            &alphas(&plain[t as usize], left),
-        );
-        worst_left = worst_left.max(d);
-    }
-    println!("chroma_key_temporal: max |alpha - chroma_key alpha| where the square just left: {worst_left:.4}");
-    assert!(worst_left < 0.02, "{worst_left}");
-    // The other output forms carry the same smoothed matte.
-    let short = &frames[..4];
-    let pre = run_stream(
-        &mut engine,
-        "chroma_key_temporal",
-        &["output=premultiplied"],
-        short,
-        1,
-    );
-    let matte = run_stream(
-        &mut engine,
-        "chroma_key_temporal",
-        &["output=matte"],
-        short,
-        1,
-    );
-    for t in 0..short.len() {
-        for (i, px) in temporal[t].chunks_exact(4).enumerate() {
-            let a = px[3];
-            let (p, m) = (&pre[t][i * 4..i * 4 + 4], &matte[t][i * 4..i * 4 + 4]);
-            for c in 0..3 {
-                assert!((p[c] - px[c] * a).abs() < 1e-3, "premultiplied");
-                assert!((m[c] - srgb_to_linear(a)).abs() < 1e-3, "matte");
-            }
-            assert!((p[3] - a).abs() < 1e-6 && m[3] == 1.0);
-        }
-    }
 }
