@@ -151,6 +151,7 @@ pub fn env_sphere(base: Vec3, metallic: f32, roughness: f32, env: Environment) -
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        ..Default::default()
     });
     scene.environment = Some(env);
     scene
