@@ -209,7 +209,7 @@ pub(crate) struct Cli {
     #[arg(help_heading = SCENES, long, value_name = "FILE|builtin:NAME|none")]
     pub(crate) environment: Option<String>,
     /// Scene: multiplies the environment's radiance (not a sky's sun).
-    #[arg(help_heading = SCENES, long, value_name = "X", default_value_t = 1.0)]
+    #[arg(help_heading = SCENES, long, value_name = "X", default_value_t = 1.0, allow_negative_numbers = true)]
     pub(crate) environment_intensity: f32,
     /// Scene: turns the environment about +Y by DEGREES (+X towards -Z for 90).
     #[arg(help_heading = SCENES, long, value_name = "DEGREES", default_value_t = 0.0, allow_negative_numbers = true)]
