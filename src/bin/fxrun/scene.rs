@@ -403,5 +403,6 @@ fn environment_options(
     Ok((env, background))
 }
 
-/// The environment of a scene without `--environment`.
-const DEFAULT_ENVIRONMENT: &str = "none";
+/// The environment of a scene without `--environment`: like every glTF viewer,
+/// fxrun lights PBR materials with an environment by default (docs/renderer.md).
+const DEFAULT_ENVIRONMENT: &str = "builtin:studio";
