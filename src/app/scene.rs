@@ -103,7 +103,8 @@ fn scene_error(scene: &str, e: SceneError) -> RunError {
     })
 }
 
-fn render_error(scene: &str, e: RenderError) -> RunError {
+/// A renderer error as a run error (a scene or material problem is an input error).
+pub fn render_error(scene: &str, e: RenderError) -> RunError {
     match e {
         RenderError::Gpu(g) => RunError::Gpu(g),
         RenderError::Scene(s) => scene_error(scene, s),
@@ -116,52 +117,10 @@ fn render_error(scene: &str, e: RenderError) -> RunError {
     }
 }
 
-/// Render the scene, run the effects, write the output (and the G-buffer).
-pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, RunError> {
-    let t_all = Instant::now();
-    let mut report = RunReport {
-        job: JobKind::Scene,
-        adapter: engine.ctx.info.name.clone(),
-        backend: format!("{:?}", engine.ctx.info.backend),
-        frames_total: Some(1),
-        ..Default::default()
-    };
-    let mut stats = SceneStats {
-        scene: job.scene.clone(),
-        technique: job.technique.to_string(),
-        light_culling: job.light_culling.to_string(),
-        shadows: job.shadows.to_string(),
-        ..Default::default()
-    };
-    // Check everything the user wrote before rendering.
-    let max = engine.ctx.device.limits().max_texture_dimension_2d;
-    if job.width.max(job.height) > max {
-        return Err(RunError::BadInput(IoError::Unsupported {
-            path: PathBuf::from(&job.scene),
-            message: format!(
-                "the render size {}x{} is larger than the GPU's limit of {max} pixels per side",
-                job.width, job.height
-            ),
-        }));
-    }
-    // (compiled before the scene loads, so that script errors come first; the
-    // default chain needs the scene's scale and is compiled after it)
-    let mut effect = if job.effects.is_empty() || job.default_chain {
-        None
-    } else {
-        Some(Effect::compile(&job.effects, &job.overrides)?)
-    };
-    let out_format = match &job.output {
-        Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
-        None => None,
-    };
-    let t = Instant::now();
+/// Load the job's scene with its `--materials`, random lights and ambient light,
+/// and the camera it is seen from (the job's, or the scene's default).
+pub fn load_scene(job: &SceneJob) -> Result<(Scene, Camera), RunError> {
     let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
-    if job.default_chain && !job.effects.is_empty() {
-        let mut overrides = default_chain_settings(&scene);
-        overrides.extend(job.overrides.iter().cloned());
-        effect = Some(Effect::compile(&job.effects, &overrides)?);
-    }
     if let Some(path) = &job.materials {
         // A regular file of at most 1 MiB (`--materials /dev/zero` would never end).
         let bytes = crate::io::read_regular_file(path, crate::shader::include::MAX_INCLUDE_BYTES)
@@ -207,11 +166,19 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
         None => scene.default_camera(),
     };
-    stats.load_ms = ms(t.elapsed());
-    let ctx = engine.ctx.clone();
+    Ok((scene, camera))
+}
+
+/// The renderer of a loaded scene with the job's options (technique-independent:
+/// variants, light culling, shadows, fog).
+pub fn scene_renderer(
+    job: &SceneJob,
+    ctx: &crate::gpu::context::GpuContext,
+    scene: &Scene,
+) -> Result<Renderer, RunError> {
     let mut renderer = Renderer::new(
-        &ctx,
-        &scene,
+        ctx,
+        scene,
         &RendererOptions {
             variants: job.variants,
             light_culling: job.light_culling,
@@ -223,6 +190,58 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     )
     .map_err(|e| render_error(&job.scene, e))?;
     renderer.set_fog(job.fog);
+    Ok(renderer)
+}
+
+/// Render the scene, run the effects, write the output (and the G-buffer).
+pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, RunError> {
+    let t_all = Instant::now();
+    let mut report = RunReport {
+        job: JobKind::Scene,
+        adapter: engine.ctx.info.name.clone(),
+        backend: format!("{:?}", engine.ctx.info.backend),
+        frames_total: Some(1),
+        ..Default::default()
+    };
+    let mut stats = SceneStats {
+        scene: job.scene.clone(),
+        technique: job.technique.to_string(),
+        light_culling: job.light_culling.to_string(),
+        shadows: job.shadows.to_string(),
+        ..Default::default()
+    };
+    // Check everything the user wrote before rendering.
+    let max = engine.ctx.device.limits().max_texture_dimension_2d;
+    if job.width.max(job.height) > max {
+        return Err(RunError::BadInput(IoError::Unsupported {
+            path: PathBuf::from(&job.scene),
+            message: format!(
+                "the render size {}x{} is larger than the GPU's limit of {max} pixels per side",
+                job.width, job.height
+            ),
+        }));
+    }
+    // (compiled before the scene loads, so that script errors come first; the
+    // default chain needs the scene's scale and is compiled after it)
+    let mut effect = if job.effects.is_empty() || job.default_chain {
+        None
+    } else {
+        Some(Effect::compile(&job.effects, &job.overrides)?)
+    };
+    let out_format = match &job.output {
+        Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
+        None => None,
+    };
+    let t = Instant::now();
+    let (scene, camera) = load_scene(job)?;
+    if job.default_chain && !job.effects.is_empty() {
+        let mut overrides = default_chain_settings(&scene);
+        overrides.extend(job.overrides.iter().cloned());
+        effect = Some(Effect::compile(&job.effects, &overrides)?);
+    }
+    stats.load_ms = ms(t.elapsed());
+    let ctx = engine.ctx.clone();
+    let mut renderer = scene_renderer(job, &ctx, &scene)?;
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {

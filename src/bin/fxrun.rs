@@ -104,7 +104,7 @@ fn rejected(message: impl Into<String>) -> Fail {
 
 fn main() -> ExitCode {
     env_logger::Builder::from_env(
-        env_logger::Env::default().default_filter_or("warn,wgpu_hal::gles::egl=off"),
+        env_logger::Env::default().default_filter_or("warn,wgpu_hal::gles::egl=off,winit=error"),
     )
     .init();
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
@@ -216,6 +216,14 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
         }
         return Ok(());
+    }
+    if cli.view {
+        return run_view(&cli);
+    }
+    if cli.view_frames.is_some() || !cli.view_do.is_empty() || cli.screenshot.is_some() {
+        return Err(rejected(
+            "--view-frames, --view-do and --screenshot are options of --view",
+        ));
     }
     if cli.watch {
         return watch::run_watch(&cli);
@@ -428,6 +436,24 @@ mod scene;
 mod sequence;
 #[path = "fxrun/watch.rs"]
 mod watch;
+
+#[cfg(feature = "view")]
+#[path = "fxrun/view/mod.rs"]
+mod view;
+
+/// `--view`: the viewer window.
+#[cfg(feature = "view")]
+fn run_view(cli: &Cli) -> Result<(), Fail> {
+    view::run_view(cli)
+}
+
+/// `--view` in a build without the `view` feature.
+#[cfg(not(feature = "view"))]
+fn run_view(_cli: &Cli) -> Result<(), Fail> {
+    Err(rejected(
+        "--view: this fxrun was built without the viewer (cargo feature `view`)",
+    ))
+}
 
 use args::Cli;
 use batch::{check_outputs, check_same_size, collect_inputs, try_run_batch};

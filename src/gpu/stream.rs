@@ -50,6 +50,10 @@ pub struct Stream {
     pub want_timings: bool,
     /// Timings of the last frame run (when `want_timings`).
     pub last_timings: Vec<PassTiming>,
+    /// The standard value `frame` of the first frame pushed (default 0): a stream
+    /// started in the middle of a sequence (a viewer going back) numbers its frames
+    /// as the whole sequence does.
+    pub first_frame: u64,
 }
 
 impl Stream {
@@ -87,6 +91,7 @@ impl Stream {
             camera: None,
             want_timings: false,
             last_timings: Vec::new(),
+            first_frame: 0,
         }
     }
 
@@ -203,7 +208,7 @@ impl Stream {
             return Ok(None);
         }
         let s = self.subframe;
-        self.prepared.frame = t;
+        self.prepared.frame = self.first_frame + t;
         self.prepared.subframe = s;
         let extra = self.produce(engine, then)?;
         self.subframe += 1;
