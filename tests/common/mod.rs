@@ -3,6 +3,7 @@
 
 pub mod brdf;
 pub mod cli;
+pub mod display;
 pub mod gltf_gen;
 pub mod rng;
 pub mod scenes;

@@ -110,8 +110,10 @@ pub(super) struct Viewer {
     pub dirty: bool,
     /// Reloads done (compiled, or failed to).
     pub reloads: u64,
-    /// Scripted `wait-reload`: the reload count to wait past, and since when.
+    /// Scripted `wait-reload`: the reload count to wait for, and since when.
     pub waiting_reload: Option<(u64, Instant)>,
+    /// Scripted `wait-reload`s so far.
+    pub reload_waits: u64,
     pub stats: FrameStats,
     /// The error the viewer ends with.
     pub failure: Option<Fail>,
@@ -146,6 +148,7 @@ impl Viewer {
             dirty: true,
             reloads: 0,
             waiting_reload: None,
+            reload_waits: 0,
             stats: FrameStats::default(),
             failure: None,
             last_frame: Instant::now(),

@@ -277,8 +277,7 @@ impl Viewer {
     fn rerun(&mut self) {
         self.dirty = true;
         if let Content::Playback(p) = &mut self.content {
-            let g = &self.fx.effect.graph;
-            if !p.playing && !g.has_feedback() {
+            if !p.playing && !self.fx.has_feedback() {
                 if let Some(at) = p.shown() {
                     if let Err(e) = p.seek(&mut self.engine, &mut self.fx, at) {
                         self.ui.status = e.to_string();
@@ -290,7 +289,7 @@ impl Viewer {
 
     /// Plan `effect` for what is shown; the old effect stays on an error.
     pub fn replan_with(&mut self, effect: Effect) -> Result<(), String> {
-        let old = std::mem::replace(&mut self.fx.effect, effect);
+        let old = self.fx.effect.replace(effect);
         match self.content.prepare(&mut self.engine, &mut self.fx) {
             Ok(()) => {
                 self.dirty = true;
@@ -311,6 +310,9 @@ impl Viewer {
         let result = (|| -> Result<(), String> {
             if let Content::Stills(s) = &mut self.content {
                 s.load(&self.engine).map_err(|e| e.to_string())?;
+            }
+            if self.fx.graph().is_none() {
+                return Ok(());
             }
             let effect = self.fx.compile().map_err(|e| e.to_string())?;
             self.replan_with(effect)
@@ -460,7 +462,9 @@ impl Viewer {
                     Ok(())
                 }
                 Action::WaitReload => {
-                    self.waiting_reload = Some((self.reloads, Instant::now()));
+                    // The n-th wait is for the n-th reload (one may already be done).
+                    self.reload_waits += 1;
+                    self.waiting_reload = Some((self.reload_waits, Instant::now()));
                     Ok(())
                 }
                 Action::Pause => {

@@ -21,7 +21,7 @@ impl Content {
     pub fn prepare(&mut self, engine: &mut Engine, fx: &mut Fx) -> Result<(), RunError> {
         match self {
             Content::Stills(s) => {
-                s.prepare(engine, &mut fx.effect)?;
+                s.prepare(engine, fx.effect_mut()?)?;
                 let p = s.prepared().expect("prepared above");
                 let dropped = fx.after_prepare(p);
                 if !dropped.is_empty() {

@@ -84,7 +84,7 @@ impl Viewer {
             self.reload();
         }
         if let Some((n, since)) = self.waiting_reload {
-            if self.reloads <= n {
+            if self.reloads < n {
                 if since.elapsed() > RELOAD_WAIT {
                     let f = Fail {
                         code: 2,
@@ -107,8 +107,9 @@ impl Viewer {
             }
         }
         if let Content::Playback(p) = &mut self.content {
-            // Scripted: one frame further per frame shown (the first shows frame 0).
-            if (scripted && self.shown > 0) || (!scripted && p.due()) {
+            // Scripted: one frame further per frame shown while playing (the first
+            // shows frame 0).
+            if (scripted && self.shown > 0 && p.playing) || (!scripted && p.due()) {
                 if let Err(e) = p.advance(&mut self.engine) {
                     self.ui.status = e.to_string();
                 }

@@ -42,7 +42,8 @@ pub(super) struct Fx {
     pass_sets: BTreeMap<String, Vec<f64>>,
     /// Pass parameter `--set`s of the command line not yet resolved to full names.
     pending_pass_sets: Vec<(String, Vec<f64>)>,
-    pub effect: Effect,
+    /// `None` for a scene shown without effects.
+    pub effect: Option<Effect>,
     /// The pass parameters as the effect gives them (before `pass_sets`).
     effect_values: BTreeMap<String, Vec<f64>>,
 }
@@ -155,6 +156,17 @@ impl Fx {
     /// Compile `names` with `base` and the command line's `sets` exactly as a normal
     /// run does (its diagnostics are the same), then split the sets.
     pub fn new(names: &[String], base: &[String], sets: &[String]) -> Result<Fx, RunError> {
+        if names.is_empty() {
+            return Ok(Fx {
+                names: Vec::new(),
+                base: Vec::new(),
+                effect_sets: Vec::new(),
+                pass_sets: BTreeMap::new(),
+                pending_pass_sets: Vec::new(),
+                effect: None,
+                effect_values: BTreeMap::new(),
+            });
+        }
         let all: Vec<String> = base.iter().chain(sets).cloned().collect();
         let full = Effect::compile(names, &all)?;
         let mut effect_sets = Vec::new();
@@ -178,11 +190,34 @@ impl Fx {
             effect_sets,
             pass_sets: BTreeMap::new(),
             pending_pass_sets,
-            effect: full,
+            effect: Some(full),
             effect_values: BTreeMap::new(),
         };
-        fx.effect = fx.compile()?;
+        fx.effect = Some(fx.compile()?);
         Ok(fx)
+    }
+
+    /// The compiled graph (none: a scene without effects).
+    pub fn graph(&self) -> Option<&Graph> {
+        self.effect.as_ref().map(|e| &e.graph)
+    }
+
+    /// The effect to plan.
+    pub fn effect_mut(&mut self) -> Result<&mut Effect, RunError> {
+        self.effect
+            .as_mut()
+            .ok_or_else(|| RunError::Other("no effect to plan".into()))
+    }
+
+    /// Does the effect read earlier output frames (feedback)?
+    pub fn has_feedback(&self) -> bool {
+        self.graph().is_some_and(|g| g.has_feedback())
+    }
+
+    /// Is `key` an effect parameter?
+    fn is_effect_param(&self, key: &str) -> bool {
+        self.graph()
+            .is_some_and(|g| !effect_params_of(g, key).is_empty())
     }
 
     /// The effect parameters set, to put back with [`Fx::restore`] when a change
@@ -202,6 +237,9 @@ impl Fx {
 
     /// Compile the effect with the base and the effect parameters set.
     pub fn compile(&self) -> Result<Effect, RunError> {
+        if self.names.is_empty() {
+            return Err(RunError::Other("no effect to compile".into()));
+        }
         let sets: Vec<String> = self
             .base
             .iter()
@@ -248,7 +286,7 @@ impl Fx {
 
     /// The effect parameters, with their current values.
     pub fn effect_params(&self) -> &[EffectParam] {
-        &self.effect.graph.params
+        self.graph().map_or(&[], |g| &g.params)
     }
 
     /// Has the panel or the command line set this pass parameter?
@@ -273,7 +311,7 @@ impl Fx {
         key: &str,
         value: &str,
     ) -> Result<Applied, String> {
-        if !effect_params_of(&self.effect.graph, key).is_empty() {
+        if self.is_effect_param(key) {
             let old = self.effect_sets.clone();
             self.forget_effect_param(key);
             self.effect_sets
@@ -305,7 +343,7 @@ impl Fx {
     /// Set back to the effect's value: an effect parameter (`EFFECT.NAME`) to its
     /// default, a pass parameter (full name) to what the effect gives it.
     pub fn reset(&mut self, prepared: Option<&mut Prepared>, key: &str) -> Result<Applied, String> {
-        if !effect_params_of(&self.effect.graph, key).is_empty() {
+        if self.is_effect_param(key) {
             let old = self.effect_sets.clone();
             self.forget_effect_param(key);
             let result = self.recompile(prepared);
@@ -346,7 +384,9 @@ impl Fx {
 
     /// Do two `--set` keys name one effect parameter?
     fn same_effect_param(&self, a: &str, b: &str) -> bool {
-        let g = &self.effect.graph;
+        let Some(g) = self.graph() else {
+            return false;
+        };
         let (pa, pb) = (effect_params_of(g, a), effect_params_of(g, b));
         !pa.is_empty() && pa == pb
     }
@@ -355,13 +395,13 @@ impl Fx {
     /// the passes are the same, or hand the new effect back for planning.
     fn recompile(&mut self, prepared: Option<&mut Prepared>) -> Result<Applied, String> {
         let new = self.compile().map_err(|e| e.to_string())?;
-        let Some(prepared) = prepared else {
+        let (Some(prepared), Some(old)) = (prepared, self.graph()) else {
             return Ok(Applied::Replan(new));
         };
-        if structure(&self.effect.graph) != structure(&new.graph) {
+        if structure(old) != structure(&new.graph) {
             return Ok(Applied::Replan(new));
         }
-        let changes = changed_values(&self.effect.graph, &new.graph);
+        let changes = changed_values(old, &new.graph);
         // Check every value first, so that a refusal changes nothing.
         let known: Vec<String> = prepared.params().into_iter().map(|p| p.name).collect();
         if changes.iter().any(|(n, _)| !known.contains(n)) {
@@ -374,7 +414,7 @@ impl Fx {
             }
             self.effect_values.insert(name.clone(), value.clone());
         }
-        self.effect = new;
+        self.effect = Some(new);
         // Pass parameters set by name win over the effect's values.
         for (name, value) in &self.pass_sets {
             let _ = prepared.set_param(name, value);

@@ -98,7 +98,8 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
         if !cli.input.is_empty() {
             return Err(rejected("--scene renders the input: give no -i"));
         }
-        let mut job = scene::scene_job(cli, cli.effects.is_empty() && cli.scene.is_none())?;
+        // As a normal run: no effect given means the default chain.
+        let mut job = scene::scene_job(cli, cli.effects.is_empty())?;
         let fixed = cli.size.is_some();
         let format = out.unwrap_or(fxgraph::script::types::Format::Rgba8Srgb);
         job.output = None;
@@ -116,8 +117,9 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
         return Err(rejected("--view needs -i INPUT or --scene SCENE"));
     }
     let fx = fx::Fx::new(&cli.effects, &[], &cli.set)?;
-    let g = &fx.effect.graph;
-    let temporal = g.history > 0 || g.latency > 0 || g.has_feedback();
+    let temporal = fx
+        .graph()
+        .is_some_and(|g| g.history > 0 || g.latency > 0 || g.has_feedback());
     let specs: Vec<SequenceSpec> = cli
         .input
         .iter()
@@ -221,7 +223,15 @@ pub(crate) fn run_view(cli: &Cli) -> Result<(), Fail> {
     };
     let event_loop = winit::event_loop::EventLoop::<UserEvent>::with_user_event()
         .build()
-        .map_err(|e| rejected(format!("--view: cannot open the display ({display}): {e}")))?;
+        .map_err(|e| {
+            // winit's message names its own source file first: keep the reason.
+            let text = e.to_string();
+            let reason = text.rsplit(": ").next().unwrap_or(&text).to_string();
+            log::info!("--view: {text}");
+            rejected(format!(
+                "--view: cannot open the display ({display}): {reason}; is the display server running?"
+            ))
+        })?;
     let ctx = fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
         .map_err(RunError::from)?;
     let engine = Engine::new(ctx);

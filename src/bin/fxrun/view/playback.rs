@@ -228,12 +228,12 @@ impl Playback {
     /// Start a new stream of `fx`'s effect that shows output `target`: from the frame
     /// its history needs (the first frame for feedback effects).
     pub fn seek(&mut self, engine: &mut Engine, fx: &mut Fx, target: u64) -> Result<(), RunError> {
-        let g = &fx.effect.graph;
         let frame = target / self.rate as u64;
-        let from = if g.has_feedback() {
+        let history = fx.graph().map_or(0, |g| g.history as u64);
+        let from = if fx.has_feedback() {
             0
         } else {
-            frame.saturating_sub(g.history as u64)
+            frame.saturating_sub(history)
         };
         self.keep_stdin();
         let mut decoder = self.decoder_from(from)?;
@@ -253,7 +253,7 @@ impl Playback {
             policy: ReusePolicy::Pool,
             output_format: Some(self.output_format()),
         };
-        let mut prepared = fx.effect.prepare_with(engine, &desc, &opts)?;
+        let mut prepared = fx.effect_mut()?.prepare_with(engine, &desc, &opts)?;
         let dropped = fx.after_prepare(&mut prepared);
         if !dropped.is_empty() {
             log::info!("parameters no longer in the effect: {}", dropped.join(", "));

@@ -120,7 +120,7 @@ impl SceneView {
             policy: ReusePolicy::Pool,
             output_format: Some(self.output_format),
         };
-        let mut prepared = fx.effect.prepare_with(engine, &desc, &opts)?;
+        let mut prepared = fx.effect_mut()?.prepare_with(engine, &desc, &opts)?;
         let dropped = fx.after_prepare(&mut prepared);
         if !dropped.is_empty() {
             log::info!("parameters no longer in the effect: {}", dropped.join(", "));

@@ -9,7 +9,8 @@
 //! - `key KEY` (`Right`, `Left`, `Home`, `Space`, `F`, `1`, `B`, `Tab`, `P`, ...);
 //! - `copy-set`: print the values as `--set` arguments (the panel's button);
 //! - `wait-reload`: wait (at most 10 minutes) until a watched file changed and the
-//!   effect was compiled again (or failed to);
+//!   effect was compiled again (or failed to): the n-th `wait-reload` waits for the
+//!   n-th reload since the start, which may have happened already;
 //! - `pause`: print where the window and its image are on the screen, and wait for
 //!   a line on standard input (for a screenshot of the display).
 
