@@ -15,7 +15,7 @@ use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let [effect, image, frames] = args.as_slice() else {
+    let [name, image, frames] = args.as_slice() else {
         return Err("usage: record_frames EFFECT IMAGE FRAMES".into());
     };
     let frames: usize = frames.parse()?;
@@ -31,7 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         colorspace,
         aux: Vec::new(),
     };
-    let mut effect = Effect::compile(std::slice::from_ref(effect), &[])?;
+    let mut effect = Effect::compile(std::slice::from_ref(name), &[])?;
     let opts = PlanOptions {
         policy: ReusePolicy::Pool,
         output_format: Some(fxgraph::script::types::Format::Rgba8Srgb),
@@ -59,6 +59,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut steady = times[times.len().min(2)..].to_vec();
     steady.sort_by(f64::total_cmp);
     let median = steady.get(steady.len() / 2).copied().unwrap_or(0.0);
-    println!("record_frames: {effect} {}x{}: {frames} frames; median frame {median:.2} ms (after the first 2)", img.width, img.height);
+    println!(
+        "record_frames: {name} {}x{}: {frames} frames; median frame {median:.2} ms (after the first 2)",
+        img.width, img.height
+    );
     Ok(())
 }

@@ -244,6 +244,64 @@ fn scene_screenshot_equals_a_normal_run() {
 }
 
 #[test]
+fn a_scene_without_size_follows_the_window_and_is_planned_again() {
+    let Some((d, _gpu)) = setup() else { return };
+    let dir = tempdir();
+    // No --size: the render takes the image area; hiding the panel widens it.
+    view(
+        &d,
+        dir.path(),
+        &[
+            "fxaa",
+            "--scene",
+            "builtin:room",
+            "--view",
+            "--view-frames",
+            "3",
+            "--view-do",
+            "1:key Tab",
+            "--screenshot",
+            "wide.png",
+        ],
+    );
+    let (w, h, _) = pixels(&dir.path().join("wide.png"));
+    view(
+        &d,
+        dir.path(),
+        &[
+            "fxaa",
+            "--scene",
+            "builtin:room",
+            "--view",
+            "--view-frames",
+            "2",
+            "--screenshot",
+            "narrow.png",
+        ],
+    );
+    let (nw, nh, _) = pixels(&dir.path().join("narrow.png"));
+    assert!(
+        w > nw && h == nh,
+        "the panel's width: {w}x{h} against {nw}x{nh}"
+    );
+    // Planned for the new size: the frame a run at that size writes.
+    let size = format!("{w}x{h}");
+    normal(
+        dir.path(),
+        &[
+            "fxaa",
+            "--scene",
+            "builtin:room",
+            "--size",
+            &size,
+            "-o",
+            "n.png",
+        ],
+    );
+    assert_same_image(&dir.path().join("wide.png"), &dir.path().join("n.png"));
+}
+
+#[test]
 fn a_parameter_set_as_the_panel_does_changes_the_next_frame_as_set_would() {
     let Some((d, _gpu)) = setup() else { return };
     let dir = tempdir();

@@ -38,8 +38,9 @@ pub(super) struct Fx {
     base: Vec<String>,
     /// Effect parameters set (command line, then panel): `KEY=VALUE` texts.
     effect_sets: Vec<(String, String)>,
-    /// Pass parameters set, by full name (`glow/brightPass.threshold`).
-    pass_sets: BTreeMap<String, Vec<f64>>,
+    /// Pass parameters set, by full name (`glow/brightPass.threshold`), with the
+    /// WGSL type they were set as.
+    pass_sets: BTreeMap<String, (Vec<f64>, String)>,
     /// Pass parameter `--set`s of the command line not yet resolved to full names.
     pending_pass_sets: Vec<(String, Vec<f64>)>,
     /// `None` for a scene shown without effects.
@@ -266,15 +267,15 @@ impl Fx {
             for p in &params {
                 let (ppath, pname) = p.name.rsplit_once('.').expect("PASS.NAME");
                 if pname == name && path_matches(ppath, path) {
-                    self.pass_sets.insert(p.name.clone(), value.clone());
+                    self.pass_sets
+                        .insert(p.name.clone(), (value.clone(), p.ty.clone()));
                 }
             }
         }
+        // Values set survive where the name and the type are unchanged.
         let mut dropped = Vec::new();
-        self.pass_sets.retain(|name, value| {
-            let ok = params
-                .iter()
-                .any(|p| &p.name == name && p.value.len() == value.len())
+        self.pass_sets.retain(|name, (value, ty)| {
+            let ok = params.iter().any(|p| &p.name == name && &p.ty == ty)
                 && prepared.set_param(name, value).is_ok();
             if !ok {
                 dropped.push(name.clone());
@@ -334,7 +335,8 @@ impl Fx {
         for p in prepared.params() {
             let (ppath, pname) = p.name.rsplit_once('.').expect("PASS.NAME");
             if pname == name && path_matches(ppath, path) {
-                self.pass_sets.insert(p.name.clone(), numbers.clone());
+                self.pass_sets
+                    .insert(p.name.clone(), (numbers.clone(), p.ty.clone()));
             }
         }
         Ok(Applied::Uniforms)
@@ -416,7 +418,7 @@ impl Fx {
         }
         self.effect = Some(new);
         // Pass parameters set by name win over the effect's values.
-        for (name, value) in &self.pass_sets {
+        for (name, (value, _)) in &self.pass_sets {
             let _ = prepared.set_param(name, value);
         }
         Ok(Applied::Uniforms)
@@ -430,7 +432,7 @@ impl Fx {
             .iter()
             .map(|(k, v)| format!("{k}={v}"))
             .collect();
-        for (name, value) in &self.pass_sets {
+        for (name, (value, _)) in &self.pass_sets {
             let (path, field) = name.rsplit_once('.').expect("PASS.NAME");
             let short = path.rsplit('/').next().unwrap_or(path);
             let unique = params

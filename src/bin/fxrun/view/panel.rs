@@ -295,10 +295,19 @@ fn value_widget(
             return true;
         }
     }
+    // An integer that is 0 or 1: a switch.
+    if integer && v.len() == 1 && range == Some((0.0, 1.0)) {
+        let mut on = v[0] != 0.0;
+        if ui.checkbox(&mut on, "").changed() {
+            v[0] = f64::from(u8::from(on));
+            return true;
+        }
+        return false;
+    }
     let mut changed = false;
     for x in v.iter_mut() {
         changed |= match range {
-            Some((lo, hi)) if v_len_is_one(lo, hi) => {
+            Some((lo, hi)) if slider_range(lo, hi) => {
                 let log = lo >= 0.0 && hi > 100.0 * lo.max(1e-3) && hi > 10.0;
                 let mut s = egui::Slider::new(x, lo..=hi).logarithmic(log);
                 if integer {
@@ -323,7 +332,7 @@ fn value_widget(
 }
 
 /// A finite range a slider can cover.
-fn v_len_is_one(lo: f64, hi: f64) -> bool {
+fn slider_range(lo: f64, hi: f64) -> bool {
     lo.is_finite() && hi.is_finite() && hi > lo
 }
 
