@@ -113,7 +113,8 @@ pub(super) fn scene_error(scene: &str, e: SceneError) -> RunError {
     })
 }
 
-pub(super) fn render_error(scene: &str, e: RenderError) -> RunError {
+/// A renderer error as a run error (a scene or material problem is an input error).
+pub fn render_error(scene: &str, e: RenderError) -> RunError {
     match e {
         RenderError::Gpu(g) => RunError::Gpu(g),
         RenderError::Scene(s) => scene_error(scene, s),
@@ -167,12 +168,22 @@ pub(super) fn prepare(
         Some(Effect::compile(&job.effects, &job.overrides)?)
     };
     let t = Instant::now();
-    let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
+    let (scene, _) = load_scene(job)?;
     if job.default_chain && !job.effects.is_empty() {
         let mut overrides = default_chain_settings(&scene);
         overrides.extend(job.overrides.iter().cloned());
         effect = Some(Effect::compile(&job.effects, &overrides)?);
     }
+    stats.load_ms = ms(t.elapsed());
+    let renderer = scene_renderer(job, &engine.ctx, &scene)?;
+    Ok((scene, renderer, effect))
+}
+
+/// Load the job's scene with its `--materials`, random lights, ambient light and
+/// environment, and the camera it is seen from at time 0 (the job's `--camera`,
+/// an orbit's start, or the scene's default).
+pub fn load_scene(job: &SceneJob) -> Result<(Scene, Camera), RunError> {
+    let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
     if let Some(path) = &job.materials {
         // A regular file of at most 1 MiB (`--materials /dev/zero` would never end).
         let bytes = crate::io::read_regular_file(path, crate::shader::include::MAX_INCLUDE_BYTES)
@@ -221,11 +232,22 @@ pub(super) fn prepare(
         }
         scene.set_environment(Some(env.clone()));
     }
-    stats.load_ms = ms(t.elapsed());
-    let ctx = engine.ctx.clone();
+    let camera = crate::scene::CameraPath::parse(job.camera.as_deref(), &scene)
+        .map_err(|e| scene_error(&job.scene, e))?
+        .at(&scene, None, 0.0);
+    Ok((scene, camera))
+}
+
+/// The renderer of a loaded scene with the job's options (technique-independent:
+/// variants, light culling, shadows, fog, background).
+pub fn scene_renderer(
+    job: &SceneJob,
+    ctx: &crate::gpu::context::GpuContext,
+    scene: &Scene,
+) -> Result<Renderer, RunError> {
     let mut renderer = Renderer::new(
-        &ctx,
-        &scene,
+        ctx,
+        scene,
         &RendererOptions {
             variants: job.variants,
             light_culling: job.light_culling,
@@ -240,7 +262,7 @@ pub(super) fn prepare(
     if let Some(b) = job.background {
         renderer.set_background(b);
     }
-    Ok((scene, renderer, effect))
+    Ok(renderer)
 }
 
 /// Render the scene, run the effects, write the output (and the G-buffer).

@@ -4,6 +4,7 @@
 pub mod anim_gltf;
 pub mod brdf;
 pub mod cli;
+pub mod display;
 pub mod gltf_gen;
 pub mod ibl;
 pub mod raster;

@@ -16,6 +16,7 @@ const SEQUENCES: &str = "Sequences";
 const SCENES: &str = "Scenes (deferred renderer)";
 const VIDEO: &str = "Video files (through ffmpeg)";
 const ANALYSIS: &str = "Analysis";
+const VIEWER: &str = "Viewer";
 const OUTPUT: &str = "Output";
 const COMMON: &str = "Common";
 
@@ -258,4 +259,23 @@ pub(crate) struct Cli {
     /// lights past it are unshadowed, with a warning.
     #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::render::renderer::DEFAULT_SHADOW_LAYERS)]
     pub(crate) shadow_layers: u32,
+    /// Show the output in a window, live, instead of writing files: the same effects,
+    /// inputs and scene options; a control panel with the parameters, every pass
+    /// inspectable, hot reload of the effect and its shaders (keys: docs/cli.md).
+    /// Needs a display (DISPLAY or WAYLAND_DISPLAY).
+    #[arg(help_heading = VIEWER, long)]
+    pub(crate) view: bool,
+    /// --view, scripted (tests, bug reports): show N frames (a sequence advances one
+    /// frame per frame), write --screenshot FILE, exit.
+    #[arg(help_heading = VIEWER, long, value_name = "N")]
+    pub(crate) view_frames: Option<u64>,
+    /// --view: the file the screenshot key (P) and --view-frames write: what is shown
+    /// at full resolution, as a normal run writes it.
+    #[arg(help_heading = VIEWER, long, value_name = "FILE")]
+    pub(crate) screenshot: Option<PathBuf>,
+    /// --view-frames: after frame K, do ACTION: set NAME=VALUE, reset NAME, inspect
+    /// PASS (or output, input, aux:NAME), key KEY, copy-set, wait-reload, pause.
+    /// Repeatable.
+    #[arg(help_heading = VIEWER, long = "view-do", value_name = "K:ACTION")]
+    pub(crate) view_do: Vec<String>,
 }

@@ -3,7 +3,7 @@
 use super::*;
 
 pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
-    use fxgraph::app::scene::{run_scene_job, SceneJob, DEFAULT_CHAIN};
+    use fxgraph::app::scene::run_scene_job;
     if !cli.input.is_empty() {
         return Err(rejected("--scene renders the input: give no -i"));
     }
@@ -12,6 +12,41 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
             "--scene needs -o OUTPUT, --gbuffer DIR or --describe-materials",
         ));
     }
+    let job = scene_job(cli, cli.effects.is_empty() && cli.output.is_some())?;
+    if cli.time.is_some() || cli.frames.is_some() {
+        return run_scene_sequence_cli(cli, &job);
+    }
+    let mut engine = Engine::new(
+        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
+            .map_err(RunError::from)?,
+    );
+    let report = run_scene_job(&job, &mut engine)?;
+    if cli.describe_materials {
+        let stats = report.scene.clone().unwrap_or_default();
+        outln!("materials ({} variants mode):", job.variants);
+        for line in &stats.materials {
+            outln!("{line}");
+        }
+        outln!(
+            "pipelines compiled: {}, shader modules: {}",
+            stats.pipelines,
+            stats.shader_modules
+        );
+    }
+    print_report(cli, &report);
+    if let Some(path) = &cli.timings_json {
+        write_json(path, &report)?;
+    }
+    Ok(())
+}
+
+/// The scene job the scene options describe (also `--view`'s scene); with
+/// `default_chain`, its effects are the default chain.
+pub(crate) fn scene_job(
+    cli: &Cli,
+    default_chain: bool,
+) -> Result<fxgraph::app::scene::SceneJob, Fail> {
+    use fxgraph::app::scene::{SceneJob, DEFAULT_CHAIN};
     let (width, height) = match &cli.size {
         Some(s) => parse_size(s)?,
         None => (1280, 720),
@@ -90,7 +125,6 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         )));
     }
     let (environment, background) = environment_options(cli)?;
-    let default_chain = cli.effects.is_empty() && cli.output.is_some();
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
     } else {
@@ -128,31 +162,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         environment,
         background,
     };
-    if cli.time.is_some() || cli.frames.is_some() {
-        return run_scene_sequence_cli(cli, &job);
-    }
-    let mut engine = Engine::new(
-        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
-            .map_err(RunError::from)?,
-    );
-    let report = run_scene_job(&job, &mut engine)?;
-    if cli.describe_materials {
-        let stats = report.scene.clone().unwrap_or_default();
-        outln!("materials ({} variants mode):", job.variants);
-        for line in &stats.materials {
-            outln!("{line}");
-        }
-        outln!(
-            "pipelines compiled: {}, shader modules: {}",
-            stats.pipelines,
-            stats.shader_modules
-        );
-    }
-    print_report(cli, &report);
-    if let Some(path) = &cli.timings_json {
-        write_json(path, &report)?;
-    }
-    Ok(())
+    Ok(job)
 }
 
 /// `--scene` with `--frames A..B` or `--time SECONDS`: a rendered sequence (or one

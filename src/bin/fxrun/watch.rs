@@ -232,7 +232,7 @@ impl HotFolders {
 }
 
 /// What [`wait_for_change`] saw.
-enum Change {
+pub(crate) enum Change {
     /// Ctrl-C.
     Stop,
     /// An effect, include or shader (or a single input image) changed.
@@ -242,8 +242,9 @@ enum Change {
 }
 
 /// Waits for a change of one of `files` or in one of `hot_dirs`, then lets a burst
-/// of events settle (an editor's save, or a copy, is several).
-fn wait_for_change(
+/// of events settle (an editor's save, or a copy, is several). Also `--view`'s hot
+/// reload (`view/reload.rs`).
+pub(crate) fn wait_for_change(
     rx: &Receiver<notify::Result<notify::Event>>,
     files: &HashSet<PathBuf>,
     hot_dirs: &[PathBuf],
@@ -296,7 +297,7 @@ fn wait_for_change(
 
 /// The files a run reads that a change should re-run it for, as absolute paths with
 /// canonical folders (as the events name them). The output is never among them.
-fn watched_files(cli: &Cli) -> Vec<PathBuf> {
+pub(crate) fn watched_files(cli: &Cli) -> Vec<PathBuf> {
     let req = fxgraph::lookup::DiskEffects::request(&cli.effects, &cli.set);
     let (graph, _, mut sources) = compile(&req);
     if let Some(graph) = graph {

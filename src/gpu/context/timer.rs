@@ -107,6 +107,39 @@ impl GpuTimer {
         let bytes = u64::from(used) * 2 * u64::from(wgpu::QUERY_SIZE);
         let slice = self.readback_buffer.slice(..bytes);
         map_slice_read(&ctx.device, &slice)?;
+        self.mapped_ms(ctx, used)
+    }
+
+    /// Starts mapping the read-back buffer of the first `used` passes without
+    /// waiting; call after the encoder with [`GpuTimer::resolve`] was submitted. The
+    /// returned state becomes `Some` when the mapping is done (or failed): then
+    /// [`GpuTimer::mapped_ms`] reads the times. The mapping completes while the
+    /// device is polled (by any later submission, read-back or
+    /// `Device::poll(PollType::Poll)`).
+    pub fn map_async(&self, used: u32) -> Arc<Mutex<Option<Result<(), String>>>> {
+        let used = used.min(self.max_passes).max(1);
+        let bytes = u64::from(used) * 2 * u64::from(wgpu::QUERY_SIZE);
+        let state = Arc::new(Mutex::new(None));
+        let done = Arc::clone(&state);
+        self.readback_buffer
+            .slice(..bytes)
+            .map_async(wgpu::MapMode::Read, move |result| {
+                *done.lock().unwrap_or_else(|e| e.into_inner()) =
+                    Some(result.map_err(|e| e.to_string()));
+            });
+        state
+    }
+
+    /// Milliseconds of the first `used` passes from the mapped read-back buffer
+    /// (after [`GpuTimer::map_async`] reported success); unmaps it.
+    pub fn mapped_ms(&self, ctx: &GpuContext, used: u32) -> Result<Vec<f64>, GpuError> {
+        let used = used.min(self.max_passes);
+        if used == 0 {
+            self.readback_buffer.unmap();
+            return Ok(Vec::new());
+        }
+        let bytes = u64::from(used) * 2 * u64::from(wgpu::QUERY_SIZE);
+        let slice = self.readback_buffer.slice(..bytes);
         let ticks: Vec<u64> = {
             let mapped = slice
                 .get_mapped_range()

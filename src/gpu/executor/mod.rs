@@ -12,8 +12,12 @@
 //! - `encode.rs`: one pass: its views, its cached bind group, its render pass.
 //! - `pool.rs`: transient textures by descriptor, reused across frames.
 //! - `params.rs`: [`Prepared::set_param`], parameters changed between frames.
+//! - `inspect.rs`: for tools: a copy of one pass's output ([`Prepared::inspect`])
+//!   and per-pass GPU times of frames in the caller's encoder
+//!   ([`Prepared::set_gpu_timings`]), neither changing the plan.
 
 mod encode;
+mod inspect;
 mod params;
 mod pool;
 
@@ -261,7 +265,7 @@ impl Engine {
         self.pool.keep_frames = frames;
     }
 
-    fn is_gl(&self) -> bool {
+    pub(super) fn is_gl(&self) -> bool {
         self.ctx.info.backend == wgpu::Backend::Gl
     }
 

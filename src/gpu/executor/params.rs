@@ -46,6 +46,11 @@ pub struct ParamInfo {
     pub ty: String,
     pub value: Vec<f64>,
     pub range: Option<(f64, f64)>,
+    /// The shader's `// @default(...)`, if it has one (the value the pass gets
+    /// when neither the effect nor `--set` gives one).
+    pub default: Option<Vec<f64>>,
+    /// The text of the field's comment after its annotations.
+    pub description: String,
 }
 
 /// Does a pass path match the part of a parameter name before the dot: the whole
@@ -73,6 +78,8 @@ impl Prepared {
                     ty: f.ty.wgsl(),
                     value: v.clone(),
                     range: m.and_then(|m| m.range),
+                    default: m.and_then(|m| m.default.clone()),
+                    description: m.map(|m| m.description.clone()).unwrap_or_default(),
                 });
             }
         }

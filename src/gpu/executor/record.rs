@@ -12,6 +12,7 @@
 //! - rotates the feedback rings after the frame.
 
 use super::encode::{bind_group, encode_pass, BindKey};
+use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
 use super::{
     wgpu_format, CachedPipeline, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming,
@@ -137,6 +138,10 @@ pub struct Prepared {
     pub(super) stats: PreparedStats,
     /// The camera the uniforms were last written with.
     camera: Option<CameraStd>,
+    /// The pass whose output is copied for tools ([`Prepared::inspect`]).
+    pub(super) inspection: Option<Inspection>,
+    /// Per-pass GPU times of recorded frames ([`Prepared::set_gpu_timings`]).
+    pub(super) frame_timings: Option<FrameTimings>,
 }
 
 const IDENTITY: [f32; 16] = [
@@ -179,6 +184,8 @@ impl Prepared {
             views: Vec::new(),
             stats,
             camera: None,
+            inspection: None,
+            frame_timings: None,
         }
     }
 
@@ -212,9 +219,17 @@ impl Prepared {
     ) -> Result<(), ExecError> {
         let output = output.into();
         let ctx = engine.ctx.clone();
-        ctx.scoped("fxgraph frame", |_| {
-            self.record_frame(engine, encoder, inputs, output, None)
-        })??;
+        let mut ft = self.frame_timings.take();
+        let timed = ft.as_mut().is_some_and(|f| f.begin(&ctx));
+        let recorded = ctx.scoped("fxgraph frame", |_| {
+            let timer = ft.as_ref().filter(|_| timed).map(|f| &f.timer);
+            self.record_frame(engine, encoder, inputs, output, timer)
+        });
+        if let (Some(f), true, Ok(Ok(frame))) = (ft.as_mut(), timed, &recorded) {
+            f.resolve(encoder, frame.clone());
+        }
+        self.frame_timings = ft;
+        recorded??;
         Ok(())
     }
 
@@ -250,19 +265,41 @@ impl Prepared {
         } else {
             None
         };
+        // Without `want_timings`, the frame timings of `set_gpu_timings`, if on.
+        let mut ft = if want_timings {
+            None
+        } else {
+            self.frame_timings.take()
+        };
+        let timed = ft.as_mut().is_some_and(|f| f.begin(&ctx));
         let result = ctx.scoped("fxgraph frame", |device| {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("fxgraph frame"),
             });
-            let timings =
-                self.record_frame(engine, &mut encoder, inputs, output, timer.as_ref())?;
+            let frame_timer = ft.as_ref().filter(|_| timed).map(|f| &f.timer);
+            let timings = self.record_frame(
+                engine,
+                &mut encoder,
+                inputs,
+                output,
+                timer.as_ref().or(frame_timer),
+            )?;
             if let Some(t) = &timer {
                 t.resolve(&mut encoder, timings.len() as u32);
             }
+            if let (Some(f), true) = (ft.as_mut(), timed) {
+                f.resolve(&mut encoder, timings.clone());
+            }
             let extra = then(&mut encoder)?;
             ctx.queue.submit([encoder.finish()]);
+            if let (Some(f), true) = (ft.as_mut(), timed) {
+                f.submitted();
+            }
             Ok::<_, ExecError>((timings, extra))
         });
+        if !want_timings {
+            self.frame_timings = ft;
+        }
         let (mut timings, extra) = match result {
             Ok(Ok(t)) => t,
             Ok(Err(e)) => {
@@ -451,7 +488,10 @@ impl Prepared {
                         encoder,
                         writes,
                     );
-                    match recorded {
+                    match recorded.and_then(|created| {
+                        self.copy_inspected(engine, encoder, pass, &caller)?;
+                        Ok(created)
+                    }) {
                         Ok(created) => {
                             engine.bind_groups_created += created;
                             self.stats.bind_groups_created += created;

@@ -1,0 +1,508 @@
+//! Everything that changes the viewer, in one place: keys (and scripted `key`
+//! actions), the panel's parameter changes (and scripted `set`/`reset`),
+//! inspecting, screenshots, reloads and the scripted actions.
+
+use super::app::Viewer;
+use super::content::Content;
+use super::fx::Applied;
+use super::inspect::{aux_range, Target};
+use super::screenshot;
+use super::script::Action;
+use crate::{stdout_result, Fail};
+use fxgraph::app::Effect;
+use fxgraph::io::SaveOptions;
+use fxgraph::script::types::Format;
+use std::io::BufRead as _;
+use std::path::PathBuf;
+use std::time::Instant;
+use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::{Key, NamedKey};
+
+/// A command of a key (or of the panel's buttons).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Command {
+    /// Next image, or next frame (pauses a sequence).
+    Next,
+    /// Previous image or frame.
+    Prev,
+    /// First image or frame.
+    First,
+    PlayPause,
+    Fit,
+    OneToOne,
+    ZoomIn,
+    ZoomOut,
+    TogglePanel,
+    ToggleSplit,
+    Screenshot,
+    /// Back to the run's camera (scenes).
+    CameraHome,
+    /// Inspect the next / previous pass of the list.
+    InspectNext,
+    InspectPrev,
+    Quit,
+}
+
+impl Command {
+    /// Does holding the key repeat it?
+    pub fn repeats(self) -> bool {
+        matches!(
+            self,
+            Command::Next | Command::Prev | Command::ZoomIn | Command::ZoomOut
+        )
+    }
+}
+
+/// The command of a key (docs/cli.md lists them).
+pub(super) fn key_command(key: &Key, ctrl: bool) -> Option<Command> {
+    Some(match key {
+        Key::Named(NamedKey::ArrowRight) | Key::Named(NamedKey::PageDown) => Command::Next,
+        Key::Named(NamedKey::ArrowLeft) | Key::Named(NamedKey::PageUp) => Command::Prev,
+        Key::Named(NamedKey::Home) => Command::First,
+        Key::Named(NamedKey::Space) => Command::PlayPause,
+        Key::Named(NamedKey::Tab) => Command::TogglePanel,
+        Key::Named(NamedKey::Escape) => Command::Quit,
+        Key::Named(NamedKey::F12) => Command::Screenshot,
+        Key::Named(NamedKey::ArrowDown) => Command::InspectNext,
+        Key::Named(NamedKey::ArrowUp) => Command::InspectPrev,
+        Key::Character(c) => match c.to_lowercase().as_str() {
+            "q" if ctrl => Command::Quit,
+            "f" => Command::Fit,
+            "1" => Command::OneToOne,
+            "+" | "=" => Command::ZoomIn,
+            "-" => Command::ZoomOut,
+            "b" => Command::ToggleSplit,
+            "p" => Command::Screenshot,
+            "h" => Command::CameraHome,
+            _ => return None,
+        },
+        _ => return None,
+    })
+}
+
+/// The command of a key name (`--view-do K:key NAME`).
+pub(super) fn named_command(name: &str) -> Option<Command> {
+    let key = match name.to_lowercase().as_str() {
+        "right" => Key::Named(NamedKey::ArrowRight),
+        "left" => Key::Named(NamedKey::ArrowLeft),
+        "up" => Key::Named(NamedKey::ArrowUp),
+        "down" => Key::Named(NamedKey::ArrowDown),
+        "home" => Key::Named(NamedKey::Home),
+        "space" => Key::Named(NamedKey::Space),
+        "tab" => Key::Named(NamedKey::Tab),
+        "escape" | "esc" => Key::Named(NamedKey::Escape),
+        "f12" => Key::Named(NamedKey::F12),
+        other if other.chars().count() == 1 => Key::Character(other.into()),
+        _ => return None,
+    };
+    key_command(&key, false)
+}
+
+impl Viewer {
+    /// Run a command.
+    pub fn command(&mut self, event_loop: &ActiveEventLoop, c: Command) {
+        let result: Result<(), String> = match c {
+            Command::Quit => {
+                event_loop.exit();
+                Ok(())
+            }
+            Command::Next | Command::Prev | Command::First => self.navigate(c),
+            Command::PlayPause => {
+                if let Content::Playback(p) = &mut self.content {
+                    p.playing = !p.playing;
+                }
+                Ok(())
+            }
+            Command::Fit => {
+                self.ui.fit = true;
+                Ok(())
+            }
+            Command::OneToOne => {
+                self.ui.fit = false;
+                self.ui.zoom = 1.0;
+                self.center_image();
+                Ok(())
+            }
+            Command::ZoomIn | Command::ZoomOut => {
+                let f = if c == Command::ZoomIn { 1.25 } else { 0.8 };
+                self.zoom_by(f, None);
+                Ok(())
+            }
+            Command::TogglePanel => {
+                self.ui.panel = !self.ui.panel;
+                Ok(())
+            }
+            Command::ToggleSplit => {
+                self.ui.split = match self.ui.split {
+                    Some(_) => None,
+                    None => Some(0.5),
+                };
+                Ok(())
+            }
+            Command::Screenshot => self
+                .screenshot(None)
+                .map(|p| self.ui.status = format!("wrote {}", p.display())),
+            Command::CameraHome => {
+                if let Content::Scene(s) = &mut self.content {
+                    s.home();
+                    self.dirty = true;
+                }
+                Ok(())
+            }
+            Command::InspectNext | Command::InspectPrev => {
+                let n = self
+                    .content
+                    .prepared_ref()
+                    .map_or(0, |p| p.plan.passes.len());
+                let next = match (&self.ui.inspect.target, c) {
+                    (Target::Pass(i), Command::InspectNext) if i + 1 < n => Target::Pass(i + 1),
+                    (Target::Pass(0), Command::InspectPrev) => Target::Output,
+                    (Target::Pass(i), Command::InspectPrev) => Target::Pass(i - 1),
+                    (Target::Output, Command::InspectNext) if n > 0 => Target::Pass(0),
+                    (t, _) => t.clone(),
+                };
+                self.inspect(next)
+            }
+        };
+        if let Err(e) = result {
+            self.ui.status = e;
+        }
+        self.redraw();
+    }
+
+    /// Ask for a frame.
+    pub fn redraw(&self) {
+        if let Some(w) = &self.win {
+            w.window.request_redraw();
+        }
+    }
+
+    /// Show the image at 1:1 around its centre.
+    fn center_image(&mut self) {
+        if let Some((t, _)) = self.content.output() {
+            self.ui.center = [t.width() as f32 / 2.0, t.height() as f32 / 2.0];
+        }
+    }
+
+    /// Zoom by `factor` around `at` (area pixels; `None`: the area's centre).
+    pub fn zoom_by(&mut self, factor: f32, at: Option<[f32; 2]>) {
+        let Some((t, _)) = self.content.output() else {
+            return;
+        };
+        let [ax, ay, aw, ah] = self.ui.area.map(|v| v as f32);
+        let (iw, ih) = (t.width() as f32, t.height() as f32);
+        if self.ui.fit {
+            self.ui.zoom = (aw / iw).min(ah / ih).max(1e-3);
+            self.ui.center = [iw / 2.0, ih / 2.0];
+            self.ui.fit = false;
+        }
+        let at = at.unwrap_or([ax + aw / 2.0, ay + ah / 2.0]);
+        let z0 = self.ui.zoom;
+        let z1 = (z0 * factor).clamp(1.0 / 64.0, 64.0);
+        // The image point under `at` stays there.
+        let origin = [
+            ax + aw / 2.0 - self.ui.center[0] * z0,
+            ay + ah / 2.0 - self.ui.center[1] * z0,
+        ];
+        let p = [(at[0] - origin[0]) / z0, (at[1] - origin[1]) / z0];
+        let new_origin = [at[0] - p[0] * z1, at[1] - p[1] * z1];
+        self.ui.zoom = z1;
+        self.ui.center = [
+            (ax + aw / 2.0 - new_origin[0]) / z1,
+            (ay + ah / 2.0 - new_origin[1]) / z1,
+        ];
+    }
+
+    /// Next, previous or first image or frame.
+    fn navigate(&mut self, c: Command) -> Result<(), String> {
+        match &mut self.content {
+            Content::Stills(s) => {
+                let moved = match c {
+                    Command::Next => s.step(1),
+                    Command::Prev => s.step(-1),
+                    _ => s.first(),
+                };
+                if moved {
+                    s.load(&self.engine).map_err(|e| e.to_string())?;
+                    self.dirty = true;
+                    self.watch();
+                }
+                Ok(())
+            }
+            Content::Playback(p) => {
+                p.playing = false;
+                let r = match c {
+                    Command::Next => p.step(&mut self.engine, &mut self.fx, 1),
+                    Command::Prev => p.step(&mut self.engine, &mut self.fx, -1),
+                    _ => p.seek(&mut self.engine, &mut self.fx, 0).map(|_| true),
+                };
+                r.map(|_| ()).map_err(|e| e.to_string())
+            }
+            Content::Scene(_) => Ok(()),
+        }
+    }
+
+    /// Set a parameter: the panel's controls and `--view-do set` come here.
+    pub fn set_param(&mut self, key: &str, value: &str) -> Result<(), String> {
+        let snapshot = self.fx.snapshot();
+        let applied = self.fx.set(self.content.prepared(), key, value)?;
+        self.applied(applied, snapshot)
+    }
+
+    /// Reset a parameter to the effect's value.
+    pub fn reset_param(&mut self, key: &str) -> Result<(), String> {
+        let snapshot = self.fx.snapshot();
+        let applied = self.fx.reset(self.content.prepared(), key)?;
+        self.applied(applied, snapshot)
+    }
+
+    fn applied(&mut self, applied: Applied, snapshot: Vec<(String, String)>) -> Result<(), String> {
+        self.stats.change_at = Some(Instant::now());
+        match applied {
+            Applied::Uniforms => {}
+            Applied::Replan(effect) => {
+                if let Err(e) = self.replan_with(effect) {
+                    self.fx.restore(snapshot);
+                    return Err(e);
+                }
+            }
+        }
+        self.rerun();
+        Ok(())
+    }
+
+    /// Show the change: record a still or a scene again; a paused sequence without
+    /// feedback runs its frame again (with feedback the change shows from the
+    /// next frame).
+    fn rerun(&mut self) {
+        self.dirty = true;
+        if let Content::Playback(p) = &mut self.content {
+            if !p.playing && !self.fx.has_feedback() {
+                if let Some(at) = p.shown() {
+                    if let Err(e) = p.seek(&mut self.engine, &mut self.fx, at) {
+                        self.ui.status = e.to_string();
+                    }
+                }
+            }
+        }
+    }
+
+    /// Plan `effect` for what is shown; the old effect stays on an error.
+    pub fn replan_with(&mut self, effect: Effect) -> Result<(), String> {
+        let old = self.fx.effect.replace(effect);
+        match self.content.prepare(&mut self.engine, &mut self.fx) {
+            Ok(()) => {
+                self.dirty = true;
+                Ok(())
+            }
+            Err(e) => {
+                self.fx.effect = old;
+                Err(e.to_string())
+            }
+        }
+    }
+
+    /// Compile and plan again (a watched file changed). Errors are shown in the
+    /// window and printed; the last good image stays.
+    pub fn reload(&mut self) {
+        self.reload_pending = false;
+        self.reloads += 1;
+        let result = (|| -> Result<(), String> {
+            if let Content::Stills(s) = &mut self.content {
+                s.load(&self.engine).map_err(|e| e.to_string())?;
+            }
+            if self.fx.graph().is_none() {
+                return Ok(());
+            }
+            let effect = self.fx.compile().map_err(|e| e.to_string())?;
+            self.replan_with(effect)
+        })();
+        match result {
+            Ok(()) => {
+                self.ui.error = None;
+                self.ui.status = "reloaded".into();
+                eprintln!("fxrun: view: reloaded");
+                self.rerun();
+            }
+            Err(e) => {
+                eprintln!(
+                    "fxrun: view: reload failed; the last good image stays:\n{}",
+                    e.trim_end()
+                );
+                self.ui.error = Some(e);
+            }
+        }
+        if let Some(w) = &self.win {
+            w.window.set_title(&self.title());
+        }
+        self.watch();
+    }
+
+    /// Show `target` instead of the output.
+    pub fn inspect(&mut self, target: Target) -> Result<(), String> {
+        let pass = match &target {
+            Target::Pass(i) => Some(*i),
+            _ => None,
+        };
+        if let Some(p) = self.content.prepared() {
+            p.inspect(pass).map_err(|e| e.to_string())?;
+        } else if pass.is_some() {
+            return Err("no effect is planned".into());
+        }
+        self.ui.inspect.shade = None;
+        self.ui.inspect.range = match &target {
+            Target::Aux(name) => match &self.content {
+                Content::Scene(s) => aux_range(name, s.depth_range(), s.control.radius * 2.0),
+                _ => (0.0, 1.0),
+            },
+            _ => (0.0, 1.0),
+        };
+        self.ui.inspect.target = target;
+        self.rerun();
+        Ok(())
+    }
+
+    /// Inspect by name: a pass's path or last part, `output`, `input`, `aux:NAME`.
+    pub fn inspect_by_name(&mut self, name: &str) -> Result<(), String> {
+        let target = match name {
+            "output" => Target::Output,
+            "input" => Target::Input,
+            _ if name.starts_with("aux:") => Target::Aux(name[4..].to_string()),
+            _ => {
+                let p = self.content.prepared_ref().ok_or("no effect is planned")?;
+                let i = p
+                    .plan
+                    .passes
+                    .iter()
+                    .position(|q| q.path == name || q.path.rsplit('/').next() == Some(name))
+                    .ok_or_else(|| format!("inspect {name}: no such pass"))?;
+                Target::Pass(i)
+            }
+        };
+        self.inspect(target)
+    }
+
+    /// The texture shown (at full resolution) and its format.
+    pub fn shown_texture(&mut self) -> Option<(wgpu::Texture, Format)> {
+        match self.ui.inspect.target.clone() {
+            Target::Output => self.content.output().map(|(t, f)| (t.clone(), f)),
+            Target::Pass(i) => {
+                let p = self.content.prepared_ref()?;
+                let f = p.plan.passes.get(i)?.desc.format;
+                p.inspected().map(|t| (t.clone(), f))
+            }
+            Target::Input => self
+                .content
+                .before(&self.engine)
+                .map(|(t, f)| (t.clone(), f)),
+            Target::Aux(n) => self
+                .content
+                .aux()
+                .into_iter()
+                .find(|(m, _, _)| *m == n)
+                .map(|(_, t, f)| (t.clone(), f)),
+        }
+    }
+
+    /// Write what is shown to `path` (else `--screenshot`, `-o FILE`, or a new
+    /// `fxrun-view-NNNN` file); returns the path written.
+    pub fn screenshot(&mut self, path: Option<PathBuf>) -> Result<PathBuf, String> {
+        let (tex, format) = self.shown_texture().ok_or("nothing is shown yet")?;
+        let out_file = self
+            .cli
+            .output
+            .clone()
+            .filter(|o| fxgraph::io::FileFormat::from_path(o).is_some());
+        let path = path
+            .or(self.cli.screenshot.clone())
+            .or(out_file)
+            .unwrap_or_else(|| screenshot::next_free_name(format));
+        let opts = SaveOptions {
+            bit_depth: self.cli.bit_depth,
+            assume_linear: self.cli.assume_linear,
+        };
+        screenshot::save(&self.engine.ctx, &tex, format, &path, &opts)
+            .map_err(|e| e.to_string())?;
+        eprintln!("fxrun: view: wrote {}", path.display());
+        Ok(path)
+    }
+
+    /// "Copy as --set": the values set, as arguments; printed and put on the clipboard.
+    pub fn copy_set(&mut self) -> String {
+        let params = self
+            .content
+            .prepared_ref()
+            .map(|p| p.params())
+            .unwrap_or_default();
+        let text = self.fx.as_set_args(&params);
+        outln!("{text}");
+        if let Some(w) = &self.win {
+            w.egui_ctx.copy_text(text.clone());
+        }
+        self.ui.copied = Some(text.clone());
+        text
+    }
+
+    /// Run scripted actions (after a frame was shown).
+    pub fn run_actions(&mut self, event_loop: &ActiveEventLoop, actions: Vec<Action>) {
+        for a in actions {
+            let r = match &a {
+                Action::Set(k, v) => self.set_param(k, v),
+                Action::Reset(k) => self.reset_param(k),
+                Action::Inspect(n) => self.inspect_by_name(n),
+                Action::Key(k) => match named_command(k) {
+                    Some(c) => {
+                        self.command(event_loop, c);
+                        Ok(())
+                    }
+                    None => Err(format!("key {k}: no command on that key")),
+                },
+                Action::CopySet => {
+                    self.copy_set();
+                    Ok(())
+                }
+                Action::WaitReload => {
+                    // The n-th wait is for the n-th reload (one may already be done).
+                    self.reload_waits += 1;
+                    self.waiting_reload = Some((self.reload_waits, Instant::now()));
+                    Ok(())
+                }
+                Action::Pause => {
+                    self.pause();
+                    Ok(())
+                }
+            };
+            if let Err(e) = r {
+                self.fail(
+                    event_loop,
+                    Fail {
+                        code: 1,
+                        message: format!("--view-do {a:?}: {e}"),
+                    },
+                );
+                return;
+            }
+        }
+    }
+
+    /// Print where the window's image is on the screen and wait for a line on stdin.
+    fn pause(&mut self) {
+        let (wx, wy) = self
+            .win
+            .as_ref()
+            .and_then(|w| w.window.inner_position().ok())
+            .map_or((0, 0), |p| (p.x, p.y));
+        let [x, y, w, h] = self.ui.area;
+        let img = self.placement_rect();
+        eprintln!(
+            "fxrun: view: paused at frame {}: window at {wx},{wy}; image area {x},{y} {w}x{h}; image at {},{} {}x{} (press Enter to go on)",
+            self.shown,
+            wx + img[0].round() as i32,
+            wy + img[1].round() as i32,
+            img[2].round() as u32,
+            img[3].round() as u32,
+        );
+        let mut line = String::new();
+        let _ = std::io::stdin().lock().read_line(&mut line);
+    }
+}

@@ -1,0 +1,136 @@
+//! The library's tools API (what `fxrun --view` uses): `Prepared::inspect` keeps a
+//! copy of a chosen intermediate that equals a run of the effect up to that pass,
+//! without changing the output or the textures the plan takes from the pool;
+//! `Prepared::set_gpu_timings` reads per-pass GPU times of frames recorded into
+//! the caller's encoder, without stalling.
+
+mod common;
+
+use fxgraph::app::Effect;
+use fxgraph::gpu::executor::{Engine, FrameInputs, Prepared};
+use fxgraph::gpu::transfer::{create_output, read_pixels, upload_image};
+use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use fxgraph::io::Pixels;
+use fxgraph::script::types::Format;
+
+const UPTO_BLUR_X: &str = "EFFECT.upto = { PASS = {
+    brightPass = SHADER.brightPass { img = IN }
+    blurX = SHADER.blurX { img = PASS.brightPass  OUT.SCALE = (0.5, 0.5) }
+} OUT = blurX }";
+
+fn prepare(engine: &mut Engine, effect: &str, input: &InputDesc, out: Format) -> Prepared {
+    let mut e = Effect::compile(&[effect.to_string()], &[]).unwrap();
+    let opts = PlanOptions {
+        policy: ReusePolicy::Pool,
+        output_format: Some(out),
+    };
+    e.prepare_with(engine, input, &opts).unwrap()
+}
+
+/// Record one frame into an encoder of our own and submit it.
+fn frame(engine: &mut Engine, p: &mut Prepared, input: &wgpu::Texture, out: &wgpu::Texture) {
+    let ctx = engine.ctx.clone();
+    let mut enc = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("test frame"),
+        });
+    p.frame = 0;
+    let inputs = FrameInputs::still(input, &p.plan);
+    p.record(engine, &mut enc, &inputs, out).unwrap();
+    ctx.queue.submit([enc.finish()]);
+}
+
+#[test]
+fn an_inspected_pass_equals_the_effect_up_to_it_and_changes_nothing_else() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let img = common::pattern_u8(64, 48);
+    let ctx = engine.ctx.clone();
+    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
+    let desc = InputDesc::rgba8_srgb(64, 48);
+    let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
+    let out = create_output(&ctx, 64, 48, Format::Rgba8Srgb);
+    frame(&mut engine, &mut glow, &input, &out);
+    let plain = read_pixels(&ctx, &out, Format::Rgba8Srgb).unwrap();
+    let created = engine.stats().pool.created;
+    let blur_x = glow
+        .plan
+        .passes
+        .iter()
+        .position(|p| p.path.ends_with("blurX"))
+        .unwrap();
+    assert!(glow.inspected().is_none());
+    glow.inspect(Some(blur_x)).unwrap();
+    assert!(glow.inspected().is_none(), "nothing before a frame");
+    frame(&mut engine, &mut glow, &input, &out);
+    assert_eq!(
+        engine.stats().pool.created,
+        created,
+        "no texture more from the pool"
+    );
+    assert!(
+        read_pixels(&ctx, &out, Format::Rgba8Srgb).unwrap() == plain,
+        "the output is the same"
+    );
+    let copy = glow.inspected().expect("a copy after the frame").clone();
+    let pass = &glow.plan.passes[blur_x];
+    assert_eq!(
+        (copy.width(), copy.height()),
+        (pass.desc.width, pass.desc.height)
+    );
+    let seen = read_pixels(&ctx, &copy, pass.desc.format).unwrap();
+    // The reference: the effect up to blurX, run on its own.
+    let dir = tempfile::tempdir().unwrap();
+    let fx = dir.path().join("upto.fx");
+    std::fs::write(&fx, UPTO_BLUR_X).unwrap();
+    let mut upto = prepare(&mut engine, fx.to_str().unwrap(), &desc, pass.desc.format);
+    let o = upto.plan.output;
+    let out2 = create_output(&ctx, o.width, o.height, o.format);
+    frame(&mut engine, &mut upto, &input, &out2);
+    let want = read_pixels(&ctx, &out2, o.format).unwrap();
+    let (Pixels::F32(a), Pixels::F32(b)) = (&seen, &want) else {
+        panic!("blurX is a float pass");
+    };
+    assert_eq!(a.len(), b.len());
+    assert!(a == b, "largest difference {}", common::max_abs_diff(a, b));
+    // Out of range is an error; None stops the copies.
+    assert!(glow.inspect(Some(99)).is_err());
+    glow.inspect(None).unwrap();
+    assert!(glow.inspected().is_none());
+}
+
+#[test]
+fn gpu_times_of_recorded_frames_come_back_without_a_stall() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let img = common::pattern_u8(32, 32);
+    let ctx = engine.ctx.clone();
+    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
+    let desc = InputDesc::rgba8_srgb(32, 32);
+    let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
+    let out = create_output(&ctx, 32, 32, Format::Rgba8Srgb);
+    let on = glow.set_gpu_timings(&engine, true);
+    assert_eq!(on, ctx.timestamps);
+    // A frame is timed, mapped at the next `record` and read at a later one.
+    for _ in 0..6 {
+        frame(&mut engine, &mut glow, &input, &out);
+        let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+    }
+    let times = glow.gpu_timings();
+    if !on {
+        assert!(times.is_empty());
+        return;
+    }
+    let paths: Vec<&str> = times.iter().map(|t| t.path.as_str()).collect();
+    let want: Vec<&str> = glow.plan.passes.iter().map(|p| p.path.as_str()).collect();
+    assert_eq!(paths, want);
+    assert!(
+        times.iter().all(|t| t.gpu_ms.is_some_and(|ms| ms >= 0.0)),
+        "{times:?}"
+    );
+    glow.set_gpu_timings(&engine, false);
+    assert!(glow.gpu_timings().is_empty());
+}
