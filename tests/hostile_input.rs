@@ -307,6 +307,23 @@ fn webp_cut_by_one_byte_is_rejected() {
 
 // ---- WGSL ---------------------------------------------------------------------
 
+/// The stderr of `fxrun fx.fx --check` and of `fxrun fx.fx -i in.png -o out.png`
+/// in `dir`, each rejected (see [`rejected`]) with no log line.
+fn rejected_checked_and_run(dir: &Path) -> [String; 2] {
+    [
+        &["fx.fx", "--check"][..],
+        &["fx.fx", "-i", "in.png", "-o", "out.png"],
+    ]
+    .map(|args| {
+        let err = rejected(dir, args);
+        assert!(
+            !err.contains("ERROR") && !err.contains("WARN"),
+            "a log line: {err}"
+        );
+        err
+    })
+}
+
 /// `dir/fx.fx` running `SHADER.s` over IN, with `dir/s.wgsl` = `wgsl`.
 fn effect_with_shader(dir: &Path, wgsl: &str) {
     std::fs::write(
@@ -326,16 +343,11 @@ fn wgsl_function_returning_nothing_points_at_the_function() {
         dir.path(),
         "@group(0) @binding(0) var img: texture_2d<f32>;\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let c = textureLoad(img, vec2<i32>(pos.xy), 0);\n}\n",
     );
-    for args in [
-        &["fx.fx", "--check"][..],
-        &["fx.fx", "-i", "in.png", "-o", "out.png"],
-    ] {
-        let err = rejected(dir.path(), args);
+    for err in rejected_checked_and_run(dir.path()) {
         assert!(
             err.contains("s.wgsl:4:1: error: WGSL validation: `fs_main` must return a `vec4<f32>` value, but it can end (or `return`) without one"),
             "{err}"
         );
-        assert!(!err.contains("ERROR"), "a log line: {err}");
     }
 }
 
@@ -346,11 +358,7 @@ fn fragment_input_beyond_the_vertex_stage_is_a_diagnostic() {
         dir.path(),
         "@group(0) @binding(0) var img: texture_2d<f32>;\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>,\n           @location(65536) uv: vec2<f32>) -> @location(0) vec4<f32> {\n    return textureLoad(img, vec2<i32>(pos.xy), 0) + vec4<f32>(uv, 0.0, 0.0);\n}\n",
     );
-    for args in [
-        &["fx.fx", "--check"][..],
-        &["fx.fx", "-i", "in.png", "-o", "out.png"],
-    ] {
-        let err = rejected(dir.path(), args);
+    for err in rejected_checked_and_run(dir.path()) {
         assert!(
             err.contains("s.wgsl:5:12: error: fragment input `uv` at `@location(65536)` is not an output of the vertex stage"),
             "{err}"

@@ -56,6 +56,34 @@ fn same_with_dot(dir: &Path, bare: &[&str], dotted: &[&str], outputs: &[&str]) {
     }
 }
 
+/// `--scene builtin:room --materials FILE --material '*=DEF'`, with FILE bare and
+/// with `./`: the same image.
+fn room_with_materials(dir: &Path, file: &str, def: &str) {
+    let map = format!("*={def}");
+    let dotted_file = format!("./{file}");
+    let run = |f: &str| -> Vec<String> {
+        [
+            "--materials",
+            f,
+            "--scene",
+            "builtin:room",
+            "--size",
+            "64x48",
+            "--material",
+            &map,
+            "-o",
+            "out.png",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let (bare, dotted) = (run(file), run(&dotted_file));
+    fn as_str(v: &[String]) -> Vec<&str> {
+        v.iter().map(String::as_str).collect()
+    }
+    same_with_dot(dir, &as_str(&bare), &as_str(&dotted), &["out.png"]);
+}
+
 /// A surface shader that is flat colour, and a half-Lambert lighting shader.
 fn write_material_shaders(dir: &Path) {
     std::fs::write(
@@ -96,25 +124,7 @@ fn materials_file_by_bare_name_finds_its_shaders() {
         "MATERIAL.mine = {\n    SURFACE = SHADER.flat { color = (0.8, 0.3, 0.2, 1) }\n    LIGHTING = SHADER.halflambert\n}\n",
     )
     .unwrap();
-    let common = [
-        "--scene",
-        "builtin:room",
-        "--size",
-        "64x48",
-        "--material",
-        "*=mine",
-        "-o",
-        "out.png",
-    ];
-    let bare: Vec<&str> = ["--materials", "mine.fx"]
-        .into_iter()
-        .chain(common)
-        .collect();
-    let dotted: Vec<&str> = ["--materials", "./mine.fx"]
-        .into_iter()
-        .chain(common)
-        .collect();
-    same_with_dot(dir.path(), &bare, &dotted, &["out.png"]);
+    room_with_materials(dir.path(), "mine.fx", "mine");
 }
 
 /// A texture a material names (`base_color_map = "tex.png"`) is next to the
@@ -136,25 +146,7 @@ fn material_textures_resolve_next_to_a_bare_material_file() {
         "MATERIAL.t = {\n    SURFACE = SHADER.standard { base_color_map = \"tex.png\" }\n    LIGHTING = SHADER.lambert\n}\n",
     )
     .unwrap();
-    let common = [
-        "--scene",
-        "builtin:room",
-        "--size",
-        "64x48",
-        "--material",
-        "*=t",
-        "-o",
-        "out.png",
-    ];
-    let bare: Vec<&str> = ["--materials", "textured.fx"]
-        .into_iter()
-        .chain(common)
-        .collect();
-    let dotted: Vec<&str> = ["--materials", "./textured.fx"]
-        .into_iter()
-        .chain(common)
-        .collect();
-    same_with_dot(dir.path(), &bare, &dotted, &["out.png"]);
+    room_with_materials(dir.path(), "textured.fx", "t");
 }
 
 /// `--aux background=bg.png`.
