@@ -308,6 +308,10 @@ fn gltf_target() -> Target {
         "gltf/broken/IndexOutOfRange",
         "gltf/broken/RecursiveNodes",
         "gltf/broken/IncorrectVertexArrays",
+        "gltf/animated/SimpleSkin",
+        "gltf/animated/SimpleMorph",
+        "gltf/animated/BoxAnimated",
+        "gltf/animated/RiggedSimple",
     ] {
         paths.extend(files(&corpus().join(dir), &["gltf"], 64 << 10));
     }

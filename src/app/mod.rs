@@ -25,6 +25,7 @@ mod gpu_stage;
 pub mod pipeline;
 pub mod report;
 pub mod scene;
+pub mod scene_sequence;
 pub mod sequence;
 pub mod sources;
 pub mod still;
@@ -38,6 +39,7 @@ pub use pipeline::{
 };
 pub use report::{FrameDone, FrameFailure, JobKind, Progress, RunReport};
 pub use scene::{run_scene_job, SceneJob};
+pub use scene_sequence::{run_scene_sequence, SceneTimes};
 pub use sequence::{run_sequence, SequenceOptions};
 pub use sources::{
     FilesSink, FilesSource, MemorySink, MemorySource, OutputNames, Y4mSink, Y4mSource,

@@ -84,7 +84,7 @@ pub struct SceneJob {
 
 /// A scene error as an input error naming the file (the glTF file, or the `--scene`
 /// argument where there is none).
-fn scene_error(scene: &str, e: SceneError) -> RunError {
+pub(super) fn scene_error(scene: &str, e: SceneError) -> RunError {
     let (path, message) = match e {
         SceneError::Gltf { path, message } => (path, message),
         SceneError::Empty(name) => (name, "the scene has no triangles to draw".to_string()),
@@ -103,7 +103,7 @@ fn scene_error(scene: &str, e: SceneError) -> RunError {
     })
 }
 
-fn render_error(scene: &str, e: RenderError) -> RunError {
+pub(super) fn render_error(scene: &str, e: RenderError) -> RunError {
     match e {
         RenderError::Gpu(g) => RunError::Gpu(g),
         RenderError::Scene(s) => scene_error(scene, s),
@@ -116,23 +116,15 @@ fn render_error(scene: &str, e: RenderError) -> RunError {
     }
 }
 
-/// Render the scene, run the effects, write the output (and the G-buffer).
-pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, RunError> {
-    let t_all = Instant::now();
-    let mut report = RunReport {
-        job: JobKind::Scene,
-        adapter: engine.ctx.info.name.clone(),
-        backend: format!("{:?}", engine.ctx.info.backend),
-        frames_total: Some(1),
-        ..Default::default()
-    };
-    let mut stats = SceneStats {
-        scene: job.scene.clone(),
-        technique: job.technique.to_string(),
-        light_culling: job.light_culling.to_string(),
-        shadows: job.shadows.to_string(),
-        ..Default::default()
-    };
+/// Everything a scene job does before rendering: the user's input checked (the
+/// size, the effect compiled first so that script errors come first), the scene
+/// loaded with its materials, lights and ambient, the renderer made. Shared by
+/// stills ([`run_scene_job`]) and rendered sequences (`scene_sequence.rs`).
+pub(super) fn prepare(
+    job: &SceneJob,
+    engine: &mut Engine,
+    stats: &mut SceneStats,
+) -> Result<(Scene, Renderer, Option<Effect>), RunError> {
     // Check everything the user wrote before rendering.
     let max = engine.ctx.device.limits().max_texture_dimension_2d;
     if job.width.max(job.height) > max {
@@ -150,10 +142,6 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         None
     } else {
         Some(Effect::compile(&job.effects, &job.overrides)?)
-    };
-    let out_format = match &job.output {
-        Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
-        None => None,
     };
     let t = Instant::now();
     let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
@@ -203,10 +191,6 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         });
     }
     scene.ensure_lights();
-    let camera = match &job.camera {
-        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
-        None => scene.default_camera(),
-    };
     stats.load_ms = ms(t.elapsed());
     let ctx = engine.ctx.clone();
     let mut renderer = Renderer::new(
@@ -223,6 +207,36 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     )
     .map_err(|e| render_error(&job.scene, e))?;
     renderer.set_fog(job.fog);
+    Ok((scene, renderer, effect))
+}
+
+/// Render the scene, run the effects, write the output (and the G-buffer).
+pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, RunError> {
+    let t_all = Instant::now();
+    let mut report = RunReport {
+        job: JobKind::Scene,
+        adapter: engine.ctx.info.name.clone(),
+        backend: format!("{:?}", engine.ctx.info.backend),
+        frames_total: Some(1),
+        ..Default::default()
+    };
+    let mut stats = SceneStats {
+        scene: job.scene.clone(),
+        technique: job.technique.to_string(),
+        light_culling: job.light_culling.to_string(),
+        shadows: job.shadows.to_string(),
+        ..Default::default()
+    };
+    let out_format = match &job.output {
+        Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
+        None => None,
+    };
+    let (scene, mut renderer, mut effect) = prepare(job, engine, &mut stats)?;
+    let ctx = engine.ctx.clone();
+    let camera = match &job.camera {
+        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
+        None => scene.default_camera(),
+    };
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {

@@ -443,9 +443,34 @@ pub(crate) fn encode(
                 &mut draws,
             );
         }
-        // Motion vectors (AUX.motion, the last aux image) from the frame's depth.
+        for (pipe, range, name) in [
+            (
+                LightPipe::AuxA,
+                [0, 1, 2, 6].as_slice(),
+                "aux depth/normal/position/motion",
+            ),
+            (
+                LightPipe::AuxB,
+                [3, 4, 5].as_slice(),
+                "aux albedo/material/specular",
+            ),
+        ] {
+            let attachments: Vec<_> = range
+                .iter()
+                .map(|&i| attach(&t.aux[i].1.view, zero))
+                .collect();
+            fullscreen(
+                &mut encoder,
+                &mut names,
+                name,
+                pipe,
+                &attachments,
+                &mut draws,
+            );
+        }
+        // The moved instances' motion vectors over the resolve pass's camera
+        // motion (AUX.motion, the last aux image).
         let first = names.len() as u32;
-        names.push("motion (camera)".into());
         if !moving.is_empty() {
             names.push("motion (objects)".into());
         }
@@ -461,23 +486,6 @@ pub(crate) fn encode(
             moving,
             timer.map(|t| (t, first)),
         );
-        for (pipe, range, name) in [
-            (LightPipe::AuxA, 0..3, "aux depth/normal/position"),
-            (LightPipe::AuxB, 3..6, "aux albedo/material/specular"),
-        ] {
-            let attachments: Vec<_> = t.aux[range]
-                .iter()
-                .map(|(_, a)| attach(&a.view, zero))
-                .collect();
-            fullscreen(
-                &mut encoder,
-                &mut names,
-                name,
-                pipe,
-                &attachments,
-                &mut draws,
-            );
-        }
         if let Some(timer) = timer {
             timer.resolve(&mut encoder, names.len() as u32);
         }

@@ -25,6 +25,8 @@ pub(crate) struct GpuFrame {
     pub view: [f32; 16],
     pub proj: [f32; 16],
     pub inv_proj: [f32; 16],
+    pub proj_unjittered: [f32; 16],
+    pub reproject: [f32; 16],
     pub viewport: [f32; 4],
     pub background: [f32; 4],
     pub ambient: [f32; 4],

@@ -2,24 +2,26 @@
 //! previous position, x right, y down: a pixel at p was at p − motion one frame
 //! earlier (docs/renderer.md, "Motion vectors").
 //!
-//! Two passes after the technique's geometry passes, the same for all three
+//! Two steps after the technique's geometry passes, the same for all three
 //! techniques (they all leave the frame's depth buffer):
-//! 1. a full-screen pass reprojects every pixel's depth with the previous
-//!    camera (static geometry and the background: camera motion alone);
+//! 1. the AUX resolve pass (`fx_fs_aux_a`, shaders/light.wgsl), which reads the
+//!    depth anyway, reprojects every pixel with the previous camera (static
+//!    geometry and the background: camera motion alone) at the cost of one
+//!    more render target;
 //! 2. the instances that moved since the previous frame are drawn again with
 //!    depth test `EQUAL`, their vertices projected with this frame's and the
-//!    previous frame's transforms (`shaders/motion.wgsl`).
+//!    previous frame's transforms (`shaders/motion.wgsl`, this file).
 //!
-//! A still scene under a still camera skips pass 2 and writes zeros in pass 1.
+//! A still scene (or a moving camera over still instances) costs step 1 alone.
 //! Transparent (BLEND) objects do not write depth: their pixels carry the motion
 //! of what is behind them.
 
 use super::gpu_types::{mat_array, Vertex};
-use super::pipelines::{create, depth, storage_entry, target, texture_entry};
+use super::pipelines::{create, depth, storage_entry, target};
 use super::upload::{Batch, Cull, Geometry};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 use std::collections::HashMap;
 
 /// Format of `AUX.motion`: half floats keep 0.05 px over ±64 px of motion.
@@ -38,8 +40,6 @@ struct GpuMotionFrame {
     proj: [f32; 16],
     curr_vp: [f32; 16],
     prev_vp: [f32; 16],
-    inv_vp: [f32; 16],
-    eye: [f32; 4],
     viewport: [f32; 4],
 }
 
@@ -51,15 +51,12 @@ pub(crate) struct MotionCameras {
     /// Unjittered view-projections, now and one frame earlier.
     pub curr_vp: Mat4,
     pub prev_vp: Mat4,
-    pub eye: Vec3,
 }
 
 /// Pipelines and buffers of the motion passes (made with the renderer).
 pub(crate) struct MotionPass {
     uniforms: wgpu::Buffer,
     group0_layout: wgpu::BindGroupLayout,
-    depth_layout: wgpu::BindGroupLayout,
-    camera: wgpu::RenderPipeline,
     module: wgpu::ShaderModule,
     object: HashMap<Cull, wgpu::RenderPipeline>,
 }
@@ -72,64 +69,39 @@ impl MotionPass {
                 message,
             }
         })?;
-        let (uniforms, group0_layout, depth_layout, module) =
-            ctx.scoped("motion vectors", |device| {
-                let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("motion vector uniforms"),
-                    size: std::mem::size_of::<GpuMotionFrame>() as u64,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                let group0_layout =
-                    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                        label: Some("motion vectors group 0"),
-                        entries: &[
-                            wgpu::BindGroupLayoutEntry {
-                                binding: 0,
-                                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                                ty: wgpu::BindingType::Buffer {
-                                    ty: wgpu::BufferBindingType::Uniform,
-                                    has_dynamic_offset: false,
-                                    min_binding_size: None,
-                                },
-                                count: None,
-                            },
-                            storage_entry(1),
-                            storage_entry(2),
-                        ],
-                    });
-                let depth_layout =
-                    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                        label: Some("motion vectors depth"),
-                        entries: &[texture_entry(0, wgpu::TextureSampleType::Depth)],
-                    });
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("motion vectors"),
-                    source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-                });
-                (uniforms, group0_layout, depth_layout, module)
-            })?;
-        let camera = create(
-            ctx,
-            "motion vectors: camera",
-            &module,
-            ("vs_fullscreen", "fs_camera"),
-            &[],
-            &[target(MOTION_FORMAT)],
-            None,
-            wgpu::PrimitiveState::default(),
-            &[Some(&group0_layout), Some(&depth_layout)],
-            &[],
-        )
-        .map_err(|message| GpuError::Internal {
-            what: "motion vectors: camera".into(),
-            message,
+        let (uniforms, group0_layout, module) = ctx.scoped("motion vectors", |device| {
+            let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("motion vector uniforms"),
+                size: std::mem::size_of::<GpuMotionFrame>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let group0_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("motion vectors group 0"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    storage_entry(1),
+                    storage_entry(2),
+                ],
+            });
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("motion vectors"),
+                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+            });
+            (uniforms, group0_layout, module)
         })?;
         Ok(MotionPass {
             uniforms,
             group0_layout,
-            depth_layout,
-            camera,
             module,
             object: HashMap::new(),
         })
@@ -186,9 +158,10 @@ impl MotionPass {
         Ok(())
     }
 
-    /// Records both passes into `encoder`: `moving` lists the batches (one
-    /// instance each) whose transforms changed since the previous frame
-    /// ([`MotionPass::prepare`]d). Returns the draws.
+    /// Records the object pass into `encoder` (after the resolve pass wrote the
+    /// camera motion): `moving` lists the batches (one instance each) whose
+    /// transforms changed since the previous frame ([`MotionPass::prepare`]d).
+    /// Returns the draws.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
@@ -202,20 +175,21 @@ impl MotionPass {
         moving: &[Batch],
         timer: Option<(&GpuTimer, u32)>,
     ) -> Result<usize, GpuError> {
+        if moving.is_empty() {
+            return Ok(0);
+        }
         let (w, h) = (size.0 as f32, size.1 as f32);
         let frame = GpuMotionFrame {
             view: mat_array(cams.view),
             proj: mat_array(cams.proj),
             curr_vp: mat_array(cams.curr_vp),
             prev_vp: mat_array(cams.prev_vp),
-            inv_vp: mat_array((cams.proj * cams.view).inverse()),
-            eye: cams.eye.extend(1.0).into(),
             viewport: [w, h, 1.0 / w, 1.0 / h],
         };
         ctx.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
-        let (g0, gd) = ctx.scoped("motion vectors: bind groups", |device| {
-            let g0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let g0 = ctx.scoped("motion vectors: bind group", |device| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("motion vectors group 0"),
                 layout: &self.group0_layout,
                 entries: &[
@@ -232,55 +206,25 @@ impl MotionPass {
                         resource: geometry.prev_model_buffer.as_entire_binding(),
                     },
                 ],
-            });
-            let gd = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("motion vectors depth"),
-                layout: &self.depth_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(depth_view),
-                }],
-            });
-            (g0, gd)
+            })
         })?;
-        let color = |load| {
-            [Some(wgpu::RenderPassColorAttachment {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("motion vectors: objects"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: motion_view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load,
+                    load: wgpu::LoadOp::Load,
                     store: wgpu::StoreOp::Store,
                 },
-            })]
-        };
-        let writes = |k: u32| timer.and_then(|(t, first)| t.pass_writes(first + k));
-        {
-            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("motion vectors: camera"),
-                color_attachments: &color(wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)),
-                depth_stencil_attachment: None,
-                timestamp_writes: writes(0),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            rp.set_pipeline(&self.camera);
-            rp.set_bind_group(0, &g0, &[]);
-            rp.set_bind_group(1, &gd, &[]);
-            rp.draw(0..3, 0..1);
-        }
-        if moving.is_empty() {
-            return Ok(1);
-        }
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("motion vectors: objects"),
-            color_attachments: &color(wgpu::LoadOp::Load),
+            })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth_view,
                 depth_ops: None,
                 stencil_ops: None,
             }),
-            timestamp_writes: writes(1),
+            timestamp_writes: timer.and_then(|(t, i)| t.pass_writes(i)),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -292,6 +236,6 @@ impl MotionPass {
             rp.set_pipeline(&self.object[&b.cull]);
             rp.draw_indexed(b.indices.clone(), b.base_vertex, b.instances.clone());
         }
-        Ok(1 + moving.len())
+        Ok(moving.len())
     }
 }

@@ -485,7 +485,7 @@ impl Pipelines {
                     "fx_vs_fullscreen",
                     "fx_fs_aux_a",
                     &[],
-                    vec![aux(0), aux(1), aux(2)],
+                    vec![aux(0), aux(1), aux(2), aux(6)],
                     None,
                     wgpu::PrimitiveState::default(),
                 ),

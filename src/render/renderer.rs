@@ -553,7 +553,6 @@ impl Renderer {
             proj,
             curr_vp: unjittered * view,
             prev_vp: prev_camera.proj(aspect) * prev_camera.view(),
-            eye: camera.eye,
         };
         let mut lists = LightLists::classify(
             &self.lights,
@@ -624,6 +623,13 @@ impl Renderer {
             view: mat_array(view),
             proj: mat_array(proj),
             inv_proj: mat_array(proj.inverse()),
+            proj_unjittered: mat_array(unjittered),
+            // a camera that did not move reprojects exactly (motion 0, not noise)
+            reproject: mat_array(if prev_camera == *camera {
+                unjittered
+            } else {
+                motion_cams.prev_vp * view.inverse()
+            }),
             viewport: [
                 width as f32,
                 height as f32,

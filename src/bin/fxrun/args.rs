@@ -163,9 +163,15 @@ pub(crate) struct Cli {
     /// builtin:room, builtin:bench, or a .gltf/.glb file (size from --size).
     #[arg(help_heading = SCENES, long, value_parser = clap::builder::NonEmptyStringValueParser::new())]
     pub(crate) scene: Option<String>,
-    /// Scene camera: a glTF camera index or name, or eye=x,y,z;target=x,y,z;fov=deg.
+    /// Scene camera: a glTF camera index or name (it moves with its animated
+    /// node), eye=x,y,z;target=x,y,z;fov=deg, or orbit[:period=S,elevation=DEG,
+    /// start=DEG,distance=D,fov=DEG] around the scene's bounds.
     #[arg(help_heading = SCENES, long)]
     pub(crate) camera: Option<String>,
+    /// Scene: render the scene at this time in seconds (0 or more); with
+    /// --frames A..B, frame n is rendered at n / --fps (default 30) as a sequence.
+    #[arg(help_heading = SCENES, long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub(crate) time: Option<f64>,
     /// Scene: add N random point lights (at most 100000).
     #[arg(help_heading = SCENES, long, default_value_t = 0,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=MAX_LIGHTS))]
