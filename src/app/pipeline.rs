@@ -141,15 +141,15 @@ pub(super) struct EncodeResult {
 
 /// The encode thread: finishes each read-back of `enc_rx`, writes it to `sink`
 /// and records it; a failed write sets `halt` unless `keep_going` (frames after
-/// it are then not written). Ends when `enc_rx` is closed, after `sink.finish`
-/// when `complete` was set by then (the caller sets it before closing `enc_rx`: the
-/// run went through, not stopped) and no write failed, else after `sink.abort`.
+/// it are then not written). Ends when `enc_rx` is closed: with `sink.finish` when
+/// `complete` was set before (every frame went through) and no write failed,
+/// else with `sink.abort` (a partial output is discarded).
 pub(super) fn spawn_encoder(
     mut sink: Box<dyn FrameSink>,
     enc_rx: std::sync::mpsc::Receiver<Encoded>,
     keep_going: bool,
     halt_e: Arc<AtomicBool>,
-    complete: Arc<AtomicBool>,
+    complete_e: Arc<AtomicBool>,
 ) -> Result<std::thread::JoinHandle<EncodeResult>, RunError> {
     std::thread::Builder::new()
         .name("fxgraph encode".into())
@@ -197,7 +197,8 @@ pub(super) fn spawn_encoder(
                 }
             }
             let t = Instant::now();
-            if complete.load(Ordering::SeqCst) && r.failed.is_empty() {
+            // Complete: every frame read went through and was written, not stopped.
+            if complete_e.load(Ordering::SeqCst) && r.failed.is_empty() {
                 if let Err(err) = sink.finish() {
                     let n = r.done.len();
                     r.failed.push(FrameFailure::new(n, "output", err.into()));

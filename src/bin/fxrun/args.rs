@@ -172,6 +172,13 @@ pub(crate) struct Cli {
     /// --frames A..B, frame n is rendered at n / --fps (default 30) as a sequence.
     #[arg(help_heading = SCENES, long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub(crate) time: Option<f64>,
+    /// Scene: which glTF animations play: all (default), none, an index or a name.
+    #[arg(help_heading = SCENES, long, value_name = "NAME|INDEX|all|none")]
+    pub(crate) animation: Option<String>,
+    /// Scene: loop the animations (the clock wraps at the longest one's end);
+    /// without it, times after the last key hold the last pose.
+    #[arg(help_heading = SCENES, long = "loop")]
+    pub(crate) looping: bool,
     /// Scene: add N random point lights (at most 100000).
     #[arg(help_heading = SCENES, long, default_value_t = 0,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=MAX_LIGHTS))]

@@ -102,6 +102,8 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         width,
         height,
         camera: cli.camera.clone(),
+        animation: cli.animation.clone(),
+        looping: cli.looping,
         lights: cli.lights,
         seed: cli.seed,
         technique,
