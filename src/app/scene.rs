@@ -85,6 +85,11 @@ pub struct SceneJob {
     pub shadows: crate::render::shadows::ShadowMode,
     pub shadow_size: u32,
     pub shadow_layers: u32,
+    /// Image-based lighting (`None`: the scene's punctual lights only), see
+    /// [`crate::scene::Environment`].
+    pub environment: Option<crate::scene::Environment>,
+    /// What pixels without geometry show (`None`: the scene's colour).
+    pub background: Option<crate::scene::Background>,
 }
 
 /// A scene error as an input error naming the file (the glTF file, or the `--scene`
@@ -118,6 +123,19 @@ pub(super) fn render_error(scene: &str, e: RenderError) -> RunError {
             message: m,
         }),
         RenderError::Material(rendered) => RunError::Rejected { rendered },
+        RenderError::Environment(e) => environment_error(e),
+    }
+}
+
+fn environment_error(e: crate::scene::EnvironmentError) -> RunError {
+    use crate::scene::EnvironmentError as E;
+    match e {
+        E::Io(io) => RunError::from(io),
+        E::Invalid { path, message } => RunError::BadInput(IoError::Decode {
+            path: PathBuf::from(path),
+            message,
+        }),
+        E::Spec(message) => RunError::Rejected { rendered: message },
     }
 }
 
@@ -196,6 +214,13 @@ pub(super) fn prepare(
         });
     }
     scene.ensure_lights();
+    if let Some(env) = &job.environment {
+        if let crate::scene::EnvironmentSource::Sky(sky) = &env.source {
+            sky.check()
+                .map_err(|m| environment_error(crate::scene::EnvironmentError::Spec(m)))?;
+        }
+        scene.set_environment(Some(env.clone()));
+    }
     stats.load_ms = ms(t.elapsed());
     let ctx = engine.ctx.clone();
     let mut renderer = Renderer::new(
@@ -212,6 +237,9 @@ pub(super) fn prepare(
     )
     .map_err(|e| render_error(&job.scene, e))?;
     renderer.set_fog(job.fog);
+    if let Some(b) = job.background {
+        renderer.set_background(b);
+    }
     Ok((scene, renderer, effect))
 }
 

@@ -108,6 +108,8 @@ pub(crate) fn ensure_pipelines(
     }
     if technique == Technique::Deferred {
         light.push(LightPipe::Compose);
+    } else if r.environment.background_pass() {
+        light.push(LightPipe::Background);
     }
     for which in light {
         r.pipelines.light(
@@ -256,7 +258,7 @@ pub(crate) fn encode(
         .map(|b| (view.transform_point3(b.center).z, &b.batch))
         .collect();
     blend.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let background = clear_to(r.frame_background.extend(1.0));
+    let background = clear_to(r.environment.clear_color(r.frame_background));
     let zero = clear_to(Vec4::ZERO);
     let mut motion_result = Ok(0);
     ctx.scoped(label, |device| {
@@ -430,6 +432,17 @@ pub(crate) fn encode(
                     &mut draws,
                 );
             }
+        }
+        if technique != Technique::Deferred && r.environment.background_pass() {
+            let colors = [attach(&t.scene.view, LOAD)];
+            fullscreen(
+                &mut encoder,
+                &mut names,
+                "background",
+                LightPipe::Background,
+                &colors,
+                &mut draws,
+            );
         }
         if !blend.is_empty() {
             let colors = [attach(&t.scene.view, LOAD)];

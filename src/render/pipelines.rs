@@ -29,6 +29,8 @@ pub(crate) enum LightPipe {
     VolumeFront,
     VolumeBack,
     Compose,
+    /// The environment behind the geometry (light pre-pass and forward).
+    Background,
     AuxA,
     AuxB,
 }
@@ -83,6 +85,7 @@ impl Layouts {
     /// group 1 of the light passes (G-buffer) and of the light pre-pass final pass
     /// (light buffers).
     pub fn new(device: &wgpu::Device) -> Layouts {
+        let env = super::environment::EnvironmentLighting::g0_layout_entries();
         let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred group 0 (frame, materials, instances, lights)"),
             entries: &[
@@ -106,6 +109,12 @@ impl Layouts {
                 super::shadow_pass::g0_layout_entries()[0],
                 super::shadow_pass::g0_layout_entries()[1],
                 super::shadow_pass::g0_layout_entries()[2],
+                // 11–15: the environment's maps, sampler and uniform
+                env[0],
+                env[1],
+                env[2],
+                env[3],
+                env[4],
             ],
         });
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
@@ -352,8 +361,17 @@ impl Pipelines {
                     "fx_fs_forward_blend",
                     vec![Some(wgpu::ColorTargetState {
                         format: SCENE_FORMAT,
-                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                        write_mask: wgpu::ColorWrites::COLOR,
+                        // colour: over; alpha: coverage accumulates (a + (1 - a)
+                        // dst), so a transparent background keeps the glass's
+                        blend: Some(wgpu::BlendState {
+                            color: wgpu::BlendState::ALPHA_BLENDING.color,
+                            alpha: wgpu::BlendComponent {
+                                src_factor: wgpu::BlendFactor::One,
+                                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                                operation: wgpu::BlendOperation::Add,
+                            },
+                        }),
+                        write_mask: wgpu::ColorWrites::ALL,
                     })],
                     depth(false, wgpu::CompareFunction::Less),
                 ),
@@ -476,6 +494,14 @@ impl Pipelines {
                 LightPipe::Compose => (
                     "fx_vs_fullscreen",
                     "fx_fs_compose",
+                    &[],
+                    vec![target(SCENE_FORMAT)],
+                    None,
+                    wgpu::PrimitiveState::default(),
+                ),
+                LightPipe::Background => (
+                    "fx_vs_fullscreen",
+                    "fx_fs_background",
                     &[],
                     vec![target(SCENE_FORMAT)],
                     None,

@@ -75,6 +75,9 @@ pub enum RenderError {
     /// A material that cannot be used (unknown shader, bad parameter, ...).
     #[error("{0}")]
     Material(String),
+    /// The environment map could not be used (missing, not equirectangular, ...).
+    #[error(transparent)]
+    Environment(#[from] crate::scene::EnvironmentError),
 }
 
 /// Options fixed when a [`Renderer`] is created.
@@ -194,6 +197,8 @@ pub struct Renderer {
     pub(crate) pipelines: Pipelines,
     dummy_light: wgpu::TextureView,
     pub(crate) targets: Option<Targets>,
+    /// Image-based lighting and the background (`super::environment`).
+    pub(crate) environment: super::environment::EnvironmentLighting,
     /// (technique, forward light count) whose pipelines all exist.
     ensured: std::collections::HashSet<(Technique, u32)>,
     /// The motion-vector passes (`AUX.motion`).
@@ -315,6 +320,11 @@ impl Renderer {
         let volumes = LightVolumes::new(ctx)?;
         let light_buffers = LightBuffers::new(device);
         let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
+        let mut environment = super::environment::EnvironmentLighting::new(ctx, scene.background)?;
+        if let Some(env) = &scene.environment {
+            let map = env.load()?;
+            environment.set(ctx, Some((env, &map)))?;
+        }
         let g0 = light_buffers.group0(
             device,
             &layouts.g0,
@@ -322,6 +332,7 @@ impl Renderer {
             &material_info_buffer,
             &geometry.instance_buffer,
             &shadow_maps,
+            &environment,
         );
         let triangles = scene.triangle_count();
         log::info!(
@@ -368,6 +379,7 @@ impl Renderer {
             g0,
             dummy_light,
             targets: None,
+            environment,
             ensured: Default::default(),
             motion,
             rest_transforms: scene.instances.iter().map(|i| i.transform).collect(),
@@ -394,6 +406,66 @@ impl Renderer {
     /// Linear colour of pixels without geometry.
     pub fn background_color(&self) -> Vec3 {
         self.background
+    }
+
+    /// Lights the scene with `env` from now on (`None`: punctual lights only),
+    /// loading its map; the prefiltered maps are cached by (map content, size),
+    /// so setting a map again costs its loading only.
+    pub fn set_environment(
+        &mut self,
+        ctx: &GpuContext,
+        env: Option<&crate::scene::Environment>,
+    ) -> Result<(), RenderError> {
+        let map = env.map(|e| e.load()).transpose()?;
+        self.environment.set(ctx, env.zip(map.as_ref()))?;
+        self.rebuild_group0(ctx);
+        Ok(())
+    }
+
+    /// What pixels without geometry show (the scene's colour by default).
+    /// [`Background::Environment`](crate::scene::Background) without an
+    /// environment shows the colour.
+    pub fn set_background(&mut self, background: crate::scene::Background) {
+        if let crate::scene::Background::Color(c) = background {
+            self.background = c;
+        }
+        self.environment.background = background;
+    }
+
+    /// Milliseconds the last environment set spent prefiltering (0: cached or
+    /// none), and how many maps this renderer has prefiltered.
+    pub fn environment_prefiltering(&self) -> (f64, usize) {
+        (
+            self.environment.last_prefilter_ms,
+            self.environment.prefiltered,
+        )
+    }
+
+    /// Reads back a prefiltered environment texture (tests, inspection): its
+    /// side and RGBA f32 texels, rows top first.
+    pub fn read_environment(
+        &self,
+        ctx: &GpuContext,
+        which: super::environment::EnvironmentTexture,
+    ) -> Result<(u32, Vec<f32>), RenderError> {
+        Ok(self.environment.read(ctx, which)?)
+    }
+
+    /// (levels, level-0 side) of the specular environment map, if any.
+    pub fn environment_shape(&self) -> Option<(u32, u32)> {
+        self.environment.specular_shape()
+    }
+
+    fn rebuild_group0(&mut self, ctx: &GpuContext) {
+        self.g0 = self.light_buffers.group0(
+            &ctx.device,
+            &self.layouts.g0,
+            &self.frame_buffer,
+            &self.material_info_buffer,
+            &self.geometry.instance_buffer,
+            &self.shadow_maps,
+            &self.environment,
+        );
     }
 
     /// The options the renderer was created with.
@@ -618,6 +690,7 @@ impl Renderer {
                 &self.material_info_buffer,
                 &self.geometry.instance_buffer,
                 &self.shadow_maps,
+                &self.environment,
             );
         }
         let (cluster, cluster_z, global_lights) = match &clusters {
@@ -666,6 +739,10 @@ impl Renderer {
         };
         ctx.queue
             .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&gpu_frame));
+        let background_fog = self.fog.as_ref().map_or((Vec3::ZERO, 1.0), |f| {
+            (f.color, f.transmittance(camera.far))
+        });
+        self.environment.write_frame(ctx, &view, background_fog);
         // Pipelines depend only on the technique and the forward loop bound: the
         // batches are fixed when the renderer is made.
         if !self.ensured.contains(&(technique, loop_count)) {

@@ -8,6 +8,8 @@
 //! - [`model`]: [`Scene`], [`Mesh`], [`Instance`], [`TextureImage`], bounds.
 //! - [`camera`]: [`Camera`] and the `--camera` specs; [`light`]: [`Light`];
 //!   [`material`]: [`Material`] (a surface + a lighting shader binding).
+//! - [`environment`]: the light of the world around a scene ([`Environment`]: an
+//!   equirectangular map from a file, the analytic sky, the studio), as data.
 //! - [`builtin`]: the procedural scenes (`builtin:room`, `builtin:bench`, ...).
 //! - [`gltf`]: validated glTF 2.0 loading (nodes, meshes, materials, lights,
 //!   cameras).
@@ -20,6 +22,7 @@ pub mod animation;
 pub mod builtin;
 pub mod camera;
 pub mod camera_path;
+pub mod environment;
 pub mod gltf;
 pub mod light;
 pub mod material;
@@ -33,6 +36,9 @@ pub use animation::{
 };
 pub use camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
 pub use camera_path::{CameraPath, Orbit};
+pub use environment::{
+    Background, Environment, EnvironmentError, EnvironmentMap, EnvironmentSource,
+};
 pub use light::{Light, LightKind, ATTENUATION_THRESHOLD};
 pub use material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
 pub use model::{

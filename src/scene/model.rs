@@ -351,6 +351,9 @@ pub struct Scene {
     pub skins: Vec<Skin>,
     /// Keyframe animations of the nodes ([`crate::scene::animation`]).
     pub animations: Vec<Animation>,
+    /// The light of the world around the scene (`None`: its lights only); see
+    /// [`Scene::set_environment`].
+    pub environment: Option<super::environment::Environment>,
 }
 
 impl Scene {

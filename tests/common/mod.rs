@@ -5,6 +5,7 @@ pub mod anim_gltf;
 pub mod brdf;
 pub mod cli;
 pub mod gltf_gen;
+pub mod ibl;
 pub mod raster;
 pub mod renders;
 pub mod rng;

@@ -229,6 +229,31 @@ pub(crate) struct Cli {
     /// Scene: side of each shadow map in texels (256 to 8192, and the GPU's limit).
     #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::render::renderer::DEFAULT_SHADOW_SIZE)]
     pub(crate) shadow_size: u32,
+    /// Scene: image-based lighting from an equirectangular map of linear
+    /// radiance (.exr, .hdr; Blender's and the glTF Sample Viewer's mapping),
+    /// builtin:studio (the default), builtin:sky (with its sun), uniform:R,G,B,
+    /// or none (the scene's lights only).
+    #[arg(help_heading = SCENES, long, value_name = "FILE|builtin:NAME|none")]
+    pub(crate) environment: Option<String>,
+    /// Scene: multiplies the environment's radiance (not a sky's sun).
+    #[arg(help_heading = SCENES, long, value_name = "X", default_value_t = 1.0, allow_negative_numbers = true)]
+    pub(crate) environment_intensity: f32,
+    /// Scene: turns the environment about +Y by DEGREES (+X towards -Z for 90).
+    #[arg(help_heading = SCENES, long, value_name = "DEGREES", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub(crate) environment_rotation: f32,
+    /// Scene: builtin:sky's sun as ELEVATION,AZIMUTH in degrees (azimuth 0
+    /// towards +X, 90 towards +Z); default 40,120.
+    #[arg(help_heading = SCENES, long, value_name = "ELEV,AZIM", allow_hyphen_values = true)]
+    pub(crate) sun: Option<String>,
+    /// Scene: builtin:sky's atmospheric turbidity, 1.7 (clear) to 10 (hazy);
+    /// default 3.
+    #[arg(help_heading = SCENES, long, value_name = "T")]
+    pub(crate) turbidity: Option<f32>,
+    /// Scene: what pixels without geometry show: color:R,G,B (linear; default
+    /// the scene's colour), environment or environment:BLUR (0 sharp to 1), or
+    /// transparent (alpha 0 in the HDR image).
+    #[arg(help_heading = SCENES, long, value_name = "MODE")]
+    pub(crate) background: Option<String>,
     /// Scene: shadow-map layers per frame (directional light 4, point 6, spot 1);
     /// lights past it are unshadowed, with a warning.
     #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::render::renderer::DEFAULT_SHADOW_LAYERS)]

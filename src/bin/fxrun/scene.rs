@@ -89,6 +89,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
             cli.shadow_size
         )));
     }
+    let (environment, background) = environment_options(cli)?;
     let default_chain = cli.effects.is_empty() && cli.output.is_some();
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
@@ -124,6 +125,8 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         shadows,
         shadow_size: cli.shadow_size,
         shadow_layers: cli.shadow_layers,
+        environment,
+        background,
     };
     if cli.time.is_some() || cli.frames.is_some() {
         return run_scene_sequence_cli(cli, &job);
@@ -210,10 +213,12 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
     let mut first = times.frames.0;
     let (sink, format): (Box<dyn FrameSink>, _) = match &ospec {
         SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
-            // y4m on stdout, a y4m file, a video file: 8-bit 4:2:0 (or --bit-depth)
-            // at --fps.
-            if super::streams::skip_whole_file(cli, &ospec) {
-                return Ok(());
+            // y4m on stdout, a .y4m file or a video file (through ffmpeg); a whole
+            // file is written or not, so --skip-existing does not resume it
+            if cli.skip_existing {
+                return Err(rejected(
+                    "--skip-existing resumes numbered files; a y4m stream or a y4m/video file is written whole",
+                ));
             }
             let output = super::streams::stream_output(&ospec).expect("a stream spec");
             let plan = super::streams::StreamPlan {
@@ -310,3 +315,86 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
     }
     Ok(())
 }
+
+/// The environment of `--environment` (the default: [`DEFAULT_ENVIRONMENT`])
+/// with `--environment-intensity`, `--environment-rotation`, `--sun`,
+/// `--turbidity`, and the `--background`.
+fn environment_options(
+    cli: &Cli,
+) -> Result<
+    (
+        Option<fxgraph::scene::Environment>,
+        Option<fxgraph::scene::Background>,
+    ),
+    Fail,
+> {
+    use fxgraph::scene::{Background, Environment, EnvironmentSource};
+    let spec = cli.environment.as_deref().unwrap_or(DEFAULT_ENVIRONMENT);
+    let mut env = Environment::parse(spec).map_err(|e| rejected(format!("--environment: {e}")))?;
+    if !(cli.environment_intensity.is_finite() && cli.environment_intensity >= 0.0) {
+        return Err(rejected(format!(
+            "--environment-intensity {}: must be finite and not negative",
+            cli.environment_intensity
+        )));
+    }
+    if !cli.environment_rotation.is_finite() {
+        return Err(rejected(
+            "--environment-rotation: must be a finite number of degrees",
+        ));
+    }
+    let sky = match env.as_mut().map(|e| &mut e.source) {
+        Some(EnvironmentSource::Sky(s)) => Some(s),
+        _ => None,
+    };
+    match sky {
+        Some(s) => {
+            if let Some(sun) = &cli.sun {
+                let v: Vec<f32> = sun
+                    .split(',')
+                    .map(|x| x.trim().parse::<f32>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| {
+                        rejected(format!(
+                            "--sun {sun}: expected ELEVATION,AZIMUTH in degrees"
+                        ))
+                    })?;
+                let [e, a] = v.as_slice() else {
+                    return Err(rejected(format!(
+                        "--sun {sun}: expected ELEVATION,AZIMUTH in degrees"
+                    )));
+                };
+                (s.elevation, s.azimuth) = (*e, *a);
+            }
+            if let Some(t) = cli.turbidity {
+                s.turbidity = t;
+            }
+            s.check().map_err(rejected)?;
+        }
+        None if cli.sun.is_some() || cli.turbidity.is_some() => {
+            return Err(rejected(
+                "--sun and --turbidity set builtin:sky: add --environment builtin:sky",
+            ));
+        }
+        None => {}
+    }
+    if let Some(e) = env.as_mut() {
+        e.intensity = cli.environment_intensity;
+        e.rotation = cli.environment_rotation;
+    }
+    let background = cli
+        .background
+        .as_deref()
+        .map(Background::parse)
+        .transpose()
+        .map_err(|e| rejected(e.to_string()))?;
+    if matches!(background, Some(Background::Environment { .. })) && env.is_none() {
+        return Err(rejected(
+            "--background environment needs an environment (--environment is none)",
+        ));
+    }
+    Ok((env, background))
+}
+
+/// The environment of a scene without `--environment`: like every glTF viewer,
+/// fxrun lights PBR materials with an environment by default (docs/renderer.md).
+const DEFAULT_ENVIRONMENT: &str = "builtin:studio";

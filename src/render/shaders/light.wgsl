@@ -116,19 +116,29 @@ fn fx_vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f
 }
 
 // diffuse colour × diffuse light + specular light (which started as emission +
-// ambient in the geometry pass), through the fog
+// ambient + environment in the geometry pass), through the fog
 @fragment
 fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let c = vec2<i32>(pos.xy);
     let depth = textureLoad(fx_t_depth, c, 0);
     if depth >= 1.0 {
-        return vec4<f32>(fx_frame.background.rgb, 1.0);
+        return fx_background(pos.xy);
     }
     let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
     let diffuse = textureLoad(fx_t_light_diffuse, c, 0).rgb;
     let specular = textureLoad(fx_t_light_specular, c, 0).rgb;
     let p = fx_view_position(pos.xy, depth);
     return vec4<f32>(fx_fog(albedo * diffuse + specular, p), 1.0);
+}
+
+// The environment behind the geometry (light pre-pass and forward; deferred
+// draws it in the composition): only where nothing was drawn.
+@fragment
+fn fx_fs_background(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    if textureLoad(fx_t_depth, vec2<i32>(pos.xy), 0) < 1.0 {
+        discard;
+    }
+    return fx_background(pos.xy);
 }
 
 struct FxAuxA {
