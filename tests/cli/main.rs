@@ -1,7 +1,8 @@
 //! The real `fxrun` binary, one module per topic: analysis modes (`--check`,
 //! `--plan`, `--dot`, `--list`, `--describe`, `--help`), rejected arguments, runs on
 //! images (exit codes, atomic writes, rejected inputs), shader diagnostic snapshots,
-//! scenes, paths it refuses to read, frame sequences and batches.
+//! scenes, paths it refuses to read, frame sequences and batches, y4m files (8 to 16
+//! bits) and video files through ffmpeg.
 //!
 //! One test binary (each binary links wgpu, which costs a minute on a small machine);
 //! run one topic with `cargo test --test cli analysis::`.
@@ -17,6 +18,8 @@ mod images;
 mod scenes;
 mod sequences;
 mod shader_diagnostics;
+mod video_files;
+mod y4m_files;
 
 /// True when GPU tests should run (an adapter, or FX_REQUIRE_GPU=1 which makes
 /// its absence fail).

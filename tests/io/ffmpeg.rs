@@ -1,18 +1,11 @@
-//! Interoperability with ffmpeg (skipped when ffmpeg is absent): an interlaced MPEG-2
+//! Interoperability with ffmpeg (skipped when ffmpeg is absent, except in CI): an interlaced MPEG-2
 //! clip decoded like ffmpeg does, and y4m read from a pipe.
 
 use super::*;
 
+/// ffmpeg is there (in CI, where FX_REQUIRE_GPU is set, its absence fails).
 fn ffmpeg() -> bool {
-    let ok = Command::new("ffmpeg")
-        .arg("-version")
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !ok {
-        eprintln!("skipping: ffmpeg is not installed");
-    }
-    ok
+    common::video::have_ffmpeg()
 }
 
 fn corpus_file(rel: &str) -> Option<PathBuf> {

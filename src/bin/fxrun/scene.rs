@@ -248,7 +248,7 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         }
         SequenceSpec::Single(path) => {
             return Err(rejected(format!(
-                "-o {}: several frames need a numbered pattern (out/%04d.png), a folder or - (y4m)",
+                "-o {}: several frames need a numbered pattern (out/%04d.png), a folder, a .y4m or video file, or - (y4m)",
                 path.display()
             )))
         }
@@ -317,8 +317,9 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         return Err(Fail {
             code: 130,
             message: format!(
-                "interrupted after {} frames; completed frames are intact (rerun with --skip-existing to resume)",
-                report.done.len()
+                "interrupted after {} frames; {}",
+                report.done.len(),
+                super::streams::interrupted_hint(&ospec)
             ),
         });
     }

@@ -4,7 +4,10 @@
 use super::*;
 use fxgraph::app::BatchItem;
 use std::collections::HashMap;
-use streams::{open_input, open_stream_output, stream_input, stream_output, StreamPlan};
+use streams::{
+    interrupted_hint, open_input, open_stream_output, skip_whole_file, stream_input, stream_output,
+    StreamPlan,
+};
 
 /// `fxrun EFFECT -i 'in/%04d.png' -o 'out/%04d.png'`, `-i - -o -` (y4m streams),
 /// `-i in.y4m -o out.mp4` (files).
@@ -52,14 +55,8 @@ pub(crate) fn run_sequence_cli(
     }
     // A whole y4m or video file is written or not: with --skip-existing, an existing
     // one is kept and the run skipped.
-    if let (true, SequenceSpec::Y4m(p) | SequenceSpec::Video(p)) = (cli.skip_existing, &ospec) {
-        if std::fs::symlink_metadata(p).is_ok() {
-            eprintln!(
-                "fxrun: {} exists already; nothing to do (--skip-existing skips a whole y4m or video file: it cannot resume one)",
-                p.display()
-            );
-            return Ok(());
-        }
+    if skip_whole_file(cli, &ospec) {
+        return Ok(());
     }
     // Source: files (with the context frames a slice needs) or a y4m or video stream.
     let mut y4m_template = None;
@@ -272,16 +269,7 @@ pub(crate) fn run_sequence_cli(
         write_json(path, &report)?;
     }
     if report.interrupted {
-        let hint = match &ospec {
-            SequenceSpec::Stdout => {
-                "the y4m stream on stdout ends after the last whole frame (--skip-existing does not apply to a stream)".to_string()
-            }
-            SequenceSpec::Y4m(p) | SequenceSpec::Video(p) => format!(
-                "{} was not written (a partial file is not kept; an existing one is untouched)",
-                p.display()
-            ),
-            _ => "completed frames are intact (rerun with --skip-existing to resume)".to_string(),
-        };
+        let hint = interrupted_hint(&ospec);
         return Err(Fail {
             code: 130,
             message: format!("interrupted after {} frames; {hint}", report.done.len()),

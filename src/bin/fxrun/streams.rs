@@ -40,27 +40,45 @@ pub(crate) fn open_input(cli: &Cli, input: &StreamInput) -> Result<OpenedInput, 
     Ok(opened)
 }
 
-/// A frame rate as a ratio: whole numbers as `n:1`, the NTSC rates as `n*1000:1001`,
-/// others in thousandths.
+/// A frame rate as a y4m ratio: 30 → 30:1; the NTSC rates n / 1.001, exact or as
+/// typed (29.97, 59.94, 23.976) → 30000:1001, 60000:1001, 24000:1001; others in
+/// thousandths (12.5 → 12500:1000).
 pub(crate) fn fps_ratio(fps: f64) -> (u32, u32) {
-    let whole = fps.round();
-    if (fps - whole).abs() < 1e-6 {
-        return (whole as u32, 1);
+    let whole = |x: f64, tol: f64| (x - x.round()).abs() < tol && x.round() <= 4e6;
+    if whole(fps, 1e-6) {
+        return (fps.round() as u32, 1);
     }
-    let ntsc = fps * 1001.0 / 1000.0;
-    if (ntsc - ntsc.round()).abs() < 1e-3 {
+    let ntsc = fps * 1.001;
+    if whole(ntsc, 1e-3) {
         return (ntsc.round() as u32 * 1000, 1001);
     }
-    let n = (fps * 1000.0).round() as u32;
-    let g = gcd(n, 1000);
-    (n / g, 1000 / g)
+    ((fps * 1000.0).round() as u32, 1000)
 }
 
-fn gcd(a: u32, b: u32) -> u32 {
-    if b == 0 {
-        a.max(1)
-    } else {
-        gcd(b, a % b)
+/// With `--skip-existing` and an existing `.y4m` or video output: says so and returns
+/// true (the run is skipped; one file is written whole, never resumed).
+pub(crate) fn skip_whole_file(cli: &Cli, ospec: &SequenceSpec) -> bool {
+    if let (true, SequenceSpec::Y4m(p) | SequenceSpec::Video(p)) = (cli.skip_existing, ospec) {
+        if std::fs::symlink_metadata(p).is_ok() {
+            eprintln!(
+                "fxrun: {} exists already; nothing to do (--skip-existing skips a whole y4m or video file: it cannot resume one)",
+                p.display()
+            );
+            return true;
+        }
+    }
+    false
+}
+
+/// What an interrupted run left of its output, for the message.
+pub(crate) fn interrupted_hint(ospec: &SequenceSpec) -> String {
+    match ospec {
+        SequenceSpec::Stdout => "the y4m stream on stdout ends after the last whole frame (--skip-existing does not apply to a stream)".to_string(),
+        SequenceSpec::Y4m(p) | SequenceSpec::Video(p) => format!(
+            "{} was not written (a partial file is not kept; an existing one is untouched)",
+            p.display()
+        ),
+        _ => "completed frames are intact (rerun with --skip-existing to resume)".to_string(),
     }
 }
 
@@ -166,4 +184,20 @@ pub(crate) fn open_stream_output(
         eprintln!("fxrun: note: {n}");
     }
     Ok(opened)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fps_ratio;
+
+    #[test]
+    fn frame_rates_as_ratios() {
+        assert_eq!(fps_ratio(25.0), (25, 1));
+        assert_eq!(fps_ratio(29.97), (30000, 1001));
+        assert_eq!(fps_ratio(30000.0 / 1001.0), (30000, 1001));
+        assert_eq!(fps_ratio(23.976), (24000, 1001));
+        assert_eq!(fps_ratio(59.94), (60000, 1001));
+        assert_eq!(fps_ratio(12.5), (12500, 1000));
+        assert_eq!(fps_ratio(1000.0), (1000, 1));
+    }
 }

@@ -2,10 +2,8 @@
 //! streams, outputs written whole or not at all, checked with an independent y4m
 //! reader (tests/common/video.rs) and with ffmpeg/ffprobe.
 
-mod common;
-
-use common::cli::{assert_run, fxrun_in, fxrun_with};
-use common::video::{ffmpeg, have_ffmpeg, probe, read_y4m, samples_420, streams, y4m};
+use crate::common::cli::{assert_no_temporaries, exits_with, fxrun_in, fxrun_with};
+use crate::common::video::{ffmpeg, have_ffmpeg, probe, read_y4m, samples_420, streams, y4m};
 use std::path::Path;
 
 /// The identity effect: the output is the input.
@@ -13,20 +11,9 @@ const IDENTITY: &str = "EFFECT.id = { OUT = IN }";
 
 /// A temporary folder with `id.fx`, or `None` without a GPU (or, in CI, a panic).
 fn setup() -> Option<tempfile::TempDir> {
-    drop(common::engine()?);
-    let dir = tempfile::tempdir().unwrap();
+    let dir = crate::common::gpu_scratch()?;
     std::fs::write(dir.path().join("id.fx"), IDENTITY).unwrap();
     Some(dir)
-}
-
-/// No temporary (`.NAME.fxtmp-...`) is left in `dir`.
-fn assert_no_temporaries(dir: &Path) {
-    let left: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.contains("fxtmp"))
-        .collect();
-    assert!(left.is_empty(), "temporaries left: {left:?}");
 }
 
 /// A 4:2:0 frame: luma from `y(x, y)`, constant chroma (so that chroma resampling is
@@ -50,7 +37,7 @@ fn frame_420(
 /// header line and frames of `samples` samples at `depth` bits.
 fn run_read(d: &Path, args: &str, out: &str, depth: u8, samples: usize) -> (String, Vec<Vec<u16>>) {
     let args: Vec<&str> = args.split(' ').collect();
-    assert_run(&fxrun_in(d, &args), 0, &[]);
+    exits_with(&fxrun_in(d, &args), 0, &[]);
     read_y4m(&std::fs::read(d.join(out)).unwrap(), depth, samples)
 }
 
@@ -83,7 +70,7 @@ fn an_8bit_file_round_trip_equals_the_pipe() {
     let input = y4m("W64 H48 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "out.y4m"]);
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     let out = std::fs::read(d.join("out.y4m")).unwrap();
     let (header, got) = read_y4m(&out, 8, samples_420(w, h));
     assert_eq!(header, "YUV4MPEG2 W64 H48 F25:1 Ip A1:1 C420jpeg");
@@ -95,14 +82,14 @@ fn an_8bit_file_round_trip_equals_the_pipe() {
     }
     // The same bytes as the stream through a pipe.
     let piped = fxrun_with(d, &["id.fx", "-i", "-", "-o", "-"], &[], &input);
-    assert_run(&piped, 0, &[]);
+    exits_with(&piped, 0, &[]);
     assert!(piped.stdout == out, "file and pipe outputs differ");
     assert_no_temporaries(d);
     if have_ffmpeg() {
         let p = probe(&d.join("out.y4m"));
         let v = streams(&p, "video");
         assert_eq!(v[0]["pix_fmt"], "yuv420p");
-        assert_eq!(common::video::frame_count(&d.join("out.y4m")), 4);
+        assert_eq!(crate::common::video::frame_count(&d.join("out.y4m")), 4);
     }
 }
 
@@ -175,7 +162,7 @@ fn a_failed_run_keeps_the_existing_output() {
     std::fs::write(d.join("cut.y4m"), &input).unwrap();
     std::fs::write(d.join("out.y4m"), b"the old output").unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "cut.y4m", "-o", "out.y4m"]);
-    assert_run(&o, 1, &["frame 2"]);
+    exits_with(&o, 1, &["frame 2"]);
     assert_eq!(std::fs::read(d.join("out.y4m")).unwrap(), b"the old output");
     assert_no_temporaries(d);
     // --skip-existing: a whole file exists, nothing to do.
@@ -183,22 +170,22 @@ fn a_failed_run_keeps_the_existing_output() {
         d,
         &["id.fx", "-i", "cut.y4m", "-o", "out.y4m", "--skip-existing"],
     );
-    assert_run(&o, 0, &["exists already"]);
+    exits_with(&o, 0, &["exists already"]);
     assert_eq!(std::fs::read(d.join("out.y4m")).unwrap(), b"the old output");
     // The input as the output is refused (it would be replaced).
     let o = fxrun_in(d, &["id.fx", "-i", "cut.y4m", "-o", "./cut.y4m"]);
-    assert_run(&o, 1, &["would replace the input"]);
+    exits_with(&o, 1, &["would replace the input"]);
     // A good run replaces it.
     put(d, "in.y4m", "W32 H16 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "out.y4m"]);
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     assert!(std::fs::read(d.join("out.y4m"))
         .unwrap()
         .starts_with(b"YUV4MPEG2 W32 H16"));
     // Image frames to a y4m file: the rate is --fps.
     std::fs::create_dir(d.join("png")).unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "png/%02d.png"]);
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     let o = fxrun_in(
         d,
         &[
@@ -211,7 +198,7 @@ fn a_failed_run_keeps_the_existing_output() {
             "29.97",
         ],
     );
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     let back = std::fs::read(d.join("back.y4m")).unwrap();
     assert!(
         back.starts_with(b"YUV4MPEG2 W32 H16 F30000:1001 Ip"),
@@ -300,7 +287,7 @@ fn ten_bit_streams_keep_every_level() {
             "11",
         ],
     );
-    assert_run(&o, 1, &["8, 9, 10, 12, 14, 16"]);
+    exits_with(&o, 1, &["8, 9, 10, 12, 14, 16"]);
     assert!(!d.join("bad.y4m").exists());
     assert_no_temporaries(d);
 }
@@ -382,12 +369,12 @@ fn ten_bit_colours_match_the_bt601_formulas() {
             "16",
         ],
     );
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     let load = |p: &Path| -> Vec<f32> {
         let opts = fxgraph::io::LoadOptions {
             assume_linear: true,
         };
-        common::linear(&fxgraph::io::load_image(p, &opts).unwrap().pixels)
+        crate::common::linear(&fxgraph::io::load_image(p, &opts).unwrap().pixels)
     };
     let got = load(&d.join("fx/0.png"));
     // BT.601: Y' = (Y - 64) / 876, Pb = (Cb - 512) / 896, Pr = (Cr - 512) / 896.
@@ -417,7 +404,7 @@ fn ten_bit_colours_match_the_bt601_formulas() {
             "rgb48be",
             d.join("ff.png").to_str().unwrap(),
         ]);
-        let diff = common::max_abs_diff(&got, &load(&d.join("ff.png"))) * 1023.0;
+        let diff = crate::common::max_abs_diff(&got, &load(&d.join("ff.png"))) * 1023.0;
         eprintln!("10-bit 4:4:4 against ffmpeg: max difference {diff:.3} codes");
         assert!(
             diff <= 4.0,

@@ -3,10 +3,8 @@
 //! ffmpeg rejects, ffmpeg failing while decoding or encoding, Ctrl-C), checked with
 //! ffprobe. ffmpeg is required in CI (FX_REQUIRE_GPU set).
 
-mod common;
-
-use common::cli::{assert_run, fxrun_in, fxrun_with};
-use common::video::{ffmpeg, frame_count, have_ffmpeg, probe, streams};
+use crate::common::cli::{assert_no_temporaries, exits_with, fxrun_in, fxrun_with, names};
+use crate::common::video::{ffmpeg, frame_count, have_ffmpeg, probe, streams};
 use std::path::Path;
 
 const IDENTITY: &str = "EFFECT.id = { OUT = IN }";
@@ -14,11 +12,10 @@ const IDENTITY: &str = "EFFECT.id = { OUT = IN }";
 /// A temporary folder with `id.fx`, or `None` without a GPU or ffmpeg (in CI: a
 /// panic).
 fn setup() -> Option<tempfile::TempDir> {
-    drop(common::engine()?);
+    let dir = crate::common::gpu_scratch()?;
     if !have_ffmpeg() {
         return None;
     }
-    let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("id.fx"), IDENTITY).unwrap();
     Some(dir)
 }
@@ -27,11 +24,10 @@ fn p(d: &Path, name: &str) -> String {
     d.join(name).to_str().unwrap().to_string()
 }
 
-/// The files of `dir` whose names hold `fxtmp` (temporaries).
+/// The temporaries (`.NAME.fxtmp-...`) in `dir`.
 fn temporaries(dir: &Path) -> Vec<String> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+    names(dir)
+        .into_iter()
         .filter(|n| n.contains("fxtmp"))
         .collect()
 }
@@ -89,7 +85,7 @@ fn an_mkv_with_audio_becomes_an_mp4_with_its_audio_and_subtitles() {
     let d = dir.path();
     make_mkv(d, "in.mkv", 10, "yuv420p", true);
     let o = fxrun_in(d, &["id.fx", "-i", "in.mkv", "-o", "out.mp4", "-v"]);
-    assert_run(
+    exits_with(
         &o,
         0,
         &[
@@ -130,7 +126,7 @@ fn an_mkv_with_audio_becomes_an_mp4_with_its_audio_and_subtitles() {
     let psnr = 10.0 * (255.0f64 * 255.0 / mse.max(1e-9)).log10();
     eprintln!("luma PSNR of out.mp4 against in.mkv: {psnr:.1} dB");
     assert!(psnr > 35.0, "PSNR {psnr:.1} dB");
-    assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+    assert_no_temporaries(d);
     // --frames: 5 frames, and the audio of those 5 frames (0.2 s).
     let o = fxrun_in(
         d,
@@ -138,9 +134,9 @@ fn an_mkv_with_audio_becomes_an_mp4_with_its_audio_and_subtitles() {
             "id.fx", "-i", "in.mkv", "-o", "part.mkv", "--frames", "2..6",
         ],
     );
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     assert_eq!(frame_count(&d.join("part.mkv")), 5);
-    let probe = common::video::probe(&d.join("part.mkv"));
+    let probe = crate::common::video::probe(&d.join("part.mkv"));
     let dur: f64 = probe["format"]["duration"]
         .as_str()
         .unwrap()
@@ -161,12 +157,12 @@ fn a_10_bit_video_gives_a_10_bit_output() {
     let d = dir.path();
     make_mkv(d, "in10.mkv", 6, "yuv420p10le", false);
     let o = fxrun_in(d, &["deinterlace", "-i", "in10.mkv", "-o", "out.mp4"]);
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     let v = probe(&d.join("out.mp4"));
     assert_eq!(streams(&v, "video")[0]["pix_fmt"], "yuv420p10le");
     assert_eq!(frame_count(&d.join("out.mp4")), 6);
     let o = fxrun_in(d, &["id.fx", "-i", "in10.mkv", "-o", "out.y4m"]);
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     let y = std::fs::read(d.join("out.y4m")).unwrap();
     assert!(
         y.starts_with(b"YUV4MPEG2 W96 H64 F25:1 Ip A1:1 C420p10"),
@@ -175,7 +171,7 @@ fn a_10_bit_video_gives_a_10_bit_output() {
     );
     // A 10-bit y4m to WebM: VP9 at 10 bits.
     let o = fxrun_in(d, &["id.fx", "-i", "out.y4m", "-o", "out.webm", "-v"]);
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     let v = probe(&d.join("out.webm"));
     assert_eq!(streams(&v, "video")[0]["codec_name"], "vp9");
     assert_eq!(streams(&v, "video")[0]["pix_fmt"], "yuv420p10le");
@@ -196,7 +192,7 @@ fn a_10_bit_video_gives_a_10_bit_output() {
             "veryfast",
         ],
     );
-    assert_run(&o, 0, &[]);
+    exits_with(&o, 0, &[]);
     assert_eq!(
         streams(&probe(&d.join("out8.mp4")), "video")[0]["pix_fmt"],
         "yuv420p"
@@ -210,7 +206,7 @@ fn without_ffmpeg_the_error_says_how_to_install_it() {
     make_mkv(d, "in.mkv", 3, "yuv420p", false);
     std::fs::write(
         d.join("in.y4m"),
-        common::video::y4m(
+        crate::common::video::y4m(
             "W16 H16 F25:1 C420jpeg",
             8,
             &[vec![vec![100; 256], vec![128; 64], vec![128; 64]]],
@@ -221,22 +217,22 @@ fn without_ffmpeg_the_error_says_how_to_install_it() {
     std::fs::create_dir(&empty).unwrap();
     let env = [("PATH", empty.to_str().unwrap())];
     let o = fxrun_with(d, &["id.fx", "-i", "in.mkv", "-o", "out.y4m"], &env, b"");
-    assert_run(
+    exits_with(
         &o,
         1,
         &["ffprobe was not found on PATH", "apt-get install ffmpeg"],
     );
     let o = fxrun_with(d, &["id.fx", "-i", "in.y4m", "-o", "out.mp4"], &env, b"");
-    assert_run(&o, 1, &["out.mp4: ffmpeg was not found on PATH"]);
+    exits_with(&o, 1, &["out.mp4: ffmpeg was not found on PATH"]);
     assert!(!d.join("out.mp4").exists() && !d.join("out.y4m").exists());
-    assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+    assert_no_temporaries(d);
 }
 
 /// A folder with an `ffmpeg` that runs the real one, except for `mode`: `decode`
 /// passes on 20000 bytes of the y4m stream then fails, `encode` reads some of its
 /// input then fails. ffprobe is the real one (found further along PATH).
 fn fake_ffmpeg(d: &Path, mode: &str) -> String {
-    let real = common::video::program_path("ffmpeg");
+    let real = crate::common::video::program_path("ffmpeg");
     let bin = d.join(format!("fake-{mode}"));
     std::fs::create_dir_all(&bin).unwrap();
     let script = format!(
@@ -267,9 +263,9 @@ fn ffmpeg_failures_are_reported_with_its_stderr_and_leave_no_output() {
     let Some(dir) = setup() else { return };
     let d = dir.path();
     // A file ffprobe rejects.
-    std::fs::write(d.join("bad.mkv"), common::rng::Rng(7).bytes(4000)).unwrap();
+    std::fs::write(d.join("bad.mkv"), crate::common::rng::Rng(7).bytes(4000)).unwrap();
     let o = fxrun_in(d, &["id.fx", "-i", "bad.mkv", "-o", "out.mp4"]);
-    assert_run(
+    exits_with(
         &o,
         1,
         &[
@@ -302,13 +298,13 @@ fn ffmpeg_failures_are_reported_with_its_stderr_and_leave_no_output() {
     ] {
         let path = fake_ffmpeg(d, mode);
         let args = ["id.fx", "-i", "in.mkv", "-o", "out.mp4"];
-        assert_run(
+        exits_with(
             &fxrun_with(d, &args, &[("PATH", &path)], b""),
             status,
             &says,
         );
         assert_eq!(std::fs::read(d.join("out.mp4")).unwrap(), b"the old output");
-        assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+        assert_no_temporaries(d);
     }
     // Options ffmpeg would refuse are refused before it starts (exit 1).
     for (opt, val, says) in [
@@ -321,7 +317,7 @@ fn ffmpeg_failures_are_reported_with_its_stderr_and_leave_no_output() {
         ("--preset", "warp9", "libx264 takes ultrafast"),
     ] {
         let o = fxrun_in(d, &["id.fx", "-i", "in.mkv", "-o", "out.mp4", opt, val]);
-        assert_run(&o, 1, &[says]);
+        exits_with(&o, 1, &[says]);
     }
     assert_eq!(std::fs::read(d.join("out.mp4")).unwrap(), b"the old output");
 }
@@ -337,7 +333,7 @@ fn interrupting_a_video_run_ends_ffmpeg_and_writes_nothing() {
     let d = dir.path();
     let frame = [vec![90u16; 64 * 64], vec![128; 32 * 32], vec![128; 32 * 32]];
     let frames = vec![frame.to_vec(); 5];
-    let stream = common::video::y4m("W64 H64 F25:1 Ip A1:1 C420jpeg", 8, &frames);
+    let stream = crate::common::video::y4m("W64 H64 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
         .args(["id.fx", "-i", "-", "-o", "out.mp4"])
         .current_dir(d)
@@ -361,7 +357,7 @@ fn interrupting_a_video_run_ends_ffmpeg_and_writes_nothing() {
         .unwrap();
     // fxrun sees the stop between two frames: more frames come until it has ended
     // (its decoder would otherwise wait on the open stream), then the end.
-    let one = common::video::y4m("W64 H64 F25:1 Ip A1:1 C420jpeg", 8, &frames[..1]);
+    let one = crate::common::video::y4m("W64 H64 F25:1 Ip A1:1 C420jpeg", 8, &frames[..1]);
     let frame_bytes = &one[one.iter().position(|&b| b == b'\n').unwrap() + 1..];
     let t0 = std::time::Instant::now();
     while child.try_wait().unwrap().is_none() {
@@ -377,7 +373,7 @@ fn interrupting_a_video_run_ends_ffmpeg_and_writes_nothing() {
     assert_eq!(out.status.code(), Some(130), "{err}");
     assert!(err.contains("out.mp4 was not written"), "{err}");
     assert!(!d.join("out.mp4").exists());
-    assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+    assert_no_temporaries(d);
     // No process has anything of this folder on its command line any more.
     let dir_name = d.to_string_lossy().into_owned();
     let left: Vec<String> = std::fs::read_dir("/proc")
