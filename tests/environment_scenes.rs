@@ -210,9 +210,9 @@ fn a_lighting_shader_may_replace_the_environment_term() {
     )
     .unwrap();
     let text = "MATERIAL.bad = { SURFACE = SHADER.standard LIGHTING = SHADER.bad_env }";
-    let err = load_materials("bad.fx", text, Some(dir.path()), 0)
-        .err()
-        .expect("refused");
+    let Err(err) = load_materials("bad.fx", text, Some(dir.path()), 0) else {
+        panic!("refused");
+    };
     assert!(
         err.contains("bad_env.wgsl:2:1: error: `environment` must be"),
         "{err}"
