@@ -49,6 +49,7 @@ mod clusters;
 pub mod environment;
 pub mod fog;
 mod frame;
+mod frame_motion;
 pub mod gbuffer;
 mod gpu_types;
 mod light_buffers;
