@@ -67,10 +67,9 @@ fn white_furnace() {
             let mut worst = 0.0f32;
             let mut mean = 0.0f32;
             for (x, y, _, _) in &pixels {
-                let p = px[(y * SPHERE_PX + x) as usize];
-                for c in 0..3 {
-                    worst = worst.max((p[c] - 1.0).abs());
-                    mean += p[c] / (3 * pixels.len()) as f32;
+                for v in &px[(y * SPHERE_PX + x) as usize][..3] {
+                    worst = worst.max((v - 1.0).abs());
+                    mean += v / (3 * pixels.len()) as f32;
                 }
             }
             eprintln!("furnace {what} ({technique}): mean {mean:.4}, largest |L - 1| {worst:.4} over {} pixels", pixels.len());

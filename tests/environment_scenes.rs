@@ -24,7 +24,11 @@ fn corpus_hdri(name: &str) -> PathBuf {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/corpus/hdri")
         .join(name);
-    assert!(p.exists(), "{} is missing (the corpus is needed)", p.display());
+    assert!(
+        p.exists(),
+        "{} is missing (the corpus is needed)",
+        p.display()
+    );
     p
 }
 
@@ -73,7 +77,12 @@ fn techniques_agree_with_an_environment_and_its_background() {
             assert!(q >= 40.0, "{t}: {q:.1} dB < 40 dB");
         }
         // the environment changes the image: it is on
-        let mut off = Renderer::new(ctx, &common::scenes::opaque_room(), &RendererOptions::default()).unwrap();
+        let mut off = Renderer::new(
+            ctx,
+            &common::scenes::opaque_room(),
+            &RendererOptions::default(),
+        )
+        .unwrap();
         let dark = frame(ctx, &mut off, &camera, size, Technique::Deferred);
         assert!(rgb_psnr(&images[0], &dark, true) < 30.0);
     }
@@ -92,13 +101,18 @@ fn a_transparent_background_keeps_alpha_zero() {
     for technique in Technique::ALL {
         let mut r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
         r.set_background(Background::Transparent);
-        let (out, _) = r.render(ctx, &camera, size.0, size.1, technique, None).unwrap();
+        let (out, _) = r
+            .render(ctx, &camera, size.0, size.1, technique, None)
+            .unwrap();
         let img = read_rgba_f32(ctx, &out.scene).unwrap();
         let depth = read_rgba_f32(ctx, out.aux("depth").unwrap()).unwrap();
         let (mut sky, mut solid) = (0, 0);
         for (p, d) in img.iter().zip(&depth) {
             if d[0] >= camera.far * 0.999 {
-                assert_eq!(*p, [0.0; 4], "{technique}: a background pixel is not transparent");
+                assert_eq!(
+                    *p, [0.0; 4],
+                    "{technique}: a background pixel is not transparent"
+                );
                 sky += 1;
             } else {
                 assert!(p[3] > 0.0, "{technique}: geometry with alpha {}", p[3]);
@@ -117,7 +131,12 @@ fn prefiltered_maps_are_cached_by_content() {
     };
     let ctx = &engine.ctx;
     let sky = Environment::new(EnvironmentSource::Sky(Sky::default()));
-    let mut r = Renderer::new(ctx, &env_sphere(Vec3::ONE, 0.0, 0.5, sky.clone()), &RendererOptions::default()).unwrap();
+    let mut r = Renderer::new(
+        ctx,
+        &env_sphere(Vec3::ONE, 0.0, 0.5, sky.clone()),
+        &RendererOptions::default(),
+    )
+    .unwrap();
     let (ms, count) = r.environment_prefiltering();
     assert!(ms > 0.0 && count == 1);
     // the same map again (another intensity and rotation: shading settings)
@@ -158,14 +177,16 @@ fn a_lighting_shader_may_replace_the_environment_term() {
     let ctx = &engine.ctx;
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("flat_env.wgsl"), USER_LIGHTING).unwrap();
-    let text = "MATERIAL.flat = { SURFACE = SHADER.standard LIGHTING = SHADER.flat_env { level = 0.25 } }";
+    let text =
+        "MATERIAL.flat = { SURFACE = SHADER.standard LIGHTING = SHADER.flat_env { level = 0.25 } }";
     let mut scene = env_sphere(
         Vec3::ONE,
         0.0,
         0.5,
         Environment::new(EnvironmentSource::Uniform(Vec3::splat(2.0))),
     );
-    let file = load_materials("flat.fx", text, Some(dir.path()), 0).unwrap_or_else(|e| panic!("{e}"));
+    let file =
+        load_materials("flat.fx", text, Some(dir.path()), 0).unwrap_or_else(|e| panic!("{e}"));
     apply_materials(&mut scene, file, &[("*".into(), "flat".into())]).unwrap();
     let mut r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
     let (camera, o) = sphere_camera();
@@ -174,7 +195,11 @@ fn a_lighting_shader_may_replace_the_environment_term() {
         for (x, y, _, _) in interior_pixels(&o, 7) {
             let p = px[(y * SPHERE_PX + x) as usize];
             for c in 0..3 {
-                assert!((p[c] - 0.5).abs() < 2e-3, "{technique}: {:?} at ({x}, {y}), expected 0.5", p);
+                assert!(
+                    (p[c] - 0.5).abs() < 2e-3,
+                    "{technique}: {:?} at ({x}, {y}), expected 0.5",
+                    p
+                );
             }
         }
     }
@@ -185,8 +210,11 @@ fn a_lighting_shader_may_replace_the_environment_term() {
     )
     .unwrap();
     let text = "MATERIAL.bad = { SURFACE = SHADER.standard LIGHTING = SHADER.bad_env }";
-    let err = load_materials("bad.fx", text, Some(dir.path()), 0).err().expect("refused");
-    assert!(err.contains("bad_env.wgsl:2:1: error: `environment` must be"), "{err}");
+    let err = load_materials("bad.fx", text, Some(dir.path()), 0).expect_err("refused");
+    assert!(
+        err.contains("bad_env.wgsl:2:1: error: `environment` must be"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -203,13 +231,24 @@ fn the_sky_sun_is_a_directional_light_that_casts_shadows() {
         ..Sky::default()
     };
     scene.set_environment(Some(Environment::new(EnvironmentSource::Sky(sky))));
-    let sun: Vec<_> = scene.lights.iter().filter(|l| l.kind == LightKind::Directional).collect();
+    let sun: Vec<_> = scene
+        .lights
+        .iter()
+        .filter(|l| l.kind == LightKind::Directional)
+        .collect();
     assert_eq!(sun.len(), 1);
     assert!(sun[0].casts_shadows && sun[0].direction.y < -0.999);
     let camera = shadow_scene::camera();
     let mut r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
     let (out, _) = r
-        .render(ctx, &camera, shadow_scene::W, shadow_scene::H, Technique::Deferred, None)
+        .render(
+            ctx,
+            &camera,
+            shadow_scene::W,
+            shadow_scene::H,
+            Technique::Deferred,
+            None,
+        )
         .unwrap();
     let img = read_rgba_f32(ctx, &out.scene).unwrap();
     let position = read_rgba_f32(ctx, out.aux("position").unwrap()).unwrap();
@@ -225,7 +264,8 @@ fn the_sky_sun_is_a_directional_light_that_casts_shadows() {
         if w.y.abs() > 0.01 {
             continue;
         }
-        let d = Vec3::new(w.x, 0.0, w.z) - Vec3::new(shadow_scene::BOX_CENTER.x, 0.0, shadow_scene::BOX_CENTER.z);
+        let d = Vec3::new(w.x, 0.0, w.z)
+            - Vec3::new(shadow_scene::BOX_CENTER.x, 0.0, shadow_scene::BOX_CENTER.z);
         if d.x.abs() < 0.4 && d.z.abs() < 0.4 {
             under.push(c[1]);
         } else if d.length() > 2.5 {
@@ -233,7 +273,13 @@ fn the_sky_sun_is_a_directional_light_that_casts_shadows() {
         }
     }
     let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len().max(1) as f32;
-    eprintln!("sky sun overhead: ground under the box {:.3} ({} px), in the open {:.3} ({} px)", mean(&under), under.len(), mean(&open), open.len());
+    eprintln!(
+        "sky sun overhead: ground under the box {:.3} ({} px), in the open {:.3} ({} px)",
+        mean(&under),
+        under.len(),
+        mean(&open),
+        open.len()
+    );
     assert!(!under.is_empty() && !open.is_empty());
     // in the open the sun (about π) and the sky; under the box the sky only
     assert!(mean(&under) < 0.6 * mean(&open));
@@ -243,7 +289,14 @@ fn the_sky_sun_is_a_directional_light_that_casts_shadows() {
 fn run_env(args: &[&str]) -> std::process::Output {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o.png");
-    let mut all = vec!["--scene", "builtin:room", "--size", "32x18", "-o", out.to_str().unwrap()];
+    let mut all = vec![
+        "--scene",
+        "builtin:room",
+        "--size",
+        "32x18",
+        "-o",
+        out.to_str().unwrap(),
+    ];
     all.extend_from_slice(args);
     fxrun(&all)
 }
@@ -253,8 +306,14 @@ fn bad_environment_inputs_are_refused_with_clear_messages() {
     let dir = tempfile::tempdir().unwrap();
     let save = |name: &str, w: u32, h: u32, f: &dyn Fn(u32) -> f32| {
         let p = dir.path().join(name);
-        let px: Vec<f32> = (0..w * h).flat_map(|i| { let v = f(i); [v, v, v, 1.0] }).collect();
-        fxgraph::io::save_image(&p, w, h, &fxgraph::io::Pixels::F32(px), &Default::default()).unwrap();
+        let px: Vec<f32> = (0..w * h)
+            .flat_map(|i| {
+                let v = f(i);
+                [v, v, v, 1.0]
+            })
+            .collect();
+        fxgraph::io::save_image(&p, w, h, &fxgraph::io::Pixels::F32(px), &Default::default())
+            .unwrap();
         p.to_str().unwrap().to_string()
     };
     let square = save("square.exr", 32, 32, &|_| 1.0);
@@ -275,20 +334,60 @@ fn bad_environment_inputs_are_refused_with_clear_messages() {
     let missing = dir.path().join("missing.exr").to_str().unwrap().to_string();
     // (arguments, exit status, what stderr must say)
     let cases: Vec<(Vec<&str>, i32, &str)> = vec![
-        (vec!["--environment", &square], 1, "width = 2 × height); this image is 32x32"),
+        (
+            vec!["--environment", &square],
+            1,
+            "width = 2 × height); this image is 32x32",
+        ),
         (vec!["--environment", &one], 1, "this image is 1x1"),
         (vec!["--environment", &missing], 2, "missing.exr"),
-        (vec!["--environment", "builtin:moon"], 1, "unknown built-in environment `builtin:moon`"),
-        (vec!["--environment", "uniform:-1"], 1, "uniform:V or uniform:R,G,B"),
-        (vec!["--environment", "none", "--background", "environment"], 1, "--background environment needs an environment"),
+        (
+            vec!["--environment", "builtin:moon"],
+            1,
+            "unknown built-in environment `builtin:moon`",
+        ),
+        (
+            vec!["--environment", "uniform:-1"],
+            1,
+            "uniform:V or uniform:R,G,B",
+        ),
+        (
+            vec!["--environment", "none", "--background", "environment"],
+            1,
+            "--background environment needs an environment",
+        ),
         (vec!["--background", "sky"], 1, "--background sky: expected"),
-        (vec!["--sun", "30,60"], 1, "--sun and --turbidity set builtin:sky"),
-        (vec!["--environment", "builtin:sky", "--sun", "95,0"], 1, "--sun: elevation 95"),
-        (vec!["--environment", "builtin:sky", "--turbidity", "40"], 1, "--turbidity 40"),
-        (vec!["--environment-intensity", "-1"], 1, "--environment-intensity -1"),
+        (
+            vec!["--sun", "30,60"],
+            1,
+            "--sun and --turbidity set builtin:sky",
+        ),
+        (
+            vec!["--environment", "builtin:sky", "--sun", "95,0"],
+            1,
+            "--sun: elevation 95",
+        ),
+        (
+            vec!["--environment", "builtin:sky", "--turbidity", "40"],
+            1,
+            "--turbidity 40",
+        ),
+        (
+            vec!["--environment-intensity", "-1"],
+            1,
+            "--environment-intensity -1",
+        ),
         // accepted, with a note: NaN/Inf texels, an 8-bit map
-        (vec!["--environment", &nan], 0, "2 NaN or infinite sample(s) replaced by 0"),
-        (vec!["--environment", &ldr], 0, "an 8-bit image, read as sRGB-encoded display values"),
+        (
+            vec!["--environment", &nan],
+            0,
+            "2 NaN or infinite sample(s) replaced by 0",
+        ),
+        (
+            vec!["--environment", &ldr],
+            0,
+            "an 8-bit image, read as sRGB-encoded display values",
+        ),
     ];
     for (args, status, says) in cases {
         let o = run_env(&args);
