@@ -13,24 +13,12 @@ mod common;
 use fxgraph::gpu::context::GpuTimer;
 use fxgraph::render::{Renderer, RendererOptions, Technique};
 use fxgraph::scene::{Environment, EnvironmentSource, Scene};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
-}
-
-fn corpus(rel: &str) -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/corpus")
-        .join(rel);
-    assert!(
-        p.exists(),
-        "{} is missing (the corpus is needed)",
-        p.display()
-    );
-    p
 }
 
 #[test]
@@ -57,7 +45,7 @@ fn environment_benchmark() {
     drop(r);
     report +=
         "| map (1024x512) | prefiltering (median of 3) | load (decode, checks) |\n|---|---|---|\n";
-    let dir = corpus("hdri");
+    let dir = common::ibl::corpus("hdri");
     let mut maps: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -87,7 +75,7 @@ fn environment_benchmark() {
     report += &format!(
         "\n| scene ({w}x{h}) | technique | without | with builtin:studio | ratio |\n|---|---|---|---|---|\n"
     );
-    let helmet = corpus("gltf/FlightHelmet/FlightHelmet.gltf");
+    let helmet = common::ibl::corpus("gltf/FlightHelmet/FlightHelmet.gltf");
     for (name, source) in [
         ("builtin:room", "builtin:room".to_string()),
         ("FlightHelmet", helmet.display().to_string()),

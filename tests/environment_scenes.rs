@@ -18,19 +18,6 @@ use fxgraph::scene::environment::Sky;
 use fxgraph::scene::material_file::{apply_materials, load_materials};
 use fxgraph::scene::{Background, Environment, EnvironmentSource, LightKind, Scene};
 use glam::Vec3;
-use std::path::{Path, PathBuf};
-
-fn corpus_hdri(name: &str) -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/corpus/hdri")
-        .join(name);
-    assert!(
-        p.exists(),
-        "{} is missing (the corpus is needed)",
-        p.display()
-    );
-    p
-}
 
 fn frame(
     ctx: &fxgraph::gpu::context::GpuContext,
@@ -53,7 +40,7 @@ fn techniques_agree_with_an_environment_and_its_background() {
     let ctx = &engine.ctx;
     let mut scene = common::scenes::opaque_room();
     scene.set_environment(Some(Environment::new(EnvironmentSource::File(
-        corpus_hdri("city.exr"),
+        common::ibl::corpus("hdri/city.exr"),
     ))));
     let camera = scene.default_camera();
     let size = (160, 90);

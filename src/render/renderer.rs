@@ -665,15 +665,7 @@ impl Renderer {
             .light_buffers
             .upload(ctx, &lists.gpu, &visible, clusters.as_ref());
         if grown || shadows_grown {
-            self.g0 = self.light_buffers.group0(
-                &ctx.device,
-                &self.layouts.g0,
-                &self.frame_buffer,
-                &self.material_info_buffer,
-                &self.geometry.instance_buffer,
-                &self.shadow_maps,
-                &self.environment,
-            );
+            self.rebuild_group0(ctx);
         }
         let (cluster, cluster_z, global_lights) = match &clusters {
             Some(c) => (
