@@ -166,6 +166,7 @@ fn check(case: &Case) {
             prev_transforms: vec![rest[0], case.box_prev],
             prev_camera: Some(case.prev_camera),
             jitter: case.jitter,
+            ..Default::default()
         };
         let (out, _) = r
             .render_frame(ctx, &case.camera, &motion, W, H, technique, None)
@@ -285,4 +286,129 @@ fn a_still_frame_has_no_motion() {
         .unwrap();
     let got = read_rgba_f32(ctx, out.aux("motion").unwrap()).unwrap();
     assert!(got.iter().all(|m| m[0] == 0.0 && m[1] == 0.0));
+}
+
+/// The skinned, animated corpus model `SimpleSkin` (Khronos, see the corpus
+/// README) between two times: each pixel's expected motion comes from ray
+/// casting the CPU-skinned triangles (`Pose::skinned_mesh`, the spec's oracle) of
+/// the current time and carrying the hit's barycentric coordinates to the same
+/// triangle at the previous time.
+#[test]
+fn a_skinned_mesh_moves_its_pixels_with_its_joints() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/corpus/gltf/animated/SimpleSkin/SimpleSkin.gltf");
+    assert!(
+        path.exists(),
+        "the corpus model {} is missing",
+        path.display()
+    );
+    let scene = fxgraph::scene::Scene::load(path.to_str().unwrap()).unwrap();
+    let playback = fxgraph::scene::Playback::default();
+    let (t, dt) = (0.8, 1.0 / 30.0);
+    let (now, prev) = (scene.pose(t, &playback), scene.pose(t - dt, &playback));
+    let camera = Camera {
+        eye: Vec3::new(0.5, 1.0, 3.2),
+        target: Vec3::new(0.5, 1.0, 0.0),
+        up: Vec3::Y,
+        fov_y: 50f32.to_radians(),
+        near: 0.1,
+        far: 20.0,
+    };
+    let deformed: Vec<usize> = (0..scene.instances.len())
+        .filter(|&i| scene.is_deformed(i))
+        .collect();
+    assert!(!deformed.is_empty(), "SimpleSkin is skinned");
+    // CPU: world triangles now and before
+    let mut tris: Vec<([Vec3; 3], [Vec3; 3])> = Vec::new();
+    for i in 0..scene.instances.len() {
+        let (a, b) = (now.skinned_mesh(&scene, i), prev.skinned_mesh(&scene, i));
+        let mesh = &scene.meshes[scene.instances[i].mesh];
+        for f in mesh.indices.chunks_exact(3) {
+            let g = |m: &fxgraph::scene::PosedMesh| [0, 1, 2].map(|k| m.positions[f[k] as usize]);
+            tris.push((g(&a), g(&b)));
+        }
+    }
+    let cam = oracle(&camera);
+    let hit = |x: u32, y: u32| -> Option<Vec3> {
+        let d = ray_at(&cam, Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+        let mut best: Option<(f32, Vec3)> = None;
+        for (p, q) in &tris {
+            // Möller-Trumbore
+            let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+            let h = d.cross(e2);
+            let det = e1.dot(h);
+            if det.abs() < 1e-12 {
+                continue;
+            }
+            let s = cam.eye - p[0];
+            let u = s.dot(h) / det;
+            let qv = s.cross(e1);
+            let v = d.dot(qv) / det;
+            let dist = e2.dot(qv) / det;
+            if u < 0.0 || v < 0.0 || u + v > 1.0 || dist <= 0.0 {
+                continue;
+            }
+            if best.is_none_or(|(bd, _)| dist < bd) {
+                best = Some((dist, q[0] * (1.0 - u - v) + q[1] * u + q[2] * v));
+            }
+        }
+        best.map(|(_, was)| was)
+    };
+    let prev_cam = oracle(&camera);
+    let covered: Vec<Option<Vec3>> = (0..W * H).map(|i| hit(i % W, i / W)).collect();
+    let motion = FrameMotion {
+        transforms: now.instances.iter().map(|p| p.world).collect(),
+        prev_transforms: prev.instances.iter().map(|p| p.world).collect(),
+        prev_camera: None,
+        jitter: [0.0, 0.0],
+        deformed: deformed
+            .iter()
+            .map(|&i| now.deformed_mesh(&scene, i))
+            .collect(),
+        prev_deformed: deformed
+            .iter()
+            .map(|&i| prev.deformed_mesh(&scene, i))
+            .collect(),
+    };
+    for technique in Technique::ALL {
+        let mut r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
+        let (out, _) = r
+            .render_frame(ctx, &camera, &motion, W, H, technique, None)
+            .unwrap();
+        let got = read_rgba_f32(ctx, out.aux("motion").unwrap()).unwrap();
+        let (mut n, mut worst, mut largest) = (0, 0f32, 0f32);
+        for y in 1..H - 1 {
+            for x in 1..W - 1 {
+                let inside = (-1i32..=1).all(|dy| {
+                    (-1i32..=1).all(|dx| {
+                        covered[((y as i32 + dy) as u32 * W + (x as i32 + dx) as u32) as usize]
+                            .is_some()
+                    })
+                });
+                let Some(was) = covered[(y * W + x) as usize].filter(|_| inside) else {
+                    continue;
+                };
+                let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                let want = p - project(&prev_cam, was, 1.0);
+                let g = got[(y * W + x) as usize];
+                worst = worst.max((Vec2::new(g[0], g[1]) - want).length());
+                largest = largest.max(want.length());
+                n += 1;
+            }
+        }
+        eprintln!("skinned ({technique}): {n} interior pixels, largest motion {largest:.2} px, worst error {worst:.4} px");
+        assert!(
+            n > 200,
+            "{technique}: the model must cover the view ({n} px)"
+        );
+        assert!(
+            largest > 0.5,
+            "{technique}: the joints must move ({largest} px)"
+        );
+        assert!(worst <= TOLERANCE_PX, "{technique}: off by {worst} px");
+    }
 }

@@ -186,3 +186,49 @@ fn time_and_frame_options_are_checked() {
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(stderr(&o).contains("period"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_rendered_sequence_writes_y4m_and_video_files() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let base = [
+        "tonemap",
+        "--scene",
+        "builtin:room",
+        "--camera",
+        "orbit:period=1",
+        "--size",
+        "64x48",
+        "--frames",
+        "0..5",
+    ];
+    let y4m = format!("{d}/room.y4m");
+    ok(&[&base[..], &["-o", &y4m]].concat());
+    let bytes = read(Path::new(&y4m));
+    assert!(bytes.starts_with(b"YUV4MPEG2 W64 H48 F30:1"));
+    assert_eq!(bytes.windows(6).filter(|w| w == b"FRAME\n").count(), 6);
+    // a video file through ffmpeg (CI installs it; without it this must fail)
+    let mp4 = format!("{d}/room.mp4");
+    ok(&[&base[..], &["-o", &mp4]].concat());
+    let probe = std::process::Command::new("ffprobe")
+        .args([
+            "-v",
+            "error",
+            "-count_frames",
+            "-show_entries",
+            "stream=width,height,nb_read_frames",
+            "-of",
+            "csv=p=0",
+            &mp4,
+        ])
+        .output()
+        .expect("ffprobe (apt-get install ffmpeg)");
+    assert_eq!(String::from_utf8_lossy(&probe.stdout).trim(), "64,48,6");
+    // a whole file cannot be resumed
+    let o = fxrun(&[&base[..], &["-o", &y4m, "--skip-existing"]].concat());
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("written whole"), "{}", stderr(&o));
+}

@@ -141,12 +141,15 @@ pub(super) struct EncodeResult {
 
 /// The encode thread: finishes each read-back of `enc_rx`, writes it to `sink`
 /// and records it; a failed write sets `halt` unless `keep_going` (frames after
-/// it are then not written). Ends when `enc_rx` is closed, after `sink.finish`.
+/// it are then not written). Ends when `enc_rx` is closed: with `sink.finish` when
+/// `complete` was set before (every frame went through) and no write failed,
+/// else with `sink.abort` (a partial output is discarded).
 pub(super) fn spawn_encoder(
     mut sink: Box<dyn FrameSink>,
     enc_rx: std::sync::mpsc::Receiver<Encoded>,
     keep_going: bool,
     halt_e: Arc<AtomicBool>,
+    complete_e: Arc<AtomicBool>,
 ) -> Result<std::thread::JoinHandle<EncodeResult>, RunError> {
     std::thread::Builder::new()
         .name("fxgraph encode".into())
@@ -194,9 +197,14 @@ pub(super) fn spawn_encoder(
                 }
             }
             let t = Instant::now();
-            if let Err(err) = sink.finish() {
-                let n = r.done.len();
-                r.failed.push(FrameFailure::new(n, "output", err.into()));
+            // Complete: every frame read went through and was written, not stopped.
+            if complete_e.load(Ordering::SeqCst) && r.failed.is_empty() {
+                if let Err(err) = sink.finish() {
+                    let n = r.done.len();
+                    r.failed.push(FrameFailure::new(n, "output", err.into()));
+                }
+            } else {
+                sink.abort();
             }
             r.busy += t.elapsed();
             r
@@ -280,7 +288,11 @@ pub fn run_frames(
             busy
         })
         .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
-    let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone())?;
+    // Set by this thread once the GPU stage has ended (before the encoder sees the
+    // end of its queue): whether the run completed, so the sink can make its output
+    // final (`finish`) or discard it (`abort`).
+    let complete = Arc::new(AtomicBool::new(false));
+    let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone(), complete.clone())?;
 
     let mut report = RunReport {
         job: opts.job,
@@ -327,6 +339,13 @@ pub fn run_frames(
             let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
             fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);
             gpu_busy = gpu.busy;
+            // A stop seen by the decoder alone (between two frames) ended the input
+            // early: the run was interrupted all the same.
+            if stop.load(Ordering::SeqCst) {
+                gpu.mark_interrupted();
+            }
+            let done = fatal.is_none() && gpu.completed() && !halt.load(Ordering::Relaxed);
+            complete.store(done, Ordering::SeqCst);
         }
     }
     // (the stage's sender is dropped with it: the encoder ends after the last frame)

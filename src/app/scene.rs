@@ -42,9 +42,14 @@ pub struct SceneJob {
     pub scene: String,
     pub width: u32,
     pub height: u32,
-    /// A camera spec (see [`Camera::parse_spec`]); `None`: the scene's first camera
-    /// or a framing of its bounds.
+    /// A camera spec (see [`Camera::parse_spec`], and for sequences
+    /// [`crate::scene::CameraPath::parse`]); `None`: the scene's first camera or a
+    /// framing of its bounds.
     pub camera: Option<String>,
+    /// `--animation`: which animations play (`all`, `none`, an index or a name;
+    /// `None`: all), and whether they loop.
+    pub animation: Option<String>,
+    pub looping: bool,
     /// Random point lights to add, and their seed.
     pub lights: usize,
     pub seed: u64,

@@ -21,7 +21,7 @@ use crate::gpu::executor::Engine;
 use crate::gpu::stream::{FrameExtras, Stream};
 use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use crate::render::{FrameMotion, Renderer};
-use crate::scene::{CameraPath, Scene};
+use crate::scene::{CameraPath, Playback, Pose, Scene};
 use crate::script::types::{ColorSpace, Format};
 use glam::Mat4;
 use std::collections::HashMap;
@@ -71,9 +71,21 @@ impl SceneTimes {
     }
 }
 
-/// The scene posed at time `t`: the instances' world transforms (scene order).
-fn transforms_at(scene: &Scene, _t: f64) -> Vec<Mat4> {
-    scene.instances.iter().map(|i| i.transform).collect()
+/// Which animations play for `job` (all by default).
+pub(super) fn playback(job: &SceneJob, scene: &Scene) -> Result<Playback, RunError> {
+    match &job.animation {
+        Some(spec) => Playback::parse(spec, scene, job.looping)
+            .map_err(|e| super::scene::scene_error(&job.scene, e)),
+        None => Ok(Playback {
+            looping: job.looping,
+            ..Playback::default()
+        }),
+    }
+}
+
+/// The instances' world transforms (scene order) of a pose.
+fn transforms(pose: &Pose) -> Vec<Mat4> {
+    pose.instances.iter().map(|i| i.world).collect()
 }
 
 /// One texture copied (the renderer draws the next frame into its own).
@@ -119,6 +131,17 @@ pub fn run_scene_sequence(
     let (scene, mut renderer, effect) = prepare(job, engine, &mut stats)?;
     let path = CameraPath::parse(job.camera.as_deref(), &scene)
         .map_err(|e| super::scene::scene_error(&job.scene, e))?;
+    let playback = playback(job, &scene)?;
+    let animated = scene.is_animated();
+    let deformed: Vec<usize> = (0..scene.instances.len())
+        .filter(|&i| scene.is_deformed(i))
+        .collect();
+    let deform = |pose: &Pose| -> Vec<crate::scene::PosedMesh> {
+        deformed
+            .iter()
+            .map(|&i| pose.deformed_mesh(&scene, i))
+            .collect()
+    };
     let mut report = RunReport {
         job: JobKind::Scene,
         adapter: engine.ctx.info.name.clone(),
@@ -146,7 +169,8 @@ pub fn run_scene_sequence(
     report.frames_held_max = 2 + stream.as_ref().map_or(1, |s| s.ring_len());
     let (enc_tx, enc_rx) = sync_channel::<Encoded>(2);
     let halt = Arc::new(AtomicBool::new(false));
-    let encoder = spawn_encoder(sink, enc_rx, false, halt.clone())?;
+    let complete = Arc::new(AtomicBool::new(false));
+    let encoder = spawn_encoder(sink, enc_rx, false, halt.clone(), complete.clone())?;
     let dt = 1.0 / times.fps;
     let mut gpu_busy = Duration::ZERO;
     let mut fatal = None;
@@ -162,13 +186,26 @@ pub fn run_scene_sequence(
         }
         let t0 = Instant::now();
         let t = times.time_of(n);
+        let (pose, prev) = (scene.pose(t, &playback), scene.pose(t - dt, &playback));
+        // the frame's sub-pixel offset when the chain declares JITTER (its index
+        // is the frame number, so a frame's jitter depends on n alone)
+        let jitter = stream
+            .as_ref()
+            .and_then(|s| s.prepared.jitter())
+            .map_or([0.0, 0.0], |p| p.offset(n));
+        if animated {
+            // lights on animated nodes move with them
+            renderer.set_lights(pose.lights.clone());
+        }
         let motion = FrameMotion {
-            transforms: transforms_at(&scene, t),
-            prev_transforms: transforms_at(&scene, t - dt),
-            prev_camera: Some(path.at(&scene, t - dt)),
-            jitter: [0.0, 0.0],
+            transforms: transforms(&pose),
+            prev_transforms: transforms(&prev),
+            prev_camera: Some(path.at(&scene, Some(&prev), t - dt)),
+            jitter,
+            deformed: deform(&pose),
+            prev_deformed: deform(&prev),
         };
-        let camera = path.at(&scene, t);
+        let camera = path.at(&scene, Some(&pose), t);
         let rendered = renderer.render_frame(
             &engine.ctx,
             &camera,
@@ -200,6 +237,7 @@ pub fn run_scene_sequence(
                 engine,
                 s,
                 &out,
+                jitter,
                 n == to,
                 (first, last),
                 &mut emitted,
@@ -250,6 +288,11 @@ pub fn run_scene_sequence(
             break;
         }
     }
+    // a y4m or video output is made final only when every frame went through
+    complete.store(
+        fatal.is_none() && !report.interrupted && !halt.load(Ordering::Relaxed),
+        Ordering::SeqCst,
+    );
     drop(enc_tx);
     let enc = encoder
         .join()
@@ -313,6 +356,7 @@ fn push_and_drain(
     engine: &mut Engine,
     stream: &mut Stream,
     out: &crate::render::RenderOutput,
+    jitter: [f32; 2],
     is_last: bool,
     (first, last): (u64, u64),
     emitted: &mut u64,
@@ -348,6 +392,7 @@ fn push_and_drain(
         FrameExtras {
             aux,
             camera: Some(out.camera),
+            jitter,
         },
     );
     if is_last {

@@ -9,6 +9,8 @@
 //!   one output per input (`rate` outputs with `rate > 1`), in order.
 //! - `PASS.x[-n]` (feedback) reads the persistent ring of the pass, zero before the
 //!   first frame.
+//! - A frame pushed with [`FrameExtras`] (its own auxiliary images, camera and
+//!   sub-pixel jitter) gives them to its output `t`.
 //!
 //! Each input frame is uploaded once into a texture that stays in a ring of
 //! `history + latency + 1` textures (recycled, never re-uploaded), and transient
@@ -29,19 +31,27 @@ use std::collections::{HashMap, VecDeque};
 /// What a frame made on the device (a rendered scene) brings besides its image:
 /// its own auxiliary images and camera, which the effect reads with that frame's
 /// output (the stream's [`Stream::aux`] and [`Stream::camera`] are for frames
-/// without them).
+/// without them), and the sub-pixel jitter it was rendered with.
 #[derive(Debug, Clone, Default)]
 pub struct FrameExtras {
     pub aux: HashMap<String, wgpu::Texture>,
     pub camera: Option<CameraStd>,
+    /// The offset the frame was rendered with, in pixels from the pixel centre, x
+    /// right, y down: the standard value `jitter` ([`FrameInputs::jitter`]). A
+    /// renderer sets it to `pattern.offset(n)` for frame `n` when
+    /// [`Prepared::jitter`] asks for a pattern; `[0, 0]` otherwise.
+    pub jitter: [f32; 2],
 }
 
 /// An input frame held in the ring.
 struct Held {
     index: u64,
     input: wgpu::Texture,
-    /// Set for frames pushed with [`Stream::push_frame`].
+    /// Set for frames pushed with [`Stream::push_frame`] or [`Stream::push_image_with`].
     extras: Option<FrameExtras>,
+    /// The input texture is the stream's own (an uploaded image): reused for a
+    /// later upload once the frame leaves the ring.
+    recycle: bool,
 }
 
 /// A prepared effect run over a sequence of frames.
@@ -140,6 +150,25 @@ impl Stream {
         Ok(())
     }
 
+    /// [`Stream::push_image`] with the frame's own auxiliary images, camera and
+    /// jitter (as [`Stream::push_frame`] for a frame made on the device).
+    pub fn push_image_with(
+        &mut self,
+        engine: &Engine,
+        img: &Image,
+        extras: FrameExtras,
+    ) -> Result<(), GpuError> {
+        let input = self.input_texture(engine, img)?;
+        self.frames.push_back(Held {
+            index: self.pushed,
+            input,
+            extras: Some(extras),
+            recycle: true,
+        });
+        self.pushed += 1;
+        Ok(())
+    }
+
     fn input_texture(&mut self, engine: &Engine, img: &Image) -> Result<wgpu::Texture, GpuError> {
         let ctx = &engine.ctx;
         let (w, h) = (
@@ -189,6 +218,7 @@ impl Stream {
             index: self.pushed,
             input,
             extras: None,
+            recycle: true,
         });
         self.pushed += 1;
     }
@@ -202,6 +232,7 @@ impl Stream {
             index: self.pushed,
             input,
             extras: Some(extras),
+            recycle: false,
         });
         self.pushed += 1;
     }
@@ -254,7 +285,7 @@ impl Stream {
             let keep_from = (t + 1).saturating_sub(self.history as u64);
             while self.frames.front().is_some_and(|f| f.index < keep_from) {
                 let f = self.frames.pop_front().expect("front exists");
-                if f.extras.is_none() {
+                if f.recycle {
                     self.spare.push(f.input);
                 }
             }
@@ -274,14 +305,15 @@ impl Stream {
             .iter()
             .find(|f| f.index == t)
             .and_then(|f| f.extras.as_ref());
-        let (aux, camera) = match extras {
-            Some(e) => (&e.aux, e.camera),
-            None => (&self.aux, self.camera),
+        let (aux, camera, jitter) = match extras {
+            Some(e) => (&e.aux, e.camera, e.jitter),
+            None => (&self.aux, self.camera, [0.0, 0.0]),
         };
         let mut inputs = FrameInputs {
             frames: HashMap::new(),
             aux: aux.iter().map(|(n, t)| (n.clone(), t.into())).collect(),
             camera,
+            jitter,
         };
         for &k in &self.offsets {
             let idx = (t as i64 + k as i64).clamp(0, last as i64) as u64;

@@ -8,11 +8,17 @@ use crate::pixels::{Image, Pixels};
 use crate::script::types::{ColorSpace, Format};
 use std::borrow::Cow;
 
-/// The texture format an image is uploaded as, and what its samples mean.
+/// The texture format an image is uploaded as, and what its samples mean: 8-bit
+/// pixels as 8-bit textures; float pixels as rgba16f, except those decoded from integer
+/// samples of more than 10 bits (12- and 16-bit y4m, 16-bit PNG, TIFF, PNM), which are
+/// uploaded as rgba32f: a half float holds 11 significant bits, too few for them.
 pub fn input_format(img: &Image, assume_linear: bool) -> (Format, ColorSpace) {
     match img.pixels {
         Pixels::U8(_) if assume_linear => (Format::Rgba8, ColorSpace::Linear),
         Pixels::U8(_) => (Format::Rgba8Srgb, ColorSpace::Linear),
+        Pixels::F32(_) if !img.source.float && img.source.bit_depth > 10 => {
+            (Format::Rgba32f, ColorSpace::Linear)
+        }
         Pixels::F32(_) => (Format::Rgba16f, ColorSpace::Linear),
     }
 }

@@ -108,7 +108,7 @@ mod tests {
 
     #[test]
     fn struct_sizes_match_wgsl() {
-        assert_eq!(std::mem::size_of::<GpuFrame>(), 352);
+        assert_eq!(std::mem::size_of::<GpuFrame>(), 480);
         assert_eq!(std::mem::size_of::<GpuMaterialInfo>(), 16);
         assert_eq!(std::mem::size_of::<GpuInstance>(), 144);
         assert_eq!(std::mem::size_of::<GpuLight>(), 96);

@@ -230,7 +230,14 @@ impl MotionPass {
         });
         rp.set_bind_group(0, &g0, &[]);
         rp.set_vertex_buffer(0, geometry.vertex_buffer.slice(..));
-        rp.set_vertex_buffer(1, geometry.vertex_buffer.slice(..));
+        rp.set_vertex_buffer(
+            1,
+            geometry
+                .prev_vertex_buffer
+                .as_ref()
+                .unwrap_or(&geometry.vertex_buffer)
+                .slice(..),
+        );
         rp.set_index_buffer(geometry.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
         for b in moving {
             rp.set_pipeline(&self.object[&b.cull]);

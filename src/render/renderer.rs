@@ -132,6 +132,11 @@ pub struct FrameMotion {
     /// y down): the projection is shifted so that pixel p shows what the
     /// unjittered camera shows at p + jitter. Motion vectors never contain it.
     pub jitter: [f32; 2],
+    /// The vertices of the deformed instances (skins, morph targets: those of
+    /// `Scene::is_deformed`, in instance order) in object space, now and one
+    /// frame earlier ([`crate::scene::Pose::deformed_mesh`]); empty: at rest.
+    pub deformed: Vec<crate::scene::PosedMesh>,
+    pub prev_deformed: Vec<crate::scene::PosedMesh>,
 }
 
 /// `proj` shifted so that pixel p samples the unjittered image at p + `jitter`
@@ -577,6 +582,19 @@ impl Renderer {
         };
         if motion.transforms.is_empty() && motion.prev_transforms.is_empty() && !self.posed {
             return Ok((self.bounds, Vec::new()));
+        }
+        let d = self.geometry.deformed.len();
+        if !motion.deformed.is_empty() {
+            if motion.deformed.len() != d || motion.prev_deformed.len() != d {
+                return Err(RenderError::Invalid(format!(
+                    "{}: vertices for {} and {} deformed instances, the scene has {d}",
+                    self.name,
+                    motion.deformed.len(),
+                    motion.prev_deformed.len()
+                )));
+            }
+            self.geometry
+                .write_deformed(ctx, &motion.deformed, &motion.prev_deformed);
         }
         let moving = self.geometry.moving(now, prev);
         let (now, prev) = (now.clone(), prev.clone());

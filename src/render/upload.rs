@@ -87,6 +87,23 @@ pub(crate) struct Geometry {
     slot_bounds: Vec<crate::scene::Aabb>,
     /// Per blend item: its slot.
     blend_slots: Vec<usize>,
+    /// Instances that change shape (skins, morph targets): each draws a private
+    /// copy of its mesh's vertices, rewritten every frame
+    /// ([`Geometry::write_deformed`]).
+    pub deformed: Vec<Deformed>,
+    /// The vertices one frame earlier where they differ (deformed instances):
+    /// the motion pass's previous positions. `None`: as `vertex_buffer`.
+    pub prev_vertex_buffer: Option<wgpu::Buffer>,
+}
+
+/// A deformed instance's private vertices.
+pub(crate) struct Deformed {
+    /// The scene's instance.
+    pub instance: usize,
+    /// Its first vertex in the vertex buffer.
+    pub base: u32,
+    /// Its vertices at rest (texture coordinates and colours stay).
+    pub rest: Vec<Vertex>,
 }
 
 /// The feature bits a mesh sets (texture coordinates 1, vertex colours, tangents).
@@ -181,11 +198,24 @@ impl Geometry {
         let mut blend_items = Vec::new();
         let mut blend_slots = Vec::new();
         let mesh_bounds: Vec<_> = scene.meshes.iter().map(|m| m.bounds()).collect();
+        let mut deformed = Vec::new();
         for (slot, &i) in order.iter().enumerate() {
             let inst = &scene.instances[i];
             let model = inst.transform;
             gpu_instances.push(gpu_instance(model, inst.material as u32));
-            let (base_vertex, ref idx) = ranges[inst.mesh];
+            let (mut base_vertex, ref idx) = ranges[inst.mesh];
+            if scene.is_deformed(i) {
+                // a private copy of the mesh's vertices
+                let n = scene.meshes[inst.mesh].positions.len();
+                let rest = vertices[base_vertex as usize..base_vertex as usize + n].to_vec();
+                base_vertex = vertices.len() as i32;
+                vertices.extend_from_slice(&rest);
+                deformed.push(Deformed {
+                    instance: i,
+                    base: base_vertex as u32,
+                    rest,
+                });
+            }
             let batch = Batch {
                 cull: cull_of(inst),
                 material: inst.material,
@@ -250,7 +280,7 @@ impl Geometry {
                     init(
                         "deferred vertices",
                         bytemuck::cast_slice(&vertices),
-                        wgpu::BufferUsages::VERTEX,
+                        wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                     ),
                     init(
                         "deferred indices",
@@ -269,7 +299,22 @@ impl Geometry {
                     ),
                 )
             })?;
+        let prev_vertex_buffer = if deformed.is_empty() {
+            None
+        } else {
+            Some(
+                ctx.scoped("deferred renderer: previous vertices", |device| {
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("deferred previous vertices (motion vectors)"),
+                        contents: bytemuck::cast_slice(&vertices),
+                        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                    })
+                })?,
+            )
+        };
         Ok(Geometry {
+            deformed,
+            prev_vertex_buffer,
             vertex_buffer,
             index_buffer,
             instance_buffer,
@@ -326,15 +371,54 @@ impl Geometry {
 }
 
 impl Geometry {
+    /// Writes the vertices of the deformed instances now (`now`: per entry of
+    /// [`Geometry::deformed`], object-space positions, normals and tangents) and
+    /// one frame earlier (`prev`, positions for the motion vectors).
+    pub fn write_deformed(
+        &self,
+        ctx: &GpuContext,
+        now: &[crate::scene::PosedMesh],
+        prev: &[crate::scene::PosedMesh],
+    ) {
+        let write = |buffer: &wgpu::Buffer, d: &Deformed, m: &crate::scene::PosedMesh| {
+            let v: Vec<Vertex> = d
+                .rest
+                .iter()
+                .enumerate()
+                .map(|(k, r)| Vertex {
+                    position: m.positions.get(k).copied().unwrap_or_default().into(),
+                    normal: m.normals.get(k).copied().unwrap_or(Vec3::Y).into(),
+                    tangent: m
+                        .tangents
+                        .as_ref()
+                        .and_then(|t| t.get(k).copied())
+                        .map_or(r.tangent, Into::into),
+                    ..*r
+                })
+                .collect();
+            let offset = u64::from(d.base) * std::mem::size_of::<Vertex>() as u64;
+            ctx.queue
+                .write_buffer(buffer, offset, bytemuck::cast_slice(&v));
+        };
+        for (d, m) in self.deformed.iter().zip(now) {
+            write(&self.vertex_buffer, d, m);
+        }
+        if let Some(pb) = &self.prev_vertex_buffer {
+            for (d, m) in self.deformed.iter().zip(prev) {
+                write(pb, d, m);
+            }
+        }
+    }
+
     /// The opaque draws, one instance each, of the instances whose transform
-    /// differs between `transforms` and `prev` (scene order): what the motion
-    /// pass draws again.
+    /// differs between `transforms` and `prev` (scene order), and of the deformed
+    /// ones: what the motion pass draws again.
     pub fn moving(&self, transforms: &[glam::Mat4], prev: &[glam::Mat4]) -> Vec<Batch> {
         let mut out = Vec::new();
         for b in &self.batches {
             for slot in b.instances.clone() {
                 let i = self.slots[slot as usize];
-                if transforms[i] != prev[i] {
+                if transforms[i] != prev[i] || self.deformed.iter().any(|d| d.instance == i) {
                     out.push(Batch {
                         instances: slot..slot + 1,
                         ..b.clone()

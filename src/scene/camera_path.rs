@@ -13,6 +13,7 @@
 //!   default camera, so the whole scene stays in view at every angle);
 //! - `fov=DEGREES` (60): vertical field of view.
 
+use super::animation::Pose;
 use super::camera::Camera;
 use super::model::{Scene, SceneError};
 use glam::Vec3;
@@ -88,12 +89,16 @@ impl CameraPath {
         Camera::parse_spec(spec, scene).map(CameraPath::Fixed)
     }
 
-    /// The camera at time `t` when the path does not depend on animation (a
-    /// scene camera is then at its rest pose).
-    pub fn at(&self, scene: &Scene, t: f64) -> Camera {
+    /// The camera at time `t`: a scene camera where `pose` (the scene at `t`)
+    /// puts it, or at its rest pose without one.
+    pub fn at(&self, scene: &Scene, pose: Option<&Pose>, t: f64) -> Camera {
         match self {
             CameraPath::Fixed(c) => *c,
-            CameraPath::SceneCamera(i) => scene.cameras[*i].camera,
+            CameraPath::SceneCamera(i) => {
+                pose.and_then(|p| p.cameras.get(*i))
+                    .unwrap_or(&scene.cameras[*i])
+                    .camera
+            }
             CameraPath::Orbit(o) => o.at(t),
         }
     }

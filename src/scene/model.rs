@@ -371,6 +371,18 @@ impl Scene {
         Ok(scene)
     }
 
+    /// Whether instance `i` changes shape over time (a skin, or morph targets):
+    /// the renderer gives it vertices of its own, rewritten per frame from
+    /// [`crate::scene::Pose::deformed_mesh`].
+    pub fn is_deformed(&self, i: usize) -> bool {
+        let inst = &self.instances[i];
+        inst.skin.is_some()
+            || self
+                .meshes
+                .get(inst.mesh)
+                .is_some_and(|m| !m.morph_targets.is_empty())
+    }
+
     /// World bounds of all instances.
     pub fn bounds(&self) -> Aabb {
         let mut b = Aabb::EMPTY;

@@ -6,11 +6,13 @@ pub mod brdf;
 pub mod cli;
 pub mod gltf_gen;
 pub mod ibl;
+pub mod raster;
 pub mod renders;
 pub mod rng;
 pub mod samples;
 pub mod scenes;
 pub mod stream;
+pub mod video;
 
 use fxgraph::app::{apply_in_memory, RunError};
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};

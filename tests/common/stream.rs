@@ -57,16 +57,28 @@ pub fn run_stream(
 pub fn stream_of(
     engine: &mut Engine,
     effect: &mut Effect,
+    size: (u32, u32),
+    format: Format,
+    colorspace: ColorSpace,
+) -> Stream {
+    stream_with_aux(engine, effect, size, format, colorspace, vec![])
+}
+
+/// [`stream_of`] for frames with the auxiliary images `aux` (names and formats).
+pub fn stream_with_aux(
+    engine: &mut Engine,
+    effect: &mut Effect,
     (width, height): (u32, u32),
     format: Format,
     colorspace: ColorSpace,
+    aux: Vec<(String, Format)>,
 ) -> Stream {
     let input = InputDesc {
         width,
         height,
         format,
         colorspace,
-        aux: vec![],
+        aux,
     };
     let opts = PlanOptions {
         policy: ReusePolicy::Pool,
@@ -84,4 +96,73 @@ pub fn output_f32(engine: &Engine, stream: &Stream) -> Vec<f32> {
         Pixels::F32(px) => px,
         Pixels::U8(_) => panic!("float output expected"),
     }
+}
+
+/// One input frame with its own auxiliary images (`AUX.name`) and the sub-pixel
+/// jitter it was rendered with (the standard value `jitter`).
+pub struct SeqFrame {
+    pub image: Image,
+    pub aux: Vec<(String, Image)>,
+    pub jitter: [f32; 2],
+}
+
+/// An effect of effects/ by name, or a path to a `.fx` file as it is.
+fn effect_arg(effect: &str) -> String {
+    if effect.ends_with(".fx") {
+        effect.to_string()
+    } else {
+        effect_path(effect)
+    }
+}
+
+/// Run `effect` (a name in effects/ or a `.fx` path) with `overrides` over `frames`
+/// through a `Stream` at `fps`, each frame pushed with its own aux images and jitter
+/// (`Stream::push_image_with`); returns every output as linear RGBA f32. Inputs
+/// and aux images are uploaded as `fxrun` does (`input_format`: float images as
+/// rgba16f).
+pub fn run_stream_frames(
+    engine: &mut Engine,
+    effect: &str,
+    overrides: &[&str],
+    frames: &[SeqFrame],
+    fps: f64,
+) -> Vec<Vec<f32>> {
+    use fxgraph::gpu::stream::FrameExtras;
+    use fxgraph::gpu::transfer::upload_image;
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let mut fx = Effect::compile(&[effect_arg(effect)], &o).unwrap_or_else(|e| panic!("{e}"));
+    let first = &frames[0];
+    let (format, colorspace) = input_format(&first.image, false);
+    let aux = first
+        .aux
+        .iter()
+        .map(|(n, a)| (n.clone(), input_format(a, false).0))
+        .collect();
+    let size = (first.image.width, first.image.height);
+    let mut stream = stream_with_aux(engine, &mut fx, size, format, colorspace, aux);
+    stream.prepared.fps = fps;
+    let mut outs = Vec::new();
+    for (i, f) in frames.iter().enumerate() {
+        let mut extras = FrameExtras {
+            jitter: f.jitter,
+            ..Default::default()
+        };
+        for (n, a) in &f.aux {
+            let fmt = input_format(a, false).0;
+            let tex = upload_image(&engine.ctx, &format!("aux {n} {i}"), a, fmt).unwrap();
+            extras.aux.insert(n.clone(), tex);
+        }
+        stream.push_image_with(engine, &f.image, extras).unwrap();
+        while let Some(k) = stream.next(engine).unwrap() {
+            assert_eq!(k, outs.len() as u64, "outputs in order");
+            outs.push(output_f32(engine, &stream));
+        }
+    }
+    stream.end();
+    assert!(
+        stream.next(engine).unwrap().is_none(),
+        "no latency expected"
+    );
+    assert_eq!(outs.len(), frames.len());
+    outs
 }

@@ -31,11 +31,14 @@ mod vignette;
 // G-buffer effects: ssao, dof, fog, outline.
 mod gbuffer;
 
-// Temporal effects.
+// Temporal effects, and those reading motion vectors.
+mod auto_exposure;
 mod chroma_key_temporal;
 mod deinterlace;
 mod frame_blend;
+mod motion_blur;
 mod motion_trail;
+mod taa;
 mod temporal_denoise;
 
 // Every effect: plans, and the defaults on photos.

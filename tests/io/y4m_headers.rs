@@ -95,8 +95,8 @@ fn malformed_headers_are_rejected_cleanly() {
             "longer than 4096 bytes",
         ),
         (
-            b"YUV4MPEG2 W720 H576 C420p10\n".to_vec(),
-            "unsupported colour space `C420p10`",
+            b"YUV4MPEG2 W720 H576 C420p11\n".to_vec(),
+            "unsupported colour space `C420p11`",
         ),
         (
             b"YUV4MPEG2 W720 H576 C444alpha\n".to_vec(),

@@ -103,6 +103,8 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         width,
         height,
         camera: cli.camera.clone(),
+        animation: cli.animation.clone(),
+        looping: cli.looping,
         lights: cli.lights,
         seed: cli.seed,
         technique,
@@ -157,7 +159,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
 /// frame of it) written as numbered files, into a folder, to a y4m stream on
 /// stdout, or (one frame) to one file.
 fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(), Fail> {
-    use fxgraph::app::{run_scene_sequence, FilesSink, OutputNames, SceneTimes, Y4mSink};
+    use fxgraph::app::{run_scene_sequence, FilesSink, OutputNames, SceneTimes};
     use fxgraph::io::sequence::{parse_frames, OutputPattern, SequenceSpec};
     let fps = cli.fps.unwrap_or(30.0);
     if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
@@ -210,24 +212,24 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
     };
     let mut first = times.frames.0;
     let (sink, format): (Box<dyn FrameSink>, _) = match &ospec {
-        SequenceSpec::Stdout => {
-            let h = fxgraph::io::y4m::Y4mHeader::new(1, 1, fxgraph::io::y4m::Chroma::C420Jpeg);
-            let conversion = fxgraph::io::y4m::YuvConversion::for_header(&h);
-            let mut template = h;
-            template.fps = fps_ratio(fps);
-            (
-                Box::new(Y4mSink {
-                    inner: Some(std::io::BufWriter::with_capacity(
-                        1 << 20,
-                        std::io::stdout(),
-                    )),
-                    writer: None,
-                    template,
-                    conversion,
-                    name: "stdout".into(),
-                }),
-                fxgraph::script::types::Format::Rgba8Srgb,
-            )
+        SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
+            // y4m on stdout, a .y4m file or a video file (through ffmpeg); a whole
+            // file is written or not, so --skip-existing does not resume it
+            if cli.skip_existing {
+                return Err(rejected(
+                    "--skip-existing resumes numbered files; a y4m stream or a y4m/video file is written whole",
+                ));
+            }
+            let output = super::streams::stream_output(&ospec).expect("a stream spec");
+            let plan = super::streams::StreamPlan {
+                template: None,
+                video: None,
+                fps,
+                emit: None,
+                deinterlaces: false,
+            };
+            let opened = super::streams::open_stream_output(cli, &output, &plan)?;
+            (opened.sink, opened.texture_format)
         }
         SequenceSpec::Single(path) if times.frames.0 == times.frames.1 => {
             let format = output_format_for(path, cli.bit_depth, false).map_err(RunError::from)?;
@@ -311,17 +313,6 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         });
     }
     Ok(())
-}
-
-/// A frame rate as a y4m ratio (30 → 30:1, 29.97 → 30000:1001).
-fn fps_ratio(fps: f64) -> (u32, u32) {
-    for den in [1u32, 1001, 1000] {
-        let num = fps * f64::from(den);
-        if (num - num.round()).abs() < 1e-6 && num.round() <= f64::from(u32::MAX) {
-            return (num.round() as u32, den);
-        }
-    }
-    ((fps * 1000.0).round() as u32, 1000)
 }
 
 /// The environment of `--environment` (the default: [`DEFAULT_ENVIRONMENT`])

@@ -118,6 +118,17 @@ impl Pose {
     /// morphed, skinned (when the instance has a skin), then placed by the
     /// instance's world matrix. Panics when `instance` is out of range.
     pub fn skinned_mesh(&self, scene: &Scene, instance: usize) -> PosedMesh {
+        self.deform(scene, instance, self.instances[instance].world)
+    }
+
+    /// The vertices of `scene.instances[instance]` morphed and skinned, in the
+    /// instance's object space: what the renderer draws with the instance's world
+    /// matrix ([`InstancePose::world`]), which makes them [`Pose::skinned_mesh`].
+    pub fn deformed_mesh(&self, scene: &Scene, instance: usize) -> PosedMesh {
+        self.deform(scene, instance, Mat4::IDENTITY)
+    }
+
+    fn deform(&self, scene: &Scene, instance: usize, world: Mat4) -> PosedMesh {
         let inst = &scene.instances[instance];
         let pose: &InstancePose = &self.instances[instance];
         let mesh = &scene.meshes[inst.mesh];
@@ -125,8 +136,8 @@ impl Pose {
         let skinned = !pose.joint_matrices.is_empty();
         for v in 0..out.positions.len() {
             let m = match skin_matrix(mesh, v, &pose.joint_matrices).filter(|_| skinned) {
-                Some(s) => pose.world * s,
-                None => pose.world,
+                Some(s) => world * s,
+                None => world,
             };
             let t = out.tangents.as_mut().map(|t| &mut t[v]);
             transform_vertex(&m, &mut out.positions[v], &mut out.normals[v], t);

@@ -94,6 +94,10 @@ impl Converter<'_> {
                 .name()
                 .map(str::to_string)
                 .unwrap_or_else(|| format!("animation {ai}"));
+            let which = match anim.name() {
+                Some(n) => format!("animation {ai} (`{n}`)"),
+                None => format!("animation {ai}"),
+            };
             let mut channels = Vec::new();
             let mut targets = HashSet::new();
             for (ci, channel) in anim.channels().enumerate() {
@@ -114,15 +118,12 @@ impl Converter<'_> {
                     }
                     Checked::Invalid => {
                         return Err(format!(
-                            "animation {ai} (`{name}`) channel {ci}: the target path is not \
+                            "{which} channel {ci}: the target path is not \
                              translation, rotation, scale or weights"
                         ))
                     }
                 };
-                let label = format!(
-                    "animation {ai} (`{name}`) channel {ci} ({} of node {node})",
-                    path.name()
-                );
+                let label = format!("{which} channel {ci} ({} of node {node})", path.name());
                 if node >= node_count {
                     return Err(format!(
                         "{label}: node {node} does not exist (the file has {node_count} nodes)"

@@ -1,6 +1,7 @@
 //! Checks of the raw glTF / GLB bytes made before the `gltf` crate parses them:
-//! referenced files must be regular files of bounded size, and `extensions`
-//! members must be objects (the JSON schema).
+//! referenced files must be regular files of bounded size, `extensions` members
+//! must be objects (the JSON schema), and the references the crate would panic on
+//! must exist.
 
 use std::path::Path;
 
@@ -113,4 +114,61 @@ pub(super) fn check_json_schema(bytes: &[u8]) -> Result<(), String> {
         Ok(())
     }
     walk(&value, &mut vec![String::new()], 0)
+}
+
+/// References the `gltf` crate follows before (or without) checking them, so that a
+/// damaged file would make it panic, checked first and reported as the path of the
+/// JSON member at fault:
+///
+/// - a primitive's `POSITION` accessor: gltf-json's validation reads its `min` and
+///   `max` by indexing the accessor list with it (every attribute is checked here);
+/// - an image's source: `uri`, or `bufferView` with `mimeType` (glTF 2.0, 5.18:
+///   "`bufferView` ... `mimeType` MUST also be defined"); the crate unwraps both.
+pub(super) fn check_references(bytes: &[u8]) -> Result<(), String> {
+    let value: serde_json::Value =
+        serde_json::from_slice(json_bytes(bytes)?).map_err(|e| format!("invalid JSON: {e}"))?;
+    let count = |key: &str| {
+        value
+            .get(key)
+            .and_then(|v| v.as_array())
+            .map_or(0, Vec::len)
+    };
+    let list = |v: &serde_json::Value, key: &str| {
+        v.get(key)
+            .and_then(|l| l.as_array())
+            .cloned()
+            .unwrap_or_default()
+    };
+    let accessors = count("accessors");
+    for (m, mesh) in list(&value, "meshes").iter().enumerate() {
+        for (p, prim) in list(mesh, "primitives").iter().enumerate() {
+            let Some(attrs) = prim.get("attributes").and_then(|a| a.as_object()) else {
+                continue;
+            };
+            for (name, index) in attrs {
+                let Some(i) = index.as_u64() else { continue };
+                if i as usize >= accessors {
+                    return Err(format!(
+                        "meshes[{m}].primitives[{p}].attributes.{name}: accessor {i} does not exist (the file has {accessors} accessor{})",
+                        if accessors == 1 { "" } else { "s" }
+                    ));
+                }
+            }
+        }
+    }
+    for (i, image) in list(&value, "images").iter().enumerate() {
+        let has = |k: &str| image.get(k).is_some_and(|v| !v.is_null());
+        if has("bufferView") {
+            if !has("mimeType") {
+                return Err(format!(
+                    "images[{i}]: an image in a `bufferView` needs a `mimeType`"
+                ));
+            }
+        } else if !has("uri") {
+            return Err(format!(
+                "images[{i}]: neither `uri` nor `bufferView` says where the image is"
+            ));
+        }
+    }
+    Ok(())
 }

@@ -6,8 +6,8 @@
 //! byte ranges, index ranges, vertex counts, non-finite values (positions, normals,
 //! transforms, skin weights, morph displacements, key times and values), node
 //! cycles, nodes with two parents and hierarchy depth, and every animation channel
-//! and skin (`animation.rs`). The `gltf` crate runs behind `catch_unwind` as a
-//! last defence.
+//! and skin (`animation.rs`). The `gltf` crate runs behind
+//! `crate::unwind::catch_quiet` as a last defence (its panic text never printed).
 //!
 //! Supported: triangle lists, strips and fans; the node hierarchy, kept in
 //! [`Scene::nodes`] (`nodes.rs`) so that instances, lights and cameras move with
@@ -46,12 +46,11 @@ use super::model::{Instance, Mesh, Scene, SceneError};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 pub use json_checks::MAX_GLTF_FILE_BYTES;
-use json_checks::{check_json_schema, check_uris};
+use json_checks::{check_json_schema, check_references, check_uris};
 use lights_cameras::{convert_camera, convert_light};
 pub use material::UvTransform;
 use material::{texture_refs, TexRef};
 use std::collections::HashMap;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 pub use crate::scene::node::MAX_NODE_DEPTH;
@@ -74,16 +73,12 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     })?;
     check_json_schema(&bytes).map_err(err)?;
     check_uris(path, &bytes).map_err(err)?;
-    let imported = catch_unwind(AssertUnwindSafe(|| gltf::import(path)))
-        .map_err(|p| err(format!("the glTF parser failed: {}", panic_message(&p))))?
+    check_references(&bytes).map_err(err)?;
+    let imported = crate::unwind::catch_quiet(|| gltf::import(path))
+        .map_err(|p| err(format!("the glTF parser failed: {p}")))?
         .map_err(|e| err(describe_gltf_error(&e)))?;
-    let scene = catch_unwind(AssertUnwindSafe(|| convert(&name, &imported)))
-        .map_err(|p| {
-            err(format!(
-                "internal error while converting: {}",
-                panic_message(&p)
-            ))
-        })?
+    let scene = crate::unwind::catch_quiet(|| convert(&name, &imported))
+        .map_err(|p| err(format!("internal error while converting: {p}")))?
         .map_err(err)?;
     if scene.triangle_count() == 0 {
         return Err(err("the scene has no triangles to draw".into()));
@@ -101,13 +96,6 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-fn panic_message(p: &Box<dyn std::any::Any + Send>) -> String {
-    p.downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| p.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "panic".to_string())
-}
-
 fn describe_gltf_error(e: &gltf::Error) -> String {
     match e {
         gltf::Error::Io(io) => format!("cannot read a referenced file: {io}"),
@@ -119,7 +107,11 @@ fn describe_gltf_error(e: &gltf::Error) -> String {
                 .collect();
             format!("invalid glTF: {}", items.join("; "))
         }
-        other => format!("invalid glTF: {other}"),
+        // (An embedded PNG's error names chunks by their `Debug` form.)
+        other => format!(
+            "invalid glTF: {}",
+            crate::io::tidy_png_message(&other.to_string())
+        ),
     }
 }
 
