@@ -14,20 +14,6 @@ use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::{Renderer, RendererOptions, Technique};
 use fxgraph::scene::{Environment, EnvironmentSource, Scene};
 use glam::Vec3;
-use std::path::PathBuf;
-
-/// A map of the corpus (`../shared/corpus/hdri`); a missing corpus fails.
-pub fn corpus_hdri(name: &str) -> PathBuf {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/corpus/hdri")
-        .join(name);
-    assert!(
-        p.exists(),
-        "{} is missing: the environment tests need the corpus (../shared/corpus/hdri)",
-        p.display()
-    );
-    p
-}
 
 fn render(ctx: &GpuContext, scene: &Scene, technique: Technique) -> (Renderer, Vec<[f32; 4]>) {
     let mut r = Renderer::new(ctx, scene, &RendererOptions::default())
@@ -67,8 +53,7 @@ fn white_furnace() {
             let mut worst = 0.0f32;
             let mut mean = 0.0f32;
             for (x, y, _, _) in &pixels {
-                let p = px[(y * SPHERE_PX + x) as usize];
-                for v in &p[..3] {
+                for v in &px[(y * SPHERE_PX + x) as usize][..3] {
                     worst = worst.max((v - 1.0).abs());
                     mean += v / (3 * pixels.len()) as f32;
                 }
@@ -131,7 +116,7 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
         return;
     };
     let ctx = &engine.ctx;
-    let path = corpus_hdri("city.exr");
+    let path = common::ibl::corpus("hdri/city.exr");
     let env = Environment::new(EnvironmentSource::File(path));
     let map = env.load().unwrap();
     // The references integrate over a 256x128 box-filtered copy of the map
@@ -204,7 +189,9 @@ fn prefiltered_levels_and_irradiance_match_cpu_convolutions() {
     // there (9 % with 1024 samples, 16 times the time).
     for (name, narrow_limit, level_limit) in [("city.exr", 0.05, 0.05), ("studio.exr", 0.30, 0.12)]
     {
-        let env = Environment::new(EnvironmentSource::File(corpus_hdri(name)));
+        let env = Environment::new(EnvironmentSource::File(common::ibl::corpus(&format!(
+            "hdri/{name}"
+        ))));
         let map = env.load().unwrap();
         let t = ibl::texels(&ibl::downsampled(&map.map, 512));
         let scene = env_sphere(Vec3::ONE, 0.0, 0.5, env);

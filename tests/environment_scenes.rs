@@ -18,19 +18,6 @@ use fxgraph::scene::environment::Sky;
 use fxgraph::scene::material_file::{apply_materials, load_materials};
 use fxgraph::scene::{Background, Environment, EnvironmentSource, LightKind, Scene};
 use glam::Vec3;
-use std::path::{Path, PathBuf};
-
-fn corpus_hdri(name: &str) -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/corpus/hdri")
-        .join(name);
-    assert!(
-        p.exists(),
-        "{} is missing (the corpus is needed)",
-        p.display()
-    );
-    p
-}
 
 fn frame(
     ctx: &fxgraph::gpu::context::GpuContext,
@@ -53,7 +40,7 @@ fn techniques_agree_with_an_environment_and_its_background() {
     let ctx = &engine.ctx;
     let mut scene = common::scenes::opaque_room();
     scene.set_environment(Some(Environment::new(EnvironmentSource::File(
-        corpus_hdri("city.exr"),
+        common::ibl::corpus("hdri/city.exr"),
     ))));
     let camera = scene.default_camera();
     let size = (160, 90);
@@ -210,9 +197,7 @@ fn a_lighting_shader_may_replace_the_environment_term() {
     )
     .unwrap();
     let text = "MATERIAL.bad = { SURFACE = SHADER.standard LIGHTING = SHADER.bad_env }";
-    let Err(err) = load_materials("bad.fx", text, Some(dir.path()), 0) else {
-        panic!("refused");
-    };
+    let err = load_materials("bad.fx", text, Some(dir.path()), 0).expect_err("refused");
     assert!(
         err.contains("bad_env.wgsl:2:1: error: `environment` must be"),
         "{err}"

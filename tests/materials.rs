@@ -95,24 +95,7 @@ fn sphere_scene(material: Material, lights: Vec<Light>) -> Scene {
 }
 
 fn sphere_camera() -> (Camera, OracleCamera) {
-    let cam = Camera {
-        eye: Vec3::new(0.0, 0.0, 3.2),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        fov_y: 45f32.to_radians(),
-        near: 0.5,
-        far: 10.0,
-    };
-    let o = OracleCamera {
-        eye: cam.eye,
-        target: cam.target,
-        up: cam.up,
-        fov_y: cam.fov_y,
-        aspect: 1.0,
-        width: SPHERE_SIZE.0,
-        height: SPHERE_SIZE.1,
-    };
-    (cam, o)
+    brdf::sphere_camera(SPHERE_SIZE.0)
 }
 
 /// A directional key light, a glTF-style point light (inverse square) and a dim

@@ -98,7 +98,7 @@ impl LightBuffers {
 
     /// Group 0: frame uniforms, material infos, instances, these buffers, the
     /// shadow maps and the environment.
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // one argument per owner of a binding
     pub fn group0(
         &self,
         device: &wgpu::Device,

@@ -139,7 +139,7 @@ pub struct Renderer {
     aux_formats: Vec<(String, crate::script::types::Format)>,
     pub(super) name: String,
     lights: Vec<Light>,
-    background: Vec3,
+    pub(crate) background: Vec3,
     /// The fog of the template (none by default).
     fog: Option<super::fog::Fog>,
     /// The background of the last frame (fogged).
@@ -371,55 +371,8 @@ impl Renderer {
         self.background
     }
 
-    /// Lights the scene with `env` from now on (`None`: punctual lights only),
-    /// loading its map; the prefiltered maps are cached by (map content, size),
-    /// so setting a map again costs its loading only.
-    pub fn set_environment(
-        &mut self,
-        ctx: &GpuContext,
-        env: Option<&crate::scene::Environment>,
-    ) -> Result<(), RenderError> {
-        let map = env.map(|e| e.load()).transpose()?;
-        self.environment.set(ctx, env.zip(map.as_ref()))?;
-        self.rebuild_group0(ctx);
-        Ok(())
-    }
-
-    /// What pixels without geometry show (the scene's colour by default).
-    /// [`Background::Environment`](crate::scene::Background) without an
-    /// environment shows the colour.
-    pub fn set_background(&mut self, background: crate::scene::Background) {
-        if let crate::scene::Background::Color(c) = background {
-            self.background = c;
-        }
-        self.environment.background = background;
-    }
-
-    /// Milliseconds the last environment set spent prefiltering (0: cached or
-    /// none), and how many maps this renderer has prefiltered.
-    pub fn environment_prefiltering(&self) -> (f64, usize) {
-        (
-            self.environment.last_prefilter_ms,
-            self.environment.prefiltered,
-        )
-    }
-
-    /// Reads back a prefiltered environment texture (tests, inspection): its
-    /// side and RGBA f32 texels, rows top first.
-    pub fn read_environment(
-        &self,
-        ctx: &GpuContext,
-        which: super::environment::EnvironmentTexture,
-    ) -> Result<(u32, Vec<f32>), RenderError> {
-        Ok(self.environment.read(ctx, which)?)
-    }
-
-    /// (levels, level-0 side) of the specular environment map, if any.
-    pub fn environment_shape(&self) -> Option<(u32, u32)> {
-        self.environment.specular_shape()
-    }
-
-    fn rebuild_group0(&mut self, ctx: &GpuContext) {
+    /// Group 0 again, after a buffer or texture it binds was replaced.
+    pub(crate) fn rebuild_group0(&mut self, ctx: &GpuContext) {
         self.g0 = self.light_buffers.group0(
             &ctx.device,
             &self.layouts.g0,
@@ -592,15 +545,7 @@ impl Renderer {
             .light_buffers
             .upload(ctx, &lists.gpu, &visible, clusters.as_ref());
         if grown || shadows_grown {
-            self.g0 = self.light_buffers.group0(
-                &ctx.device,
-                &self.layouts.g0,
-                &self.frame_buffer,
-                &self.material_info_buffer,
-                &self.geometry.instance_buffer,
-                &self.shadow_maps,
-                &self.environment,
-            );
+            self.rebuild_group0(ctx);
         }
         let (cluster, cluster_z, global_lights) = match &clusters {
             Some(c) => (

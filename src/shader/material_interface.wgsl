@@ -45,7 +45,7 @@ struct SurfaceOutput {
     normal: vec3<f32>,
     // emitted radiance, linear (added as is)
     emission: vec3<f32>,
-    // ambient occlusion 0..1: scales ambient light only
+    // ambient occlusion 0..1: scales ambient and environment light only
     occlusion: f32,
 }
 

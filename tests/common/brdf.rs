@@ -16,7 +16,7 @@
 //!     + Σ_ambient (ambient colour · intensity) · occlusion · diffuse_colour
 //! ```
 
-use fxgraph::scene::{Light, LightKind};
+use fxgraph::scene::{Camera, Light, LightKind};
 use glam::Vec3;
 use std::f32::consts::PI;
 
@@ -327,6 +327,29 @@ impl OracleCamera {
         let dir = s * (ndc_x * self.aspect * t) + u * (ndc_y * t) + f;
         (self.eye, dir.normalize())
     }
+}
+
+/// The camera of the sphere tests (a unit sphere at the origin): on +Z at 3.2,
+/// 45° vertical field of view, and its oracle twin for a `px` × `px` image.
+pub fn sphere_camera(px: u32) -> (Camera, OracleCamera) {
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 3.2),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 45f32.to_radians(),
+        near: 0.5,
+        far: 10.0,
+    };
+    let o = OracleCamera {
+        eye: cam.eye,
+        target: cam.target,
+        up: cam.up,
+        fov_y: cam.fov_y,
+        aspect: 1.0,
+        width: px,
+        height: px,
+    };
+    (cam, o)
 }
 
 /// The nearest positive hit distance of a ray (unit direction) with a sphere.

@@ -91,14 +91,8 @@ pub fn reference_radiance(
         .map(|(l, le, omega)| *le * *omega * gltf_spec_brdf(base, metallic, roughness, n, v, *l))
         .sum();
     let f0 = Vec3::splat(0.04).lerp(base, metallic);
-    let mu = n.dot(v).clamp(1e-4, 1.0);
-    let v_local = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-    let (_, ess) = hemisphere_albedo(Model::CookTorrance, Vec3::ONE, roughness, v_local, 48);
-    let (_, fss_ess) = hemisphere_albedo(Model::CookTorrance, f0, roughness, v_local, 48);
-    let ems = 1.0 - ess.x;
-    let f_avg = f0 + (Vec3::ONE - f0) / 21.0;
-    let fms = fss_ess * f_avg / (Vec3::ONE - ems * f_avg);
-    single + fms * ems * irradiance(t, n)
+    let (_, fms_ems) = scattering(f0, roughness, n, v);
+    single + fms_ems * irradiance(t, n)
 }
 
 /// The unit direction of texel centre (x, y) of face `face` (+X, −X, +Y, −Y, +Z,
@@ -159,24 +153,7 @@ pub fn env_sphere(base: Vec3, metallic: f32, roughness: f32, env: Environment) -
 
 /// The camera of [`env_sphere`] (on +Z, looking at the origin) and its oracle twin.
 pub fn sphere_camera() -> (Camera, OracleCamera) {
-    let cam = Camera {
-        eye: Vec3::new(0.0, 0.0, 3.2),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        fov_y: 45f32.to_radians(),
-        near: 0.5,
-        far: 10.0,
-    };
-    let o = OracleCamera {
-        eye: cam.eye,
-        target: cam.target,
-        up: cam.up,
-        fov_y: cam.fov_y,
-        aspect: 1.0,
-        width: SPHERE_PX,
-        height: SPHERE_PX,
-    };
-    (cam, o)
+    super::brdf::sphere_camera(SPHERE_PX)
 }
 
 /// The pixels well inside the sphere (the ray and its four neighbours' rays hit),
@@ -217,6 +194,24 @@ pub fn split_sum_radiance(
 ) -> Vec3 {
     let f0 = Vec3::splat(0.04).lerp(base, metallic);
     let c_diff = base * (1.0 - metallic);
+    let (fss_ess, fms_ems) = scattering(f0, roughness, n, v);
+    let a = roughness * roughness;
+    let gloss = 1.0 - a;
+    let mirror = 2.0 * n.dot(v) * n - v;
+    let r = n.lerp(mirror, gloss * (gloss.sqrt() + a)).normalize();
+    let e = irradiance(t, n);
+    fss_ess * ggx_prefiltered(t, r, roughness)
+        + fms_ems * e
+        + c_diff * (Vec3::ONE - fss_ess - fms_ems) * e
+}
+
+/// `(Fss·Ess, Fms·Ems)` of Fdez-Agüera (2019) at a point of normal `n` seen
+/// from `v`: the single-scattering specular albedo for `f0` and the
+/// multiple-scattering lobe's weight, from brute-force hemisphere integrals of
+/// the glTF BRDF ([`hemisphere_albedo`]), `Ess` its albedo for F0 = 1,
+/// `Ems = 1 − Ess`, `Favg = F0 + (1 − F0)/21`, `Fms = Fss·Ess · Favg / (1 −
+/// Ems·Favg)`.
+pub fn scattering(f0: Vec3, roughness: f32, n: Vec3, v: Vec3) -> (Vec3, Vec3) {
     let mu = n.dot(v).clamp(1e-4, 1.0);
     let v_local = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
     let (_, ess) = hemisphere_albedo(Model::CookTorrance, Vec3::ONE, roughness, v_local, 48);
@@ -224,12 +219,18 @@ pub fn split_sum_radiance(
     let ems = 1.0 - ess.x;
     let f_avg = f0 + (Vec3::ONE - f0) / 21.0;
     let fms = fss_ess * f_avg / (Vec3::ONE - ems * f_avg);
-    let a = roughness * roughness;
-    let gloss = 1.0 - a;
-    let mirror = 2.0 * n.dot(v) * n - v;
-    let r = n.lerp(mirror, gloss * (gloss.sqrt() + a)).normalize();
-    let e = irradiance(t, n);
-    fss_ess * ggx_prefiltered(t, r, roughness)
-        + fms * ems * e
-        + c_diff * (Vec3::ONE - fss_ess - fms * ems) * e
+    (fss_ess, fms * ems)
+}
+
+/// `../shared/corpus/REL`; a missing corpus fails the test.
+pub fn corpus(rel: &str) -> std::path::PathBuf {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/corpus")
+        .join(rel);
+    assert!(
+        p.exists(),
+        "{} is missing: the environment tests need the corpus (../shared/corpus)",
+        p.display()
+    );
+    p
 }

@@ -5,6 +5,8 @@
 //!   specular cube map, a diffuse irradiance cube map and the split-sum DFG table,
 //!   on the GPU, once per map: the result is cached by (map content, face size),
 //!   so a sequence or a renderer given the same map again prefilters once.
+//! - `dfg.rs`: the split-sum table; `small_cube.rs`: the map as a 16² cube on
+//!   the CPU for the exact convolutions; `api.rs`: the renderer's methods.
 //! - this file: [`EnvironmentLighting`], the state a [`super::Renderer`] keeps
 //!   (the current maps, the cache, the background), its group-0 bindings 11–15
 //!   and its per-frame uniform.
@@ -13,7 +15,10 @@
 //!   Fdez-Agüera's multiple-scattering compensation, specular occlusion) and the
 //!   background.
 
+mod api;
+mod dfg;
 mod prefilter;
+mod small_cube;
 
 pub use prefilter::{
     face_size, specular_levels, CONVOLVED_ROUGHNESS, CONVOLVED_SIDE, DFG_SAMPLES, DFG_SIZE,
@@ -34,11 +39,7 @@ const BINDING_DFG: u32 = 13;
 const BINDING_SAMPLER: u32 = 14;
 const BINDING_UNIFORM: u32 = 15;
 
-/// The split-sum table.
-pub(crate) struct Dfg {
-    pub texture: wgpu::Texture,
-    pub view: wgpu::TextureView,
-}
+pub(crate) use dfg::Dfg;
 
 /// `FxEnvironment` of environment.wgsl.
 #[repr(C)]
@@ -152,7 +153,7 @@ impl EnvironmentLighting {
         }
         let pipes = self.pipes.as_ref().expect("created above");
         if self.dfg.is_none() {
-            self.dfg = Some(prefilter::dfg_table(ctx, pipes)?);
+            self.dfg = Some(dfg::dfg_table(ctx, pipes)?);
         }
         let key = (map.key, face_size(map.map.width));
         let maps = match self.cache.get(&key) {

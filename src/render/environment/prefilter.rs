@@ -13,7 +13,7 @@
 //!    levels). Narrow lobes (roughness below [`CONVOLVED_ROUGHNESS`]) are
 //!    importance-sampled ([`SPECULAR_SAMPLES`] per texel, filtered importance
 //!    sampling); wide ones are summed exactly over every texel of the map made
-//!    into a [`CONVOLVED_SIDE`]² cube on the CPU ([`cube_texels`]: no noise; its
+//!    into a [`CONVOLVED_SIDE`]² cube on the CPU ([`cube_texels`](super::small_cube::cube_texels): no noise; its
 //!    5.6° texels are much finer than those lobes);
 //! 3. the irradiance cube map: [`IRRADIANCE_FACE`]² per face, the cosine-weighted
 //!    mean radiance (irradiance / π), summed the same exact way.
@@ -23,11 +23,9 @@
 //! over the sample's solid angle, so levels come out smooth rather than
 //! speckled (at the price of a slight extra blur).
 
-use super::Dfg;
+use super::small_cube::cube_texels;
 use crate::gpu::context::{GpuContext, GpuError};
-use crate::scene::environment::{direction_to_uv, uv_to_direction, Equirect};
 use crate::scene::EnvironmentMap;
-use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 /// Largest side of the source and specular cube faces.
@@ -50,15 +48,15 @@ pub(crate) const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// `Prefilter` of prefilter.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct GpuPrefilter {
-    face: u32,
-    distribution: u32,
-    samples: u32,
-    _p0: u32,
-    source_size: f32,
-    roughness: f32,
-    size: f32,
-    max_lod: f32,
+pub(super) struct GpuPrefilter {
+    pub face: u32,
+    pub distribution: u32,
+    pub samples: u32,
+    pub _p0: u32,
+    pub source_size: f32,
+    pub roughness: f32,
+    pub size: f32,
+    pub max_lod: f32,
 }
 
 /// The prefiltering pipelines (created once per renderer, on first use).
@@ -67,7 +65,7 @@ pub(crate) struct PrefilterPipelines {
     downsample: wgpu::RenderPipeline,
     filter: wgpu::RenderPipeline,
     convolve: wgpu::RenderPipeline,
-    dfg: wgpu::RenderPipeline,
+    pub(super) dfg: wgpu::RenderPipeline,
     /// Linear and mipmapped; repeats across u.
     sampler: wgpu::Sampler,
 }
@@ -186,85 +184,6 @@ pub(crate) fn lobe_samples(
         .collect()
 }
 
-/// The cube face (+X, −X, +Y, −Y, +Z, −Z) and texel of unit direction `d` on a
-/// cube of side `side` (the Vulkan / WebGPU face selection table, as
-/// prefilter.wgsl's `face_direction` inverted).
-fn cube_texel_of(d: Vec3, side: u32) -> (usize, u32, u32) {
-    let a = d.abs();
-    let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
-        if d.x > 0.0 {
-            (0, -d.z, -d.y, a.x)
-        } else {
-            (1, d.z, -d.y, a.x)
-        }
-    } else if a.y >= a.z {
-        if d.y > 0.0 {
-            (2, d.x, d.z, a.y)
-        } else {
-            (3, d.x, -d.z, a.y)
-        }
-    } else if d.z > 0.0 {
-        (4, d.x, -d.y, a.z)
-    } else {
-        (5, -d.x, -d.y, a.z)
-    };
-    let to = |s: f32| (((s / ma + 1.0) * 0.5 * side as f32) as u32).min(side - 1);
-    (face, to(sc), to(tc))
-}
-
-/// The map as a small cube of side `side`, every texel (direction xyz, solid
-/// angle, radiance rgb, 0): the solid-angle-weighted mean of the map's texels
-/// whose centres fall in it (the map's own value at its centre when none does:
-/// a map smaller than the cube).
-pub(crate) fn cube_texels(map: &Equirect, side: u32) -> Vec<[f32; 8]> {
-    let mut acc = vec![(Vec3::ZERO, 0.0f32); (6 * side * side) as usize];
-    for y in 0..map.height {
-        let omega = map.texel_solid_angle(y);
-        for x in 0..map.width {
-            let d = uv_to_direction(
-                (x as f32 + 0.5) / map.width as f32,
-                (y as f32 + 0.5) / map.height as f32,
-            );
-            let (f, cx, cy) = cube_texel_of(d, side);
-            let i = (f as u32 * side * side + cy * side + cx) as usize;
-            acc[i].0 += map.at(x, y) * omega;
-            acc[i].1 += omega;
-        }
-    }
-    let mut out = Vec::with_capacity(acc.len());
-    for face in 0..6u32 {
-        for y in 0..side {
-            for x in 0..side {
-                let s = 2.0 * (x as f32 + 0.5) / side as f32 - 1.0;
-                let t = 2.0 * (y as f32 + 0.5) / side as f32 - 1.0;
-                let d = match face {
-                    0 => Vec3::new(1.0, -t, -s),
-                    1 => Vec3::new(-1.0, -t, s),
-                    2 => Vec3::new(s, 1.0, t),
-                    3 => Vec3::new(s, -1.0, -t),
-                    4 => Vec3::new(s, -t, 1.0),
-                    _ => Vec3::new(-s, -t, -1.0),
-                };
-                let q = 1.0 + s * s + t * t;
-                let omega = 4.0 / (side * side) as f32 / (q * q.sqrt());
-                let d = d.normalize();
-                let (sum, w) = acc[(face * side * side + y * side + x) as usize];
-                let l = if w > 0.0 {
-                    sum / w
-                } else {
-                    let (u, v) = direction_to_uv(d);
-                    map.at(
-                        ((u * map.width as f32) as u32).min(map.width - 1),
-                        ((v * map.height as f32) as u32).min(map.height - 1),
-                    )
-                };
-                out.push([d.x, d.y, d.z, omega, l.x, l.y, l.z, 0.0]);
-            }
-        }
-    }
-    out
-}
-
 /// Side of the source cube for a map `width` texels wide.
 pub fn face_size(width: u32) -> u32 {
     (width / 4).max(1).next_power_of_two().clamp(16, MAX_FACE)
@@ -319,7 +238,7 @@ pub(crate) fn cube_view(t: &wgpu::Texture, label: &str) -> wgpu::TextureView {
 
 /// One full-screen pass of `pipeline` into `target` with `resources` (binding,
 /// resource) and, when given, the uniform `params` at binding 0.
-fn pass(
+pub(super) fn pass(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::RenderPipeline,
@@ -538,52 +457,6 @@ pub(crate) fn prefilter(
     })
 }
 
-/// The split-sum DFG table ([`DFG_SIZE`]², rg = A, B), computed once per renderer.
-pub(crate) fn dfg_table(ctx: &GpuContext, pipes: &PrefilterPipelines) -> Result<Dfg, GpuError> {
-    let made = ctx.scoped("environment DFG table", |device| {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("environment DFG table"),
-            size: wgpu::Extent3d {
-                width: DFG_SIZE,
-                height: DFG_SIZE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("environment DFG table"),
-        });
-        pass(
-            device,
-            &mut encoder,
-            &pipes.dfg,
-            &view,
-            Some(GpuPrefilter {
-                face: 0,
-                distribution: 0,
-                samples: DFG_SAMPLES,
-                _p0: 0,
-                source_size: 0.0,
-                roughness: 0.0,
-                size: DFG_SIZE as f32,
-                max_lod: 0.0,
-            }),
-            &[],
-        );
-        ctx.queue.submit([encoder.finish()]);
-        Dfg { texture, view }
-    })?;
-    Ok(made)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -600,20 +473,5 @@ mod tests {
         let centre = s.iter().find(|v| v[2] > 0.9999).unwrap()[3];
         let far = s.iter().map(|v| v[3]).fold(0.0f32, f32::max);
         assert!(far > centre + 1.0, "centre {centre}, far {far}");
-    }
-
-    #[test]
-    fn the_small_cube_keeps_the_map_and_covers_the_sphere() {
-        let map = Equirect::from_fn(256, |d| Vec3::new(1.0 + d.x, 2.0, 0.5));
-        let t = cube_texels(&map, 16);
-        let omega: f32 = t.iter().map(|e| e[3]).sum();
-        assert!((omega - 4.0 * std::f32::consts::PI).abs() < 0.02, "{omega}");
-        for e in &t {
-            // each texel's radiance is its direction's (within the texel's spread)
-            assert!((e[4] - (1.0 + e[0])).abs() < 0.1 && (e[5] - 2.0).abs() < 1e-4);
-            let (f, x, y) = cube_texel_of(Vec3::new(e[0], e[1], e[2]), 16);
-            let i = t.iter().position(|q| q == e).unwrap();
-            assert_eq!(i, (f as u32 * 256 + y * 16 + x) as usize);
-        }
     }
 }

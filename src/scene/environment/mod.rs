@@ -226,6 +226,16 @@ impl crate::scene::Scene {
                 if e.sun().is_some() {
                     self.lights.clear();
                 }
+                log::info!(
+                    "{}: with the environment {}, the default ambient light{} dropped",
+                    self.name,
+                    e.label(),
+                    if e.sun().is_some() {
+                        " and key light (the sky's sun replaces it) are"
+                    } else {
+                        " is"
+                    }
+                );
             }
             self.lights.extend(e.sun());
         }

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Image-based lighting cost: prefiltering time per corpus map (1024x512) and the
+# per-frame GPU time of the environment term at 1920x1080 (builtin:room and
+# FlightHelmet, deferred and forward, with and without builtin:studio, frames
+# interleaved). Runs the ignored test `environment_benchmark` in release mode;
+# the Markdown tables go to stdout and target/environment-bench.md.
+#
+# Environment (optional): FX_BENCH_FRAMES=5, WGPU_BACKEND=vulkan.
+# Needs the corpus (../shared/corpus/hdri and ../shared/corpus/gltf/FlightHelmet).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+export FX_BENCH_OUT="${FX_BENCH_OUT:-$PWD/target/environment-bench.md}"
+mkdir -p "$(dirname "$FX_BENCH_OUT")"
+echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg), $(date '+%Y-%m-%d %H:%M')" >&2
+cargo test --release --test environment_bench -- --ignored --exact environment_benchmark --nocapture

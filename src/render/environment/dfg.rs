@@ -1,0 +1,58 @@
+//! The split-sum DFG table (Karis 2013): for n·v and roughness, the terms A and B
+//! of the glTF BRDF's specular albedo F0·A + B, computed once per renderer by
+//! prefilter.wgsl's `fs_dfg`.
+
+use super::prefilter::{pass, GpuPrefilter, PrefilterPipelines, DFG_SAMPLES, DFG_SIZE, FORMAT};
+use crate::gpu::context::{GpuContext, GpuError};
+
+/// The table: [`DFG_SIZE`]², rg = A, B.
+pub(crate) struct Dfg {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+}
+
+/// The split-sum DFG table ([`DFG_SIZE`]², rg = A, B), computed once per renderer.
+pub(crate) fn dfg_table(ctx: &GpuContext, pipes: &PrefilterPipelines) -> Result<Dfg, GpuError> {
+    let made = ctx.scoped("environment DFG table", |device| {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("environment DFG table"),
+            size: wgpu::Extent3d {
+                width: DFG_SIZE,
+                height: DFG_SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("environment DFG table"),
+        });
+        pass(
+            device,
+            &mut encoder,
+            &pipes.dfg,
+            &view,
+            Some(GpuPrefilter {
+                face: 0,
+                distribution: 0,
+                samples: DFG_SAMPLES,
+                _p0: 0,
+                source_size: 0.0,
+                roughness: 0.0,
+                size: DFG_SIZE as f32,
+                max_lod: 0.0,
+            }),
+            &[],
+        );
+        ctx.queue.submit([encoder.finish()]);
+        Dfg { texture, view }
+    })?;
+    Ok(made)
+}
