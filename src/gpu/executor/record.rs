@@ -11,6 +11,7 @@
 //!   textures by id, caller views by identity), creating one only on a miss,
 //! - rotates the feedback rings after the frame.
 
+use super::bgra::{bgra_twin, is_bgra, TwinPipeline};
 use super::encode::{bind_group, encode_pass, BindKey};
 use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
@@ -71,6 +72,8 @@ pub(super) struct GpuPass {
     pub target: Source,
     pub target_format: Option<wgpu::TextureFormat>,
     pub(super) bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
+    /// A pass writing the caller's output: its pipeline for a BGRA output.
+    pub(super) twin: Option<TwinPipeline>,
 }
 
 impl GpuPass {
@@ -91,6 +94,7 @@ impl GpuPass {
             target: target.0,
             target_format: target.1,
             bind_groups: Vec::new(),
+            twin: None,
         }
     }
 }
@@ -337,6 +341,11 @@ impl Prepared {
                 ))),
             },
             ImageRef::Texture(t) => {
+                // A BGRA output is viewed in the BGRA twin of the plan's view format.
+                let format = match format {
+                    Some(f) if is_bgra(t.format()) => bgra_twin(f).or(Some(f)),
+                    other => other,
+                };
                 if let Some((_, _, v)) = self
                     .views
                     .iter()
@@ -367,10 +376,15 @@ impl Prepared {
     ) -> Result<Vec<wgpu::TextureView>, ExecError> {
         if let ImageRef::Texture(t) = output {
             let want = wgpu_format(self.plan.output.format);
-            if t.format().remove_srgb_suffix() != want.remove_srgb_suffix() {
+            let same = t.format().remove_srgb_suffix() == want.remove_srgb_suffix();
+            let twin = bgra_twin(want).is_some_and(|b| b == t.format());
+            if !same && !twin {
                 return Err(ExecError::Input(format!(
-                    "output texture is {:?}, the plan renders {want:?}",
-                    t.format()
+                    "output texture is {:?}, the plan renders {want:?}{}",
+                    t.format(),
+                    bgra_twin(want)
+                        .map(|b| format!(" (or its BGRA twin {b:?})"))
+                        .unwrap_or_default()
                 )));
             }
         }
@@ -435,6 +449,10 @@ impl Prepared {
         timer: Option<&GpuTimer>,
     ) -> Result<Vec<PassTiming>, ExecError> {
         let caller = self.resolve_caller(inputs, output)?;
+        let bgra = match output {
+            ImageRef::Texture(t) => is_bgra(t.format()),
+            ImageRef::View(v) => is_bgra(v.texture().format()),
+        };
         self.write_uniforms(inputs.camera);
         engine.frames += 1;
         let frame_no = engine.frames;
@@ -468,8 +486,16 @@ impl Prepared {
                 Step::Run { pass } => {
                     let t0 = Instant::now();
                     let writes = timer.and_then(|t| t.pass_writes(timings.len() as u32));
+                    let pipeline = match self.passes[pass].pipeline_for(engine, bgra) {
+                        Ok(p) => p,
+                        Err(e) => {
+                            result = Err(e.into());
+                            break;
+                        }
+                    };
                     let recorded = encode_pass(
                         &mut self.passes[pass],
+                        &pipeline,
                         &engine.ctx,
                         &engine.pool,
                         &self.slots,

@@ -6,6 +6,7 @@ use super::commands::{key_command, Command};
 use super::content::Content;
 use super::fx::Fx;
 use super::inspect::Inspect;
+use super::panel_cache::PanelCache;
 use super::present::Presenter;
 use super::reload::Reloader;
 use super::script::Script;
@@ -49,6 +50,15 @@ pub(super) struct UiState {
     pub copied: Option<String>,
     /// The image area of the last frame (surface pixels: x, y, width, height).
     pub area: [u32; 4],
+    /// The frame and pass times the panel shows.
+    pub figures: Option<Figures>,
+}
+
+/// Times shown in the panel, refreshed twice a second.
+pub(super) struct Figures {
+    pub at: Instant,
+    pub frame_ms: Option<f64>,
+    pub gpu_ms: Vec<Option<f64>>,
 }
 
 impl Default for UiState {
@@ -67,6 +77,7 @@ impl Default for UiState {
             status: String::new(),
             copied: None,
             area: [0, 0, 0, 0],
+            figures: None,
         }
     }
 }
@@ -80,6 +91,7 @@ pub(super) struct Win {
     pub egui_state: egui_winit::State,
     pub egui_renderer: egui_wgpu::Renderer,
     pub presenter: Presenter,
+    pub panel_cache: PanelCache,
 }
 
 /// Frame times of the run (`--timings`).
@@ -276,8 +288,11 @@ impl Viewer {
             .or(caps.formats.first().copied())
             .ok_or_else(|| gpu_fail("the window offers no surface format".into()))?;
         let size = window.inner_size();
+        // COPY_DST: a 1:1 image is copied into the surface (present.rs).
+        let usage =
+            wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage,
             format,
             width: size.width.max(1),
             height: size.height.max(1),
@@ -318,6 +333,7 @@ impl Viewer {
             egui_state,
             egui_renderer,
             presenter,
+            panel_cache: PanelCache::default(),
         });
         Ok(())
     }

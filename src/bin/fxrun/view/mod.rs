@@ -27,6 +27,7 @@ mod frame;
 mod fx;
 mod inspect;
 mod panel;
+mod panel_cache;
 mod playback;
 mod present;
 mod reload;

@@ -9,7 +9,6 @@ use super::fx::Fx;
 use fxgraph::app::scene::{load_scene, render_error, scene_renderer, SceneJob};
 use fxgraph::app::RunError;
 use fxgraph::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
-use fxgraph::gpu::transfer::create_output;
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::render::renderer::Renderer;
 use fxgraph::render::RenderOutput;
@@ -131,7 +130,12 @@ impl SceneView {
         }
         prepared.set_gpu_timings(engine, true);
         let o = prepared.plan.output;
-        self.output = Some(create_output(&engine.ctx, o.width, o.height, o.format));
+        self.output = Some(super::present::window_output(
+            &engine.ctx,
+            o.width,
+            o.height,
+            o.format,
+        ));
         self.prepared = Some(prepared);
         Ok(())
     }
