@@ -8,6 +8,7 @@ pub mod gltf_gen;
 pub mod rng;
 pub mod scenes;
 pub mod stream;
+pub mod viewer;
 
 use fxgraph::app::{apply_in_memory, RunError};
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
