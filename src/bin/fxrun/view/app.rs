@@ -408,7 +408,7 @@ impl ApplicationHandler<UserEvent> for Viewer {
                     return;
                 }
                 if let Some(c) = key_command(&key.logical_key, mods.control_key()) {
-                    if pressed && !key.repeat || pressed && c.repeats() {
+                    if pressed && (!key.repeat || c.repeats()) {
                         self.command(event_loop, c);
                     }
                     return;

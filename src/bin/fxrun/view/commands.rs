@@ -261,7 +261,7 @@ impl Viewer {
         match applied {
             Applied::Uniforms => {}
             Applied::Replan(effect) => {
-                if let Err(e) = self.replan_with(effect) {
+                if let Err(e) = self.replan_with(*effect) {
                     self.fx.restore(snapshot);
                     return Err(e);
                 }

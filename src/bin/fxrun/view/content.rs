@@ -10,8 +10,8 @@ use fxgraph::gpu::executor::{Engine, Prepared};
 use fxgraph::script::types::Format;
 
 pub(super) enum Content {
-    Stills(Stills),
-    Playback(Playback),
+    Stills(Box<Stills>),
+    Playback(Box<Playback>),
     Scene(Box<SceneView>),
 }
 

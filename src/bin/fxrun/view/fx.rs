@@ -28,7 +28,7 @@ pub(super) enum Applied {
     Uniforms,
     /// The effect's passes changed: put this effect in [`Fx::effect`] and plan it
     /// (or drop it to keep the current one).
-    Replan(Effect),
+    Replan(Box<Effect>),
 }
 
 /// The effect being viewed and the parameter values given to it.
@@ -398,21 +398,21 @@ impl Fx {
     fn recompile(&mut self, prepared: Option<&mut Prepared>) -> Result<Applied, String> {
         let new = self.compile().map_err(|e| e.to_string())?;
         let (Some(prepared), Some(old)) = (prepared, self.graph()) else {
-            return Ok(Applied::Replan(new));
+            return Ok(Applied::Replan(Box::new(new)));
         };
         if structure(old) != structure(&new.graph) {
-            return Ok(Applied::Replan(new));
+            return Ok(Applied::Replan(Box::new(new)));
         }
         let changes = changed_values(old, &new.graph);
         // Check every value first, so that a refusal changes nothing.
         let known: Vec<String> = prepared.params().into_iter().map(|p| p.name).collect();
         if changes.iter().any(|(n, _)| !known.contains(n)) {
-            return Ok(Applied::Replan(new));
+            return Ok(Applied::Replan(Box::new(new)));
         }
         for (name, value) in &changes {
             if let Err(e) = prepared.set_param(name, value) {
                 log::debug!("{name}: {e}: planning again");
-                return Ok(Applied::Replan(new));
+                return Ok(Applied::Replan(Box::new(new)));
             }
             self.effect_values.insert(name.clone(), value.clone());
         }

@@ -172,7 +172,7 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
             check_same_size(f)?;
         }
         let p = playback::Playback::new(input, load, fps, cli.rate, out);
-        return Ok((Content::Playback(p), fx));
+        return Ok((Content::Playback(Box::new(p)), fx));
     }
     let items: Vec<PathBuf> = collect_inputs(cli, &specs)?
         .into_iter()
@@ -190,7 +190,7 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
         return Err(rejected("--view takes --aux with a single image only"));
     }
     let stills = stills::Stills::new(items, aux, load, out);
-    Ok((Content::Stills(stills), fx))
+    Ok((Content::Stills(Box::new(stills)), fx))
 }
 
 /// `fxrun ... --view`.
