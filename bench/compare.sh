@@ -17,7 +17,7 @@
 # fxrun's gaussian_blur blurs in linear light (8-bit files are decoded from sRGB
 # and encoded back); vips, OpenCV, ffmpeg and ImageMagick blur the stored values.
 # `fxrun --assume-linear` does the same maths as they do (it matches OpenCV within
-# 1 LSB, tests/effects_a.rs) and is timed too. vips gaussblur's defaults cut the
+# 1 LSB, tests/effects/gaussian_blur.rs) and is timed too. vips gaussblur's defaults cut the
 # kernel where it falls below 0.2 of its peak and use integer weights (up to 10 LSB
 # off OpenCV on the photo); it is also timed with OpenCV's kernel extent
 # (--min-ampl 0.011, i.e. exp(-4.5) at 3 sigma), in integer and float precision.

@@ -41,7 +41,7 @@ for t in $TECHNIQUES; do
             walls=(); lights=()
             for _ in $(seq "$RUNS"); do
                 start=$(date +%s%N)
-                out=$($FX --scene "$SCENE" --lights "$n" --renderer "$t" --light-culling "$c" \
+                out=$($FX --scene "$SCENE" --environment none --lights "$n" --renderer "$t" --light-culling "$c" \
                     --size "$SIZE" --timings -o "$WORK/lights_${t}_${c}_$n.png" 2>&1)
                 end=$(date +%s%N)
                 walls+=($(( (end - start) / 1000000 )))

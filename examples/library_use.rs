@@ -11,6 +11,7 @@
 use fxgraph::app::Effect;
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::gpu::executor::{wgpu_format, Engine, FrameInputs};
+use fxgraph::gpu::transfer::texture_2d;
 use fxgraph::graph::plan::InputDesc;
 use fxgraph::script::types::Format;
 use std::time::Instant;
@@ -41,20 +42,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("adapter: {}", adapter.get_info().name);
 
     // 2. The application's own input (a gradient with bright spots) and output textures.
-    let input = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("application scene"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba16Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    let input = device.create_texture(&texture_2d(
+        "application scene",
+        (width, height),
+        wgpu::TextureFormat::Rgba16Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        &[],
+    ));
     let mut texels = Vec::with_capacity((width * height * 4) as usize);
     for y in 0..height {
         for x in 0..width {
@@ -77,20 +71,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         input.size(),
     );
-    let output = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("application output"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu_format(Format::Rgba8Srgb),
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let output = device.create_texture(&texture_2d(
+        "application output",
+        (width, height),
+        wgpu_format(Format::Rgba8Srgb),
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        &[],
+    ));
 
     // 3. Compile the effect and prepare it for this input, on the application's device.
     let mut engine = Engine::new(GpuContext::from_existing(

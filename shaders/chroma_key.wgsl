@@ -46,10 +46,7 @@ fn rgb(v: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(r, g, b);
 }
 
-fn to_linear(c: vec3<f32>) -> vec3<f32> {
-    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    return select(pow((x + 0.055) / 1.055, vec3<f32>(2.4)), x / 12.92, x <= vec3<f32>(0.04045));
-}
+#include "lib/keyed.wgsl"
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
@@ -66,15 +63,11 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         let dir = k.yz / kl;
         c -= params.spill * max(dot(c, dir), 0.0) * dir;
     }
-    let fg = to_linear(rgb(vec3<f32>(v.x, c)));
+    let fg = lib_srgb_to_linear(rgb(vec3<f32>(v.x, c)));
 #if COMPOSITE
     let b = textureLoad(bg, p, 0);
     return vec4<f32>(fg * a + b.rgb * (1.0 - a), a + b.a * (1.0 - a));
-#elif OUTPUT == 0
-    return vec4<f32>(fg, a);
-#elif OUTPUT == 1
-    return vec4<f32>(fg * a, a);
 #else
-    return vec4<f32>(to_linear(vec3<f32>(a)), 1.0);
+    return lib_keyed_output(fg, a);
 #endif
 }

@@ -11,21 +11,12 @@
 #define OUTPUT 0
 #endif
 
-fn to_linear(c: vec3<f32>) -> vec3<f32> {
-    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    return select(pow((x + 0.055) / 1.055, vec3<f32>(2.4)), x / 12.92, x <= vec3<f32>(0.04045));
-}
+#include "lib/keyed.wgsl"
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(pos.xy);
     let fg = textureLoad(keyed, p, 0).rgb;
     let a = clamp(textureLoad(matte, p, 0).r, 0.0, 1.0);
-#if OUTPUT == 0
-    return vec4<f32>(fg, a);
-#elif OUTPUT == 1
-    return vec4<f32>(fg * a, a);
-#else
-    return vec4<f32>(to_linear(vec3<f32>(a)), 1.0);
-#endif
+    return lib_keyed_output(fg, a);
 }

@@ -27,15 +27,6 @@ struct Params {
 
 #include "lib/view.wgsl"
 
-fn unproject(uv: vec2<f32>, z: f32) -> vec3<f32> {
-    return lib_unproject(params.inv_proj, uv, z);
-}
-
-// View-space position at `uv` with linear depth `d` (see lib/view.wgsl).
-fn view_pos(uv: vec2<f32>, d: f32) -> vec3<f32> {
-    return lib_view_pos(params.inv_proj, uv, d);
-}
-
 // (1 - exp(-x)) / x, the mean of exp(-x t) over t in [0, 1]; 1 at x = 0.
 fn mean_exp(x: f32) -> f32 {
     if (abs(x) < 1e-3) {
@@ -49,11 +40,10 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(pos.xy);
     let c = textureLoad(img, p, 0);
     let d = textureLoad(depth, p, 0).r;
-    if (!(d > 0.0 && d < 3.0e38)) {
+    if (!lib_has_geometry(d)) {
         return c;
     }
-    let uv = (vec2<f32>(p) + 0.5) / vec2<f32>(textureDimensions(depth));
-    let P = view_pos(uv, d);
+    let P = lib_texel_view_pos(params.inv_proj, p, vec2<f32>(textureDimensions(depth)), d);
 #if DISTANCE == 1
     var dist = length(P);
 #else

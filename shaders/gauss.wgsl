@@ -36,6 +36,8 @@ struct Params {
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
+#include "lib/gauss_pairs.wgsl"
+
 fn radius(sigma: f32) -> i32 {
     // WGSL round() rounds half to even, like OpenCV's cvRound.
     let ksize = i32(round(sigma * 6.0 + 1.0)) | 1;
@@ -47,14 +49,14 @@ fn radius(sigma: f32) -> i32 {
 // where the target format rounds towards zero.
 fn blur_delta(p: vec2<i32>, c: vec4<f32>) -> vec4<f32> {
     let r = radius(params.sigma);
+    var sum = vec4<f32>(0.0);
+    var total = 1.0;
+#if EXACT
     // w(i) = q^(i*i), q = exp(-1 / (2 sigma^2)); w(i+1) = w(i) * q^(2i+1).
     let q = exp(-0.5 / (params.sigma * params.sigma));
     let q2 = q * q;
-    var sum = vec4<f32>(0.0);
-    var total = 1.0;
     var w = q;         // w(1)
     var step = q * q2; // w(2) / w(1) = q^3
-#if EXACT
 #if VERTICAL
     let last = i32(params.img_size.y) - 1;
     let k = p.y;
@@ -82,23 +84,17 @@ fn blur_delta(p: vec2<i32>, c: vec4<f32>) -> vec4<f32> {
     let dir = vec2<f32>(params.img_texel.x, 0.0);
 #endif
     let uv = (vec2<f32>(p) + 0.5) * params.img_texel;
+    var g = lib_gauss_pairs(params.sigma);
     for (var i = 1; i <= r; i += 2) {
-        let w1 = w;
-        var w2 = w1 * step;
-        if (i + 1 > r) {
-            w2 = 0.0;
-        }
-        let pair = w1 + w2;
-        // Sampling between texels i and i+1 at this offset weights them w1 : w2;
+        let w = lib_gauss_next_pair(&g, i, r);
+        let pair = w.x + w.y;
+        // Sampling between texels i and i+1 at this offset weights them w(i) : w(i+1);
         // clamp-to-edge makes texels past the border replicate the edge.
-        let offset = f32(i) + w2 / max(pair, 1e-30);
+        let offset = f32(i) + w.y / max(pair, 1e-30);
         let s = textureSampleLevel(img, img_sampler, uv + offset * dir, 0.0)
               + textureSampleLevel(img, img_sampler, uv - offset * dir, 0.0);
         sum += pair * (s - 2.0 * c);
         total += 2.0 * pair;
-        // Advance two steps: w(i+2) = w(i+1) * q^(2i+3).
-        w = w2 * step * q2;
-        step = step * q2 * q2;
     }
 #endif
     return sum / total;

@@ -25,19 +25,6 @@ struct Params {
 
 #include "lib/view.wgsl"
 
-fn unproject(uv: vec2<f32>, z: f32) -> vec3<f32> {
-    return lib_unproject(params.inv_proj, uv, z);
-}
-
-// View-space position at `uv` with linear depth `d` (see lib/view.wgsl).
-fn view_pos(uv: vec2<f32>, d: f32) -> vec3<f32> {
-    return lib_view_pos(params.inv_proj, uv, d);
-}
-
-fn valid(d: f32) -> bool {
-    return d > 0.0 && d < 3.0e38;
-}
-
 fn unit(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);
     return select(vec3<f32>(0.0), v / l, l > 1e-6);
@@ -49,25 +36,25 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let size = vec2<i32>(textureDimensions(depth));
     let sizef = vec2<f32>(size);
     let dp = textureLoad(depth, p, 0).r;
-    let vp = valid(dp);
+    let vp = lib_has_geometry(dp);
     let np = unit(textureLoad(normal, p, 0).xyz);
-    let P = view_pos((vec2<f32>(p) + 0.5) / sizef, dp);
+    let P = lib_texel_view_pos(params.inv_proj, p, sizef, dp);
     let cos_t = cos(radians(params.normal_threshold));
     let offsets = array<vec2<i32>, 4>(vec2<i32>(-1, 0), vec2<i32>(1, 0), vec2<i32>(0, -1), vec2<i32>(0, 1));
     var mark = 0.0;
     var flags = 0u;
     for (var k = 0; k < 4; k++) {
         let q = p + offsets[k];
-        if (any(q < vec2<i32>(0)) || any(q >= size)) {
+        if (!lib_inside(q, size)) {
             continue;
         }
         let dq = textureLoad(depth, q, 0).r;
-        let vq = valid(dq);
+        let vq = lib_has_geometry(dq);
         var edge = false;
         var near = false;
         if (vp && vq) {
             let nq = unit(textureLoad(normal, q, 0).xyz);
-            let Q = view_pos((vec2<f32>(q) + 0.5) / sizef, dq);
+            let Q = lib_texel_view_pos(params.inv_proj, q, sizef, dq);
             var off = abs(dq - dp);
             if (dot(np, np) > 0.0 && dot(nq, nq) > 0.0) {
                 off = max(abs(dot(Q - P, np)), abs(dot(Q - P, nq)));

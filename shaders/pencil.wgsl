@@ -42,10 +42,7 @@ fn value_noise(pos: vec2<f32>, cell: f32) -> f32 {
     return mix(a, b, s.y);
 }
 
-fn to_linear(c: vec3<f32>) -> vec3<f32> {
-    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    return select(pow((x + 0.055) / 1.055, vec3<f32>(2.4)), x / 12.92, x <= vec3<f32>(0.04045));
-}
+#include "lib/srgb.wgsl"
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
@@ -61,5 +58,5 @@ fn fs_main(@builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32>) -> @lo
         s *= 1.0 - params.paper * n;
     }
     let rgb = s * mix(vec3<f32>(1.0), c.rgb, params.color);
-    return vec4<f32>(to_linear(rgb), c.a);
+    return vec4<f32>(lib_srgb_to_linear(rgb), c.a);
 }

@@ -2,12 +2,12 @@
 // Horizontal (default): blurs the Rec.709 luma of `img`'s rgb; VERTICAL = 1: blurs
 // `img`'s red channel (the horizontal result). Writes the blurred value in .r.
 //
-// Same taps as blurX/blurY: exact normalised Gaussian weights over [-r, r],
-// r = ceil(3 s), taken two at a time with one bilinear tap, sampled at the output's
-// resolution (a smaller output also downsamples). The luma is linear in the
-// channels, so the luma of a bilinear tap is the bilinear tap of the luma.
-// s = sigma * scale is the standard deviation in output pixels: `sigma` is given in
-// pixels of the effect input and `scale` is the pass's OUT.SCALE.
+// Same taps as blurX/blurY: exact normalised Gaussian weights over [-r, r], r =
+// ceil(3 s), taken two at a time with one bilinear tap (lib/gauss_pairs.wgsl),
+// sampled at the output's resolution (a smaller output also downsamples). The luma
+// is linear in the channels, so the luma of a bilinear tap is the bilinear tap of
+// the luma. s = sigma * scale is the standard deviation in output pixels: `sigma` is
+// given in pixels of the effect input and `scale` is the pass's OUT.SCALE.
 @group(0) @binding(0) var img: texture_2d<f32>;
 @group(0) @binding(1) var img_sampler: sampler;
 
@@ -21,6 +21,8 @@ struct Params {
 #ifndef VERTICAL
 #define VERTICAL 0
 #endif
+
+#include "lib/gauss_pairs.wgsl"
 
 fn tap(uv: vec2<f32>) -> f32 {
     let c = textureSampleLevel(img, img_sampler, uv, 0.0);
@@ -40,25 +42,15 @@ fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
 #endif
     let sigma = params.sigma * params.scale;
     let r = i32(ceil(3.0 * sigma));
-    // w(i) = q^(i*i), q = exp(-1 / (2 sigma^2)); w(i+1) = w(i) * q^(2i+1).
-    let q = exp(-0.5 / (sigma * sigma));
-    let q2 = q * q;
-    var w = q;         // w(1)
-    var step = q * q2; // w(2) / w(1) = q^3
+    var g = lib_gauss_pairs(sigma);
     var sum = tap(uv);
     var total = 1.0;
     for (var i = 1; i <= r; i += 2) {
-        let w1 = w;
-        var w2 = w1 * step;
-        if (i + 1 > r) {
-            w2 = 0.0;
-        }
-        let pair = w1 + w2;
-        let offset = (f32(i) * w1 + f32(i + 1) * w2) / pair;
+        let w = lib_gauss_next_pair(&g, i, r);
+        let pair = w.x + w.y;
+        let offset = (f32(i) * w.x + f32(i + 1) * w.y) / pair;
         sum += pair * (tap(uv + offset * dir) + tap(uv - offset * dir));
         total += 2.0 * pair;
-        w = w2 * step * q2;
-        step = step * q2 * q2;
     }
     let y = sum / total;
     return vec4<f32>(y, y, y, 1.0);

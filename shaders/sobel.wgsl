@@ -28,10 +28,7 @@ fn luma(p: vec2<i32>, hi: vec2<i32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
-fn to_linear(c: vec3<f32>) -> vec3<f32> {
-    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    return select(pow((x + 0.055) / 1.055, vec3<f32>(2.4)), x / 12.92, x <= vec3<f32>(0.04045));
-}
+#include "lib/srgb.wgsl"
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
@@ -52,9 +49,9 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let centre = textureLoad(img, p, 0);
 #if MODE == 0
     let v = clamp(mix(e, 1.0 - e, params.invert), 0.0, 1.0);
-    return vec4<f32>(to_linear(vec3<f32>(v)), centre.a);
+    return vec4<f32>(lib_srgb_to_linear(vec3<f32>(v)), centre.a);
 #else
     let v = mix(centre.rgb, params.color, min(e, 1.0));
-    return vec4<f32>(to_linear(v), centre.a);
+    return vec4<f32>(lib_srgb_to_linear(v), centre.a);
 #endif
 }

@@ -6,7 +6,7 @@
 // textureLoad at the output's size (no filtering: r32f need not be filterable).
 //
 // Per pixel, with P its view-space position (reconstructed from depth with inv_proj,
-// see view_pos) and n its normal (flipped to face the camera if needed):
+// see lib/view.wgsl) and n its normal (flipped to face the camera if needed):
 //   - a tangent frame (t, b, n) rotated about n by an angle from a 4x4 tiled hash
 //     of the pixel coordinates (the "rotation noise" texture, computed here);
 //   - SAMPLES kernel points k_i in the unit hemisphere around +z: directions uniform
@@ -41,21 +41,8 @@ struct Params {
 
 #include "lib/view.wgsl"
 
-fn unproject(uv: vec2<f32>, z: f32) -> vec3<f32> {
-    return lib_unproject(params.inv_proj, uv, z);
-}
-
-// View-space position at `uv` with linear depth `d` (see lib/view.wgsl).
-fn view_pos(uv: vec2<f32>, d: f32) -> vec3<f32> {
-    return lib_view_pos(params.inv_proj, uv, d);
-}
-
 fn forward_sign() -> f32 {
-    return select(-1.0, 1.0, unproject(vec2<f32>(0.5), 0.25).z >= 0.0);
-}
-
-fn valid(d: f32) -> bool {
-    return d > 0.0 && d < 3.0e38;
+    return select(-1.0, 1.0, lib_unproject(params.inv_proj, vec2<f32>(0.5), 0.25).z >= 0.0);
 }
 
 // The 4x4 rotation noise: a hash of (x mod 4, y mod 4) to [0, 1).
@@ -87,15 +74,15 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let d = textureLoad(depth, p, 0).r;
     var n = textureLoad(normal, p, 0).xyz;
     let nl = length(n);
-    if (!valid(d) || !(nl > 1e-6)) {
+    if (!lib_has_geometry(d) || !(nl > 1e-6)) {
         return vec4<f32>(1.0);
     }
     n = n / nl;
     let uv = (vec2<f32>(p) + 0.5) / sizef;
-    let P = view_pos(uv, d);
+    let P = lib_view_pos(params.inv_proj, uv, d);
     let s = forward_sign();
     // Face the camera: against the ray direction.
-    let ray = unproject(uv, 0.75) - unproject(uv, 0.25);
+    let ray = lib_unproject(params.inv_proj, uv, 0.75) - lib_unproject(params.inv_proj, uv, 0.25);
     if (dot(n, ray) > 0.0) {
         n = -n;
     }
@@ -125,10 +112,10 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
         let q = min(vec2<i32>(suv * sizef), size - 1);
         let dq = textureLoad(depth, q, 0).r;
-        if (!valid(dq)) {
+        if (!lib_has_geometry(dq)) {
             continue;
         }
-        let Q = view_pos((vec2<f32>(q) + 0.5) / sizef, dq);
+        let Q = lib_texel_view_pos(params.inv_proj, q, sizef, dq);
         let v = Q - P;
         if (dq < s * S.z - params.bias && dot(v, n) > params.bias) {
             occ += 1.0 - smoothstep(params.radius, 2.0 * params.radius, length(v));

@@ -28,19 +28,6 @@ struct Params {
 
 #include "lib/view.wgsl"
 
-fn unproject(uv: vec2<f32>, z: f32) -> vec3<f32> {
-    return lib_unproject(params.inv_proj, uv, z);
-}
-
-// View-space position at `uv` with linear depth `d` (see lib/view.wgsl).
-fn view_pos(uv: vec2<f32>, d: f32) -> vec3<f32> {
-    return lib_view_pos(params.inv_proj, uv, d);
-}
-
-fn valid(d: f32) -> bool {
-    return d > 0.0 && d < 3.0e38;
-}
-
 fn blurred(p: vec2<i32>) -> f32 {
     let centre = textureLoad(ao, p, 0).r;
 #if BLUR
@@ -48,26 +35,26 @@ fn blurred(p: vec2<i32>) -> f32 {
     let sizef = vec2<f32>(size);
     let d = textureLoad(depth, p, 0).r;
     var n = textureLoad(normal, p, 0).xyz;
-    if (!valid(d) || !(length(n) > 1e-6)) {
+    if (!lib_has_geometry(d) || !(length(n) > 1e-6)) {
         return centre;
     }
     n = normalize(n);
-    let P = view_pos((vec2<f32>(p) + 0.5) / sizef, d);
+    let P = lib_texel_view_pos(params.inv_proj, p, sizef, d);
     let tol = params.depth_tolerance * d;
     var sum = centre;
     var total = 1.0;
     for (var dy = -2; dy <= 2; dy++) {
         for (var dx = -2; dx <= 2; dx++) {
             let q = p + vec2<i32>(dx, dy);
-            if ((dx == 0 && dy == 0) || any(q < vec2<i32>(0)) || any(q >= size)) {
+            if ((dx == 0 && dy == 0) || !lib_inside(q, size)) {
                 continue;
             }
             let dq = textureLoad(depth, q, 0).r;
             let nq = textureLoad(normal, q, 0).xyz;
-            if (!valid(dq) || !(length(nq) > 1e-6)) {
+            if (!lib_has_geometry(dq) || !(length(nq) > 1e-6)) {
                 continue;
             }
-            let Q = view_pos((vec2<f32>(q) + 0.5) / sizef, dq);
+            let Q = lib_texel_view_pos(params.inv_proj, q, sizef, dq);
             let e = dot(Q - P, n) / tol;
             let facing = max(dot(n, normalize(nq)), 0.0);
             let f2 = facing * facing;

@@ -3,7 +3,7 @@
 // are not clipped (all blocks if fewer than 8 are), the QUANTILE-th quantile q of
 // the block means of |N * I| (found by bisection): textured blocks read high, the
 // flattest blocks read the noise. sigma = q / (6 sqrt(2 / pi)). (For pure noise
-// the quantile lies a little below the mean of the blocks: tests/temporal_denoise.rs
+// the quantile lies a little below the mean of the blocks: tests/effects/temporal_denoise.rs
 // measures the estimate within 3% of the true sigma at 4/255 and 12/255.)
 // The estimate is smoothed over time: mix(previous, new, 0.25) after the first
 // frame (`last` = this pass's previous output). A `sigma` parameter above 0 is

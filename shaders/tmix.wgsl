@@ -24,41 +24,32 @@ struct Params {
 #define FRAMES 3
 #endif
 
+// Frame i: IN (0) or IN[-i].
+fn frame(i: i32, p: vec2<i32>) -> vec4<f32> {
+    switch i {
+        case 0: { return textureLoad(f0, p, 0); }
+        case 1: { return textureLoad(f1, p, 0); }
+        case 2: { return textureLoad(f2, p, 0); }
+        case 3: { return textureLoad(f3, p, 0); }
+        case 4: { return textureLoad(f4, p, 0); }
+        case 5: { return textureLoad(f5, p, 0); }
+        case 6: { return textureLoad(f6, p, 0); }
+        default: { return textureLoad(f7, p, 0); }
+    }
+}
+
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(pos.xy);
     let w = params.weights;
     let v = params.weights_more;
-    var sum = w.x * textureLoad(f0, p, 0);
-    var total = w.x;
-#if FRAMES >= 2
-    sum += w.y * textureLoad(f1, p, 0);
-    total += w.y;
-#endif
-#if FRAMES >= 3
-    sum += w.z * textureLoad(f2, p, 0);
-    total += w.z;
-#endif
-#if FRAMES >= 4
-    sum += w.w * textureLoad(f3, p, 0);
-    total += w.w;
-#endif
-#if FRAMES >= 5
-    sum += v.x * textureLoad(f4, p, 0);
-    total += v.x;
-#endif
-#if FRAMES >= 6
-    sum += v.y * textureLoad(f5, p, 0);
-    total += v.y;
-#endif
-#if FRAMES >= 7
-    sum += v.z * textureLoad(f6, p, 0);
-    total += v.z;
-#endif
-#if FRAMES >= 8
-    sum += v.w * textureLoad(f7, p, 0);
-    total += v.w;
-#endif
+    var weight = array<f32, 8>(w.x, w.y, w.z, w.w, v.x, v.y, v.z, v.w);
+    var sum = weight[0] * frame(0, p);
+    var total = weight[0];
+    for (var i = 1; i < FRAMES; i++) {
+        sum += weight[i] * frame(i, p);
+        total += weight[i];
+    }
     var k = params.scale;
     if (k == 0.0) {
         k = select(1.0 / total, 1.0, total == 0.0);

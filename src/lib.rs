@@ -9,6 +9,7 @@
 //!   confinement), the policy `graph` takes as an [`graph::EffectSource`]. No GPU.
 //! - `gpu` (feature `gpu`): device, texture pool, pipeline cache and the executor
 //!   that interprets a [`graph::Plan`].
+//! - [`unwind`]: catching a dependency's panic quietly (any layer may use it).
 //! - [`pixels`]: images in memory (plain values every layer may use) and sRGB
 //!   conversions.
 //! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes,
@@ -24,6 +25,7 @@ pub mod lookup;
 pub mod pixels;
 pub mod script;
 pub mod shader;
+pub mod unwind;
 
 #[cfg(feature = "gpu")]
 pub mod app;

@@ -4,12 +4,13 @@
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1. glTF tests skip with a
 //! message when ../shared/corpus is absent.
 
-#[path = "common/scenes.rs"]
-mod scenes;
+mod common;
 
-use scenes::opaque_room;
+use common::gpu_context as gpu;
+use common::renders::{rgb_psnr, save_rgb_review};
+use common::scenes::opaque_room;
 
-use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
+use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::normal::{self, NormalEncoding};
 use fxgraph::render::renderer::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
@@ -18,31 +19,9 @@ use fxgraph::scene::builtin::{box_mesh, grid_plane};
 use fxgraph::scene::{Camera, Instance, Light, Material, Scene};
 use glam::{Mat4, Vec3};
 use std::path::PathBuf;
-use std::sync::{Mutex, MutexGuard, OnceLock};
 
 const W: u32 = 128;
 const H: u32 = 96;
-
-/// The test device, or `None` (test skipped) when there is no adapter and
-/// FX_REQUIRE_GPU is not set.
-fn gpu() -> Option<MutexGuard<'static, GpuContext>> {
-    static CTX: OnceLock<Option<Mutex<GpuContext>>> = OnceLock::new();
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
-    }
-    let c = CTX.get_or_init(|| match GpuContext::new(&AdapterChoice::Auto) {
-        Ok(ctx) => Some(Mutex::new(ctx)),
-        Err(e) => {
-            if require_gpu() {
-                panic!("FX_REQUIRE_GPU=1 but no GPU adapter: {e}");
-            }
-            eprintln!("skipping GPU test: no adapter ({e})");
-            None
-        }
-    });
-    c.as_ref()
-        .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
-}
 
 fn corpus() -> Option<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/gltf");
@@ -68,41 +47,30 @@ fn render(
     (pixels, out, stats)
 }
 
+/// Writes `pixels` to tests/output/deferred_NAME.png for review.
 fn save_review(name: &str, pixels: &[[f32; 4]]) {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
-    std::fs::create_dir_all(&dir).unwrap();
-    let data: Vec<f32> = pixels
-        .iter()
-        .flat_map(|p| [p[0], p[1], p[2], 1.0])
-        .collect();
-    fxgraph::io::save_image(
-        &dir.join(format!("deferred_{name}.png")),
-        W,
-        H,
-        &fxgraph::io::Pixels::F32(data),
-        &Default::default(),
-    )
-    .unwrap();
+    save_rgb_review(&format!("deferred_{name}"), (W, H), pixels);
 }
 
 /// PSNR (dB) over RGB clamped to [0, 1], and the largest absolute RGB difference.
 fn compare(a: &[[f32; 4]], b: &[[f32; 4]]) -> (f64, f32) {
-    let mut mse = 0.0f64;
-    let mut max = 0.0f32;
-    for (p, q) in a.iter().zip(b) {
-        for c in 0..3 {
-            let d = p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0);
-            mse += f64::from(d * d);
-            max = max.max((p[c] - q[c]).abs());
-        }
-    }
-    mse /= (a.len() * 3) as f64;
-    let psnr = if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (1.0 / mse).log10()
-    };
-    (psnr, max)
+    let max = a
+        .iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0f32, f32::max);
+    (rgb_psnr(a, b, true), max)
+}
+
+/// The built-in room rendered deferred from its default camera: (scene, output).
+fn room_deferred(ctx: &GpuContext) -> (Scene, RenderOutput) {
+    let scene = Scene::load("builtin:room").unwrap();
+    let mut r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
+    let camera = scene.default_camera();
+    let (out, _) = r
+        .render(ctx, &camera, W, H, Technique::Deferred, None)
+        .unwrap();
+    (scene, out)
 }
 
 fn mean_rgb(p: &[[f32; 4]]) -> f32 {
@@ -397,6 +365,7 @@ fn depth_aux_is_the_linear_depth_of_a_plane() {
         transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -distance))
             * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
             * Mat4::from_scale(Vec3::splat(100.0)),
+        ..Default::default()
     });
     scene.ensure_lights();
     let camera = Camera {
@@ -443,18 +412,7 @@ fn depth_aux_is_the_linear_depth_of_a_plane() {
 #[test]
 fn aux_images_have_the_planned_names_and_formats() {
     let Some(ctx) = gpu() else { return };
-    let scene = Scene::load("builtin:room").unwrap();
-    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
-    let (out, _) = r
-        .render(
-            &ctx,
-            &scene.default_camera(),
-            W,
-            H,
-            Technique::Deferred,
-            None,
-        )
-        .unwrap();
+    let (scene, out) = room_deferred(&ctx);
     let planned = fxgraph::render::published_aux(true);
     assert_eq!(out.aux.len(), planned.len());
     for ((name, tex), (pname, pformat)) in out.aux.iter().zip(&planned) {
@@ -501,6 +459,7 @@ fn normal_encodings_agree_through_the_gpu() {
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        ..Default::default()
     });
     scene.ensure_lights();
     let camera = Camera::parse_spec("eye=0,0,2.2;target=0,0,0;fov=60", &scene).unwrap();
@@ -548,18 +507,7 @@ fn normal_encodings_agree_through_the_gpu() {
 #[test]
 fn gbuffer_files_are_written() {
     let Some(ctx) = gpu() else { return };
-    let scene = Scene::load("builtin:room").unwrap();
-    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
-    let (out, _) = r
-        .render(
-            &ctx,
-            &scene.default_camera(),
-            W,
-            H,
-            Technique::Deferred,
-            None,
-        )
-        .unwrap();
+    let (_scene, out) = room_deferred(&ctx);
     let dir = tempfile::tempdir().unwrap();
     let files = fxgraph::render::write_gbuffer(dir.path(), &out, &ctx).unwrap();
     for name in [
@@ -597,6 +545,7 @@ fn default_light_makes_an_unlit_scene_visible() {
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        ..Default::default()
     });
     assert!(scene.lights.is_empty());
     scene.ensure_lights();

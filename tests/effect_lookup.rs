@@ -3,10 +3,9 @@
 //! built-in of the same name, and `./shaders/NAME.wgsl` overrides a built-in
 //! shader (README, "Using fxrun").
 
-#[path = "common/cli.rs"]
-mod cli;
+mod common;
 
-use cli::{fxrun_in, stdout};
+use common::cli::{fxrun_in, stdout};
 
 use std::path::Path;
 

@@ -1,26 +1,35 @@
 //! Mutation fuzzing of every parser a user's file reaches: EFFECT scripts (through
 //! the loader, lowering and planning), WGSL pass shaders (preprocessing and
-//! reflection), image files (header probe, then decode, as the CLI does), y4m
-//! streams and glTF scenes. Seeds are the repository's own files and the shared
+//! reflection), MATERIAL files (parsing, shader lookup, settings, textures) and
+//! material WGSL (surface and lighting shaders: preprocessing, naga, interface
+//! checks), image files (header probe, then decode, as the CLI does), y4m streams
+//! and glTF scenes. Seeds are the repository's own files and the shared
 //! corpus (by path, never copied); each execution applies 1–4 mutations (bit flips,
 //! interesting bytes, deleted, duplicated or spliced ranges, truncation, numbers
 //! replaced by boundary values) and checks that the parser returns (no panic
-//! escapes, no abort) and that what it accepts is consistent (an image has
+//! escapes, no abort), that what it accepts is consistent (an image has
 //! `width × height` pixels, a compiled graph has no errors, every diagnostic
-//! renders).
+//! renders) and that what it rejects says so in words: no message holds a
+//! dependency's `Debug` dump or panic text ([`FORBIDDEN`]).
 //!
-//! In the test suite each target runs `FX_FUZZ_RUNS` executions (default 120) from a
-//! fixed seed, so CI is deterministic and takes seconds. The long run is the same
-//! code for a wall-clock budget per target, from a random seed:
+//! In the test suite each target runs 120 executions from a fixed seed, so CI is
+//! deterministic and takes seconds. The long run is the same code from a random
+//! seed, each target stopping at `FX_FUZZ_RUNS` executions or after
+//! `FX_FUZZ_SECONDS`, whichever comes first (either may be left out):
 //!
 //! ```text
-//! FX_FUZZ_SECONDS=1800 cargo test --release --test fuzz -- --nocapture --test-threads 1
+//! FX_FUZZ_RUNS=100000 FX_FUZZ_SECONDS=3600 cargo test --release --test fuzz -- --nocapture --test-threads 1
 //! ```
+//!
+//! The targets run on `FX_FUZZ_THREADS` threads (default: the machine's cores),
+//! the slowest first; every target prints its executions per second
+//! (docs/architecture.md, "Fuzzing", gives the measured rates).
 //!
 //! A finding (a panic, or an accepted input that breaks an invariant) is written to
 //! `target/fuzz-findings/TARGET-SEED-N.bin` and fails the test, naming the file. No
 //! GPU is needed; glTF scenes are loaded and converted but not drawn.
-//! `FX_FUZZ_SEED=N` replays a run.
+//! `FX_FUZZ_SEED=N` replays a run; `FX_FUZZ_TARGETS=material,gltf` runs only those
+//! targets.
 
 mod common;
 
@@ -107,13 +116,35 @@ fn mutate(rng: &mut Rng, seed: &[u8], other: &[u8]) -> Vec<u8> {
 
 /// One execution: `Ok(true)` the input was accepted, `Ok(false)` rejected with an
 /// error, `Err(finding)` an accepted input that breaks an invariant.
-type Check = Box<dyn Fn(&[u8], &Path) -> Result<bool, String>>;
+type Check = Box<dyn Fn(&[u8], &Path) -> Result<bool, String> + Send + Sync>;
+
+/// What no message to a user may hold: panic text, the png crate's `Debug` chunk
+/// type, an `Option`'s or naga handle's `Debug` form, wgpu's validation chain.
+const FORBIDDEN: &[&str] = &[
+    "panicked at",
+    "RUST_BACKTRACE",
+    "ChunkType {",
+    "Some(",
+    "Handle(",
+    "Caused by:",
+];
+
+/// `Ok(false)` (rejected) when `message` is clean, a finding otherwise.
+fn rejected_with(message: &str) -> Result<bool, String> {
+    match FORBIDDEN.iter().find(|f| message.contains(*f)) {
+        Some(f) => Err(format!("`{f}` in a message: {message}")),
+        None => Ok(false),
+    }
+}
 
 struct Target {
     name: &'static str,
     seeds: Vec<Vec<u8>>,
-    /// File name the mutated input is written as (its extension picks the parser).
+    /// File name the mutated input is given as (its extension picks the parser).
     file: &'static str,
+    /// Whether the check reads the file (otherwise it takes the bytes, and the
+    /// file is written only for a finding to be replayed).
+    reads_file: bool,
     check: Check,
 }
 
@@ -145,8 +176,9 @@ fn corpus() -> PathBuf {
     root().join("../shared/corpus")
 }
 
-fn render_all(d: &Diagnostics, s: &SourceMap) {
-    let _ = d.render(s);
+/// Every diagnostic rendered; a finding when one holds a [`FORBIDDEN`] form.
+fn render_all(d: &Diagnostics, s: &SourceMap) -> Result<(), String> {
+    rejected_with(&d.render(s)).map(|_| ())
 }
 
 fn script_target() -> Target {
@@ -156,13 +188,14 @@ fn script_target() -> Target {
         name: "script",
         seeds: read_all(&paths),
         file: "fuzz.fx",
+        reads_file: true,
         check: Box::new(|_, path| {
             let (graph, diags, sources) = compile(&CompileRequest {
                 source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
                 effects: vec![path.display().to_string()],
                 ..Default::default()
             });
-            render_all(&diags, &sources);
+            render_all(&diags, &sources)?;
             let Some(g) = graph else { return Ok(false) };
             if diags.has_errors() {
                 return Err("a graph came back with errors".into());
@@ -170,9 +203,9 @@ fn script_target() -> Target {
             let input =
                 InputDesc::rgba8_srgb(64, 48).with_aux(&fxgraph::render::published_aux(true));
             match plan(&g, &input, &PlanOptions::default()) {
-                Ok((_, notes)) => render_all(&notes, &sources),
+                Ok((_, notes)) => render_all(&notes, &sources)?,
                 Err(d) => {
-                    render_all(&d, &sources);
+                    render_all(&d, &sources)?;
                     return Ok(false);
                 }
             }
@@ -187,6 +220,7 @@ fn wgsl_target() -> Target {
         name: "wgsl",
         seeds: read_all(&paths),
         file: "fuzz.wgsl",
+        reads_file: false,
         check: Box::new(|bytes, _| {
             let text = String::from_utf8_lossy(bytes);
             let mut sources = SourceMap::new();
@@ -200,7 +234,69 @@ fn wgsl_target() -> Target {
                 Err(ds) => {
                     let mut d = Diagnostics::default();
                     ds.into_iter().for_each(|x| d.push(x));
-                    render_all(&d, &sources);
+                    render_all(&d, &sources)?;
+                    Ok(false)
+                }
+            }
+        }),
+    }
+}
+
+/// MATERIAL files: the repository's and the docs' example, loaded next to the
+/// docs' example shaders (`stripes.wgsl`, `wrap_lambert.wgsl`), as `--materials`.
+fn material_target() -> Target {
+    let mut paths = files(&root().join("materials"), &["fx"], 64 << 10);
+    paths.extend(files(&root().join("docs/examples"), &["fx"], 64 << 10));
+    Target {
+        name: "material",
+        seeds: read_all(&paths),
+        file: "fuzz.fx",
+        reads_file: false,
+        check: Box::new(|bytes, path| {
+            let text = String::from_utf8_lossy(bytes);
+            let dir = root().join("docs/examples");
+            match fxgraph::scene::material_file::load_materials(
+                &path.display().to_string(),
+                &text,
+                Some(&dir),
+                0,
+            ) {
+                Ok(_) => Ok(true),
+                Err(rendered) => rejected_with(&rendered),
+            }
+        }),
+    }
+}
+
+/// Material shaders (surface and lighting), with their `#include`s of the
+/// built-in library, checked as a user's file of that kind.
+fn material_wgsl_target() -> Target {
+    let mut paths = files(&root().join("shaders/materials"), &["wgsl"], 64 << 10);
+    paths.extend(files(&root().join("docs/examples"), &["wgsl"], 64 << 10));
+    Target {
+        name: "material-wgsl",
+        seeds: read_all(&paths),
+        file: "fuzz_material.wgsl",
+        // (Its `#include`s are looked up from the file's canonical path.)
+        reads_file: true,
+        check: Box::new(|bytes, path| {
+            use fxgraph::shader::{load_material_shader, MaterialShaderKind, ShaderFile};
+            let text = String::from_utf8_lossy(bytes).into_owned();
+            let kind = if text.contains("fn surface") {
+                MaterialShaderKind::Surface
+            } else {
+                MaterialShaderKind::Lighting
+            };
+            let file = ShaderFile {
+                shown: path.display().to_string(),
+                text,
+                path: Some(path.to_path_buf()),
+            };
+            let mut sources = SourceMap::new();
+            match load_material_shader(kind, "fuzz_material", file, &mut sources) {
+                Ok(_) => Ok(true),
+                Err(list) => {
+                    render_all(&Diagnostics { list }, &sources)?;
                     Ok(false)
                 }
             }
@@ -213,13 +309,16 @@ fn image_target(name: &'static str, file: &'static str, seeds: Vec<Vec<u8>>) -> 
         name,
         seeds,
         file,
+        reads_file: false,
         check: Box::new(|bytes, path| {
             // As the CLI: the header is probed (and its size checked) first.
-            let Ok((w, h)) = fxgraph::io::image_dimensions(bytes, path) else {
-                return Ok(false);
+            let (w, h) = match fxgraph::io::image_dimensions(bytes, path) {
+                Ok(d) => d,
+                Err(e) => return rejected_with(&e.to_string()),
             };
-            let Ok(img) = fxgraph::io::decode_image(bytes, path, &Default::default()) else {
-                return Ok(false);
+            let img = match fxgraph::io::decode_image(bytes, path, &Default::default()) {
+                Ok(i) => i,
+                Err(e) => return rejected_with(&e.to_string()),
             };
             if (img.width, img.height) != (w, h) {
                 return Err(format!(
@@ -275,9 +374,11 @@ fn y4m_target() -> Target {
         name: "y4m",
         seeds,
         file: "fuzz.y4m",
+        reads_file: false,
         check: Box::new(|bytes, _| {
-            let Ok(mut r) = Y4mReader::new(bytes, "fuzz") else {
-                return Ok(false);
+            let mut r = match Y4mReader::new(bytes, "fuzz") {
+                Ok(r) => r,
+                Err(e) => return rejected_with(&e.to_string()),
             };
             let want = r.header().frame_bytes();
             let mut frames = 0;
@@ -294,7 +395,7 @@ fn y4m_target() -> Target {
                         }
                     }
                     Ok(None) => return Ok(true),
-                    Err(_) => return Ok(false),
+                    Err(e) => return rejected_with(&e.to_string()),
                 }
             }
         }),
@@ -308,6 +409,10 @@ fn gltf_target() -> Target {
         "gltf/broken/IndexOutOfRange",
         "gltf/broken/RecursiveNodes",
         "gltf/broken/IncorrectVertexArrays",
+        "gltf/animated/SimpleSkin",
+        "gltf/animated/SimpleMorph",
+        "gltf/animated/BoxAnimated",
+        "gltf/animated/RiggedSimple",
     ] {
         paths.extend(files(&corpus().join(dir), &["gltf"], 64 << 10));
     }
@@ -316,6 +421,7 @@ fn gltf_target() -> Target {
         name: "gltf",
         seeds: read_all(&paths),
         file: "fuzz.gltf",
+        reads_file: true,
         check: Box::new(|bytes, path| {
             // `.glb` when the bytes say so (the loader reads the magic).
             let path = if bytes.starts_with(b"glTF") {
@@ -325,7 +431,10 @@ fn gltf_target() -> Target {
             } else {
                 path.to_path_buf()
             };
-            Ok(fxgraph::scene::gltf::load_gltf(&path).is_ok())
+            match fxgraph::scene::gltf::load_gltf(&path) {
+                Ok(_) => Ok(true),
+                Err(e) => rejected_with(&e.to_string()),
+            }
         }),
     }
 }
@@ -334,6 +443,7 @@ struct Outcome {
     runs: u64,
     accepted: u64,
     findings: Vec<String>,
+    elapsed: Duration,
 }
 
 fn run_target(t: &Target, seed: u64, budget: Budget, work: &Path) -> Outcome {
@@ -342,20 +452,26 @@ fn run_target(t: &Target, seed: u64, budget: Budget, work: &Path) -> Outcome {
         runs: 0,
         accepted: 0,
         findings: Vec::new(),
+        elapsed: Duration::ZERO,
     };
     assert!(!t.seeds.is_empty(), "{}: no seed files", t.name);
+    // A folder per target: targets run in parallel, and some share a file name.
+    let work = work.join(t.name.replace('/', "_"));
+    std::fs::create_dir_all(&work).unwrap();
     let path = work.join(t.file);
     let start = Instant::now();
     loop {
-        match budget {
-            Budget::Runs(n) if out.runs >= n => break,
-            Budget::Time(d) if start.elapsed() >= d => break,
-            _ => {}
+        if budget.runs.is_some_and(|n| out.runs >= n)
+            || budget.time.is_some_and(|d| start.elapsed() >= d)
+        {
+            break;
         }
         let s = &t.seeds[rng.below(t.seeds.len())];
         let o = &t.seeds[rng.below(t.seeds.len())];
         let input = mutate(&mut rng, s, o);
-        std::fs::write(&path, &input).unwrap();
+        if t.reads_file {
+            std::fs::write(&path, &input).unwrap();
+        }
         let r = catch_unwind(AssertUnwindSafe(|| (t.check)(&input, &path)));
         out.runs += 1;
         let problem = match r {
@@ -375,37 +491,52 @@ fn run_target(t: &Target, seed: u64, budget: Budget, work: &Path) -> Outcome {
         if let Some(p) = problem {
             let dir = root().join("target/fuzz-findings");
             std::fs::create_dir_all(&dir).unwrap();
-            let f = dir.join(format!("{}-{seed}-{}.bin", t.name, out.runs));
+            let f = dir.join(format!(
+                "{}-{seed}-{}.bin",
+                t.name.replace('/', "_"),
+                out.runs
+            ));
             std::fs::write(&f, &input).unwrap();
             out.findings.push(format!("{}: {p}", f.display()));
         }
     }
+    out.elapsed = start.elapsed();
     out
 }
 
+/// Each target stops at the first limit reached.
 #[derive(Clone, Copy)]
-enum Budget {
-    Runs(u64),
-    Time(Duration),
+struct Budget {
+    runs: Option<u64>,
+    time: Option<Duration>,
 }
 
 #[test]
 fn parsers_survive_mutated_inputs() {
     let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u64>().ok());
-    let budget = match env("FX_FUZZ_SECONDS") {
-        Some(s) => Budget::Time(Duration::from_secs(s)),
-        None => Budget::Runs(env("FX_FUZZ_RUNS").unwrap_or(120)),
+    let (runs, seconds) = (env("FX_FUZZ_RUNS"), env("FX_FUZZ_SECONDS"));
+    // The suite's run: 120 executions per target from a fixed seed. A run with
+    // either variable set is a long run, from a random seed.
+    let budget = Budget {
+        runs: runs.or(if seconds.is_some() { None } else { Some(120) }),
+        time: seconds.map(Duration::from_secs),
     };
-    let seed = env("FX_FUZZ_SEED").unwrap_or(match budget {
-        Budget::Runs(_) => 0x5eed,
-        Budget::Time(_) => {
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(1, |d| d.as_nanos() as u64)
-                ^ u64::from(std::process::id())
-        }
+    let seed = env("FX_FUZZ_SEED").unwrap_or(if runs.is_none() && seconds.is_none() {
+        0x5eed
+    } else {
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(1, |d| d.as_nanos() as u64)
+            ^ u64::from(std::process::id())
     });
-    let mut targets = vec![script_target(), wgsl_target(), y4m_target()];
+    // The slowest target first, so that the threads end together.
+    let mut targets = vec![
+        material_target(),
+        script_target(),
+        wgsl_target(),
+        material_wgsl_target(),
+        y4m_target(),
+    ];
     let dir = tempfile::tempdir().unwrap();
     // Images: the README's photo, the corpus's small damaged EXRs, and a pattern in
     // every format. Each target writes its input under one extension (TGA has no
@@ -434,18 +565,45 @@ fn parsers_survive_mutated_inputs() {
         others,
     ));
     targets.push(gltf_target());
-    let mut failures = Vec::new();
-    for t in targets.iter().filter(|t| !t.seeds.is_empty()) {
-        let o = run_target(t, seed, budget, dir.path());
-        eprintln!(
-            "fuzz {:10} seed {seed:#x}: {} executions, {} mutated inputs accepted, {} findings",
-            t.name,
-            o.runs,
-            o.accepted,
-            o.findings.len()
-        );
-        failures.extend(o.findings);
+    for t in &targets {
+        assert!(!t.seeds.is_empty(), "{}: no seed files", t.name);
     }
+    // `FX_FUZZ_TARGETS=material,gltf`: only those (a replay, a measurement).
+    if let Ok(only) = std::env::var("FX_FUZZ_TARGETS") {
+        let only: Vec<&str> = only.split(',').map(str::trim).collect();
+        targets.retain(|t| only.contains(&t.name));
+        assert!(
+            !targets.is_empty(),
+            "FX_FUZZ_TARGETS={only:?} names no target"
+        );
+    }
+    // The targets on `FX_FUZZ_THREADS` threads, each taking the next target.
+    let threads = env("FX_FUZZ_THREADS").map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        |n| n.max(1) as usize,
+    );
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let failures = std::sync::Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                let Some(t) = targets.get(i) else { break };
+                let o = run_target(t, seed, budget, dir.path());
+                let secs = o.elapsed.as_secs_f64();
+                eprintln!(
+                    "fuzz {:26} seed {seed:#x}: {} executions in {secs:.1} s ({:.0}/s), {} mutated inputs accepted, {} findings",
+                    t.name,
+                    o.runs,
+                    o.runs as f64 / secs.max(1e-9),
+                    o.accepted,
+                    o.findings.len()
+                );
+                failures.lock().unwrap().extend(o.findings);
+            });
+        }
+    });
+    let failures = failures.into_inner().unwrap();
     assert!(failures.is_empty(), "findings:\n{}", failures.join("\n"));
 }
 

@@ -52,6 +52,17 @@ macro_rules! context_or_skip {
     };
 }
 
+/// `ctx.upload_texture` of a `w` x `h` texture with no extra usage.
+fn upload(
+    ctx: &GpuContext,
+    label: &str,
+    (w, h): (u32, u32),
+    format: wgpu::TextureFormat,
+    data: &[u8],
+) -> Result<wgpu::Texture, GpuError> {
+    ctx.upload_texture(label, w, h, format, data, wgpu::TextureUsages::empty())
+}
+
 fn rgba8_pattern(width: u32, height: u32) -> Vec<u8> {
     (0..width * height * 4)
         .map(|i| (i.wrapping_mul(37) ^ (i >> 7)) as u8)
@@ -160,15 +171,7 @@ fn upload_readback_round_trip_is_exact() {
     for format in formats {
         for (width, height) in [(67, 41), (1, 1), (64, 3), (1, 5)] {
             let data = pattern(format, width, height);
-            let texture = ctx
-                .upload_texture(
-                    "round trip",
-                    width,
-                    height,
-                    format,
-                    &data,
-                    wgpu::TextureUsages::empty(),
-                )
+            let texture = upload(ctx, "round trip", (width, height), format, &data)
                 .unwrap_or_else(|e| panic!("upload {format:?} {width}x{height}: {e}"));
             let back = ctx
                 .read_texture(&texture)
@@ -279,26 +282,24 @@ fn scoped_turns_validation_errors_into_err() {
 #[test]
 fn upload_and_readback_report_bad_input() {
     let ctx = context_or_skip!();
-    let short = ctx.upload_texture(
+    let short = upload(
+        ctx,
         "short data",
-        4,
-        4,
+        (4, 4),
         wgpu::TextureFormat::Rgba8Unorm,
         &[0; 10],
-        wgpu::TextureUsages::empty(),
     );
     assert!(
         matches!(short, Err(GpuError::Validation { .. })),
         "{short:?}"
     );
 
-    let depth = ctx.upload_texture(
+    let depth = upload(
+        ctx,
         "depth",
-        4,
-        4,
+        (4, 4),
         wgpu::TextureFormat::Depth32Float,
         &[0; 64],
-        wgpu::TextureUsages::empty(),
     );
     assert!(
         matches!(depth, Err(GpuError::UnsupportedFormat { .. })),
@@ -377,26 +378,8 @@ fn encode_readback_pipelines_several_copies() {
     let ctx = context_or_skip!();
     let a_data = rgba8_pattern(67, 41);
     let b_data = rgba32f_pattern(3, 2);
-    let a = ctx
-        .upload_texture(
-            "a",
-            67,
-            41,
-            wgpu::TextureFormat::Rgba8Unorm,
-            &a_data,
-            wgpu::TextureUsages::empty(),
-        )
-        .unwrap();
-    let b = ctx
-        .upload_texture(
-            "b",
-            3,
-            2,
-            wgpu::TextureFormat::Rgba32Float,
-            &b_data,
-            wgpu::TextureUsages::empty(),
-        )
-        .unwrap();
+    let a = upload(ctx, "a", (67, 41), wgpu::TextureFormat::Rgba8Unorm, &a_data).unwrap();
+    let b = upload(ctx, "b", (3, 2), wgpu::TextureFormat::Rgba32Float, &b_data).unwrap();
     let mut encoder = ctx
         .device
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -492,16 +475,7 @@ fn timings_context_creation_and_1080p_readback() {
 
     let (w, h) = (1920, 1080);
     let data = rgba8_pattern(w, h);
-    let texture = ctx
-        .upload_texture(
-            "1080p",
-            w,
-            h,
-            wgpu::TextureFormat::Rgba8Unorm,
-            &data,
-            wgpu::TextureUsages::empty(),
-        )
-        .unwrap();
+    let texture = upload(ctx, "1080p", (w, h), wgpu::TextureFormat::Rgba8Unorm, &data).unwrap();
     ctx.wait_idle().unwrap();
     let mut times = Vec::new();
     for _ in 0..5 {
@@ -591,15 +565,7 @@ fn gl_child_probe() {
     ] {
         for (w, h) in [(67, 41), (1, 1)] {
             let data = pattern(format, w, h);
-            let texture = ctx
-                .upload_texture(
-                    "gl round trip",
-                    w,
-                    h,
-                    format,
-                    &data,
-                    wgpu::TextureUsages::empty(),
-                )
+            let texture = upload(&ctx, "gl round trip", (w, h), format, &data)
                 .unwrap_or_else(|e| panic!("GL upload {format:?} {w}x{h}: {e}"));
             let back = ctx
                 .read_texture(&texture)

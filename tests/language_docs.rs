@@ -117,6 +117,7 @@ fn examples_cover_the_constructs() {
         "/*",
         "true",
         "(1, 0.5, 0.2)",
+        "JITTER = halton23",
     ] {
         assert!(
             all.contains(construct),

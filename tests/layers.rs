@@ -8,14 +8,20 @@ use std::path::Path;
 /// (module, modules it may use besides itself, may it use `std::fs`)
 const LAYERS: &[(&str, &[&str], bool)] = &[
     ("pixels", &[], false),
+    // Catching a dependency's panic quietly: any layer may use it.
+    ("unwind", &[], false),
     ("script", &[], false),
     ("graph", &["script"], false),
     ("shader", &["script", "graph"], true),
     ("lookup", &["script", "graph", "shader"], true),
-    ("io", &["pixels"], true),
+    ("io", &["pixels", "unwind"], true),
     ("gpu", &["pixels", "script", "graph", "shader"], false),
     // The scene model: plain data and loaders, no GPU (no `gpu`, no wgpu).
-    ("scene", &["pixels", "script", "shader", "io"], true),
+    (
+        "scene",
+        &["pixels", "script", "shader", "io", "unwind"],
+        true,
+    ),
     (
         "render",
         &[

@@ -8,7 +8,7 @@ use fxgraph::app::Effect;
 use fxgraph::gpu::context::{require_gpu, GpuContext};
 use fxgraph::gpu::executor::{Engine, FrameInputs, ParamError};
 use fxgraph::gpu::stream::Stream;
-use fxgraph::gpu::transfer::read_pixels;
+use fxgraph::gpu::transfer::{read_pixels, texture_2d};
 use fxgraph::graph::plan::{InputDesc, PlanOptions};
 use fxgraph::io::Pixels;
 use fxgraph::script::types::{ColorSpace, Format};
@@ -80,24 +80,20 @@ fn app_device() -> Option<(wgpu::Adapter, wgpu::Device, wgpu::Queue)> {
     Some((adapter, device, queue))
 }
 
+/// An engine on the application's device (`GpuContext::from_existing`), with the
+/// device and queue the application keeps.
+fn app_engine() -> Option<(Engine, wgpu::Device, wgpu::Queue)> {
+    let (adapter, device, queue) = app_device()?;
+    let ctx = GpuContext::from_existing(adapter, device.clone(), queue.clone());
+    Some((Engine::new(ctx), device, queue))
+}
+
 fn texture(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: W,
-            height: H,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_DST
-            | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    })
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING
+        | wgpu::TextureUsages::COPY_DST
+        | wgpu::TextureUsages::COPY_SRC
+        | wgpu::TextureUsages::RENDER_ATTACHMENT;
+    device.create_texture(&texture_2d(label, (W, H), format, usage, &[]))
 }
 
 fn write_f32(queue: &wgpu::Queue, tex: &wgpu::Texture, texels: &[f32]) {
@@ -141,14 +137,9 @@ fn read_f32(ctx: &GpuContext, tex: &wgpu::Texture) -> Vec<f32> {
 
 #[test]
 fn caller_encoder_parameters_per_frame_against_a_cpu_oracle() {
-    let Some((adapter, device, queue)) = app_device() else {
+    let Some((mut engine, device, queue)) = app_engine() else {
         return;
     };
-    let mut engine = Engine::new(GpuContext::from_existing(
-        adapter,
-        device.clone(),
-        queue.clone(),
-    ));
     let dir = tempfile::tempdir().unwrap();
     let mut effect = effect_in(dir.path(), &[("gain", GAIN)], TWO_GAINS);
     let mut prepared = effect
@@ -170,14 +161,9 @@ fn caller_encoder_parameters_per_frame_against_a_cpu_oracle() {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("app frame"),
         });
-        prepared
-            .record(
-                &mut engine,
-                &mut encoder,
-                &FrameInputs::single(&in_view),
-                &out_view,
-            )
-            .unwrap();
+        let inputs = FrameInputs::single(&in_view);
+        let recorded = prepared.record(&mut engine, &mut encoder, &inputs, &out_view);
+        recorded.unwrap();
         queue.submit([encoder.finish()]);
         let got = read_f32(&engine.ctx, &output);
         for (i, (g, s)) in got.iter().zip(&src).enumerate() {
@@ -349,14 +335,9 @@ fn pool_creates_nothing_after_the_first_frame() {
 
 #[test]
 fn feedback_through_the_caller_encoder_matches_the_stream() {
-    let Some((adapter, device, queue)) = app_device() else {
+    let Some((mut engine, device, queue)) = app_engine() else {
         return;
     };
-    let mut engine = Engine::new(GpuContext::from_existing(
-        adapter,
-        device.clone(),
-        queue.clone(),
-    ));
     let dir = tempfile::tempdir().unwrap();
     let mut effect = effect_in(dir.path(), &[("accum", ACCUM)], FEEDBACK);
     let opts = PlanOptions {
@@ -400,14 +381,9 @@ fn feedback_through_the_caller_encoder_matches_the_stream() {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("app frame"),
         });
-        prepared
-            .record(
-                &mut engine,
-                &mut encoder,
-                &FrameInputs::single(&input),
-                &out_view,
-            )
-            .unwrap();
+        let inputs = FrameInputs::single(&input);
+        let recorded = prepared.record(&mut engine, &mut encoder, &inputs, &out_view);
+        recorded.unwrap();
         queue.submit([encoder.finish()]);
         from_caller.push(read_f32(&engine.ctx, &output));
     }

@@ -7,6 +7,9 @@
 
 mod common;
 
+use common::gpu_context;
+use common::renders::rgb_psnr;
+
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::renderer::LightCulling;
@@ -39,23 +42,6 @@ fn render(
     (read_rgba_f32(ctx, &out.scene).unwrap(), stats)
 }
 
-/// PSNR (peak 1) over the linear RGB values, unclamped.
-fn psnr(a: &[[f32; 4]], b: &[[f32; 4]]) -> f64 {
-    let mut mse = 0.0f64;
-    for (p, q) in a.iter().zip(b) {
-        for c in 0..3 {
-            let d = f64::from(p[c] - q[c]);
-            mse += d * d;
-        }
-    }
-    mse /= (a.len() * 3) as f64;
-    if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (1.0 / mse).log10()
-    }
-}
-
 fn mean(p: &[[f32; 4]]) -> f64 {
     p.iter().map(|v| f64::from(v[0] + v[1] + v[2])).sum::<f64>() / (p.len() * 3) as f64
 }
@@ -76,7 +62,7 @@ fn agree(ctx: &GpuContext, scene: &Scene, camera: &Camera, what: &str) {
         assert!(mean(&reference) > 0.003, "{what} {t}: dark reference");
         for culling in [LightCulling::Clustered, LightCulling::Volumes] {
             let (img, stats) = render(ctx, scene, camera, t, culling);
-            let db = psnr(&reference, &img);
+            let db = rgb_psnr(&reference, &img, false);
             eprintln!(
                 "{what}, {t}, {culling} vs none: PSNR {db:.1} dB ({} cluster entries, max {} per cluster)",
                 stats.cluster_entries, stats.cluster_max
@@ -140,10 +126,8 @@ fn camera_inside_volumes_and_clipping_planes_cull_exactly() {
 /// warning once), and do not change the image.
 #[test]
 fn dark_lights_are_ignored() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let scene = room_with_lights(20, 5);
     let camera = scene.default_camera();
     let (before, s0) = render(
@@ -179,10 +163,8 @@ fn dark_lights_are_ignored() {
 /// culled images equal the reference.
 #[test]
 fn extreme_spot_cones() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let mut scene = Scene::load("builtin:room").unwrap();
     scene.lights.clear();
     let spot = |outer: f32| {
@@ -236,10 +218,8 @@ fn extreme_spot_cones() {
 /// culled exactly, finite everywhere.
 #[test]
 fn light_inside_an_object() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let mut scene = Scene::load("builtin:room").unwrap();
     scene.lights.clear();
     let camera = scene.default_camera();
@@ -260,10 +240,8 @@ fn light_inside_an_object() {
 /// 10,000 lights render without error and report the bytes of their lists.
 #[test]
 fn ten_thousand_lights() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let scene = room_with_lights(10_000, 11);
     let camera = scene.default_camera();
     let (img, stats) = render(

@@ -2,10 +2,9 @@
 //! material file or a material shader, as file:line:col snapshots, all in one
 //! report; mutated material files are errors, never panics; `fxrun` exits 1.
 
-#[path = "common/cli.rs"]
-mod cli;
+mod common;
 
-use cli::fxrun;
+use common::cli::fxrun;
 
 use fxgraph::scene::material_file::load_materials;
 use proptest::prelude::*;

@@ -8,6 +8,8 @@ mod common;
 
 use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen;
+use common::gpu_context;
+use common::renders::{rgb_psnr, save_rgb_review};
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::material::VariantMode;
@@ -38,40 +40,6 @@ fn render(
         .render(ctx, camera, w, h, technique, None)
         .unwrap_or_else(|e| panic!("{technique}: {e}"));
     read_rgba_f32(ctx, &out.scene).unwrap()
-}
-
-/// PSNR over RGB clamped to [0, 1] (the techniques' agreement metric).
-fn psnr(a: &[[f32; 4]], b: &[[f32; 4]]) -> f64 {
-    let mut mse = 0.0f64;
-    for (p, q) in a.iter().zip(b) {
-        for c in 0..3 {
-            let d = f64::from(p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0));
-            mse += d * d;
-        }
-    }
-    mse /= (a.len() * 3) as f64;
-    if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (1.0 / mse).log10()
-    }
-}
-
-fn save(name: &str, (w, h): (u32, u32), pixels: &[[f32; 4]]) {
-    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
-    std::fs::create_dir_all(&dir).unwrap();
-    let data: Vec<f32> = pixels
-        .iter()
-        .flat_map(|p| [p[0], p[1], p[2], 1.0])
-        .collect();
-    fxgraph::io::save_image(
-        &dir.join(format!("materials_{name}.png")),
-        w,
-        h,
-        &fxgraph::io::Pixels::F32(data),
-        &Default::default(),
-    )
-    .unwrap();
 }
 
 /// Per-pixel comparison with the oracle over the sphere's interior (pixels whose
@@ -120,6 +88,7 @@ fn sphere_scene(material: Material, lights: Vec<Light>) -> Scene {
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        ..Default::default()
     });
     scene.lights = lights;
     scene
@@ -165,10 +134,8 @@ fn test_lights() -> Vec<Light> {
 
 #[test]
 fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let (camera, ocam) = sphere_camera();
     let base = Vec3::new(0.7, 0.45, 0.3);
     let cases: Vec<(&str, Material, Surface, Model)> = vec![
@@ -232,8 +199,8 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
                 VariantMode::Preprocess,
             );
             if technique == Technique::Deferred {
-                save(
-                    &format!("oracle_{}", name.replace(' ', "_")),
+                save_rgb_review(
+                    &format!("materials_oracle_{}", name.replace(' ', "_")),
                     SPHERE_SIZE,
                     &img,
                 );
@@ -260,10 +227,8 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
 
 #[test]
 fn gltf_metallic_roughness_spheres_follow_the_specification() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     let path = gltf_gen::write_spheres_gltf(dir.path());
     let scene = Scene::load(path.to_str().unwrap()).unwrap();
@@ -295,7 +260,7 @@ fn gltf_metallic_roughness_spheres_follow_the_specification() {
             technique,
             VariantMode::Preprocess,
         );
-        save(&format!("gltf_spheres_{technique}"), (w, h), &img);
+        save_rgb_review(&format!("materials_gltf_spheres_{technique}"), (w, h), &img);
         for (i, m) in gltf_gen::SPHERE_MATERIALS.iter().enumerate() {
             let base = Vec3::new(m.base_color[0], m.base_color[1], m.base_color[2]);
             let surface = Surface::metallic_roughness(base, m.metallic, m.roughness);
@@ -375,6 +340,7 @@ fn pairs_scene() -> (Scene, tempfile::TempDir) {
             transform: Mat4::from_translation(Vec3::new(x, 0.0, z))
                 * Mat4::from_rotation_y(0.4 + i as f32)
                 * Mat4::from_scale(Vec3::splat(0.9)),
+            ..Default::default()
         });
         scene.materials.push(m);
     }
@@ -402,10 +368,8 @@ fn pairs_scene() -> (Scene, tempfile::TempDir) {
 
 #[test]
 fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let (scene, _dir) = pairs_scene();
     let size = (192, 144);
     let camera = Camera::parse_spec("eye=0,6,7;target=0,0,0;fov=50", &scene).unwrap();
@@ -417,7 +381,7 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
         Technique::Deferred,
         VariantMode::Preprocess,
     );
-    save("pairs_deferred", size, &reference);
+    save_rgb_review("materials_pairs_deferred", size, &reference);
     assert!(
         reference
             .iter()
@@ -431,11 +395,11 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
             .iter()
             .map(|&mode| render(ctx, &scene, &camera, size, technique, mode))
             .collect();
-        let p = psnr(&reference, &per_mode[0]);
+        let p = rgb_psnr(&reference, &per_mode[0], true);
         eprintln!("deferred vs {technique}: PSNR {p:.2} dB");
         assert!(p >= 40.0, "deferred vs {technique}: {p:.2} dB");
         for (mode, img) in VariantMode::ALL.iter().zip(&per_mode).skip(1) {
-            let p = psnr(&per_mode[0], img);
+            let p = rgb_psnr(&per_mode[0], img, true);
             eprintln!("{technique}: preprocess vs {mode}: PSNR {p:.2} dB");
             assert!(p >= 60.0, "{technique}: preprocess vs {mode}: {p:.2} dB");
         }
@@ -444,10 +408,8 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
 
 #[test]
 fn variants_are_compiled_once_and_counted_by_mode() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let scene = Scene::load("builtin:room").unwrap();
     let camera = scene.default_camera();
     let mut counts = Vec::new();
@@ -510,10 +472,8 @@ fn variants_are_compiled_once_and_counted_by_mode() {
 
 #[test]
 fn user_materials_replace_scene_materials_by_name_and_star() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("stripes.wgsl"), USER_SURFACE).unwrap();
     std::fs::write(dir.path().join("wrap_lambert.wgsl"), USER_LIGHTING).unwrap();
@@ -569,10 +529,8 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
 #[ignore]
 fn variant_benchmark() {
     use fxgraph::render::variant_bench::run_variant_benchmark;
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
     let size = env("FX_BENCH_SIZE", "1920x1080");
     let (w, h) = size.split_once('x').expect("FX_BENCH_SIZE=WxH");
@@ -623,10 +581,8 @@ fn variant_benchmark() {
 /// and the three variant modes give the same image.
 #[test]
 fn textured_gltf_material_agrees_across_techniques_and_modes() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     let path = gltf_gen::write_spheres_gltf_textured(dir.path());
     let scene = Scene::load(path.to_str().unwrap()).unwrap();
@@ -650,11 +606,11 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
         Technique::Deferred,
         VariantMode::Preprocess,
     );
-    save("gltf_textured", size, &reference);
+    save_rgb_review("materials_gltf_textured", size, &reference);
     for technique in Technique::ALL {
         for mode in VariantMode::ALL {
             let img = render(ctx, &scene, &camera, size, technique, mode);
-            let p = psnr(&reference, &img);
+            let p = rgb_psnr(&reference, &img, true);
             eprintln!("textured glTF: deferred/preprocess vs {technique}/{mode}: PSNR {p:.2} dB");
             assert!(p >= 40.0, "{technique}/{mode}: {p:.2} dB");
         }
@@ -666,10 +622,8 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
 /// preprocessor variants and run-time branches.
 #[test]
 fn mesh_flags_follow_the_mesh_in_every_mode() {
-    let Some(engine) = common::engine() else {
-        return;
-    };
-    let ctx = &engine.ctx;
+    let Some(gpu) = gpu_context() else { return };
+    let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(
         dir.path().join("vcolor.wgsl"),
@@ -698,6 +652,7 @@ fn mesh_flags_follow_the_mesh_in_every_mode() {
             mesh: i,
             material: 0,
             transform: Mat4::from_translation(Vec3::new(*x, 0.0, 0.0)),
+            ..Default::default()
         });
     }
     scene.lights = vec![Light::directional(
@@ -723,7 +678,7 @@ fn mesh_flags_follow_the_mesh_in_every_mode() {
         Technique::Forward,
         VariantMode::Branch,
     );
-    let p = psnr(&pre, &branch);
+    let p = rgb_psnr(&pre, &branch, true);
     assert!(p >= 60.0, "preprocess vs branch: {p:.2} dB");
     // the two boxes differ: blue (no colours) and red (vertex colours)
     let left = pre[(32 * 96 + 24) as usize];

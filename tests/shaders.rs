@@ -3,6 +3,8 @@
 
 mod common;
 
+use common::cli::{exits, exits_with, fxrun, write, write_effect};
+use fxgraph::script::types::Format;
 use fxgraph::script::{FileId, SourceMap};
 use fxgraph::shader::{preprocess, reflect};
 
@@ -152,28 +154,16 @@ fn each_define_set_compiles_once() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("uber.wgsl"), UBER).unwrap();
-    let fx = dir.path().join("cache.fx");
-    std::fs::write(
-        &fx,
-        "EFFECT.cache = { PASS = {
+    let fx = "EFFECT.cache = { PASS = {
             a = SHADER.uber { img = IN  DEFINE.HORIZONTAL = 1  OUT.FORMAT = rgba8 }
             b = SHADER.uber { img = PASS.a  DEFINE.HORIZONTAL = 1  OUT.FORMAT = rgba8 }
             c = SHADER.uber { img = PASS.b  DEFINE.MODE = 2  OUT.FORMAT = rgba8 }
             d = SHADER.uber { img = PASS.c  DEFINE.HORIZONTAL = 1  OUT.FORMAT = rgba8 }
-        } OUT = d }",
-    )
-    .unwrap();
+        } OUT = d }";
+    let fx = write_effect(dir.path(), "cache", fx, ("uber", UBER));
     let before = engine.pipelines_created;
     let img = common::image_u8(8, 4, |x, y| [x as u8 * 30, y as u8 * 60, 0, 255]);
-    let (_, _, px) = common::run(
-        &mut engine,
-        &[fx.to_str().unwrap()],
-        &[],
-        &img,
-        fxgraph::script::types::Format::Rgba8,
-    )
-    .unwrap();
+    let px = common::apply_fx(&mut engine, &fx, &[], &img, Format::Rgba8);
     // a, b share one pipeline; c has other defines; d renders to the output's
     // format (rgba8 too), so it reuses a/b's: 2 pipelines.
     assert_eq!(engine.pipelines_created - before, 2);
@@ -190,36 +180,16 @@ fn each_define_set_compiles_once() {
 fn pass_shaders_include_the_library_and_report_errors_in_included_files() {
     let dir = tempfile::tempdir().unwrap();
     let fx = "EFFECT.inc = { PASS = { p = SHADER.inc { img = IN } } OUT = p }\n";
-    std::fs::write(dir.path().join("inc.fx"), fx).unwrap();
     let shader = "#include \"lib/view.wgsl\"\n#include \"helper.wgsl\"\n@group(0) @binding(0) var img: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let p = lib_view_pos(mat4x4<f32>(), vec2<f32>(0.5), 1.0);\n    return textureLoad(img, vec2<i32>(pos.xy), 0) * helper(p.z);\n}\n";
-    std::fs::write(dir.path().join("inc.wgsl"), shader).unwrap();
-    let run = || {
-        std::process::Command::new(env!("CARGO_BIN_EXE_fxrun"))
-            .arg(dir.path().join("inc.fx"))
-            .arg("--check")
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-            .output()
-            .unwrap()
+    let fx = write_effect(dir.path(), "inc", fx, ("inc", shader));
+    let check = |helper: &str| {
+        write(dir.path(), "helper.wgsl", helper);
+        fxrun(&[&fx, "--check"])
     };
-    std::fs::write(
-        dir.path().join("helper.wgsl"),
-        "fn helper(x: f32) -> f32 {\n    return x * 0.0 + 1.0;\n}\n",
-    )
-    .unwrap();
-    let ok = run();
-    assert_eq!(
-        ok.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&ok.stderr)
+    exits(
+        &check("fn helper(x: f32) -> f32 {\n    return x * 0.0 + 1.0;\n}\n"),
+        0,
     );
-    std::fs::write(
-        dir.path().join("helper.wgsl"),
-        "fn helper(x: f32) -> f32 {\n    return vec2<f32>(x);\n}\n",
-    )
-    .unwrap();
-    let bad = run();
-    let stderr = String::from_utf8_lossy(&bad.stderr);
-    assert_eq!(bad.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("helper.wgsl:2:"), "{stderr}");
+    let bad = check("fn helper(x: f32) -> f32 {\n    return vec2<f32>(x);\n}\n");
+    exits_with(&bad, 1, &["helper.wgsl:2:"]);
 }

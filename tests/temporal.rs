@@ -3,11 +3,12 @@
 
 mod common;
 
+use common::cli::write_effect;
+use common::stream::{output_f32, stream_of};
 use fxgraph::app::Effect;
+use fxgraph::gpu::executor::Engine;
 use fxgraph::gpu::stream::Stream;
 use fxgraph::gpu::transfer::read_pixels;
-use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
-use fxgraph::io::Pixels;
 use fxgraph::script::types::{ColorSpace, Format};
 
 const PICK: &str = "// r: IN[-2], g: IN, b: IN[+1], a: frames seen so far (feedback + 1/64).
@@ -37,38 +38,30 @@ fn index_of(v: f32) -> i64 {
     (v * 64.0).round() as i64 - 1
 }
 
+/// A stream of `effect` on 5x3 rgba16f frames.
+fn stream(engine: &mut Engine, effect: &mut Effect) -> Stream {
+    stream_of(engine, effect, (5, 3), Format::Rgba16f, ColorSpace::Linear)
+}
+
+/// The effect `NAME.fx` (`fx`) with its shader `SHADER.wgsl` in `dir`, compiled.
+fn effect(dir: &std::path::Path, name: &str, fx: &str, shader: (&str, &str)) -> Effect {
+    Effect::compile(&[write_effect(dir, name, fx, shader)], &[]).unwrap()
+}
+
 #[test]
 fn history_future_and_feedback_read_the_right_frames() {
     let Some(mut engine) = common::engine() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("pick.wgsl"), PICK).unwrap();
-    let fx = dir.path().join("probe.fx");
-    std::fs::write(&fx, PROBE).unwrap();
-    let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
+    let mut effect = effect(dir.path(), "probe", PROBE, ("pick", PICK));
     assert_eq!((effect.graph.history, effect.graph.latency), (2, 1));
-    let input = InputDesc {
-        width: 5,
-        height: 3,
-        format: Format::Rgba16f,
-        colorspace: ColorSpace::Linear,
-        aux: vec![],
-    };
-    let opts = PlanOptions {
-        policy: ReusePolicy::Pool,
-        output_format: Some(Format::Rgba32f),
-    };
-    let prepared = effect.prepare_with(&mut engine, &input, &opts).unwrap();
-    let mut stream = Stream::new(&engine, prepared, Format::Rgba16f);
+    let mut stream = stream(&mut engine, &mut effect);
     assert_eq!(stream.ring_len(), 4);
     let n = 6u64;
     let mut seen = Vec::new();
-    let mut check = |t: u64, engine: &mut fxgraph::gpu::executor::Engine, stream: &Stream| {
-        let Pixels::F32(px) = read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap()
-        else {
-            panic!()
-        };
+    let mut check = |t: u64, engine: &mut Engine, stream: &Stream| {
+        let px = output_f32(engine, stream);
         let got = [
             index_of(px[0]),
             index_of(px[1]),
@@ -114,47 +107,22 @@ fn rate_two_gives_two_outputs_per_frame_with_subframe() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("sub.wgsl"),
-        "@group(0) @binding(0) var c: texture_2d<f32>;
+    const SUB: &str = "@group(0) @binding(0) var c: texture_2d<f32>;
 struct P { subframe: f32, frame: f32 }
 @group(0) @binding(1) var<uniform> p: P;
 @fragment fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(textureLoad(c, vec2<i32>(pos.xy), 0).r, p.subframe, p.frame, 1.0);
 }
-",
-    )
-    .unwrap();
-    let fx = dir.path().join("sub.fx");
-    std::fs::write(
-        &fx,
-        "EFFECT.s = { PASS = { a = SHADER.sub { c = IN } } OUT = a }",
-    )
-    .unwrap();
-    let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
-    let input = InputDesc {
-        width: 5,
-        height: 3,
-        format: Format::Rgba16f,
-        colorspace: ColorSpace::Linear,
-        aux: vec![],
-    };
-    let opts = PlanOptions {
-        policy: ReusePolicy::Pool,
-        output_format: Some(Format::Rgba32f),
-    };
-    let prepared = effect.prepare_with(&mut engine, &input, &opts).unwrap();
-    let mut stream = Stream::new(&engine, prepared, Format::Rgba16f);
+";
+    let fx = "EFFECT.s = { PASS = { a = SHADER.sub { c = IN } } OUT = a }";
+    let mut effect = effect(dir.path(), "sub", fx, ("sub", SUB));
+    let mut stream = stream(&mut engine, &mut effect);
     stream.rate = 2;
     let mut got = Vec::new();
     for i in 0..3 {
         stream.push_image(&engine, &frame(i)).unwrap();
         while let Some(o) = stream.next(&mut engine).unwrap() {
-            let Pixels::F32(px) =
-                read_pixels(&engine.ctx, stream.output(), Format::Rgba32f).unwrap()
-            else {
-                panic!()
-            };
+            let px = output_f32(&engine, &stream);
             got.push((o, index_of(px[0]), px[1] as u32, px[2] as u32));
         }
     }
@@ -181,32 +149,18 @@ fn slices_with_context_frames_equal_one_run() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("pick.wgsl"), PICK).unwrap();
-    let fx = dir.path().join("noback.fx");
     // Same shader, no feedback (fb reads the current input instead).
-    std::fs::write(&fx, "EFFECT.noback = { PASS = { a = SHADER.pick { p2 = IN[-2]  c = IN  n = IN[+1]  fb = IN } } OUT = a }").unwrap();
-    let mut effect = Effect::compile(&[fx.display().to_string()], &[]).unwrap();
-    let input = InputDesc {
-        width: 5,
-        height: 3,
-        format: Format::Rgba16f,
-        colorspace: ColorSpace::Linear,
-        aux: vec![],
-    };
-    let opts = PlanOptions {
-        policy: ReusePolicy::Pool,
-        output_format: Some(Format::Rgba32f),
-    };
+    let fx = "EFFECT.noback = { PASS = { a = SHADER.pick { p2 = IN[-2]  c = IN  n = IN[+1]  fb = IN } } OUT = a }";
+    let mut effect = effect(dir.path(), "noback", fx, ("pick", PICK));
     let n = 9u64;
-    let run = |engine: &mut fxgraph::gpu::executor::Engine,
+    let run = |engine: &mut Engine,
                effect: &mut Effect,
                frames: std::ops::Range<u64>,
                keep: std::ops::Range<u64>| {
-        let prepared = effect.prepare_with(engine, &input, &opts).unwrap();
-        let mut s = Stream::new(engine, prepared, Format::Rgba16f);
+        let mut s = stream(engine, effect);
         let mut outs = Vec::new();
         let base = frames.start;
-        let mut take = |t: u64, engine: &mut fxgraph::gpu::executor::Engine, s: &Stream| {
+        let mut take = |t: u64, engine: &mut Engine, s: &Stream| {
             let global = base + t;
             if keep.contains(&global) {
                 outs.push((

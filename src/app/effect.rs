@@ -44,6 +44,13 @@ impl Effect {
         }
     }
 
+    /// The sub-pixel jitter the chain asks its input frames to be rendered with
+    /// (an effect declares `JITTER = halton23`), or `None`; see
+    /// [`crate::gpu::executor::FrameInputs::jitter`].
+    pub fn jitter(&self) -> Option<crate::script::JitterPattern> {
+        self.graph.jitter
+    }
+
     /// Plan for `input` and prepare on `engine`; the output is rendered in
     /// `output_format` (None: the output pass's own format).
     pub fn prepare(

@@ -35,10 +35,16 @@ pub trait FrameSink: Send {
         height: u32,
         pixels: Pixels,
     ) -> Result<String, IoError>;
-    /// Called once after the last frame.
+    /// Called once after the last frame of a complete run (every frame read was
+    /// written, no failure, not interrupted): make the output final.
     fn finish(&mut self) -> Result<(), IoError> {
         Ok(())
     }
+    /// Called once instead of [`FrameSink::finish`] when the run failed or was
+    /// interrupted: a sink writing one file (a y4m or video file) discards it, so that
+    /// no partial output is left and an existing one is kept. Sinks of one file per
+    /// frame keep the frames written (the default does nothing).
+    fn abort(&mut self) {}
 }
 
 /// The largest width or height the device takes, known once the device exists.

@@ -76,6 +76,16 @@ impl<'a, 'r> GpuStage<'a, 'r> {
         }
     }
 
+    /// Whether every frame so far went through: no failure recorded, not interrupted.
+    pub(super) fn completed(&self) -> bool {
+        !self.report.interrupted && self.report.failed.is_empty()
+    }
+
+    /// Record that the run was stopped (Ctrl-C) before its input ended.
+    pub(super) fn mark_interrupted(&mut self) {
+        self.report.interrupted = true;
+    }
+
     /// Take every decoded frame through the GPU; `Some` error ends the run.
     pub(super) fn run(
         &mut self,

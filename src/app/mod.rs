@@ -12,7 +12,8 @@
 //! - [`pipeline`]: the one pipeline under all three ([`run_frames`]): a
 //!   [`FrameSource`] (decode thread) → the effect on the GPU → a [`FrameSink`] (encode
 //!   thread) ([`frames`]: the traits; `gpu_stage.rs`: the GPU stage); [`sources`]:
-//!   files, y4m, memory.
+//!   files, y4m, memory; [`streams`]: y4m on stdin/stdout, y4m files and video files
+//!   (through ffmpeg) opened for a run.
 //! - [`scene`]: render a scene, then the effects ([`run_scene_job`]).
 //! - [`report`]: [`RunReport`]; [`error`]: [`RunError`].
 
@@ -24,9 +25,11 @@ mod gpu_stage;
 pub mod pipeline;
 pub mod report;
 pub mod scene;
+pub mod scene_sequence;
 pub mod sequence;
 pub mod sources;
 pub mod still;
+pub mod streams;
 
 pub use batch::{run_batch, BatchItem, BatchOptions};
 pub use effect::{apply_in_memory, Effect};
@@ -36,8 +39,13 @@ pub use pipeline::{
 };
 pub use report::{FrameDone, FrameFailure, JobKind, Progress, RunReport};
 pub use scene::{run_scene_job, SceneJob};
+pub use scene_sequence::{run_scene_sequence, SceneTimes};
 pub use sequence::{run_sequence, SequenceOptions};
 pub use sources::{
     FilesSink, FilesSource, MemorySink, MemorySource, OutputNames, Y4mSink, Y4mSource,
 };
 pub use still::{apply_to_image, output_format_for, ImageJob};
+pub use streams::{
+    open_output, texture_format_for_depth, OpenedInput, OpenedOutput, OutputSettings, StreamInput,
+    StreamOutput,
+};

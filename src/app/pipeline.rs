@@ -131,12 +131,85 @@ pub(super) struct Encoded {
 
 /// What the encode thread hands back: busy and wait times, the frames written, the
 /// failures, and the read-back wait of the last frame.
-struct EncodeResult {
-    busy: Duration,
-    wait: Duration,
-    last_wait: Duration,
-    done: Vec<FrameDone>,
-    failed: Vec<FrameFailure>,
+pub(super) struct EncodeResult {
+    pub(super) busy: Duration,
+    pub(super) wait: Duration,
+    pub(super) last_wait: Duration,
+    pub(super) done: Vec<FrameDone>,
+    pub(super) failed: Vec<FrameFailure>,
+}
+
+/// The encode thread: finishes each read-back of `enc_rx`, writes it to `sink`
+/// and records it; a failed write sets `halt` unless `keep_going` (frames after
+/// it are then not written). Ends when `enc_rx` is closed: with `sink.finish` when
+/// `complete` was set before (every frame went through) and no write failed,
+/// else with `sink.abort` (a partial output is discarded).
+pub(super) fn spawn_encoder(
+    mut sink: Box<dyn FrameSink>,
+    enc_rx: std::sync::mpsc::Receiver<Encoded>,
+    keep_going: bool,
+    halt_e: Arc<AtomicBool>,
+    complete_e: Arc<AtomicBool>,
+) -> Result<std::thread::JoinHandle<EncodeResult>, RunError> {
+    std::thread::Builder::new()
+        .name("fxgraph encode".into())
+        .spawn(move || {
+            let mut r = EncodeResult {
+                busy: Duration::ZERO,
+                wait: Duration::ZERO,
+                last_wait: Duration::ZERO,
+                done: Vec::new(),
+                failed: Vec::new(),
+            };
+            for e in enc_rx {
+                if !r.failed.is_empty() && !keep_going {
+                    continue; // stopped: frames after the failure are not written
+                }
+                let t = Instant::now();
+                let (w, h) = (e.pending.width(), e.pending.height());
+                let raw = e.pending.finish().map_err(RunError::from);
+                r.last_wait = t.elapsed();
+                r.wait += r.last_wait;
+                let t = Instant::now();
+                let result = raw.and_then(|raw| {
+                    let pixels = pixels_from_bytes(raw, e.format)?;
+                    sink.write(e.number, w, h, pixels).map_err(RunError::from)
+                });
+                let spent = t.elapsed();
+                r.busy += spent;
+                match result {
+                    Ok(output) => r.done.push(FrameDone {
+                        index: e.index,
+                        input: e.name,
+                        output,
+                        width: w,
+                        height: h,
+                        decode_ms: e.decode.map(ms),
+                        gpu_ms: e.gpu.map(ms),
+                        encode_ms: ms(spent),
+                    }),
+                    Err(err) => {
+                        if !keep_going {
+                            halt_e.store(true, Ordering::Relaxed);
+                        }
+                        r.failed.push(FrameFailure::new(e.index, e.name, err));
+                    }
+                }
+            }
+            let t = Instant::now();
+            // Complete: every frame read went through and was written, not stopped.
+            if complete_e.load(Ordering::SeqCst) && r.failed.is_empty() {
+                if let Err(err) = sink.finish() {
+                    let n = r.done.len();
+                    r.failed.push(FrameFailure::new(n, "output", err.into()));
+                }
+            } else {
+                sink.abort();
+            }
+            r.busy += t.elapsed();
+            r
+        })
+        .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))
 }
 
 /// Run `effect` over every frame of `source`, writing to `sink`. `stop` ends the run
@@ -149,7 +222,7 @@ pub fn run_frames(
     device: Device,
     effect: &mut Effect,
     mut source: Box<dyn FrameSource>,
-    mut sink: Box<dyn FrameSink>,
+    sink: Box<dyn FrameSink>,
     opts: &PipelineOptions,
     stop: Arc<AtomicBool>,
     mut progress: impl FnMut(Progress),
@@ -215,61 +288,11 @@ pub fn run_frames(
             busy
         })
         .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
-    let halt_e = halt.clone();
-    let encoder = std::thread::Builder::new()
-        .name("fxgraph encode".into())
-        .spawn(move || {
-            let mut r = EncodeResult {
-                busy: Duration::ZERO,
-                wait: Duration::ZERO,
-                last_wait: Duration::ZERO,
-                done: Vec::new(),
-                failed: Vec::new(),
-            };
-            for e in enc_rx {
-                if !r.failed.is_empty() && !keep_going {
-                    continue; // stopped: frames after the failure are not written
-                }
-                let t = Instant::now();
-                let (w, h) = (e.pending.width(), e.pending.height());
-                let raw = e.pending.finish().map_err(RunError::from);
-                r.last_wait = t.elapsed();
-                r.wait += r.last_wait;
-                let t = Instant::now();
-                let result = raw.and_then(|raw| {
-                    let pixels = pixels_from_bytes(raw, e.format)?;
-                    sink.write(e.number, w, h, pixels).map_err(RunError::from)
-                });
-                let spent = t.elapsed();
-                r.busy += spent;
-                match result {
-                    Ok(output) => r.done.push(FrameDone {
-                        index: e.index,
-                        input: e.name,
-                        output,
-                        width: w,
-                        height: h,
-                        decode_ms: e.decode.map(ms),
-                        gpu_ms: e.gpu.map(ms),
-                        encode_ms: ms(spent),
-                    }),
-                    Err(err) => {
-                        if !keep_going {
-                            halt_e.store(true, Ordering::Relaxed);
-                        }
-                        r.failed.push(FrameFailure::new(e.index, e.name, err));
-                    }
-                }
-            }
-            let t = Instant::now();
-            if let Err(err) = sink.finish() {
-                let n = r.done.len();
-                r.failed.push(FrameFailure::new(n, "output", err.into()));
-            }
-            r.busy += t.elapsed();
-            r
-        })
-        .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))?;
+    // Set by this thread once the GPU stage has ended (before the encoder sees the
+    // end of its queue): whether the run completed, so the sink can make its output
+    // final (`finish`) or discard it (`abort`).
+    let complete = Arc::new(AtomicBool::new(false));
+    let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone(), complete.clone())?;
 
     let mut report = RunReport {
         job: opts.job,
@@ -316,6 +339,13 @@ pub fn run_frames(
             let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
             fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);
             gpu_busy = gpu.busy;
+            // A stop seen by the decoder alone (between two frames) ended the input
+            // early: the run was interrupted all the same.
+            if stop.load(Ordering::SeqCst) {
+                gpu.mark_interrupted();
+            }
+            let done = fatal.is_none() && gpu.completed() && !halt.load(Ordering::Relaxed);
+            complete.store(done, Ordering::SeqCst);
         }
     }
     // (the stage's sender is dropped with it: the encoder ends after the last frame)

@@ -42,9 +42,14 @@ pub struct SceneJob {
     pub scene: String,
     pub width: u32,
     pub height: u32,
-    /// A camera spec (see [`Camera::parse_spec`]); `None`: the scene's first camera
-    /// or a framing of its bounds.
+    /// A camera spec (see [`Camera::parse_spec`], and for sequences
+    /// [`crate::scene::CameraPath::parse`]); `None`: the scene's first camera or a
+    /// framing of its bounds.
     pub camera: Option<String>,
+    /// `--animation`: which animations play (`all`, `none`, an index or a name;
+    /// `None`: all), and whether they loop.
+    pub animation: Option<String>,
+    pub looping: bool,
     /// Random point lights to add, and their seed.
     pub lights: usize,
     pub seed: u64,
@@ -80,11 +85,16 @@ pub struct SceneJob {
     pub shadows: crate::render::shadows::ShadowMode,
     pub shadow_size: u32,
     pub shadow_layers: u32,
+    /// Image-based lighting (`None`: the scene's punctual lights only), see
+    /// [`crate::scene::Environment`].
+    pub environment: Option<crate::scene::Environment>,
+    /// What pixels without geometry show (`None`: the scene's colour).
+    pub background: Option<crate::scene::Background>,
 }
 
 /// A scene error as an input error naming the file (the glTF file, or the `--scene`
 /// argument where there is none).
-fn scene_error(scene: &str, e: SceneError) -> RunError {
+pub(super) fn scene_error(scene: &str, e: SceneError) -> RunError {
     let (path, message) = match e {
         SceneError::Gltf { path, message } => (path, message),
         SceneError::Empty(name) => (name, "the scene has no triangles to draw".to_string()),
@@ -114,11 +124,64 @@ pub fn render_error(scene: &str, e: RenderError) -> RunError {
             message: m,
         }),
         RenderError::Material(rendered) => RunError::Rejected { rendered },
+        RenderError::Environment(e) => environment_error(e),
     }
 }
 
-/// Load the job's scene with its `--materials`, random lights and ambient light,
-/// and the camera it is seen from (the job's, or the scene's default).
+fn environment_error(e: crate::scene::EnvironmentError) -> RunError {
+    use crate::scene::EnvironmentError as E;
+    match e {
+        E::Io(io) => RunError::from(io),
+        E::Invalid { path, message } => RunError::BadInput(IoError::Decode {
+            path: PathBuf::from(path),
+            message,
+        }),
+        E::Spec(message) => RunError::Rejected { rendered: message },
+    }
+}
+
+/// Everything a scene job does before rendering: the user's input checked (the
+/// size, the effect compiled first so that script errors come first), the scene
+/// loaded with its materials, lights and ambient, the renderer made. Shared by
+/// stills ([`run_scene_job`]) and rendered sequences (`scene_sequence.rs`).
+pub(super) fn prepare(
+    job: &SceneJob,
+    engine: &mut Engine,
+    stats: &mut SceneStats,
+) -> Result<(Scene, Renderer, Option<Effect>), RunError> {
+    // Check everything the user wrote before rendering.
+    let max = engine.ctx.device.limits().max_texture_dimension_2d;
+    if job.width.max(job.height) > max {
+        return Err(RunError::BadInput(IoError::Unsupported {
+            path: PathBuf::from(&job.scene),
+            message: format!(
+                "the render size {}x{} is larger than the GPU's limit of {max} pixels per side",
+                job.width, job.height
+            ),
+        }));
+    }
+    // (compiled before the scene loads, so that script errors come first; the
+    // default chain needs the scene's scale and is compiled after it)
+    let mut effect = if job.effects.is_empty() || job.default_chain {
+        None
+    } else {
+        Some(Effect::compile(&job.effects, &job.overrides)?)
+    };
+    let t = Instant::now();
+    let (scene, _) = load_scene(job)?;
+    if job.default_chain && !job.effects.is_empty() {
+        let mut overrides = default_chain_settings(&scene);
+        overrides.extend(job.overrides.iter().cloned());
+        effect = Some(Effect::compile(&job.effects, &overrides)?);
+    }
+    stats.load_ms = ms(t.elapsed());
+    let renderer = scene_renderer(job, &engine.ctx, &scene)?;
+    Ok((scene, renderer, effect))
+}
+
+/// Load the job's scene with its `--materials`, random lights, ambient light and
+/// environment, and the camera it is seen from at time 0 (the job's `--camera`,
+/// an orbit's start, or the scene's default).
 pub fn load_scene(job: &SceneJob) -> Result<(Scene, Camera), RunError> {
     let mut scene = Scene::load(&job.scene).map_err(|e| scene_error(&job.scene, e))?;
     if let Some(path) = &job.materials {
@@ -162,15 +225,21 @@ pub fn load_scene(job: &SceneJob) -> Result<(Scene, Camera), RunError> {
         });
     }
     scene.ensure_lights();
-    let camera = match &job.camera {
-        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
-        None => scene.default_camera(),
-    };
+    if let Some(env) = &job.environment {
+        if let crate::scene::EnvironmentSource::Sky(sky) = &env.source {
+            sky.check()
+                .map_err(|m| environment_error(crate::scene::EnvironmentError::Spec(m)))?;
+        }
+        scene.set_environment(Some(env.clone()));
+    }
+    let camera = crate::scene::CameraPath::parse(job.camera.as_deref(), &scene)
+        .map_err(|e| scene_error(&job.scene, e))?
+        .at(&scene, None, 0.0);
     Ok((scene, camera))
 }
 
 /// The renderer of a loaded scene with the job's options (technique-independent:
-/// variants, light culling, shadows, fog).
+/// variants, light culling, shadows, fog, background).
 pub fn scene_renderer(
     job: &SceneJob,
     ctx: &crate::gpu::context::GpuContext,
@@ -190,6 +259,9 @@ pub fn scene_renderer(
     )
     .map_err(|e| render_error(&job.scene, e))?;
     renderer.set_fog(job.fog);
+    if let Some(b) = job.background {
+        renderer.set_background(b);
+    }
     Ok(renderer)
 }
 
@@ -210,38 +282,16 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         shadows: job.shadows.to_string(),
         ..Default::default()
     };
-    // Check everything the user wrote before rendering.
-    let max = engine.ctx.device.limits().max_texture_dimension_2d;
-    if job.width.max(job.height) > max {
-        return Err(RunError::BadInput(IoError::Unsupported {
-            path: PathBuf::from(&job.scene),
-            message: format!(
-                "the render size {}x{} is larger than the GPU's limit of {max} pixels per side",
-                job.width, job.height
-            ),
-        }));
-    }
-    // (compiled before the scene loads, so that script errors come first; the
-    // default chain needs the scene's scale and is compiled after it)
-    let mut effect = if job.effects.is_empty() || job.default_chain {
-        None
-    } else {
-        Some(Effect::compile(&job.effects, &job.overrides)?)
-    };
     let out_format = match &job.output {
         Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
         None => None,
     };
-    let t = Instant::now();
-    let (scene, camera) = load_scene(job)?;
-    if job.default_chain && !job.effects.is_empty() {
-        let mut overrides = default_chain_settings(&scene);
-        overrides.extend(job.overrides.iter().cloned());
-        effect = Some(Effect::compile(&job.effects, &overrides)?);
-    }
-    stats.load_ms = ms(t.elapsed());
+    let (scene, mut renderer, mut effect) = prepare(job, engine, &mut stats)?;
     let ctx = engine.ctx.clone();
-    let mut renderer = scene_renderer(job, &ctx, &scene)?;
+    let camera = match &job.camera {
+        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
+        None => scene.default_camera(),
+    };
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {

@@ -1,5 +1,6 @@
 //! The sources and sinks of file and stream jobs: numbered image files, y4m streams
-//! (files or pipes). `fxrun` adds its own (e.g. named outputs for `-o DIR`).
+//! (files, pipes, ffmpeg's: see [`super::streams`]). `fxrun` adds its own (e.g. named
+//! outputs for `-o DIR`).
 
 use super::frames::{FrameSink, FrameSource, SideLimit, SourceFrame};
 use crate::io::{self, Image, IoError, Pixels};
@@ -106,7 +107,9 @@ fn y4m_error(e: io::y4m::Y4mError) -> IoError {
     IoError::from(e)
 }
 
-/// A YUV4MPEG2 stream (e.g. stdin) decoded to 8-bit sRGB frames.
+/// A YUV4MPEG2 stream (stdin, a file, ffmpeg's output) decoded to RGBA frames: 8-bit
+/// streams to 8-bit sRGB pixels (decoded by the GPU), deeper ones to linear floats
+/// (no precision lost before the GPU).
 pub struct Y4mSource<R: std::io::Read + Send> {
     pub reader: io::y4m::Y4mReader<R>,
     pub conversion: io::y4m::YuvConversion,
@@ -116,14 +119,34 @@ pub struct Y4mSource<R: std::io::Read + Send> {
     pub last: Option<u64>,
     /// A frame failed: the stream cannot go on.
     pub failed: bool,
+    /// Frames in the stream, when known (for the progress bar and the report).
+    pub frames: Option<u64>,
 }
 
 impl<R: std::io::Read + Send> Y4mSource<R> {
+    /// All the frames of `reader`, converted with `conversion`.
+    pub fn new(reader: io::y4m::Y4mReader<R>, conversion: io::y4m::YuvConversion) -> Self {
+        Y4mSource {
+            reader,
+            conversion,
+            skip: 0,
+            last: None,
+            failed: false,
+            frames: None,
+        }
+    }
+
+    /// Whether the frames up to [`Y4mSource::last`] have all been read (the stream may
+    /// go on).
+    pub fn past_last(&self) -> bool {
+        self.last.is_some_and(|l| self.reader.frames_read() > l)
+    }
+
     fn read(&mut self) -> Result<Option<(u64, Image)>, IoError> {
         use io::y4m::{yuv_to_image, RgbKind};
         loop {
             let n = self.reader.frames_read();
-            if self.last.is_some_and(|l| n > l) {
+            if self.past_last() {
                 return Ok(None);
             }
             let Some(frame) = self.reader.next_frame().map_err(y4m_error)? else {
@@ -132,14 +155,18 @@ impl<R: std::io::Read + Send> Y4mSource<R> {
             if n < self.skip {
                 continue;
             }
-            let header = self.reader.header().clone();
-            let img =
-                yuv_to_image(&frame, &header, &self.conversion, RgbKind::SrgbU8).map_err(|m| {
-                    IoError::Decode {
-                        path: self.reader.name().into(),
-                        message: format!("y4m frame {n}: {m}"),
-                    }
-                })?;
+            let header = self.reader.header();
+            let kind = if header.depth > 8 {
+                RgbKind::LinearF32
+            } else {
+                RgbKind::SrgbU8
+            };
+            let img = yuv_to_image(&frame, header, &self.conversion, kind).map_err(|m| {
+                IoError::Decode {
+                    path: self.reader.name().into(),
+                    message: format!("y4m frame {n}: {m}"),
+                }
+            })?;
             return Ok(Some((n, img)));
         }
     }
@@ -147,7 +174,9 @@ impl<R: std::io::Read + Send> Y4mSource<R> {
 
 impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
     fn frame_count(&self) -> Option<u64> {
-        None
+        let n = self.frames?;
+        let end = self.last.map_or(n, |l| n.min(l.saturating_add(1)));
+        Some(end.saturating_sub(self.skip))
     }
     fn next_frame(&mut self) -> Option<SourceFrame> {
         if self.failed {
@@ -171,18 +200,47 @@ impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
     }
 }
 
-/// A YUV4MPEG2 stream (e.g. stdout) written from the output frames; the header is
-/// written with the first frame (its size is the output's).
-pub struct Y4mSink<W: std::io::Write + Send> {
+/// A YUV4MPEG2 stream written from the output frames into an [`io::OutputTarget`]
+/// (stdout, a file written atomically, a video encoder); the header is written with the
+/// first frame (its size is the output's). The output is made final
+/// ([`io::OutputTarget::commit`]) only when the run completes, and discarded otherwise.
+pub struct Y4mSink<W: io::OutputTarget> {
     pub inner: Option<W>,
     pub writer: Option<io::y4m::Y4mWriter<W>>,
-    /// Header fields to pass on (frame rate, interlacing, aspect, chroma).
+    /// Header fields to pass on (frame rate, interlacing, aspect, chroma, depth).
     pub template: io::y4m::Y4mHeader,
     pub conversion: io::y4m::YuvConversion,
     pub name: String,
 }
 
-impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
+impl<W: io::OutputTarget> Y4mSink<W> {
+    /// A sink writing into `inner`, named `name` in messages.
+    pub fn new(
+        inner: W,
+        template: io::y4m::Y4mHeader,
+        conversion: io::y4m::YuvConversion,
+        name: impl Into<String>,
+    ) -> Self {
+        Y4mSink {
+            inner: Some(inner),
+            writer: None,
+            template,
+            conversion,
+            name: name.into(),
+        }
+    }
+
+    /// The target back (flushed when frames were written), if it has not been handed
+    /// back already.
+    fn take_target(&mut self) -> Result<Option<W>, IoError> {
+        match self.writer.take() {
+            Some(w) => w.into_inner().map(Some).map_err(y4m_error),
+            None => Ok(self.inner.take()),
+        }
+    }
+}
+
+impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
     fn write(
         &mut self,
         number: u64,
@@ -195,7 +253,10 @@ impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
             let mut header = self.template.clone();
             header.width = width;
             header.height = height;
-            let inner = self.inner.take().expect("sink not started yet");
+            let inner = self.inner.take().ok_or_else(|| IoError::Io {
+                path: self.name.clone().into(),
+                source: std::io::Error::other("the stream is already finished"),
+            })?;
             self.writer =
                 Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
         }
@@ -207,7 +268,7 @@ impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
             pixels,
             source: io::SourceInfo {
                 format: io::FileFormat::Png,
-                bit_depth: 8,
+                bit_depth: header.depth,
                 has_alpha: false,
                 float: false,
             },
@@ -220,10 +281,28 @@ impl<W: std::io::Write + Send> FrameSink for Y4mSink<W> {
         Ok(format!("{} frame {number}", self.name))
     }
     fn finish(&mut self) -> Result<(), IoError> {
-        if let Some(w) = self.writer.as_mut() {
-            w.flush().map_err(y4m_error)?;
+        let wrote = self.writer.is_some();
+        match self.take_target() {
+            Ok(Some(mut t)) if wrote => t.commit(),
+            // No frame: nothing to make final (the run reports that it had no frames).
+            Ok(Some(mut t)) => {
+                t.abandon();
+                Ok(())
+            }
+            Ok(None) => Ok(()),
+            Err(e) => Err(e),
         }
-        Ok(())
+    }
+    fn abort(&mut self) {
+        // Not flushed here: the target decides (stdout keeps what was written, a
+        // file's temporary is removed, an encoder is killed first).
+        let target = match self.writer.take() {
+            Some(w) => Some(w.into_unflushed()),
+            None => self.inner.take(),
+        };
+        if let Some(mut t) = target {
+            t.abandon();
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 use clap::Parser;
 use fxgraph::app::{
     apply_to_image, output_format_for, run_sequence, Effect, FilesSink, FilesSource, FrameSink,
-    FrameSource, ImageJob, Progress, RunError, SequenceOptions, Y4mSink, Y4mSource,
+    FrameSource, ImageJob, Progress, RunError, SequenceOptions,
 };
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
 use fxgraph::gpu::executor::Engine;
@@ -102,11 +102,54 @@ fn rejected(message: impl Into<String>) -> Fail {
     }
 }
 
+/// The log filter unless `RUST_LOG` says otherwise: fxgraph's and fxrun's own
+/// warnings only; the dependencies' log lines (naga's validation errors, wgpu's,
+/// png's, ...) would interleave with the diagnostics that already report the same
+/// problems, so they are shown with `-v` only (warnings and errors).
+fn log_filter(verbose: bool) -> &'static str {
+    if verbose {
+        "warn,fxgraph=info,fxrun=info,wgpu_hal::gles::egl=off"
+    } else {
+        "off,fxgraph=warn,fxrun=warn"
+    }
+}
+
+/// A panic that no library `catch_quiet` caught is a bug of fxrun: one line on
+/// stderr (the first one only, if several threads panic) and, from `main`, exit
+/// status 2. No backtrace, whatever `RUST_BACKTRACE` says (it is often set for
+/// everything on a machine); `FXRUN_BACKTRACE=1` adds one.
+fn install_panic_hook() {
+    static REPORTED: AtomicBool = AtomicBool::new(false);
+    std::panic::set_hook(Box::new(|info| {
+        if REPORTED.swap(true, Ordering::SeqCst) {
+            return;
+        }
+        let message = fxgraph::unwind::panic_message(info.payload());
+        let place = info
+            .location()
+            .map(|l| format!(" (at {}:{})", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!("fxrun: internal error (a bug): {message}{place}; please report it");
+        if std::env::var_os("FXRUN_BACKTRACE").is_some_and(|v| v != "0") {
+            eprintln!("{}", std::backtrace::Backtrace::force_capture());
+        }
+    }));
+}
+
 fn main() -> ExitCode {
-    env_logger::Builder::from_env(
-        env_logger::Env::default().default_filter_or("warn,wgpu_hal::gles::egl=off,winit=error"),
-    )
-    .init();
+    install_panic_hook();
+    match std::panic::catch_unwind(real_main) {
+        Ok(code) => code,
+        // Reported by the hook.
+        Err(_) => ExitCode::from(2),
+    }
+}
+
+fn real_main() -> ExitCode {
+    if std::env::var_os("FXRUN_TEST_INTERNAL_PANIC").is_some() {
+        // How tests reach the panic hook: there is no known panic to trigger.
+        panic!("FXRUN_TEST_INTERNAL_PANIC is set");
+    }
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         // Silences a harmless warning of the Vulkan loader on headless machines.
         std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
@@ -122,6 +165,22 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
+    env_logger::Builder::from_env(
+        env_logger::Env::default().default_filter_or(log_filter(cli.verbose)),
+    )
+    // Warnings read like fxrun's own (`fxrun: warning: ...`); RUST_LOG=debug lines
+    // name their module.
+    .format(|buf, record| {
+        let msg = record.args().to_string();
+        match record.level() {
+            // Rendered diagnostics carry their own `path:line:col: warning:`.
+            log::Level::Warn if msg.contains(": warning:") => writeln!(buf, "{msg}"),
+            log::Level::Error => writeln!(buf, "fxrun: error: {msg}"),
+            log::Level::Warn => writeln!(buf, "fxrun: warning: {msg}"),
+            level => writeln!(buf, "fxrun: {level} {}: {msg}", record.target()),
+        }
+    })
+    .init();
     let result = run(cli);
     stdout_result(std::io::stdout().flush());
     match result {
@@ -216,14 +275,6 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
         }
         return Ok(());
-    }
-    if cli.view {
-        return run_view(&cli);
-    }
-    if cli.view_frames.is_some() || !cli.view_do.is_empty() || cli.screenshot.is_some() {
-        return Err(rejected(
-            "--view-frames, --view-do and --screenshot are options of --view",
-        ));
     }
     if cli.watch {
         return watch::run_watch(&cli);
@@ -434,26 +485,10 @@ mod report;
 mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
+#[path = "fxrun/streams.rs"]
+mod streams;
 #[path = "fxrun/watch.rs"]
 mod watch;
-
-#[cfg(feature = "view")]
-#[path = "fxrun/view/mod.rs"]
-mod view;
-
-/// `--view`: the viewer window.
-#[cfg(feature = "view")]
-fn run_view(cli: &Cli) -> Result<(), Fail> {
-    view::run_view(cli)
-}
-
-/// `--view` in a build without the `view` feature.
-#[cfg(not(feature = "view"))]
-fn run_view(_cli: &Cli) -> Result<(), Fail> {
-    Err(rejected(
-        "--view: this fxrun was built without the viewer (cargo feature `view`)",
-    ))
-}
 
 use args::Cli;
 use batch::{check_outputs, check_same_size, collect_inputs, try_run_batch};

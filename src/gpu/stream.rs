@@ -9,6 +9,8 @@
 //!   one output per input (`rate` outputs with `rate > 1`), in order.
 //! - `PASS.x[-n]` (feedback) reads the persistent ring of the pass, zero before the
 //!   first frame.
+//! - A frame pushed with [`FrameExtras`] (its own auxiliary images, camera and
+//!   sub-pixel jitter) gives them to its output `t`.
 //!
 //! Each input frame is uploaded once into a texture that stays in a ring of
 //! `history + latency + 1` textures (recycled, never re-uploaded), and transient
@@ -26,13 +28,39 @@ use crate::pixels::Image;
 use crate::script::types::Format;
 use std::collections::{HashMap, VecDeque};
 
+/// What a frame made on the device (a rendered scene) brings besides its image:
+/// its own auxiliary images and camera, which the effect reads with that frame's
+/// output (the stream's [`Stream::aux`] and [`Stream::camera`] are for frames
+/// without them), and the sub-pixel jitter it was rendered with.
+#[derive(Debug, Clone, Default)]
+pub struct FrameExtras {
+    pub aux: HashMap<String, wgpu::Texture>,
+    pub camera: Option<CameraStd>,
+    /// The offset the frame was rendered with, in pixels from the pixel centre, x
+    /// right, y down: the standard value `jitter` ([`FrameInputs::jitter`]). A
+    /// renderer sets it to `pattern.offset(n)` for frame `n` when
+    /// [`Prepared::jitter`] asks for a pattern; `[0, 0]` otherwise.
+    pub jitter: [f32; 2],
+}
+
+/// An input frame held in the ring.
+struct Held {
+    index: u64,
+    input: wgpu::Texture,
+    /// Set for frames pushed with [`Stream::push_frame`] or [`Stream::push_image_with`].
+    extras: Option<FrameExtras>,
+    /// The input texture is the stream's own (an uploaded image): reused for a
+    /// later upload once the frame leaves the ring.
+    recycle: bool,
+}
+
 /// A prepared effect run over a sequence of frames.
 pub struct Stream {
     pub prepared: Prepared,
     offsets: Vec<i32>,
     history: u32,
     latency: u32,
-    frames: VecDeque<(u64, wgpu::Texture)>,
+    frames: VecDeque<Held>,
     spare: Vec<wgpu::Texture>,
     pushed: u64,
     emitted: u64,
@@ -46,14 +74,14 @@ pub struct Stream {
     /// Auxiliary images, the same for every frame.
     pub aux: HashMap<String, wgpu::Texture>,
     pub camera: Option<CameraStd>,
+    /// Number of the first pushed frame: the standard values `frame` and `time`
+    /// (= frame / fps) of output t are those of frame `frame_offset + t` (a
+    /// rendered sequence starts at its first frame's scene time). Default 0.
+    pub frame_offset: u64,
     /// Collect per-pass timings of every frame.
     pub want_timings: bool,
     /// Timings of the last frame run (when `want_timings`).
     pub last_timings: Vec<PassTiming>,
-    /// The standard value `frame` of the first frame pushed (default 0): a stream
-    /// started in the middle of a sequence (a viewer going back) numbers its frames
-    /// as the whole sequence does.
-    pub first_frame: u64,
 }
 
 impl Stream {
@@ -89,9 +117,9 @@ impl Stream {
             prepared,
             aux: HashMap::new(),
             camera: None,
+            frame_offset: 0,
             want_timings: false,
             last_timings: Vec::new(),
-            first_frame: 0,
         }
     }
 
@@ -119,6 +147,25 @@ impl Stream {
     pub fn push_image(&mut self, engine: &Engine, img: &Image) -> Result<(), GpuError> {
         let input = self.input_texture(engine, img)?;
         self.push_texture(input);
+        Ok(())
+    }
+
+    /// [`Stream::push_image`] with the frame's own auxiliary images, camera and
+    /// jitter (as [`Stream::push_frame`] for a frame made on the device).
+    pub fn push_image_with(
+        &mut self,
+        engine: &Engine,
+        img: &Image,
+        extras: FrameExtras,
+    ) -> Result<(), GpuError> {
+        let input = self.input_texture(engine, img)?;
+        self.frames.push_back(Held {
+            index: self.pushed,
+            input,
+            extras: Some(extras),
+            recycle: true,
+        });
+        self.pushed += 1;
         Ok(())
     }
 
@@ -167,7 +214,26 @@ impl Stream {
     /// Queue the next input frame (uploaded once). Outputs become ready as the
     /// graph's latency allows: run them with [`Stream::next`].
     pub fn push_texture(&mut self, input: wgpu::Texture) {
-        self.frames.push_back((self.pushed, input));
+        self.frames.push_back(Held {
+            index: self.pushed,
+            input,
+            extras: None,
+            recycle: true,
+        });
+        self.pushed += 1;
+    }
+
+    /// Queue a frame made on the device with its own auxiliary images and camera
+    /// (a rendered scene). The textures must stay unchanged while the ring holds
+    /// the frame ([`Stream::ring_len`] frames): a producer that draws every frame
+    /// into the same textures passes copies unless the ring holds one frame.
+    pub fn push_frame(&mut self, input: wgpu::Texture, extras: FrameExtras) {
+        self.frames.push_back(Held {
+            index: self.pushed,
+            input,
+            extras: Some(extras),
+            recycle: false,
+        });
         self.pushed += 1;
     }
 
@@ -208,7 +274,7 @@ impl Stream {
             return Ok(None);
         }
         let s = self.subframe;
-        self.prepared.frame = self.first_frame + t;
+        self.prepared.frame = self.frame_offset + t;
         self.prepared.subframe = s;
         let extra = self.produce(engine, then)?;
         self.subframe += 1;
@@ -217,9 +283,11 @@ impl Stream {
             self.emitted += 1;
             // Output t+1 needs frames from t+1-history on.
             let keep_from = (t + 1).saturating_sub(self.history as u64);
-            while self.frames.front().is_some_and(|(i, _)| *i < keep_from) {
-                let (_, tex) = self.frames.pop_front().expect("front exists");
-                self.spare.push(tex);
+            while self.frames.front().is_some_and(|f| f.index < keep_from) {
+                let f = self.frames.pop_front().expect("front exists");
+                if f.recycle {
+                    self.spare.push(f.input);
+                }
             }
         }
         Ok(Some((t * self.rate as u64 + s as u64, extra)))
@@ -232,22 +300,28 @@ impl Stream {
     ) -> Result<T, ExecError> {
         let t = self.emitted;
         let last = self.pushed - 1;
+        let extras = self
+            .frames
+            .iter()
+            .find(|f| f.index == t)
+            .and_then(|f| f.extras.as_ref());
+        let (aux, camera, jitter) = match extras {
+            Some(e) => (&e.aux, e.camera, e.jitter),
+            None => (&self.aux, self.camera, [0.0, 0.0]),
+        };
         let mut inputs = FrameInputs {
             frames: HashMap::new(),
-            aux: self
-                .aux
-                .iter()
-                .map(|(n, t)| (n.clone(), t.into()))
-                .collect(),
-            camera: self.camera,
+            aux: aux.iter().map(|(n, t)| (n.clone(), t.into())).collect(),
+            camera,
+            jitter,
         };
         for &k in &self.offsets {
             let idx = (t as i64 + k as i64).clamp(0, last as i64) as u64;
             let tex = self
                 .frames
                 .iter()
-                .find(|(i, _)| *i == idx)
-                .map(|(_, tex)| tex)
+                .find(|f| f.index == idx)
+                .map(|f| &f.input)
                 .ok_or_else(|| ExecError::Input(format!("input frame {idx} is no longer held")))?;
             inputs.frames.insert(k, tex.into());
         }

@@ -8,11 +8,17 @@ use crate::pixels::{Image, Pixels};
 use crate::script::types::{ColorSpace, Format};
 use std::borrow::Cow;
 
-/// The texture format an image is uploaded as, and what its samples mean.
+/// The texture format an image is uploaded as, and what its samples mean: 8-bit
+/// pixels as 8-bit textures; float pixels as rgba16f, except those decoded from integer
+/// samples of more than 10 bits (12- and 16-bit y4m, 16-bit PNG, TIFF, PNM), which are
+/// uploaded as rgba32f: a half float holds 11 significant bits, too few for them.
 pub fn input_format(img: &Image, assume_linear: bool) -> (Format, ColorSpace) {
     match img.pixels {
         Pixels::U8(_) if assume_linear => (Format::Rgba8, ColorSpace::Linear),
         Pixels::U8(_) => (Format::Rgba8Srgb, ColorSpace::Linear),
+        Pixels::F32(_) if !img.source.float && img.source.bit_depth > 10 => {
+            (Format::Rgba32f, ColorSpace::Linear)
+        }
         Pixels::F32(_) => (Format::Rgba16f, ColorSpace::Linear),
     }
 }
@@ -89,8 +95,37 @@ pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuErro
 
 /// Create an output texture for a plan.
 pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("fxgraph output"),
+    // An sRGB output may be written through a raw 8-bit view (View::Raw).
+    let view_formats: &[wgpu::TextureFormat] =
+        if format == Format::Rgba8Srgb && ctx.info.backend != wgpu::Backend::Gl {
+            &[wgpu::TextureFormat::Rgba8Unorm]
+        } else {
+            &[]
+        };
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | wgpu::TextureUsages::COPY_SRC
+        | wgpu::TextureUsages::TEXTURE_BINDING;
+    let desc = texture_2d(
+        "fxgraph output",
+        (width, height),
+        wgpu_format(format),
+        usage,
+        view_formats,
+    );
+    ctx.device.create_texture(&desc)
+}
+
+/// The descriptor of a plain 2D texture of `width` x `height` texels: one mip
+/// level, one sample, one layer.
+pub fn texture_2d<'a>(
+    label: &'a str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    view_formats: &'a [wgpu::TextureFormat],
+) -> wgpu::TextureDescriptor<'a> {
+    wgpu::TextureDescriptor {
+        label: Some(label),
         size: wgpu::Extent3d {
             width,
             height,
@@ -99,15 +134,8 @@ pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) 
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu_format(format),
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::TEXTURE_BINDING,
-        // An sRGB output may be written through a raw 8-bit view (View::Raw).
-        view_formats: if format == Format::Rgba8Srgb && ctx.info.backend != wgpu::Backend::Gl {
-            &[wgpu::TextureFormat::Rgba8Unorm]
-        } else {
-            &[]
-        },
-    })
+        format,
+        usage,
+        view_formats,
+    }
 }

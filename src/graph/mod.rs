@@ -137,6 +137,11 @@ pub struct Graph {
     pub latency: u32,
     /// Frames of input needed before the current one (`IN[-n]`).
     pub history: u32,
+    /// The sub-pixel jitter an effect of the graph asks its input frames to be
+    /// rendered with (`JITTER = halton23`), `None` when no effect whose passes run
+    /// asks for one. The frame source applies [`crate::script::JitterPattern::offset`] of the frame
+    /// index and gives it with the frame (`FrameInputs::jitter`).
+    pub jitter: Option<crate::script::JitterPattern>,
     /// Sources (scripts) the diagnostics refer to.
     pub sources: SourceMap,
 }

@@ -1,5 +1,5 @@
 //! Reading image files: regular files with size caps, format detection, header
-//! probes, and decoding behind limits and `catch_unwind`.
+//! probes, and decoding behind limits and `crate::unwind::catch_quiet`.
 
 use super::*;
 use std::fs::{self, File};
@@ -90,7 +90,7 @@ pub fn image_dimensions(bytes: &[u8], path: &Path) -> Result<(u32, u32), IoError
     let (w, h) = if format == FileFormat::Exr {
         exr_io::exr_dimensions(bytes).map_err(invalid)?
     } else {
-        let probe = std::panic::catch_unwind(|| {
+        let probe = crate::unwind::catch_quiet(|| {
             let mut reader =
                 image::ImageReader::with_format(Cursor::new(bytes), format.image_format());
             let mut limits = image::Limits::default();
@@ -105,7 +105,7 @@ pub fn image_dimensions(bytes: &[u8], path: &Path) -> Result<(u32, u32), IoError
         });
         match probe {
             Ok(r) => r.map_err(invalid)?,
-            Err(p) => return Err(invalid(format!("decoder failure ({})", panic_message(&*p)))),
+            Err(p) => return Err(invalid(format!("decoder failure ({p})"))),
         }
     };
     check_dimensions(w as u64, h as u64).map_err(|m| IoError::decode(path, m))?;
@@ -184,9 +184,7 @@ fn decode_bytes(
             },
         });
     }
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        decode_with_image_crate(bytes, format, opts)
-    }));
+    let result = crate::unwind::catch_quiet(|| decode_with_image_crate(bytes, format, opts));
     match result {
         Ok(Ok(img)) => Ok(img),
         Ok(Err(message)) => Err(IoError::decode(
@@ -195,11 +193,7 @@ fn decode_bytes(
         )),
         Err(p) => Err(IoError::decode(
             path,
-            format!(
-                "not a valid {} file: decoder failure ({})",
-                format.name(),
-                panic_message(&*p)
-            ),
+            format!("not a valid {} file: decoder failure ({p})", format.name()),
         )),
     }
 }
@@ -207,10 +201,13 @@ fn decode_bytes(
 pub(super) fn image_error_detail(e: image::ImageError) -> String {
     use std::error::Error as _;
     match e {
-        image::ImageError::Decoding(d) => match d.source() {
-            Some(s) => s.to_string(),
-            None => d.to_string(),
-        },
+        image::ImageError::Decoding(d) => {
+            let text = match d.source() {
+                Some(s) => s.to_string(),
+                None => d.to_string(),
+            };
+            super::png_decode::tidy_png_message(&text)
+        }
         image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
             "the file is truncated".to_string()
         }
@@ -220,92 +217,34 @@ pub(super) fn image_error_detail(e: image::ImageError) -> String {
     }
 }
 
-/// Walk a JPEG's marker structure: the JPEG decoder pads a truncated file with grey
-/// and accepts it, so a file is only taken whole when its segments are intact and an
-/// end-of-image marker (EOI) follows the last scan.
-fn check_jpeg_structure(bytes: &[u8]) -> Result<(), String> {
-    const TRUNCATED: &str = "the file is truncated (no end-of-image marker)";
-    if !bytes.starts_with(&[0xFF, 0xD8]) {
-        return Err("no start-of-image marker".into());
-    }
-    let mut i = 2;
-    let mut scans = 0usize;
-    loop {
-        // Find the next marker (fill bytes 0xFF may precede it).
-        if i >= bytes.len() {
-            return Err(TRUNCATED.into());
-        }
-        if bytes[i] != 0xFF {
-            return Err(format!("corrupt data: expected a marker at byte {i}"));
-        }
-        while i < bytes.len() && bytes[i] == 0xFF {
-            i += 1;
-        }
-        let Some(&marker) = bytes.get(i) else {
-            return Err(TRUNCATED.into());
-        };
-        i += 1;
-        match marker {
-            0xD9 => {
-                return if scans == 0 {
-                    Err("corrupt data: the image has no scan data".into())
-                } else {
-                    Ok(())
-                };
-            }
-            0x01 | 0xD0..=0xD7 => continue,
-            0x00 => return Err(format!("corrupt data: invalid marker at byte {}", i - 2)),
-            _ => {}
-        }
-        let Some(len) = bytes.get(i..i + 2) else {
-            return Err(TRUNCATED.into());
-        };
-        let len = u16::from_be_bytes([len[0], len[1]]) as usize;
-        if len < 2 {
-            return Err(format!("corrupt data: invalid segment length at byte {i}"));
-        }
-        i += len;
-        if i > bytes.len() {
-            return Err(TRUNCATED.into());
-        }
-        if marker == 0xDA {
-            scans += 1;
-            // Entropy-coded data: runs to the next marker that is neither a stuffed
-            // 0xFF00 nor a restart marker.
-            loop {
-                let Some(p) = bytes[i..].iter().position(|&b| b == 0xFF) else {
-                    return Err(TRUNCATED.into());
-                };
-                i += p;
-                match bytes.get(i + 1) {
-                    None => return Err(TRUNCATED.into()),
-                    Some(0x00) | Some(0xD0..=0xD7) | Some(0xFF) => i += 1,
-                    Some(_) => break,
-                }
-            }
-        }
-    }
-}
-
 fn decode_with_image_crate(
     bytes: &[u8],
     format: FileFormat,
     opts: &LoadOptions,
 ) -> Result<Image, String> {
-    if format == FileFormat::Jpeg {
-        check_jpeg_structure(bytes)?;
+    match format {
+        FileFormat::Jpeg => super::structure::check_jpeg_structure(bytes)?,
+        FileFormat::WebP => super::structure::check_webp_structure(bytes)?,
+        _ => {}
     }
-    let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format.image_format());
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(MAX_SIDE);
-    limits.max_image_height = Some(MAX_SIDE);
-    limits.max_alloc = Some(MAX_DECODER_ALLOC);
-    reader.limits(limits);
-    let decoder = reader.into_decoder().map_err(image_error_detail)?;
-    let (w, h) = decoder.dimensions();
-    check_dimensions(w as u64, h as u64)?;
-    let original = decoder.original_color_type();
-    let img = DynamicImage::from_decoder(decoder).map_err(image_error_detail)?;
+    let (w, h, img, bit_depth) = if format == FileFormat::Png {
+        let (img, depth) = super::png_decode::decode_png(bytes, MAX_DECODER_ALLOC)?;
+        (img.width(), img.height(), img, depth)
+    } else {
+        let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format.image_format());
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_SIDE);
+        limits.max_image_height = Some(MAX_SIDE);
+        limits.max_alloc = Some(MAX_DECODER_ALLOC);
+        reader.limits(limits);
+        let decoder = reader.into_decoder().map_err(image_error_detail)?;
+        let (w, h) = decoder.dimensions();
+        check_dimensions(w as u64, h as u64)?;
+        let original = decoder.original_color_type();
+        let img = DynamicImage::from_decoder(decoder).map_err(image_error_detail)?;
+        let depth = (original.bits_per_pixel() / original.channel_count().max(1) as u16) as u8;
+        (w, h, img, depth)
+    };
     if (img.width(), img.height()) != (w, h) {
         return Err(format!(
             "inconsistent image size ({}x{} announced, {}x{} decoded)",
@@ -316,7 +255,6 @@ fn decode_with_image_crate(
         ));
     }
     let has_alpha = img.color().has_alpha();
-    let bit_depth = (original.bits_per_pixel() / original.channel_count().max(1) as u16) as u8;
     let float = matches!(
         img,
         DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_)

@@ -2,7 +2,7 @@
 //!
 //! Reading checks the headers before any pixel allocation (size limits, a chunk count the
 //! file can actually hold), decompresses blocks on scoped std threads (a panic there is
-//! propagated to the caller's `catch_unwind` instead of aborting, as one in a rayon pool
+//! propagated to the caller's `catch_quiet` instead of aborting, as one in a rayon pool
 //! would) and turns every failure, panics included, into a message.
 
 use std::io::Cursor;
@@ -20,7 +20,7 @@ use exr::meta::header::Header;
 use exr::meta::MetaData;
 use exr::prelude::Vec2;
 
-use super::{check_dimensions, panic_message};
+use super::check_dimensions;
 
 /// Decoded EXR pixels: linear RGBA floats plus what the file held.
 pub(crate) struct ExrPixels {
@@ -43,17 +43,18 @@ type Store = (usize, Vec<f32>);
 /// Decode the first layer with R,G,B (or else Y) channels. Errors are user-facing detail
 /// strings (the caller adds the path and the "not a valid OpenEXR file" prefix).
 pub(crate) fn read_exr(bytes: &[u8]) -> Result<ExrPixels, String> {
-    match std::panic::catch_unwind(|| read_exr_inner(bytes)) {
+    match crate::unwind::catch_quiet(|| read_exr_inner(bytes)) {
         Ok(r) => r,
-        Err(p) => Err(format!("decoder failure ({})", panic_message(&*p))),
+        Err(p) => Err(format!("decoder failure ({p})")),
     }
 }
 
 /// The largest width and height of the file's layers, from the headers alone.
 pub(crate) fn exr_dimensions(bytes: &[u8]) -> Result<(u32, u32), String> {
-    let meta = std::panic::catch_unwind(|| MetaData::read_from_buffered(Cursor::new(bytes), false))
-        .map_err(|p| format!("decoder failure ({})", panic_message(&*p)))?
-        .map_err(exr_err)?;
+    let meta =
+        crate::unwind::catch_quiet(|| MetaData::read_from_buffered(Cursor::new(bytes), false))
+            .map_err(|p| format!("decoder failure ({p})"))?
+            .map_err(exr_err)?;
     if meta.headers.is_empty() {
         return Err("the file has no image layers".into());
     }
@@ -253,17 +254,21 @@ where
             for _ in 0..threads {
                 let tx = tx.clone();
                 let (queue, stop) = (&queue, &stop);
+                // Quiet: a panic here reaches `read_exr`'s `catch_quiet` through the scope.
                 s.spawn(move || {
-                    while !stop.load(Ordering::Relaxed) {
-                        let Some(chunk) = queue.lock().unwrap_or_else(|e| e.into_inner()).next()
-                        else {
-                            break;
-                        };
-                        let block = UncompressedBlock::decompress_chunk(chunk, meta_ref, false);
-                        if tx.send(block).is_err() {
-                            break;
+                    crate::unwind::quietly(|| {
+                        while !stop.load(Ordering::Relaxed) {
+                            let Some(chunk) =
+                                queue.lock().unwrap_or_else(|e| e.into_inner()).next()
+                            else {
+                                break;
+                            };
+                            let block = UncompressedBlock::decompress_chunk(chunk, meta_ref, false);
+                            if tx.send(block).is_err() {
+                                break;
+                            }
                         }
-                    }
+                    })
                 });
             }
             drop(tx);

@@ -9,15 +9,18 @@
 //! - Alpha is never put through the sRGB curve.
 //!
 //! Every decoder runs behind size limits (32768 px per side, 2^30 pixels) checked before the
-//! pixel buffers are allocated, and behind `catch_unwind`, so a damaged file gives
+//! pixel buffers are allocated, and behind `crate::unwind::catch_quiet`, so a damaged file gives
 //! [`IoError::Decode`], never a panic or an abort.
 
 mod atomic;
 mod decode;
 mod encode;
 mod exr_io;
+mod png_decode;
 mod probe;
 pub mod sequence;
+mod structure;
+pub mod video;
 pub mod y4m;
 pub mod yuv;
 
@@ -27,13 +30,14 @@ use image::{DynamicImage, ImageDecoder, ImageEncoder};
 
 use crate::pixels::convert;
 pub use crate::pixels::{srgb, FileFormat, Image, Pixels, SourceInfo};
-pub use atomic::write_atomic;
+pub use atomic::{create_temporary, rename_into_place, write_atomic, AtomicFile, OutputTarget};
 use decode::image_error_detail;
 pub use decode::{
     decode_image, detect_format, image_dimensions, load_image, load_image_from_memory,
     read_image_file, read_regular_file, MAX_FILE_BYTES,
 };
 pub use encode::save_image;
+pub(crate) use png_decode::tidy_png_message;
 pub use probe::image_file_dimensions;
 
 /// Largest accepted width or height.
@@ -166,14 +170,4 @@ pub(crate) fn check_dimensions(width: u64, height: u64) -> Result<(), String> {
         ));
     }
     Ok(())
-}
-
-pub(crate) fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = p.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = p.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "internal panic".to_string()
-    }
 }

@@ -7,8 +7,8 @@ use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use super::{
-    check_dimensions, detect_format, image_dimensions, image_error_detail, panic_message,
-    read_image_file, FileFormat, ImageCrateFormat, IoError,
+    check_dimensions, detect_format, image_dimensions, image_error_detail, read_image_file,
+    FileFormat, ImageCrateFormat, IoError,
 };
 
 /// The width and height of the image file at `path`, from its header alone (checked against
@@ -47,7 +47,7 @@ pub fn image_file_dimensions(path: &Path) -> Result<(u32, u32), IoError> {
     }
     file.seek(SeekFrom::Start(0))
         .map_err(|e| IoError::io(path, e))?;
-    let probe = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+    let probe = crate::unwind::catch_quiet(|| {
         let mut reader =
             image::ImageReader::with_format(BufReader::new(file), format.image_format());
         let mut limits = image::Limits::default();
@@ -58,7 +58,7 @@ pub fn image_file_dimensions(path: &Path) -> Result<(u32, u32), IoError> {
             .into_decoder()
             .map(|d| image::ImageDecoder::dimensions(&d))
             .map_err(image_error_detail)
-    }));
+    });
     let (w, h) = match probe {
         Ok(Ok(d)) => d,
         Ok(Err(m)) => {
@@ -73,7 +73,7 @@ pub fn image_file_dimensions(path: &Path) -> Result<(u32, u32), IoError> {
                 format!(
                     "not a valid {} file: decoder failure ({})",
                     format.name(),
-                    panic_message(&*p)
+                    p
                 ),
             ))
         }

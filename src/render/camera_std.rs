@@ -3,10 +3,12 @@
 
 use crate::gpu::executor::CameraStd;
 use crate::scene::Camera;
+use glam::Mat4;
 
-/// The camera's projection for `aspect` (width / height) as [`CameraStd`].
-pub fn camera_std(camera: &Camera, aspect: f32) -> CameraStd {
-    let proj = camera.proj(aspect);
+/// The camera with projection `proj` (the frame's: jittered when the frame is)
+/// as [`CameraStd`], so that effects reconstruct positions from the AUX images
+/// with the projection they were rendered with.
+pub fn camera_std(camera: &Camera, proj: &Mat4) -> CameraStd {
     CameraStd {
         near: camera.near,
         far: camera.far,

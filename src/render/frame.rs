@@ -1,6 +1,7 @@
 //! Encoding one frame: the passes of each technique (deferred, light pre-pass,
 //! forward), transparency and the AUX resolve, through one render-pass helper.
 
+use super::motion::MotionCameras;
 use super::pipelines::{GeoKey, GeoPass, LightPipe};
 use super::renderer::{RenderError, Renderer, Technique};
 use super::upload::Batch;
@@ -107,6 +108,8 @@ pub(crate) fn ensure_pipelines(
     }
     if technique == Technique::Deferred {
         light.push(LightPipe::Compose);
+    } else if r.environment.background_pass() {
+        light.push(LightPipe::Background);
     }
     for which in light {
         r.pipelines.light(
@@ -232,6 +235,7 @@ fn draw_batches<'a>(
 }
 
 /// Encodes and submits the frame. Returns the timed pass names and the draw count.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn encode(
     r: &Renderer,
     ctx: &GpuContext,
@@ -240,6 +244,7 @@ pub(crate) fn encode(
     fl: &FrameLists,
     view: &Mat4,
     timer: Option<&GpuTimer>,
+    (motion, moving): (&MotionCameras, &[Batch]),
 ) -> Result<(Vec<String>, usize), RenderError> {
     let t = r.targets.as_ref().expect("targets exist");
     let mut names: Vec<String> = Vec::new();
@@ -253,8 +258,9 @@ pub(crate) fn encode(
         .map(|b| (view.transform_point3(b.center).z, &b.batch))
         .collect();
     blend.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let background = clear_to(r.frame_background.extend(1.0));
+    let background = clear_to(r.environment.clear_color(r.frame_background));
     let zero = clear_to(Vec4::ZERO);
+    let mut motion_result = Ok(0);
     ctx.scoped(label, |device| {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
@@ -427,6 +433,17 @@ pub(crate) fn encode(
                 );
             }
         }
+        if technique != Technique::Deferred && r.environment.background_pass() {
+            let colors = [attach(&t.scene.view, LOAD)];
+            fullscreen(
+                &mut encoder,
+                &mut names,
+                "background",
+                LightPipe::Background,
+                &colors,
+                &mut draws,
+            );
+        }
         if !blend.is_empty() {
             let colors = [attach(&t.scene.view, LOAD)];
             geometry(
@@ -440,12 +457,20 @@ pub(crate) fn encode(
             );
         }
         for (pipe, range, name) in [
-            (LightPipe::AuxA, 0..3, "aux depth/normal/position"),
-            (LightPipe::AuxB, 3..6, "aux albedo/material/specular"),
+            (
+                LightPipe::AuxA,
+                [0, 1, 2, 6].as_slice(),
+                "aux depth/normal/position/motion",
+            ),
+            (
+                LightPipe::AuxB,
+                [3, 4, 5].as_slice(),
+                "aux albedo/material/specular",
+            ),
         ] {
-            let attachments: Vec<_> = t.aux[range]
+            let attachments: Vec<_> = range
                 .iter()
-                .map(|(_, a)| attach(&a.view, zero))
+                .map(|&i| attach(&t.aux[i].1.view, zero))
                 .collect();
             fullscreen(
                 &mut encoder,
@@ -456,10 +481,29 @@ pub(crate) fn encode(
                 &mut draws,
             );
         }
+        // The moved instances' motion vectors over the resolve pass's camera
+        // motion (AUX.motion, the last aux image).
+        let first = names.len() as u32;
+        if !moving.is_empty() {
+            names.push("motion (objects)".into());
+        }
+        let (_, motion_target) = t.aux.last().expect("AUX.motion exists");
+        motion_result = r.motion.encode(
+            ctx,
+            &mut encoder,
+            &r.geometry,
+            motion,
+            (t.width, t.height),
+            &t.depth.view,
+            &motion_target.view,
+            moving,
+            timer.map(|t| (t, first)),
+        );
         if let Some(timer) = timer {
             timer.resolve(&mut encoder, names.len() as u32);
         }
         ctx.queue.submit([encoder.finish()]);
     })?;
+    draws += motion_result?;
     Ok((names, draws))
 }

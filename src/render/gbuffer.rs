@@ -63,6 +63,13 @@ pub fn read_rgba_f32(
                 ]
             })
             .collect(),
+        F::Rg16Float => bytes
+            .chunks_exact(4)
+            .map(|p| {
+                let h = |i: usize| half::f16::from_le_bytes([p[i], p[i + 1]]).to_f32();
+                [h(0), h(2), 0.0, 1.0]
+            })
+            .collect(),
         F::R32Float => bytes
             .chunks_exact(4)
             .map(|p| [f32::from_le_bytes([p[0], p[1], p[2], p[3]]), 0.0, 0.0, 1.0])
@@ -100,6 +107,8 @@ fn id_colour(id: u32) -> [u8; 3] {
 /// - `depth.png` (linear depth normalised over the drawn pixels: near black, far
 ///   white; background white) and `depth.exr` (raw linear view depth);
 /// - `normal.png` (view-space normal as `n·0.5 + 0.5`), `position.exr`;
+/// - `motion.exr` (motion vectors in pixels: R = x, G = y, current minus
+///   previous position, y down);
 /// - `albedo.png`, `material_id.png` (false colour per id), `material.png`
 ///   (the material aux image's r, g, b: material id, lighting model id,
 ///   roughness), `specular.png` (mean F0);
@@ -198,6 +207,13 @@ pub fn write_gbuffer(
                 .flat_map(|p| [p[0], p[1], p[2], 1.0])
                 .collect(),
         ),
+        true,
+    )?;
+    // R = x, G = y in pixels (current − previous position, y down), B = 0
+    let motion = read_rgba_f32(ctx, aux("motion")?)?;
+    save(
+        "motion.exr",
+        Pixels::F32(motion.iter().flat_map(|m| [m[0], m[1], 0.0, 1.0]).collect()),
         true,
     )?;
     let mut albedo = ctx.read_texture(aux("albedo")?)?;

@@ -25,6 +25,8 @@ pub(crate) struct GpuFrame {
     pub view: [f32; 16],
     pub proj: [f32; 16],
     pub inv_proj: [f32; 16],
+    pub proj_unjittered: [f32; 16],
+    pub reproject: [f32; 16],
     pub viewport: [f32; 4],
     pub background: [f32; 4],
     pub ambient: [f32; 4],
@@ -106,7 +108,7 @@ mod tests {
 
     #[test]
     fn struct_sizes_match_wgsl() {
-        assert_eq!(std::mem::size_of::<GpuFrame>(), 352);
+        assert_eq!(std::mem::size_of::<GpuFrame>(), 480);
         assert_eq!(std::mem::size_of::<GpuMaterialInfo>(), 16);
         assert_eq!(std::mem::size_of::<GpuInstance>(), 144);
         assert_eq!(std::mem::size_of::<GpuLight>(), 96);

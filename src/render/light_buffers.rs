@@ -96,8 +96,9 @@ impl LightBuffers {
         grown
     }
 
-    /// Group 0: frame uniforms, material infos, instances, these buffers and the
-    /// shadow maps.
+    /// Group 0: frame uniforms, material infos, instances, these buffers, the
+    /// shadow maps and the environment.
+    #[allow(clippy::too_many_arguments)]
     pub fn group0(
         &self,
         device: &wgpu::Device,
@@ -106,6 +107,7 @@ impl LightBuffers {
         material_info: &wgpu::Buffer,
         instances: &wgpu::Buffer,
         shadows: &ShadowMaps,
+        environment: &super::environment::EnvironmentLighting,
     ) -> wgpu::BindGroup {
         let buffers = [
             frame,
@@ -125,6 +127,7 @@ impl LightBuffers {
             })
             .collect();
         entries.extend(shadows.g0_entries());
+        entries.extend(environment.g0_entries());
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("deferred group 0"),
             layout,

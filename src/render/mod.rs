@@ -20,6 +20,9 @@
 //!   shadow-map array and its depth pass), [`fog`] (fog in the lighting template),
 //!   `gpu_types.rs`, `technique.rs`, `output.rs` ([`RenderOutput`],
 //!   [`RenderStats`], [`published_aux`]).
+//! - [`environment`]: image-based lighting: the scene's environment map
+//!   prefiltered on the GPU (GGX specular levels, irradiance, DFG table), the
+//!   environment term of every material and the background.
 //! - [`normal`]: the two-channel normal encodings (octahedral, spheremap) on the CPU.
 //! - [`gbuffer`]: [`write_gbuffer`], every G-buffer image as viewable files.
 //! - [`bench`]: the technique benchmark (frame times vs light count);
@@ -43,6 +46,7 @@
 pub mod bench;
 mod camera_std;
 mod clusters;
+pub mod environment;
 pub mod fog;
 mod frame;
 pub mod gbuffer;
@@ -50,6 +54,7 @@ mod gpu_types;
 mod light_buffers;
 mod lights;
 pub mod material;
+mod motion;
 pub mod normal;
 mod output;
 mod pipelines;
@@ -66,7 +71,7 @@ pub use gbuffer::write_gbuffer;
 pub use normal::NormalEncoding;
 pub use output::published_aux;
 pub use renderer::{
-    render, GBufferTextures, RenderError, RenderOutput, RenderStats, Renderer, RendererOptions,
-    Technique,
+    jittered, render, FrameMotion, GBufferTextures, RenderError, RenderOutput, RenderStats,
+    Renderer, RendererOptions, Technique,
 };
 pub use shadows::ShadowMode;

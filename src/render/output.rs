@@ -37,7 +37,8 @@ pub struct RenderOutput {
     /// on geometry, 0 elsewhere), `position` Rgba16Float view-space position (w as
     /// for normal), `albedo` Rgba8UnormSrgb (a = coverage), `material` Rgba8Unorm
     /// (r = material id / 255, g = lighting model id / 255, b = roughness, a = 1),
-    /// `specular` R16Float mean F0. Usage: TEXTURE_BINDING | COPY_SRC |
+    /// `specular` R16Float mean F0, `motion` Rg16Float motion vectors in pixels
+    /// (current − previous position, x right, y down). Usage: TEXTURE_BINDING | COPY_SRC |
     /// RENDER_ATTACHMENT.
     pub aux: Vec<(String, wgpu::Texture)>,
     pub camera: CameraStd,
@@ -134,6 +135,9 @@ pub fn published_aux(depth_renderable: bool) -> Vec<(String, Format)> {
         ("material", Format::Rgba8),
         // mean specular reflectance F0
         ("specular", Format::R16f),
+        // motion vectors in pixels, current minus previous position, x right,
+        // y down (`motion.rs`); always the last
+        ("motion", Format::Rg16f),
     ]
     .into_iter()
     .map(|(n, f)| (n.to_string(), f))

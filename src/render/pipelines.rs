@@ -29,6 +29,8 @@ pub(crate) enum LightPipe {
     VolumeFront,
     VolumeBack,
     Compose,
+    /// The environment behind the geometry (light pre-pass and forward).
+    Background,
     AuxA,
     AuxB,
 }
@@ -49,7 +51,7 @@ pub(crate) struct Layouts {
     pub g1_light_buffers: wgpu::BindGroupLayout,
 }
 
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
@@ -62,7 +64,10 @@ fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn texture_entry(
+    binding: u32,
+    sample_type: wgpu::TextureSampleType,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
@@ -80,6 +85,7 @@ impl Layouts {
     /// group 1 of the light passes (G-buffer) and of the light pre-pass final pass
     /// (light buffers).
     pub fn new(device: &wgpu::Device) -> Layouts {
+        let env = super::environment::EnvironmentLighting::g0_layout_entries();
         let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred group 0 (frame, materials, instances, lights)"),
             entries: &[
@@ -103,6 +109,12 @@ impl Layouts {
                 super::shadow_pass::g0_layout_entries()[0],
                 super::shadow_pass::g0_layout_entries()[1],
                 super::shadow_pass::g0_layout_entries()[2],
+                // 11–15: the environment's maps, sampler and uniform
+                env[0],
+                env[1],
+                env[2],
+                env[3],
+                env[4],
             ],
         });
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
@@ -144,7 +156,7 @@ pub(crate) struct Pipelines {
     pub modules_created: usize,
 }
 
-fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
+pub(crate) fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
     Some(wgpu::ColorTargetState {
         format,
         blend: None,
@@ -168,7 +180,10 @@ fn additive(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
     })
 }
 
-fn depth(write: bool, compare: wgpu::CompareFunction) -> Option<wgpu::DepthStencilState> {
+pub(crate) fn depth(
+    write: bool,
+    compare: wgpu::CompareFunction,
+) -> Option<wgpu::DepthStencilState> {
     Some(wgpu::DepthStencilState {
         format: DEPTH_FORMAT,
         depth_write_enabled: Some(write),
@@ -181,7 +196,7 @@ fn depth(write: bool, compare: wgpu::CompareFunction) -> Option<wgpu::DepthStenc
 /// Checks generated WGSL with naga first: a failure here is an engine bug (the
 /// material shaders were checked on their own), reported with the module text's
 /// line so it can be found in the log.
-fn check(label: &str, wgsl: &str) -> Result<(), String> {
+pub(crate) fn check(label: &str, wgsl: &str) -> Result<(), String> {
     let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
         format!(
             "{label}: generated WGSL does not parse: {}",
@@ -346,8 +361,17 @@ impl Pipelines {
                     "fx_fs_forward_blend",
                     vec![Some(wgpu::ColorTargetState {
                         format: SCENE_FORMAT,
-                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                        write_mask: wgpu::ColorWrites::COLOR,
+                        // colour: over; alpha: coverage accumulates (a + (1 - a)
+                        // dst), so a transparent background keeps the glass's
+                        blend: Some(wgpu::BlendState {
+                            color: wgpu::BlendState::ALPHA_BLENDING.color,
+                            alpha: wgpu::BlendComponent {
+                                src_factor: wgpu::BlendFactor::One,
+                                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                                operation: wgpu::BlendOperation::Add,
+                            },
+                        }),
+                        write_mask: wgpu::ColorWrites::ALL,
                     })],
                     depth(false, wgpu::CompareFunction::Less),
                 ),
@@ -475,11 +499,19 @@ impl Pipelines {
                     None,
                     wgpu::PrimitiveState::default(),
                 ),
+                LightPipe::Background => (
+                    "fx_vs_fullscreen",
+                    "fx_fs_background",
+                    &[],
+                    vec![target(SCENE_FORMAT)],
+                    None,
+                    wgpu::PrimitiveState::default(),
+                ),
                 LightPipe::AuxA => (
                     "fx_vs_fullscreen",
                     "fx_fs_aux_a",
                     &[],
-                    vec![aux(0), aux(1), aux(2)],
+                    vec![aux(0), aux(1), aux(2), aux(6)],
                     None,
                     wgpu::PrimitiveState::default(),
                 ),
@@ -527,7 +559,7 @@ impl Pipelines {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn create(
+pub(crate) fn create(
     ctx: &GpuContext,
     label: &str,
     module: &wgpu::ShaderModule,

@@ -39,6 +39,7 @@ use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
 use super::lights::{LightLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
+use super::motion::{MotionCameras, MotionPass};
 use super::normal::NormalEncoding;
 use super::pipelines::{Layouts, Pipelines};
 use super::shadow_pass::ShadowMaps;
@@ -50,7 +51,7 @@ use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use crate::scene::{Camera, Light, Scene, SceneError};
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
@@ -74,6 +75,9 @@ pub enum RenderError {
     /// A material that cannot be used (unknown shader, bad parameter, ...).
     #[error("{0}")]
     Material(String),
+    /// The environment map could not be used (missing, not equirectangular, ...).
+    #[error(transparent)]
+    Environment(#[from] crate::scene::EnvironmentError),
 }
 
 /// Options fixed when a [`Renderer`] is created.
@@ -109,6 +113,44 @@ impl Default for RendererOptions {
             shadow_budget: DEFAULT_SHADOW_LAYERS,
         }
     }
+}
+
+/// What a frame of a sequence adds to a still: where everything was one frame
+/// earlier (for the motion vectors, `AUX.motion`) and the sub-pixel jitter of the
+/// frame's samples. The default is a still: the scene's own transforms, no
+/// motion, no jitter.
+#[derive(Debug, Clone, Default)]
+pub struct FrameMotion {
+    /// World transforms of the scene's instances (in `Scene::instances` order)
+    /// at this frame; empty: the scene's (`Instance::transform`).
+    pub transforms: Vec<Mat4>,
+    /// The same one frame earlier (t − 1/fps); empty: as `transforms`.
+    pub prev_transforms: Vec<Mat4>,
+    /// The camera one frame earlier; `None`: this frame's camera.
+    pub prev_camera: Option<Camera>,
+    /// Offset of every pixel's sample from the pixel centre, in pixels (x right,
+    /// y down): the projection is shifted so that pixel p shows what the
+    /// unjittered camera shows at p + jitter. Motion vectors never contain it.
+    pub jitter: [f32; 2],
+    /// The vertices of the deformed instances (skins, morph targets: those of
+    /// `Scene::is_deformed`, in instance order) in object space, now and one
+    /// frame earlier ([`crate::scene::Pose::deformed_mesh`]); empty: at rest.
+    pub deformed: Vec<crate::scene::PosedMesh>,
+    pub prev_deformed: Vec<crate::scene::PosedMesh>,
+}
+
+/// `proj` shifted so that pixel p samples the unjittered image at p + `jitter`
+/// (pixels, x right, y down) on a `width`×`height` target.
+pub fn jittered(proj: Mat4, jitter: [f32; 2], width: u32, height: u32) -> Mat4 {
+    if jitter == [0.0, 0.0] {
+        return proj;
+    }
+    let t = Vec3::new(
+        -2.0 * jitter[0] / width as f32,
+        2.0 * jitter[1] / height as f32,
+        0.0,
+    );
+    Mat4::from_translation(t) * proj
 }
 
 /// Renders `scene` once (creating a [`Renderer`] for it). Use a [`Renderer`] to
@@ -155,8 +197,16 @@ pub struct Renderer {
     pub(crate) pipelines: Pipelines,
     dummy_light: wgpu::TextureView,
     pub(crate) targets: Option<Targets>,
+    /// Image-based lighting and the background (`super::environment`).
+    pub(crate) environment: super::environment::EnvironmentLighting,
     /// (technique, forward light count) whose pipelines all exist.
     ensured: std::collections::HashSet<(Technique, u32)>,
+    /// The motion-vector passes (`AUX.motion`).
+    pub(crate) motion: MotionPass,
+    /// The instances' rest transforms (scene order), and whether the instance
+    /// buffer holds other ones (a posed frame was rendered).
+    rest_transforms: Vec<Mat4>,
+    posed: bool,
 }
 
 /// A 1x1 texture view with one texel.
@@ -270,6 +320,11 @@ impl Renderer {
         let volumes = LightVolumes::new(ctx)?;
         let light_buffers = LightBuffers::new(device);
         let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
+        let mut environment = super::environment::EnvironmentLighting::new(ctx, scene.background)?;
+        if let Some(env) = &scene.environment {
+            let map = env.load()?;
+            environment.set(ctx, Some((env, &map)))?;
+        }
         let g0 = light_buffers.group0(
             device,
             &layouts.g0,
@@ -277,6 +332,7 @@ impl Renderer {
             &material_info_buffer,
             &geometry.instance_buffer,
             &shadow_maps,
+            &environment,
         );
         let triangles = scene.triangle_count();
         log::info!(
@@ -299,6 +355,7 @@ impl Renderer {
         }
         let aux_formats = super::output::published_aux(depth_renderable);
         warn_dark_lights(&name, &scene.lights);
+        let motion = MotionPass::new(ctx)?;
         Ok(Renderer {
             aux_formats,
             opts: opts.clone(),
@@ -322,7 +379,11 @@ impl Renderer {
             g0,
             dummy_light,
             targets: None,
+            environment,
             ensured: Default::default(),
+            motion,
+            rest_transforms: scene.instances.iter().map(|i| i.transform).collect(),
+            posed: false,
         })
     }
 
@@ -345,6 +406,66 @@ impl Renderer {
     /// Linear colour of pixels without geometry.
     pub fn background_color(&self) -> Vec3 {
         self.background
+    }
+
+    /// Lights the scene with `env` from now on (`None`: punctual lights only),
+    /// loading its map; the prefiltered maps are cached by (map content, size),
+    /// so setting a map again costs its loading only.
+    pub fn set_environment(
+        &mut self,
+        ctx: &GpuContext,
+        env: Option<&crate::scene::Environment>,
+    ) -> Result<(), RenderError> {
+        let map = env.map(|e| e.load()).transpose()?;
+        self.environment.set(ctx, env.zip(map.as_ref()))?;
+        self.rebuild_group0(ctx);
+        Ok(())
+    }
+
+    /// What pixels without geometry show (the scene's colour by default).
+    /// [`Background::Environment`](crate::scene::Background) without an
+    /// environment shows the colour.
+    pub fn set_background(&mut self, background: crate::scene::Background) {
+        if let crate::scene::Background::Color(c) = background {
+            self.background = c;
+        }
+        self.environment.background = background;
+    }
+
+    /// Milliseconds the last environment set spent prefiltering (0: cached or
+    /// none), and how many maps this renderer has prefiltered.
+    pub fn environment_prefiltering(&self) -> (f64, usize) {
+        (
+            self.environment.last_prefilter_ms,
+            self.environment.prefiltered,
+        )
+    }
+
+    /// Reads back a prefiltered environment texture (tests, inspection): its
+    /// side and RGBA f32 texels, rows top first.
+    pub fn read_environment(
+        &self,
+        ctx: &GpuContext,
+        which: super::environment::EnvironmentTexture,
+    ) -> Result<(u32, Vec<f32>), RenderError> {
+        Ok(self.environment.read(ctx, which)?)
+    }
+
+    /// (levels, level-0 side) of the specular environment map, if any.
+    pub fn environment_shape(&self) -> Option<(u32, u32)> {
+        self.environment.specular_shape()
+    }
+
+    fn rebuild_group0(&mut self, ctx: &GpuContext) {
+        self.g0 = self.light_buffers.group0(
+            &ctx.device,
+            &self.layouts.g0,
+            &self.frame_buffer,
+            &self.material_info_buffer,
+            &self.geometry.instance_buffer,
+            &self.shadow_maps,
+            &self.environment,
+        );
     }
 
     /// The options the renderer was created with.
@@ -407,14 +528,94 @@ impl Renderer {
         Ok(())
     }
 
-    /// Renders one frame.
-    ///
-    /// With a `timer` (see [`GpuTimer::new`]; 16 passes are enough) the GPU time of
-    /// every pass is measured and returned in [`RenderStats::pass_ms`].
+    /// Renders one still frame (no motion, no jitter): [`Renderer::render_frame`]
+    /// with [`FrameMotion::default`].
     pub fn render(
         &mut self,
         ctx: &GpuContext,
         camera: &Camera,
+        width: u32,
+        height: u32,
+        technique: Technique,
+        timer: Option<&GpuTimer>,
+    ) -> Result<(RenderOutput, RenderStats), RenderError> {
+        self.render_frame(
+            ctx,
+            camera,
+            &FrameMotion::default(),
+            width,
+            height,
+            technique,
+            timer,
+        )
+    }
+
+    /// Writes the instance transforms of `motion` (or the rest pose) and returns
+    /// the world bounds and the draws of the instances that moved.
+    fn pose(
+        &mut self,
+        ctx: &GpuContext,
+        motion: &FrameMotion,
+    ) -> Result<(crate::scene::Aabb, Vec<super::upload::Batch>), RenderError> {
+        let n = self.rest_transforms.len();
+        for (what, t) in [
+            ("transforms", &motion.transforms),
+            ("previous transforms", &motion.prev_transforms),
+        ] {
+            if !t.is_empty() && t.len() != n {
+                return Err(RenderError::Invalid(format!(
+                    "{}: {} {what} for {n} instances",
+                    self.name,
+                    t.len()
+                )));
+            }
+        }
+        let now = if motion.transforms.is_empty() {
+            &self.rest_transforms
+        } else {
+            &motion.transforms
+        };
+        let prev = if motion.prev_transforms.is_empty() {
+            now
+        } else {
+            &motion.prev_transforms
+        };
+        if motion.transforms.is_empty() && motion.prev_transforms.is_empty() && !self.posed {
+            return Ok((self.bounds, Vec::new()));
+        }
+        let d = self.geometry.deformed.len();
+        if !motion.deformed.is_empty() {
+            if motion.deformed.len() != d || motion.prev_deformed.len() != d {
+                return Err(RenderError::Invalid(format!(
+                    "{}: vertices for {} and {} deformed instances, the scene has {d}",
+                    self.name,
+                    motion.deformed.len(),
+                    motion.prev_deformed.len()
+                )));
+            }
+            self.geometry
+                .write_deformed(ctx, &motion.deformed, &motion.prev_deformed);
+        }
+        let moving = self.geometry.moving(now, prev);
+        let (now, prev) = (now.clone(), prev.clone());
+        let bounds = self.geometry.write_transforms(ctx, &now, &prev);
+        self.posed = !(motion.transforms.is_empty() && motion.prev_transforms.is_empty());
+        self.motion.prepare(ctx, &moving)?;
+        Ok((bounds, moving))
+    }
+
+    /// Renders one frame of a sequence: the instances where `motion` puts them,
+    /// `AUX.motion` from where they and the camera were one frame earlier, the
+    /// projection jittered by `motion.jitter`.
+    ///
+    /// With a `timer` (see [`GpuTimer::new`]; 16 passes are enough) the GPU time of
+    /// every pass is measured and returned in [`RenderStats::pass_ms`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_frame(
+        &mut self,
+        ctx: &GpuContext,
+        camera: &Camera,
+        motion: &FrameMotion,
         width: u32,
         height: u32,
         technique: Technique,
@@ -431,9 +632,18 @@ impl Renderer {
             )));
         }
         self.ensure_targets(ctx, width, height)?;
+        let (bounds, moving) = self.pose(ctx, motion)?;
         let aspect = width as f32 / height as f32;
         let view = camera.view();
-        let proj = camera.proj(aspect);
+        let unjittered = camera.proj(aspect);
+        let proj = jittered(unjittered, motion.jitter, width, height);
+        let prev_camera = motion.prev_camera.unwrap_or(*camera);
+        let motion_cams = MotionCameras {
+            view,
+            proj,
+            curr_vp: unjittered * view,
+            prev_vp: prev_camera.proj(aspect) * prev_camera.view(),
+        };
         let mut lists = LightLists::classify(
             &self.lights,
             self.volumes.sphere_scale,
@@ -452,7 +662,7 @@ impl Renderer {
                 camera,
                 view,
                 aspect,
-                bounds: self.bounds,
+                bounds,
                 mode: self.opts.shadows,
                 size: self.opts.shadow_size,
                 budget: self.opts.shadow_budget,
@@ -461,7 +671,7 @@ impl Renderer {
         let culling = self.opts.light_culling;
         let visible_count = lists.forward.len() as u32;
         let (depth_near, depth_far) =
-            super::clusters::depth_range(&self.bounds, &view, camera.near, camera.far);
+            super::clusters::depth_range(&bounds, &view, camera.near, camera.far);
         let (fl, visible, clusters) = lists
             .frame_lists(culling, &proj, width, height, depth_near, depth_far)
             .map_err(|e| RenderError::Invalid(e.to_string()))?;
@@ -480,6 +690,7 @@ impl Renderer {
                 &self.material_info_buffer,
                 &self.geometry.instance_buffer,
                 &self.shadow_maps,
+                &self.environment,
             );
         }
         let (cluster, cluster_z, global_lights) = match &clusters {
@@ -503,6 +714,13 @@ impl Renderer {
             view: mat_array(view),
             proj: mat_array(proj),
             inv_proj: mat_array(proj.inverse()),
+            proj_unjittered: mat_array(unjittered),
+            // a camera that did not move reprojects exactly (motion 0, not noise)
+            reproject: mat_array(if prev_camera == *camera {
+                unjittered
+            } else {
+                motion_cams.prev_vp * view.inverse()
+            }),
             viewport: [
                 width as f32,
                 height as f32,
@@ -521,6 +739,10 @@ impl Renderer {
         };
         ctx.queue
             .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&gpu_frame));
+        let background_fog = self.fog.as_ref().map_or((Vec3::ZERO, 1.0), |f| {
+            (f.color, f.transmittance(camera.far))
+        });
+        self.environment.write_frame(ctx, &view, background_fog);
         // Pipelines depend only on the technique and the forward loop bound: the
         // batches are fixed when the renderer is made.
         if !self.ensured.contains(&(technique, loop_count)) {
@@ -557,7 +779,16 @@ impl Renderer {
             ..Default::default()
         };
         let label = format!("deferred frame ({technique}, {width}x{height})");
-        let (pass_names, draws) = frame::encode(self, ctx, &label, technique, &fl, &view, timer)?;
+        let (pass_names, draws) = frame::encode(
+            self,
+            ctx,
+            &label,
+            technique,
+            &fl,
+            &view,
+            timer,
+            (&motion_cams, &moving),
+        )?;
         stats.draw_calls = draws;
         stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         stats.pipelines = self.pipelines.pipelines_created;
@@ -592,7 +823,7 @@ impl Renderer {
                 .iter()
                 .map(|(n, tex)| (n.clone(), tex.texture.clone()))
                 .collect(),
-            camera: super::camera_std(camera, aspect),
+            camera: super::camera_std(camera, &proj),
             gbuffer: GBufferTextures {
                 depth: t.depth.texture.clone(),
                 albedo: t.albedo.texture.clone(),

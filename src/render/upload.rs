@@ -60,17 +60,50 @@ pub(crate) struct Batch {
 #[derive(Debug, Clone)]
 pub(crate) struct BlendItem {
     pub batch: Batch,
+    /// World-space centre of the instance's bounds (updated with its transform).
     pub center: Vec3,
 }
 
 /// The scene's geometry on the GPU.
+///
+/// Instances live in the instance buffer in *slot* order (sorted into batches);
+/// [`Geometry::slots`] maps a slot back to the scene's instance, so transforms
+/// that change per frame (animation) are written in place
+/// ([`Geometry::write_transforms`]) without uploading anything else.
 pub(crate) struct Geometry {
     pub vertex_buffer: wgpu::Buffer,
     pub index_buffer: wgpu::Buffer,
     pub instance_buffer: wgpu::Buffer,
+    /// One model matrix per slot: the instances' transforms one frame earlier,
+    /// read by the motion-vector pass (`motion.rs`).
+    pub prev_model_buffer: wgpu::Buffer,
     pub batches: Vec<Batch>,
     pub blend_items: Vec<BlendItem>,
     pub vertices: usize,
+    /// Slot → index of the scene's instance.
+    pub slots: Vec<usize>,
+    /// Per slot: the material index and the mesh's local bounds.
+    slot_material: Vec<u32>,
+    slot_bounds: Vec<crate::scene::Aabb>,
+    /// Per blend item: its slot.
+    blend_slots: Vec<usize>,
+    /// Instances that change shape (skins, morph targets): each draws a private
+    /// copy of its mesh's vertices, rewritten every frame
+    /// ([`Geometry::write_deformed`]).
+    pub deformed: Vec<Deformed>,
+    /// The vertices one frame earlier where they differ (deformed instances):
+    /// the motion pass's previous positions. `None`: as `vertex_buffer`.
+    pub prev_vertex_buffer: Option<wgpu::Buffer>,
+}
+
+/// A deformed instance's private vertices.
+pub(crate) struct Deformed {
+    /// The scene's instance.
+    pub instance: usize,
+    /// Its first vertex in the vertex buffer.
+    pub base: u32,
+    /// Its vertices at rest (texture coordinates and colours stay).
+    pub rest: Vec<Vertex>,
 }
 
 /// The feature bits a mesh sets (texture coordinates 1, vertex colours, tangents).
@@ -163,17 +196,26 @@ impl Geometry {
         let mut gpu_instances = Vec::with_capacity(order.len());
         let mut batches: Vec<Batch> = Vec::new();
         let mut blend_items = Vec::new();
+        let mut blend_slots = Vec::new();
         let mesh_bounds: Vec<_> = scene.meshes.iter().map(|m| m.bounds()).collect();
+        let mut deformed = Vec::new();
         for (slot, &i) in order.iter().enumerate() {
             let inst = &scene.instances[i];
             let model = inst.transform;
-            gpu_instances.push(GpuInstance {
-                model: mat_array(model),
-                normal: mat_array(model.inverse().transpose()),
-                material: inst.material as u32,
-                _pad: [0; 3],
-            });
-            let (base_vertex, ref idx) = ranges[inst.mesh];
+            gpu_instances.push(gpu_instance(model, inst.material as u32));
+            let (mut base_vertex, ref idx) = ranges[inst.mesh];
+            if scene.is_deformed(i) {
+                // a private copy of the mesh's vertices
+                let n = scene.meshes[inst.mesh].positions.len();
+                let rest = vertices[base_vertex as usize..base_vertex as usize + n].to_vec();
+                base_vertex = vertices.len() as i32;
+                vertices.extend_from_slice(&rest);
+                deformed.push(Deformed {
+                    instance: i,
+                    base: base_vertex as u32,
+                    rest,
+                });
+            }
             let batch = Batch {
                 cull: cull_of(inst),
                 material: inst.material,
@@ -187,6 +229,7 @@ impl Geometry {
                 continue;
             }
             if scene.materials[inst.material].alpha_mode == AlphaMode::Blend {
+                blend_slots.push(slot);
                 blend_items.push(BlendItem {
                     batch,
                     center: mesh_bounds[inst.mesh].transformed(&model).center(),
@@ -207,10 +250,24 @@ impl Geometry {
                 _ => batches.push(batch),
             }
         }
+        let slot_material: Vec<u32> = order
+            .iter()
+            .map(|&i| scene.instances[i].material as u32)
+            .collect();
+        let slot_bounds = order
+            .iter()
+            .map(|&i| mesh_bounds[scene.instances[i].mesh])
+            .collect();
+        let prev_models: Vec<[f32; 16]> = gpu_instances.iter().map(|g| g.model).collect();
         if gpu_instances.is_empty() {
             gpu_instances.push(bytemuck::Zeroable::zeroed());
         }
-        let (vertex_buffer, index_buffer, instance_buffer) =
+        let prev_models = if prev_models.is_empty() {
+            vec![[0.0; 16]]
+        } else {
+            prev_models
+        };
+        let (vertex_buffer, index_buffer, instance_buffer, prev_model_buffer) =
             ctx.scoped("deferred renderer: geometry upload", |device| {
                 let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
                     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -223,7 +280,7 @@ impl Geometry {
                     init(
                         "deferred vertices",
                         bytemuck::cast_slice(&vertices),
-                        wgpu::BufferUsages::VERTEX,
+                        wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                     ),
                     init(
                         "deferred indices",
@@ -233,18 +290,153 @@ impl Geometry {
                     init(
                         "deferred instances",
                         bytemuck::cast_slice(&gpu_instances),
-                        wgpu::BufferUsages::STORAGE,
+                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    ),
+                    init(
+                        "deferred previous instance transforms",
+                        bytemuck::cast_slice(&prev_models),
+                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                     ),
                 )
             })?;
+        let prev_vertex_buffer = if deformed.is_empty() {
+            None
+        } else {
+            Some(
+                ctx.scoped("deferred renderer: previous vertices", |device| {
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("deferred previous vertices (motion vectors)"),
+                        contents: bytemuck::cast_slice(&vertices),
+                        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                    })
+                })?,
+            )
+        };
         Ok(Geometry {
+            deformed,
+            prev_vertex_buffer,
             vertex_buffer,
             index_buffer,
             instance_buffer,
+            prev_model_buffer,
             batches,
             blend_items,
             vertices: vertices.len(),
+            slots: order,
+            slot_material,
+            slot_bounds,
+            blend_slots,
         })
+    }
+
+    /// Writes the instances' world transforms (`transforms[i]` for the scene's
+    /// instance `i`) now and one frame earlier; updates the transparent
+    /// instances' sort centres and returns the world bounds of the geometry.
+    /// Face culling was chosen from the rest pose: an animation that mirrors an
+    /// instance (negative determinant) keeps the rest pose's winding.
+    pub fn write_transforms(
+        &mut self,
+        ctx: &GpuContext,
+        transforms: &[glam::Mat4],
+        prev: &[glam::Mat4],
+    ) -> crate::scene::Aabb {
+        let mut bounds = crate::scene::Aabb::EMPTY;
+        let gpu: Vec<GpuInstance> = self
+            .slots
+            .iter()
+            .enumerate()
+            .map(|(slot, &i)| {
+                let t = self.slot_bounds[slot].transformed(&transforms[i]);
+                if !t.is_empty() {
+                    bounds.add(t.min);
+                    bounds.add(t.max);
+                }
+                gpu_instance(transforms[i], self.slot_material[slot])
+            })
+            .collect();
+        let prev: Vec<[f32; 16]> = self.slots.iter().map(|&i| mat_array(prev[i])).collect();
+        for (item, &slot) in self.blend_items.iter_mut().zip(&self.blend_slots) {
+            item.center = self.slot_bounds[slot]
+                .transformed(&transforms[self.slots[slot]])
+                .center();
+        }
+        if !gpu.is_empty() {
+            ctx.queue
+                .write_buffer(&self.instance_buffer, 0, bytemuck::cast_slice(&gpu));
+            ctx.queue
+                .write_buffer(&self.prev_model_buffer, 0, bytemuck::cast_slice(&prev));
+        }
+        bounds
+    }
+}
+
+impl Geometry {
+    /// Writes the vertices of the deformed instances now (`now`: per entry of
+    /// [`Geometry::deformed`], object-space positions, normals and tangents) and
+    /// one frame earlier (`prev`, positions for the motion vectors).
+    pub fn write_deformed(
+        &self,
+        ctx: &GpuContext,
+        now: &[crate::scene::PosedMesh],
+        prev: &[crate::scene::PosedMesh],
+    ) {
+        let write = |buffer: &wgpu::Buffer, d: &Deformed, m: &crate::scene::PosedMesh| {
+            let v: Vec<Vertex> = d
+                .rest
+                .iter()
+                .enumerate()
+                .map(|(k, r)| Vertex {
+                    position: m.positions.get(k).copied().unwrap_or_default().into(),
+                    normal: m.normals.get(k).copied().unwrap_or(Vec3::Y).into(),
+                    tangent: m
+                        .tangents
+                        .as_ref()
+                        .and_then(|t| t.get(k).copied())
+                        .map_or(r.tangent, Into::into),
+                    ..*r
+                })
+                .collect();
+            let offset = u64::from(d.base) * std::mem::size_of::<Vertex>() as u64;
+            ctx.queue
+                .write_buffer(buffer, offset, bytemuck::cast_slice(&v));
+        };
+        for (d, m) in self.deformed.iter().zip(now) {
+            write(&self.vertex_buffer, d, m);
+        }
+        if let Some(pb) = &self.prev_vertex_buffer {
+            for (d, m) in self.deformed.iter().zip(prev) {
+                write(pb, d, m);
+            }
+        }
+    }
+
+    /// The opaque draws, one instance each, of the instances whose transform
+    /// differs between `transforms` and `prev` (scene order), and of the deformed
+    /// ones: what the motion pass draws again.
+    pub fn moving(&self, transforms: &[glam::Mat4], prev: &[glam::Mat4]) -> Vec<Batch> {
+        let mut out = Vec::new();
+        for b in &self.batches {
+            for slot in b.instances.clone() {
+                let i = self.slots[slot as usize];
+                if transforms[i] != prev[i] || self.deformed.iter().any(|d| d.instance == i) {
+                    out.push(Batch {
+                        instances: slot..slot + 1,
+                        ..b.clone()
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The GPU record of an instance with world transform `model`.
+fn gpu_instance(model: glam::Mat4, material: u32) -> GpuInstance {
+    GpuInstance {
+        model: mat_array(model),
+        normal: mat_array(model.inverse().transpose()),
+        material,
+        _pad: [0; 3],
     }
 }
 

@@ -276,6 +276,7 @@ impl Builder {
             mesh,
             material,
             transform,
+            ..Default::default()
         });
     }
 }
@@ -423,6 +424,7 @@ pub fn room() -> Scene {
     });
     b.scene.cameras.push(NamedCamera {
         name: "room".into(),
+        node: None,
         camera: Camera {
             eye: Vec3::new(0.0, 4.0, 11.0),
             target: Vec3::new(0.0, 1.2, -1.0),
@@ -473,6 +475,7 @@ pub fn bench() -> Scene {
     });
     b.scene.cameras.push(NamedCamera {
         name: "bench".into(),
+        node: None,
         camera: Camera {
             eye: Vec3::new(0.0, 14.0, 16.0),
             target: Vec3::new(0.0, 0.0, 0.5),

@@ -38,6 +38,17 @@ impl Camera {
         perspective_rh(self.fov_y, aspect, self.near, self.far)
     }
 
+    /// Places the camera by its node's world matrix (glTF 2.0 §3.10: at the
+    /// node's origin, looking down its −Z, its +Y up), keeping the projection.
+    pub fn place(&mut self, world: &Mat4) {
+        self.eye = world.transform_point3(Vec3::ZERO);
+        let forward = world
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or(Vec3::NEG_Z);
+        self.target = self.eye + forward;
+        self.up = world.transform_vector3(Vec3::Y).normalize_or(Vec3::Y);
+    }
+
     /// A camera in front of (+Z) and above the box, framing its bounding sphere with
     /// a 60° vertical field of view.
     pub fn framing(bounds: &Aabb) -> Camera {
@@ -225,8 +236,11 @@ pub fn perspective_rh(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
 }
 
 /// A camera defined by the scene (glTF or built-in).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct NamedCamera {
     pub name: String,
     pub camera: Camera,
+    /// The node that places it (glTF): it moves with the node
+    /// ([`Camera::place`]). `None` for built-in cameras.
+    pub node: Option<usize>,
 }

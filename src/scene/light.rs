@@ -2,7 +2,7 @@
 //! constructors and the attenuation cut-off that bounds point and spot lights.
 //! (Culling and classifying them for one frame is `lights.rs`.)
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 
 /// Attenuation threshold ε: a point or spot light's volume ends where
 /// `intensity · max(colour) · f(d)` with `f(d) = 1 / (a + b·d + c·d²)` (seed 001,
@@ -46,6 +46,9 @@ pub struct Light {
     /// built-in room's small coloured lights and `--lights N` random lights
     /// have none).
     pub casts_shadows: bool,
+    /// The node that places it (glTF `KHR_lights_punctual` on a node): it moves
+    /// with the node ([`Light::place`]). `None`: placed by its own fields.
+    pub node: Option<usize>,
 }
 
 impl Light {
@@ -64,6 +67,7 @@ impl Light {
             attenuation: [1.0, 0.0, c],
             range: None,
             casts_shadows: true,
+            node: None,
         }
     }
 
@@ -98,6 +102,7 @@ impl Light {
             attenuation: [1.0, 0.0, 0.0],
             range: None,
             casts_shadows: true,
+            node: None,
         }
     }
 
@@ -108,6 +113,15 @@ impl Light {
             kind: LightKind::Ambient,
             ..Light::directional(Vec3::NEG_Y, color, intensity)
         }
+    }
+
+    /// Places the light by its node's world matrix: at the node's origin,
+    /// shining down the node's −Z (`KHR_lights_punctual`).
+    pub fn place(&mut self, world: &Mat4) {
+        self.position = world.transform_point3(Vec3::ZERO);
+        self.direction = world
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or(Vec3::NEG_Z);
     }
 
     /// Whether the light has a bounded volume (point, spot).

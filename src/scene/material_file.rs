@@ -38,12 +38,14 @@ pub fn load_materials(
         log::debug!("{shown}: effects in a material file are ignored");
     }
     let mut out = MaterialFile::default();
+    let mut shaders = Shaders::new();
     for def in &module.materials {
         if let Some(m) = material(
             def,
             dir,
             first_texture,
             &mut out.textures,
+            &mut shaders,
             &mut sources,
             &mut diags,
         ) {
@@ -126,7 +128,10 @@ fn confined(dir: Option<&Path>, path: &str) -> Result<PathBuf, String> {
             "`{path}` must be a relative path inside the material file's folder"
         ));
     }
-    let base = dir.unwrap_or(Path::new("."));
+    // `dir` is "" for a material file given by its bare name: the current folder.
+    let base = dir
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     let full = base.join(rel);
     let canon_base = base
         .canonicalize()
@@ -175,15 +180,43 @@ fn load_texture(dir: Option<&Path>, path: &str) -> Result<TextureImage, String> 
     })
 }
 
+/// The shaders a file's materials use, loaded once each (the built-in `standard`
+/// serves most materials; checking it is most of the time a file takes).
+type Shaders =
+    std::collections::HashMap<(MaterialShaderKind, String), shader_material::MaterialShader>;
+
+#[allow(clippy::too_many_arguments)]
 fn binding(
     use_: &MaterialShader,
     kind: MaterialShaderKind,
     dir: Option<&Path>,
     first_texture: usize,
     textures: &mut Vec<TextureImage>,
+    shaders: &mut Shaders,
     sources: &mut SourceMap,
     diags: &mut Diagnostics,
 ) -> Option<ShaderBinding> {
+    let name = &use_.shader.node;
+    let cached = shaders.get(&(kind, name.clone())).cloned();
+    let shader = match cached {
+        Some(s) => s,
+        None => {
+            let s = load_binding_shader(use_, kind, dir, sources, diags)?;
+            shaders.insert((kind, name.clone()), s.clone());
+            s
+        }
+    };
+    bind_settings(use_, kind, dir, first_texture, textures, shader, diags)
+}
+
+/// Finds and checks the shader `use_` names; problems go to `diags`.
+fn load_binding_shader(
+    use_: &MaterialShader,
+    kind: MaterialShaderKind,
+    dir: Option<&Path>,
+    sources: &mut SourceMap,
+    diags: &mut Diagnostics,
+) -> Option<shader_material::MaterialShader> {
     let name = &use_.shader.node;
     let Some(file) = shader_material::find_material_shader(name, dir) else {
         diags.push(
@@ -216,6 +249,21 @@ fn binding(
             return None;
         }
     };
+    Some(shader)
+}
+
+/// The binding of `use_` to its loaded `shader`: every setting checked against the
+/// shader's parameters and textures (textures loaded).
+fn bind_settings(
+    use_: &MaterialShader,
+    kind: MaterialShaderKind,
+    dir: Option<&Path>,
+    first_texture: usize,
+    textures: &mut Vec<TextureImage>,
+    shader: shader_material::MaterialShader,
+    diags: &mut Diagnostics,
+) -> Option<ShaderBinding> {
+    let name = &use_.shader.node;
     let mut b = ShaderBinding {
         shader: name.clone(),
         dir: dir.map(Path::to_path_buf),
@@ -325,6 +373,7 @@ fn material(
     dir: Option<&Path>,
     first_texture: usize,
     textures: &mut Vec<TextureImage>,
+    shaders: &mut Shaders,
     sources: &mut SourceMap,
     diags: &mut Diagnostics,
 ) -> Option<Material> {
@@ -334,6 +383,7 @@ fn material(
         dir,
         first_texture,
         textures,
+        shaders,
         sources,
         diags,
     );
@@ -343,6 +393,7 @@ fn material(
         dir,
         first_texture,
         textures,
+        shaders,
         sources,
         diags,
     );

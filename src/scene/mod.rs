@@ -8,20 +8,40 @@
 //! - [`model`]: [`Scene`], [`Mesh`], [`Instance`], [`TextureImage`], bounds.
 //! - [`camera`]: [`Camera`] and the `--camera` specs; [`light`]: [`Light`];
 //!   [`material`]: [`Material`] (a surface + a lighting shader binding).
+//! - [`environment`]: the light of the world around a scene ([`Environment`]: an
+//!   equirectangular map from a file, the analytic sky, the studio), as data.
 //! - [`builtin`]: the procedural scenes (`builtin:room`, `builtin:bench`, ...).
 //! - [`gltf`]: validated glTF 2.0 loading (nodes, meshes, materials, lights,
 //!   cameras).
 //! - [`material_file`]: `MATERIAL.name = { ... }` files turned into [`Material`]s.
+//! - [`node`]: the node hierarchy ([`Node`]) instances, lights and cameras hang on.
+//! - [`animation`]: keyframe animation, skins and morph targets; [`Scene::pose`]
+//!   poses the scene at a time ([`Pose`]), with a CPU reference of skinning.
 
+pub mod animation;
 pub mod builtin;
 pub mod camera;
+pub mod camera_path;
+pub mod environment;
 pub mod gltf;
 pub mod light;
 pub mod material;
 pub mod material_file;
 pub mod model;
+pub mod node;
 
+pub use animation::{
+    Animation, Channel, ChannelPath, InstancePose, Interpolation, Playback, Pose, PosedMesh,
+    Sampler, Selection, Skin, MAX_JOINTS, MAX_MORPH_TARGETS,
+};
 pub use camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
+pub use camera_path::{CameraPath, Orbit};
+pub use environment::{
+    Background, Environment, EnvironmentError, EnvironmentMap, EnvironmentSource,
+};
 pub use light::{Light, LightKind, ATTENUATION_THRESHOLD};
 pub use material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
-pub use model::{Aabb, Instance, Mesh, Rng, Scene, SceneError, TextureImage, MAX_MATERIALS};
+pub use model::{
+    Aabb, Instance, Mesh, MorphTarget, Rng, Scene, SceneError, TextureImage, MAX_MATERIALS,
+};
+pub use node::{Node, NodeTransform};

@@ -7,9 +7,11 @@
 //! The scene's other parts have files of their own and are re-exported here: lights
 //! (`light.rs`), cameras (`camera.rs`) and materials (`material.rs`).
 
+pub use super::animation::{Animation, Skin};
 pub use super::camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
 pub use super::light::{Light, LightKind, ATTENUATION_THRESHOLD};
 pub use super::material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
+pub use super::node::Node;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// Most materials a scene may have: the material id is stored in 8 bits.
@@ -35,6 +37,12 @@ pub enum SceneError {
         "{name}: {count} materials, at most {MAX_MATERIALS} are supported (8-bit material id)"
     )]
     TooManyMaterials { name: String, count: usize },
+    /// An `--animation` choice that names no animation of the scene.
+    #[error("animation `{spec}`: {message}")]
+    Playback { spec: String, message: String },
+    /// Nodes, skins, morph targets or animations that do not fit together.
+    #[error("{name}: {message}")]
+    Animation { name: String, message: String },
 }
 
 /// Axis-aligned bounding box.
@@ -107,6 +115,34 @@ pub struct Mesh {
     pub tangents: Option<Vec<Vec4>>,
     /// Triangle list, every index `< positions.len()`.
     pub indices: Vec<u32>,
+    /// Whether the normals are face normals of unshared vertices ([`Mesh::make_flat`]):
+    /// a deformed copy gets its face normals computed again.
+    pub flat: bool,
+    /// Skin joints of influences 1–4 (`JOINTS_0`), indices into the skin's joint
+    /// list (0 where the weight is 0); empty when the mesh is not skinned.
+    pub joints: Vec<[u16; 4]>,
+    /// Skin weights of influences 1–4 (`WEIGHTS_0`); with [`Mesh::weights1`] they
+    /// sum to 1 for every vertex. Empty when the mesh is not skinned.
+    pub weights: Vec<Vec4>,
+    /// Joints of influences 5–8 (`JOINTS_1`); empty for at most 4 influences.
+    pub joints1: Vec<[u16; 4]>,
+    /// Weights of influences 5–8 (`WEIGHTS_1`); empty for at most 4 influences.
+    pub weights1: Vec<Vec4>,
+    /// Morph targets (displacements added with the morph weights before skinning).
+    pub morph_targets: Vec<MorphTarget>,
+    /// The mesh's default morph weights (glTF `mesh.weights`, else zeros), one per
+    /// morph target.
+    pub morph_weights: Vec<f32>,
+}
+
+/// One morph target of a mesh: per-vertex displacements, each list empty when the
+/// target does not displace that attribute, else as long as the positions.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MorphTarget {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    /// Tangent displacements (xyz; the handedness w is not displaced).
+    pub tangents: Vec<Vec3>,
 }
 
 impl Mesh {
@@ -122,6 +158,23 @@ impl Mesh {
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
+    }
+
+    /// Whether the mesh has skin joints and weights.
+    pub fn is_skinned(&self) -> bool {
+        !self.joints.is_empty()
+    }
+
+    /// The largest joint index of an influence with a weight other than 0, if any.
+    pub fn max_joint(&self) -> Option<u16> {
+        let sets = [
+            (&self.joints, &self.weights),
+            (&self.joints1, &self.weights1),
+        ];
+        sets.iter()
+            .flat_map(|(j, w)| j.iter().zip(w.iter()))
+            .flat_map(|(j, w)| (0..4).filter(|&k| w[k] != 0.0).map(move |k| j[k]))
+            .max()
     }
 
     /// Area-weighted vertex normals from the triangles.
@@ -159,6 +212,32 @@ impl Mesh {
         if !self.colors.is_empty() {
             self.colors = gather(&self.colors, &idx);
         }
+        for list in [&mut self.joints, &mut self.joints1] {
+            if !list.is_empty() {
+                *list = gather(list, &idx);
+            }
+        }
+        for list in [&mut self.weights, &mut self.weights1] {
+            if !list.is_empty() {
+                *list = gather(list, &idx);
+            }
+        }
+        for target in &mut self.morph_targets {
+            for list in [
+                &mut target.positions,
+                &mut target.normals,
+                &mut target.tangents,
+            ] {
+                if !list.is_empty() {
+                    *list = gather(list, &idx);
+                }
+            }
+            // glTF: without base normals the normal and tangent displacements
+            // are ignored (flat normals are computed for the morphed shape).
+            target.normals.clear();
+            target.tangents.clear();
+        }
+        self.flat = true;
         self.tangents = None;
         self.normals = self
             .positions
@@ -225,13 +304,22 @@ impl Mesh {
 }
 
 /// One placement of a mesh with a material.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Instance {
     pub name: String,
     pub mesh: usize,
     pub material: usize,
-    /// Object-to-world transform.
+    /// Object-to-world transform (in the rest pose, for an instance of a node).
     pub transform: Mat4,
+    /// The node that places it ([`Scene::nodes`]); `None` for an instance placed
+    /// by [`Instance::transform`] alone (built-in scenes), which never moves.
+    pub node: Option<usize>,
+    /// The skin deforming it ([`Scene::skins`]), if the node has one and the mesh
+    /// has joints and weights.
+    pub skin: Option<usize>,
+    /// Rest morph weights, one per morph target of the mesh (glTF `node.weights`,
+    /// else `mesh.weights`, else zeros).
+    pub morph_weights: Vec<f32>,
 }
 
 /// An RGBA8 texture image (the bytes as stored: sRGB for colour textures, linear for
@@ -257,6 +345,15 @@ pub struct Scene {
     pub cameras: Vec<NamedCamera>,
     /// Linear colour of pixels without geometry.
     pub background: Vec3,
+    /// The node hierarchy (glTF nodes, by index); empty for built-in scenes.
+    pub nodes: Vec<Node>,
+    /// Skins, referenced by [`Instance::skin`].
+    pub skins: Vec<Skin>,
+    /// Keyframe animations of the nodes ([`crate::scene::animation`]).
+    pub animations: Vec<Animation>,
+    /// The light of the world around the scene (`None`: its lights only); see
+    /// [`Scene::set_environment`].
+    pub environment: Option<super::environment::Environment>,
 }
 
 impl Scene {
@@ -272,6 +369,18 @@ impl Scene {
         scene.ensure_lights();
         scene.validate()?;
         Ok(scene)
+    }
+
+    /// Whether instance `i` changes shape over time (a skin, or morph targets):
+    /// the renderer gives it vertices of its own, rewritten per frame from
+    /// [`crate::scene::Pose::deformed_mesh`].
+    pub fn is_deformed(&self, i: usize) -> bool {
+        let inst = &self.instances[i];
+        inst.skin.is_some()
+            || self
+                .meshes
+                .get(inst.mesh)
+                .is_some_and(|m| !m.morph_targets.is_empty())
     }
 
     /// World bounds of all instances.
@@ -401,7 +510,7 @@ impl Scene {
         if self.triangle_count() == 0 {
             return Err(SceneError::Empty(self.name.clone()));
         }
-        Ok(())
+        self.validate_animation()
     }
 }
 

@@ -75,4 +75,28 @@ struct LightingOutput {
     specular: vec3<f32>,
 }
 
+// What the environment gives a surface (image-based lighting), for a lighting
+// shader's optional `fn environment(in: EnvironmentInput) -> LightingOutput`
+// (or with `params: LightingParams`), which replaces the engine's environment
+// term for its materials.
+struct EnvironmentInput {
+    // unit shading normal and direction towards the eye, view space
+    normal: vec3<f32>,
+    view_dir: vec3<f32>,
+    // the surface's F0, perceptual roughness and ambient occlusion
+    specular: vec3<f32>,
+    roughness: f32,
+    occlusion: f32,
+    // cosine-weighted mean radiance about the normal (irradiance / pi), times
+    // the environment's intensity
+    irradiance: vec3<f32>,
+    // the radiance prefiltered with the GGX lobe of `roughness` about the
+    // reflected view direction, times the intensity
+    prefiltered: vec3<f32>,
+    // the split-sum terms A, B: the specular albedo of the glTF BRDF (Schlick
+    // Fresnel, GGX, height-correlated Smith) for this n.v and roughness is
+    // specular * dfg.x + dfg.y
+    dfg: vec2<f32>,
+}
+
 const FX_PI: f32 = 3.14159265358979;

@@ -1,15 +1,18 @@
-//! Shaders: finding a pass's WGSL file, `#ifdef` preprocessing, naga reflection, and
-//! checking the script's bindings against the shader's declarations. No GPU code.
+//! Shaders: finding a pass's WGSL file, `#ifdef` preprocessing, naga reflection,
+//! checking the script's bindings against the shader's declarations, and the
+//! uniform layout with its standard values (`uniforms`). No GPU code.
 //!
 //! The conventions are documented in `docs/shaders.md`.
 
 pub mod features;
 pub mod include;
+pub mod interface;
 pub mod load;
 pub mod material;
 pub mod preprocess;
 pub mod reflect;
 pub mod rename;
+pub mod uniforms;
 pub mod wgsl_names;
 
 pub use features::{convert_features, feature_flags_used, FeatureMode};

@@ -108,10 +108,14 @@ fn is_expression_invalid(c: &str) -> bool {
 /// (the most specific) as the message, at the last span; the other spans
 /// labelled with the outermost cause. naga's `Expression [N] is invalid` and its
 /// arena labels say nothing to a user and are dropped. `map` turns naga spans
-/// into source spans (`None`: outside the user's text); `fallback` is used when
-/// none maps.
+/// (offsets in `wgsl`, the text `module` was parsed from) into source spans
+/// (`None`: outside the user's text). An error naga gives no span (an entry
+/// point's, or a function's implicit `return` at its end) points at the function's
+/// `fn NAME`; `fallback` is used when nothing maps.
 pub fn validation_diagnostic(
     e: &naga::WithSpan<naga::valid::ValidationError>,
+    module: &naga::Module,
+    wgsl: &str,
     map: impl Fn(naga::Span) -> Option<crate::script::Span>,
     fallback: crate::script::Span,
 ) -> crate::script::Diagnostic {
@@ -122,9 +126,16 @@ pub fn validation_diagnostic(
         src = next;
     }
     causes.retain(|c| !is_expression_invalid(c));
-    let main = sanitize(causes.last().map(String::as_str).unwrap_or("invalid"));
+    let (function, return_problem) = function_of(e.as_inner(), module);
+    let main = return_problem
+        .unwrap_or_else(|| sanitize(causes.last().map(String::as_str).unwrap_or("invalid")));
     let mut d = crate::script::Diagnostic::error(format!("WGSL validation: {main}"));
-    let spans: Vec<crate::script::Span> = e.spans().filter_map(|(s, _)| map(*s)).collect();
+    let mut spans: Vec<crate::script::Span> = e.spans().filter_map(|(s, _)| map(*s)).collect();
+    if spans.is_empty() {
+        if let Some(r) = function.and_then(|f| fn_header(wgsl, f)) {
+            spans.extend(map(naga::Span::new(r.start as u32, r.end as u32)));
+        }
+    }
     match spans.split_last() {
         Some((last, rest)) => {
             d = d.at(*last, "");
@@ -142,4 +153,80 @@ pub fn validation_diagnostic(
         None => d = d.at(fallback, ""),
     }
     d
+}
+
+/// The function (or entry point) a validation error is in, and, for a `return`
+/// that does not match the declared type, that problem in words (naga writes
+/// `The return expression None does not match the declared return type Some([4])`).
+fn function_of<'a>(
+    e: &'a naga::valid::ValidationError,
+    module: &naga::Module,
+) -> (Option<&'a str>, Option<String>) {
+    use naga::common::wgsl::TypeContext as _;
+    use naga::valid::{EntryPointError, FunctionError, ValidationError};
+    let (name, f) = match e {
+        ValidationError::Function { name, source, .. } => (name.as_str(), Some(source)),
+        ValidationError::EntryPoint { name, source, .. } => (
+            name.as_str(),
+            match source {
+                EntryPointError::Function(f) => Some(f),
+                _ => None,
+            },
+        ),
+        _ => return (None, None),
+    };
+    let problem = match f {
+        Some(FunctionError::InvalidReturnType {
+            expression,
+            expected_ty,
+        }) => {
+            let ty =
+                |h: &naga::Handle<naga::Type>| format!("`{}`", module.types.type_to_string(*h));
+            Some(match (expression, expected_ty) {
+                (None, Some(t)) => format!(
+                    "`{name}` must return a {} value, but it can end (or `return`) without one",
+                    ty(t)
+                ),
+                (Some(_), None) => {
+                    format!("`{name}` declares no return type, but this `return` has a value")
+                }
+                (_, Some(t)) => format!(
+                    "this `return` value is not of `{name}`'s declared return type {}",
+                    ty(t)
+                ),
+                (None, None) => "invalid `return`".to_string(),
+            })
+        }
+        _ => None,
+    };
+    (Some(name), problem)
+}
+
+/// The byte range of `fn NAME` in WGSL text (outside `//` comments), if present.
+pub fn fn_header(wgsl: &str, name: &str) -> Option<std::ops::Range<usize>> {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let mut offset = 0;
+    for line in wgsl.split_inclusive('\n') {
+        let code = line.split("//").next().unwrap_or("");
+        let mut from = 0;
+        while let Some(i) = code[from..].find("fn") {
+            let at = from + i;
+            from = at + 2;
+            if code[..at].chars().next_back().is_some_and(ident) {
+                continue;
+            }
+            let rest = &code[at + 2..];
+            let name_at = rest.len() - rest.trim_start().len();
+            if name_at == 0 {
+                continue;
+            }
+            let after = &rest[name_at..];
+            if after.starts_with(name) && !after[name.len()..].starts_with(ident) {
+                let end = at + 2 + name_at + name.len();
+                return Some(offset + at..offset + end);
+            }
+        }
+        offset += line.len();
+    }
+    None
 }

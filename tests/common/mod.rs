@@ -1,13 +1,19 @@
 //! Shared helpers of the GPU tests: one engine per test binary, CPU images, metrics.
 #![allow(dead_code)]
 
+pub mod anim_gltf;
 pub mod brdf;
 pub mod cli;
 pub mod display;
 pub mod gltf_gen;
+pub mod ibl;
+pub mod raster;
+pub mod renders;
 pub mod rng;
+pub mod samples;
 pub mod scenes;
 pub mod stream;
+pub mod video;
 pub mod viewer;
 
 use fxgraph::app::{apply_in_memory, RunError};
@@ -38,45 +44,70 @@ pub fn engine() -> Option<std::sync::MutexGuard<'static, Engine>> {
         .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
 }
 
-/// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
-pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
+/// The test engine's GPU context (held locked, like [`engine`]), or `None` (test
+/// skipped): for the renderer tests, which need the device and not the engine.
+pub fn gpu_context() -> Option<Gpu> {
+    engine().map(Gpu)
+}
+
+/// The GPU context of the locked test engine.
+pub struct Gpu(std::sync::MutexGuard<'static, Engine>);
+
+impl std::ops::Deref for Gpu {
+    type Target = GpuContext;
+    fn deref(&self) -> &GpuContext {
+        &self.0.ctx
+    }
+}
+
+/// A scratch folder for a test that needs the GPU, or `None` (test skipped) when
+/// [`engine`] has no adapter.
+pub fn gpu_scratch() -> Option<tempfile::TempDir> {
+    engine().map(|_| tempfile::tempdir().unwrap())
+}
+
+/// The RGBA samples of a `w` x `h` image from a closure of (x, y), row by row.
+fn samples<T: Copy>(w: u32, h: u32, f: impl Fn(u32, u32) -> [T; 4]) -> Vec<T> {
     let mut v = Vec::with_capacity((w * h * 4) as usize);
     for y in 0..h {
         for x in 0..w {
             v.extend_from_slice(&f(x, y));
         }
     }
+    v
+}
+
+/// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
+pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
+    let source = SourceInfo {
+        format: FileFormat::Png,
+        bit_depth: 8,
+        has_alpha: true,
+        float: false,
+    };
+    let pixels = Pixels::U8(samples(w, h, f));
     Image {
         width: w,
         height: h,
-        pixels: Pixels::U8(v),
-        source: SourceInfo {
-            format: FileFormat::Png,
-            bit_depth: 8,
-            has_alpha: true,
-            float: false,
-        },
+        pixels,
+        source,
     }
 }
 
 /// A linear float RGBA image from a closure.
 pub fn image_f32(w: u32, h: u32, f: impl Fn(u32, u32) -> [f32; 4]) -> Image {
-    let mut v = Vec::with_capacity((w * h * 4) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            v.extend_from_slice(&f(x, y));
-        }
-    }
+    let source = SourceInfo {
+        format: FileFormat::Exr,
+        bit_depth: 32,
+        has_alpha: true,
+        float: true,
+    };
+    let pixels = Pixels::F32(samples(w, h, f));
     Image {
         width: w,
         height: h,
-        pixels: Pixels::F32(v),
-        source: SourceInfo {
-            format: FileFormat::Exr,
-            bit_depth: 32,
-            has_alpha: true,
-            float: true,
-        },
+        pixels,
+        source,
     }
 }
 
@@ -98,30 +129,44 @@ pub fn pattern_u8(w: u32, h: u32) -> Image {
     })
 }
 
-/// Run `effects` with `overrides` on `img`; output read back in `out`.
-pub fn run(
-    engine: &mut Engine,
-    effects: &[&str],
-    overrides: &[&str],
-    img: &Image,
-    out: Format,
-) -> Result<(u32, u32, Pixels), RunError> {
-    let e: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    apply_in_memory(engine, &e, &o, img, &[], out, false)
+/// What [`run`] returns: the output's width, height and pixels.
+pub type Ran = Result<(u32, u32, Pixels), RunError>;
+
+/// Run the effects `fx` with `sets` (`NAME=VALUE`) on `img`; output read back in `out`.
+pub fn run(eng: &mut Engine, fx: &[&str], sets: &[&str], img: &Image, out: Format) -> Ran {
+    run_with(eng, fx, sets, img, out, false)
 }
 
 /// Like [`run`] with `--assume-linear` (8-bit values are used as they are).
-pub fn run_raw(
-    engine: &mut Engine,
-    effects: &[&str],
-    overrides: &[&str],
+pub fn run_raw(eng: &mut Engine, fx: &[&str], sets: &[&str], img: &Image, out: Format) -> Ran {
+    run_with(eng, fx, sets, img, out, true)
+}
+
+fn run_with(
+    eng: &mut Engine,
+    fx: &[&str],
+    sets: &[&str],
     img: &Image,
     out: Format,
-) -> Result<(u32, u32, Pixels), RunError> {
-    let e: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    apply_in_memory(engine, &e, &o, img, &[], out, true)
+    raw: bool,
+) -> Ran {
+    let e: Vec<String> = fx.iter().map(|s| s.to_string()).collect();
+    let o: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    apply_in_memory(eng, &e, &o, img, &[], out, raw)
+}
+
+/// Runs the effect `name` with `sets` (`NAME=VALUE`) on `img`, output read back in
+/// `out`: its pixels (panics, naming the effect, on an error).
+pub fn apply_fx(
+    engine: &mut Engine,
+    name: &str,
+    sets: &[&str],
+    img: &Image,
+    out: Format,
+) -> Pixels {
+    run(engine, &[name], sets, img, out)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .2
 }
 
 /// Largest absolute difference between two sample arrays.

@@ -34,3 +34,10 @@ pub fn hash01(mut k: u64) -> f32 {
     k ^= k >> 33;
     (k >> 40) as f32 / (1u64 << 24) as f32
 }
+
+/// Deterministic zero-mean noise with standard deviation `sigma` (sum of 4 uniforms).
+pub fn noise(seed: u64, sigma: f32) -> f32 {
+    let s: f32 = (0..4).map(|i| hash01(seed * 4 + i)).sum::<f32>() - 2.0;
+    // Var of a sum of 4 U(0,1) is 4/12 = 1/3.
+    s * sigma * 3f32.sqrt()
+}

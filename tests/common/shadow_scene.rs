@@ -34,12 +34,14 @@ pub fn scene(light: Light) -> Scene {
         mesh: 0,
         material: 0,
         transform: Mat4::from_scale(Vec3::new(2.0 * GROUND, 1.0, 2.0 * GROUND)),
+        ..Default::default()
     });
     s.instances.push(Instance {
         name: "box".into(),
         mesh: 1,
         material: 0,
         transform: Mat4::from_translation(BOX_CENTER),
+        ..Default::default()
     });
     s.lights.push(light);
     s
@@ -79,20 +81,8 @@ pub fn point() -> Light {
 
 /// Writes `pixels` to tests/output/shadows_NAME.png for review.
 pub fn save_review(name: &str, pixels: &[[f32; 4]]) {
-    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/output");
-    std::fs::create_dir_all(&dir).unwrap();
-    let data: Vec<f32> = pixels
-        .iter()
-        .flat_map(|p| [p[0], p[1], p[2], 1.0])
-        .collect();
-    fxgraph::io::save_image(
-        &dir.join(format!("shadows_{}.png", name.replace(' ', "_"))),
-        W,
-        H,
-        &fxgraph::io::Pixels::F32(data),
-        &Default::default(),
-    )
-    .unwrap();
+    let name = format!("shadows_{}", name.replace(' ', "_"));
+    super::common::renders::save_rgb_review(&name, (W, H), pixels);
 }
 
 /// Entry and exit distances of the ray `o + t d` through the box, if it hits.
@@ -232,21 +222,4 @@ pub fn check_against(
         fraction * 100.0
     );
     (fraction, shadow_px, lit_px)
-}
-
-/// PSNR (dB) over RGB clamped to [0, 1].
-pub fn psnr(a: &[[f32; 4]], b: &[[f32; 4]]) -> f64 {
-    let mut mse = 0.0f64;
-    for (p, q) in a.iter().zip(b) {
-        for c in 0..3 {
-            let d = p[c].clamp(0.0, 1.0) - q[c].clamp(0.0, 1.0);
-            mse += f64::from(d * d);
-        }
-    }
-    mse /= (a.len() * 3) as f64;
-    if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (1.0 / mse).log10()
-    }
 }

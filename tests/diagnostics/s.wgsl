@@ -1,5 +1,5 @@
 // The shader `SHADER.s` of the diagnostic cases that `fxrun --check` runs in
-// full (tests/cli.rs): one input, `img`.
+// full (tests/cli/): one input, `img`.
 @group(0) @binding(0) var img: texture_2d<f32>;
 
 @fragment

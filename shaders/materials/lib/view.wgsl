@@ -1,6 +1,6 @@
-// View-space reconstruction from a projection's inverse, shared by the G-buffer
-// effects (shaders/ssao.wgsl, ssao_blur.wgsl, fog.wgsl, outline_detect.wgsl):
-// `#include "lib/view.wgsl"`.
+// View-space reconstruction from a projection's inverse and G-buffer neighbourhood
+// sampling, shared by the G-buffer effects (shaders/ssao.wgsl, ssao_blur.wgsl,
+// fog.wgsl, outline_detect.wgsl): `#include "lib/view.wgsl"`.
 
 // The view-space point of the pixel at `uv` (0..1, y down) and NDC depth `z`.
 fn lib_unproject(inv_proj: mat4x4<f32>, uv: vec2<f32>, z: f32) -> vec3<f32> {
@@ -21,4 +21,22 @@ fn lib_view_pos(inv_proj: mat4x4<f32>, uv: vec2<f32>, d: f32) -> vec3<f32> {
     let s = select(-1.0, 1.0, a.z >= 0.0);
     let t = (s * d - a.z) / (b.z - a.z);
     return a + t * (b - a);
+}
+
+// View-space position of the centre of texel `p` of a G-buffer of `size` texels,
+// with linear depth `d` (lib_view_pos at uv = (p + 0.5) / size).
+fn lib_texel_view_pos(inv_proj: mat4x4<f32>, p: vec2<i32>, size: vec2<f32>, d: f32) -> vec3<f32> {
+    return lib_view_pos(inv_proj, (vec2<f32>(p) + 0.5) / size, d);
+}
+
+// Whether a G-buffer depth holds geometry: > 0 and finite (0, infinite and NaN are
+// the renderer's "nothing here").
+fn lib_has_geometry(d: f32) -> bool {
+    return d > 0.0 && d < 3.0e38;
+}
+
+// Whether the neighbour `q` lies inside an image of `size` texels (neighbours
+// outside are skipped, not clamped).
+fn lib_inside(q: vec2<i32>, size: vec2<i32>) -> bool {
+    return all(q >= vec2<i32>(0)) && all(q < size);
 }

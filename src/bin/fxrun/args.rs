@@ -14,6 +14,7 @@ const MAX_WARMUP: u64 = 1_000_000;
 const IMAGES: &str = "Images and batches";
 const SEQUENCES: &str = "Sequences";
 const SCENES: &str = "Scenes (deferred renderer)";
+const VIDEO: &str = "Video files (through ffmpeg)";
 const ANALYSIS: &str = "Analysis";
 const VIEWER: &str = "Viewer";
 const OUTPUT: &str = "Output";
@@ -40,13 +41,16 @@ pub(crate) struct Cli {
     #[arg(short = 'V', long, action = clap::ArgAction::Version, help_heading = COMMON)]
     pub(crate) version: Option<bool>,
     /// Input image(s): a file, a folder of images, a wildcard pattern in quotes
-    /// ('photos/*.jpg'), a numbered sequence (in/%04d.png) or - (y4m on stdin). Takes
+    /// ('photos/*.jpg'), a numbered sequence (in/%04d.png), a .y4m file, a video file
+    /// (.mp4, .mkv, ...: read with ffmpeg) or - (y4m on stdin). Takes
     /// every value up to the next option (-i a.jpg b.jpg, or a shell's photos/*.jpg),
     /// and may be repeated: so give the effects before -i.
     #[arg(help_heading = IMAGES, short, long, value_name = "INPUT", num_args = 1.., action = clap::ArgAction::Append)]
     pub(crate) input: Vec<PathBuf>,
     /// Output: an image file (format from the extension), a folder (a batch keeps each
-    /// input's name and format), a numbered pattern (out/%04d.png) or - (y4m on stdout).
+    /// input's name and format), a numbered pattern (out/%04d.png), a .y4m file, a
+    /// video file (.mp4, .mkv, ...: written with ffmpeg, with the input video's audio)
+    /// or - (y4m on stdout).
     #[arg(help_heading = OUTPUT, short, long)]
     pub(crate) output: Option<PathBuf>,
     /// Batches: the file format of -o DIR outputs (an extension: png, jpg, exr...)
@@ -74,7 +78,9 @@ pub(crate) struct Cli {
     /// An auxiliary input image: NAME=FILE (read by AUX.NAME).
     #[arg(help_heading = IMAGES, long = "aux", value_name = "NAME=FILE")]
     pub(crate) aux: Vec<String>,
-    /// Bits per channel of the output file (8, 16, 32 where the format allows).
+    /// Bits per channel of the output file (8, 16, 32 where the format allows); of a
+    /// y4m or video output, bits per sample (8, 9, 10, 12, 14, 16; default: the
+    /// input stream's).
     #[arg(help_heading = OUTPUT, long)]
     pub(crate) bit_depth: Option<u8>,
     /// Treat 8/16-bit files as linear data (no sRGB decode on load or encode on save).
@@ -140,13 +146,40 @@ pub(crate) struct Cli {
     #[arg(help_heading = IMAGES, long, default_value_t = 3,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_QUEUE))]
     pub(crate) queue: usize,
+    /// Video output: the ffmpeg encoder (default libx264, libvpx-vp9 for .webm).
+    #[arg(help_heading = VIDEO, long, value_name = "NAME")]
+    pub(crate) codec: Option<String>,
+    /// Video output: constant-quality factor (libx264 18, libx265 20, VP9 24 by
+    /// default; lower is better).
+    #[arg(help_heading = VIDEO, long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=63))]
+    pub(crate) crf: Option<u32>,
+    /// Video output: the encoder's speed preset (libx264/libx265: ultrafast ...
+    /// veryslow; default medium).
+    #[arg(help_heading = VIDEO, long, value_name = "NAME")]
+    pub(crate) preset: Option<String>,
+    /// Video output: the pixel format (default yuv420p, yuv420p10le above 8 bits).
+    #[arg(help_heading = VIDEO, long, value_name = "NAME")]
+    pub(crate) pix_fmt: Option<String>,
     /// Render a scene with the deferred renderer as the effect input:
     /// builtin:room, builtin:bench, or a .gltf/.glb file (size from --size).
     #[arg(help_heading = SCENES, long, value_parser = clap::builder::NonEmptyStringValueParser::new())]
     pub(crate) scene: Option<String>,
-    /// Scene camera: a glTF camera index or name, or eye=x,y,z;target=x,y,z;fov=deg.
+    /// Scene camera: a glTF camera index or name (it moves with its animated
+    /// node), eye=x,y,z;target=x,y,z;fov=deg, or orbit[:period=S,elevation=DEG,
+    /// start=DEG,distance=D,fov=DEG] around the scene's bounds.
     #[arg(help_heading = SCENES, long)]
     pub(crate) camera: Option<String>,
+    /// Scene: render the scene at this time in seconds (0 or more); with
+    /// --frames A..B, frame n is rendered at n / --fps (default 30) as a sequence.
+    #[arg(help_heading = SCENES, long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub(crate) time: Option<f64>,
+    /// Scene: which glTF animations play: all (default), none, an index or a name.
+    #[arg(help_heading = SCENES, long, value_name = "NAME|INDEX|all|none")]
+    pub(crate) animation: Option<String>,
+    /// Scene: loop the animations (the clock wraps at the longest one's end);
+    /// without it, times after the last key hold the last pose.
+    #[arg(help_heading = SCENES, long = "loop")]
+    pub(crate) looping: bool,
     /// Scene: add N random point lights (at most 100000).
     #[arg(help_heading = SCENES, long, default_value_t = 0,
           value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=MAX_LIGHTS))]
@@ -197,6 +230,31 @@ pub(crate) struct Cli {
     /// Scene: side of each shadow map in texels (256 to 8192, and the GPU's limit).
     #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::render::renderer::DEFAULT_SHADOW_SIZE)]
     pub(crate) shadow_size: u32,
+    /// Scene: image-based lighting from an equirectangular map of linear
+    /// radiance (.exr, .hdr; Blender's and the glTF Sample Viewer's mapping),
+    /// builtin:studio (the default), builtin:sky (with its sun), uniform:R,G,B,
+    /// or none (the scene's lights only).
+    #[arg(help_heading = SCENES, long, value_name = "FILE|builtin:NAME|none")]
+    pub(crate) environment: Option<String>,
+    /// Scene: multiplies the environment's radiance (not a sky's sun).
+    #[arg(help_heading = SCENES, long, value_name = "X", default_value_t = 1.0, allow_negative_numbers = true)]
+    pub(crate) environment_intensity: f32,
+    /// Scene: turns the environment about +Y by DEGREES (+X towards -Z for 90).
+    #[arg(help_heading = SCENES, long, value_name = "DEGREES", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub(crate) environment_rotation: f32,
+    /// Scene: builtin:sky's sun as ELEVATION,AZIMUTH in degrees (azimuth 0
+    /// towards +X, 90 towards +Z); default 40,120.
+    #[arg(help_heading = SCENES, long, value_name = "ELEV,AZIM", allow_hyphen_values = true)]
+    pub(crate) sun: Option<String>,
+    /// Scene: builtin:sky's atmospheric turbidity, 1.7 (clear) to 10 (hazy);
+    /// default 3.
+    #[arg(help_heading = SCENES, long, value_name = "T")]
+    pub(crate) turbidity: Option<f32>,
+    /// Scene: what pixels without geometry show: color:R,G,B (linear; default
+    /// the scene's colour), environment or environment:BLUR (0 sharp to 1), or
+    /// transparent (alpha 0 in the HDR image).
+    #[arg(help_heading = SCENES, long, value_name = "MODE")]
+    pub(crate) background: Option<String>,
     /// Scene: shadow-map layers per frame (directional light 4, point 6, spot 1);
     /// lights past it are unshadowed, with a warning.
     #[arg(help_heading = SCENES, long, value_name = "N", default_value_t = fxgraph::render::renderer::DEFAULT_SHADOW_LAYERS)]

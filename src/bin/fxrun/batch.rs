@@ -33,7 +33,7 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
     if let [spec] = specs.as_slice() {
         match spec {
             SequenceSpec::Dir(_) | SequenceSpec::Glob(_) => {
-                if sequence_options || ospec == SequenceSpec::Stdout {
+                if sequence_options || ospec.is_stream() {
                     return Ok(false);
                 }
             }
@@ -42,7 +42,7 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
         }
     } else {
         for (spec, arg) in specs.iter().zip(&cli.input) {
-            if matches!(spec, SequenceSpec::Stdin | SequenceSpec::Pattern { .. }) {
+            if spec.is_stream() || matches!(spec, SequenceSpec::Pattern { .. }) {
                 return Err(rejected(format!(
                     "-i {}: a stream or a numbered pattern is a sequence of its own; it cannot be one of several inputs",
                     arg.display()
@@ -54,10 +54,11 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
                 "--frames, --warmup, --rate and --fps are for sequences (one -i pattern, folder or stream), not for several inputs",
             ));
         }
-        if ospec == SequenceSpec::Stdout {
-            return Err(rejected(
-                "-o - writes one y4m stream: give its frames as one -i pattern or folder",
-            ));
+        if ospec.is_stream() {
+            return Err(rejected(format!(
+                "-o {} writes one stream: give its frames as one -i pattern or folder",
+                output.display()
+            )));
         }
     }
     let mut effect = Effect::compile(&cli.effects, &cli.set)?;

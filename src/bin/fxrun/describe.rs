@@ -135,4 +135,10 @@ pub(crate) fn describe(graph: &fxgraph::graph::Graph) {
             graph.latency
         );
     }
+    if let Some(j) = graph.jitter {
+        outln!(
+            "jitter: {j} (asks for input frames rendered with sub-pixel offsets, period {}; the renderer applies them)",
+            j.period()
+        );
+    }
 }

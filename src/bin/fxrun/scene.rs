@@ -13,6 +13,9 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
         ));
     }
     let job = scene_job(cli, cli.effects.is_empty() && cli.output.is_some())?;
+    if cli.time.is_some() || cli.frames.is_some() {
+        return run_scene_sequence_cli(cli, &job);
+    }
     let mut engine = Engine::new(
         fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
             .map_err(RunError::from)?,
@@ -121,6 +124,7 @@ pub(crate) fn scene_job(
             cli.shadow_size
         )));
     }
+    let (environment, background) = environment_options(cli)?;
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
     } else {
@@ -133,6 +137,8 @@ pub(crate) fn scene_job(
         width,
         height,
         camera: cli.camera.clone(),
+        animation: cli.animation.clone(),
+        looping: cli.looping,
         lights: cli.lights,
         seed: cli.seed,
         technique,
@@ -153,6 +159,252 @@ pub(crate) fn scene_job(
         shadows,
         shadow_size: cli.shadow_size,
         shadow_layers: cli.shadow_layers,
+        environment,
+        background,
     };
     Ok(job)
 }
+
+/// `--scene` with `--frames A..B` or `--time SECONDS`: a rendered sequence (or one
+/// frame of it) written as numbered files, into a folder, to a y4m stream on
+/// stdout, or (one frame) to one file.
+fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(), Fail> {
+    use fxgraph::app::{run_scene_sequence, FilesSink, OutputNames, SceneTimes};
+    use fxgraph::io::sequence::{parse_frames, OutputPattern, SequenceSpec};
+    let fps = cli.fps.unwrap_or(30.0);
+    if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+        return Err(rejected(format!(
+            "--fps {fps}: expected a number above 0, at most 1000"
+        )));
+    }
+    if cli.gbuffer.is_some() {
+        return Err(rejected(
+            "--gbuffer writes one frame's G-buffer: use it without --frames/--time",
+        ));
+    }
+    let Some(output) = &cli.output else {
+        return Err(rejected("a rendered sequence needs -o OUTPUT"));
+    };
+    let times = match (cli.time, &cli.frames) {
+        (Some(_), Some(_)) => {
+            return Err(rejected(
+                "--time renders one frame, --frames a sequence: give one of them",
+            ))
+        }
+        (Some(t), None) => {
+            if !(t.is_finite() && t >= 0.0) {
+                return Err(rejected(format!(
+                    "--time {t}: must be 0 or more seconds (frame 0 is at time 0; a scene's animation holds its first pose before its first key)"
+                )));
+            }
+            SceneTimes::at(t, fps, cli.warmup)
+        }
+        (None, Some(f)) => {
+            let r = parse_frames(f).map_err(|e| rejected(format!("--frames {f}: {e}")))?;
+            if r.end == u64::MAX {
+                return Err(rejected(format!(
+                    "--frames {f}: a rendered sequence needs its last frame (A..B)"
+                )));
+            }
+            SceneTimes {
+                fps,
+                frames: (r.start, r.end),
+                warmup: cli.warmup,
+                time: None,
+            }
+        }
+        (None, None) => unreachable!("called with --time or --frames"),
+    };
+    let ospec = SequenceSpec::parse_output(&output.to_string_lossy());
+    let save = fxgraph::io::SaveOptions {
+        bit_depth: cli.bit_depth,
+        assume_linear: false,
+    };
+    let mut first = times.frames.0;
+    let (sink, format): (Box<dyn FrameSink>, _) = match &ospec {
+        SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
+            // y4m on stdout, a .y4m file or a video file (through ffmpeg); a whole
+            // file is written or not, so --skip-existing does not resume it
+            if cli.skip_existing {
+                return Err(rejected(
+                    "--skip-existing resumes numbered files; a y4m stream or a y4m/video file is written whole",
+                ));
+            }
+            let output = super::streams::stream_output(&ospec).expect("a stream spec");
+            let plan = super::streams::StreamPlan {
+                template: None,
+                video: None,
+                fps,
+                emit: None,
+                deinterlaces: false,
+            };
+            let opened = super::streams::open_stream_output(cli, &output, &plan)?;
+            (opened.sink, opened.texture_format)
+        }
+        SequenceSpec::Single(path) if times.frames.0 == times.frames.1 => {
+            let format = output_format_for(path, cli.bit_depth, false).map_err(RunError::from)?;
+            let names = OutputNames::Named([(times.frames.0, path.clone())].into());
+            (Box::new(FilesSink { names, save }), format)
+        }
+        SequenceSpec::Single(path) => {
+            return Err(rejected(format!(
+                "-o {}: several frames need a numbered pattern (out/%04d.png), a folder, a .y4m or video file, or - (y4m)",
+                path.display()
+            )))
+        }
+        SequenceSpec::Stdin | SequenceSpec::Glob(_) => {
+            return Err(rejected(format!(
+                "-o {}: not an output for frames",
+                output.display()
+            )))
+        }
+        spec => {
+            let pattern = match (spec, &cli.format) {
+                (SequenceSpec::Dir(dir), ext) => OutputPattern::in_dir(
+                    dir,
+                    ext.as_deref().unwrap_or("png").trim_start_matches('.'),
+                ),
+                _ => OutputPattern::new(spec),
+            }
+            .map_err(RunError::from)?;
+            let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
+            if cli.skip_existing {
+                match (times.frames.0..=times.frames.1).find(|n| !pattern.exists(*n)) {
+                    Some(n) => first = n,
+                    None => {
+                        eprintln!("fxrun: every output frame exists already (--skip-existing)");
+                        return Ok(());
+                    }
+                }
+            }
+            let format = output_format_for(&pattern.path_for(0), cli.bit_depth, false)
+                .map_err(RunError::from)?;
+            (
+                Box::new(FilesSink {
+                    names: OutputNames::Pattern(pattern),
+                    save,
+                }),
+                format,
+            )
+        }
+    };
+    let times = SceneTimes {
+        frames: (first, times.frames.1),
+        ..times
+    };
+    let mut engine = Engine::new(
+        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
+            .map_err(RunError::from)?,
+    );
+    let stop = stop_flag();
+    let progress = ProgressLine::new("frames");
+    let result = run_scene_sequence(
+        job,
+        &times,
+        &mut engine,
+        sink,
+        format,
+        stop,
+        progress.callback(),
+    );
+    progress.finish();
+    let report = result?;
+    print_report(cli, &report);
+    if let Some(path) = &cli.timings_json {
+        write_json(path, &report)?;
+    }
+    if report.interrupted {
+        return Err(Fail {
+            code: 130,
+            message: format!(
+                "interrupted after {} frames; {}",
+                report.done.len(),
+                super::streams::interrupted_hint(&ospec)
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The environment of `--environment` (the default: [`DEFAULT_ENVIRONMENT`])
+/// with `--environment-intensity`, `--environment-rotation`, `--sun`,
+/// `--turbidity`, and the `--background`.
+fn environment_options(
+    cli: &Cli,
+) -> Result<
+    (
+        Option<fxgraph::scene::Environment>,
+        Option<fxgraph::scene::Background>,
+    ),
+    Fail,
+> {
+    use fxgraph::scene::{Background, Environment, EnvironmentSource};
+    let spec = cli.environment.as_deref().unwrap_or(DEFAULT_ENVIRONMENT);
+    let mut env = Environment::parse(spec).map_err(|e| rejected(format!("--environment: {e}")))?;
+    if !(cli.environment_intensity.is_finite() && cli.environment_intensity >= 0.0) {
+        return Err(rejected(format!(
+            "--environment-intensity {}: must be finite and not negative",
+            cli.environment_intensity
+        )));
+    }
+    if !cli.environment_rotation.is_finite() {
+        return Err(rejected(
+            "--environment-rotation: must be a finite number of degrees",
+        ));
+    }
+    let sky = match env.as_mut().map(|e| &mut e.source) {
+        Some(EnvironmentSource::Sky(s)) => Some(s),
+        _ => None,
+    };
+    match sky {
+        Some(s) => {
+            if let Some(sun) = &cli.sun {
+                let v: Vec<f32> = sun
+                    .split(',')
+                    .map(|x| x.trim().parse::<f32>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| {
+                        rejected(format!(
+                            "--sun {sun}: expected ELEVATION,AZIMUTH in degrees"
+                        ))
+                    })?;
+                let [e, a] = v.as_slice() else {
+                    return Err(rejected(format!(
+                        "--sun {sun}: expected ELEVATION,AZIMUTH in degrees"
+                    )));
+                };
+                (s.elevation, s.azimuth) = (*e, *a);
+            }
+            if let Some(t) = cli.turbidity {
+                s.turbidity = t;
+            }
+            s.check().map_err(rejected)?;
+        }
+        None if cli.sun.is_some() || cli.turbidity.is_some() => {
+            return Err(rejected(
+                "--sun and --turbidity set builtin:sky: add --environment builtin:sky",
+            ));
+        }
+        None => {}
+    }
+    if let Some(e) = env.as_mut() {
+        e.intensity = cli.environment_intensity;
+        e.rotation = cli.environment_rotation;
+    }
+    let background = cli
+        .background
+        .as_deref()
+        .map(Background::parse)
+        .transpose()
+        .map_err(|e| rejected(e.to_string()))?;
+    if matches!(background, Some(Background::Environment { .. })) && env.is_none() {
+        return Err(rejected(
+            "--background environment needs an environment (--environment is none)",
+        ));
+    }
+    Ok((env, background))
+}
+
+/// The environment of a scene without `--environment`: like every glTF viewer,
+/// fxrun lights PBR materials with an environment by default (docs/renderer.md).
+const DEFAULT_ENVIRONMENT: &str = "builtin:studio";

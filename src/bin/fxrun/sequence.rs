@@ -1,10 +1,16 @@
-//! `fxrun`: frame sequences and y4m streams (`-i 'in/%04d.png'`, `-i -`), and the timings printer.
+//! `fxrun`: frame sequences and y4m or video streams (`-i 'in/%04d.png'`, `-i -`,
+//! `-i in.mkv`), the progress line.
 
 use super::*;
 use fxgraph::app::BatchItem;
 use std::collections::HashMap;
+use streams::{
+    interrupted_hint, open_input, open_stream_output, skip_whole_file, stream_input, stream_output,
+    StreamPlan,
+};
 
-/// `fxrun EFFECT -i 'in/%04d.png' -o 'out/%04d.png'` and `-i - -o -` (y4m streams).
+/// `fxrun EFFECT -i 'in/%04d.png' -o 'out/%04d.png'`, `-i - -o -` (y4m streams),
+/// `-i in.y4m -o out.mp4` (files).
 pub(crate) fn run_sequence_cli(
     cli: &Cli,
     ispec: SequenceSpec,
@@ -13,6 +19,9 @@ pub(crate) fn run_sequence_cli(
     if cli.rate == 0 || cli.rate > 4 {
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
+    // Ctrl-C stops the run from here on (the ffmpeg children started below are in
+    // their own process group: fxrun ends them).
+    let stop = stop_flag();
     let mut effect = Effect::compile(&cli.effects, &cli.set)?;
     print_diagnostics(cli, &effect);
     let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
@@ -29,22 +38,42 @@ pub(crate) fn run_sequence_cli(
     let load = fxgraph::io::LoadOptions {
         assume_linear: cli.assume_linear,
     };
-    // Source: files (with the context frames a slice needs) or a y4m stream.
+    // A y4m or video file read and written at once would be replaced by the output.
+    if let (
+        SequenceSpec::Y4m(i) | SequenceSpec::Video(i),
+        SequenceSpec::Y4m(o) | SequenceSpec::Video(o),
+    ) = (&ispec, &ospec)
+    {
+        if let (Ok(a), Ok(b)) = (std::fs::canonicalize(i), std::fs::canonicalize(o)) {
+            if a == b {
+                return Err(rejected(format!(
+                    "-o {}: the output would replace the input; write another file",
+                    o.display()
+                )));
+            }
+        }
+    }
+    // A whole y4m or video file is written or not: with --skip-existing, an existing
+    // one is kept and the run skipped.
+    if skip_whole_file(cli, &ospec) {
+        return Ok(());
+    }
+    // Source: files (with the context frames a slice needs) or a y4m or video stream.
     let mut y4m_template = None;
+    let mut video_in = None;
     let mut emit = None;
     // `-o DIR` from files (one output per input frame): each frame's own file name.
     let mut named: Option<HashMap<u64, PathBuf>> = None;
     let source: Box<dyn FrameSource> = match &ispec {
-        SequenceSpec::Stdin => {
-            let stdin = std::io::BufReader::with_capacity(1 << 20, std::io::stdin());
-            let reader = fxgraph::io::y4m::Y4mReader::new(stdin, "stdin")
-                .map_err(|e| rejected(e.to_string()))?;
-            let header = reader.header().clone();
+        SequenceSpec::Stdin | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
+            let input = stream_input(&ispec).expect("a stream spec");
+            let opened = open_input(cli, &input)?;
+            let header = opened.header.clone();
             if cli.fps.is_none() && header.fps.1 > 0 {
                 fps = header.fps.0 as f64 / header.fps.1 as f64;
             }
-            let conversion = fxgraph::io::y4m::YuvConversion::for_header(&header);
-            y4m_template = Some((header, conversion));
+            y4m_template = Some((header, opened.conversion));
+            video_in = opened.video.clone();
             let (skip, last) = match range {
                 Some(r) => {
                     emit = Some((r.start, r.end));
@@ -55,13 +84,7 @@ pub(crate) fn run_sequence_cli(
                 }
                 None => (0, None),
             };
-            Box::new(Y4mSource {
-                reader,
-                conversion,
-                skip,
-                last,
-                failed: false,
-            })
+            opened.into_source(skip, last)
         }
         SequenceSpec::Stdout => return Err(rejected("`-` as an input reads stdin; use -i - ")),
         spec => {
@@ -139,36 +162,19 @@ pub(crate) fn run_sequence_cli(
             Box::new(FilesSource::new(all[from..=to].to_vec(), load))
         }
     };
-    // Sink: numbered files or a y4m stream; the output texture format follows.
+    // Sink: numbered files or a y4m or video stream; the output texture format follows.
     let (sink, output_format): (Box<dyn FrameSink>, _) = match &ospec {
-        SequenceSpec::Stdout => {
-            let (mut header, conversion) = match y4m_template.clone() {
-                Some(t) => t,
-                None => {
-                    let h =
-                        fxgraph::io::y4m::Y4mHeader::new(1, 1, fxgraph::io::y4m::Chroma::C420Jpeg);
-                    let c = fxgraph::io::y4m::YuvConversion::for_header(&h);
-                    (h, c)
-                }
+        SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
+            let output = stream_output(&ospec).expect("a stream spec");
+            let plan = StreamPlan {
+                template: y4m_template.clone(),
+                video: video_in.as_ref(),
+                fps,
+                emit,
+                deinterlaces: effect.graph.params.iter().any(|p| p.name == "field_order"),
             };
-            header.fps = (header.fps.0.max(1) * cli.rate, header.fps.1.max(1));
-            if cli.rate > 1 || effect.graph.params.iter().any(|p| p.name == "field_order") {
-                header.interlace = fxgraph::io::y4m::Interlace::Progressive;
-            }
-            let sink = Y4mSink {
-                inner: Some(std::io::BufWriter::with_capacity(
-                    1 << 20,
-                    std::io::stdout(),
-                )),
-                writer: None,
-                template: header,
-                conversion,
-                name: "stdout".into(),
-            };
-            (
-                Box::new(sink) as Box<dyn FrameSink>,
-                fxgraph::script::types::Format::Rgba8Srgb,
-            )
+            let opened = open_stream_output(cli, &output, &plan)?;
+            (opened.sink, opened.texture_format)
         }
         SequenceSpec::Stdin => return Err(rejected("`-` as an output writes stdout; use -o -")),
         SequenceSpec::Dir(dir) if named.is_some() => {
@@ -234,7 +240,6 @@ pub(crate) fn run_sequence_cli(
             effect = Effect::compile(&cli.effects, &set)?;
         }
     }
-    let stop = stop_flag();
     let opts = SequenceOptions {
         output_format,
         assume_linear: cli.assume_linear,
@@ -264,12 +269,7 @@ pub(crate) fn run_sequence_cli(
         write_json(path, &report)?;
     }
     if report.interrupted {
-        let hint = match &ospec {
-            SequenceSpec::Stdout => {
-                "the y4m stream on stdout ends after the last whole frame (--skip-existing does not apply to a stream)"
-            }
-            _ => "completed frames are intact (rerun with --skip-existing to resume)",
-        };
+        let hint = interrupted_hint(&ospec);
         return Err(Fail {
             code: 130,
             message: format!("interrupted after {} frames; {hint}", report.done.len()),

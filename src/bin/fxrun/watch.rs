@@ -37,9 +37,13 @@ fn refusal(cli: &Cli) -> Option<&'static str> {
             "--watch re-runs image, batch and file-sequence runs; a --scene render is not watched",
         );
     }
-    let stream = |p: &PathBuf| p.as_os_str() == "-";
+    let stream = |p: &PathBuf| {
+        p.as_os_str() == "-"
+            || fxgraph::io::sequence::is_y4m_path(p)
+            || fxgraph::io::video::is_video_path(p)
+    };
     if cli.input.iter().any(stream) || cli.output.as_ref().is_some_and(stream) {
-        return Some("--watch cannot re-run a y4m stream (-i - or -o -): give files");
+        return Some("--watch cannot re-run a y4m or video stream (-i -, -o -, .y4m, .mp4, ...): give image files");
     }
     if cli.skip_existing {
         return Some("--watch with --skip-existing would skip every output after the first run");

@@ -77,6 +77,7 @@ pub fn require_gpu() -> bool {
 }
 
 mod adapter;
+mod error_text;
 mod readback;
 mod timer;
 
@@ -228,7 +229,7 @@ impl GpuContext {
         let sink = Arc::clone(&self.uncaptured);
         self.device
             .on_uncaptured_error(Arc::new(move |error: wgpu::Error| {
-                let message = error.to_string();
+                let message = error_text::wgpu_error_text(&error);
                 log::error!("uncaptured GPU error: {message}");
                 let mut errors = sink.lock().unwrap_or_else(|e| e.into_inner());
                 if errors.len() >= MAX_RECORDED_ERRORS {
@@ -272,14 +273,14 @@ impl GpuContext {
             log::debug!("validation error in {label}: {error}");
             return Err(GpuError::Validation {
                 what,
-                message: error.to_string(),
+                message: error_text::wgpu_error_text(&error),
             });
         }
         if let Some(error) = internal {
             log::debug!("internal error in {label}: {error}");
             return Err(GpuError::Internal {
                 what,
-                message: error.to_string(),
+                message: error_text::wgpu_error_text(&error),
             });
         }
         if oom.is_some() {

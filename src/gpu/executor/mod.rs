@@ -138,6 +138,12 @@ pub struct FrameInputs<'a> {
     pub aux: HashMap<String, ImageRef<'a>>,
     /// The camera, when the input comes from the renderer.
     pub camera: Option<CameraStd>,
+    /// The sub-pixel jitter the current input frame was rendered with, in pixels:
+    /// the offset of each pixel's sample position from the pixel centre, x right,
+    /// y down (see [`crate::script::jitter`]). Shaders read it as the standard value
+    /// `jitter`. `[0, 0]` (the default) for unjittered frames. A frame source that
+    /// honours [`Prepared::jitter`] sets it to `pattern.offset(frame index)`.
+    pub jitter: [f32; 2],
 }
 
 impl<'a> FrameInputs<'a> {
@@ -162,7 +168,14 @@ impl<'a> FrameInputs<'a> {
             frames: HashMap::from([(0, input.into())]),
             aux: HashMap::new(),
             camera: None,
+            jitter: [0.0; 2],
         }
+    }
+
+    /// Sets the frame's sub-pixel jitter (the standard value `jitter`).
+    pub fn with_jitter(mut self, jitter: [f32; 2]) -> Self {
+        self.jitter = jitter;
+        self
     }
 
     /// Adds the auxiliary image `name` (`AUX.name`).

@@ -9,6 +9,7 @@
 //! batch of images of changing sizes does not keep every size alive.
 
 use super::wgpu_format;
+use crate::gpu::transfer::texture_2d;
 use crate::graph::plan::TextureDesc;
 use crate::script::types::Format;
 use std::collections::HashMap;
@@ -49,22 +50,11 @@ impl PooledTexture {
             }
         };
         let view_formats: Vec<wgpu::TextureFormat> = alternate.into_iter().collect();
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: desc.width,
-                height: desc.height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &view_formats,
-        });
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
+        let size = (desc.width, desc.height);
+        let texture = device.create_texture(&texture_2d(label, size, format, usage, &view_formats));
         let natural = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some(&format!("{label} view")),
             ..Default::default()

@@ -14,7 +14,7 @@ use crate::graph::Graph;
 use crate::script::types::{Filter, Sampling};
 use crate::script::{Diagnostic, Diagnostics, SourceMap};
 use crate::shader::load_plan_shaders;
-use crate::shader::reflect::{StdContext, StdValue, UniformSource};
+use crate::shader::reflect::StdContext;
 use std::time::Instant;
 
 /// The source of a resource; caller images are added to `caller` once each.
@@ -202,12 +202,7 @@ impl Engine {
                 let written = layout.write(&std);
                 self.ctx.queue.write_buffer(&buffer, 0, &written);
                 stats.uniform_writes += 1;
-                let per_frame = layout.fields.iter().any(|f| {
-                    matches!(
-                        f.source,
-                        UniformSource::Std(StdValue::Frame | StdValue::Time | StdValue::Subframe)
-                    )
-                });
+                let per_frame = layout.is_dynamic();
                 PassUniform {
                     binding: u.binding,
                     layout: layout.clone(),

@@ -4,7 +4,7 @@
 //! [`Prepared::run`] makes an encoder, records, and submits once, all inside one
 //! error scope. Per frame the executor only
 //! - writes the uniform buffers whose bytes changed (the standard values `frame`,
-//!   `time`, `subframe` and the camera; parameters are written by `set_param`),
+//!   `time`, `subframe`, `jitter` and the camera; parameters are written by `set_param`),
 //! - takes transient textures from the engine's pool at `Alloc { create }` and gives
 //!   them back at `Free { release }`,
 //! - looks bind groups up in a per-pass cache keyed by the textures bound (pooled
@@ -196,6 +196,14 @@ impl Prepared {
     /// This effect's counters.
     pub fn stats(&self) -> PreparedStats {
         self.stats
+    }
+
+    /// The sub-pixel jitter this effect asks its input frames to be rendered with
+    /// (an effect of the chain declares `JITTER = halton23`), or `None`. A frame
+    /// source that renders its frames (the renderer) offsets frame `n` by
+    /// `pattern.offset(n)` pixels and gives that offset as [`FrameInputs::jitter`].
+    pub fn jitter(&self) -> Option<crate::script::JitterPattern> {
+        self.plan.jitter
     }
 
     /// Record one frame into `encoder` (the caller's, on the engine's device), reading
@@ -413,7 +421,7 @@ impl Prepared {
     }
 
     /// Write the uniform buffers whose bytes changed (per-frame standard values).
-    fn write_uniforms(&mut self, camera: Option<CameraStd>) {
+    fn write_uniforms(&mut self, camera: Option<CameraStd>, jitter: [f32; 2]) {
         let cam = camera.unwrap_or(NO_CAMERA);
         let camera_changed = self.camera != Some(cam);
         self.camera = Some(cam);
@@ -429,6 +437,7 @@ impl Prepared {
             u.std.far = cam.far;
             u.std.proj = cam.proj;
             u.std.inv_proj = cam.inv_proj;
+            u.std.jitter = jitter;
             let bytes = u.layout.write(&u.std);
             if bytes != u.written {
                 self.queue.write_buffer(&u.buffer, 0, &bytes);
@@ -453,7 +462,7 @@ impl Prepared {
             ImageRef::Texture(t) => is_bgra(t.format()),
             ImageRef::View(v) => is_bgra(v.texture().format()),
         };
-        self.write_uniforms(inputs.camera);
+        self.write_uniforms(inputs.camera, inputs.jitter);
         engine.frames += 1;
         let frame_no = engine.frames;
         let gl = engine.is_gl();

@@ -4,6 +4,12 @@
 
 use super::*;
 
+/// Deepest chain of effect instances expanded: an instance inside an effect's
+/// instance inside ..., or an instance whose `IN` is another instance declared
+/// after it (expanded first). Expansion is recursive; the limit keeps it far from
+/// the stack's end (docs/language.md, "Nesting limit").
+pub const MAX_INSTANCE_DEPTH: usize = 64;
+
 pub(super) struct Lowerer<'a> {
     pub(super) loader: &'a mut Loader,
     pub(super) diags: &'a mut Diagnostics,
@@ -13,8 +19,14 @@ pub(super) struct Lowerer<'a> {
     pub(super) feedback: HashMap<(NodeIndex, u32), NodeIndex>,
     pub(super) edges: Vec<(SourceRef, NodeIndex, usize, Span)>,
     pub(super) stack: Vec<String>,
+    /// Effect instances being expanded (nested, or reached through `IN = PASS.x`).
+    pub(super) depth: usize,
+    /// Whether [`MAX_INSTANCE_DEPTH`] was reported (once per compilation).
+    pub(super) too_deep: bool,
     pub(super) overrides: Vec<ParsedOverride>,
     pub(super) params: Vec<EffectParam>,
+    /// `JITTER` requests: (namespace of the effect instance, sequence).
+    pub(super) jitter: Vec<(String, JitterPattern)>,
 }
 
 impl Lowerer<'_> {
@@ -98,6 +110,9 @@ impl Lowerer<'_> {
     ) -> Option<SourceRef> {
         let def = self.loader.effect_def(at).clone();
         let shader_dir = self.loader.module_dir(at.0);
+        if let Some(j) = &def.jitter {
+            self.jitter.push((ns.to_string(), j.node));
+        }
         // Parameter values of this instance.
         let mut values: HashMap<String, (Value, ParamType, Span)> = HashMap::new();
         for decl in &def.params {
@@ -349,6 +364,28 @@ impl Lowerer<'_> {
             self.diags.push(d);
             return None;
         }
+        if self.depth >= MAX_INSTANCE_DEPTH {
+            if !self.too_deep {
+                self.too_deep = true;
+                let mut chain: Vec<&str> = self.stack.iter().map(String::as_str).collect();
+                if chain.len() > 8 {
+                    chain.splice(4..chain.len() - 3, ["…"]);
+                }
+                chain.push(&effect_name.node);
+                self.diags.push(
+                    Diagnostic::error(format!(
+                        "effect instances are nested more than {MAX_INSTANCE_DEPTH} deep"
+                    ))
+                    .at(effect_name.span, format!("level {}", self.depth + 1))
+                    .note(format!(
+                        "{}; an instance inside an effect, or whose `IN` is an instance declared after it, is one level deeper",
+                        chain.join(" → ")
+                    )),
+                );
+            }
+            return None;
+        }
+        self.depth += 1;
         in_progress.push(pass_name.to_string());
         let result = (|| {
             let mut in_binding = None;
@@ -472,6 +509,7 @@ impl Lowerer<'_> {
             out
         })();
         in_progress.pop();
+        self.depth -= 1;
         if let Some(r) = result {
             handles.insert(pass_name.to_string(), r);
         }

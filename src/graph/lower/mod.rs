@@ -7,6 +7,7 @@ use super::*;
 use crate::script::ast::{
     self, convert_arg, DefineArg, EffectDef, OutRef, ParamArg, PassKind, Source,
 };
+use crate::script::jitter::JitterPattern;
 use crate::script::parse::{parse_value, RawValue};
 use crate::script::types::{ColorSpace, Format, ParamType, Value};
 use crate::script::{Diagnostic, Diagnostics, Span, Spanned};
@@ -135,8 +136,11 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         feedback: HashMap::new(),
         edges: Vec::new(),
         stack: Vec::new(),
+        depth: 0,
+        too_deep: false,
         overrides,
         params: Vec::new(),
+        jitter: Vec::new(),
     };
     let mut current = SourceRef::Input(0);
     let mut namespaces: HashMap<String, usize> = HashMap::new();
@@ -192,6 +196,7 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         lw.g.add_edge(s, dst, Edge { input });
     }
     let params = std::mem::take(&mut lw.params);
+    let jitter_requests = std::mem::take(&mut lw.jitter);
     let g = std::mem::take(&mut lw.g);
     drop(lw);
     if diags.has_errors() {
@@ -207,6 +212,7 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         descriptions,
         latency: 0,
         history: 0,
+        jitter: None,
         sources: SourceMap::new(),
     };
     if report_cycles(&graph, &mut diags) {
@@ -214,6 +220,17 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         return (None, diags, loader.sources, None);
     }
     schedule(&mut graph, &mut diags);
+    // An effect's `JITTER` counts when one of its passes runs (not culled).
+    graph.jitter = jitter_requests
+        .iter()
+        .find(|(ns, _)| {
+            let prefix = format!("{ns}/");
+            graph
+                .schedule
+                .iter()
+                .any(|&n| graph.pass(n).path.starts_with(&prefix))
+        })
+        .map(|(_, j)| *j);
     diags.sort();
     graph.sources = loader.sources.clone();
     (Some(graph), diags, loader.sources, None)

@@ -11,6 +11,7 @@
 
 use super::{FormatRule, Graph, Node, SizeRule};
 use crate::script::ast::MAX_SIDE;
+use crate::script::jitter::JitterPattern;
 use crate::script::types::{ColorSpace, Format, Sampling};
 use crate::script::{Diagnostic, Diagnostics};
 use petgraph::graph::NodeIndex;
@@ -225,7 +226,19 @@ pub struct Plan {
     pub persistent_bytes: u64,
     pub latency: u32,
     pub history: u32,
+    /// The sub-pixel jitter the graph asks its input frames to be rendered with
+    /// (`JITTER = halton23` in an effect), `None`: none (see [`Graph::jitter`]).
+    pub jitter: Option<JitterPattern>,
     pub output: TextureDesc,
+}
+
+impl Plan {
+    /// True when an effect of the plan asks for jittered input frames: the frame
+    /// source should render frame `n` offset by `self.jitter.offset(n)` and give
+    /// that offset with the frame (`FrameInputs::jitter`).
+    pub fn wants_jitter(&self) -> bool {
+        self.jitter.is_some()
+    }
 }
 /// Resolve the graph for `input` and plan texture lifetimes. Errors (an aux input
 /// not provided, an oversized pass, ...) are returned as diagnostics.
@@ -531,6 +544,7 @@ pub fn plan(
             persistent_bytes: persistent,
             latency: graph.latency,
             history: graph.history,
+            jitter: graph.jitter,
             output: output_desc,
         },
         diags,

@@ -195,6 +195,13 @@ impl Plan {
                 self.history, self.latency, self.latency
             );
         }
+        if let Some(j) = self.jitter {
+            let _ = writeln!(
+                out,
+                "jitter: {j} (input frames rendered with sub-pixel offsets, period {})",
+                j.period()
+            );
+        }
         out
     }
 
@@ -228,6 +235,7 @@ impl Plan {
             "persistent_bytes": self.persistent_bytes,
             "latency": self.latency,
             "history": self.history,
+            "jitter": self.jitter.map(|j| j.name()),
         })
     }
 }

@@ -117,6 +117,10 @@ impl InputSequence {
                 Path::new("-"),
                 "a stream is not a file sequence (read it as YUV4MPEG2)",
             )),
+            SequenceSpec::Y4m(p) | SequenceSpec::Video(p) => Err(IoError::unsupported(
+                p,
+                "a y4m or video file is a stream, not a file sequence",
+            )),
         }
     }
 

@@ -7,6 +7,8 @@
 //! | argument | input | output |
 //! |---|---|---|
 //! | `-` | [`SequenceSpec::Stdin`] (a YUV4MPEG2 stream, see [`super::y4m`]) | [`SequenceSpec::Stdout`] |
+//! | a `.y4m` file | [`SequenceSpec::Y4m`] | [`SequenceSpec::Y4m`] |
+//! | a video file (`.mp4`, `.mkv`, ...: [`super::video::is_video_path`]) | [`SequenceSpec::Video`] | [`SequenceSpec::Video`] |
 //! | `in/%04d.png` (one `%d`, `%0Nd` or `%Nd`) | [`SequenceSpec::Pattern`] | [`SequenceSpec::Pattern`] |
 //! | an existing folder | [`SequenceSpec::Dir`] | [`SequenceSpec::Dir`] (also a name ending in `/`) |
 //! | a name with `*`, `?` or `[` that is not an existing file | [`SequenceSpec::Glob`] | — (literal name) |
@@ -57,6 +59,11 @@ pub enum SequenceSpec {
     Stdin,
     /// `-` as an output: a YUV4MPEG2 stream on stdout.
     Stdout,
+    /// A YUV4MPEG2 file (`.y4m`): a stream with a name.
+    Y4m(PathBuf),
+    /// A video container file (`.mp4`, `.mkv`, ...), read and written through ffmpeg
+    /// ([`super::video`]).
+    Video(PathBuf),
     /// One still image, not a sequence.
     Single(PathBuf),
 }
@@ -86,6 +93,12 @@ impl SequenceSpec {
         let path = Path::new(arg);
         if path.is_dir() {
             return SequenceSpec::Dir(path.to_path_buf());
+        }
+        if is_y4m_path(path) {
+            return SequenceSpec::Y4m(path.to_path_buf());
+        }
+        if super::video::is_video_path(path) {
+            return SequenceSpec::Video(path.to_path_buf());
         }
         match role {
             Role::Input => {
@@ -120,20 +133,37 @@ impl SequenceSpec {
         !matches!(self, SequenceSpec::Single(_))
     }
 
-    /// Whether this is a YUV4MPEG2 stream (stdin or stdout).
+    /// Whether this is a stream of frames in one pipe or file: YUV4MPEG2 on stdin or
+    /// stdout, a `.y4m` file, a video file.
     pub fn is_stream(&self) -> bool {
-        matches!(self, SequenceSpec::Stdin | SequenceSpec::Stdout)
+        matches!(
+            self,
+            SequenceSpec::Stdin
+                | SequenceSpec::Stdout
+                | SequenceSpec::Y4m(_)
+                | SequenceSpec::Video(_)
+        )
     }
 
     /// The argument as a path, for error messages (`-` for the streams).
     pub fn display_path(&self) -> PathBuf {
         match self {
             SequenceSpec::Pattern { pattern } => PathBuf::from(pattern),
-            SequenceSpec::Dir(p) | SequenceSpec::Single(p) => p.clone(),
+            SequenceSpec::Dir(p)
+            | SequenceSpec::Single(p)
+            | SequenceSpec::Y4m(p)
+            | SequenceSpec::Video(p) => p.clone(),
             SequenceSpec::Glob(g) => PathBuf::from(g),
             SequenceSpec::Stdin | SequenceSpec::Stdout => PathBuf::from("-"),
         }
     }
+}
+
+/// Whether `p` names a YUV4MPEG2 file (extension `.y4m`, any case).
+pub fn is_y4m_path(p: &Path) -> bool {
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("y4m"))
 }
 
 fn ends_with_separator(s: &str) -> bool {

@@ -35,7 +35,7 @@ impl OutputPattern {
             SequenceSpec::Dir(dir) => OutputPattern::in_dir(dir, OutputPattern::DIR_EXTENSION),
             other => Err(IoError::unsupported(
                 &other.display_path(),
-                "the output of a sequence must be a pattern such as out/%04d.png or a folder",
+                "the output of a sequence must be a pattern such as out/%04d.png, a folder, a .y4m or video file, or - (y4m on stdout)",
             )),
         }
     }
@@ -103,7 +103,7 @@ impl OutputPattern {
 
 /// The process id in the name of a temporary made by [`super::write_atomic`]
 /// (`.NAME.fxtmp-<pid>-<n>`, NAME non-empty, pid and n decimal), or `None` for any other
-/// name.
+/// name (a video encoder's temporary, `.NAME.fxtmp-<pid>-<n>.EXT`, is not one).
 pub fn atomic_temporary_pid(file_name: &str) -> Option<u32> {
     let rest = file_name.strip_prefix('.')?;
     let at = rest.rfind(".fxtmp-")?;

@@ -5,7 +5,8 @@ use super::*;
 /// One frame: the planes, and the `FRAME` line's parameters.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct YuvFrame {
-    /// Luma, `width x height`.
+    /// Luma, `width x height` samples (one byte each at 8 bits, two bytes
+    /// little-endian above: see [`Y4mHeader::depth`]).
     pub y: Vec<u8>,
     /// Cb, [`Chroma::chroma_size`] (empty for mono).
     pub u: Vec<u8>,
@@ -16,13 +17,28 @@ pub struct YuvFrame {
 }
 
 impl YuvFrame {
-    /// A black frame for `header` (Y 16 or 0 for `range`, Cb = Cr = 128).
+    /// A black frame for `header` (Y 16 or 0 for `range`, Cb = Cr = 128; scaled by
+    /// 2^(depth - 8) above 8 bits).
     pub fn black(header: &Y4mHeader, range: Range) -> YuvFrame {
         let (yn, cn) = header.plane_bytes();
+        let shift = header.depth - 8;
+        let y = if range == Range::Limited {
+            16 << shift
+        } else {
+            0
+        };
+        let c = 128u16 << shift;
+        let plane = |v: u16, n: usize| -> Vec<u8> {
+            if header.depth == 8 {
+                vec![v as u8; n]
+            } else {
+                v.to_le_bytes().repeat(n / 2)
+            }
+        };
         YuvFrame {
-            y: vec![if range == Range::Limited { 16 } else { 0 }; yn],
-            u: vec![128; cn],
-            v: vec![128; cn],
+            y: plane(y, yn),
+            u: plane(c, cn),
+            v: plane(c, cn),
             params: Vec::new(),
         }
     }
@@ -38,7 +54,9 @@ impl YuvFrame {
             if len != want {
                 return Err(format!(
                     "the {plane} plane has {len} bytes, the header ({}x{} C{}) needs {want}",
-                    header.width, header.height, header.colorspace
+                    header.width,
+                    header.height,
+                    header.colorspace_tag()
                 ));
             }
         }

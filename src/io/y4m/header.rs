@@ -59,7 +59,8 @@ pub enum Siting {
     CoSited,
 }
 
-/// The `C` field: sample layout, all 8 bits per sample.
+/// The `C` field's sample layout; its bit depth is [`Y4mHeader::depth`] (`C420p10` is
+/// [`Chroma::C420`] at 10 bits).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Chroma {
     /// `C420jpeg` (the default): 4:2:0, chroma centred between 2x2 luma samples.
@@ -150,7 +151,7 @@ impl Chroma {
         }
     }
 
-    /// Bytes of the three planes of a frame.
+    /// Bytes of the three planes of an 8-bit frame (samples of the three planes).
     pub fn frame_bytes(self, width: u32, height: u32) -> usize {
         let (cw, ch) = self.chroma_size(width, height);
         width as usize * height as usize + 2 * cw * ch
@@ -175,12 +176,22 @@ pub struct Y4mHeader {
     /// Pixel aspect ratio; `(0, 0)` when unknown.
     pub aspect: (u32, u32),
     pub colorspace: Chroma,
+    /// Bits per sample: 8 (one byte per sample), or 9 to 16 (two bytes per sample,
+    /// little-endian, values 0 to 2^depth - 1), as ffmpeg writes them (`C420p10`,
+    /// `Cmono16`, ...; see [`Y4mHeader::DEPTHS`]).
+    pub depth: u8,
     /// The `X` fields, without the `X`, in order.
     pub extra: Vec<String>,
 }
 
 impl Y4mHeader {
-    /// A progressive header with unknown frame rate and aspect, no extensions.
+    /// The bit depths above 8 of the layouts with chroma (`C420p9` ... `C444p16`), as
+    /// ffmpeg's y4m muxer and demuxer know them.
+    pub const DEPTHS: [u8; 5] = [9, 10, 12, 14, 16];
+    /// The bit depths above 8 of `Cmono` (`Cmono9` ... `Cmono16`).
+    pub const MONO_DEPTHS: [u8; 4] = [9, 10, 12, 16];
+
+    /// A progressive 8-bit header with unknown frame rate and aspect, no extensions.
     pub fn new(width: u32, height: u32, colorspace: Chroma) -> Y4mHeader {
         Y4mHeader {
             width,
@@ -189,8 +200,107 @@ impl Y4mHeader {
             interlace: Interlace::Progressive,
             aspect: (0, 0),
             colorspace,
+            depth: 8,
             extra: Vec::new(),
         }
+    }
+
+    /// Whether `depth` bits per sample can be written for `colorspace` (8 for every
+    /// layout; above 8 only [`Chroma::C420`], [`Chroma::C422`], [`Chroma::C444`] and
+    /// [`Chroma::Mono`], at the depths of [`Y4mHeader::DEPTHS`] / [`Y4mHeader::MONO_DEPTHS`]:
+    /// ffmpeg has no high-depth form of the other 4:2:0 sitings).
+    pub fn depth_supported(colorspace: Chroma, depth: u8) -> bool {
+        match (colorspace, depth) {
+            (_, 8) => true,
+            (Chroma::Mono, d) => Y4mHeader::MONO_DEPTHS.contains(&d),
+            (Chroma::C420 | Chroma::C422 | Chroma::C444, d) => Y4mHeader::DEPTHS.contains(&d),
+            _ => false,
+        }
+    }
+
+    /// Change the bit depth, adjusting what depends on it: 4:2:0 above 8 bits is
+    /// [`Chroma::C420`] (`C420p10`; chroma centred: `420mpeg2` and `420paldv` siting is
+    /// not kept), and [`Chroma::C420Jpeg`] back at 8 bits; the `XYSCSS` extension
+    /// (ffmpeg's older name of the layout) is dropped. An error names the depths the
+    /// layout takes.
+    pub fn set_depth(&mut self, depth: u8) -> Result<(), String> {
+        let layout = match self.colorspace {
+            c if c.is_420() && depth > 8 => Chroma::C420,
+            Chroma::C420 if depth == 8 => Chroma::C420Jpeg,
+            c => c,
+        };
+        if !Y4mHeader::depth_supported(layout, depth) {
+            let depths = if layout == Chroma::Mono {
+                &Y4mHeader::MONO_DEPTHS[..]
+            } else {
+                &Y4mHeader::DEPTHS[..]
+            };
+            let list: Vec<String> = std::iter::once(8)
+                .chain(depths.iter().copied())
+                .map(|d| d.to_string())
+                .collect();
+            return Err(format!(
+                "{depth} bits per sample cannot be written as y4m C{} (supported: {})",
+                layout.tag(),
+                list.join(", ")
+            ));
+        }
+        if (layout, depth) != (self.colorspace, self.depth) {
+            self.extra.retain(|x| !x.starts_with("YSCSS="));
+        }
+        self.colorspace = layout;
+        self.depth = depth;
+        Ok(())
+    }
+
+    /// The `C` field's value (without the `C`): the layout's tag at 8 bits, `420p10`,
+    /// `444p16`, `mono12`, ... above.
+    pub fn colorspace_tag(&self) -> String {
+        match (self.colorspace, self.depth) {
+            (c, 8) => c.tag().to_string(),
+            (Chroma::Mono, d) => format!("mono{d}"),
+            (Chroma::C422, d) => format!("422p{d}"),
+            (Chroma::C444, d) => format!("444p{d}"),
+            (_, d) => format!("420p{d}"),
+        }
+    }
+
+    /// The layout and depth of a `C` field's value (without the `C`).
+    pub fn parse_colorspace(tag: &str) -> Option<(Chroma, u8)> {
+        if let Some(c) = Chroma::from_tag(tag) {
+            return Some((c, 8));
+        }
+        let (layout, depth) = if let Some(d) = tag.strip_prefix("mono") {
+            (Chroma::Mono, d)
+        } else {
+            let (l, d) = tag.split_once('p')?;
+            let layout = match l {
+                "420" => Chroma::C420,
+                "422" => Chroma::C422,
+                "444" => Chroma::C444,
+                _ => return None,
+            };
+            (layout, d)
+        };
+        if depth.is_empty() || !depth.bytes().all(|b| b.is_ascii_digit()) || depth.len() > 2 {
+            return None;
+        }
+        let depth: u8 = depth.parse().ok()?;
+        (depth > 8 && Y4mHeader::depth_supported(layout, depth)).then_some((layout, depth))
+    }
+
+    /// Bytes per sample: 1 at 8 bits, 2 above.
+    pub fn sample_bytes(&self) -> usize {
+        if self.depth > 8 {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// The largest sample value, `2^depth - 1`.
+    pub fn max_code(&self) -> u32 {
+        (1u32 << self.depth) - 1
     }
 
     /// Parse a header line (with or without the final `\n`). The error message says what
@@ -227,9 +337,9 @@ impl Y4mHeader {
                     })?;
                 }
                 'C' => {
-                    h.colorspace = Chroma::from_tag(val).ok_or_else(|| {
+                    (h.colorspace, h.depth) = Y4mHeader::parse_colorspace(val).ok_or_else(|| {
                         format!(
-                            "unsupported colour space `{tok}` (supported: 8-bit C420jpeg, C420mpeg2, C420paldv, C420, C422, C444, Cmono)"
+                            "unsupported colour space `{tok}` (supported: 8-bit C420jpeg, C420mpeg2, C420paldv, C420, C422, C444, Cmono; 9 to 16 bits C420pN, C422pN, C444pN with N 9, 10, 12, 14 or 16, and CmonoN with N 9, 10, 12 or 16)"
                         )
                     })?;
                 }
@@ -243,8 +353,16 @@ impl Y4mHeader {
     }
 
     /// Check the fields a writer relies on: sizes within limits, ratios either both zero
-    /// or both non-zero, extension fields non-empty without spaces or newlines.
+    /// or both non-zero, a depth the layout takes ([`Y4mHeader::depth_supported`]),
+    /// extension fields non-empty without spaces or newlines.
     pub fn validate(&self) -> Result<(), String> {
+        if !Y4mHeader::depth_supported(self.colorspace, self.depth) {
+            return Err(format!(
+                "C{} has no {}-bit form (above 8 bits: C420, C422, C444, Cmono)",
+                self.colorspace.tag(),
+                self.depth
+            ));
+        }
         for (v, what) in [(self.width, "width"), (self.height, "height")] {
             if v == 0 || v > MAX_SIDE {
                 return Err(format!("{what} {v} is out of range (1 to {MAX_SIDE})"));
@@ -277,7 +395,7 @@ impl Y4mHeader {
             self.interlace.code(),
             self.aspect.0,
             self.aspect.1,
-            self.colorspace.tag()
+            self.colorspace_tag()
         );
         for x in &self.extra {
             s.push_str(" X");
@@ -289,13 +407,14 @@ impl Y4mHeader {
 
     /// Bytes of one frame's planes.
     pub fn frame_bytes(&self) -> usize {
-        self.colorspace.frame_bytes(self.width, self.height)
+        self.colorspace.frame_bytes(self.width, self.height) * self.sample_bytes()
     }
 
     /// `(luma, each chroma)` plane sizes in bytes.
     pub fn plane_bytes(&self) -> (usize, usize) {
         let (cw, ch) = self.colorspace.chroma_size(self.width, self.height);
-        (self.width as usize * self.height as usize, cw * ch)
+        let b = self.sample_bytes();
+        (self.width as usize * self.height as usize * b, cw * ch * b)
     }
 
     /// The range announced by an `XCOLORRANGE=FULL` / `XCOLORRANGE=LIMITED` extension.

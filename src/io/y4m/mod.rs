@@ -1,5 +1,5 @@
 //! YUV4MPEG2 (`.y4m`, `ffmpeg -f yuv4mpegpipe`) streams: a reader, a writer, and the
-//! conversions between 8-bit Y'CbCr frames and RGBA [`Image`]s.
+//! conversions between Y'CbCr frames (8 to 16 bits) and RGBA [`Image`]s.
 //!
 //! # Format
 //!
@@ -11,13 +11,20 @@
 //! | `F<n>:<d>` | frame rate | [`Y4mHeader::fps`]; `0:0` (also when absent) = unknown |
 //! | `I<p\|t\|b\|m\|?>` | progressive, top / bottom field first, mixed (per frame), unknown | [`Interlace`] |
 //! | `A<n>:<d>` | pixel aspect ratio | [`Y4mHeader::aspect`]; `0:0` (also when absent) = unknown |
-//! | `C<name>` | sample layout | [`Chroma`]; `420jpeg` when absent |
+//! | `C<name>` | sample layout and depth | [`Chroma`] and [`Y4mHeader::depth`]; `420jpeg` when absent |
 //! | `X<text>` | extensions (`XCOLORRANGE=FULL`, `XYSCSS=420MPEG2`, ...) | [`Y4mHeader::extra`], passed through |
 //!
 //! Unknown fields are ignored. Each frame is a line `FRAME` (optionally followed by
 //! space-separated parameters, kept in [`YuvFrame::params`]) and the planes Y, Cb, Cr
-//! (only Y for `Cmono`), 8 bits per sample, rows top to bottom without padding. Chroma
-//! planes of 4:2:0 are `ceil(w/2) x ceil(h/2)`, of 4:2:2 `ceil(w/2) x h`.
+//! (only Y for `Cmono`), rows top to bottom without padding. Chroma planes of 4:2:0 are
+//! `ceil(w/2) x ceil(h/2)`, of 4:2:2 `ceil(w/2) x h`.
+//!
+//! Samples are 8 bits (one byte) for `C420jpeg`, `C420mpeg2`, `C420paldv`, `C420`,
+//! `C422`, `C444`, `Cmono`; the layouts ffmpeg writes for 9 to 16 bits
+//! (`-pix_fmt yuv420p10le -strict -1 -f yuv4mpegpipe`) store each sample in two bytes,
+//! little-endian: `C420p9`, `C420p10`, `C420p12`, `C420p14`, `C420p16` (4:2:0, chroma
+//! centred as in `420jpeg`), the same for `C422pN` and `C444pN`, and `Cmono9`,
+//! `Cmono10`, `Cmono12`, `Cmono16`. The depth is [`Y4mHeader::depth`].
 //!
 //! Frame numbers in messages count from 0 (the first frame of the stream is frame 0), and
 //! say so: `stdin: y4m frame 12 (0-based): truncated (got 1000 of 622080 bytes)`.
@@ -30,13 +37,17 @@
 //! # Colour
 //!
 //! [`YuvConversion`] says how Y'CbCr maps to R'G'B': [`Matrix::Bt601`] or
-//! [`Matrix::Bt709`], [`Range::Limited`] (Y 16-235, Cb/Cr 16-240) or [`Range::Full`]
-//! (0-255, chroma scaled by 255 as in JPEG). [`YuvConversion::for_header`] picks BT.601 for
+//! [`Matrix::Bt709`] (or [`Matrix::Bt2020`], set by the caller), [`Range::Limited`]
+//! (Y 16-235, Cb/Cr 16-240) or [`Range::Full`] (0-255, chroma scaled by 255 as in JPEG);
+//! at n bits the codes are those of 8 bits times 2^(n-8) in limited range (Y 64-940 at
+//! 10 bits) and `0..2^n - 1` in full range (chroma centred on 2^(n-1), scaled by
+//! 2^n - 1), as ffmpeg converts them. [`YuvConversion::for_header`] picks BT.601 for
 //! heights up to 576 and BT.709 above, and limited range unless the header says
 //! `XCOLORRANGE=FULL` (ffmpeg writes that extension when it knows the range). The R'G'B'
 //! values are treated as sRGB-encoded, the same convention as 8-bit image files, so a
 //! y4m → PNG → y4m trip is consistent: [`RgbKind::SrgbU8`] gives the R'G'B' bytes and
-//! [`RgbKind::LinearF32`] their sRGB decode to linear light.
+//! [`RgbKind::LinearF32`] their sRGB decode to linear light (what streams above 8 bits
+//! are read as, so that no precision is lost before the GPU).
 //!
 //! # Chroma siting
 //!
@@ -182,7 +193,6 @@ pub use super::yuv::*;
 #[cfg(test)]
 mod tests {
     use super::super::srgb;
-    use super::super::yuv::*;
     use super::*;
 
     #[test]

@@ -11,6 +11,7 @@ pub struct Y4mReader<R: Read> {
     index: u64,
     line: Vec<u8>,
     failed: bool,
+    header_bytes: usize,
 }
 
 impl<R: Read> Y4mReader<R> {
@@ -57,6 +58,7 @@ impl<R: Read> Y4mReader<R> {
             header,
             name,
             index: 0,
+            header_bytes: line.len(),
             line,
             failed: false,
         })
@@ -70,6 +72,20 @@ impl<R: Read> Y4mReader<R> {
     /// The stream's name, as given to [`Y4mReader::new`].
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// Bytes of the header line, `\n` included.
+    pub fn header_bytes(&self) -> usize {
+        self.header_bytes
+    }
+
+    /// The number of frames of a stream of `total` bytes whose `FRAME` lines have no
+    /// parameters (each frame `FRAME\n` and its planes), or `None` when the bytes do
+    /// not divide into such frames (a truncated stream, frame parameters).
+    pub fn frames_in(&self, total: u64) -> Option<u64> {
+        let frame = (FRAME_MAGIC.len() + 1 + self.header.frame_bytes()) as u64;
+        let body = total.checked_sub(self.header_bytes as u64)?;
+        (body % frame == 0).then_some(body / frame)
     }
 
     /// Frames read so far (the 0-based number of the next one).

@@ -103,6 +103,11 @@ impl<W: Write> Y4mWriter<W> {
         })
     }
 
+    /// Return the underlying writer without flushing it (a run that is abandoned).
+    pub fn into_unflushed(self) -> W {
+        self.inner
+    }
+
     /// Flush and return the underlying writer.
     pub fn into_inner(mut self) -> Result<W, Y4mError> {
         self.flush()?;

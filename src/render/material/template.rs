@@ -18,7 +18,8 @@ use std::fmt::Write as _;
 
 const ENGINE: &str = concat!(
     include_str!("../shaders/engine.wgsl"),
-    include_str!("../shaders/instance.wgsl")
+    include_str!("../shaders/instance.wgsl"),
+    include_str!("../shaders/environment.wgsl")
 );
 const GEOMETRY: &str = include_str!("../shaders/geometry.wgsl");
 const LIGHT: &str = include_str!("../shaders/light.wgsl");
@@ -68,6 +69,22 @@ fn call(k: usize, l: &ShaderInfo) -> String {
     }
 }
 
+/// `fx_environment_lighting`: the lighting shader's `environment` (renamed
+/// `lmK_environment`) when it has one, else the engine's default term.
+fn environment_dispatch(k: Option<(usize, &ShaderInfo)>) -> String {
+    let call = match k {
+        Some((k, l)) => match l.shader.environment {
+            Some(true) => format!("{}environment(e, fx_lp{k}[material])", model_prefix(k)),
+            Some(false) => format!("{}environment(e)", model_prefix(k)),
+            None => "fx_environment_default(e)".to_string(),
+        },
+        None => "fx_environment_default(e)".to_string(),
+    };
+    format!(
+        "fn fx_environment_lighting(material: u32, e: EnvironmentInput) -> LightingOutput {{\n    return {call};\n}}\n"
+    )
+}
+
 fn header(normal_encoding: u32) -> String {
     format!("const NORMAL_ENCODING: u32 = {normal_encoding}u;\n")
 }
@@ -102,6 +119,7 @@ pub fn geometry_module(
         call(k, l)
     )
     .unwrap();
+    text.push_str(&environment_dispatch(Some((k, l))));
     text.push_str(MATERIAL_INTERFACE);
     resolve(text, &s.flags, key.features, mode, light_count)
 }
@@ -129,6 +147,8 @@ pub fn light_module(set: &MaterialSet, normal_encoding: u32) -> Result<Generated
         "        default: { return LightingOutput(vec3<f32>(0.0), vec3<f32>(0.0)); }\n    }\n}\n",
     );
     text.push_str(&dispatch);
+    // (the light module shades no surface: it needs the name only)
+    text.push_str(&environment_dispatch(None));
     text.push_str(MATERIAL_INTERFACE);
     let (wgsl, _) = preprocess(&text, &[]).map_err(|e| e.message)?;
     Ok(Generated {

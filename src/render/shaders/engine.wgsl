@@ -23,8 +23,13 @@ struct FxFog {
 
 struct FxFrame {
     view: mat4x4<f32>,
+    // jittered when the frame is (docs/renderer.md, motion vectors)
     proj: mat4x4<f32>,
     inv_proj: mat4x4<f32>,
+    // the unjittered projection, and view space -> the previous frame's
+    // unjittered clip space: the motion vectors of the resolve pass
+    proj_unjittered: mat4x4<f32>,
+    reproject: mat4x4<f32>,
     // width, height, 1 / width, 1 / height
     viewport: vec4<f32>,
     background: vec4<f32>,

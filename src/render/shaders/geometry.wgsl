@@ -106,9 +106,10 @@ fn fx_masked(in: FxVsOut, s: SurfaceOutput) -> bool {
     return masked;
 }
 
-// Light that needs no lighting shader: emission and ambient × occlusion.
-fn fx_unlit(s: SurfaceOutput) -> vec3<f32> {
-    return s.emission + s.diffuse * fx_frame.ambient.rgb * s.occlusion;
+// Light that needs no light loop: emission, ambient × occlusion and the
+// environment (environment.wgsl) of the surface at view-space point `p`.
+fn fx_unlit(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
+    return s.emission + s.diffuse * fx_frame.ambient.rgb * s.occlusion + fx_environment(s, p, material);
 }
 
 struct FxGBufferOut {
@@ -118,7 +119,7 @@ struct FxGBufferOut {
     @location(1) normal: vec4<f32>,
     // rgb specular colour F0 (sRGB storage), a = lighting model id / 255
     @location(2) specular: vec4<f32>,
-    // the specular light buffer starts with emission + ambient
+    // the specular light buffer starts with emission + ambient + environment
     @location(3) light: vec4<f32>,
 }
 
@@ -132,7 +133,7 @@ fn fx_fs_gbuffer(in: FxVsOut, @builtin(front_facing) front: bool) -> FxGBufferOu
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
-    out.light = vec4<f32>(fx_unlit(s), 0.0);
+    out.light = vec4<f32>(fx_unlit(s, in.view_pos, in.material), 0.0);
     return out;
 }
 
@@ -172,7 +173,7 @@ fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOu
     let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
     let specular = textureLoad(fx_light_specular, c, 0).rgb;
     var out: FxFinalOut;
-    out.scene = vec4<f32>(fx_fog(s.diffuse * diffuse + specular + fx_unlit(s), in.view_pos), 1.0);
+    out.scene = vec4<f32>(fx_fog(s.diffuse * diffuse + specular + fx_unlit(s, in.view_pos, in.material), in.view_pos), 1.0);
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     return out;
 }
@@ -209,7 +210,7 @@ fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material
             }
         }
     }
-    return s.diffuse * diffuse + specular + fx_unlit(s);
+    return s.diffuse * diffuse + specular + fx_unlit(s, p, material);
 }
 
 struct FxForwardOut {

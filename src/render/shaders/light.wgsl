@@ -116,13 +116,13 @@ fn fx_vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f
 }
 
 // diffuse colour × diffuse light + specular light (which started as emission +
-// ambient in the geometry pass), through the fog
+// ambient + environment in the geometry pass), through the fog
 @fragment
 fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let c = vec2<i32>(pos.xy);
     let depth = textureLoad(fx_t_depth, c, 0);
     if depth >= 1.0 {
-        return vec4<f32>(fx_frame.background.rgb, 1.0);
+        return fx_background(pos.xy);
     }
     let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
     let diffuse = textureLoad(fx_t_light_diffuse, c, 0).rgb;
@@ -131,11 +131,37 @@ fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(fx_fog(albedo * diffuse + specular, p), 1.0);
 }
 
+// The environment behind the geometry (light pre-pass and forward; deferred
+// draws it in the composition): only where nothing was drawn.
+@fragment
+fn fx_fs_background(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    if textureLoad(fx_t_depth, vec2<i32>(pos.xy), 0) < 1.0 {
+        discard;
+    }
+    return fx_background(pos.xy);
+}
+
 struct FxAuxA {
     // linear view depth (positive distance along the view axis)
     @location(0) depth: vec4<f32>,
     @location(1) normal: vec4<f32>,
     @location(2) position: vec4<f32>,
+    // motion vectors of a still world (camera motion alone; the instances that
+    // moved are drawn over it by motion.wgsl)
+    @location(3) motion: vec4<f32>,
+}
+
+// Clip position -> pixel position (x right, y down).
+fn fx_to_pixel(clip: vec4<f32>) -> vec2<f32> {
+    let ndc = clip.xy / clip.w;
+    return vec2<f32>((ndc.x * 0.5 + 0.5) * fx_frame.viewport.x, (0.5 - ndc.y * 0.5) * fx_frame.viewport.y);
+}
+
+// Pixels, current minus previous unjittered position, of the view-space point
+// (w = 1) or direction at infinity (w = 0) `v`.
+fn fx_camera_motion(v: vec4<f32>) -> vec4<f32> {
+    let m = fx_to_pixel(fx_frame.proj_unjittered * v) - fx_to_pixel(fx_frame.reproject * v);
+    return vec4<f32>(m, 0.0, 1.0);
 }
 
 @fragment
@@ -148,6 +174,7 @@ fn fx_fs_aux_a(@builtin(position) pos: vec4<f32>) -> FxAuxA {
         out.depth = vec4<f32>(fx_frame.far, 0.0, 0.0, 0.0);
         out.normal = vec4<f32>(0.0);
         out.position = vec4<f32>(p, 0.0);
+        out.motion = fx_camera_motion(vec4<f32>(p, 0.0));
         return out;
     }
     let p = fx_view_position(pos.xy, depth);
@@ -155,6 +182,7 @@ fn fx_fs_aux_a(@builtin(position) pos: vec4<f32>) -> FxAuxA {
     out.depth = vec4<f32>(-p.z, 0.0, 0.0, 0.0);
     out.normal = vec4<f32>(fx_decode_normal(g.xy), 1.0);
     out.position = vec4<f32>(p, 1.0);
+    out.motion = fx_camera_motion(vec4<f32>(p, 1.0));
     return out;
 }
 

@@ -1,5 +1,6 @@
 //! glTF lights and cameras: `KHR_lights_punctual` lights and perspective cameras,
-//! placed by their node's world transform and checked.
+//! placed by their node's world transform and checked; they remember the node,
+//! so that animating it moves them.
 
 use crate::scene::model::{Camera, Light, LightKind, NamedCamera};
 use glam::{Mat4, Vec3};
@@ -12,15 +13,11 @@ pub(super) fn convert_camera(
     file: &str,
     cam: &gltf::Camera,
     world: &Mat4,
+    node: usize,
     node_name: &str,
 ) -> Result<Option<NamedCamera>, String> {
     match cam.projection() {
         gltf::camera::Projection::Perspective(p) => {
-            let eye = world.transform_point3(Vec3::ZERO);
-            let fwd = world
-                .transform_vector3(Vec3::NEG_Z)
-                .normalize_or(Vec3::NEG_Z);
-            let up = world.transform_vector3(Vec3::Y).normalize_or(Vec3::Y);
             let near = p.znear();
             let far = p.zfar().unwrap_or(near * 1e5);
             let yfov = p.yfov();
@@ -30,19 +27,22 @@ pub(super) fn convert_camera(
                     cam.index()
                 ));
             }
+            let mut camera = Camera {
+                eye: Vec3::ZERO,
+                target: Vec3::NEG_Z,
+                up: Vec3::Y,
+                fov_y: yfov,
+                near,
+                far,
+            };
+            camera.place(world);
             Ok(Some(NamedCamera {
                 name: cam
                     .name()
                     .map(str::to_string)
                     .unwrap_or_else(|| node_name.to_string()),
-                camera: Camera {
-                    eye,
-                    target: eye + fwd,
-                    up,
-                    fov_y: yfov,
-                    near,
-                    far,
-                },
+                camera,
+                node: Some(node),
             }))
         }
         gltf::camera::Projection::Orthographic(_) => {
@@ -62,6 +62,7 @@ pub(super) fn convert_light(
     file: &str,
     light: &gltf::khr_lights_punctual::Light,
     world: &Mat4,
+    node: usize,
 ) -> Result<Light, String> {
     let name = light
         .name()
@@ -115,17 +116,18 @@ pub(super) fn convert_light(
         LightKind::Point | LightKind::Spot { .. } => range,
         _ => None,
     };
-    Ok(Light {
+    let mut out = Light {
         name,
         kind,
         color,
         intensity,
-        position: world.transform_point3(Vec3::ZERO),
-        direction: world
-            .transform_vector3(Vec3::NEG_Z)
-            .normalize_or(Vec3::NEG_Z),
+        position: Vec3::ZERO,
+        direction: Vec3::NEG_Z,
         attenuation: [0.0, 0.0, 1.0],
         range,
         casts_shadows: true,
-    })
+        node: Some(node),
+    };
+    out.place(world);
+    Ok(out)
 }

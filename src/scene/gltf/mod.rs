@@ -4,40 +4,56 @@
 //! checked and reported as [`SceneError::Gltf`] naming the file: JSON schema
 //! problems (including extension values that are not objects), accessor types and
 //! byte ranges, index ranges, vertex counts, non-finite values (positions, normals,
-//! transforms), node cycles and hierarchy depth. The `gltf` crate runs behind
-//! `catch_unwind` as a last defence.
+//! transforms, skin weights, morph displacements, key times and values), node
+//! cycles, nodes with two parents and hierarchy depth, and every animation channel
+//! and skin (`animation.rs`). The `gltf` crate runs behind
+//! `crate::unwind::catch_quiet` as a last defence (its panic text never printed).
 //!
-//! Supported: triangle lists, strips and fans; node hierarchy transforms;
-//! perspective cameras; `KHR_lights_punctual` (`lights_cameras.rs`);
+//! Supported: triangle lists, strips and fans; the node hierarchy, kept in
+//! [`Scene::nodes`] (`nodes.rs`) so that instances, lights and cameras move with
+//! their nodes; perspective cameras; `KHR_lights_punctual` (`lights_cameras.rs`);
 //! metallic-roughness materials mapped exactly onto the `standard` surface and the
 //! `cook_torrance` lighting shader (every core factor and texture, alpha mode,
 //! double-sided, `KHR_materials_emissive_strength`, `KHR_materials_ior`,
 //! `KHR_materials_specular` factors, `KHR_texture_transform` on every texture;
 //! see [`UvTransform`]); texture coordinate sets 0 and 1 (`TEXCOORD_1` is loaded
 //! into [`Mesh::uvs1`]; a texture reading a higher set reads set 0, with a
-//! warning) and vertex colours (`COLOR_0` into [`Mesh::colors`]). Ignored with a
-//! log message: points and lines, orthographic cameras, `KHR_materials_specular`
-//! textures; ignored silently: skins, morph targets, animations and sampler
-//! settings (textures always repeat).
+//! warning) and vertex colours (`COLOR_0` into [`Mesh::colors`]); animations of
+//! node translation, rotation, scale and morph weights with STEP, LINEAR and
+//! CUBICSPLINE keys (`animation.rs`, played by [`crate::scene::animation`]);
+//! skins of up to [`crate::scene::MAX_JOINTS`] joints with 4 or 8 influences
+//! (`JOINTS_0/1`, `WEIGHTS_0/1`: unsigned bytes or shorts, float or normalised
+//! weights, renormalised to sum 1) and morph targets of `POSITION`, `NORMAL` and
+//! `TANGENT` (at most [`crate::scene::MAX_MORPH_TARGETS`]), with the mesh's and
+//! the node's default weights (`skin_attributes.rs`). Ignored with a log message:
+//! points and lines, orthographic cameras, `KHR_materials_specular` textures,
+//! `JOINTS_2`/`WEIGHTS_2` and later sets; ignored silently: morphed `TEXCOORD_n`
+//! and `COLOR_n`, tangents of morphed meshes whose tangents are derived (not
+//! given), `KHR_animation_pointer` and sampler settings (textures always repeat).
 //!
 //! This file reads the node tree and the meshes; materials and textures are mapped
-//! in `material.rs`, lights and cameras converted in `lights_cameras.rs`.
+//! in `material.rs`, lights and cameras converted in `lights_cameras.rs`, the raw
+//! bytes pre-checked in `json_checks.rs`.
 
+mod animation;
+mod json_checks;
 mod lights_cameras;
 mod material;
+mod nodes;
+mod skin_attributes;
 
 use super::model::{Instance, Mesh, Scene, SceneError};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
+pub use json_checks::MAX_GLTF_FILE_BYTES;
+use json_checks::{check_json_schema, check_references, check_uris};
 use lights_cameras::{convert_camera, convert_light};
 pub use material::UvTransform;
 use material::{texture_refs, TexRef};
 use std::collections::HashMap;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
-/// Deepest node hierarchy accepted.
-pub const MAX_NODE_DEPTH: usize = 64;
+pub use crate::scene::node::MAX_NODE_DEPTH;
 /// Most vertices accepted in one primitive.
 const MAX_VERTICES: usize = 1 << 26;
 
@@ -57,16 +73,12 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     })?;
     check_json_schema(&bytes).map_err(err)?;
     check_uris(path, &bytes).map_err(err)?;
-    let imported = catch_unwind(AssertUnwindSafe(|| gltf::import(path)))
-        .map_err(|p| err(format!("the glTF parser failed: {}", panic_message(&p))))?
+    check_references(&bytes).map_err(err)?;
+    let imported = crate::unwind::catch_quiet(|| gltf::import(path))
+        .map_err(|p| err(format!("the glTF parser failed: {p}")))?
         .map_err(|e| err(describe_gltf_error(&e)))?;
-    let scene = catch_unwind(AssertUnwindSafe(|| convert(&name, &imported)))
-        .map_err(|p| {
-            err(format!(
-                "internal error while converting: {}",
-                panic_message(&p)
-            ))
-        })?
+    let scene = crate::unwind::catch_quiet(|| convert(&name, &imported))
+        .map_err(|p| err(format!("internal error while converting: {p}")))?
         .map_err(err)?;
     if scene.triangle_count() == 0 {
         return Err(err("the scene has no triangles to draw".into()));
@@ -84,13 +96,6 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-fn panic_message(p: &Box<dyn std::any::Any + Send>) -> String {
-    p.downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| p.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "panic".to_string())
-}
-
 fn describe_gltf_error(e: &gltf::Error) -> String {
     match e {
         gltf::Error::Io(io) => format!("cannot read a referenced file: {io}"),
@@ -102,119 +107,12 @@ fn describe_gltf_error(e: &gltf::Error) -> String {
                 .collect();
             format!("invalid glTF: {}", items.join("; "))
         }
-        other => format!("invalid glTF: {other}"),
+        // (An embedded PNG's error names chunks by their `Debug` form.)
+        other => format!(
+            "invalid glTF: {}",
+            crate::io::tidy_png_message(&other.to_string())
+        ),
     }
-}
-
-/// The JSON chunk of a `.glb`, or the whole file.
-/// Largest glTF, GLB or referenced buffer/image file read (2 GiB).
-pub const MAX_GLTF_FILE_BYTES: u64 = 2 << 30;
-
-/// The files the glTF's buffers and images name (`uri`s that are not `data:` URIs) must be
-/// regular files of at most [`MAX_GLTF_FILE_BYTES`]: checked before the glTF importer
-/// reads them (`"uri": "/dev/zero"` would never end). A missing file is left to the
-/// importer's message.
-fn check_uris(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let json = json_bytes(bytes)?;
-    let value: serde_json::Value =
-        serde_json::from_slice(json).map_err(|e| format!("invalid JSON: {e}"))?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    for key in ["buffers", "images"] {
-        let Some(list) = value.get(key).and_then(|v| v.as_array()) else {
-            continue;
-        };
-        for (i, item) in list.iter().enumerate() {
-            let Some(uri) = item.get("uri").and_then(|u| u.as_str()) else {
-                continue;
-            };
-            if uri.starts_with("data:") {
-                continue;
-            }
-            let file = uri.strip_prefix("file://").unwrap_or(uri);
-            let target = base.join(file);
-            let Ok(meta) = std::fs::metadata(&target) else {
-                continue;
-            };
-            if !meta.is_file() {
-                return Err(format!(
-                    "{key}[{i}].uri `{uri}` is not a regular file (a device, a pipe or a folder cannot be read)"
-                ));
-            }
-            if meta.len() > MAX_GLTF_FILE_BYTES {
-                return Err(format!(
-                    "{key}[{i}].uri `{uri}` is too large ({} bytes; the limit is {MAX_GLTF_FILE_BYTES} bytes)",
-                    meta.len()
-                ));
-            }
-        }
-    }
-    Ok(())
-}
-
-fn json_bytes(bytes: &[u8]) -> Result<&[u8], String> {
-    if bytes.len() >= 4 && &bytes[..4] == b"glTF" {
-        if bytes.len() < 20 {
-            return Err("truncated GLB header".into());
-        }
-        let len = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]) as usize;
-        let kind = &bytes[16..20];
-        if kind != b"JSON" {
-            return Err("the first GLB chunk is not JSON".into());
-        }
-        bytes
-            .get(20..20usize.saturating_add(len))
-            .ok_or_else(|| "truncated GLB JSON chunk".to_string())
-    } else {
-        Ok(bytes)
-    }
-}
-
-/// Schema checks the `gltf` crate does not make: every `extensions` member is an
-/// object whose values are objects (glTF `extension.schema.json`).
-fn check_json_schema(bytes: &[u8]) -> Result<(), String> {
-    let json = json_bytes(bytes)?;
-    let value: serde_json::Value =
-        serde_json::from_slice(json).map_err(|e| format!("invalid JSON: {e}"))?;
-    fn walk(v: &serde_json::Value, path: &mut Vec<String>, depth: usize) -> Result<(), String> {
-        if depth > 256 {
-            return Err("JSON nested too deeply".into());
-        }
-        match v {
-            serde_json::Value::Object(map) => {
-                for (k, child) in map {
-                    if k == "extras" {
-                        continue;
-                    }
-                    if k == "extensions" {
-                        let serde_json::Value::Object(exts) = child else {
-                            return Err(format!("{}/extensions must be an object", path.join("/")));
-                        };
-                        for (name, ext) in exts {
-                            if !ext.is_object() {
-                                return Err(format!(
-                                    "{}/extensions/{name} must be an object, found {ext}",
-                                    path.join("/")
-                                ));
-                            }
-                        }
-                    }
-                    path.push(k.clone());
-                    walk(child, path, depth + 1)?;
-                    path.pop();
-                }
-            }
-            serde_json::Value::Array(items) => {
-                for (i, child) in items.iter().enumerate() {
-                    path.push(i.to_string());
-                    walk(child, path, depth + 1)?;
-                    path.pop();
-                }
-            }
-            _ => {}
-        }
-        Ok(())
-    }
-    walk(&value, &mut vec![String::new()], 0)
 }
 
 type Imported = (
@@ -255,10 +153,18 @@ fn convert(name: &str, (doc, buffers, images): &Imported) -> Result<Scene, Strin
         .default_scene()
         .or_else(|| doc.scenes().next())
         .ok_or_else(|| "the file has no scene".to_string())?;
+    c.scene.skins = c.skins(doc)?;
     let mut stack = Vec::new();
     for node in gscene.nodes() {
         c.visit(&node, Mat4::IDENTITY, &mut stack)?;
     }
+    c.scene.nodes = nodes::read_nodes(name, doc)?;
+    for inst in &mut c.scene.instances {
+        if let Some(node) = inst.node.and_then(|n| c.scene.nodes.get(n)) {
+            inst.morph_weights = node.weights.clone();
+        }
+    }
+    c.scene.animations = c.animations(doc)?;
     Ok(c.scene)
 }
 
@@ -285,7 +191,8 @@ impl Converter<'_> {
                 "node hierarchy deeper than {MAX_NODE_DEPTH} levels at node {index}"
             ));
         }
-        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        // The same local and world matrices as the rest pose (`Scene::pose`).
+        let local = nodes::rest_transform(node).matrix();
         if !local.is_finite() {
             return Err(format!("node {index} has a non-finite transform"));
         }
@@ -310,24 +217,30 @@ impl Converter<'_> {
                 };
                 if let Some(mesh_index) = mesh_index {
                     let material = self.material(prim.material())?;
+                    let name = format!("{node_name}/{}", prim.index());
+                    let skin = self.instance_skin(node, mesh_index, &name)?;
                     self.scene.instances.push(Instance {
-                        name: format!("{node_name}/{}", prim.index()),
+                        name,
                         mesh: mesh_index,
                         material,
                         transform: world,
+                        node: Some(index),
+                        skin,
+                        // from the node's rest weights, once all nodes are read
+                        morph_weights: Vec::new(),
                     });
                 }
             }
         }
         if let Some(cam) = node.camera() {
-            if let Some(camera) = convert_camera(self.name, &cam, &world, &node_name)? {
+            if let Some(camera) = convert_camera(self.name, &cam, &world, index, &node_name)? {
                 self.scene.cameras.push(camera);
             }
         }
         if let Some(light) = node.light() {
             self.scene
                 .lights
-                .push(convert_light(self.name, &light, &world)?);
+                .push(convert_light(self.name, &light, &world, index)?);
         }
         stack.push(index);
         for child in node.children() {
@@ -367,6 +280,10 @@ impl Converter<'_> {
                     .join(" or ")
             ));
         }
+        if acc.count() == 0 {
+            // (the `gltf` crate's readers underflow on it)
+            return Err(format!("{label}: count 0 (glTF requires at least 1)"));
+        }
         if acc.count() > MAX_VERTICES {
             return Err(format!("{label}: {} elements is too many", acc.count()));
         }
@@ -379,9 +296,19 @@ impl Converter<'_> {
                 ));
             }
             let needed = if acc.count() == 0 {
-                0
+                Some(0)
             } else {
-                acc.offset() + stride * (acc.count() - 1) + elem
+                stride
+                    .checked_mul(acc.count() - 1)
+                    .and_then(|n| n.checked_add(acc.offset()))
+                    .and_then(|n| n.checked_add(elem))
+            };
+            let Some(needed) = needed else {
+                return Err(format!(
+                    "{label}: offset {} + stride {stride} × {} elements overflows",
+                    acc.offset(),
+                    acc.count()
+                ));
             };
             if needed > view.length() {
                 return Err(format!(
@@ -392,12 +319,16 @@ impl Converter<'_> {
             }
             let buffer = view.buffer().index();
             let have = self.buffers.get(buffer).map_or(0, |b| b.len());
-            if view.offset() + view.length() > have {
+            if view
+                .offset()
+                .checked_add(view.length())
+                .is_none_or(|end| end > have)
+            {
                 return Err(format!(
                     "buffer view {} (bytes {}..{}) is outside buffer {buffer} ({have} bytes)",
                     view.index(),
                     view.offset(),
-                    view.offset() + view.length()
+                    view.offset().saturating_add(view.length())
                 ));
             }
         } else if acc.sparse().is_none() {
@@ -578,6 +509,7 @@ impl Converter<'_> {
                 return Err(format!("{label}: COLOR_0 has non-finite values"));
             }
         }
+        self.skin_attributes(&label, mesh, prim, &reader, &mut m)?;
         if flat {
             m.make_flat();
         }

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::script::diag::{Diagnostic, Diagnostics, FileId, Span, Spanned};
+use crate::script::jitter::JitterPattern;
 use crate::script::material;
 use crate::script::parse::{Item, RawValue, Stmt};
 
@@ -83,6 +84,7 @@ fn check_effect(
         out: None,
         format: None,
         colorspace: None,
+        jitter: None,
         span,
     };
     let mut seen: Vec<(String, Span)> = Vec::new();
@@ -165,10 +167,11 @@ fn check_effect(
             },
             "FORMAT" => e.format = format_spec(stmt, diags),
             "COLORSPACE" => e.colorspace = colorspace_value(stmt, diags),
+            "JITTER" => e.jitter = jitter_value(stmt, diags),
             _ => diags.push(
                 Diagnostic::error(format!("unknown effect attribute `{k}`"))
                     .at(stmt.key.span, "not an effect attribute")
-                    .note("an effect may contain PASS, OUT, PARAM, DESCRIPTION, FORMAT and COLORSPACE"),
+                    .note("an effect may contain PASS, OUT, PARAM, DESCRIPTION, FORMAT, COLORSPACE and JITTER"),
             ),
         }
     }
@@ -295,6 +298,34 @@ pub(super) fn colorspace_value(
         },
         None => {
             diags.push(type_error(stmt, "`linear` or `srgb`", &stmt.value.node));
+            None
+        }
+    }
+}
+
+/// `JITTER = halton23`.
+fn jitter_value(stmt: &Stmt, diags: &mut Diagnostics) -> Option<Spanned<JitterPattern>> {
+    let names: Vec<&str> = JitterPattern::ALL.iter().map(|p| p.name()).collect();
+    match word(&stmt.value) {
+        Some(w) => match JitterPattern::from_name(w) {
+            Some(p) => Some(Spanned::new(p, stmt.value.span)),
+            None => {
+                let mut d = Diagnostic::error(format!("unknown jitter sequence `{w}`"))
+                    .at(stmt.value.span, "not a jitter sequence");
+                d = match suggest(w, names.iter().copied()) {
+                    Some(s) => d.note(format!("did you mean `{s}`?")),
+                    None => d.note(format!("jitter sequences: {}", names.join(", "))),
+                };
+                diags.push(d);
+                None
+            }
+        },
+        None => {
+            diags.push(type_error(
+                stmt,
+                "a jitter sequence name (`halton23`)",
+                &stmt.value.node,
+            ));
             None
         }
     }

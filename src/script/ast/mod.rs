@@ -8,6 +8,7 @@
 //! conversion) and `suggest` ("did you mean").
 
 use super::diag::{FileId, Span, Spanned};
+use super::jitter::JitterPattern;
 use super::material::MaterialDef;
 use super::parse::Key;
 use super::types::*;
@@ -33,6 +34,9 @@ pub struct EffectDef {
     pub format: Option<Spanned<FormatSpec>>,
     /// Default working colour space for this effect's passes.
     pub colorspace: Option<Spanned<ColorSpace>>,
+    /// `JITTER = halton23`: the effect wants its input frames rendered with this
+    /// sub-pixel jitter sequence (temporal anti-aliasing).
+    pub jitter: Option<Spanned<JitterPattern>>,
     pub span: Span,
 }
 

@@ -140,7 +140,8 @@ impl Checker<'_> {
             naga::valid::Capabilities::default(),
         );
         if let Err(e) = validator.validate(&module) {
-            let d = crate::shader::wgsl_names::validation_diagnostic(&e, map, fallback);
+            let d =
+                crate::shader::wgsl_names::validation_diagnostic(&e, &module, &full, map, fallback);
             self.diags.push(note(d));
             return None;
         }

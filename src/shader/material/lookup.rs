@@ -37,6 +37,15 @@ pub fn find_material_shader(name: &str, dir: Option<&Path>) -> Option<ShaderFile
         format!("{name}.wgsl")
     };
     let parts = include::check_relative(&file).ok()?;
+    // The folder of a bare file name (`mine.fx`) is "", which cannot be made
+    // canonical: it is the current folder.
+    let dir = dir.map(|d| {
+        if d.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            d
+        }
+    });
     if let Some(dir) = dir {
         if let Ok(canon_dir) = std::fs::canonicalize(dir) {
             if let Ok(Some((canon, text))) = include::read_confined(&canon_dir, &parts, &RealFs) {

@@ -11,7 +11,9 @@
 //!   (see [`super::features`]).
 //! - A *lighting shader* defines `fn lighting(in: LightingInput) -> LightingOutput`
 //!   or `fn lighting(in: LightingInput, params: LightingParams) -> LightingOutput`
-//!   with an annotated `struct LightingParams`. It declares no resources.
+//!   with an annotated `struct LightingParams`, and optionally `fn
+//!   environment(in: EnvironmentInput[, params: LightingParams]) -> LightingOutput`
+//!   (its own image-based lighting). It declares no resources.
 //!
 //! Both see the engine's types ([`MATERIAL_INTERFACE`]); names starting with `fx_`
 //! or `FX_` are the engine's. The engine generates the entry points.
@@ -54,6 +56,7 @@ pub const INTERFACE_NAMES: &[&str] = &[
     "SurfaceOutput",
     "LightingInput",
     "LightingOutput",
+    "EnvironmentInput",
     "FX_PI",
 ];
 /// The bind group of a surface shader's resources.
@@ -148,6 +151,10 @@ pub struct MaterialShader {
     pub samplers: Vec<MaterialSampler>,
     /// Lighting: `fn lighting(in: LightingInput, params: LightingParams)`.
     pub lighting_takes_params: bool,
+    /// Lighting: the optional `fn environment(in: EnvironmentInput[, params:
+    /// LightingParams]) -> LightingOutput` that replaces the engine's environment
+    /// term: `Some(takes params)`.
+    pub environment: Option<bool>,
 }
 
 impl MaterialShader {

@@ -41,6 +41,7 @@ impl Checker<'_> {
             textures: Vec::new(),
             samplers: Vec::new(),
             lighting_takes_params: false,
+            environment: None,
         };
         // The function.
         let fname = kind.name();
@@ -127,6 +128,9 @@ impl Checker<'_> {
                     }
                 }
             }
+        }
+        if kind == MaterialShaderKind::Lighting {
+            self.reflect_environment(c, &mut out);
         }
         // Resources.
         let mut uniform: Option<(String, u32, naga::Handle<naga::Type>, Span)> = None;
@@ -412,5 +416,40 @@ impl Checker<'_> {
             .map(|i| s + text[s..s + i].trim_end().len())
             .unwrap_or(e);
         Span::new(sp.file, s, cut.max(s))
+    }
+}
+
+impl Checker<'_> {
+    /// A lighting shader's optional `environment` function: its signature must
+    /// be `fn environment(in: EnvironmentInput) -> LightingOutput`, with
+    /// `params: LightingParams` as a second parameter when `lighting` takes one.
+    fn reflect_environment(&mut self, c: &Compiled, out: &mut MaterialShader) {
+        let m = &c.module;
+        let Some((h, f)) = m
+            .functions
+            .iter()
+            .find(|(_, f)| f.name.as_deref() == Some("environment"))
+        else {
+            return;
+        };
+        let is = |ty: naga::Handle<naga::Type>, n: &str| m.types[ty].name.as_deref() == Some(n);
+        let args = &f.arguments;
+        let ok = (args.len() == 1 || args.len() == 2 && is(args[1].ty, "LightingParams"))
+            && is(args[0].ty, "EnvironmentInput")
+            && f.result
+                .as_ref()
+                .is_some_and(|r| is(r.ty, "LightingOutput"));
+        if !ok {
+            let sp = self.signature_span(self.span_of(c, m.functions.get_span(h)));
+            self.diags.push(
+                Diagnostic::error(
+                    "`environment` must be `fn environment(in: EnvironmentInput) -> LightingOutput` or `fn environment(in: EnvironmentInput, params: LightingParams) -> LightingOutput`",
+                )
+                .at(sp, "wrong signature")
+                .note("a lighting shader's `environment` replaces the engine's environment term for its materials; rename the function if it is a helper"),
+            );
+            return;
+        }
+        out.environment = Some(args.len() == 2);
     }
 }

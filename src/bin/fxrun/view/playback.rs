@@ -268,7 +268,7 @@ impl Playback {
         prepared.fps = self.fps;
         let mut stream = Stream::new(engine, prepared, desc.format);
         stream.rate = self.rate;
-        stream.first_frame = from;
+        stream.frame_offset = from;
         self.stream = Some(stream);
         self.decoder = Some(decoder);
         self.stream_from = from;

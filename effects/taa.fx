@@ -1,0 +1,106 @@
+// taa: temporal anti-aliasing. Frames rendered with a different sub-pixel jitter
+// each are accumulated along the motion vectors into a history that converges to
+// the pixel-area average (an anti-aliased image), while moving and newly visible
+// content falls back on the current frame.
+//
+// Inputs: IN, the frame in linear light (HDR: run taa before tonemap);
+// AUX.motion, the motion vectors in pixels (current minus previous position, x
+// right, y down; a pixel at p was at p - motion one frame earlier; without the
+// jitter); AUX.depth, linear view depth (larger is farther). The effect declares
+// `JITTER = halton23`: a frame source that renders its frames (the renderer)
+// offsets frame n by `halton23(n)` (src/script/jitter.rs) and gives the offset as
+// the standard value `jitter` (pixels from the pixel centre, x right, y down). A
+// sequence without jitter (the value 0) is still filtered: the history then
+// converges to the aliased image, and only flicker and crawling are reduced.
+//
+// Method, per pixel p (one frame):
+// 1. Reprojection data (geo, shaders/taa_geometry.wgsl): the nearest depth of the
+//    3x3 neighbourhood and the motion vector of that nearest pixel (the
+//    foreground's motion dilated by one pixel over its silhouette: edge pixels
+//    follow the object). Kept one frame (PASS.geo[-1]) for the disocclusion test.
+// 2. Current pixel without jitter (resolve, shaders/taa_resolve.wgsl): the 3x3
+//    samples were taken at o + jitter from p's centre (o the integer offset);
+//    their Gaussian-weighted mean, weights exp(-|o + jitter|^2 / (2 filter_width^2)),
+//    estimates the scene at p's centre.
+// 3. History: the state of the previous frame at p - motion (motion of step 1),
+//    resampled with a Catmull-Rom bicubic (9 bilinear taps) for rgb and bilinearly
+//    for n. Each resampling at a fractional position softens the history a little,
+//    and the softening builds up with its length: with f the fraction of
+//    p - motion (from the texel centres) and s = fx (1 - fx) + fy (1 - fy) (0 for
+//    whole-pixel motion, at most 0.5), n_prev is capped at resample_limit / s.
+//    The history is dropped (n = 0) when p - motion is outside the frame (content
+//    entering at an edge), or when the data stored there one frame earlier shows
+//    another surface: its nearest depth differs by more than depth_tolerance
+//    times the current one, or its motion by more than motion_tolerance pixels
+//    (disocclusion: the background a moving object uncovers).
+// 4. Clipping: in YCoCg, the history is clipped towards the centre of the box
+//    mean +- clip_gamma * sigma of the 3x3 current samples (variance clipping,
+//    Salvi 2016), intersected with their min/max and extended to hold the current
+//    pixel, so stale colours (ghosts, lighting changes) cannot survive.
+// 5. Blend: n = min(n_prev, frames - 1) + 1; colour = history + (current -
+//    history) / n. The state (rgba16f) holds rgb = the colour and a = n, the
+//    history confidence: the current frame weighs 1 (no history), 1/2, 1/3, ...
+//    down to 1 / frames. NaN becomes 0 and values are kept within the rgba16f range,
+//    so a bad input pixel cannot stay in the history.
+// 6. Output (out): the state's colour with the current frame's alpha.
+//
+// Everything is linear light (no tone mapping inside): run it before tonemap.
+//
+// Parameters:
+//   frames            most frames the history stands for (default 10: the current
+//                     frame weighs at least 0.1; higher: smoother, more blur in motion)
+//   clip_gamma        clipping box half-width in standard deviations (default 1.25;
+//                     lower: less ghosting, more flicker)
+//   filter_width      reconstruction Gaussian of the current frame, sigma in pixels
+//                     (default 0.33; smaller: sharper, more flicker)
+//   resample_limit    history length in sub-pixel motion, resample_limit / s frames
+//                     (default 0.5: 2 to 4 frames at half-pixel fractions; higher:
+//                     less aliasing and more blur in motion)
+//   depth_tolerance   relative nearest-depth change that counts as a disocclusion (0.1)
+//   motion_tolerance  motion change in pixels that counts as a disocclusion (2)
+//   view              taa (default) | history (n / frames as grey, for inspection)
+//
+// Passes: geo (rgba16f), resolve (rgba16f, fed back), out; all at the input's size.
+// Temporal behaviour: feedback only (PASS.resolve[-1], PASS.geo[-1]); no latency.
+// The first frame is the current frame unjittered; the history builds up over
+// about `frames` frames.
+EFFECT.taa = {
+    DESCRIPTION = "Temporal anti-aliasing: jittered frames accumulated along AUX.motion, with disocclusion tests (AUX.depth) and YCoCg variance clipping.\nDeclares JITTER = halton23: the renderer jitters its frames; linear HDR, run it before tonemap."
+    JITTER = halton23
+    PARAM = {
+        frames = FLOAT { DEFAULT = 10  RANGE = (1, 64)  DESCRIPTION = "most frames the history stands for: the current frame weighs at least 1 / frames" }
+        clip_gamma = FLOAT { DEFAULT = 1.25  RANGE = (0.25, 8)  DESCRIPTION = "history clipping box half-width, in standard deviations of the 3x3 neighbourhood (lower: less ghosting, more flicker)" }
+        filter_width = FLOAT { DEFAULT = 0.33  RANGE = (0.1, 2)  DESCRIPTION = "sigma in pixels of the Gaussian that rebuilds the unjittered current pixel from its 3x3 samples" }
+        resample_limit = FLOAT { DEFAULT = 0.5  RANGE = (0.01, 1000)  DESCRIPTION = "in sub-pixel motion the history stands for at most resample_limit / s frames, s = fx (1 - fx) + fy (1 - fy) of the reprojection's fraction (less blur builds up; 1000: no limit)" }
+        depth_tolerance = FLOAT { DEFAULT = 0.1  RANGE = (0, 10)  DESCRIPTION = "relative change of the nearest depth beyond which the reprojected history is a disocclusion" }
+        motion_tolerance = FLOAT { DEFAULT = 2  RANGE = (0, 1000)  DESCRIPTION = "change of the motion vector, in pixels, beyond which the reprojected history is a disocclusion" }
+        view = ENUM { VALUES = (taa, history)  DEFAULT = taa  DESCRIPTION = "output: the anti-aliased image, or for inspection the history length n / frames as grey" }
+    }
+    PASS = {
+        geo = SHADER.taa_geometry {
+            depth = AUX.depth
+            motion = AUX.motion
+            OUT.FORMAT = rgba16f
+        }
+        resolve = SHADER.taa_resolve {
+            cur = IN
+            hist = PASS.resolve[-1]
+            geo = PASS.geo
+            geo_prev = PASS.geo[-1]
+            frames = PARAM.frames
+            clip_gamma = PARAM.clip_gamma
+            filter_width = PARAM.filter_width
+            resample_limit = PARAM.resample_limit
+            depth_tolerance = PARAM.depth_tolerance
+            motion_tolerance = PARAM.motion_tolerance
+            OUT.FORMAT = rgba16f
+        }
+        out = SHADER.taa_out {
+            state = PASS.resolve
+            cur = IN
+            frames = PARAM.frames
+            DEFINE.VIEW = PARAM.view
+        }
+    }
+    OUT = out
+}

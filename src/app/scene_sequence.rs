@@ -1,0 +1,421 @@
+//! Rendered sequences: `fxrun EFFECT... --scene SCENE --frames A..B --fps N` and
+//! `--time SECONDS`. Frame n is the scene at time n / fps, rendered with the
+//! motion of the previous frame time (n − 1) / fps (`AUX.motion`) and, when the
+//! chain asks for it, the frame's sub-pixel jitter; the frames go through the
+//! effect's [`Stream`] exactly like a file sequence (`IN[-1]`, `PASS.x[-1]`,
+//! `IN[+1]`: the renderer renders ahead as far as the chain's latency needs) and
+//! out to a [`FrameSink`] on the encode thread.
+//!
+//! Everything about frame n depends on n alone (its time, its previous time, its
+//! jitter index), never on what was rendered before it, so frame n of a sequence
+//! equals frame n rendered alone with the same history before it: `--frames`
+//! slices on several machines give byte-identical results (docs/distributed.md).
+
+use super::effect::Effect;
+use super::error::RunError;
+use super::frames::FrameSink;
+use super::pipeline::{spawn_encoder, Encoded};
+use super::report::{ms, JobKind, MemoryReport, Progress, RunReport, SceneStats};
+use super::scene::{prepare, SceneJob};
+use crate::gpu::executor::Engine;
+use crate::gpu::stream::{FrameExtras, Stream};
+use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use crate::render::{FrameMotion, Renderer};
+use crate::scene::{CameraPath, Playback, Pose, Scene};
+use crate::script::types::{ColorSpace, Format};
+use glam::Mat4;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::sync_channel;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// The times of a rendered sequence.
+#[derive(Debug, Clone)]
+pub struct SceneTimes {
+    /// Frames per second: frame n is at n / fps seconds.
+    pub fps: f64,
+    /// The output frames, first and last (inclusive).
+    pub frames: (u64, u64),
+    /// Frames rendered before `frames.0` without being written, on top of the
+    /// chain's own history, so that feedback settles (`--warmup`).
+    pub warmup: u64,
+    /// `--time`: `frames` is the one frame n0 = round(time · fps), rendered at
+    /// exactly this time; the history frames before it are at time − k / fps.
+    /// When time is n0 / fps the frames are those of a sequence (bit for bit).
+    pub time: Option<f64>,
+}
+
+impl SceneTimes {
+    /// One frame at `time` seconds (≥ 0).
+    pub fn at(time: f64, fps: f64, warmup: u64) -> SceneTimes {
+        let n0 = (time * fps).round().max(0.0) as u64;
+        SceneTimes {
+            fps,
+            frames: (n0, n0),
+            warmup,
+            time: Some(time),
+        }
+    }
+
+    /// The time of frame `n` (its number is also its index in the jitter
+    /// sequence).
+    fn time_of(&self, n: u64) -> f64 {
+        let on_grid = n as f64 / self.fps;
+        match self.time {
+            Some(t) if (t * self.fps - self.frames.0 as f64).abs() > 1e-9 => {
+                t + (n as f64 - self.frames.0 as f64) / self.fps
+            }
+            _ => on_grid,
+        }
+    }
+}
+
+/// Which animations play for `job` (all by default).
+pub(super) fn playback(job: &SceneJob, scene: &Scene) -> Result<Playback, RunError> {
+    match &job.animation {
+        Some(spec) => Playback::parse(spec, scene, job.looping)
+            .map_err(|e| super::scene::scene_error(&job.scene, e)),
+        None => Ok(Playback {
+            looping: job.looping,
+            ..Playback::default()
+        }),
+    }
+}
+
+/// The instances' world transforms (scene order) of a pose.
+fn transforms(pose: &Pose) -> Vec<Mat4> {
+    pose.instances.iter().map(|i| i.world).collect()
+}
+
+/// One texture copied (the renderer draws the next frame into its own).
+fn copy_of(engine: &Engine, enc: &mut wgpu::CommandEncoder, tex: &wgpu::Texture) -> wgpu::Texture {
+    let copy = engine.ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("rendered frame (held by the stream)"),
+        size: tex.size(),
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: tex.format(),
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    enc.copy_texture_to_texture(tex.as_image_copy(), copy.as_image_copy(), tex.size());
+    copy
+}
+
+/// Renders the frames of `times`, runs the job's effects over them as a sequence
+/// and writes the outputs to `sink` (`output_format`: the format its files take).
+/// `stop` ends the run after the frame in flight (Ctrl-C).
+#[allow(clippy::too_many_arguments)]
+pub fn run_scene_sequence(
+    job: &SceneJob,
+    times: &SceneTimes,
+    engine: &mut Engine,
+    sink: Box<dyn FrameSink>,
+    output_format: Format,
+    stop: Arc<AtomicBool>,
+    mut progress: impl FnMut(Progress),
+) -> Result<RunReport, RunError> {
+    let t_all = Instant::now();
+    if !(times.fps.is_finite() && times.fps > 0.0) {
+        return Err(RunError::Other(format!("fps {} is not above 0", times.fps)));
+    }
+    let mut stats = SceneStats {
+        scene: job.scene.clone(),
+        technique: job.technique.to_string(),
+        light_culling: job.light_culling.to_string(),
+        shadows: job.shadows.to_string(),
+        ..Default::default()
+    };
+    let (scene, mut renderer, effect) = prepare(job, engine, &mut stats)?;
+    let path = CameraPath::parse(job.camera.as_deref(), &scene)
+        .map_err(|e| super::scene::scene_error(&job.scene, e))?;
+    let playback = playback(job, &scene)?;
+    let animated = scene.is_animated();
+    let deformed: Vec<usize> = (0..scene.instances.len())
+        .filter(|&i| scene.is_deformed(i))
+        .collect();
+    let deform = |pose: &Pose| -> Vec<crate::scene::PosedMesh> {
+        deformed
+            .iter()
+            .map(|&i| pose.deformed_mesh(&scene, i))
+            .collect()
+    };
+    let mut report = RunReport {
+        job: JobKind::Scene,
+        adapter: engine.ctx.info.name.clone(),
+        backend: format!("{:?}", engine.ctx.info.backend),
+        ..Default::default()
+    };
+    let (first, last) = times.frames;
+    let (mut stream, history, latency) = match effect {
+        Some(mut effect) => {
+            let (s, h, l) = stream_for(job, times, engine, &mut effect, &renderer, output_format)?;
+            report.plans = 1;
+            report.memory = MemoryReport::of(&s.prepared.plan);
+            (Some(s), h, l)
+        }
+        None => (None, 0, 0),
+    };
+    // Frames rendered: the history and warm-up before the first output, the
+    // latency after the last.
+    let from = first.saturating_sub(history + times.warmup);
+    let to = last.saturating_add(latency);
+    if let Some(s) = stream.as_mut() {
+        s.frame_offset = from;
+    }
+    report.frames_total = Some(last - first + 1);
+    report.frames_held_max = 2 + stream.as_ref().map_or(1, |s| s.ring_len());
+    let (enc_tx, enc_rx) = sync_channel::<Encoded>(2);
+    let halt = Arc::new(AtomicBool::new(false));
+    let complete = Arc::new(AtomicBool::new(false));
+    let encoder = spawn_encoder(sink, enc_rx, false, halt.clone(), complete.clone())?;
+    let dt = 1.0 / times.fps;
+    let mut gpu_busy = Duration::ZERO;
+    let mut fatal = None;
+    let timer = if job.timings {
+        crate::gpu::context::GpuTimer::new(&engine.ctx, 64)
+    } else {
+        None
+    };
+    let mut emitted = from;
+    for n in from..=to {
+        if halt.load(Ordering::Relaxed) {
+            break;
+        }
+        let t0 = Instant::now();
+        let t = times.time_of(n);
+        let (pose, prev) = (scene.pose(t, &playback), scene.pose(t - dt, &playback));
+        // the frame's sub-pixel offset when the chain declares JITTER (its index
+        // is the frame number, so a frame's jitter depends on n alone)
+        let jitter = stream
+            .as_ref()
+            .and_then(|s| s.prepared.jitter())
+            .map_or([0.0, 0.0], |p| p.offset(n));
+        if animated {
+            // lights on animated nodes move with them
+            renderer.set_lights(pose.lights.clone());
+        }
+        let motion = FrameMotion {
+            transforms: transforms(&pose),
+            prev_transforms: transforms(&prev),
+            prev_camera: Some(path.at(&scene, Some(&prev), t - dt)),
+            jitter,
+            deformed: deform(&pose),
+            prev_deformed: deform(&prev),
+        };
+        let camera = path.at(&scene, Some(&pose), t);
+        let rendered = renderer.render_frame(
+            &engine.ctx,
+            &camera,
+            &motion,
+            job.width,
+            job.height,
+            job.technique,
+            timer.as_ref(),
+        );
+        let (out, rs) = match rendered {
+            Ok(x) => x,
+            Err(e) => {
+                fatal = Some(super::scene::render_error(&job.scene, e));
+                break;
+            }
+        };
+        report.frames_in += 1;
+        stats.render_cpu_ms += rs.cpu_ms;
+        stats.render_gpu_ms = match (stats.render_gpu_ms, rs.gpu_ms) {
+            (Some(a), Some(b)) => Some(a + b),
+            (_, b) => b,
+        };
+        stats.render_passes = rs.pass_ms.clone();
+        stats.triangles = rs.triangles;
+        stats.pipelines = rs.pipelines;
+        stats.shader_modules = rs.shader_modules;
+        let sent = match stream.as_mut() {
+            Some(s) => push_and_drain(
+                engine,
+                s,
+                &out,
+                jitter,
+                n == to,
+                (first, last),
+                &mut emitted,
+                &enc_tx,
+                output_format,
+            ),
+            None => {
+                // No effect: the rendered HDR image itself.
+                let ctx = engine.ctx.clone();
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                let pending = ctx.encode_readback(&mut enc, &out.scene);
+                ctx.queue.submit([enc.finish()]);
+                pending
+                    .map_err(RunError::from)
+                    .map(|pending| {
+                        (first..=last).contains(&n)
+                            && enc_tx
+                                .send(Encoded {
+                                    index: (n - first) as usize,
+                                    number: n,
+                                    name: format!("{} at {:.4} s", job.scene, t),
+                                    pending,
+                                    format: Format::Rgba16f,
+                                    gpu: None,
+                                    decode: None,
+                                })
+                                .is_err()
+                    })
+                    .map(|closed| !closed)
+            }
+        };
+        gpu_busy += t0.elapsed();
+        match sent {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => {
+                fatal = Some(e);
+                break;
+            }
+        }
+        progress(Progress {
+            done: n.saturating_sub(first).min(last - first + 1),
+            total: Some(last - first + 1),
+            elapsed: t_all.elapsed(),
+        });
+        if stop.load(Ordering::Relaxed) {
+            report.interrupted = true;
+            break;
+        }
+    }
+    // a y4m or video output is made final only when every frame went through
+    complete.store(
+        fatal.is_none() && !report.interrupted && !halt.load(Ordering::Relaxed),
+        Ordering::SeqCst,
+    );
+    drop(enc_tx);
+    let enc = encoder
+        .join()
+        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
+    if let Some(e) = fatal {
+        return Err(e);
+    }
+    if let Some(f) = enc.failed.into_iter().next() {
+        return Err(f.error);
+    }
+    if let Some(s) = &stream {
+        report.passes = s.last_timings.clone();
+    }
+    report.done = enc.done;
+    report.stages.gpu_busy_ms = ms(gpu_busy);
+    report.stages.encode_busy_ms = ms(enc.busy);
+    report.stages.readback_wait_ms = ms(enc.wait);
+    report.steps.readback_ms = ms(enc.last_wait);
+    report.scene = Some(stats);
+    report.wall_ms = ms(t_all.elapsed());
+    Ok(report)
+}
+
+/// The effect prepared for the rendered frames, as a stream; with its history
+/// and latency in frames.
+fn stream_for(
+    job: &SceneJob,
+    times: &SceneTimes,
+    engine: &mut Engine,
+    effect: &mut Effect,
+    renderer: &Renderer,
+    output_format: Format,
+) -> Result<(Stream, u64, u64), RunError> {
+    let desc = InputDesc {
+        width: job.width,
+        height: job.height,
+        format: Format::Rgba16f,
+        colorspace: ColorSpace::Linear,
+        aux: renderer.aux_formats().to_vec(),
+    };
+    let mut prepared = effect.prepare_with(
+        engine,
+        &desc,
+        &PlanOptions {
+            policy: ReusePolicy::Pool,
+            output_format: Some(output_format),
+        },
+    )?;
+    prepared.fps = times.fps;
+    let (history, latency) = (prepared.plan.history as u64, prepared.plan.latency as u64);
+    let mut s = Stream::new(engine, prepared, Format::Rgba16f);
+    s.want_timings = job.timings;
+    Ok((s, history, latency))
+}
+
+/// Pushes a rendered frame into the stream (copies of its textures when the
+/// stream holds more than one frame) and sends every output that is ready and
+/// inside `(first, last)` to the encoder; `Ok(false)` when the encoder is gone.
+#[allow(clippy::too_many_arguments)]
+fn push_and_drain(
+    engine: &mut Engine,
+    stream: &mut Stream,
+    out: &crate::render::RenderOutput,
+    jitter: [f32; 2],
+    is_last: bool,
+    (first, last): (u64, u64),
+    emitted: &mut u64,
+    enc_tx: &std::sync::mpsc::SyncSender<Encoded>,
+    output_format: Format,
+) -> Result<bool, RunError> {
+    let (input, aux) = if stream.ring_len() > 1 {
+        let ctx = engine.ctx.clone();
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("rendered frame copies"),
+            });
+        let input = copy_of(engine, &mut enc, &out.scene);
+        let aux: HashMap<String, wgpu::Texture> = out
+            .aux
+            .iter()
+            .map(|(n, t)| (n.clone(), copy_of(engine, &mut enc, t)))
+            .collect();
+        ctx.queue.submit([enc.finish()]);
+        (input, aux)
+    } else {
+        (
+            out.scene.clone(),
+            out.aux
+                .iter()
+                .map(|(n, t)| (n.clone(), t.clone()))
+                .collect(),
+        )
+    };
+    stream.push_frame(
+        input,
+        FrameExtras {
+            aux,
+            camera: Some(out.camera),
+            jitter,
+        },
+    );
+    if is_last {
+        stream.end();
+    }
+    while let Some((_, pending)) = stream.next_read_back(engine)? {
+        let n = *emitted;
+        *emitted += 1;
+        if n < first || n > last {
+            continue;
+        }
+        let e = Encoded {
+            index: (n - first) as usize,
+            number: n,
+            name: format!("frame {n}"),
+            pending,
+            format: output_format,
+            gpu: None,
+            decode: None,
+        };
+        if enc_tx.send(e).is_err() {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}

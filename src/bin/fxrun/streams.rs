@@ -1,0 +1,203 @@
+//! `fxrun`: y4m and video streams as a sequence's input or output: `-i -`, `-i in.y4m`,
+//! `-i in.mkv` (decoded by ffmpeg), `-o -`, `-o out.y4m`, `-o out.mp4` (encoded by
+//! ffmpeg, with the input video's audio and subtitles).
+
+use super::*;
+use fxgraph::app::{
+    open_output, OpenedInput, OpenedOutput, OutputSettings, StreamInput, StreamOutput,
+};
+use fxgraph::io::video::{MediaSource, VideoInfo};
+use fxgraph::io::y4m::{Chroma, Interlace, Y4mHeader, YuvConversion};
+
+/// The stream an `-i` argument names, if it is one.
+pub(crate) fn stream_input(spec: &SequenceSpec) -> Option<StreamInput> {
+    match spec {
+        SequenceSpec::Stdin => Some(StreamInput::Stdin),
+        SequenceSpec::Y4m(p) => Some(StreamInput::Y4mFile(p.clone())),
+        SequenceSpec::Video(p) => Some(StreamInput::Video(p.clone())),
+        _ => None,
+    }
+}
+
+/// The stream an `-o` argument names, if it is one.
+pub(crate) fn stream_output(spec: &SequenceSpec) -> Option<StreamOutput> {
+    match spec {
+        SequenceSpec::Stdout => Some(StreamOutput::Stdout),
+        SequenceSpec::Y4m(p) => Some(StreamOutput::Y4mFile(p.clone())),
+        SequenceSpec::Video(p) => Some(StreamOutput::Video(p.clone())),
+        _ => None,
+    }
+}
+
+/// Open an input stream, printing the commands run with `-v`.
+pub(crate) fn open_input(cli: &Cli, input: &StreamInput) -> Result<OpenedInput, Fail> {
+    let opened = OpenedInput::open(input)?;
+    if cli.verbose {
+        for c in &opened.commands {
+            eprintln!("fxrun: running: {c}");
+        }
+    }
+    Ok(opened)
+}
+
+/// A frame rate as a y4m ratio: 30 → 30:1; the NTSC rates n / 1.001, exact or as
+/// typed (29.97, 59.94, 23.976) → 30000:1001, 60000:1001, 24000:1001; others in
+/// thousandths (12.5 → 12500:1000).
+pub(crate) fn fps_ratio(fps: f64) -> (u32, u32) {
+    let whole = |x: f64, tol: f64| (x - x.round()).abs() < tol && x.round() <= 4e6;
+    if whole(fps, 1e-6) {
+        return (fps.round() as u32, 1);
+    }
+    let ntsc = fps * 1.001;
+    if whole(ntsc, 1e-3) {
+        return (ntsc.round() as u32 * 1000, 1001);
+    }
+    ((fps * 1000.0).round() as u32, 1000)
+}
+
+/// With `--skip-existing` and an existing `.y4m` or video output: says so and returns
+/// true (the run is skipped; one file is written whole, never resumed).
+pub(crate) fn skip_whole_file(cli: &Cli, ospec: &SequenceSpec) -> bool {
+    if let (true, SequenceSpec::Y4m(p) | SequenceSpec::Video(p)) = (cli.skip_existing, ospec) {
+        if std::fs::symlink_metadata(p).is_ok() {
+            eprintln!(
+                "fxrun: {} exists already; nothing to do (--skip-existing skips a whole y4m or video file: it cannot resume one)",
+                p.display()
+            );
+            return true;
+        }
+    }
+    false
+}
+
+/// What an interrupted run left of its output, for the message.
+pub(crate) fn interrupted_hint(ospec: &SequenceSpec) -> String {
+    match ospec {
+        SequenceSpec::Stdout => "the y4m stream on stdout ends after the last whole frame (--skip-existing does not apply to a stream)".to_string(),
+        SequenceSpec::Y4m(p) | SequenceSpec::Video(p) => format!(
+            "{} was not written (a partial file is not kept; an existing one is untouched)",
+            p.display()
+        ),
+        _ => "completed frames are intact (rerun with --skip-existing to resume)".to_string(),
+    }
+}
+
+/// What the output stream passes on from the input.
+pub(crate) struct StreamPlan<'a> {
+    /// The input stream's header and conversion (a y4m or video input).
+    pub(crate) template: Option<(Y4mHeader, YuvConversion)>,
+    /// The input video, for its audio, subtitles and colour tags.
+    pub(crate) video: Option<&'a VideoInfo>,
+    /// Frames per second of the input.
+    pub(crate) fps: f64,
+    /// The input frames written (`--frames`), as 0-based stream positions.
+    pub(crate) emit: Option<(u64, u64)>,
+    /// The effect deinterlaces (its output is progressive).
+    pub(crate) deinterlaces: bool,
+}
+
+/// Open an output stream: the input's header (rate times `--rate`, interlacing,
+/// aspect, layout, `X` fields) or a 4:2:0 one at `--fps`; the depth from `--bit-depth`
+/// or the input's; for a video, the encoder options and the input video's audio and
+/// subtitles. Prints the encoder's command with `-v` and its notes.
+pub(crate) fn open_stream_output(
+    cli: &Cli,
+    output: &StreamOutput,
+    plan: &StreamPlan,
+) -> Result<OpenedOutput, Fail> {
+    let video_out = matches!(output, StreamOutput::Video(_));
+    if !video_out {
+        let given = [
+            ("--codec", cli.codec.is_some()),
+            ("--crf", cli.crf.is_some()),
+            ("--preset", cli.preset.is_some()),
+            ("--pix-fmt", cli.pix_fmt.is_some()),
+        ];
+        if let Some((name, _)) = given.iter().find(|g| g.1) {
+            return Err(rejected(format!(
+                "{name} is for video file outputs (.mp4, .mkv, ...), not for {}",
+                output.name()
+            )));
+        }
+    }
+    let (mut header, conversion) = match plan.template.clone() {
+        Some(t) => t,
+        None => {
+            let mut h = Y4mHeader::new(1, 1, Chroma::C420Jpeg);
+            h.fps = fps_ratio(plan.fps);
+            let c = YuvConversion::for_header(&h);
+            (h, c)
+        }
+    };
+    header.fps = (header.fps.0.max(1) * cli.rate, header.fps.1.max(1));
+    if cli.rate > 1 || plan.deinterlaces {
+        header.interlace = Interlace::Progressive;
+    }
+    let depth = cli.bit_depth.unwrap_or(header.depth);
+    header
+        .set_depth(depth)
+        .map_err(|m| rejected(format!("--bit-depth {depth}: {m}")))?;
+    let mut settings = OutputSettings::new(header, conversion);
+    if video_out {
+        settings.codec = cli.codec.clone();
+        settings.crf = cli.crf;
+        settings.preset = cli.preset.clone();
+        settings.pix_fmt = cli.pix_fmt.clone();
+        if let Some(v) = plan.video {
+            settings.primaries = v.color_primaries.clone();
+            settings.transfer = v.color_transfer.clone();
+            let fps = if v.fps.1 > 0 {
+                v.fps.0 as f64 / v.fps.1 as f64
+            } else {
+                plan.fps
+            };
+            let (start, duration) = match plan.emit {
+                Some((a, b)) => (
+                    a as f64 / fps,
+                    (b != u64::MAX).then(|| (b - a + 1) as f64 / fps),
+                ),
+                None => (0.0, None),
+            };
+            settings.media = Some(MediaSource {
+                info: v.clone(),
+                start,
+                duration,
+            });
+        }
+    } else if let Some(v) = plan.video {
+        let n = v.audio.len() + v.subtitles.len();
+        if n > 0 {
+            eprintln!(
+                "fxrun: note: {}: its audio and subtitles ({n} stream(s)) are not written to {} (a video file output keeps them)",
+                v.path.display(),
+                output.name()
+            );
+        }
+    }
+    let opened = open_output(output, &settings)?;
+    if cli.verbose {
+        for c in &opened.commands {
+            eprintln!("fxrun: running: {c}");
+        }
+    }
+    for n in &opened.notes {
+        eprintln!("fxrun: note: {n}");
+    }
+    Ok(opened)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fps_ratio;
+
+    #[test]
+    fn frame_rates_as_ratios() {
+        assert_eq!(fps_ratio(25.0), (25, 1));
+        assert_eq!(fps_ratio(29.97), (30000, 1001));
+        assert_eq!(fps_ratio(30000.0 / 1001.0), (30000, 1001));
+        assert_eq!(fps_ratio(23.976), (24000, 1001));
+        assert_eq!(fps_ratio(59.94), (60000, 1001));
+        assert_eq!(fps_ratio(12.5), (12500, 1000));
+        assert_eq!(fps_ratio(1000.0), (1000, 1));
+    }
+}

@@ -1,0 +1,454 @@
+//! Encoding a y4m stream into a video file: ffmpeg as a child process reading y4m on
+//! its stdin and writing a temporary next to the output (`.NAME.fxtmp-<pid>-<n>.EXT`),
+//! renamed over the output once it succeeded; the audio and subtitles of the input
+//! video copied (or converted where the container needs it) from that file.
+
+use super::container::Container;
+use super::pix_fmt::{self, Layout};
+use super::probe::VideoInfo;
+use super::process::{file_arg, require, shell_line, status_text, Child};
+use super::VideoError;
+use crate::io::yuv::{Matrix, Range};
+use crate::io::{create_temporary, rename_into_place, IoError, OutputTarget};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::{ChildStdin, Command, Stdio};
+
+/// Encoders that take `-crf`, and the value used when none is given.
+const CRF_DEFAULTS: &[(&str, u32)] = &[
+    ("libx264", 18),
+    ("libx264rgb", 18),
+    ("libx265", 20),
+    ("libvpx", 10),
+    ("libvpx-vp9", 24),
+    ("libaom-av1", 24),
+    ("libsvtav1", 30),
+];
+
+/// The `-preset` values of libx264 and libx265 (checked before ffmpeg starts: ffmpeg
+/// would only fail once the first frame arrives).
+const X26X_PRESETS: [&str; 10] = [
+    "ultrafast",
+    "superfast",
+    "veryfast",
+    "faster",
+    "fast",
+    "medium",
+    "slow",
+    "slower",
+    "veryslow",
+    "placebo",
+];
+
+/// Where the audio and subtitles of the output come from: the input video, and the
+/// part of it the output covers (`--frames`).
+#[derive(Debug, Clone)]
+pub struct MediaSource {
+    pub info: VideoInfo,
+    /// Seconds from the start of the input.
+    pub start: f64,
+    /// Seconds taken (`None`: to the end).
+    pub duration: Option<f64>,
+}
+
+/// How to encode.
+#[derive(Debug, Clone)]
+pub struct EncodeOptions {
+    /// The video encoder (`--codec`); `None`: the container's default for the depth.
+    pub codec: Option<String>,
+    /// Constant-quality factor (`--crf`); `None`: the encoder's default here.
+    pub crf: Option<u32>,
+    /// Encoder speed preset (`--preset`), passed as `-preset`.
+    pub preset: Option<String>,
+    /// The pixel format (`--pix-fmt`); `None`: 4:2:0 at the frames' depth, as far as
+    /// the encoder takes it.
+    pub pix_fmt: Option<String>,
+    /// Bits per sample of the frames written to the encoder.
+    pub depth: u8,
+    /// How the frames' Y'CbCr was made (written into the file's colour tags).
+    pub range: Range,
+    pub matrix: Matrix,
+    /// Colour primaries and transfer tags to carry over (from an input video).
+    pub primaries: Option<String>,
+    pub transfer: Option<String>,
+    /// Audio and subtitles to copy.
+    pub media: Option<MediaSource>,
+}
+
+/// An ffmpeg child encoding the y4m written to it ([`Write`]) into a video file.
+/// [`OutputTarget::commit`] waits for it and renames the temporary over the output;
+/// [`OutputTarget::abandon`] (or dropping it uncommitted) kills it and removes the
+/// temporary, so an existing output is untouched.
+pub struct Encoder {
+    child: Child,
+    stdin: Option<BufWriter<ChildStdin>>,
+    path: PathBuf,
+    tmp: Option<PathBuf>,
+    line: String,
+    notes: Vec<String>,
+}
+
+/// The pixel formats `ffmpeg -h encoder=NAME` lists; `None` when ffmpeg does not know
+/// the encoder.
+fn encoder_formats(ffmpeg: &Path, name: &str) -> std::io::Result<Option<Vec<String>>> {
+    let out = Command::new(ffmpeg)
+        .args(["-hide_banner", "-h", &format!("encoder={name}")])
+        .stdin(Stdio::null())
+        .output()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    if !text.contains(&format!("Encoder {name} ")) {
+        return Ok(None);
+    }
+    Ok(Some(
+        text.lines()
+            .find_map(|l| l.trim().strip_prefix("Supported pixel formats:"))
+            .map(|l| l.split_whitespace().map(String::from).collect())
+            .unwrap_or_default(),
+    ))
+}
+
+impl Encoder {
+    /// Start ffmpeg writing `output` (its container chosen by the extension).
+    /// Errors: not a known container or an encoder ffmpeg does not have
+    /// ([`VideoError::Option`]), ffmpeg missing ([`VideoError::Missing`]), the temporary
+    /// or the process cannot be made ([`VideoError::Io`]).
+    pub fn spawn(output: &Path, opts: &EncodeOptions) -> Result<Encoder, VideoError> {
+        let option = |message: String| VideoError::Option {
+            path: output.to_path_buf(),
+            message,
+        };
+        let io_err = |source| VideoError::Io {
+            path: output.to_path_buf(),
+            program: "ffmpeg",
+            source,
+        };
+        let container = Container::of_path(output).ok_or_else(|| {
+            option(format!(
+                "not a video file extension (known: {})",
+                super::container::extensions().join(", ")
+            ))
+        })?;
+        let ffmpeg = require("ffmpeg", output)?;
+        let (codec, formats) = match &opts.codec {
+            Some(c) => {
+                let f = encoder_formats(&ffmpeg, c).map_err(io_err)?.ok_or_else(|| {
+                    option(format!(
+                        "--codec {c}: this ffmpeg has no such encoder (`ffmpeg -encoders` lists them)"
+                    ))
+                })?;
+                (c.clone(), f)
+            }
+            None => {
+                let list = if opts.depth > 8 {
+                    container.codecs_high
+                } else {
+                    container.codecs_8bit
+                };
+                let mut found = None;
+                for c in list {
+                    if let Some(f) = encoder_formats(&ffmpeg, c).map_err(io_err)? {
+                        found = Some((c.to_string(), f));
+                        break;
+                    }
+                }
+                found.ok_or_else(|| {
+                    option(format!(
+                        "this ffmpeg has none of the encoders used for this container ({}): choose one with --codec (`ffmpeg -encoders` lists them)",
+                        list.join(", ")
+                    ))
+                })?
+            }
+        };
+        let pix_fmt = match &opts.pix_fmt {
+            Some(p) if !formats.is_empty() && !formats.contains(p) => {
+                return Err(option(format!(
+                    "--pix-fmt {p}: the encoder {codec} takes {}",
+                    formats.join(", ")
+                )))
+            }
+            Some(p) => Some(p.clone()),
+            None => pix_fmt::choose(&formats, Layout::Yuv420, opts.depth),
+        };
+        let crf_default = CRF_DEFAULTS.iter().find(|(c, _)| *c == codec).map(|c| c.1);
+        if opts.crf.is_some() && crf_default.is_none() {
+            return Err(option(format!(
+                "--crf: the encoder {codec} has no constant-quality factor here (--crf is for {})",
+                CRF_DEFAULTS
+                    .iter()
+                    .map(|c| c.0)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
+        if let Some(p) = &opts.preset {
+            if (codec == "libx264" || codec == "libx265") && !X26X_PRESETS.contains(&p.as_str()) {
+                return Err(option(format!(
+                    "--preset {p}: {codec} takes {}",
+                    X26X_PRESETS.join(", ")
+                )));
+            }
+        }
+        let ext = output
+            .extension()
+            .map(|e| e.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let (tmp, file) = create_temporary(output, Some(&ext)).map_err(|e| match e {
+            IoError::Io { source, .. } => io_err(source),
+            other => io_err(std::io::Error::other(other.to_string())),
+        })?;
+        drop(file);
+        let mut notes = Vec::new();
+        let args = encode_args(
+            &tmp,
+            container,
+            &codec,
+            pix_fmt,
+            crf_default,
+            opts,
+            &mut notes,
+        );
+        let line = shell_line("ffmpeg", &args);
+        let child = Child::spawn("ffmpeg", &ffmpeg, &args, Stdio::piped(), Stdio::null());
+        let mut child = match child {
+            Ok(c) => c,
+            Err(e) => {
+                let _ = std::fs::remove_file(&tmp);
+                return Err(io_err(e));
+            }
+        };
+        let stdin = child
+            .child
+            .stdin
+            .take()
+            .map(|s| BufWriter::with_capacity(1 << 20, s));
+        Ok(Encoder {
+            child,
+            stdin,
+            path: output.to_path_buf(),
+            tmp: Some(tmp),
+            line,
+            notes,
+        })
+    }
+
+    /// The command line run (for `-v`; the temporary's name in place of the output).
+    pub fn command_line(&self) -> &str {
+        &self.line
+    }
+
+    /// What happens to the input's other streams: audio converted, subtitles converted
+    /// or dropped (the container cannot hold them).
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// The output file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// A write failed: ffmpeg has most likely stopped; say why with its stderr.
+    fn stopped(&mut self, e: std::io::Error) -> std::io::Error {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            return e;
+        }
+        let status = self.child.wait().map(status_text).unwrap_or_default();
+        std::io::Error::other(format!("ffmpeg stopped ({status}):\n{}", self.child.tail()))
+    }
+}
+
+impl Write for Encoder {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let r = match self.stdin.as_mut() {
+            Some(s) => s.write(buf),
+            None => return Err(std::io::Error::other("the encoder is finished")),
+        };
+        r.map_err(|e| self.stopped(e))
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        let r = match self.stdin.as_mut() {
+            Some(s) => s.flush(),
+            None => Ok(()),
+        };
+        r.map_err(|e| self.stopped(e))
+    }
+}
+
+impl OutputTarget for Encoder {
+    fn commit(&mut self) -> Result<(), IoError> {
+        let path = self.path.clone();
+        let fail = |message: String| IoError::Io {
+            path: path.clone(),
+            source: std::io::Error::other(message),
+        };
+        if let Some(mut s) = self.stdin.take() {
+            if let Err(e) = s.flush() {
+                drop(s);
+                let e = self.stopped(e);
+                self.abandon();
+                return Err(fail(e.to_string()));
+            }
+            // Dropping stdin ends the stream: ffmpeg finishes the file.
+        }
+        let status = self.child.wait();
+        let ok = matches!(&status, Ok(s) if s.success());
+        if !ok {
+            let message = match status {
+                Ok(s) => format!(
+                    "ffmpeg could not write the video ({}):\n{}",
+                    status_text(s),
+                    self.child.tail()
+                ),
+                Err(e) => format!("waiting for ffmpeg: {e}"),
+            };
+            self.abandon();
+            return Err(fail(message));
+        }
+        self.child.log_stderr("encoding");
+        if let Some(tmp) = self.tmp.take() {
+            if let Err(e) = rename_into_place(&tmp, &path) {
+                let _ = std::fs::remove_file(&tmp);
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    fn abandon(&mut self) {
+        // ffmpeg first: a full pipe would block the flush of stdin.
+        self.child.kill();
+        self.stdin = None;
+        if let Some(tmp) = self.tmp.take() {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+}
+
+impl Drop for Encoder {
+    fn drop(&mut self) {
+        if self.tmp.is_some() {
+            self.abandon();
+        }
+    }
+}
+
+/// `-b:a` for the `k`-th audio output stream: `-b:a:k`; `-ar`: `-ar:a:k`.
+fn per_stream(opt: &str, kind: char, k: usize) -> String {
+    if opt.contains(&format!(":{kind}")) {
+        format!("{opt}:{k}")
+    } else {
+        format!("{opt}:{kind}:{k}")
+    }
+}
+
+/// The ffmpeg arguments of an encoder writing `tmp`; notes about the input's other
+/// streams are added to `notes`.
+fn encode_args(
+    tmp: &Path,
+    container: &Container,
+    codec: &str,
+    pix_fmt: Option<String>,
+    crf_default: Option<u32>,
+    opts: &EncodeOptions,
+    notes: &mut Vec<String>,
+) -> Vec<String> {
+    let mut a: Vec<String> = Vec::new();
+    let mut push = |v: &[&str]| a.extend(v.iter().map(|s| s.to_string()));
+    push(&["-hide_banner", "-nostdin", "-loglevel", "error"]);
+    push(&["-f", "yuv4mpegpipe", "-i", "pipe:0"]);
+    if let Some(m) = &opts.media {
+        if m.start > 0.0 {
+            push(&["-ss", &format!("{:.6}", m.start)]);
+        }
+        if let Some(d) = m.duration {
+            push(&["-t", &format!("{d:.6}")]);
+        }
+        push(&["-i", &file_arg(&m.info.path)]);
+    }
+    push(&["-map", "0:v:0"]);
+    if let Some(m) = &opts.media {
+        let name = m.info.path.display();
+        let ext = tmp
+            .extension()
+            .map(|e| e.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        for (k, s) in m.info.audio.iter().enumerate() {
+            push(&["-map", &format!("1:{}", s.index)]);
+            let convert = container.audio_convert.split_first();
+            if let (false, Some((enc, rest))) = (container.copies_audio(&s.codec), convert) {
+                push(&[&per_stream("-c:a", 'a', k), enc]);
+                for pair in rest.chunks(2) {
+                    push(&[&per_stream(pair[0], 'a', k), pair[1]]);
+                }
+                notes.push(format!(
+                    "{name}: audio stream {} ({}) is converted to {enc} for .{ext}",
+                    s.index, s.codec
+                ));
+            } else {
+                push(&[&per_stream("-c:a", 'a', k), "copy"]);
+            }
+        }
+        let mut j = 0;
+        for s in &m.info.subtitles {
+            match container.subtitle_codec(&s.codec) {
+                Some(c) => {
+                    push(&["-map", &format!("1:{}", s.index)]);
+                    push(&[&per_stream("-c:s", 's', j), c]);
+                    if c != "copy" {
+                        notes.push(format!(
+                            "{name}: subtitle stream {} ({}) is converted to {c} for .{ext}",
+                            s.index, s.codec
+                        ));
+                    }
+                    j += 1;
+                }
+                None => notes.push(format!(
+                    "{name}: subtitle stream {} ({}) cannot be stored in .{ext}: dropped (.mkv keeps every subtitle)",
+                    s.index, s.codec
+                )),
+            }
+        }
+        push(&["-map_metadata", "1"]);
+    }
+    push(&["-c:v", codec]);
+    if let Some(p) = &pix_fmt {
+        push(&["-pix_fmt", p]);
+    }
+    if let Some(crf) = opts.crf.or(crf_default) {
+        push(&["-crf", &crf.to_string()]);
+        if codec.starts_with("libvpx") || codec == "libaom-av1" {
+            push(&["-b:v", "0"]);
+        }
+    }
+    if codec == "libvpx-vp9" {
+        push(&["-row-mt", "1", "-cpu-used", "4"]);
+    }
+    if codec == "libx265" {
+        // x265 logs its statistics itself, whatever ffmpeg's log level.
+        push(&["-x265-params", "log-level=error"]);
+    }
+    if let Some(p) = &opts.preset {
+        push(&["-preset", p]);
+    }
+    let range = match opts.range {
+        Range::Limited => "tv",
+        Range::Full => "pc",
+    };
+    let matrix = match opts.matrix {
+        Matrix::Bt601 => "smpte170m",
+        Matrix::Bt709 => "bt709",
+        Matrix::Bt2020 => "bt2020nc",
+    };
+    push(&["-color_range", range, "-colorspace", matrix]);
+    if let Some(p) = &opts.primaries {
+        push(&["-color_primaries", p]);
+    }
+    if let Some(t) = &opts.transfer {
+        push(&["-color_trc", t]);
+    }
+    if container.extensions.contains(&"mp4") || container.extensions.contains(&"mov") {
+        push(&["-movflags", "+faststart"]);
+    }
+    push(&["-y", &file_arg(tmp)]);
+    a
+}

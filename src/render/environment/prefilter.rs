@@ -1,0 +1,619 @@
+//! Prefiltering an environment map on the GPU, once per map (the passes are in
+//! `prefilter.wgsl`; the method is Krivanek and Colbert's filtered importance
+//! sampling, as the Khronos glTF Sample Viewer's `ibl_filtering.frag` and
+//! Filament's `libs/ibl` use it):
+//!
+//! 1. the equirectangular map → a source cube map of side `S` (the map's width / 4
+//!    rounded up to a power of two, 16 ..= [`MAX_FACE`]) with a box-filtered mip
+//!    chain down to 1×1;
+//! 2. the specular cube map: side `S`, `L = log2(S) − 2` levels (down to 8×8);
+//!    level `m` holds the radiance prefiltered with the GGX lobe of perceptual
+//!    roughness `m / (L − 1)` (level 0, roughness 0, is a copy of the source);
+//!    shading reads it at `lod = roughness × (L − 1)` (trilinear between
+//!    levels). Narrow lobes (roughness below [`CONVOLVED_ROUGHNESS`]) are
+//!    importance-sampled ([`SPECULAR_SAMPLES`] per texel, filtered importance
+//!    sampling); wide ones are summed exactly over every texel of the map made
+//!    into a [`CONVOLVED_SIDE`]² cube on the CPU ([`cube_texels`]: no noise; its
+//!    5.6° texels are much finer than those lobes);
+//! 3. the irradiance cube map: [`IRRADIANCE_FACE`]² per face, the cosine-weighted
+//!    mean radiance (irradiance / π), summed the same exact way.
+//!
+//! The sun of a real map is the hard case: a few texels hold most of the energy;
+//! the filtered importance sampling reads it from a level where it is spread
+//! over the sample's solid angle, so levels come out smooth rather than
+//! speckled (at the price of a slight extra blur).
+
+use super::Dfg;
+use crate::gpu::context::{GpuContext, GpuError};
+use crate::scene::environment::{direction_to_uv, uv_to_direction, Equirect};
+use crate::scene::EnvironmentMap;
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+/// Largest side of the source and specular cube faces.
+pub const MAX_FACE: u32 = 512;
+/// Side of the irradiance cube faces.
+pub const IRRADIANCE_FACE: u32 = 16;
+/// GGX importance samples per texel of the specular levels of roughness below
+/// [`CONVOLVED_ROUGHNESS`] (level 1, level 2, ...; the last for the rest).
+pub const SPECULAR_SAMPLES: [u32; 2] = [64, 128];
+/// Levels of at least this roughness, and the irradiance, are summed over
+/// every texel of the source's [`CONVOLVED_SIDE`]² level instead.
+pub const CONVOLVED_ROUGHNESS: f32 = 0.75;
+pub const CONVOLVED_SIDE: u32 = 16;
+/// Side of the DFG table and its samples per texel.
+pub const DFG_SIZE: u32 = 64;
+pub const DFG_SAMPLES: u32 = 1024;
+
+pub(crate) const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// `Prefilter` of prefilter.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuPrefilter {
+    face: u32,
+    distribution: u32,
+    samples: u32,
+    _p0: u32,
+    source_size: f32,
+    roughness: f32,
+    size: f32,
+    max_lod: f32,
+}
+
+/// The prefiltering pipelines (created once per renderer, on first use).
+pub(crate) struct PrefilterPipelines {
+    equirect: wgpu::RenderPipeline,
+    downsample: wgpu::RenderPipeline,
+    filter: wgpu::RenderPipeline,
+    convolve: wgpu::RenderPipeline,
+    dfg: wgpu::RenderPipeline,
+    /// Linear and mipmapped; repeats across u.
+    sampler: wgpu::Sampler,
+}
+
+impl PrefilterPipelines {
+    pub fn new(ctx: &GpuContext) -> Result<PrefilterPipelines, GpuError> {
+        ctx.scoped("environment prefiltering pipelines", |device| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("environment prefiltering shaders"),
+                source: wgpu::ShaderSource::Wgsl(include_str!("prefilter.wgsl").into()),
+            });
+            let pipeline = |fs: &str| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(&format!("environment prefiltering {fs}")),
+                    layout: None,
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_fullscreen"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: None,
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(fs),
+                        compilation_options: Default::default(),
+                        targets: &[Some(wgpu::ColorTargetState {
+                            format: FORMAT,
+                            blend: None,
+                            write_mask: wgpu::ColorWrites::ALL,
+                        })],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
+            PrefilterPipelines {
+                equirect: pipeline("fs_equirect"),
+                downsample: pipeline("fs_downsample"),
+                filter: pipeline("fs_filter"),
+                convolve: pipeline("fs_convolve"),
+                dfg: pipeline("fs_dfg"),
+                sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some("environment prefiltering sampler"),
+                    address_mode_u: wgpu::AddressMode::Repeat,
+                    address_mode_v: wgpu::AddressMode::ClampToEdge,
+                    address_mode_w: wgpu::AddressMode::ClampToEdge,
+                    mag_filter: wgpu::FilterMode::Linear,
+                    min_filter: wgpu::FilterMode::Linear,
+                    mipmap_filter: wgpu::MipmapFilterMode::Linear,
+                    ..Default::default()
+                }),
+            }
+        })
+    }
+}
+
+/// The prefiltered maps of one environment.
+pub(crate) struct Prefiltered {
+    pub specular: wgpu::Texture,
+    pub specular_view: wgpu::TextureView,
+    pub irradiance: wgpu::Texture,
+    pub irradiance_view: wgpu::TextureView,
+    /// Levels of the specular map (its roughness step is 1 / (levels − 1)).
+    pub levels: u32,
+    /// Side of the specular map's level 0.
+    pub size: u32,
+    /// GPU and CPU time to make them (upload included), milliseconds.
+    pub ms: f64,
+}
+
+/// The `n` GGX importance samples of perceptual roughness `roughness` about
+/// +Z (the split sum's n = v = r) that lie above the horizon: the reflected
+/// direction (xyz) and the source level it reads (w), by filtered importance
+/// sampling: half the log2 of the ratio of the sample's solid angle `1 / (n
+/// pdf)`, `pdf = D(n·h) / 4`, to a texel's `4π / (6 S²)` of a source of side
+/// `source_size` (the Khronos viewer's formula leaves out the 4π and reads
+/// about 1.8 levels coarser: measurably too blurry against a CPU convolution).
+/// Hammersley points, as in prefilter.wgsl's `fs_dfg`.
+pub(crate) fn lobe_samples(
+    roughness: f32,
+    n: u32,
+    source_size: u32,
+    max_lod: f32,
+) -> Vec<[f32; 4]> {
+    use std::f32::consts::PI;
+    let alpha = (roughness * roughness).max(1e-3);
+    let a2 = alpha * alpha;
+    let texel = 4.0 * PI / (6.0 * (source_size * source_size) as f32);
+    (0..n)
+        .filter_map(|i| {
+            let (x1, x2) = (
+                i as f32 / n as f32,
+                i.reverse_bits() as f32 * 2.328_306_4e-10,
+            );
+            let cos_t = ((1.0 - x2) / (1.0 + (a2 - 1.0) * x2)).max(0.0).sqrt();
+            let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+            let phi = 2.0 * PI * x1;
+            let h = [sin_t * phi.cos(), sin_t * phi.sin(), cos_t];
+            let l = [
+                2.0 * h[2] * h[0],
+                2.0 * h[2] * h[1],
+                2.0 * h[2] * h[2] - 1.0,
+            ];
+            if l[2] <= 0.0 {
+                return None;
+            }
+            let d = cos_t * cos_t * (a2 - 1.0) + 1.0;
+            let pdf = a2 / (PI * d * d) * 0.25;
+            let lod =
+                (0.5 * (1.0 / (n as f32 * pdf.max(1e-12)) / texel).log2()).clamp(0.0, max_lod);
+            Some([l[0], l[1], l[2], lod])
+        })
+        .collect()
+}
+
+/// The cube face (+X, −X, +Y, −Y, +Z, −Z) and texel of unit direction `d` on a
+/// cube of side `side` (the Vulkan / WebGPU face selection table, as
+/// prefilter.wgsl's `face_direction` inverted).
+fn cube_texel_of(d: Vec3, side: u32) -> (usize, u32, u32) {
+    let a = d.abs();
+    let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
+        if d.x > 0.0 {
+            (0, -d.z, -d.y, a.x)
+        } else {
+            (1, d.z, -d.y, a.x)
+        }
+    } else if a.y >= a.z {
+        if d.y > 0.0 {
+            (2, d.x, d.z, a.y)
+        } else {
+            (3, d.x, -d.z, a.y)
+        }
+    } else if d.z > 0.0 {
+        (4, d.x, -d.y, a.z)
+    } else {
+        (5, -d.x, -d.y, a.z)
+    };
+    let to = |s: f32| (((s / ma + 1.0) * 0.5 * side as f32) as u32).min(side - 1);
+    (face, to(sc), to(tc))
+}
+
+/// The map as a small cube of side `side`, every texel (direction xyz, solid
+/// angle, radiance rgb, 0): the solid-angle-weighted mean of the map's texels
+/// whose centres fall in it (the map's own value at its centre when none does:
+/// a map smaller than the cube).
+pub(crate) fn cube_texels(map: &Equirect, side: u32) -> Vec<[f32; 8]> {
+    let mut acc = vec![(Vec3::ZERO, 0.0f32); (6 * side * side) as usize];
+    for y in 0..map.height {
+        let omega = map.texel_solid_angle(y);
+        for x in 0..map.width {
+            let d = uv_to_direction(
+                (x as f32 + 0.5) / map.width as f32,
+                (y as f32 + 0.5) / map.height as f32,
+            );
+            let (f, cx, cy) = cube_texel_of(d, side);
+            let i = (f as u32 * side * side + cy * side + cx) as usize;
+            acc[i].0 += map.at(x, y) * omega;
+            acc[i].1 += omega;
+        }
+    }
+    let mut out = Vec::with_capacity(acc.len());
+    for face in 0..6u32 {
+        for y in 0..side {
+            for x in 0..side {
+                let s = 2.0 * (x as f32 + 0.5) / side as f32 - 1.0;
+                let t = 2.0 * (y as f32 + 0.5) / side as f32 - 1.0;
+                let d = match face {
+                    0 => Vec3::new(1.0, -t, -s),
+                    1 => Vec3::new(-1.0, -t, s),
+                    2 => Vec3::new(s, 1.0, t),
+                    3 => Vec3::new(s, -1.0, -t),
+                    4 => Vec3::new(s, -t, 1.0),
+                    _ => Vec3::new(-s, -t, -1.0),
+                };
+                let q = 1.0 + s * s + t * t;
+                let omega = 4.0 / (side * side) as f32 / (q * q.sqrt());
+                let d = d.normalize();
+                let (sum, w) = acc[(face * side * side + y * side + x) as usize];
+                let l = if w > 0.0 {
+                    sum / w
+                } else {
+                    let (u, v) = direction_to_uv(d);
+                    map.at(
+                        ((u * map.width as f32) as u32).min(map.width - 1),
+                        ((v * map.height as f32) as u32).min(map.height - 1),
+                    )
+                };
+                out.push([d.x, d.y, d.z, omega, l.x, l.y, l.z, 0.0]);
+            }
+        }
+    }
+    out
+}
+
+/// Side of the source cube for a map `width` texels wide.
+pub fn face_size(width: u32) -> u32 {
+    (width / 4).max(1).next_power_of_two().clamp(16, MAX_FACE)
+}
+
+/// Levels of the specular map of side `size`: down to 8×8.
+pub fn specular_levels(size: u32) -> u32 {
+    (size.trailing_zeros()).saturating_sub(2).max(2)
+}
+
+fn cube(device: &wgpu::Device, label: &str, size: u32, levels: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: 6,
+        },
+        mip_level_count: levels,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+/// A 2D view of one face of one level.
+fn face_view(t: &wgpu::Texture, level: u32, face: u32) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("environment cube face"),
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        base_mip_level: level,
+        mip_level_count: Some(1),
+        base_array_layer: face,
+        array_layer_count: Some(1),
+        ..Default::default()
+    })
+}
+
+/// The whole texture as a cube map.
+pub(crate) fn cube_view(t: &wgpu::Texture, label: &str) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor {
+        label: Some(label),
+        dimension: Some(wgpu::TextureViewDimension::Cube),
+        ..Default::default()
+    })
+}
+
+/// One full-screen pass of `pipeline` into `target` with `resources` (binding,
+/// resource) and, when given, the uniform `params` at binding 0.
+fn pass(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::RenderPipeline,
+    target: &wgpu::TextureView,
+    params: Option<GpuPrefilter>,
+    resources: &[(u32, wgpu::BindingResource<'_>)],
+) {
+    let buffer = params.map(|p| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("environment prefiltering parameters"),
+            contents: bytemuck::bytes_of(&p),
+            usage: wgpu::BufferUsages::UNIFORM,
+        })
+    });
+    let mut entries: Vec<wgpu::BindGroupEntry> = resources
+        .iter()
+        .map(|(b, r)| wgpu::BindGroupEntry {
+            binding: *b,
+            resource: r.clone(),
+        })
+        .collect();
+    if let Some(b) = &buffer {
+        entries.push(wgpu::BindGroupEntry {
+            binding: 0,
+            resource: b.as_entire_binding(),
+        });
+    }
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("environment prefiltering group"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("environment prefiltering pass"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: target,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    rp.set_pipeline(pipeline);
+    rp.set_bind_group(0, &group, &[]);
+    rp.draw(0..3, 0..1);
+}
+
+/// Prefilters `map` (blocks until the GPU is done, so that [`Prefiltered::ms`]
+/// is the real cost).
+pub(crate) fn prefilter(
+    ctx: &GpuContext,
+    pipes: &PrefilterPipelines,
+    map: &EnvironmentMap,
+) -> Result<Prefiltered, GpuError> {
+    let start = std::time::Instant::now();
+    let m = &map.map;
+    let texels: Vec<half::f16> = m
+        .texels
+        .iter()
+        .flat_map(|t| [t.x, t.y, t.z, 1.0].map(half::f16::from_f32))
+        .collect();
+    let equirect = ctx.upload_texture(
+        &format!("environment map {}", map.name),
+        m.width,
+        m.height,
+        FORMAT,
+        bytemuck::cast_slice(&texels),
+        wgpu::TextureUsages::empty(),
+    )?;
+    let size = face_size(m.width);
+    let source_levels = size.trailing_zeros() + 1;
+    let levels = specular_levels(size);
+    let made = ctx.scoped("environment prefiltering", |device| {
+        let source = cube(device, "environment source cube", size, source_levels);
+        let specular = cube(
+            device,
+            "environment specular cube (GGX levels)",
+            size,
+            levels,
+        );
+        let irradiance = cube(device, "environment irradiance cube", IRRADIANCE_FACE, 1);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("environment prefiltering"),
+        });
+        let equirect_view = equirect.create_view(&Default::default());
+        let params =
+            |face: u32, distribution: u32, samples: u32, roughness: f32, side: u32| GpuPrefilter {
+                face,
+                distribution,
+                samples,
+                _p0: 0,
+                source_size: size as f32,
+                roughness,
+                size: side as f32,
+                max_lod: (source_levels - 1) as f32,
+            };
+        for face in 0..6 {
+            pass(
+                device,
+                &mut encoder,
+                &pipes.equirect,
+                &face_view(&source, 0, face),
+                Some(params(face, 0, 0, 0.0, size)),
+                &[
+                    (1, wgpu::BindingResource::TextureView(&equirect_view)),
+                    (4, wgpu::BindingResource::Sampler(&pipes.sampler)),
+                ],
+            );
+        }
+        for level in 1..source_levels {
+            for face in 0..6 {
+                let above = face_view(&source, level - 1, face);
+                pass(
+                    device,
+                    &mut encoder,
+                    &pipes.downsample,
+                    &face_view(&source, level, face),
+                    None,
+                    &[(3, wgpu::BindingResource::TextureView(&above))],
+                );
+            }
+        }
+        // level 0 of the specular map: roughness 0, the source itself
+        encoder.copy_texture_to_texture(
+            source.as_image_copy(),
+            specular.as_image_copy(),
+            wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: 6,
+            },
+        );
+        let source_cube = cube_view(&source, "environment source cube");
+        let small = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("environment small cube texels"),
+            contents: bytemuck::cast_slice(&cube_texels(&map.map, CONVOLVED_SIDE)),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        for level in 1..levels {
+            let side = size >> level;
+            let roughness = level as f32 / (levels - 1) as f32;
+            let convolved = roughness >= CONVOLVED_ROUGHNESS;
+            let samples = SPECULAR_SAMPLES[(level as usize - 1).min(SPECULAR_SAMPLES.len() - 1)];
+            let lobe = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("environment prefiltering lobe samples"),
+                contents: bytemuck::cast_slice(&lobe_samples(
+                    roughness,
+                    samples,
+                    size,
+                    (source_levels - 1) as f32,
+                )),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            for face in 0..6 {
+                let (pipeline, resources) = if convolved {
+                    (&pipes.convolve, [(7, small.as_entire_binding())].to_vec())
+                } else {
+                    (
+                        &pipes.filter,
+                        [
+                            (2, wgpu::BindingResource::TextureView(&source_cube)),
+                            (4, wgpu::BindingResource::Sampler(&pipes.sampler)),
+                            (6, lobe.as_entire_binding()),
+                        ]
+                        .to_vec(),
+                    )
+                };
+                pass(
+                    device,
+                    &mut encoder,
+                    pipeline,
+                    &face_view(&specular, level, face),
+                    Some(params(face, 0, samples, roughness, side)),
+                    &resources,
+                );
+            }
+        }
+        for face in 0..6 {
+            pass(
+                device,
+                &mut encoder,
+                &pipes.convolve,
+                &face_view(&irradiance, 0, face),
+                Some(params(face, 1, 0, 1.0, IRRADIANCE_FACE)),
+                &[(7, small.as_entire_binding())],
+            );
+        }
+        ctx.queue.submit([encoder.finish()]);
+        let specular_view = cube_view(&specular, "environment specular cube");
+        let irradiance_view = cube_view(&irradiance, "environment irradiance cube");
+        (specular, specular_view, irradiance, irradiance_view)
+    })?;
+    ctx.wait_idle()?;
+    let (specular, specular_view, irradiance, irradiance_view) = made;
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    log::info!(
+        "{}: environment prefiltered in {ms:.0} ms ({}x{} map, {size}² faces, {levels} GGX levels, {IRRADIANCE_FACE}² irradiance)",
+        map.name,
+        m.width,
+        m.height
+    );
+    Ok(Prefiltered {
+        specular,
+        specular_view,
+        irradiance,
+        irradiance_view,
+        levels,
+        size,
+        ms,
+    })
+}
+
+/// The split-sum DFG table ([`DFG_SIZE`]², rg = A, B), computed once per renderer.
+pub(crate) fn dfg_table(ctx: &GpuContext, pipes: &PrefilterPipelines) -> Result<Dfg, GpuError> {
+    let made = ctx.scoped("environment DFG table", |device| {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("environment DFG table"),
+            size: wgpu::Extent3d {
+                width: DFG_SIZE,
+                height: DFG_SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("environment DFG table"),
+        });
+        pass(
+            device,
+            &mut encoder,
+            &pipes.dfg,
+            &view,
+            Some(GpuPrefilter {
+                face: 0,
+                distribution: 0,
+                samples: DFG_SAMPLES,
+                _p0: 0,
+                source_size: 0.0,
+                roughness: 0.0,
+                size: DFG_SIZE as f32,
+                max_lod: 0.0,
+            }),
+            &[],
+        );
+        ctx.queue.submit([encoder.finish()]);
+        Dfg { texture, view }
+    })?;
+    Ok(made)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lobe_samples_lie_above_the_horizon_and_read_coarser_levels_off_centre() {
+        let s = lobe_samples(0.5, 128, 256, 8.0);
+        assert!(s.len() > 100 && s.len() <= 128);
+        for v in &s {
+            let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            assert!((len - 1.0).abs() < 1e-4 && v[2] > 0.0 && (0.0..=8.0).contains(&v[3]));
+        }
+        // the first sample (xi.y = 0) is the lobe's centre: the finest level
+        let centre = s.iter().find(|v| v[2] > 0.9999).unwrap()[3];
+        let far = s.iter().map(|v| v[3]).fold(0.0f32, f32::max);
+        assert!(far > centre + 1.0, "centre {centre}, far {far}");
+    }
+
+    #[test]
+    fn the_small_cube_keeps_the_map_and_covers_the_sphere() {
+        let map = Equirect::from_fn(256, |d| Vec3::new(1.0 + d.x, 2.0, 0.5));
+        let t = cube_texels(&map, 16);
+        let omega: f32 = t.iter().map(|e| e[3]).sum();
+        assert!((omega - 4.0 * std::f32::consts::PI).abs() < 0.02, "{omega}");
+        for e in &t {
+            // each texel's radiance is its direction's (within the texel's spread)
+            assert!((e[4] - (1.0 + e[0])).abs() < 0.1 && (e[5] - 2.0).abs() < 1e-4);
+            let (f, x, y) = cube_texel_of(Vec3::new(e[0], e[1], e[2]), 16);
+            let i = t.iter().position(|q| q == e).unwrap();
+            assert_eq!(i, (f as u32 * 256 + y * 16 + x) as usize);
+        }
+    }
+}

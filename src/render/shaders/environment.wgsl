@@ -1,0 +1,103 @@
+// Image-based lighting, part of every generated module (after the engine part):
+// the environment's prefiltered maps (src/render/environment/), the default
+// environment term of a surface and the background. The generator appends
+// `fx_environment_lighting(material, in)`: the material's lighting shader's
+// `environment` function when it has one, else `fx_environment_default`.
+
+struct FxEnvironment {
+    // view-space directions -> the map's frame (world, turned back by the
+    // environment's rotation about +Y)
+    map_from_view: mat3x3<f32>,
+    // x intensity, y the specular map's last level (roughness 1), z the
+    // background's level, w the fog transmittance of the background
+    params: vec4<f32>,
+    // rgb: the fog colour the background is mixed towards
+    fog_color: vec4<f32>,
+    // x: 1 when an environment lights the scene; y: the background (0 the
+    // frame's colour, 1 the environment, 2 transparent)
+    flags: vec4<u32>,
+}
+
+// GGX-prefiltered radiance: level k holds perceptual roughness k / (levels - 1)
+@group(0) @binding(11) var fx_env_specular: texture_cube<f32>;
+// cosine-weighted mean radiance (irradiance / pi)
+@group(0) @binding(12) var fx_env_irradiance: texture_cube<f32>;
+// split sum: x = n.v, y = roughness; r = A, g = B (albedo F0 A + B)
+@group(0) @binding(13) var fx_env_dfg: texture_2d<f32>;
+@group(0) @binding(14) var fx_env_sampler: sampler;
+@group(0) @binding(15) var<uniform> fx_env: FxEnvironment;
+
+// The lookups of the surface at view-space point `p`.
+fn fx_environment_input(s: SurfaceOutput, p: vec3<f32>) -> EnvironmentInput {
+    var e: EnvironmentInput;
+    let v = fx_safe_normalize(-p);
+    let n = s.normal;
+    let ndv = max(dot(n, v), 1e-4);
+    // the dominant direction of the GGX lobe leans from the mirror direction
+    // towards the normal as the surface gets rough (Lagarde and de Rousiers,
+    // "Moving Frostbite to PBR", 2014, listing 22; alpha = roughness^2)
+    let alpha = s.roughness * s.roughness;
+    let gloss = 1.0 - alpha;
+    let r = normalize(mix(n, reflect(-v, n), gloss * (sqrt(gloss) + alpha)));
+    let intensity = fx_env.params.x;
+    e.normal = n;
+    e.view_dir = v;
+    e.specular = s.specular;
+    e.roughness = s.roughness;
+    e.occlusion = s.occlusion;
+    e.irradiance = textureSampleLevel(fx_env_irradiance, fx_env_sampler, fx_env.map_from_view * n, 0.0).rgb * intensity;
+    e.prefiltered = textureSampleLevel(fx_env_specular, fx_env_sampler, fx_env.map_from_view * r, s.roughness * fx_env.params.y).rgb * intensity;
+    e.dfg = textureSampleLevel(fx_env_dfg, fx_env_sampler, vec2<f32>(ndv, s.roughness), 0.0).rg;
+    return e;
+}
+
+// The default environment term: the split sum with Fdez-Aguera's
+// multiple-scattering compensation ("A Multiple-Scattering Microfacet Model for
+// Real-Time Image-based Lighting", JCGT 2019) and Lagarde and de Rousiers'
+// specular occlusion from the material's occlusion (Frostbite 2014).
+fn fx_environment_default(e: EnvironmentInput) -> LightingOutput {
+    let f0 = e.specular;
+    // single scattering: F0 A + B; its energy for F0 = 1: A + B
+    let fss_ess = f0 * e.dfg.x + e.dfg.y;
+    let ess = e.dfg.x + e.dfg.y;
+    let ems = 1.0 - ess;
+    // the hemispherical average of Schlick's Fresnel, and the multiple-
+    // scattering lobe it feeds (a cosine lobe: irradiance)
+    let f_avg = f0 + (vec3<f32>(1.0) - f0) / 21.0;
+    let fms = fss_ess * f_avg / (vec3<f32>(1.0) - ems * f_avg);
+    let ndv = max(dot(e.normal, e.view_dir), 1e-4);
+    let ao = e.occlusion;
+    let spec_ao = clamp(pow(ndv + ao, exp2(-16.0 * e.roughness * e.roughness - 1.0)) - 1.0 + ao, 0.0, 1.0);
+    let specular = (fss_ess * e.prefiltered + fms * ems * e.irradiance) * spec_ao;
+    // what the specular layer leaves to the diffuse one
+    let kd = vec3<f32>(1.0) - (fss_ess + fms * ems);
+    return LightingOutput(kd * e.irradiance * ao, specular);
+}
+
+// The environment's light reflected by surface `s` at view-space point `p`.
+fn fx_environment(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
+    if fx_env.flags.x == 0u {
+        return vec3<f32>(0.0);
+    }
+    let lo = fx_environment_lighting(material, fx_environment_input(s, p));
+    return s.diffuse * lo.diffuse + lo.specular;
+}
+
+// What the pixel at `frag_xy` shows where no geometry is: the frame's colour,
+// the environment (blurred to its level, fogged as the background colour is), or
+// nothing (alpha 0).
+fn fx_background(frag_xy: vec2<f32>) -> vec4<f32> {
+    switch fx_env.flags.y {
+        case 1u: {
+            let d = fx_env.map_from_view * fx_safe_normalize(fx_view_position(frag_xy, 1.0));
+            let c = textureSampleLevel(fx_env_specular, fx_env_sampler, d, fx_env.params.z).rgb * fx_env.params.x;
+            return vec4<f32>(mix(fx_env.fog_color.rgb, c, fx_env.params.w), 1.0);
+        }
+        case 2u: {
+            return vec4<f32>(0.0);
+        }
+        default: {
+            return vec4<f32>(fx_frame.background.rgb, 1.0);
+        }
+    }
+}

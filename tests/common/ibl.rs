@@ -1,0 +1,235 @@
+//! CPU references of image-based lighting, written from the definitions (no
+//! split sum, no prefiltering): integrals over the texels of an equirectangular
+//! environment map, each texel a direction (its centre) and a solid angle
+//! (`Equirect::texel_solid_angle`), and the cube-map face directions of the
+//! Vulkan / WebGPU face selection table.
+#![allow(dead_code)]
+
+use super::brdf::{gltf_spec_brdf, hemisphere_albedo, Model, OracleCamera};
+use fxgraph::scene::environment::{uv_to_direction, Equirect};
+use fxgraph::scene::{Camera, Environment, Instance, Material, Scene, ShaderBinding};
+use glam::{Mat4, Vec3};
+use std::f32::consts::PI;
+
+/// A texel: its centre's direction, its radiance, its solid angle.
+pub type Texel = (Vec3, Vec3, f32);
+
+/// Every texel of `map`.
+pub fn texels(map: &Equirect) -> Vec<Texel> {
+    let mut out = Vec::with_capacity(map.texels.len());
+    for y in 0..map.height {
+        let omega = map.texel_solid_angle(y);
+        for x in 0..map.width {
+            let d = uv_to_direction(
+                (x as f32 + 0.5) / map.width as f32,
+                (y as f32 + 0.5) / map.height as f32,
+            );
+            out.push((d, map.at(x, y), omega));
+        }
+    }
+    out
+}
+
+/// `map` halved until it is at most `width` texels wide.
+pub fn downsampled(map: &Equirect, width: u32) -> Equirect {
+    let mut m = map.clone();
+    while m.width > width {
+        m = m.halved();
+    }
+    m
+}
+
+/// Irradiance / π at a surface of unit normal `n`: ∫ L(l) max(n·l, 0) dω / π.
+pub fn irradiance(t: &[Texel], n: Vec3) -> Vec3 {
+    t.iter()
+        .map(|(l, le, omega)| *le * (n.dot(*l).max(0.0) * omega))
+        .sum::<Vec3>()
+        / PI
+}
+
+/// The GGX-weighted mean radiance about `n` that a prefiltered level of
+/// perceptual roughness `roughness` holds (the split sum's n = v = r):
+/// ∫ L(l) D(n·h) (n·l) dω / ∫ D(n·h) (n·l) dω, h = normalize(n + l).
+pub fn ggx_prefiltered(t: &[Texel], n: Vec3, roughness: f32) -> Vec3 {
+    let a = (roughness * roughness).max(1e-3);
+    let a2 = a * a;
+    let mut sum = Vec3::ZERO;
+    let mut w = 0.0f64;
+    for (l, le, omega) in t {
+        let ndl = n.dot(*l);
+        if ndl <= 0.0 {
+            continue;
+        }
+        let h = (n + *l).normalize();
+        let ndh = n.dot(h);
+        let dd = ndh * ndh * (a2 - 1.0) + 1.0;
+        let k = a2 / (PI * dd * dd) * ndl * omega;
+        sum += *le * k;
+        w += f64::from(k);
+    }
+    sum / w.max(1e-30) as f32
+}
+
+/// The reflected radiance of a glTF metallic-roughness surface lit by the
+/// environment `t`: the glTF 2.0 BRDF (Appendix B, [`gltf_spec_brdf`])
+/// integrated over every texel, plus the multiple-scattering lobe of
+/// Fdez-Agüera (2019) the renderer adds to compensate the energy single
+/// scattering loses: `Fms · Ems · E/π` with `Ess` (F0 = 1) and `Fss·Ess` (the
+/// surface's F0) integrated here by brute force over the hemisphere
+/// ([`hemisphere_albedo`]), `Favg = F0 + (1 − F0)/21`,
+/// `Fms = Fss·Ess · Favg / (1 − (1 − Ess) Favg)`.
+pub fn reference_radiance(
+    t: &[Texel],
+    base: Vec3,
+    metallic: f32,
+    roughness: f32,
+    n: Vec3,
+    v: Vec3,
+) -> Vec3 {
+    let single: Vec3 = t
+        .iter()
+        .map(|(l, le, omega)| *le * *omega * gltf_spec_brdf(base, metallic, roughness, n, v, *l))
+        .sum();
+    let f0 = Vec3::splat(0.04).lerp(base, metallic);
+    let mu = n.dot(v).clamp(1e-4, 1.0);
+    let v_local = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+    let (_, ess) = hemisphere_albedo(Model::CookTorrance, Vec3::ONE, roughness, v_local, 48);
+    let (_, fss_ess) = hemisphere_albedo(Model::CookTorrance, f0, roughness, v_local, 48);
+    let ems = 1.0 - ess.x;
+    let f_avg = f0 + (Vec3::ONE - f0) / 21.0;
+    let fms = fss_ess * f_avg / (Vec3::ONE - ems * f_avg);
+    single + fms * ems * irradiance(t, n)
+}
+
+/// The unit direction of texel centre (x, y) of face `face` (+X, −X, +Y, −Y, +Z,
+/// −Z) of a cube map of side `size`, from the Vulkan specification's cube map
+/// face selection table (sc, tc = 2 (x + 0.5) / size − 1, 2 (y + 0.5) / size − 1,
+/// rows down).
+pub fn cube_texel_direction(face: u32, x: u32, y: u32, size: u32) -> Vec3 {
+    let sc = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
+    let tc = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
+    // the table gives, per face, (major axis, sc, tc) in terms of the direction r:
+    // +X: rx, -rz, -ry   -X: -rx, rz, -ry   +Y: ry, rx, rz   -Y: -ry, rx, -rz
+    // +Z: rz, rx, -ry    -Z: -rz, -rx, -ry; solved for r with |major| = 1
+    let r = match face {
+        0 => Vec3::new(1.0, -tc, -sc),
+        1 => Vec3::new(-1.0, -tc, sc),
+        2 => Vec3::new(sc, 1.0, tc),
+        3 => Vec3::new(sc, -1.0, -tc),
+        4 => Vec3::new(sc, -tc, 1.0),
+        _ => Vec3::new(-sc, -tc, -1.0),
+    };
+    r.normalize()
+}
+
+/// Side of the test images of one sphere.
+pub const SPHERE_PX: u32 = 96;
+
+/// A unit sphere at the origin with a glTF metallic-roughness material, lit by
+/// `env` alone (no punctual light).
+pub fn env_sphere(base: Vec3, metallic: f32, roughness: f32, env: Environment) -> Scene {
+    let mut scene = Scene {
+        name: format!("sphere (metallic {metallic}, roughness {roughness})"),
+        ..Default::default()
+    };
+    scene
+        .meshes
+        .push(fxgraph::scene::builtin::uv_sphere(192, 96));
+    scene.materials.push(Material::new(
+        "sphere",
+        ShaderBinding::new("standard")
+            .with(
+                "base_color",
+                &[base.x as f64, base.y as f64, base.z as f64, 1.0],
+            )
+            .with("metallic", &[metallic as f64])
+            .with("roughness", &[roughness as f64]),
+        ShaderBinding::new("cook_torrance"),
+    ));
+    scene.instances.push(Instance {
+        name: "sphere".into(),
+        mesh: 0,
+        material: 0,
+        transform: Mat4::IDENTITY,
+        ..Default::default()
+    });
+    scene.environment = Some(env);
+    scene
+}
+
+/// The camera of [`env_sphere`] (on +Z, looking at the origin) and its oracle twin.
+pub fn sphere_camera() -> (Camera, OracleCamera) {
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 3.2),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 45f32.to_radians(),
+        near: 0.5,
+        far: 10.0,
+    };
+    let o = OracleCamera {
+        eye: cam.eye,
+        target: cam.target,
+        up: cam.up,
+        fov_y: cam.fov_y,
+        aspect: 1.0,
+        width: SPHERE_PX,
+        height: SPHERE_PX,
+    };
+    (cam, o)
+}
+
+/// The pixels well inside the sphere (the ray and its four neighbours' rays hit),
+/// every `stride`-th in x and y: (x, y, normal, direction towards the eye).
+pub fn interior_pixels(o: &OracleCamera, stride: u32) -> Vec<(u32, u32, Vec3, Vec3)> {
+    let hit = |x: u32, y: u32| {
+        let (eye, d) = o.ray(x, y);
+        super::brdf::ray_sphere(eye, d, Vec3::ZERO, 1.0).map(|t| (eye + d * t, d))
+    };
+    let mut out = Vec::new();
+    for y in (1..o.height - 1).step_by(stride as usize) {
+        for x in (1..o.width - 1).step_by(stride as usize) {
+            let inside = [(x, y), (x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)]
+                .iter()
+                .all(|&(a, b)| hit(a, b).is_some());
+            if let (true, Some((p, d))) = (inside, hit(x, y)) {
+                out.push((x, y, p.normalize(), -d));
+            }
+        }
+    }
+    out
+}
+
+/// The renderer's model of the same light, computed here from its definition
+/// (docs/renderer.md, "Environment lighting"): the split sum with the
+/// multiple-scattering lobe, i.e. `Fss·Ess · P + Fms·Ems · E/π + c_diff (1 −
+/// Fss·Ess − Fms·Ems) E/π` where `P` is [`ggx_prefiltered`] about the lobe's
+/// dominant direction (Lagarde's lean of the mirror direction towards the
+/// normal) and the albedos are brute-force hemisphere integrals. What it
+/// differs by from [`reference_radiance`] is the split sum's own error.
+pub fn split_sum_radiance(
+    t: &[Texel],
+    base: Vec3,
+    metallic: f32,
+    roughness: f32,
+    n: Vec3,
+    v: Vec3,
+) -> Vec3 {
+    let f0 = Vec3::splat(0.04).lerp(base, metallic);
+    let c_diff = base * (1.0 - metallic);
+    let mu = n.dot(v).clamp(1e-4, 1.0);
+    let v_local = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+    let (_, ess) = hemisphere_albedo(Model::CookTorrance, Vec3::ONE, roughness, v_local, 48);
+    let (_, fss_ess) = hemisphere_albedo(Model::CookTorrance, f0, roughness, v_local, 48);
+    let ems = 1.0 - ess.x;
+    let f_avg = f0 + (Vec3::ONE - f0) / 21.0;
+    let fms = fss_ess * f_avg / (Vec3::ONE - ems * f_avg);
+    let a = roughness * roughness;
+    let gloss = 1.0 - a;
+    let mirror = 2.0 * n.dot(v) * n - v;
+    let r = n.lerp(mirror, gloss * (gloss.sqrt() + a)).normalize();
+    let e = irradiance(t, n);
+    fss_ess * ggx_prefiltered(t, r, roughness)
+        + fms * ems * e
+        + c_diff * (Vec3::ONE - fss_ess - fms * ems) * e
+}
