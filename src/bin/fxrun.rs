@@ -108,7 +108,7 @@ fn rejected(message: impl Into<String>) -> Fail {
 /// problems, so they are shown with `-v` only (warnings and errors).
 fn log_filter(verbose: bool) -> &'static str {
     if verbose {
-        "warn,fxgraph=info,fxrun=info,wgpu_hal::gles::egl=off"
+        "warn,fxgraph=info,fxrun=info,wgpu_hal::gles::egl=off,winit=error"
     } else {
         "off,fxgraph=warn,fxrun=warn"
     }
@@ -275,6 +275,14 @@ fn run(cli: Cli) -> Result<(), Fail> {
             }
         }
         return Ok(());
+    }
+    if cli.view {
+        return run_view(&cli);
+    }
+    if cli.view_frames.is_some() || !cli.view_do.is_empty() || cli.screenshot.is_some() {
+        return Err(rejected(
+            "--view-frames, --view-do and --screenshot are options of --view",
+        ));
     }
     if cli.watch {
         return watch::run_watch(&cli);
@@ -489,6 +497,24 @@ mod sequence;
 mod streams;
 #[path = "fxrun/watch.rs"]
 mod watch;
+
+#[cfg(feature = "view")]
+#[path = "fxrun/view/mod.rs"]
+mod view;
+
+/// `--view`: the viewer window.
+#[cfg(feature = "view")]
+fn run_view(cli: &Cli) -> Result<(), Fail> {
+    view::run_view(cli)
+}
+
+/// `--view` in a build without the `view` feature.
+#[cfg(not(feature = "view"))]
+fn run_view(_cli: &Cli) -> Result<(), Fail> {
+    Err(rejected(
+        "--view: this fxrun was built without the viewer (cargo feature `view`)",
+    ))
+}
 
 use args::Cli;
 use batch::{check_outputs, check_same_size, collect_inputs, try_run_batch};

@@ -170,11 +170,8 @@ impl Playback {
                     .map_err(|e| RunError::from(IoError::from(e)))?;
                 let conversion = fxgraph::io::y4m::YuvConversion::for_header(reader.header());
                 Box::new(Y4mSource {
-                    reader,
-                    conversion,
                     skip: from,
-                    last: None,
-                    failed: false,
+                    ..Y4mSource::new(reader, conversion)
                 })
             }
             SeqInput::Stdin => {
@@ -185,16 +182,7 @@ impl Playback {
                             .map_err(|e| RunError::from(IoError::from(e)))?;
                         let conversion =
                             fxgraph::io::y4m::YuvConversion::for_header(reader.header());
-                        spawn_decoder(
-                            Box::new(Y4mSource {
-                                reader,
-                                conversion,
-                                skip: 0,
-                                last: None,
-                                failed: false,
-                            }),
-                            0,
-                        )
+                        spawn_decoder(Box::new(Y4mSource::new(reader, conversion)), 0)
                     }
                 };
                 // Rewind into the frames kept; the live stream continues after them.
