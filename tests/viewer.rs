@@ -1,7 +1,7 @@
 //! `fxrun --view` on a real X server (Xvfb; lavapipe presents through its
 //! software WSI): the scripted screenshot of an image, a batch step, sequence
-//! frames and a scene equals a normal run's output of the same frame; a scene
-//! follows the window's size; a parameter changed through the panel's code path
+//! frames and a scene (also animated, frame n as a run at n / fps) equals a normal
+//! run's output of the same frame; a scene follows the window's size; a parameter changed through the panel's code path
 //! (`--view-do K:set`) changes the next frame as `--set` would; an inspected pass
 //! equals a run of the effect up to that pass. (Reloads, the display itself and
 //! errors: `tests/viewer_live.rs`.)
@@ -165,6 +165,71 @@ fn scene_screenshot_equals_a_normal_run() {
         v.chunks(4).all(|px| px[0] > 0.0 && px[0] == px[1]),
         "depth as grey, positive"
     );
+}
+
+#[test]
+fn an_animated_scene_plays_frame_by_frame_as_a_run_at_that_time() {
+    let Some((d, _gpu)) = setup() else { return };
+    let dir = tempdir();
+    // A skinned model (the corpus): the 16th frame shown is frame 15, t = 0.5 s at
+    // 30 fps, which a normal run renders with --time 0.5.
+    let model = common::anim_gltf::animated_corpus("RiggedSimple");
+    let model = model.to_str().unwrap();
+    let scene = ["tonemap", "--scene", model, "--size", "160x120"];
+    let mut n = scene.to_vec();
+    n.extend(["--time", "0.5", "-o", "n.png"]);
+    normal(dir.path(), &n);
+    let mut v = scene.to_vec();
+    v.extend(["--view", "--view-frames", "16", "--screenshot", "v.png"]);
+    view(&d, dir.path(), &v);
+    assert_same_image(&dir.path().join("v.png"), &dir.path().join("n.png"));
+    // Paused at frame 3, one back and one on, then Home: frame 0 (--time 0).
+    let mut n = scene.to_vec();
+    n.extend(["--time", "0", "-o", "n0.png"]);
+    normal(dir.path(), &n);
+    let mut v = scene.to_vec();
+    v.extend([
+        "--view",
+        "--view-frames",
+        "6",
+        "--view-do",
+        "4:key Space",
+        "--view-do",
+        "4:key Left",
+        "--view-do",
+        "5:key Right",
+        "--view-do",
+        "5:key Home",
+        "--screenshot",
+        "v0.png",
+    ]);
+    view(&d, dir.path(), &v);
+    assert_same_image(&dir.path().join("v0.png"), &dir.path().join("n0.png"));
+    // A moving camera (an orbit) is a clock too: --time starts there.
+    let orbit = [
+        "tonemap",
+        "--scene",
+        "builtin:room",
+        "--camera",
+        "orbit:period=4",
+        "--size",
+        "96x64",
+    ];
+    let mut n = orbit.to_vec();
+    n.extend(["--time", "1", "-o", "o.png"]);
+    normal(dir.path(), &n);
+    let mut v = orbit.to_vec();
+    v.extend([
+        "--view",
+        "--view-frames",
+        "3",
+        "--time",
+        "0.9333333333333333",
+        "--screenshot",
+        "vo.png",
+    ]);
+    view(&d, dir.path(), &v);
+    assert_same_image(&dir.path().join("vo.png"), &dir.path().join("o.png"));
 }
 
 #[test]

@@ -366,7 +366,11 @@ impl Viewer {
     /// Does anything need frames without input (playing, flying, scripted)?
     fn animating(&self) -> bool {
         let flying = matches!(&self.content, Content::Scene(s) if s.control.keys.any());
-        let playing = matches!(&self.content, Content::Playback(p) if p.playing);
+        let playing = match &self.content {
+            Content::Playback(p) => p.playing,
+            Content::Scene(s) => s.timed() && s.clock.playing,
+            Content::Stills(_) => false,
+        };
         self.script.is_some() || flying || playing || self.ui.continuous || self.reload_pending
     }
 }
@@ -446,14 +450,17 @@ impl ApplicationHandler<UserEvent> for Viewer {
             w.window.request_redraw();
             return;
         }
-        if let Content::Playback(p) = &self.content {
-            if let (Some(wait), None) = (p.until_due(), &self.script) {
-                event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + wait));
-                if wait.is_zero() {
-                    w.window.request_redraw();
-                }
-                return;
+        let until_due = match &self.content {
+            Content::Playback(p) => p.until_due(),
+            Content::Scene(s) if s.timed() => s.clock.until_due(),
+            _ => None,
+        };
+        if let (Some(wait), None) = (until_due, &self.script) {
+            event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + wait));
+            if wait.is_zero() {
+                w.window.request_redraw();
             }
+            return;
         }
         event_loop.set_control_flow(ControlFlow::Wait);
         if self.animating() {

@@ -110,6 +110,15 @@ impl Viewer {
                 self.dirty = true;
             }
         }
+        if let Content::Scene(s) = &mut self.content {
+            // A scene's clock: as a sequence's frames.
+            let c = &s.clock;
+            if s.timed() && ((scripted && self.shown > 0 && c.playing) || (!scripted && c.due())) {
+                let next = c.frame + 1;
+                s.set_frame(next);
+                self.dirty = true;
+            }
+        }
         if let Content::Playback(p) = &mut self.content {
             // Scripted: one frame further per frame shown while playing (the first
             // shows frame 0).
@@ -419,6 +428,7 @@ impl Viewer {
             shown_format: self.shown_texture().map(|(_, f)| f),
             playing: match &self.content {
                 Content::Playback(p) => Some(p.playing),
+                Content::Scene(s) if s.timed() => Some(s.clock.playing),
                 _ => None,
             },
             scene: matches!(self.content, Content::Scene(_)),

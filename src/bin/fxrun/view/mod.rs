@@ -104,7 +104,19 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
         let fixed = cli.size.is_some();
         let format = out.unwrap_or(fxgraph::script::types::Format::Rgba8Srgb);
         job.output = None;
-        let view = scene_view::SceneView::new(job, engine, fixed, format)?;
+        let fps = cli.fps.unwrap_or(30.0);
+        if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+            return Err(rejected(format!(
+                "--fps {fps}: expected a number above 0, at most 1000"
+            )));
+        }
+        let time = cli.time.unwrap_or(0.0);
+        if !(time.is_finite() && time >= 0.0) {
+            return Err(rejected(format!(
+                "--time {time}: must be 0 or more seconds"
+            )));
+        }
+        let view = scene_view::SceneView::new(job, engine, fixed, format, (fps, time))?;
         let job = view.job();
         let fx = fx::Fx::new(&job.effects, &view.base, &cli.set)?;
         return Ok((Content::Scene(Box::new(view)), fx));
