@@ -84,10 +84,33 @@ fn sequence_frames_equal_the_normal_runs_frames_also_after_going_back() {
     let Some((d, _gpu)) = setup() else { return };
     let dir = tempdir();
     sequence(dir.path());
-    for effect in ["frame_blend", "motion_trail"] {
-        let out = format!("{effect}/%04d.png");
-        normal(dir.path(), &[effect, "-i", "f%04d.png", "-o", &out]);
-        let frame = |n: u32| dir.path().join(effect).join(format!("{n:04}.png"));
+    // The same frames as a .y4m file (made by ffmpeg), reopened to go back.
+    let made = std::process::Command::new("ffmpeg")
+        .args([
+            "-v",
+            "error",
+            "-y",
+            "-framerate",
+            "25",
+            "-i",
+            "f%04d.png",
+            "-pix_fmt",
+            "yuv444p",
+            "seq.y4m",
+        ])
+        .current_dir(dir.path())
+        .status()
+        .expect("run ffmpeg (the y4m file's maker)");
+    assert!(made.success());
+    for (effect, input) in [
+        ("frame_blend", "f%04d.png"),
+        ("motion_trail", "f%04d.png"),
+        ("frame_blend", "seq.y4m"),
+    ] {
+        let name = format!("{effect}-{}", input.replace(['%', '.'], ""));
+        let out = format!("{name}/%04d.png");
+        normal(dir.path(), &[effect, "-i", input, "-o", &out]);
+        let frame = |n: u32| dir.path().join(&name).join(format!("{n:04}.png"));
         // One frame further per frame shown: the 4th frame shown is frame 3.
         view(
             &d,
@@ -95,7 +118,7 @@ fn sequence_frames_equal_the_normal_runs_frames_also_after_going_back() {
             &[
                 effect,
                 "-i",
-                "f%04d.png",
+                input,
                 "--view",
                 "--view-frames",
                 "4",
@@ -112,7 +135,7 @@ fn sequence_frames_equal_the_normal_runs_frames_also_after_going_back() {
             &[
                 effect,
                 "-i",
-                "f%04d.png",
+                input,
                 "--view",
                 "--view-frames",
                 "6",
