@@ -1,6 +1,7 @@
 //! Sequences in the viewer: numbered frames, a folder, a `.y4m` or video file
-//! (`app::OpenedInput`: ffmpeg decodes videos) or a y4m stream on stdin, played through a `gpu::stream::Stream` (the history, future
-//! frames and feedback of temporal effects, as in a normal run).
+//! (`app::OpenedInput`: ffmpeg decodes videos) or a y4m stream on stdin, played
+//! through a `gpu::stream::Stream` (the history, future frames and feedback of
+//! temporal effects, as in a normal run).
 //!
 //! Frames decode on a thread of their own. Playing or stepping forward runs the
 //! stream one output further. Going back, and planning again (a reload, an effect
