@@ -46,4 +46,6 @@ for r in $(seq 1 "$ROUNDS"); do
     change=$(echo "$out" | sed -nE 's/.*parameter change shown in frame ([0-9]+), ([0-9.]+) ms.*/frame \1 (set after frame 10), \2 ms/p')
     ratio=$(awk -v v="$view" -v r="$rec" 'BEGIN { printf "%.3f", v / r }')
     echo "round $r: record alone $rec ms, viewer $view ms (x$ratio); parameter change shown in $change"
+    ratios="${ratios:-} $ratio"
 done
+echo "median viewer / record alone over the rounds: x$(echo $ratios | tr ' ' '\n' | sort -n | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }')"

@@ -2,7 +2,8 @@
 //! copy of a chosen intermediate that equals a run of the effect up to that pass,
 //! without changing the output or the textures the plan takes from the pool;
 //! `Prepared::set_gpu_timings` reads per-pass GPU times of frames recorded into
-//! the caller's encoder, without stalling.
+//! the caller's encoder, without stalling; an 8-bit output recorded into its BGRA
+//! twin (a window surface's format) holds the same values.
 
 mod common;
 
@@ -133,4 +134,51 @@ fn gpu_times_of_recorded_frames_come_back_without_a_stall() {
     );
     glow.set_gpu_timings(&engine, false);
     assert!(glow.gpu_timings().is_empty());
+}
+
+#[test]
+fn an_output_in_the_bgra_twin_format_holds_the_same_values() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let img = common::pattern_u8(40, 24);
+    let ctx = engine.ctx.clone();
+    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
+    let desc = InputDesc::rgba8_srgb(40, 24);
+    for (out, effect) in [(Format::Rgba8Srgb, "glow"), (Format::Rgba8, "edges")] {
+        let mut p = prepare(&mut engine, effect, &desc, out);
+        let rgba = create_output(&ctx, 40, 24, out);
+        frame(&mut engine, &mut p, &input, &rgba);
+        let twin = fxgraph::gpu::executor::bgra_twin(rgba.format()).unwrap();
+        let bgra = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("test BGRA output"),
+            size: rgba.size(),
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: twin,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[twin.remove_srgb_suffix()],
+        });
+        frame(&mut engine, &mut p, &input, &bgra);
+        let a = ctx.read_texture(&rgba).unwrap();
+        let mut b = ctx.read_texture(&bgra).unwrap();
+        for px in b.chunks_exact_mut(4) {
+            px.swap(0, 2);
+        }
+        assert!(a == b, "{effect}: the BGRA output differs");
+    }
+    // Another format is refused, naming the twin.
+    let mut p = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
+    let wrong = create_output(&ctx, 40, 24, Format::Rgba16f);
+    let mut enc = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("test"),
+        });
+    let inputs = FrameInputs::still(&input, &p.plan);
+    let e = p
+        .record(&mut engine, &mut enc, &inputs, &wrong)
+        .unwrap_err();
+    assert!(e.to_string().contains("BGRA twin"), "{e}");
 }

@@ -14,6 +14,7 @@ pub mod samples;
 pub mod scenes;
 pub mod stream;
 pub mod video;
+pub mod viewer;
 
 use fxgraph::app::{apply_in_memory, RunError};
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};

@@ -3,7 +3,7 @@
 
 use super::pool::{PooledTexture, TexturePool};
 use super::record::{GpuPass, Source};
-use super::ExecError;
+use super::{CachedPipeline, ExecError};
 use crate::gpu::context::GpuContext;
 
 /// Bind groups kept per pass: enough for feedback rings and a few caller views.
@@ -96,11 +96,13 @@ pub(super) fn bind_group(
     Ok((gp.bind_groups.len() - 1, 1))
 }
 
-/// Record one pass: a render pass drawing the fullscreen triangle into its target.
+/// Record one pass with `pipeline` (the pass's, or its BGRA twin's): a render pass
+/// drawing the fullscreen triangle into its target.
 /// Returns the number of bind groups created.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn encode_pass(
     gp: &mut GpuPass,
+    pipeline: &CachedPipeline,
     ctx: &GpuContext,
     pool: &TexturePool,
     slots: &[Option<usize>],
@@ -138,7 +140,7 @@ pub(super) fn encode_pass(
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    rp.set_pipeline(&gp.pipeline.pipeline);
+    rp.set_pipeline(&pipeline.pipeline);
     rp.set_bind_group(0, &gp.bind_groups[bg].1, &[]);
     rp.draw(0..3, 0..1);
     Ok(created)

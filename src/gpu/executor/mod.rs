@@ -12,10 +12,16 @@
 //! - `encode.rs`: one pass: its views, its cached bind group, its render pass.
 //! - `pool.rs`: transient textures by descriptor, reused across frames.
 //! - `params.rs`: [`Prepared::set_param`], parameters changed between frames.
+//! - `caller.rs`: the caller's images of a frame, in the view formats the plan
+//!   needs, and the output's format check.
+//! - `bgra.rs`: outputs in the BGRA twin of an 8-bit output format (a window
+//!   surface's), with a pipeline of their own for the passes that write them.
 //! - `inspect.rs`: for tools: a copy of one pass's output ([`Prepared::inspect`])
 //!   and per-pass GPU times of frames in the caller's encoder
 //!   ([`Prepared::set_gpu_timings`]), neither changing the plan.
 
+mod bgra;
+mod caller;
 mod encode;
 mod inspect;
 mod params;
@@ -28,6 +34,7 @@ pub struct LibraryDoc;
 mod prepare;
 mod record;
 
+pub use bgra::bgra_twin;
 pub use params::{ParamError, ParamInfo};
 pub use pool::PoolStats;
 pub use record::{Prepared, PreparedStats};

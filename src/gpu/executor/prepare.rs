@@ -4,6 +4,7 @@
 //! feedback rings with their views, and the bind groups of passes that bind only
 //! the engine's own textures.
 
+use super::bgra::TwinPipeline;
 use super::pool::PooledTexture;
 use super::record::{CallerRef, GpuPass, PassUniform, Prepared, PreparedStats, Source, NO_CAMERA};
 use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
@@ -212,6 +213,11 @@ impl Engine {
                     written,
                 }
             });
+            // A pass writing the caller's output may write a BGRA twin of it.
+            let twin = match p.output {
+                Resource::Output => TwinPipeline::new(&key, &refl, &samplers, &p.path),
+                _ => None,
+            };
             let textures = textures
                 .iter()
                 .map(|&(binding, ii)| {
@@ -230,14 +236,16 @@ impl Engine {
                 .collect();
             let target_format = view_format(p.desc.format, p.target_view);
             let target = source_of(&p.output, target_format, &plan, &mut caller);
-            passes.push(GpuPass::new(
+            let mut gp = GpuPass::new(
                 p.path.clone(),
                 pipeline,
                 textures,
                 samplers,
                 uniform,
                 (target, target_format),
-            ));
+            );
+            gp.twin = twin;
+            passes.push(gp);
         }
         if diags.has_errors() {
             diags.sort();

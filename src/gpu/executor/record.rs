@@ -11,21 +11,17 @@
 //!   textures by id, caller views by identity), creating one only on a miss,
 //! - rotates the feedback rings after the frame.
 
+use super::bgra::{is_bgra, TwinPipeline};
 use super::encode::{bind_group, encode_pass, BindKey};
 use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
-use super::{
-    wgpu_format, CachedPipeline, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming,
-};
+use super::{CachedPipeline, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming};
 use crate::gpu::context::{GpuError, GpuTimer};
 use crate::graph::plan::{Plan, Resource, Step};
 use crate::shader::reflect::StdContext;
 use crate::shader::{UniformLayout, UniformMember};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// Views of caller textures kept.
-const CALLER_VIEWS: usize = 32;
 
 /// Where a pass reads or writes an image.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,6 +67,8 @@ pub(super) struct GpuPass {
     pub target: Source,
     pub target_format: Option<wgpu::TextureFormat>,
     pub(super) bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
+    /// A pass writing the caller's output: its pipeline for a BGRA output.
+    pub(super) twin: Option<TwinPipeline>,
 }
 
 impl GpuPass {
@@ -91,6 +89,7 @@ impl GpuPass {
             target: target.0,
             target_format: target.1,
             bind_groups: Vec::new(),
+            twin: None,
         }
     }
 }
@@ -130,7 +129,7 @@ pub struct Prepared {
     /// Time spent creating shader modules and pipelines.
     pub pipeline_build: Duration,
     /// Views of caller textures: (texture, view format, view), oldest first.
-    views: Vec<(
+    pub(super) views: Vec<(
         wgpu::Texture,
         Option<wgpu::TextureFormat>,
         wgpu::TextureView,
@@ -330,82 +329,6 @@ impl Prepared {
         Ok((timings, extra))
     }
 
-    /// The view of a caller image in `format`.
-    fn caller_view(
-        &mut self,
-        image: ImageRef,
-        format: Option<wgpu::TextureFormat>,
-        what: &str,
-    ) -> Result<wgpu::TextureView, ExecError> {
-        match image {
-            ImageRef::View(v) => match format {
-                None => Ok(v.clone()),
-                Some(f) => Err(ExecError::Input(format!(
-                    "{what} is read or written as {f:?}, a view of another format: pass the texture, not a view"
-                ))),
-            },
-            ImageRef::Texture(t) => {
-                if let Some((_, _, v)) = self
-                    .views
-                    .iter()
-                    .find(|(vt, vf, _)| vt == t && *vf == format)
-                {
-                    return Ok(v.clone());
-                }
-                let v = t.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some(&format!("fxgraph {what} view")),
-                    format,
-                    ..Default::default()
-                });
-                if self.views.len() == CALLER_VIEWS {
-                    self.views.remove(0);
-                }
-                self.views.push((t.clone(), format, v.clone()));
-                self.stats.caller_views_created += 1;
-                Ok(v)
-            }
-        }
-    }
-
-    /// The caller's images for this frame, in the order of `self.caller`.
-    fn resolve_caller(
-        &mut self,
-        inputs: &FrameInputs,
-        output: ImageRef,
-    ) -> Result<Vec<wgpu::TextureView>, ExecError> {
-        if let ImageRef::Texture(t) = output {
-            let want = wgpu_format(self.plan.output.format);
-            if t.format().remove_srgb_suffix() != want.remove_srgb_suffix() {
-                return Err(ExecError::Input(format!(
-                    "output texture is {:?}, the plan renders {want:?}",
-                    t.format()
-                )));
-            }
-        }
-        let mut views = Vec::with_capacity(self.caller.len());
-        for i in 0..self.caller.len() {
-            let CallerRef { resource, format } = self.caller[i].clone();
-            let (image, what) = match &resource {
-                Resource::Input { frame } => (
-                    inputs.frames.get(frame).copied().ok_or_else(|| {
-                        ExecError::Input(format!("input frame {frame:+} not provided"))
-                    })?,
-                    format!("input frame {frame:+}"),
-                ),
-                Resource::Aux(name) => (
-                    inputs.aux.get(name).copied().ok_or_else(|| {
-                        ExecError::Input(format!("auxiliary input `{name}` not provided"))
-                    })?,
-                    format!("auxiliary input `{name}`"),
-                ),
-                Resource::Output => (output, "output".to_string()),
-                other => unreachable!("not a caller image: {other:?}"),
-            };
-            views.push(self.caller_view(image, format, &what)?);
-        }
-        Ok(views)
-    }
-
     /// Write the uniform buffers whose bytes changed (per-frame standard values).
     fn write_uniforms(&mut self, camera: Option<CameraStd>, jitter: [f32; 2]) {
         let cam = camera.unwrap_or(NO_CAMERA);
@@ -444,6 +367,10 @@ impl Prepared {
         timer: Option<&GpuTimer>,
     ) -> Result<Vec<PassTiming>, ExecError> {
         let caller = self.resolve_caller(inputs, output)?;
+        let bgra = match output {
+            ImageRef::Texture(t) => is_bgra(t.format()),
+            ImageRef::View(v) => is_bgra(v.texture().format()),
+        };
         self.write_uniforms(inputs.camera, inputs.jitter);
         engine.frames += 1;
         let frame_no = engine.frames;
@@ -477,8 +404,16 @@ impl Prepared {
                 Step::Run { pass } => {
                     let t0 = Instant::now();
                     let writes = timer.and_then(|t| t.pass_writes(timings.len() as u32));
+                    let pipeline = match self.passes[pass].pipeline_for(engine, bgra) {
+                        Ok(p) => p,
+                        Err(e) => {
+                            result = Err(e.into());
+                            break;
+                        }
+                    };
                     let recorded = encode_pass(
                         &mut self.passes[pass],
+                        &pipeline,
                         &engine.ctx,
                         &engine.pool,
                         &self.slots,

@@ -6,6 +6,7 @@ use super::commands::{key_command, Command};
 use super::content::Content;
 use super::fx::Fx;
 use super::inspect::Inspect;
+use super::panel_cache::PanelCache;
 use super::present::Presenter;
 use super::reload::Reloader;
 use super::script::Script;
@@ -49,6 +50,15 @@ pub(super) struct UiState {
     pub copied: Option<String>,
     /// The image area of the last frame (surface pixels: x, y, width, height).
     pub area: [u32; 4],
+    /// The frame and pass times the panel shows.
+    pub figures: Option<Figures>,
+}
+
+/// Times shown in the panel, refreshed twice a second.
+pub(super) struct Figures {
+    pub at: Instant,
+    pub frame_ms: Option<f64>,
+    pub gpu_ms: Vec<Option<f64>>,
 }
 
 impl Default for UiState {
@@ -67,6 +77,7 @@ impl Default for UiState {
             status: String::new(),
             copied: None,
             area: [0, 0, 0, 0],
+            figures: None,
         }
     }
 }
@@ -80,6 +91,7 @@ pub(super) struct Win {
     pub egui_state: egui_winit::State,
     pub egui_renderer: egui_wgpu::Renderer,
     pub presenter: Presenter,
+    pub panel_cache: PanelCache,
 }
 
 /// Frame times of the run (`--timings`).
@@ -276,8 +288,11 @@ impl Viewer {
             .or(caps.formats.first().copied())
             .ok_or_else(|| gpu_fail("the window offers no surface format".into()))?;
         let size = window.inner_size();
+        // COPY_DST: a 1:1 image is copied into the surface (present.rs).
+        let usage =
+            wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage,
             format,
             width: size.width.max(1),
             height: size.height.max(1),
@@ -318,6 +333,7 @@ impl Viewer {
             egui_state,
             egui_renderer,
             presenter,
+            panel_cache: PanelCache::default(),
         });
         Ok(())
     }
@@ -350,7 +366,11 @@ impl Viewer {
     /// Does anything need frames without input (playing, flying, scripted)?
     fn animating(&self) -> bool {
         let flying = matches!(&self.content, Content::Scene(s) if s.control.keys.any());
-        let playing = matches!(&self.content, Content::Playback(p) if p.playing);
+        let playing = match &self.content {
+            Content::Playback(p) => p.playing,
+            Content::Scene(s) => s.timed() && s.clock.playing,
+            Content::Stills(_) => false,
+        };
         self.script.is_some() || flying || playing || self.ui.continuous || self.reload_pending
     }
 }
@@ -430,14 +450,17 @@ impl ApplicationHandler<UserEvent> for Viewer {
             w.window.request_redraw();
             return;
         }
-        if let Content::Playback(p) = &self.content {
-            if let (Some(wait), None) = (p.until_due(), &self.script) {
-                event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + wait));
-                if wait.is_zero() {
-                    w.window.request_redraw();
-                }
-                return;
+        let until_due = match &self.content {
+            Content::Playback(p) => p.until_due(),
+            Content::Scene(s) if s.timed() => s.clock.until_due(),
+            _ => None,
+        };
+        if let (Some(wait), None) = (until_due, &self.script) {
+            event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + wait));
+            if wait.is_zero() {
+                w.window.request_redraw();
             }
+            return;
         }
         event_loop.set_control_flow(ControlFlow::Wait);
         if self.animating() {

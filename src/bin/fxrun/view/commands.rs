@@ -108,8 +108,13 @@ impl Viewer {
             }
             Command::Next | Command::Prev | Command::First => self.navigate(c),
             Command::PlayPause => {
-                if let Content::Playback(p) = &mut self.content {
-                    p.playing = !p.playing;
+                match &mut self.content {
+                    Content::Playback(p) => p.playing = !p.playing,
+                    Content::Scene(s) if s.timed() => {
+                        s.clock.playing = !s.clock.playing;
+                        s.set_frame(s.clock.frame);
+                    }
+                    _ => {}
                 }
                 Ok(())
             }
@@ -238,7 +243,17 @@ impl Viewer {
                 };
                 r.map(|_| ()).map_err(|e| e.to_string())
             }
-            Content::Scene(_) => Ok(()),
+            Content::Scene(s) => {
+                s.clock.playing = false;
+                let f = s.clock.frame;
+                s.set_frame(match c {
+                    Command::Next => f + 1,
+                    Command::Prev => f.saturating_sub(1),
+                    _ => 0,
+                });
+                self.dirty = true;
+                Ok(())
+            }
         }
     }
 

@@ -4,14 +4,18 @@
 //! then the panel's changes are applied (the next frame shows them) and, when
 //! scripted, the actions of this frame run.
 
-use super::app::{FrameStats, UiState, Viewer};
+use super::app::{Figures, FrameStats, UiState, Viewer};
 use super::content::Content;
 use super::inspect::{pass_rows, shade_of};
 use super::panel::{self, ImageInput, Model, UiEvent};
+use super::panel_cache::PanelPaint;
 use super::present::{Placement, Shown};
 use crate::Fail;
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
+
+/// How often the panel's figures (frame and pass times) are refreshed.
+const FIGURES_EVERY: Duration = Duration::from_millis(500);
 
 /// How long a scripted `wait-reload` waits.
 const RELOAD_WAIT: Duration = Duration::from_secs(600);
@@ -103,6 +107,15 @@ impl Viewer {
             if s.control.fly(&mut cam, dt) {
                 s.camera = cam;
                 s.camera_moved();
+                self.dirty = true;
+            }
+        }
+        if let Content::Scene(s) = &mut self.content {
+            // A scene's clock: as a sequence's frames.
+            let c = &s.clock;
+            if s.timed() && ((scripted && self.shown > 0 && c.playing) || (!scripted && c.due())) {
+                let next = c.frame + 1;
+                s.set_frame(next);
                 self.dirty = true;
             }
         }
@@ -239,6 +252,7 @@ impl Viewer {
                     .update_texture(&ctx.device, &ctx.queue, *id, delta);
             }
         }
+        let textures_changed = !full.textures_delta.set.is_empty();
         let mut textures_delta = full.textures_delta;
         textures_delta.set.clear();
         let surface = match win.surface.get_current_texture() {
@@ -292,36 +306,59 @@ impl Viewer {
             });
             win.presenter.prepare(&ctx, after, before, &place);
         }
-        {
-            let mut rp = encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("viewer present"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &target,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: 0.02,
-                                g: 0.02,
-                                b: 0.02,
-                                a: 1.0,
-                            }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                })
-                .forget_lifetime();
-            if shown.is_some() {
-                win.presenter.draw(&mut rp, &place);
+        let split = before.is_some() && place.split > 0.0;
+        let panel_x = self.ui.panel.then_some(area[0] + area[2]);
+        let paint = win
+            .panel_cache
+            .plan(&jobs, ppp, (sw, sh), panel_x, textures_changed);
+        let egui_renderer = &win.egui_renderer;
+        let draw_egui =
+            |rp: &mut wgpu::RenderPass<'static>| egui_renderer.render(rp, &jobs, &screen);
+        let (panel, direct) = match paint {
+            PanelPaint::Nothing => (None, false),
+            PanelPaint::Direct => (None, true),
+            PanelPaint::Cached { rect, redraw } => {
+                let cache = win
+                    .panel_cache
+                    .texture(&ctx.device, (sw, sh), win.config.format);
+                if redraw {
+                    let view = cache.create_view(&wgpu::TextureViewDescriptor {
+                        label: Some("viewer panel cache view"),
+                        ..Default::default()
+                    });
+                    let mut rp = encoder
+                        .begin_render_pass(&wgpu::RenderPassDescriptor {
+                            label: Some("viewer panel"),
+                            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                                view: &view,
+                                depth_slice: None,
+                                resolve_target: None,
+                                ops: wgpu::Operations {
+                                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                                    store: wgpu::StoreOp::Store,
+                                },
+                            })],
+                            depth_stencil_attachment: None,
+                            timestamp_writes: None,
+                            occlusion_query_set: None,
+                            multiview_mask: None,
+                        })
+                        .forget_lifetime();
+                    draw_egui(&mut rp);
+                }
+                (Some((cache, rect)), false)
             }
-            rp.set_scissor_rect(0, 0, sw, sh);
-            win.egui_renderer.render(&mut rp, &jobs, &screen);
-        }
+        };
+        win.presenter.encode(
+            &mut encoder,
+            &surface.texture,
+            &target,
+            &place,
+            shown.is_some(),
+            split,
+            panel,
+            direct.then_some(draw_egui),
+        );
         ctx.queue
             .submit(extra.into_iter().chain([encoder.finish()]));
         win.window.pre_present_notify();
@@ -346,8 +383,27 @@ impl Viewer {
             .iter()
             .map(|p| self.fx.pass_is_set(&p.name))
             .collect();
-        let rows = prepared.map(pass_rows).unwrap_or_default();
+        let mut rows = prepared.map(pass_rows).unwrap_or_default();
         let timed = prepared.is_some_and(|p| !p.gpu_timings().is_empty());
+        // The figures change every frame: shown twice a second (readable, and the
+        // panel is not drawn again for them every frame: panel_cache.rs).
+        let stale = self
+            .ui
+            .figures
+            .as_ref()
+            .is_none_or(|f| f.at.elapsed() >= FIGURES_EVERY || f.gpu_ms.len() != rows.len());
+        if stale {
+            self.ui.figures = Some(Figures {
+                at: Instant::now(),
+                frame_ms: self.stats.frames.last().copied(),
+                gpu_ms: rows.iter().map(|r| r.gpu_ms).collect(),
+            });
+        }
+        let figures = self.ui.figures.as_ref().expect("set above");
+        for (r, ms) in rows.iter_mut().zip(&figures.gpu_ms) {
+            r.gpu_ms = *ms;
+        }
+        let frame_ms = figures.frame_ms;
         let image_size = self
             .content
             .output()
@@ -372,10 +428,11 @@ impl Viewer {
             shown_format: self.shown_texture().map(|(_, f)| f),
             playing: match &self.content {
                 Content::Playback(p) => Some(p.playing),
+                Content::Scene(s) if s.timed() => Some(s.clock.playing),
                 _ => None,
             },
             scene: matches!(self.content, Content::Scene(_)),
-            frame_ms: self.stats.frames.last().copied(),
+            frame_ms,
             image_size,
             set_args: self.ui.copied.clone(),
         }

@@ -27,6 +27,7 @@ mod frame;
 mod fx;
 mod inspect;
 mod panel;
+mod panel_cache;
 mod playback;
 mod present;
 mod reload;
@@ -103,7 +104,19 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
         let fixed = cli.size.is_some();
         let format = out.unwrap_or(fxgraph::script::types::Format::Rgba8Srgb);
         job.output = None;
-        let view = scene_view::SceneView::new(job, engine, fixed, format)?;
+        let fps = cli.fps.unwrap_or(30.0);
+        if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+            return Err(rejected(format!(
+                "--fps {fps}: expected a number above 0, at most 1000"
+            )));
+        }
+        let time = cli.time.unwrap_or(0.0);
+        if !(time.is_finite() && time >= 0.0) {
+            return Err(rejected(format!(
+                "--time {time}: must be 0 or more seconds"
+            )));
+        }
+        let view = scene_view::SceneView::new(job, engine, fixed, format, (fps, time))?;
         let job = view.job();
         let fx = fx::Fx::new(&job.effects, &view.base, &cli.set)?;
         return Ok((Content::Scene(Box::new(view)), fx));
@@ -134,21 +147,20 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
     if cli.rate == 0 || cli.rate > 4 {
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
-    let is_y4m = |p: &std::path::Path| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("y4m"));
     let seq = match specs.as_slice() {
         [SequenceSpec::Stdin] => Some(playback::SeqInput::Stdin),
-        [SequenceSpec::Single(p)] if is_y4m(p) => {
-            if cli.fps.is_none() {
-                if let Ok(f) = std::fs::File::open(p) {
-                    if let Ok(r) = fxgraph::io::y4m::Y4mReader::new(f, p.display().to_string()) {
-                        let (n, d) = r.header().fps;
-                        if d > 0 && n > 0 {
-                            fps = n as f64 / d as f64;
-                        }
-                    }
-                }
+        [SequenceSpec::Y4m(p) | SequenceSpec::Video(p)] => {
+            let input = match &specs[0] {
+                SequenceSpec::Y4m(_) => fxgraph::app::StreamInput::Y4mFile(p.clone()),
+                _ => fxgraph::app::StreamInput::Video(p.clone()),
+            };
+            // The frame rate from the file's header (a video: ffmpeg's).
+            let opened = fxgraph::app::OpenedInput::open(&input)?;
+            let (n, d) = opened.header.fps;
+            if cli.fps.is_none() && d > 0 && n > 0 {
+                fps = n as f64 / d as f64;
             }
-            Some(playback::SeqInput::Y4mFile(p.clone()))
+            Some(playback::SeqInput::Stream(input))
         }
         [s @ SequenceSpec::Pattern { .. }] => Some(playback::SeqInput::Files(
             fxgraph::io::sequence::InputSequence::open(s)

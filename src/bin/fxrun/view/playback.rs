@@ -1,6 +1,7 @@
-//! Sequences in the viewer: numbered frames, a folder, a `.y4m` file or a y4m
-//! stream on stdin, played through a `gpu::stream::Stream` (the history, future
-//! frames and feedback of temporal effects, as in a normal run).
+//! Sequences in the viewer: numbered frames, a folder, a `.y4m` or video file
+//! (`app::OpenedInput`: ffmpeg decodes videos) or a y4m stream on stdin, played
+//! through a `gpu::stream::Stream` (the history, future frames and feedback of
+//! temporal effects, as in a normal run).
 //!
 //! Frames decode on a thread of their own. Playing or stepping forward runs the
 //! stream one output further. Going back, and planning again (a reload, an effect
@@ -11,7 +12,7 @@
 //! kept in memory.
 
 use super::fx::Fx;
-use fxgraph::app::{FilesSource, FrameSource, RunError, SourceFrame, Y4mSource};
+use fxgraph::app::{FilesSource, FrameSource, OpenedInput, RunError, SourceFrame, StreamInput};
 use fxgraph::gpu::executor::{Engine, Prepared};
 use fxgraph::gpu::stream::Stream;
 use fxgraph::gpu::transfer::{input_format, upload_image};
@@ -32,8 +33,8 @@ const EXTRA_KEPT: usize = 8;
 pub(super) enum SeqInput {
     /// Image files in order.
     Files(Vec<(u64, PathBuf)>),
-    /// A YUV4MPEG2 file.
-    Y4mFile(PathBuf),
+    /// A `.y4m` file or a video file (decoded by ffmpeg), reopened to go back.
+    Stream(StreamInput),
     /// A YUV4MPEG2 stream on stdin.
     Stdin,
 }
@@ -161,29 +162,14 @@ impl Playback {
                 let from = (from as usize).min(frames.len());
                 Box::new(FilesSource::new(frames[from..].to_vec(), load))
             }
-            SeqInput::Y4mFile(path) => {
-                let file = std::fs::File::open(path).map_err(|e| IoError::Io {
-                    path: path.clone(),
-                    source: e,
-                })?;
-                let reader = fxgraph::io::y4m::Y4mReader::new(file, path.display().to_string())
-                    .map_err(|e| RunError::from(IoError::from(e)))?;
-                let conversion = fxgraph::io::y4m::YuvConversion::for_header(reader.header());
-                Box::new(Y4mSource {
-                    skip: from,
-                    ..Y4mSource::new(reader, conversion)
-                })
-            }
+            SeqInput::Stream(input) => OpenedInput::open(input)?.into_source(from, None),
             SeqInput::Stdin => {
                 let mut d = match self.stdin.take() {
                     Some(d) => d,
-                    None => {
-                        let reader = fxgraph::io::y4m::Y4mReader::new(std::io::stdin(), "stdin")
-                            .map_err(|e| RunError::from(IoError::from(e)))?;
-                        let conversion =
-                            fxgraph::io::y4m::YuvConversion::for_header(reader.header());
-                        spawn_decoder(Box::new(Y4mSource::new(reader, conversion)), 0)
-                    }
+                    None => spawn_decoder(
+                        OpenedInput::open(&StreamInput::Stdin)?.into_source(0, None),
+                        0,
+                    ),
                 };
                 // Rewind into the frames kept; the live stream continues after them.
                 let oldest = self.recent.front().map_or(d.next, |(n, _)| *n);
@@ -411,7 +397,10 @@ impl Playback {
                 .first()
                 .map(|(_, p)| p.parent().unwrap_or(p).display().to_string())
                 .unwrap_or_default(),
-            SeqInput::Y4mFile(p) => p.display().to_string(),
+            SeqInput::Stream(StreamInput::Y4mFile(p) | StreamInput::Video(p)) => {
+                p.display().to_string()
+            }
+            SeqInput::Stream(StreamInput::Stdin) => "stdin".into(),
             SeqInput::Stdin => "stdin".into(),
         };
         let Some(shown) = self.shown else {

@@ -4,7 +4,56 @@
 //! the mark on clipped pixels.
 
 use fxgraph::gpu::context::GpuContext;
+use fxgraph::gpu::executor::{bgra_twin, wgpu_format};
+use fxgraph::gpu::transfer::create_output;
 use fxgraph::script::types::Format;
+
+/// The texture format the window's copy of an output of `format` is in: the BGRA
+/// twin of an 8-bit format (what window surfaces offer: at 1:1 the output is copied
+/// to the screen, not drawn), the plan's own otherwise (and on GL, which cannot
+/// view a texture in another format).
+pub(super) fn window_output_format(ctx: &GpuContext, format: Format) -> wgpu::TextureFormat {
+    let plain = wgpu_format(format);
+    match bgra_twin(plain) {
+        Some(t) if ctx.info.backend != wgpu::Backend::Gl => t,
+        _ => plain,
+    }
+}
+
+/// The texture the effect's output is recorded into (see [`window_output_format`]).
+pub(super) fn window_output(
+    ctx: &GpuContext,
+    width: u32,
+    height: u32,
+    format: Format,
+) -> wgpu::Texture {
+    let tf = window_output_format(ctx, format);
+    if tf == wgpu_format(format) {
+        return create_output(ctx, width, height, format);
+    }
+    // An sRGB output may be written through a raw view (as `create_output`'s).
+    let raw = [wgpu::TextureFormat::Bgra8Unorm];
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("viewer output (BGRA)"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: tf,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: if tf == wgpu::TextureFormat::Bgra8UnormSrgb {
+            &raw
+        } else {
+            &[]
+        },
+    })
+}
 
 /// How values are shown (the shader's `mode`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -104,11 +153,13 @@ fn view_for(ctx: &GpuContext, t: &wgpu::Texture, shade: Shade) -> (wgpu::Texture
         Shade::Colour => 1,
         Shade::Data => 2,
     };
-    if t.format() == wgpu::TextureFormat::Rgba8UnormSrgb && shade == Shade::Codes {
+    let srgb = t.format().is_srgb();
+    if srgb && shade == Shade::Codes {
+        let raw_format = t.format().remove_srgb_suffix();
         let raw = ctx.scoped("viewer raw view", |_| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 label: Some("viewer raw view"),
-                format: Some(wgpu::TextureFormat::Rgba8Unorm),
+                format: Some(raw_format),
                 ..Default::default()
             })
         });
@@ -274,8 +325,160 @@ impl Presenter {
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
     }
 
+    /// The copy that shows the image prepared for `place` on `surface`, when one can:
+    /// the image is at 1:1 on whole pixels, shown as its stored codes, without a
+    /// split, in the surface's format (up to sRGB); the part in the area.
+    fn copy_region(
+        &self,
+        place: &Placement,
+        split: bool,
+        surface: &wgpu::Texture,
+    ) -> Option<(wgpu::Origin3d, wgpu::Origin3d, wgpu::Extent3d)> {
+        let c = self.cached.as_ref()?;
+        let t = &c.after;
+        let fits = t.format().remove_srgb_suffix() == surface.format().remove_srgb_suffix()
+            && c.modes.0 == 0
+            && !split
+            && surface.usage().contains(wgpu::TextureUsages::COPY_DST)
+            && place.rect[2] == t.width() as f32
+            && place.rect[3] == t.height() as f32;
+        if !fits {
+            return None;
+        }
+        let [ax, ay, aw, ah] = place.area.map(i64::from);
+        let (x, y) = (place.rect[0] as i64, place.rect[1] as i64);
+        let x0 = x.max(ax).max(0);
+        let y0 = y.max(ay).max(0);
+        let x1 = (x + t.width() as i64)
+            .min(ax + aw)
+            .min(surface.width() as i64);
+        let y1 = (y + t.height() as i64)
+            .min(ay + ah)
+            .min(surface.height() as i64);
+        if x1 <= x0 || y1 <= y0 {
+            return None;
+        }
+        let o = |a: i64, b: i64| wgpu::Origin3d {
+            x: a as u32,
+            y: b as u32,
+            z: 0,
+        };
+        Some((
+            o(x0 - x, y0 - y),
+            o(x0, y0),
+            wgpu::Extent3d {
+                width: (x1 - x0) as u32,
+                height: (y1 - y0) as u32,
+                depth_or_array_layers: 1,
+            },
+        ))
+    }
+
+    /// Record the window's picture into `encoder`: clear `surface`, the image of the
+    /// last `prepare` (`image`: there is one) in its area, copied where
+    /// [`Presenter::copy_region`] allows (on lavapipe a copy costs a fraction of a
+    /// drawn pass), drawn otherwise; then `overlay` (the panel) over everything.
+    ///
+    /// `panel`: a texture and the rectangle of it to copy over the frame (the
+    /// panel drawn before, `panel_cache.rs`); `overlay`: drawn over the frame.
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        surface: &wgpu::Texture,
+        view: &wgpu::TextureView,
+        place: &Placement,
+        image: bool,
+        split: bool,
+        panel: Option<(&wgpu::Texture, [u32; 4])>,
+        overlay: Option<impl FnOnce(&mut wgpu::RenderPass<'static>)>,
+    ) {
+        let background = wgpu::Color {
+            r: 0.02,
+            g: 0.02,
+            b: 0.02,
+            a: 1.0,
+        };
+        let pass = |encoder: &mut wgpu::CommandEncoder, load| {
+            encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("viewer present"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load,
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                })
+                .forget_lifetime()
+        };
+        let copy = if image {
+            self.copy_region(place, split, surface)
+        } else {
+            None
+        };
+        let (sw, sh) = (surface.width(), surface.height());
+        {
+            let mut rp = pass(encoder, wgpu::LoadOp::Clear(background));
+            if image && copy.is_none() {
+                self.draw(&mut rp, place);
+            }
+        }
+        if let (Some((from, to, size)), Some(c)) = (copy, &self.cached) {
+            encoder.copy_texture_to_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &c.after,
+                    mip_level: 0,
+                    origin: from,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture: surface,
+                    mip_level: 0,
+                    origin: to,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                size,
+            );
+        }
+        if let Some((tex, [x, y, w, h])) = panel {
+            let at = wgpu::Origin3d { x, y, z: 0 };
+            encoder.copy_texture_to_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: tex,
+                    mip_level: 0,
+                    origin: at,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture: surface,
+                    mip_level: 0,
+                    origin: at,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d {
+                    width: w.min(sw.saturating_sub(x)),
+                    height: h.min(sh.saturating_sub(y)),
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        if let Some(overlay) = overlay {
+            let mut rp = pass(encoder, wgpu::LoadOp::Load);
+            rp.set_scissor_rect(0, 0, sw, sh);
+            overlay(&mut rp);
+        }
+    }
+
     /// Draw into `pass` (over the image area of the placement given to `prepare`).
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, place: &Placement) {
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, place: &Placement) {
         let Some(c) = &self.cached else {
             return;
         };

@@ -109,9 +109,8 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let uv = (pos.xy - view.rect.xy) / view.rect.zw;
     var code: vec3<f32>;
     if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-        // Outside the image: a dark checkerboard.
-        let k = (i32(floor(pos.x / 16.0)) + i32(floor(pos.y / 16.0))) & 1;
-        code = vec3<f32>(select(0.11, 0.14, k == 0));
+        // Outside the image: the window's background (the frame's clear colour).
+        code = vec3<f32>(0.02);
     } else if uv.x < view.split {
         code = shade(fetch(before_tex, uv), view.before_mode, view.before_channels, pos.xy);
     } else {

@@ -2,18 +2,52 @@
 //! with the camera under the mouse ([`super::camera_control`]) at `--size`, or at
 //! the size of the window's image area (resizing renders and plans again). The
 //! effects read the render and its G-buffer (`AUX.*`), which the pass list shows
-//! too. The scene model has no clock yet: the picture changes when the camera does.
+//! too.
+//!
+//! Time: frame n shows the scene at n / fps seconds (`--fps`, default 30), as a
+//! normal run's frame n (`--time n/fps`): the animations' pose, the run's camera
+//! (`--camera`, which may be an orbit or an animated scene camera) and the motion
+//! from the previous frame time (`AUX.motion`); the effects see `frame` = n and
+//! `time` = n / fps. An animated scene (or a moving `--camera`) plays (Space),
+//! steps (Right, Left) and goes back to frame 0 (Home); a scripted run advances one
+//! frame per frame shown. Dragging the camera leaves the run's camera (H goes back
+//! to it). Temporal effects (`IN[-1]`, feedback) see each frame as a still.
 
 use super::camera_control::CameraControl;
 use super::fx::Fx;
 use fxgraph::app::scene::{load_scene, render_error, scene_renderer, SceneJob};
 use fxgraph::app::RunError;
 use fxgraph::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
-use fxgraph::gpu::transfer::create_output;
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::render::renderer::Renderer;
-use fxgraph::render::RenderOutput;
-use fxgraph::scene::Camera;
+use fxgraph::render::{FrameMotion, RenderOutput};
+use fxgraph::scene::{Camera, CameraPath, Playback, Pose, Scene};
+use std::time::{Duration, Instant};
+
+/// The scene's clock.
+pub(super) struct Clock {
+    pub frame: u64,
+    pub fps: f64,
+    pub playing: bool,
+    last_step: Instant,
+}
+
+impl Clock {
+    /// Is the next frame due (playing at `fps`)?
+    pub fn due(&self) -> bool {
+        self.playing && self.last_step.elapsed() >= self.period()
+    }
+
+    /// Time until the next frame is due, when playing.
+    pub fn until_due(&self) -> Option<Duration> {
+        self.playing
+            .then(|| self.period().saturating_sub(self.last_step.elapsed()))
+    }
+
+    fn period(&self) -> Duration {
+        Duration::from_secs_f64(1.0 / self.fps)
+    }
+}
 use fxgraph::script::types::{ColorSpace, Format};
 
 /// The scene, its renderer and the camera.
@@ -35,6 +69,18 @@ pub(super) struct SceneView {
     has_effects: bool,
     /// The `--set`s of the default chain for this scene (none for other effects).
     pub base: Vec<String>,
+    scene: Scene,
+    path: CameraPath,
+    playback: Playback,
+    /// Animated, or seen from a moving camera: the clock matters.
+    timed: bool,
+    /// The instances deformed by skins or morph targets.
+    deformed: Vec<usize>,
+    pub clock: Clock,
+    /// The camera was moved by hand: it no longer follows the run's camera.
+    free: bool,
+    /// The sub-pixel jitter the render was made with.
+    rendered_jitter: [f32; 2],
 }
 
 impl SceneView {
@@ -44,8 +90,22 @@ impl SceneView {
         engine: &Engine,
         fixed: bool,
         output_format: Format,
+        (fps, time): (f64, f64),
     ) -> Result<Self, RunError> {
         let (scene, camera) = load_scene(&job)?;
+        let scene_error = |e| render_error(&job.scene, fxgraph::render::RenderError::Scene(e));
+        let path = CameraPath::parse(job.camera.as_deref(), &scene).map_err(scene_error)?;
+        let playback = match &job.animation {
+            Some(spec) => Playback::parse(spec, &scene, job.looping).map_err(scene_error)?,
+            None => Playback {
+                looping: job.looping,
+                ..Playback::default()
+            },
+        };
+        let timed = scene.is_animated() || !matches!(path, CameraPath::Fixed(_));
+        let deformed = (0..scene.instances.len())
+            .filter(|&i| scene.is_deformed(i))
+            .collect();
         let b = scene.bounds();
         let radius = if b.is_empty() {
             1.0
@@ -73,7 +133,80 @@ impl SceneView {
             prepared: None,
             output: None,
             output_format,
+            scene,
+            path,
+            playback,
+            timed,
+            deformed,
+            clock: Clock {
+                frame: (time * fps).round().max(0.0) as u64,
+                fps,
+                playing: timed,
+                last_step: Instant::now(),
+            },
+            free: false,
+            rendered_jitter: [0.0, 0.0],
         })
+    }
+
+    /// Does the picture change with time (an animation, a moving camera)?
+    pub fn timed(&self) -> bool {
+        self.timed
+    }
+
+    /// Show frame `frame` (its time frame / fps).
+    pub fn set_frame(&mut self, frame: u64) {
+        if self.timed && frame != self.clock.frame {
+            self.clock.frame = frame;
+            self.stale = true;
+        }
+        self.clock.last_step = Instant::now();
+    }
+
+    /// The pose and the run's camera at `t` seconds.
+    fn at(&self, t: f64) -> (Pose, Camera) {
+        let pose = self.scene.pose(t, &self.playback);
+        let camera = self.path.at(&self.scene, Some(&pose), t);
+        (pose, camera)
+    }
+
+    /// The camera, the motion since the previous frame time and the jitter of the
+    /// frame shown.
+    fn frame_motion(&mut self) -> (Camera, FrameMotion) {
+        let fps = self.clock.fps;
+        let t = self.clock.frame as f64 / fps;
+        let (pose, run_camera) = self.at(t);
+        let (prev, prev_run_camera) = self.at(t - 1.0 / fps);
+        let (camera, prev_camera) = if self.free {
+            (self.camera, self.camera)
+        } else {
+            (run_camera, prev_run_camera)
+        };
+        if self.scene.is_animated() {
+            // lights on animated nodes move with them
+            self.renderer.set_lights(pose.lights.clone());
+        }
+        let jitter = self
+            .prepared
+            .as_ref()
+            .and_then(|p| p.jitter())
+            .map_or([0.0, 0.0], |p| p.offset(self.clock.frame));
+        let transforms = |p: &Pose| p.instances.iter().map(|i| i.world).collect();
+        let deform = |p: &Pose| {
+            self.deformed
+                .iter()
+                .map(|&i| p.deformed_mesh(&self.scene, i))
+                .collect()
+        };
+        let motion = FrameMotion {
+            transforms: transforms(&pose),
+            prev_transforms: transforms(&prev),
+            prev_camera: Some(prev_camera),
+            jitter,
+            deformed: deform(&pose),
+            prev_deformed: deform(&prev),
+        };
+        (camera, motion)
     }
 
     /// The job (its effects and `--set`s).
@@ -93,14 +226,16 @@ impl SceneView {
         true
     }
 
-    /// The camera moved: render again.
+    /// The camera moved by hand: render again, from now on from this camera.
     pub fn camera_moved(&mut self) {
+        self.free = true;
         self.stale = true;
     }
 
     /// Back to the camera of the run.
     pub fn home(&mut self) {
         self.camera = self.home;
+        self.free = false;
         self.stale = true;
     }
 
@@ -131,7 +266,12 @@ impl SceneView {
         }
         prepared.set_gpu_timings(engine, true);
         let o = prepared.plan.output;
-        self.output = Some(create_output(&engine.ctx, o.width, o.height, o.format));
+        self.output = Some(super::present::window_output(
+            &engine.ctx,
+            o.width,
+            o.height,
+            o.format,
+        ));
         self.prepared = Some(prepared);
         Ok(())
     }
@@ -153,9 +293,23 @@ impl SceneView {
     ) -> Result<(), RunError> {
         if self.stale || self.rendered.is_none() {
             let ctx = engine.ctx.clone();
-            let (out, _) = self
-                .renderer
-                .render(
+            let rendered = if self.timed {
+                let (camera, motion) = self.frame_motion();
+                self.rendered_jitter = motion.jitter;
+                if !self.free {
+                    self.camera = camera;
+                }
+                self.renderer.render_frame(
+                    &ctx,
+                    &camera,
+                    &motion,
+                    self.size.0,
+                    self.size.1,
+                    self.job.technique,
+                    None,
+                )
+            } else {
+                self.renderer.render(
                     &ctx,
                     &self.camera,
                     self.size.0,
@@ -163,7 +317,8 @@ impl SceneView {
                     self.job.technique,
                     None,
                 )
-                .map_err(|e| render_error(&self.job.scene, e))?;
+            };
+            let (out, _) = rendered.map_err(|e| render_error(&self.job.scene, e))?;
             self.rendered = Some(out);
             self.stale = false;
         }
@@ -176,8 +331,10 @@ impl SceneView {
                 "the render and the plan differ in size".into(),
             ));
         }
-        p.frame = 0;
+        p.frame = self.clock.frame;
+        p.fps = self.clock.fps;
         let mut inputs = FrameInputs::still(&out.scene, &p.plan);
+        inputs.jitter = self.rendered_jitter;
         inputs.aux = out.aux.iter().map(|(n, t)| (n.clone(), t.into())).collect();
         inputs.camera = Some(out.camera);
         p.record(engine, encoder, &inputs, target)
@@ -232,8 +389,19 @@ impl SceneView {
     }
 
     pub fn caption(&self) -> String {
+        let time = if self.timed {
+            let c = &self.clock;
+            let state = if c.playing { "playing" } else { "paused" };
+            format!(
+                ", frame {} at {:.3} s ({state})",
+                c.frame,
+                c.frame as f64 / c.fps
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "{} ({}x{}, {})",
+            "{} ({}x{}, {}){time}",
             self.job.scene, self.size.0, self.size.1, self.job.technique
         )
     }

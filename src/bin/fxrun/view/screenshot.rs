@@ -22,6 +22,19 @@ pub(super) fn save(
     opts: &SaveOptions,
 ) -> Result<(), RunError> {
     let pixels = match format {
+        // The window's copy of an 8-bit output is in BGRA order (present.rs).
+        Format::Rgba8 | Format::Rgba8Srgb
+            if matches!(
+                texture.format(),
+                wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+            ) =>
+        {
+            let mut raw = ctx.read_texture(texture)?;
+            for px in raw.chunks_exact_mut(4) {
+                px.swap(0, 2);
+            }
+            Pixels::U8(raw)
+        }
         Format::Rgba8 | Format::Rgba8Srgb | Format::Rgba16f | Format::Rgba32f => {
             read_pixels(ctx, texture, format)?
         }

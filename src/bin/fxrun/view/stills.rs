@@ -4,9 +4,10 @@
 //! format changes), recorded as frame 0 into the viewer's encoder with
 //! `Prepared::record`.
 
+use super::present::{window_output, window_output_format};
 use fxgraph::app::{Effect, RunError};
-use fxgraph::gpu::executor::{wgpu_format, Engine, ExecError, FrameInputs, Prepared};
-use fxgraph::gpu::transfer::{create_output, input_format, upload_image};
+use fxgraph::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
+use fxgraph::gpu::transfer::{input_format, upload_image};
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::io::{self, Image, IoError, LoadOptions};
 use fxgraph::script::types::Format;
@@ -152,11 +153,13 @@ impl Stills {
         }
         prepared.set_gpu_timings(engine, true);
         let o = prepared.plan.output;
-        let reuse = self.output.as_ref().is_some_and(|t| {
-            (t.width(), t.height(), t.format()) == (o.width, o.height, wgpu_format(o.format))
-        });
+        let want = window_output_format(&engine.ctx, o.format);
+        let reuse = self
+            .output
+            .as_ref()
+            .is_some_and(|t| (t.width(), t.height(), t.format()) == (o.width, o.height, want));
         if !reuse {
-            self.output = Some(create_output(&engine.ctx, o.width, o.height, o.format));
+            self.output = Some(window_output(&engine.ctx, o.width, o.height, o.format));
         }
         self.prepared = Some(prepared);
         self.planned = Some(desc);
