@@ -227,8 +227,15 @@ fn a_rendered_sequence_writes_y4m_and_video_files() {
         .output()
         .expect("ffprobe (apt-get install ffmpeg)");
     assert_eq!(String::from_utf8_lossy(&probe.stdout).trim(), "64,48,6");
-    // a whole file cannot be resumed
-    let o = fxrun(&[&base[..], &["-o", &y4m, "--skip-existing"]].concat());
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(stderr(&o).contains("written whole"), "{}", stderr(&o));
+    // a whole file cannot be resumed: an existing one is kept and the run skipped
+    // (as for an image sequence's y4m output); the file is untouched
+    let before = std::fs::read(&y4m).unwrap();
+    let o = fxrun(&[&base[..], &["--fps", "10", "-o", &y4m, "--skip-existing"]].concat());
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("exists already; nothing to do"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read(&y4m).unwrap(), before);
 }

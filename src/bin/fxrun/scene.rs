@@ -224,11 +224,10 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
     let (sink, format): (Box<dyn FrameSink>, _) = match &ospec {
         SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
             // y4m on stdout, a .y4m file or a video file (through ffmpeg); a whole
-            // file is written or not, so --skip-existing does not resume it
-            if cli.skip_existing {
-                return Err(rejected(
-                    "--skip-existing resumes numbered files; a y4m stream or a y4m/video file is written whole",
-                ));
+            // file is written or not: with --skip-existing an existing one is kept
+            // and the run skipped, as for an image sequence's output
+            if super::streams::skip_whole_file(cli, &ospec) {
+                return Ok(());
             }
             let output = super::streams::stream_output(&ospec).expect("a stream spec");
             let plan = super::streams::StreamPlan {

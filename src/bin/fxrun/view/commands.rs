@@ -87,6 +87,8 @@ pub(super) fn named_command(name: &str) -> Option<Command> {
         "left" => Key::Named(NamedKey::ArrowLeft),
         "up" => Key::Named(NamedKey::ArrowUp),
         "down" => Key::Named(NamedKey::ArrowDown),
+        "pagedown" => Key::Named(NamedKey::PageDown),
+        "pageup" => Key::Named(NamedKey::PageUp),
         "home" => Key::Named(NamedKey::Home),
         "space" => Key::Named(NamedKey::Space),
         "tab" => Key::Named(NamedKey::Tab),
@@ -492,7 +494,7 @@ impl Viewer {
                     event_loop,
                     Fail {
                         code: 1,
-                        message: format!("--view-do {a:?}: {e}"),
+                        message: format!("--view-do {a}: {e}"),
                     },
                 );
                 return;

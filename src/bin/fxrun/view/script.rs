@@ -28,6 +28,21 @@ pub(super) enum Action {
     Pause,
 }
 
+impl std::fmt::Display for Action {
+    /// As written after `K:` in `--view-do`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Action::Set(n, v) => write!(f, "set {n}={v}"),
+            Action::Reset(n) => write!(f, "reset {n}"),
+            Action::Inspect(n) => write!(f, "inspect {n}"),
+            Action::Key(k) => write!(f, "key {k}"),
+            Action::CopySet => f.write_str("copy-set"),
+            Action::WaitReload => f.write_str("wait-reload"),
+            Action::Pause => f.write_str("pause"),
+        }
+    }
+}
+
 /// Parse `K:ACTION`.
 pub(super) fn parse(arg: &str) -> Result<(u64, Action), String> {
     let bad = |why: &str| format!("--view-do {arg}: {why}");
@@ -59,7 +74,17 @@ pub(super) fn parse(arg: &str) -> Result<(u64, Action), String> {
         }
         "reset" => Action::Reset(need("a parameter name")?),
         "inspect" => Action::Inspect(need("a pass name, output, input or aux:NAME")?),
-        "key" => Action::Key(need("a key name")?),
+        "key" => {
+            let k = need("a key name")?;
+            if super::commands::named_command(&k).is_none() {
+                return Err(bad(&format!(
+                    "`{k}` is no command key (Right, Left, PageDown, PageUp, Up, Down, Home, \
+                     Space, Tab, Esc, F12, F, 1, +, -, B, P, H; the fly keys W A S D E Q \
+                     act while held and are not scripted)"
+                )));
+            }
+            Action::Key(k)
+        }
         "copy-set" => Action::CopySet,
         "wait-reload" => Action::WaitReload,
         "pause" => Action::Pause,
@@ -122,6 +147,19 @@ mod tests {
         assert!(parse("0:pause").is_err());
         assert!(parse("2:set x").is_err());
         assert!(parse("2:dance").is_err());
+        assert_eq!(
+            parse("1:key pagedown"),
+            Ok((1, Action::Key("pagedown".into())))
+        );
+        let w = parse("1:key W").unwrap_err();
+        assert!(
+            w.starts_with("--view-do 1:key W: `W` is no command key"),
+            "{w}"
+        );
+        assert_eq!(
+            Action::Set("a.b".into(), "1".into()).to_string(),
+            "set a.b=1"
+        );
         let mut s = Script::new(3, vec![(2, Action::Pause), (1, Action::CopySet)]);
         s.shown = 1;
         assert_eq!(s.due(), vec![Action::CopySet]);
