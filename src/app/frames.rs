@@ -25,16 +25,18 @@ pub trait FrameSource: Send {
     fn set_limit(&mut self, _limit: SideLimit) {}
 }
 
+/// An output frame handed to a [`FrameSink`]: its number, size and pixels.
+pub struct OutputFrame {
+    pub number: u64,
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Pixels,
+}
+
 /// Where output frames go (runs on the encode thread).
 pub trait FrameSink: Send {
-    /// Write output frame `number`; returns where it went (a file name, `stdout`).
-    fn write(
-        &mut self,
-        number: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<String, IoError>;
+    /// Write an output frame; returns where it went (a file name, `stdout`).
+    fn write(&mut self, frame: OutputFrame) -> Result<String, IoError>;
     /// Called once after the last frame of a complete run (every frame read was
     /// written, no failure, not interrupted): make the output final.
     fn finish(&mut self) -> Result<(), IoError> {

@@ -35,7 +35,7 @@ pub use batch::{run_batch, BatchItem, BatchOptions};
 pub use effect::{apply_in_memory, Effect};
 pub use error::RunError;
 pub use pipeline::{
-    run_frames, Device, FrameSink, FrameSource, Mode, PipelineOptions, SourceFrame,
+    run_frames, Device, FrameSink, FrameSource, Mode, OutputFrame, PipelineOptions, SourceFrame,
 };
 pub use report::{FrameDone, FrameFailure, JobKind, Progress, RunReport};
 pub use scene::{run_scene_job, SceneJob};

@@ -26,7 +26,7 @@
 
 use super::effect::Effect;
 use super::error::RunError;
-pub use super::frames::{FrameSink, FrameSource, SideLimit, SourceFrame};
+pub use super::frames::{FrameSink, FrameSource, OutputFrame, SideLimit, SourceFrame};
 use super::gpu_stage::GpuStage;
 use super::report::{ms, FrameDone, FrameFailure, JobKind, Progress, RunReport};
 use crate::gpu::context::{AdapterChoice, GpuContext, PendingReadback};
@@ -173,7 +173,13 @@ pub(super) fn spawn_encoder(
                 let t = Instant::now();
                 let result = raw.and_then(|raw| {
                     let pixels = pixels_from_bytes(raw, e.format)?;
-                    sink.write(e.number, w, h, pixels).map_err(RunError::from)
+                    sink.write(OutputFrame {
+                        number: e.number,
+                        width: w,
+                        height: h,
+                        pixels,
+                    })
+                    .map_err(RunError::from)
                 });
                 let spent = t.elapsed();
                 r.busy += spent;

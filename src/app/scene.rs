@@ -140,6 +140,20 @@ fn environment_error(e: crate::scene::EnvironmentError) -> RunError {
     }
 }
 
+impl SceneJob {
+    /// The statistics of a run of this job before anything is measured: what
+    /// it renders and how.
+    pub(super) fn initial_stats(&self) -> SceneStats {
+        SceneStats {
+            scene: self.scene.clone(),
+            technique: self.technique.to_string(),
+            light_culling: self.light_culling.to_string(),
+            shadows: self.shadows.to_string(),
+            ..Default::default()
+        }
+    }
+}
+
 /// Everything a scene job does before rendering: the user's input checked (the
 /// size, the effect compiled first so that script errors come first), the scene
 /// loaded with its materials, lights and ambient, the renderer made. Shared by
@@ -275,13 +289,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         frames_total: Some(1),
         ..Default::default()
     };
-    let mut stats = SceneStats {
-        scene: job.scene.clone(),
-        technique: job.technique.to_string(),
-        light_culling: job.light_culling.to_string(),
-        shadows: job.shadows.to_string(),
-        ..Default::default()
-    };
+    let mut stats = job.initial_stats();
     let out_format = match &job.output {
         Some(p) => Some(output_format_for(p, job.bit_depth, false)?),
         None => None,

@@ -15,7 +15,7 @@ use super::effect::Effect;
 use super::error::RunError;
 use super::frames::FrameSink;
 use super::pipeline::{spawn_encoder, Encoded};
-use super::report::{ms, JobKind, MemoryReport, Progress, RunReport, SceneStats};
+use super::report::{ms, JobKind, MemoryReport, Progress, RunReport};
 use super::scene::{prepare, SceneJob};
 use crate::gpu::executor::Engine;
 use crate::gpu::stream::{FrameExtras, Stream};
@@ -121,13 +121,7 @@ pub fn run_scene_sequence(
     if !(times.fps.is_finite() && times.fps > 0.0) {
         return Err(RunError::Other(format!("fps {} is not above 0", times.fps)));
     }
-    let mut stats = SceneStats {
-        scene: job.scene.clone(),
-        technique: job.technique.to_string(),
-        light_culling: job.light_culling.to_string(),
-        shadows: job.shadows.to_string(),
-        ..Default::default()
-    };
+    let mut stats = job.initial_stats();
     let (scene, mut renderer, effect) = prepare(job, engine, &mut stats)?;
     let path = CameraPath::parse(job.camera.as_deref(), &scene)
         .map_err(|e| super::scene::scene_error(&job.scene, e))?;

@@ -2,7 +2,7 @@
 //! (files, pipes, ffmpeg's: see [`super::streams`]). `fxrun` adds its own (e.g. named
 //! outputs for `-o DIR`).
 
-use super::frames::{FrameSink, FrameSource, SideLimit, SourceFrame};
+use super::frames::{FrameSink, FrameSource, OutputFrame, SideLimit, SourceFrame};
 use crate::io::{self, Image, IoError, Pixels};
 
 /// Image files read in order (numbered frames, or the images of a batch), each
@@ -79,26 +79,20 @@ pub struct FilesSink {
 }
 
 impl FrameSink for FilesSink {
-    fn write(
-        &mut self,
-        number: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<String, IoError> {
+    fn write(&mut self, frame: OutputFrame) -> Result<String, IoError> {
         let path = match &self.names {
-            OutputNames::Pattern(p) => p.path_for(number),
+            OutputNames::Pattern(p) => p.path_for(frame.number),
             OutputNames::Named(names) => {
                 names
-                    .get(&number)
+                    .get(&frame.number)
                     .cloned()
                     .ok_or_else(|| IoError::Unsupported {
-                        path: format!("frame {number}").into(),
+                        path: format!("frame {}", frame.number).into(),
                         message: "no output file name for this frame".into(),
                     })?
             }
         };
-        io::save_image(&path, width, height, &pixels, &self.save)?;
+        io::save_image(&path, frame.width, frame.height, &frame.pixels, &self.save)?;
         Ok(path.display().to_string())
     }
 }
@@ -241,18 +235,12 @@ impl<W: io::OutputTarget> Y4mSink<W> {
 }
 
 impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
-    fn write(
-        &mut self,
-        number: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<String, IoError> {
+    fn write(&mut self, frame: OutputFrame) -> Result<String, IoError> {
         use io::y4m::{image_to_yuv, Y4mWriter};
         if self.writer.is_none() {
             let mut header = self.template.clone();
-            header.width = width;
-            header.height = height;
+            header.width = frame.width;
+            header.height = frame.height;
             let inner = self.inner.take().ok_or_else(|| IoError::Io {
                 path: self.name.clone().into(),
                 source: std::io::Error::other("the stream is already finished"),
@@ -263,9 +251,9 @@ impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
         let w = self.writer.as_mut().expect("writer created");
         let header = w.header().clone();
         let img = Image {
-            width,
-            height,
-            pixels,
+            width: frame.width,
+            height: frame.height,
+            pixels: frame.pixels,
             source: io::SourceInfo {
                 format: io::FileFormat::Png,
                 bit_depth: header.depth,
@@ -273,12 +261,12 @@ impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
                 float: false,
             },
         };
-        let frame = image_to_yuv(&img, &header, &self.conversion).map_err(|m| IoError::Decode {
+        let yuv = image_to_yuv(&img, &header, &self.conversion).map_err(|m| IoError::Decode {
             path: self.name.clone().into(),
             message: m,
         })?;
-        w.write_frame(&frame).map_err(y4m_error)?;
-        Ok(format!("{} frame {number}", self.name))
+        w.write_frame(&yuv).map_err(y4m_error)?;
+        Ok(format!("{} frame {}", self.name, frame.number))
     }
     fn finish(&mut self) -> Result<(), IoError> {
         let wrote = self.writer.is_some();
@@ -366,17 +354,14 @@ impl MemorySink {
 }
 
 impl FrameSink for MemorySink {
-    fn write(
-        &mut self,
-        number: u64,
-        width: u32,
-        height: u32,
-        pixels: Pixels,
-    ) -> Result<String, IoError> {
-        self.frames
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .push((number, width, height, pixels));
+    fn write(&mut self, frame: OutputFrame) -> Result<String, IoError> {
+        let number = frame.number;
+        self.frames.lock().unwrap_or_else(|e| e.into_inner()).push((
+            number,
+            frame.width,
+            frame.height,
+            frame.pixels,
+        ));
         Ok(format!("memory frame {number}"))
     }
 }

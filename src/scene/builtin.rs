@@ -270,6 +270,39 @@ impl Builder {
         self.scene.materials.len() - 1
     }
 
+    /// Adds `light` under the name `name`.
+    fn light(&mut self, name: &str, light: Light) {
+        self.scene.lights.push(Light {
+            name: name.to_string(),
+            ..light
+        });
+    }
+
+    /// Adds the camera `name` at `eye` looking at `target` (up +Y), with a
+    /// vertical field of view of `fov_y_degrees`.
+    fn camera(
+        &mut self,
+        name: &str,
+        eye: Vec3,
+        target: Vec3,
+        fov_y_degrees: f32,
+        near: f32,
+        far: f32,
+    ) {
+        self.scene.cameras.push(NamedCamera {
+            name: name.to_string(),
+            node: None,
+            camera: Camera {
+                eye,
+                target,
+                up: Vec3::Y,
+                fov_y: fov_y_degrees.to_radians(),
+                near,
+                far,
+            },
+        });
+    }
+
     fn place(&mut self, name: &str, mesh: usize, material: usize, transform: Mat4) {
         self.scene.instances.push(Instance {
             name: name.to_string(),
@@ -376,7 +409,6 @@ pub fn room() -> Scene {
         t(-1.2, 0.7, 2.6) * s(0.7, 0.7, 0.7),
     );
 
-    let lights = &mut b.scene.lights;
     for i in 0..24 {
         let a = i as f32 / 24.0 * std::f32::consts::TAU;
         let ring = if i % 2 == 0 { 4.2 } else { 2.6 };
@@ -391,16 +423,18 @@ pub fn room() -> Scene {
             0.5 + 0.5 * ((hue + 1.0 / 3.0) * std::f32::consts::TAU).cos(),
             0.5 + 0.5 * ((hue + 2.0 / 3.0) * std::f32::consts::TAU).cos(),
         );
-        lights.push(Light {
-            name: format!("room point {i}"),
-            // 24 cube maps would be 144 layers: the key, spot and sun cast
-            casts_shadows: false,
-            ..Light::point(pos, color, 4.0 * PI, 6.0 + (i % 4) as f32)
-        });
+        b.light(
+            &format!("room point {i}"),
+            Light {
+                // 24 cube maps would be 144 layers: the key, spot and sun cast
+                casts_shadows: false,
+                ..Light::point(pos, color, 4.0 * PI, 6.0 + (i % 4) as f32)
+            },
+        );
     }
-    lights.push(Light {
-        name: "room spot".into(),
-        ..Light::spot(
+    b.light(
+        "room spot",
+        Light::spot(
             Vec3::new(0.0, 4.8, 0.5),
             Vec3::new(0.1, -1.0, -0.2),
             Vec3::new(1.0, 0.95, 0.8),
@@ -408,32 +442,25 @@ pub fn room() -> Scene {
             7.0,
             0.35,
             0.5,
-        )
-    });
-    lights.push(Light {
-        name: "room directional".into(),
-        ..Light::directional(
+        ),
+    );
+    b.light(
+        "room directional",
+        Light::directional(
             Vec3::new(0.3, -1.0, -0.4),
             Vec3::new(0.9, 0.9, 1.0),
             0.25 * PI,
-        )
-    });
-    lights.push(Light {
-        name: "room ambient".into(),
-        ..Light::ambient(Vec3::ONE, 0.06)
-    });
-    b.scene.cameras.push(NamedCamera {
-        name: "room".into(),
-        node: None,
-        camera: Camera {
-            eye: Vec3::new(0.0, 4.0, 11.0),
-            target: Vec3::new(0.0, 1.2, -1.0),
-            up: Vec3::Y,
-            fov_y: 50f32.to_radians(),
-            near: 0.1,
-            far: 40.0,
-        },
-    });
+        ),
+    );
+    b.light("room ambient", Light::ambient(Vec3::ONE, 0.06));
+    b.camera(
+        "room",
+        Vec3::new(0.0, 4.0, 11.0),
+        Vec3::new(0.0, 1.2, -1.0),
+        50.0,
+        0.1,
+        40.0,
+    );
     b.scene.background = Vec3::new(0.02, 0.02, 0.03);
     b.scene
 }
@@ -469,22 +496,15 @@ pub fn bench() -> Scene {
             );
         }
     }
-    b.scene.lights.push(Light {
-        name: "bench ambient".into(),
-        ..Light::ambient(Vec3::ONE, 0.04)
-    });
-    b.scene.cameras.push(NamedCamera {
-        name: "bench".into(),
-        node: None,
-        camera: Camera {
-            eye: Vec3::new(0.0, 14.0, 16.0),
-            target: Vec3::new(0.0, 0.0, 0.5),
-            up: Vec3::Y,
-            fov_y: 55f32.to_radians(),
-            near: 0.5,
-            far: 60.0,
-        },
-    });
+    b.light("bench ambient", Light::ambient(Vec3::ONE, 0.04));
+    b.camera(
+        "bench",
+        Vec3::new(0.0, 14.0, 16.0),
+        Vec3::new(0.0, 0.0, 0.5),
+        55.0,
+        0.5,
+        60.0,
+    );
     b.scene
 }
 

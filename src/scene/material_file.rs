@@ -37,28 +37,29 @@ pub fn load_materials(
     if !module.effects.is_empty() {
         log::debug!("{shown}: effects in a material file are ignored");
     }
-    let mut out = MaterialFile::default();
-    let mut shaders = Shaders::new();
-    for def in &module.materials {
-        if let Some(m) = material(
-            def,
-            dir,
-            first_texture,
-            &mut out.textures,
-            &mut shaders,
-            &mut sources,
-            &mut diags,
-        ) {
-            out.materials.push(m);
-        }
+    let mut loader = Loader {
+        dir,
+        first_texture,
+        textures: Vec::new(),
+        shaders: Shaders::new(),
+        sources,
+        diags,
+    };
+    let materials = module
+        .materials
+        .iter()
+        .filter_map(|def| loader.material(def))
+        .collect();
+    if loader.diags.has_errors() {
+        return Err(loader.diags.render(&loader.sources));
     }
-    if diags.has_errors() {
-        return Err(diags.render(&sources));
+    for d in &loader.diags.list {
+        log::warn!("{}", d.render(&loader.sources));
     }
-    for d in &diags.list {
-        log::warn!("{}", d.render(&sources));
-    }
-    Ok(out)
+    Ok(MaterialFile {
+        materials,
+        textures: loader.textures,
+    })
 }
 
 /// A procedural texture named `builtin:NAME` (so built-in materials and tests
@@ -185,28 +186,59 @@ fn load_texture(dir: Option<&Path>, path: &str) -> Result<TextureImage, String> 
 type Shaders =
     std::collections::HashMap<(MaterialShaderKind, String), shader_material::MaterialShader>;
 
-#[allow(clippy::too_many_arguments)]
-fn binding(
-    use_: &MaterialShader,
-    kind: MaterialShaderKind,
-    dir: Option<&Path>,
+/// What the materials of one file share while they are checked: where the file
+/// is, the textures loaded so far, the shaders loaded once each, the sources (the
+/// shaders' files are added) and the problems found.
+struct Loader<'d> {
+    dir: Option<&'d Path>,
     first_texture: usize,
-    textures: &mut Vec<TextureImage>,
-    shaders: &mut Shaders,
-    sources: &mut SourceMap,
-    diags: &mut Diagnostics,
-) -> Option<ShaderBinding> {
-    let name = &use_.shader.node;
-    let cached = shaders.get(&(kind, name.clone())).cloned();
-    let shader = match cached {
-        Some(s) => s,
-        None => {
-            let s = load_binding_shader(use_, kind, dir, sources, diags)?;
-            shaders.insert((kind, name.clone()), s.clone());
-            s
+    textures: Vec<TextureImage>,
+    shaders: Shaders,
+    sources: SourceMap,
+    diags: Diagnostics,
+}
+
+impl Loader<'_> {
+    fn material(&mut self, def: &MaterialDef) -> Option<Material> {
+        let surface = self.binding(&def.surface, MaterialShaderKind::Surface);
+        let lighting = self.binding(&def.lighting, MaterialShaderKind::Lighting);
+        let (surface, lighting) = (surface?, lighting?);
+        let mut m = Material::new(&def.name.node, surface, lighting);
+        m.alpha_mode = match def.alpha.as_ref().map(|a| a.node) {
+            None | Some(AlphaSpec::Opaque) => AlphaMode::Opaque,
+            Some(AlphaSpec::Mask) => AlphaMode::Mask,
+            Some(AlphaSpec::Blend) => AlphaMode::Blend,
+        };
+        if let Some(c) = &def.alpha_cutoff {
+            m.alpha_cutoff = c.node as f32;
         }
-    };
-    bind_settings(use_, kind, dir, first_texture, textures, shader, diags)
+        if let Some(d) = &def.double_sided {
+            m.double_sided = d.node;
+        }
+        Some(m)
+    }
+
+    fn binding(
+        &mut self,
+        use_: &MaterialShader,
+        kind: MaterialShaderKind,
+    ) -> Option<ShaderBinding> {
+        let key = (kind, use_.shader.node.clone());
+        if !self.shaders.contains_key(&key) {
+            let s = load_binding_shader(use_, kind, self.dir, &mut self.sources, &mut self.diags)?;
+            self.shaders.insert(key.clone(), s);
+        }
+        let shader = &self.shaders[&key];
+        bind_settings(
+            use_,
+            kind,
+            shader,
+            self.dir,
+            self.first_texture,
+            &mut self.textures,
+            &mut self.diags,
+        )
+    }
 }
 
 /// Finds and checks the shader `use_` names; problems go to `diags`.
@@ -257,10 +289,10 @@ fn load_binding_shader(
 fn bind_settings(
     use_: &MaterialShader,
     kind: MaterialShaderKind,
+    shader: &shader_material::MaterialShader,
     dir: Option<&Path>,
     first_texture: usize,
     textures: &mut Vec<TextureImage>,
-    shader: shader_material::MaterialShader,
     diags: &mut Diagnostics,
 ) -> Option<ShaderBinding> {
     let name = &use_.shader.node;
@@ -366,51 +398,6 @@ fn bind_settings(
         }
     }
     ok.then_some(b)
-}
-
-fn material(
-    def: &MaterialDef,
-    dir: Option<&Path>,
-    first_texture: usize,
-    textures: &mut Vec<TextureImage>,
-    shaders: &mut Shaders,
-    sources: &mut SourceMap,
-    diags: &mut Diagnostics,
-) -> Option<Material> {
-    let surface = binding(
-        &def.surface,
-        MaterialShaderKind::Surface,
-        dir,
-        first_texture,
-        textures,
-        shaders,
-        sources,
-        diags,
-    );
-    let lighting = binding(
-        &def.lighting,
-        MaterialShaderKind::Lighting,
-        dir,
-        first_texture,
-        textures,
-        shaders,
-        sources,
-        diags,
-    );
-    let (surface, lighting) = (surface?, lighting?);
-    let mut m = Material::new(&def.name.node, surface, lighting);
-    m.alpha_mode = match def.alpha.as_ref().map(|a| a.node) {
-        None | Some(AlphaSpec::Opaque) => AlphaMode::Opaque,
-        Some(AlphaSpec::Mask) => AlphaMode::Mask,
-        Some(AlphaSpec::Blend) => AlphaMode::Blend,
-    };
-    if let Some(c) = &def.alpha_cutoff {
-        m.alpha_cutoff = c.node as f32;
-    }
-    if let Some(d) = &def.double_sided {
-        m.double_sided = d.node;
-    }
-    Some(m)
 }
 
 /// Where a material definition applies: `--material SCENE_NAME=DEFINITION` pairs

@@ -19,7 +19,7 @@
 //! Setting names inside `SURFACE`/`LIGHTING` are not checked here (they are matched
 //! against the shader's fields later); their values are.
 
-use super::ast::{suggest, type_error, word, Module};
+use super::ast::{is_new_name, key_name, suggest, type_error, word, Module, SeenKeys};
 use super::diag::{Diagnostic, Diagnostics, Span, Spanned};
 use super::parse::{RawValue, Stmt};
 use super::types::format_value;
@@ -125,25 +125,15 @@ pub(super) fn check_top_level(
     seen: &mut Vec<Spanned<String>>,
     diags: &mut Diagnostics,
 ) -> Option<MaterialDef> {
-    if stmt.key.parts.len() != 2 {
-        diags.push(
-            Diagnostic::error(format!(
-                "a material is defined as `MATERIAL.name = {{ ... }}`, found `{}`",
-                stmt.key.dotted()
-            ))
-            .at(stmt.key.span, "expected `MATERIAL.name`"),
-        );
-        return None;
-    }
-    let name = stmt.key.parts[1].clone();
-    let duplicate = seen.iter().find(|n| n.node == name.node).cloned();
-    if let Some(prev) = &duplicate {
-        diags.push(
-            Diagnostic::error(format!("material `{}` is defined twice", name.node))
-                .at(name.span, "defined again here")
-                .also(prev.span, "first defined here"),
-        );
-    } else {
+    let name = key_name(
+        stmt,
+        2,
+        "a material is defined as `MATERIAL.name = { ... }`",
+        "expected `MATERIAL.name`",
+        diags,
+    )?;
+    let is_new = is_new_name(seen.iter(), &name, "material", "defined", diags);
+    if is_new {
         seen.push(name.clone());
     }
     let def = match &stmt.value.node {
@@ -163,7 +153,7 @@ pub(super) fn check_top_level(
         }
     };
     // A duplicate's body is still checked (its mistakes are reported), then dropped.
-    def.filter(|_| duplicate.is_none())
+    def.filter(|_| is_new)
 }
 
 fn check_material(
@@ -178,18 +168,12 @@ fn check_material(
     let mut alpha: Option<Spanned<AlphaSpec>> = None;
     let mut alpha_cutoff: Option<Spanned<f64>> = None;
     let mut double_sided = None;
-    let mut seen: Vec<(String, Span)> = Vec::new();
+    let mut seen = SeenKeys::new(format!("material `{}`", name.node));
     for stmt in body {
         let k = stmt.key.dotted();
-        if let Some((_, prev)) = seen.iter().find(|(n, _)| *n == k) {
-            diags.push(
-                Diagnostic::error(format!("`{k}` is set twice in material `{}`", name.node))
-                    .at(stmt.key.span, "set again here")
-                    .also(*prev, "first set here"),
-            );
+        if !seen.first(&k, stmt.key.span, diags) {
             continue;
         }
-        seen.push((k.clone(), stmt.key.span));
         match k.as_str() {
             "DESCRIPTION" => match &stmt.value.node {
                 RawValue::Str(s) => description = Some(s.clone()),
@@ -229,7 +213,7 @@ fn check_material(
             }
         }
     }
-    let written = |key: &str| seen.iter().any(|(n, _)| n == key);
+    let written = |key: &str| seen.contains(key);
     if !written("SURFACE") {
         diags.push(
             Diagnostic::error(format!("material `{}` has no `SURFACE`", name.node))
@@ -315,32 +299,23 @@ fn check_shader(stmt: &Stmt, material: &str, diags: &mut Diagnostics) -> Option<
         settings: Vec::new(),
         span: stmt.value.span,
     };
-    let mut seen: Vec<(String, Span)> = Vec::new();
+    let mut seen = SeenKeys::new(format!("the `{role}` of material `{material}`"));
     for s in body {
-        let k = s.key.dotted();
-        if s.key.parts.len() != 1 {
-            diags.push(
-                Diagnostic::error(format!(
-                    "a shader setting name is a single word, found `{k}`"
-                ))
-                .at(s.key.span, "expected `name = value`"),
-            );
+        let Some(name) = key_name(
+            s,
+            1,
+            "a shader setting name is a single word",
+            "expected `name = value`",
+            diags,
+        ) else {
+            continue;
+        };
+        if !seen.first(&name.node, s.key.span, diags) {
             continue;
         }
-        if let Some((_, prev)) = seen.iter().find(|(n, _)| *n == k) {
-            diags.push(
-                Diagnostic::error(format!(
-                    "`{k}` is set twice in the `{role}` of material `{material}`"
-                ))
-                .at(s.key.span, "set again here")
-                .also(*prev, "first set here"),
-            );
-            continue;
-        }
-        seen.push((k, s.key.span));
         if let Some(value) = setting_value(s, diags) {
             shader.settings.push(MaterialSetting {
-                name: s.key.parts[0].clone(),
+                name,
                 value: Spanned::new(value, s.value.span),
             });
         }

@@ -74,6 +74,18 @@ pub struct UniformMember {
     pub description: String,
 }
 
+impl UniformMember {
+    /// The field of a pass's uniform layout this member becomes, filled from `source`.
+    fn field(&self, source: UniformSource) -> UniformField {
+        UniformField {
+            name: self.name.clone(),
+            offset: self.offset,
+            ty: self.ty,
+            source,
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct UniformBlock {
     pub name: String,
@@ -466,12 +478,9 @@ pub fn bind_pass(
                 continue;
             }
         }
-        layout.fields.push(UniformField {
-            name: m.name.clone(),
-            offset: m.offset,
-            ty: m.ty,
-            source: UniformSource::Param(p.value.clone()),
-        });
+        layout
+            .fields
+            .push(m.field(UniformSource::Param(p.value.clone())));
     }
     for m in members {
         if layout.fields.iter().any(|f| f.name == m.name)
@@ -492,12 +501,7 @@ pub fn bind_pass(
                 );
                 continue;
             }
-            layout.fields.push(UniformField {
-                name: m.name.clone(),
-                offset: m.offset,
-                ty: m.ty,
-                source: UniformSource::Std(sv),
-            });
+            layout.fields.push(m.field(UniformSource::Std(sv)));
         } else if let Some(def) = &m.default {
             if def.len() != m.ty.components() {
                 diags.push(
@@ -511,12 +515,9 @@ pub fn bind_pass(
                 );
                 continue;
             }
-            layout.fields.push(UniformField {
-                name: m.name.clone(),
-                offset: m.offset,
-                ty: m.ty,
-                source: UniformSource::Param(def.clone()),
-            });
+            layout
+                .fields
+                .push(m.field(UniformSource::Param(def.clone())));
         } else {
             diags.push(
                 Diagnostic::error(format!(

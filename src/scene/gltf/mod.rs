@@ -492,24 +492,21 @@ impl Converter<'_> {
         };
         if let Some(t) = reader.read_tex_coords(1) {
             m.uvs1 = t.into_f32().map(Vec2::from).collect();
-            if m.uvs1.len() != count {
-                return Err(format!("{label}: TEXCOORD_1 count differs from POSITION"));
-            }
-            if m.uvs1.iter().any(|u| !u.is_finite()) {
-                return Err(format!("{label}: TEXCOORD_1 has non-finite values"));
-            }
+            check_vertex_values(&label, "TEXCOORD_1", &m.uvs1, count, Vec2::is_finite)?;
         }
         if let Some(c) = reader.read_colors(0) {
             // Normalised integers become 0..1, RGB gets alpha 1.
             m.colors = c.into_rgba_f32().map(Vec4::from).collect();
-            if m.colors.len() != count {
-                return Err(format!("{label}: COLOR_0 count differs from POSITION"));
-            }
-            if m.colors.iter().any(|c| !c.is_finite()) {
-                return Err(format!("{label}: COLOR_0 has non-finite values"));
-            }
+            check_vertex_values(&label, "COLOR_0", &m.colors, count, Vec4::is_finite)?;
         }
-        self.skin_attributes(&label, mesh, prim, &reader, &mut m)?;
+        skin_attributes::SkinReader {
+            conv: self,
+            label: &label,
+            mesh,
+            prim,
+            reader: &reader,
+        }
+        .read(&mut m)?;
         if flat {
             m.make_flat();
         }
@@ -546,4 +543,21 @@ impl Converter<'_> {
         self.scene.meshes.push(m);
         Ok(Some(self.scene.meshes.len() - 1))
     }
+}
+
+/// Checks an optional attribute read for every vertex: `count` values, all finite.
+fn check_vertex_values<T: Copy>(
+    label: &str,
+    what: &str,
+    values: &[T],
+    count: usize,
+    finite: fn(T) -> bool,
+) -> Result<(), String> {
+    if values.len() != count {
+        return Err(format!("{label}: {what} count differs from POSITION"));
+    }
+    if !values.iter().all(|&v| finite(v)) {
+        return Err(format!("{label}: {what} has non-finite values"));
+    }
+    Ok(())
 }

@@ -16,20 +16,28 @@ use glam::{Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::Semantic;
 
-impl Converter<'_> {
-    /// Reads the skin attributes and morph targets of `prim` into `m` (whose
-    /// positions, normals and colours are read already).
-    pub(super) fn skin_attributes<'a, 's, F>(
-        &self,
-        label: &str,
-        mesh: &gltf::Mesh,
-        prim: &gltf::Primitive<'a>,
-        reader: &gltf::mesh::Reader<'a, 's, F>,
-        m: &mut Mesh,
-    ) -> Result<(), String>
-    where
-        F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
-    {
+/// One primitive whose skin attributes and morph targets are read: its name in
+/// messages (`label`), its glTF mesh (for the default morph weights), the
+/// primitive and its attribute reader.
+pub(super) struct SkinReader<'p, 'a, 's, F>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    pub(super) conv: &'p Converter<'p>,
+    pub(super) label: &'p str,
+    pub(super) mesh: &'p gltf::Mesh<'a>,
+    pub(super) prim: &'p gltf::Primitive<'a>,
+    pub(super) reader: &'p gltf::mesh::Reader<'a, 's, F>,
+}
+
+impl<'a, 's, F> SkinReader<'_, 'a, 's, F>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    /// Reads the skin attributes and morph targets into `m` (whose positions,
+    /// normals and colours are read already).
+    pub(super) fn read(&self, m: &mut Mesh) -> Result<(), String> {
+        let (label, prim, reader) = (self.label, self.prim, self.reader);
         let count = m.positions.len();
         for (semantic, acc) in prim.attributes() {
             let (set, types): (u32, &[DataType]) = match semantic {
@@ -40,11 +48,11 @@ impl Converter<'_> {
             if set >= 2 {
                 log::warn!(
                     "{}: {label}: {semantic:?} ignored (at most 8 joint influences, sets 0 and 1)",
-                    self.name
+                    self.conv.name
                 );
                 continue;
             }
-            self.check_accessor(
+            self.conv.check_accessor(
                 &format!("{label} {semantic:?}"),
                 &acc,
                 &[Dimensions::Vec4],
@@ -98,21 +106,12 @@ impl Converter<'_> {
         if m.joints.is_empty() && !m.joints1.is_empty() {
             return Err(format!("{label}: JOINTS_1 without JOINTS_0"));
         }
-        normalise_weights(self.name, label, m);
-        self.morph_targets(label, mesh, prim, reader, m)
+        normalise_weights(self.conv.name, label, m);
+        self.morph_targets(m)
     }
 
-    fn morph_targets<'a, 's, F>(
-        &self,
-        label: &str,
-        mesh: &gltf::Mesh,
-        prim: &gltf::Primitive<'a>,
-        reader: &gltf::mesh::Reader<'a, 's, F>,
-        m: &mut Mesh,
-    ) -> Result<(), String>
-    where
-        F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
-    {
+    fn morph_targets(&self, m: &mut Mesh) -> Result<(), String> {
+        let (label, prim, reader) = (self.label, self.prim, self.reader);
         let count = m.positions.len();
         let targets = prim.morph_targets().len();
         if targets > MAX_MORPH_TARGETS {
@@ -129,7 +128,8 @@ impl Converter<'_> {
             for (what, acc) in accessors {
                 let Some(acc) = acc else { continue };
                 let what = format!("{label} morph target {t} {what}");
-                self.check_accessor(&what, &acc, &[Dimensions::Vec3], &[DataType::F32])?;
+                self.conv
+                    .check_accessor(&what, &acc, &[Dimensions::Vec3], &[DataType::F32])?;
                 if acc.count() != count {
                     return Err(format!(
                         "{what}: {} elements, POSITION has {count}",
@@ -159,12 +159,12 @@ impl Converter<'_> {
             ));
         }
         m.morph_weights = vec![0.0; targets];
-        if let Some(w) = mesh.weights() {
+        if let Some(w) = self.mesh.weights() {
             if w.len() != targets {
                 log::warn!(
                     "{}: {label}: mesh weights has {} entries for {targets} morph targets \
                      (missing ones are 0)",
-                    self.name,
+                    self.conv.name,
                     w.len()
                 );
             }
@@ -177,7 +177,9 @@ impl Converter<'_> {
         }
         Ok(())
     }
+}
 
+impl Converter<'_> {
     /// The skin of an instance of `node` drawing scene mesh `mesh`: the node's
     /// skin when the mesh has joints (checked against the skin's joint count),
     /// else `None` (a skin on a mesh without joints is ignored with a warning).

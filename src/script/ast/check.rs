@@ -25,12 +25,13 @@ pub fn check(file: FileId, items: &[Item], diags: &mut Diagnostics) -> Module {
                     }
                 } else if stmt.key.first() == "EFFECT" && stmt.key.parts.len() == 2 {
                     let name = stmt.key.parts[1].clone();
-                    if let Some(prev) = module.effects.iter().find(|e| e.name.node == name.node) {
-                        diags.push(
-                            Diagnostic::error(format!("effect `{}` is defined twice", name.node))
-                                .at(name.span, "defined again here")
-                                .also(prev.name.span, "first defined here"),
-                        );
+                    if !is_new_name(
+                        module.effects.iter().map(|e| &e.name),
+                        &name,
+                        "effect",
+                        "defined",
+                        diags,
+                    ) {
                         continue;
                     }
                     match &stmt.value.node {
@@ -87,33 +88,21 @@ fn check_effect(
         jitter: None,
         span,
     };
-    let mut seen: Vec<(String, Span)> = Vec::new();
+    let mut seen = SeenKeys::new(format!("effect `{}`", e.name.node));
     // `OUT = ...` was written (even if wrongly): no "missing OUT" error then.
     let mut out_written = false;
     for stmt in body {
         let k = stmt.key.dotted();
         out_written |= k == "OUT";
-        if let Some((_, prev)) = seen.iter().find(|(n, _)| *n == k) {
-            diags.push(
-                Diagnostic::error(format!("`{k}` is set twice in effect `{}`", e.name.node))
-                    .at(stmt.key.span, "set again here")
-                    .also(*prev, "first set here"),
-            );
+        if !seen.first(&k, stmt.key.span, diags) {
             continue;
         }
-        seen.push((k.clone(), stmt.key.span));
         match k.as_str() {
             "PASS" => match &stmt.value.node {
                 RawValue::Block(passes) => {
                     for p in passes {
                         if let Some(pass) = check_pass(p, diags) {
-                            if let Some(prev) = e.passes.iter().find(|q| q.name.node == pass.name.node) {
-                                diags.push(
-                                    Diagnostic::error(format!("pass `{}` is defined twice", pass.name.node))
-                                        .at(pass.name.span, "defined again here")
-                                        .also(prev.name.span, "first defined here"),
-                                );
-                            } else {
+                            if is_new_name(e.passes.iter().map(|q| &q.name), &pass.name, "pass", "defined", diags) {
                                 e.passes.push(pass);
                             }
                         }
@@ -125,13 +114,7 @@ fn check_effect(
                 RawValue::Block(params) => {
                     for p in params {
                         if let Some(decl) = check_param_decl(p, diags) {
-                            if let Some(prev) = e.params.iter().find(|q| q.name.node == decl.name.node) {
-                                diags.push(
-                                    Diagnostic::error(format!("parameter `{}` is declared twice", decl.name.node))
-                                        .at(decl.name.span, "declared again here")
-                                        .also(prev.name.span, "first declared here"),
-                                );
-                            } else {
+                            if is_new_name(e.params.iter().map(|q| &q.name), &decl.name, "parameter", "declared", diags) {
                                 e.params.push(decl);
                             }
                         }

@@ -171,6 +171,7 @@ mod check;
 mod param;
 mod pass;
 mod suggest;
+mod unique;
 
 pub use check::check;
 use check::{colorspace_value, format_spec, numbers, pair};
@@ -179,6 +180,7 @@ use param::check_param_decl;
 pub use param::convert_arg;
 use pass::{check_pass, classify_binding, Binding};
 pub use suggest::suggest;
+pub(crate) use unique::{is_new_name, key_name, SeenKeys};
 
 impl Key {
     /// Helper used in tests.

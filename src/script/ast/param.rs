@@ -5,17 +5,13 @@ use crate::script::diag::{Diagnostic, Diagnostics, Spanned};
 use crate::script::parse::{RawValue, Stmt};
 
 pub(super) fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
-    if stmt.key.parts.len() != 1 {
-        diags.push(
-            Diagnostic::error(format!(
-                "a parameter name is a single word, found `{}`",
-                stmt.key.dotted()
-            ))
-            .at(stmt.key.span, "expected `name = FLOAT { DEFAULT = 1 }`"),
-        );
-        return None;
-    }
-    let name = stmt.key.parts[0].clone();
+    let name = key_name(
+        stmt,
+        1,
+        "a parameter name is a single word",
+        "expected `name = FLOAT { DEFAULT = 1 }`",
+        diags,
+    )?;
     let RawValue::Ctor { kind, body } = &stmt.value.node else {
         diags.push(
             Diagnostic::error(format!(

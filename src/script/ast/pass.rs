@@ -1,21 +1,17 @@
 //! Checking a `PASS` entry: its kind, inputs, parameters, defines and output.
 
 use super::*;
-use crate::script::diag::{Diagnostic, Diagnostics, Span, Spanned};
+use crate::script::diag::{Diagnostic, Diagnostics, Spanned};
 use crate::script::parse::{RawValue, Stmt};
 
 pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
-    if stmt.key.parts.len() != 1 {
-        diags.push(
-            Diagnostic::error(format!(
-                "a pass name is a single word, found `{}`",
-                stmt.key.dotted()
-            ))
-            .at(stmt.key.span, "expected `name = SHADER.shader { ... }`"),
-        );
-        return None;
-    }
-    let name = stmt.key.parts[0].clone();
+    let name = key_name(
+        stmt,
+        1,
+        "a pass name is a single word",
+        "expected `name = SHADER.shader { ... }`",
+        diags,
+    )?;
     if ["IN", "OUT", "PASS", "AUX", "PARAM"].contains(&name.node.as_str()) {
         diags.push(
             Diagnostic::error(format!(
@@ -65,20 +61,14 @@ pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef
         out: OutSpec::default(),
         span: stmt.span,
     };
-    let mut seen: Vec<(String, Span)> = Vec::new();
+    let mut seen = SeenKeys::new(format!("pass `{}`", pass.name.node));
     // Sampling attributes refer to inputs that may be bound later in the block.
     let mut sampling: Vec<&Stmt> = Vec::new();
     for s in body {
         let k = s.key.dotted();
-        if let Some((_, prev)) = seen.iter().find(|(n, _)| *n == k) {
-            diags.push(
-                Diagnostic::error(format!("`{k}` is set twice in pass `{}`", pass.name.node))
-                    .at(s.key.span, "set again here")
-                    .also(*prev, "first set here"),
-            );
+        if !seen.first(&k, s.key.span, diags) {
             continue;
         }
-        seen.push((k.clone(), s.key.span));
         let parts: Vec<&str> = s.key.parts.iter().map(|p| p.node.as_str()).collect();
         match parts.as_slice() {
             ["OUT", attr] if !is_effect => check_out_attr(&mut pass.out, attr, s, diags),

@@ -66,6 +66,24 @@ impl Checker<'_> {
         Diagnostic::error(e.message).at(self.asm_span(e.start, e.end), "")
     }
 
+    /// `text` with each feature block of `flags` turned into an `if` statement on
+    /// `cond(flag)`, then preprocessed; a failure goes to the diagnostics.
+    fn features_as_ifs(
+        &mut self,
+        text: &str,
+        flags: &[&str],
+        cond: &dyn Fn(&str) -> String,
+    ) -> Option<String> {
+        match convert_features(text, flags, cond).and_then(|t| preprocess(&t, &[]).map(|r| r.0)) {
+            Ok(t) => Some(t),
+            Err(e) => {
+                let d = self.preprocess_error(e);
+                self.diags.push(d);
+                None
+            }
+        }
+    }
+
     /// Compile and validate a variant; diagnostics on failure.
     fn compile(&mut self, v: &Variant) -> Option<Compiled> {
         let mut full = v.derived.clone();
@@ -281,20 +299,8 @@ impl Checker<'_> {
         }
         // 3. and 4. Override and branch modes: feature blocks as `if` statements.
         let flags: Vec<&str> = shader.flags.iter().map(String::as_str).collect();
-        let conv = |cond: &dyn Fn(&str) -> String| {
-            convert_features(&text, &flags, cond).and_then(|t| preprocess(&t, &[]).map(|r| r.0))
-        };
-        let override_text = match conv(&|f: &str| f.to_string()) {
-            Ok(mut t) => {
-                t.push_str(&features::override_declarations(&flags));
-                t
-            }
-            Err(e) => {
-                let d = self.preprocess_error(e);
-                self.diags.push(d);
-                return None;
-            }
-        };
+        let mut override_text = self.features_as_ifs(&text, &flags, &|f: &str| f.to_string())?;
+        override_text.push_str(&features::override_declarations(&flags));
         self.compile(&Variant {
             what: "in override mode, where each feature `#ifdef` block becomes an `if` statement on an `override` constant: a block must hold whole statements and declare nothing used after it".into(),
             derived: override_text,
@@ -305,14 +311,7 @@ impl Checker<'_> {
             let lane = ["x", "y", "z", "w"][(i / 32).min(3)];
             format!("((fx_features.{lane} & {}u) != 0u)", 1u32 << (i % 32))
         };
-        let branch_text = match conv(&bit) {
-            Ok(t) => t,
-            Err(e) => {
-                let d = self.preprocess_error(e);
-                self.diags.push(d);
-                return None;
-            }
-        };
+        let branch_text = self.features_as_ifs(&text, &flags, &bit)?;
         self.compile(&Variant {
             what: "in branch mode, where each feature `#ifdef` block becomes an `if` statement on a run-time flag: a block must hold whole statements and declare nothing used after it".into(),
             derived: branch_text,
