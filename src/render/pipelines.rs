@@ -8,6 +8,7 @@ use super::material::template::{self, Generated};
 use super::material::{MaterialSet, VariantKey, VariantMode};
 use super::targets::*;
 use super::upload::Cull;
+use crate::gpu::bindings;
 use crate::gpu::context::GpuContext;
 use std::collections::HashMap;
 
@@ -51,33 +52,18 @@ pub(crate) struct Layouts {
     pub g1_light_buffers: wgpu::BindGroupLayout,
 }
 
+/// A read-only storage buffer of group 0 (both stages).
 pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    bindings::storage_entry(binding, wgpu::ShaderStages::VERTEX_FRAGMENT)
 }
 
+/// A 2D texture read by the fragment stage.
 pub(crate) fn texture_entry(
     binding: u32,
     sample_type: wgpu::TextureSampleType,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
+    let d2 = wgpu::TextureViewDimension::D2;
+    bindings::texture_entry(binding, wgpu::ShaderStages::FRAGMENT, sample_type, d2)
 }
 
 impl Layouts {
@@ -89,16 +75,7 @@ impl Layouts {
         let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred group 0 (frame, materials, instances, lights)"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                bindings::uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT),
                 storage_entry(1),
                 storage_entry(2),
                 storage_entry(3),
