@@ -13,7 +13,7 @@
 # FXRUN=path uses that binary instead of building the release one (e.g.
 # FXRUN=target/debug/fxrun for a quick look; the numbers then are not release ones).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+. "$(dirname "$0")/lib.sh"
 RUNS=${1:-3}
 SET=${2:-1080p}
 case "$SET" in
@@ -21,10 +21,9 @@ case "$SET" in
     small) SIZES="640,360 360,640 533,400 480,360 683,384 427,427 640,427 455,341" ;;
     *) echo "SET is 1080p or small"; exit 1 ;;
 esac
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 WORK=${BENCH_DIR:-/tmp/fxgraph-batch}/$SET
 PHOTO=../shared/corpus/photos/seeding_by_Clements_Engelhardt.jpg
-[ -f "$PHOTO" ] || { echo "missing $PHOTO (the shared corpus)"; exit 1; }
+need_files "$PHOTO"
 if [ -z "${FXRUN:-}" ]; then
     cargo build --release --quiet --bin fxrun
     FXRUN="$PWD/target/release/fxrun"

@@ -24,14 +24,13 @@
 # After the timings, bench/blur_accuracy.py prints each output's agreement with
 # OpenCV.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+. "$(dirname "$0")/lib.sh"
 RUNS=${1:-5}
 SIZES=${SIZES:-1920x1080}
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 WORK=${BENCH_DIR:-/tmp/fxgraph-bench}
 mkdir -p "$WORK"
 PHOTO=../shared/corpus/photos/seeding_by_Clements_Engelhardt.jpg
-[ -f "$PHOTO" ] || { echo "missing $PHOTO"; exit 1; }
+need_files "$PHOTO"
 cargo build --release --quiet
 FX="$PWD/target/release/fxrun ${FXRUN_ARGS:-}"
 have() { command -v "$1" >/dev/null; }
@@ -49,7 +48,7 @@ for size in $SIZES; do
 done
 
 echo "fxrun adapter: $($FX --adapters | head -1)"
-echo "machine: $(nproc) cores, $(uname -m), load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "machine: $(nproc) cores, $(uname -m), $(load)"
 for size in $SIZES; do
     in="$WORK/in_$size.png"
     echo "gaussian blur sigma 8, $size (ref: fxrun)"

@@ -18,21 +18,18 @@
 # frames per size); pooled PSNR (8-bit RGB) of each tool's output against the
 # progressive picture of the kept field.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+. "$(dirname "$0")/lib.sh"
 N=${1:-30}
 RUNS=${2:-3}
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 WORK=${BENCH_DIR:-/tmp/fxgraph-deint}
 CLIP=../shared/corpus/interlaced/mpeg2_field_encoding.ts
 PHOTO=../shared/corpus/photos/seeding_by_Clements_Engelhardt.jpg
-for f in "$CLIP" "$PHOTO"; do [ -f "$f" ] || { echo "missing $f"; exit 1; }; done
-command -v ffmpeg >/dev/null || { echo "install ffmpeg"; exit 1; }
-python3 -c "import cv2, numpy" 2>/dev/null || { echo "install python3 opencv and numpy"; exit 1; }
+need_files "$CLIP" "$PHOTO"
+need_ffmpeg_cv
 cargo build --release --quiet
 FX="$PWD/target/release/fxrun"
 FF="ffmpeg -v error -y -threads 2 -filter_threads 2"
 echo "fxrun adapter: $($FX --adapters | head -1)"
-load() { echo "load $(cut -d' ' -f1-3 /proc/loadavg)$(sed -n 's/^some avg10=\([^ ]*\) avg60=\([^ ]*\).*/, cpu pressure (PSI some) 10 s: \1 %, 60 s: \2 %/p' /proc/pressure/cpu 2>/dev/null)"; }
 echo "machine: $(nproc) cores, $(uname -m), $(load)"
 SIZES="720x576 1920x1080"
 for size in $SIZES; do

@@ -19,16 +19,14 @@
 # compensation costs. Speed: 1920x1080, 10 frames of the same pan, median wall time of RUNS runs
 # (PNG in -> PNG out, whole process), in ms per frame.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+. "$(dirname "$0")/lib.sh"
 N=${1:-40}
 RUNS=${2:-3}
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 WORK=${BENCH_DIR:-/tmp/fxgraph-denoise}
 PHOTO=../shared/corpus/photos/seeding_by_Clements_Engelhardt.jpg
 SKIP=5
-[ -f "$PHOTO" ] || { echo "missing $PHOTO"; exit 1; }
-command -v ffmpeg >/dev/null || { echo "install ffmpeg"; exit 1; }
-python3 -c "import cv2, numpy" || { echo "install python3 opencv-python-headless numpy"; exit 1; }
+need_files "$PHOTO"
+need_ffmpeg_cv
 cargo build --release --quiet --bin fxrun
 FX="$PWD/target/release/fxrun"
 SEQ="python3 $PWD/bench/denoise_seq.py"

@@ -8,9 +8,6 @@
 # Environment (optional): FX_BENCH_FRAMES=5, WGPU_BACKEND=vulkan.
 # Needs the corpus (../shared/corpus/hdri and ../shared/corpus/gltf/FlightHelmet).
 set -euo pipefail
-cd "$(dirname "$0")/.."
-export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
-export FX_BENCH_OUT="${FX_BENCH_OUT:-$PWD/target/environment-bench.md}"
-mkdir -p "$(dirname "$FX_BENCH_OUT")"
-echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg), $(date '+%Y-%m-%d %H:%M')" >&2
-cargo test --release --test environment_bench -- --ignored --exact environment_benchmark --nocapture
+. "$(dirname "$0")/lib.sh"
+echo "machine: $(nproc) cores, $(load), $(date '+%Y-%m-%d %H:%M')" >&2
+report_test environment-bench.md environment_bench environment_benchmark

@@ -11,9 +11,8 @@
 # FX_BENCH_LIGHTS="1 32 128 512 1024", FX_BENCH_TECHNIQUES="deferred light-prepass forward",
 # FX_BENCH_CULLING="clustered volumes", FX_BENCH_SIZE=1920x1080, FXRUN_ARGS (e.g. --shadows off).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+. "$(dirname "$0")/lib.sh"
 RUNS=${1:-3}
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 SCENE=${FX_BENCH_SCENE:-../shared/corpus/gltf/CornellBox.glb}
 LIGHTS=${FX_BENCH_LIGHTS:-1 32 128 512 1024}
 TECHNIQUES=${FX_BENCH_TECHNIQUES:-deferred light-prepass forward}
@@ -21,7 +20,7 @@ CULLING=${FX_BENCH_CULLING:-clustered volumes}
 SIZE=${FX_BENCH_SIZE:-1920x1080}
 WORK=${BENCH_DIR:-/tmp/fxgraph-bench}
 mkdir -p "$WORK"
-[ -f "$SCENE" ] || { echo "missing $SCENE"; exit 1; }
+need_files "$SCENE"
 cargo build --release --quiet --bin fxrun
 FX="$PWD/target/release/fxrun ${FXRUN_ARGS:-}"
 

@@ -10,8 +10,5 @@
 # Environment (optional): FX_BENCH_SIZE=1920x1080, FX_BENCH_FRAMES=5,
 # FX_BENCH_LIGHTS=16.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
-export FX_BENCH_OUT="${FX_BENCH_OUT:-$PWD/target/materials-bench.md}"
-mkdir -p "$(dirname "$FX_BENCH_OUT")"
-cargo test --release --test materials -- --ignored --exact variant_benchmark --nocapture
+. "$(dirname "$0")/lib.sh"
+report_test materials-bench.md materials variant_benchmark

@@ -8,8 +8,5 @@
 # FX_BENCH_FRAMES=3, FX_BENCH_WARMUP=1, FX_BENCH_TECHNIQUES=deferred,light-prepass,forward,
 # WGPU_BACKEND=vulkan (lavapipe on a machine without a GPU).
 set -euo pipefail
-cd "$(dirname "$0")/.."
-export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
-export FX_BENCH_OUT="${FX_BENCH_OUT:-$PWD/target/renderer-bench.md}"
-mkdir -p "$(dirname "$FX_BENCH_OUT")"
-cargo test --release --test deferred -- --ignored --exact renderer_benchmark --nocapture
+. "$(dirname "$0")/lib.sh"
+report_test renderer-bench.md deferred renderer_benchmark

@@ -9,8 +9,7 @@
 #
 # Environment (optional): FX_BENCH_SIZE=WxH (default 1920x1080).
 set -euo pipefail
-cd "$(dirname "$0")/.."
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
+. "$(dirname "$0")/lib.sh"
 export FX_BENCH_FRAMES=${1:-8}
 echo "machine: $(nproc) cores"
 cargo bench --quiet --bench temporal_effects

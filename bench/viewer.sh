@@ -9,10 +9,9 @@
 # bash bench/viewer.sh [FRAMES] [ROUNDS]   (defaults 40 and 5)
 # Needs Xvfb (or DISPLAY) and ImageMagick's convert. Release build.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+. "$(dirname "$0")/lib.sh"
 FRAMES=${1:-40}
 ROUNDS=${2:-5}
-export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 
 cargo build --release --quiet --bin fxrun --example record_frames
 tmp=$(mktemp -d)
@@ -36,7 +35,7 @@ if [ -z "${DISPLAY:-}" ]; then
 fi
 
 convert examples/data/rocket.jpg -resize '1280x720!' "$tmp/in.png"
-echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); adapter: $(target/release/fxrun --adapters | head -1)"
+echo "machine: $(nproc) cores, $(load); adapter: $(target/release/fxrun --adapters | head -1)"
 echo "glow 1280x720, $FRAMES frames per run, medians after 2 warm-up frames"
 for r in $(seq 1 "$ROUNDS"); do
     rec=$(target/release/examples/record_frames glow "$tmp/in.png" "$FRAMES" | sed -E 's/.*median frame ([0-9.]+) ms.*/\1/')

@@ -17,9 +17,7 @@ struct Params {
 }
 @group(0) @binding(1) var<uniform> params: Params;
 
-#ifndef FIRST
 #define FIRST 0
-#endif
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {

@@ -24,12 +24,8 @@ struct Params {
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
-#ifndef OUTPUT
 #define OUTPUT 0
-#endif
-#ifndef COMPOSITE
 #define COMPOSITE 0
-#endif
 
 const KR: f32 = 0.2126;
 const KB: f32 = 0.0722;

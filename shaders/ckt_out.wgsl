@@ -7,9 +7,7 @@
 @group(0) @binding(0) var keyed: texture_2d<f32>;
 @group(0) @binding(1) var matte: texture_2d<f32>;
 
-#ifndef OUTPUT
 #define OUTPUT 0
-#endif
 
 #include "lib/keyed.wgsl"
 

@@ -29,12 +29,8 @@
 // made the pass 10-15 % cheaper than a coordinate per read); the raw 8-bit views
 // are much cheaper than sRGB-decoding ones (720x576 `rows` pass, same maths: about
 // 10.5 against 19 ms a frame, best of 8 runs).
-#ifndef MODE
 #define MODE 2
-#endif
-#ifndef STAGE
 #define STAGE 0
-#endif
 
 @group(0) @binding(0) var cur: texture_2d<f32>;
 #if STAGE == 0

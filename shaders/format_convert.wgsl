@@ -11,18 +11,10 @@
 // Alpha is passed through.
 @group(0) @binding(0) var img: texture_2d<f32>;
 
-#ifndef DIRECTION
 #define DIRECTION 0
-#endif
-#ifndef MATRIX
 #define MATRIX 0
-#endif
-#ifndef RANGE
 #define RANGE 0
-#endif
-#ifndef TRANSFER
 #define TRANSFER 0
-#endif
 
 #if MATRIX == 0
 const KR: f32 = 0.2126;

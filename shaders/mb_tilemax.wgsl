@@ -11,9 +11,7 @@ struct Params {
 }
 @group(0) @binding(1) var<uniform> params: Params;
 
-#ifndef AXIS
 #define AXIS 0
-#endif
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {

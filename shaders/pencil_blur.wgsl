@@ -18,9 +18,7 @@ struct Params {
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
-#ifndef VERTICAL
 #define VERTICAL 0
-#endif
 
 #include "lib/gauss_pairs.wgsl"
 

@@ -19,9 +19,7 @@ struct Params {
 }
 @group(0) @binding(1) var<uniform> params: Params;
 
-#ifndef MODE
 #define MODE 0
-#endif
 
 fn luma(p: vec2<i32>, hi: vec2<i32>) -> f32 {
     let c = textureLoad(img, clamp(p, vec2<i32>(0), hi), 0).rgb;

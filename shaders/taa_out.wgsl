@@ -9,9 +9,7 @@ struct Params {
 }
 @group(0) @binding(2) var<uniform> params: Params;
 
-#ifndef VIEW
 #define VIEW 0
-#endif
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {

@@ -6,9 +6,7 @@
 @group(0) @binding(0) var img: texture_2d<f32>;
 @group(0) @binding(1) var img_sampler: sampler;
 
-#ifndef LUMA
 #define LUMA 0
-#endif
 
 #include "lib/tdn.wgsl"
 

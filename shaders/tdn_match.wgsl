@@ -19,9 +19,7 @@
 @group(0) @binding(1) var prev: texture_2d<f32>;
 @group(0) @binding(2) var prev_sampler: sampler;
 @group(0) @binding(3) var last: texture_2d<f32>;
-#ifndef COARSEST
 #define COARSEST 0
-#endif
 #if COARSEST == 0
 @group(0) @binding(4) var coarse: texture_2d<f32>;
 #endif
@@ -34,12 +32,8 @@ struct Params {
 }
 @group(0) @binding(5) var<uniform> params: Params;
 
-#ifndef WINDOW
 #define WINDOW 4
-#endif
-#ifndef RADIUS
 #define RADIUS 3
-#endif
 
 #include "lib/tdn.wgsl"
 

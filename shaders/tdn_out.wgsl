@@ -19,9 +19,7 @@ struct Params {
 }
 @group(0) @binding(4) var<uniform> params: Params;
 
-#ifndef VIEW
 #define VIEW 0
-#endif
 
 #include "lib/tdn.wgsl"
 

@@ -20,9 +20,7 @@ struct Params {
 }
 @group(0) @binding(4) var<uniform> params: Params;
 
-#ifndef WINDOW
 #define WINDOW 8
-#endif
 
 #include "lib/tdn.wgsl"
 

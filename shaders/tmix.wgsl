@@ -20,9 +20,7 @@ struct Params {
 }
 @group(0) @binding(8) var<uniform> params: Params;
 
-#ifndef FRAMES
 #define FRAMES 3
-#endif
 
 // Frame i: IN (0) or IN[-i].
 fn frame(i: i32, p: vec2<i32>) -> vec4<f32> {

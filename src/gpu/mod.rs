@@ -2,7 +2,9 @@
 //! textures, the pipeline cache and the executor that interprets a plan, and streams
 //! of frames through it. No files: sources and sinks are the application's
 //! ([`crate::app`]).
+pub mod bindings;
 pub mod context;
 pub mod executor;
+pub mod fullscreen;
 pub mod stream;
 pub mod transfer;

@@ -14,9 +14,8 @@
 //! milliseconds for thousands of lights), so no compute pass with shared memory
 //! is needed (slow on lavapipe).
 
+use super::cli_names::cli_names;
 use glam::{Mat4, Vec3};
-use std::fmt;
-use std::str::FromStr;
 
 /// How the deferred and light pre-pass light passes (and the forward loop) pick
 /// the lights a pixel shades.
@@ -33,39 +32,14 @@ pub enum LightCulling {
     None,
 }
 
-impl LightCulling {
-    pub const ALL: [LightCulling; 3] = [
-        LightCulling::Clustered,
-        LightCulling::Volumes,
-        LightCulling::None,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            LightCulling::Clustered => "clustered",
-            LightCulling::Volumes => "volumes",
-            LightCulling::None => "none",
-        }
-    }
-}
-
-impl fmt::Display for LightCulling {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for LightCulling {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        LightCulling::ALL
-            .into_iter()
-            .find(|c| c.name() == s)
-            .ok_or_else(|| {
-                format!("unknown light culling `{s}`: expected clustered, volumes or none")
-            })
-    }
-}
+cli_names!(
+    LightCulling {
+        Clustered => "clustered",
+        Volumes => "volumes",
+        None => "none",
+    },
+    parse = "unknown light culling `{}`: expected clustered, volumes or none"
+);
 
 /// Tile edge in pixels.
 pub(crate) const TILE_PX: u32 = 32;

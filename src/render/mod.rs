@@ -45,6 +45,7 @@
 
 pub mod bench;
 mod camera_std;
+mod cli_names;
 mod clusters;
 pub mod environment;
 pub mod fog;

@@ -19,6 +19,7 @@
 use super::gpu_types::{mat_array, Vertex};
 use super::pipelines::{create, depth, storage_entry, target};
 use super::upload::{Batch, Cull, Geometry};
+use crate::gpu::bindings::uniform_entry;
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
@@ -79,16 +80,7 @@ impl MotionPass {
             let group0_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("motion vectors group 0"),
                 entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
+                    uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT),
                     storage_entry(1),
                     storage_entry(2),
                 ],

@@ -8,6 +8,7 @@ use super::material::template::{self, Generated};
 use super::material::{MaterialSet, VariantKey, VariantMode};
 use super::targets::*;
 use super::upload::Cull;
+use crate::gpu::bindings;
 use crate::gpu::context::GpuContext;
 use std::collections::HashMap;
 
@@ -51,33 +52,18 @@ pub(crate) struct Layouts {
     pub g1_light_buffers: wgpu::BindGroupLayout,
 }
 
+/// A read-only storage buffer of group 0 (both stages).
 pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    bindings::storage_entry(binding, wgpu::ShaderStages::VERTEX_FRAGMENT)
 }
 
+/// A 2D texture read by the fragment stage.
 pub(crate) fn texture_entry(
     binding: u32,
     sample_type: wgpu::TextureSampleType,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
+    let d2 = wgpu::TextureViewDimension::D2;
+    bindings::texture_entry(binding, wgpu::ShaderStages::FRAGMENT, sample_type, d2)
 }
 
 impl Layouts {
@@ -89,16 +75,7 @@ impl Layouts {
         let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred group 0 (frame, materials, instances, lights)"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                bindings::uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT),
                 storage_entry(1),
                 storage_entry(2),
                 storage_entry(3),
@@ -154,6 +131,16 @@ pub(crate) struct Pipelines {
     /// Pipelines and shader modules created so far.
     pub pipelines_created: usize,
     pub modules_created: usize,
+}
+
+/// The stages, vertex buffers, targets and depth test of a light-module pipeline.
+struct LightStages<'a> {
+    vs: &'static str,
+    fs: &'static str,
+    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    targets: Vec<Option<wgpu::ColorTargetState>>,
+    depth_state: Option<wgpu::DepthStencilState>,
+    primitive: wgpu::PrimitiveState,
 }
 
 pub(crate) fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
@@ -217,6 +204,22 @@ pub(crate) fn check(label: &str, wgsl: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// A module of generated WGSL, [checked](check) first.
+fn shader_module(
+    ctx: &GpuContext,
+    label: &str,
+    wgsl: String,
+) -> Result<wgpu::ShaderModule, String> {
+    check(label, &wgsl)?;
+    ctx.scoped(label, |device| {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+        })
+    })
+    .map_err(|e| e.to_string())
+}
+
 impl Pipelines {
     pub fn new(mode: VariantMode, normal_encoding: u32) -> Pipelines {
         Pipelines {
@@ -265,16 +268,8 @@ impl Pipelines {
                 module_key.features,
                 light_key
             );
-            check(&label, &wgsl)?;
             log::debug!("{label}: {} bytes of WGSL", wgsl.len());
-            let module = ctx
-                .scoped(&label, |device| {
-                    device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                        label: Some(&label),
-                        source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-                    })
-                })
-                .map_err(|e| e.to_string())?;
+            let module = shader_module(ctx, &label, wgsl)?;
             self.modules_created += 1;
             self.modules.insert((module_key, light_key), module);
         }
@@ -425,15 +420,7 @@ impl Pipelines {
                     "deferred light shaders ({} lighting models)",
                     set.lightings.len()
                 );
-                check(&label, &wgsl)?;
-                let module = ctx
-                    .scoped(&label, |device| {
-                        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                            label: Some(&label),
-                            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-                        })
-                    })
-                    .map_err(|e| e.to_string())?;
+                let module = shader_module(ctx, &label, wgsl)?;
                 self.modules_created += 1;
                 self.light_module = Some(module);
             }
@@ -447,81 +434,64 @@ impl Pipelines {
             let aux = |i: usize| target(aux_formats[i].1);
             let lights_targets = vec![additive(LIGHT_FORMAT), additive(LIGHT_FORMAT)];
             use wgpu::CompareFunction as C;
-            #[allow(clippy::type_complexity)]
-            let (vs, fs, buffers, targets, depth_state, primitive): (
-                &str,
-                &str,
-                &[Option<wgpu::VertexBufferLayout>],
-                Vec<Option<wgpu::ColorTargetState>>,
-                Option<wgpu::DepthStencilState>,
-                wgpu::PrimitiveState,
-            ) = match which {
-                LightPipe::Clustered => (
+            // A full-screen triangle (no vertex buffer, no culling) and a light
+            // volume (its vertex buffer, faces culled as `primitive` says).
+            let fullscreen = |vs, fs, targets, depth_state| LightStages {
+                vs,
+                fs,
+                buffers: &[],
+                targets,
+                depth_state,
+                primitive: wgpu::PrimitiveState::default(),
+            };
+            let volume = |depth_state, primitive| LightStages {
+                vs: "fx_vs_volume",
+                fs: "fx_fs_light",
+                buffers: &volume_vb,
+                targets: lights_targets.clone(),
+                depth_state,
+                primitive,
+            };
+            let always = depth(false, C::Always);
+            let scene = || vec![target(SCENE_FORMAT)];
+            let stages = match which {
+                LightPipe::Clustered => fullscreen(
                     "fx_vs_fullscreen",
                     "fx_fs_light_clustered",
-                    &[],
-                    lights_targets,
-                    depth(false, C::Always),
-                    wgpu::PrimitiveState::default(),
+                    lights_targets.clone(),
+                    always,
                 ),
-                LightPipe::Fullscreen => (
+                LightPipe::Fullscreen => fullscreen(
                     "fx_vs_light_fullscreen",
                     "fx_fs_light",
-                    &[],
-                    lights_targets,
-                    depth(false, C::Always),
-                    wgpu::PrimitiveState::default(),
+                    lights_targets.clone(),
+                    always,
                 ),
-                LightPipe::VolumeFront => (
-                    "fx_vs_volume",
-                    "fx_fs_light",
-                    &volume_vb,
-                    lights_targets,
-                    depth(false, C::Less),
-                    Cull::BackCcw.primitive(),
-                ),
-                LightPipe::VolumeBack => (
-                    "fx_vs_volume",
-                    "fx_fs_light",
-                    &volume_vb,
-                    lights_targets,
+                LightPipe::VolumeFront => volume(depth(false, C::Less), Cull::BackCcw.primitive()),
+                LightPipe::VolumeBack => volume(
                     depth(false, C::GreaterEqual),
                     wgpu::PrimitiveState {
                         cull_mode: Some(wgpu::Face::Front),
                         ..Default::default()
                     },
                 ),
-                LightPipe::Compose => (
-                    "fx_vs_fullscreen",
-                    "fx_fs_compose",
-                    &[],
-                    vec![target(SCENE_FORMAT)],
-                    None,
-                    wgpu::PrimitiveState::default(),
-                ),
-                LightPipe::Background => (
-                    "fx_vs_fullscreen",
-                    "fx_fs_background",
-                    &[],
-                    vec![target(SCENE_FORMAT)],
-                    None,
-                    wgpu::PrimitiveState::default(),
-                ),
-                LightPipe::AuxA => (
+                LightPipe::Compose => {
+                    fullscreen("fx_vs_fullscreen", "fx_fs_compose", scene(), None)
+                }
+                LightPipe::Background => {
+                    fullscreen("fx_vs_fullscreen", "fx_fs_background", scene(), None)
+                }
+                LightPipe::AuxA => fullscreen(
                     "fx_vs_fullscreen",
                     "fx_fs_aux_a",
-                    &[],
                     vec![aux(0), aux(1), aux(2), aux(6)],
                     None,
-                    wgpu::PrimitiveState::default(),
                 ),
-                LightPipe::AuxB => (
+                LightPipe::AuxB => fullscreen(
                     "fx_vs_fullscreen",
                     "fx_fs_aux_b",
-                    &[],
                     vec![aux(3), aux(4), aux(5)],
                     None,
-                    wgpu::PrimitiveState::default(),
                 ),
             };
             let groups = [
@@ -535,11 +505,11 @@ impl Pipelines {
                 ctx,
                 &label,
                 &module,
-                (vs, fs),
-                buffers,
-                &targets,
-                depth_state,
-                primitive,
+                (stages.vs, stages.fs),
+                stages.buffers,
+                &stages.targets,
+                stages.depth_state,
+                stages.primitive,
                 &groups,
                 &[],
             )?;

@@ -690,16 +690,3 @@ impl Renderer {
         Ok((output, stats))
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn technique_names_parse() {
-        for t in Technique::ALL {
-            assert_eq!(t.name().parse::<Technique>().unwrap(), t);
-        }
-        assert!("tiled".parse::<Technique>().is_err());
-    }
-}

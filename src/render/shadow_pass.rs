@@ -12,6 +12,7 @@ use super::gpu_types::{GpuLight, Vertex};
 use super::renderer::{RenderError, RendererOptions};
 use super::shadows::{GpuShadowLayer, ShadowFrame, ShadowMode, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
 use super::upload::Geometry;
+use crate::gpu::bindings::{sampler_entry, storage_entry, texture_entry};
 use crate::gpu::context::{GpuContext, GpuTimer};
 
 pub(crate) const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -39,32 +40,18 @@ const SHADER: &str = concat!(
 pub(crate) fn g0_layout_entries() -> [wgpu::BindGroupLayoutEntry; 3] {
     let fragment = wgpu::ShaderStages::FRAGMENT;
     [
-        wgpu::BindGroupLayoutEntry {
-            binding: BINDING_MAPS,
-            visibility: fragment,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Depth,
-                view_dimension: wgpu::TextureViewDimension::D2Array,
-                multisampled: false,
-            },
-            count: None,
-        },
-        wgpu::BindGroupLayoutEntry {
-            binding: BINDING_SAMPLER,
-            visibility: fragment,
-            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-            count: None,
-        },
-        wgpu::BindGroupLayoutEntry {
-            binding: BINDING_LAYERS,
-            visibility: fragment,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        },
+        texture_entry(
+            BINDING_MAPS,
+            fragment,
+            wgpu::TextureSampleType::Depth,
+            wgpu::TextureViewDimension::D2Array,
+        ),
+        sampler_entry(
+            BINDING_SAMPLER,
+            fragment,
+            wgpu::SamplerBindingType::Comparison,
+        ),
+        storage_entry(BINDING_LAYERS, fragment),
     ]
 }
 
@@ -204,16 +191,7 @@ impl ShadowMaps {
                         },
                         count: None,
                     },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Storage { read_only: true },
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
+                    storage_entry(1, wgpu::ShaderStages::VERTEX),
                 ],
             });
             let pass_group = device.create_bind_group(&wgpu::BindGroupDescriptor {

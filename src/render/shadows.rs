@@ -16,12 +16,11 @@
 //! shift the texel grid: no shimmering) and stored as view space → light clip,
 //! because lights and shading points are in view space in the shaders.
 
+use super::cli_names::cli_names;
 use super::gpu_types::{mat_array, GpuLight, KIND_DIRECTIONAL, KIND_POINT, KIND_SPOT};
 use crate::scene::{look_to_rh, perspective_rh, Aabb, Camera};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
-use std::fmt;
-use std::str::FromStr;
 
 /// How shadows are filtered (or whether there are any).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -37,17 +36,16 @@ pub enum ShadowMode {
     Pcf,
 }
 
+cli_names!(
+    ShadowMode {
+        Off => "off",
+        Hard => "hard",
+        Pcf => "pcf",
+    },
+    parse = "unknown shadow mode `{}` (off, hard or pcf)"
+);
+
 impl ShadowMode {
-    pub const ALL: [ShadowMode; 3] = [ShadowMode::Off, ShadowMode::Hard, ShadowMode::Pcf];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ShadowMode::Off => "off",
-            ShadowMode::Hard => "hard",
-            ShadowMode::Pcf => "pcf",
-        }
-    }
-
     /// The filter id the shaders read from `FxLight::shadow_filter`.
     pub(crate) fn filter_id(self) -> u32 {
         match self {
@@ -55,22 +53,6 @@ impl ShadowMode {
             ShadowMode::Hard => 1,
             ShadowMode::Pcf => 2,
         }
-    }
-}
-
-impl fmt::Display for ShadowMode {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for ShadowMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        ShadowMode::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| format!("unknown shadow mode `{s}` (off, hard or pcf)"))
     }
 }
 

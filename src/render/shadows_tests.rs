@@ -50,11 +50,7 @@ fn frame(cam: &Camera, budget: u32) -> ShadowFrame<'_> {
 }
 
 #[test]
-fn modes_parse_and_print() {
-    for m in ShadowMode::ALL {
-        assert_eq!(m.name().parse::<ShadowMode>().unwrap(), m);
-    }
-    assert!("soft".parse::<ShadowMode>().is_err());
+fn pcf_is_the_default_mode() {
     assert_eq!(ShadowMode::default(), ShadowMode::Pcf);
 }
 

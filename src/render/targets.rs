@@ -13,6 +13,7 @@
 //! traditional layout of seed 001 table 1 ([`GBUFFER_BYTES_TRADITIONAL`]).
 
 use crate::gpu::context::GpuContext;
+use crate::gpu::transfer::texture_2d;
 
 /// Bytes per pixel of the compressed G-buffer: RGBA8 diffuse + material id (4),
 /// RGB10A2 normal + roughness (4), RGBA8 specular + model id (4), 32-bit depth (4).
@@ -76,22 +77,11 @@ impl Targets {
         ctx.check_size(width, height, "deferred render target")?;
         ctx.scoped("deferred render targets", |device| {
             let make = |label: &str, format: wgpu::TextureFormat| {
-                let texture = device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING
-                        | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[],
-                });
+                let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC;
+                let texture =
+                    device.create_texture(&texture_2d(label, (width, height), format, usage, &[]));
                 let view = texture.create_view(&wgpu::TextureViewDescriptor {
                     label: Some(label),
                     ..Default::default()

@@ -1,6 +1,6 @@
 //! The shading techniques a [`super::Renderer`] draws a frame with.
 
-use std::fmt;
+use super::cli_names::cli_names;
 use std::str::FromStr;
 
 /// How a frame is shaded.
@@ -15,28 +15,11 @@ pub enum Technique {
     Forward,
 }
 
-impl Technique {
-    pub const ALL: [Technique; 3] = [
-        Technique::Deferred,
-        Technique::LightPrepass,
-        Technique::Forward,
-    ];
-
-    /// The CLI name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Technique::Deferred => "deferred",
-            Technique::LightPrepass => "light-prepass",
-            Technique::Forward => "forward",
-        }
-    }
-}
-
-impl fmt::Display for Technique {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+cli_names!(Technique {
+    Deferred => "deferred",
+    LightPrepass => "light-prepass",
+    Forward => "forward",
+});
 
 impl FromStr for Technique {
     type Err = String;

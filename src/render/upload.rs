@@ -6,7 +6,9 @@
 use super::gpu_types::*;
 use super::material::template::{feature_words, FEATURES_BINDING};
 use super::material::{variant, MaterialSet};
+use super::pipelines::texture_entry;
 use super::renderer::RenderError;
+use crate::gpu::bindings;
 use crate::gpu::context::{GpuContext, GpuError};
 use crate::scene::{AlphaMode, Scene};
 use glam::{Vec2, Vec3, Vec4};
@@ -491,17 +493,9 @@ pub(crate) struct MaterialResources {
     pub textures: usize,
 }
 
+/// A uniform buffer read by the fragment stage.
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    bindings::uniform_entry(binding, wgpu::ShaderStages::FRAGMENT)
 }
 
 impl MaterialResources {
@@ -546,25 +540,14 @@ impl MaterialResources {
                 if let Some(b) = s.shader.params_binding {
                     entries.push(uniform_entry(b));
                 }
+                let filterable = wgpu::TextureSampleType::Float { filterable: true };
                 for t in &s.shader.textures {
-                    entries.push(wgpu::BindGroupLayoutEntry {
-                        binding: t.binding,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    });
+                    entries.push(texture_entry(t.binding, filterable));
                 }
+                let fragment = wgpu::ShaderStages::FRAGMENT;
                 for sampler in &s.shader.samplers {
-                    entries.push(wgpu::BindGroupLayoutEntry {
-                        binding: sampler.binding,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                        count: None,
-                    });
+                    let ty = wgpu::SamplerBindingType::Filtering;
+                    entries.push(bindings::sampler_entry(sampler.binding, fragment, ty));
                 }
                 entries.push(uniform_entry(FEATURES_BINDING));
                 device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -734,16 +717,10 @@ impl MaterialResources {
                         .copy_from_slice(&m.lighting_params);
                 }
             }
-            p_entries.push(wgpu::BindGroupLayoutEntry {
-                binding: k as u32,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: true },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            });
+            p_entries.push(bindings::storage_entry(
+                k as u32,
+                wgpu::ShaderStages::FRAGMENT,
+            ));
             p_buffers.push((
                 k as u32,
                 device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

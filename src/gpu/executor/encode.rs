@@ -5,6 +5,7 @@ use super::pool::{PooledTexture, TexturePool};
 use super::record::{GpuPass, Source};
 use super::{CachedPipeline, ExecError};
 use crate::gpu::context::GpuContext;
+use crate::gpu::fullscreen::begin_color_pass;
 
 /// Bind groups kept per pass: enough for feedback rings and a few caller views.
 const BIND_GROUPS_PER_PASS: usize = 8;
@@ -123,23 +124,9 @@ pub(super) fn encode_pass(
         ring_head,
         caller,
     )?;
-    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(&gp.path),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                // SAFETY: the fullscreen triangle writes every pixel of the target.
-                load: wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() }),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: timestamps,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    // SAFETY: the fullscreen triangle writes every pixel of the target.
+    let load = wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() });
+    let mut rp = begin_color_pass(encoder, &gp.path, target, load, timestamps);
     rp.set_pipeline(&pipeline.pipeline);
     rp.set_bind_group(0, &gp.bind_groups[bg].1, &[]);
     rp.draw(0..3, 0..1);

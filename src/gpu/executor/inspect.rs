@@ -14,6 +14,7 @@
 use super::record::{Prepared, Source};
 use super::{Engine, ExecError, PassTiming};
 use crate::gpu::context::{GpuContext, GpuTimer};
+use crate::gpu::transfer::texture_2d;
 use std::sync::{Arc, Mutex};
 
 /// The pass whose output is copied, and the copy.
@@ -214,18 +215,16 @@ impl Prepared {
             } else {
                 alternate
             };
-            insp.texture = Some(engine.ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(&format!("fxgraph inspected {}", gp.path)),
-                size: src.size(),
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
+            let usage = wgpu::TextureUsages::COPY_DST
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC;
+            insp.texture = Some(engine.ctx.device.create_texture(&texture_2d(
+                &format!("fxgraph inspected {}", gp.path),
+                (src.width(), src.height()),
                 format,
-                usage: wgpu::TextureUsages::COPY_DST
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &alternate,
-            }));
+                usage,
+                &alternate,
+            )));
         }
         let dst = insp.texture.as_ref().expect("made above");
         encoder.copy_texture_to_texture(src.as_image_copy(), dst.as_image_copy(), src.size());

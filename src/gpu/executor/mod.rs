@@ -39,7 +39,9 @@ pub use params::{ParamError, ParamInfo};
 pub use pool::PoolStats;
 pub use record::{Prepared, PreparedStats};
 
+use super::bindings::{sampler_entry, texture_entry, uniform_entry};
 use super::context::{GpuContext, GpuError};
+use super::fullscreen::fullscreen_pipeline;
 use crate::graph::plan::{Plan, Resource, View};
 use crate::script::types::{Filter, Format, Sampling, Wrap};
 use crate::script::Diagnostics;
@@ -290,6 +292,7 @@ impl Engine {
         if let Some(p) = self.pipelines.get(key) {
             return Ok(p.clone());
         }
+        let fragment = wgpu::ShaderStages::FRAGMENT;
         let mut entries = Vec::new();
         for t in &refl.textures {
             let filterable = key
@@ -298,40 +301,23 @@ impl Engine {
                 .find(|(b, _)| *b == t.binding)
                 .map(|(_, f)| *f)
                 .unwrap_or(true);
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: t.binding,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            });
+            entries.push(texture_entry(
+                t.binding,
+                fragment,
+                wgpu::TextureSampleType::Float { filterable },
+                wgpu::TextureViewDimension::D2,
+            ));
         }
         for (binding, _, filtering) in samplers {
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: *binding,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Sampler(if *filtering {
-                    wgpu::SamplerBindingType::Filtering
-                } else {
-                    wgpu::SamplerBindingType::NonFiltering
-                }),
-                count: None,
-            });
+            let ty = if *filtering {
+                wgpu::SamplerBindingType::Filtering
+            } else {
+                wgpu::SamplerBindingType::NonFiltering
+            };
+            entries.push(sampler_entry(*binding, fragment, ty));
         }
         if let Some(u) = &refl.uniform {
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: u.binding,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            });
+            entries.push(uniform_entry(u.binding, fragment));
         }
         let vs = self.vs.clone();
         let built = self.ctx.scoped(label, |device| {
@@ -348,31 +334,14 @@ impl Engine {
                 bind_group_layouts: &[Some(&layout)],
                 immediate_size: 0,
             });
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&format!("{label} pipeline")),
-                layout: Some(&pl),
-                vertex: wgpu::VertexState {
-                    module: &vs,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: None,
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(&key.entry),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: key.target,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+            let pipeline = fullscreen_pipeline(
+                device,
+                &format!("{label} pipeline"),
+                Some(&pl),
+                (&vs, "vs_main"),
+                (&module, &key.entry),
+                key.target,
+            );
             CachedPipeline { pipeline, layout }
         })?;
         self.pipelines_created += 1;

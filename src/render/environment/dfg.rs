@@ -4,6 +4,7 @@
 
 use super::prefilter::{pass, GpuPrefilter, PrefilterPipelines, DFG_SAMPLES, DFG_SIZE, FORMAT};
 use crate::gpu::context::{GpuContext, GpuError};
+use crate::gpu::transfer::texture_2d;
 
 /// The table: [`DFG_SIZE`]², rg = A, B.
 pub(crate) struct Dfg {
@@ -14,22 +15,12 @@ pub(crate) struct Dfg {
 /// The split-sum DFG table ([`DFG_SIZE`]², rg = A, B), computed once per renderer.
 pub(crate) fn dfg_table(ctx: &GpuContext, pipes: &PrefilterPipelines) -> Result<Dfg, GpuError> {
     let made = ctx.scoped("environment DFG table", |device| {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("environment DFG table"),
-            size: wgpu::Extent3d {
-                width: DFG_SIZE,
-                height: DFG_SIZE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
+        let size = (DFG_SIZE, DFG_SIZE);
+        let label = "environment DFG table";
+        let texture = device.create_texture(&texture_2d(label, size, FORMAT, usage, &[]));
         let view = texture.create_view(&Default::default());
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("environment DFG table"),

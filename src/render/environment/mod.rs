@@ -25,7 +25,9 @@ pub use prefilter::{
     IRRADIANCE_FACE, MAX_FACE, SPECULAR_SAMPLES,
 };
 
+use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
 use crate::gpu::context::{GpuContext, GpuError};
+use crate::gpu::transfer::texture_2d;
 use crate::scene::{Background, Environment, EnvironmentMap};
 use glam::{Mat3, Mat4, Vec3};
 use prefilter::{PrefilterPipelines, Prefiltered, FORMAT};
@@ -225,36 +227,18 @@ impl EnvironmentLighting {
     /// The layout entries of bindings 11–15 in group 0.
     pub fn g0_layout_entries() -> [wgpu::BindGroupLayoutEntry; 5] {
         let fragment = wgpu::ShaderStages::FRAGMENT;
-        let texture = |binding, view_dimension| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: fragment,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension,
-                multisampled: false,
-            },
-            count: None,
-        };
+        let filterable = wgpu::TextureSampleType::Float { filterable: true };
+        let texture = |binding, dimension| texture_entry(binding, fragment, filterable, dimension);
         [
             texture(BINDING_SPECULAR, wgpu::TextureViewDimension::Cube),
             texture(BINDING_IRRADIANCE, wgpu::TextureViewDimension::Cube),
             texture(BINDING_DFG, wgpu::TextureViewDimension::D2),
-            wgpu::BindGroupLayoutEntry {
-                binding: BINDING_SAMPLER,
-                visibility: fragment,
-                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                count: None,
-            },
-            wgpu::BindGroupLayoutEntry {
-                binding: BINDING_UNIFORM,
-                visibility: fragment,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
+            sampler_entry(
+                BINDING_SAMPLER,
+                fragment,
+                wgpu::SamplerBindingType::Filtering,
+            ),
+            uniform_entry(BINDING_UNIFORM, fragment),
         ]
     }
 
@@ -312,20 +296,9 @@ impl EnvironmentLighting {
             });
         }
         let copy = ctx.scoped("environment readback", |device| {
-            let copy = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("environment readback copy"),
-                size: wgpu::Extent3d {
-                    width: side,
-                    height: side,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: FORMAT,
-                usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
+            let usage = wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC;
+            let label = "environment readback copy";
+            let copy = device.create_texture(&texture_2d(label, (side, side), FORMAT, usage, &[]));
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("environment readback"),
             });

@@ -25,6 +25,7 @@
 
 use super::small_cube::cube_texels;
 use crate::gpu::context::{GpuContext, GpuError};
+use crate::gpu::fullscreen::{begin_color_pass, fullscreen_pipeline};
 use crate::scene::EnvironmentMap;
 use wgpu::util::DeviceExt;
 
@@ -78,31 +79,14 @@ impl PrefilterPipelines {
                 source: wgpu::ShaderSource::Wgsl(include_str!("prefilter.wgsl").into()),
             });
             let pipeline = |fs: &str| {
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(&format!("environment prefiltering {fs}")),
-                    layout: None,
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_fullscreen"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: None,
-                    multisample: wgpu::MultisampleState::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(fs),
-                        compilation_options: Default::default(),
-                        targets: &[Some(wgpu::ColorTargetState {
-                            format: FORMAT,
-                            blend: None,
-                            write_mask: wgpu::ColorWrites::ALL,
-                        })],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
+                fullscreen_pipeline(
+                    device,
+                    &format!("environment prefiltering {fs}"),
+                    None,
+                    (&module, "vs_fullscreen"),
+                    (&module, fs),
+                    FORMAT,
+                )
             };
             PrefilterPipelines {
                 equirect: pipeline("fs_equirect"),
@@ -271,25 +255,40 @@ pub(super) fn pass(
         layout: &pipeline.get_bind_group_layout(0),
         entries: &entries,
     });
-    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("environment prefiltering pass"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    let clear = wgpu::LoadOp::Clear(wgpu::Color::BLACK);
+    let mut rp = begin_color_pass(
+        encoder,
+        "environment prefiltering pass",
+        target,
+        clear,
+        None,
+    );
     rp.set_pipeline(pipeline);
     rp.set_bind_group(0, &group, &[]);
     rp.draw(0..3, 0..1);
+}
+
+/// [`pass`] into each face of level `level` of the cube `target`, with the
+/// parameters `params(face)`.
+fn each_face(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::RenderPipeline,
+    (target, level): (&wgpu::Texture, u32),
+    params: impl Fn(u32) -> GpuPrefilter,
+    resources: &[(u32, wgpu::BindingResource<'_>)],
+) {
+    for face in 0..6 {
+        let view = face_view(target, level, face);
+        pass(
+            device,
+            encoder,
+            pipeline,
+            &view,
+            Some(params(face)),
+            resources,
+        );
+    }
 }
 
 /// Prefilters `map` (blocks until the GPU is done, so that [`Prefiltered::ms`]
@@ -341,19 +340,17 @@ pub(crate) fn prefilter(
                 size: side as f32,
                 max_lod: (source_levels - 1) as f32,
             };
-        for face in 0..6 {
-            pass(
-                device,
-                &mut encoder,
-                &pipes.equirect,
-                &face_view(&source, 0, face),
-                Some(params(face, 0, 0, 0.0, size)),
-                &[
-                    (1, wgpu::BindingResource::TextureView(&equirect_view)),
-                    (4, wgpu::BindingResource::Sampler(&pipes.sampler)),
-                ],
-            );
-        }
+        each_face(
+            device,
+            &mut encoder,
+            &pipes.equirect,
+            (&source, 0),
+            |face| params(face, 0, 0, 0.0, size),
+            &[
+                (1, wgpu::BindingResource::TextureView(&equirect_view)),
+                (4, wgpu::BindingResource::Sampler(&pipes.sampler)),
+            ],
+        );
         for level in 1..source_levels {
             for face in 0..6 {
                 let above = face_view(&source, level - 1, face);
@@ -398,40 +395,36 @@ pub(crate) fn prefilter(
                 )),
                 usage: wgpu::BufferUsages::STORAGE,
             });
-            for face in 0..6 {
-                let (pipeline, resources) = if convolved {
-                    (&pipes.convolve, [(7, small.as_entire_binding())].to_vec())
-                } else {
-                    (
-                        &pipes.filter,
-                        [
-                            (2, wgpu::BindingResource::TextureView(&source_cube)),
-                            (4, wgpu::BindingResource::Sampler(&pipes.sampler)),
-                            (6, lobe.as_entire_binding()),
-                        ]
-                        .to_vec(),
-                    )
-                };
-                pass(
-                    device,
-                    &mut encoder,
-                    pipeline,
-                    &face_view(&specular, level, face),
-                    Some(params(face, 0, samples, roughness, side)),
-                    &resources,
-                );
-            }
-        }
-        for face in 0..6 {
-            pass(
+            let (pipeline, resources) = if convolved {
+                (&pipes.convolve, [(7, small.as_entire_binding())].to_vec())
+            } else {
+                (
+                    &pipes.filter,
+                    [
+                        (2, wgpu::BindingResource::TextureView(&source_cube)),
+                        (4, wgpu::BindingResource::Sampler(&pipes.sampler)),
+                        (6, lobe.as_entire_binding()),
+                    ]
+                    .to_vec(),
+                )
+            };
+            each_face(
                 device,
                 &mut encoder,
-                &pipes.convolve,
-                &face_view(&irradiance, 0, face),
-                Some(params(face, 1, 0, 1.0, IRRADIANCE_FACE)),
-                &[(7, small.as_entire_binding())],
+                pipeline,
+                (&specular, level),
+                |face| params(face, 0, samples, roughness, side),
+                &resources,
             );
         }
+        each_face(
+            device,
+            &mut encoder,
+            &pipes.convolve,
+            (&irradiance, 0),
+            |face| params(face, 1, 0, 1.0, IRRADIANCE_FACE),
+            &[(7, small.as_entire_binding())],
+        );
         ctx.queue.submit([encoder.finish()]);
         let specular_view = cube_view(&specular, "environment specular cube");
         let irradiance_view = cube_view(&irradiance, "environment irradiance cube");

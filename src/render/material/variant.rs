@@ -13,7 +13,7 @@
 //!   pair; features are bits of a per-material uniform tested at run time and the
 //!   light count is read from the frame uniform.
 
-use std::fmt;
+use crate::render::cli_names::cli_names;
 use std::str::FromStr;
 
 pub use crate::shader::features::{texture_flag, ENGINE_FLAGS};
@@ -38,27 +38,11 @@ pub enum VariantMode {
     Branch,
 }
 
-impl VariantMode {
-    pub const ALL: [VariantMode; 3] = [
-        VariantMode::Preprocess,
-        VariantMode::Override,
-        VariantMode::Branch,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            VariantMode::Preprocess => "preprocess",
-            VariantMode::Override => "override",
-            VariantMode::Branch => "branch",
-        }
-    }
-}
-
-impl fmt::Display for VariantMode {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+cli_names!(VariantMode {
+    Preprocess => "preprocess",
+    Override => "override",
+    Branch => "branch",
+});
 
 impl FromStr for VariantMode {
     type Err = String;
@@ -101,14 +85,6 @@ impl VariantKey {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn modes_parse_and_print() {
-        for m in VariantMode::ALL {
-            assert_eq!(m.name().parse::<VariantMode>().unwrap(), m);
-        }
-        assert!("fast".parse::<VariantMode>().is_err());
-    }
 
     #[test]
     fn texture_flags_follow_the_paper() {

@@ -11,6 +11,7 @@ use super::panel::{self, ImageInput, Model, UiEvent};
 use super::panel_cache::PanelPaint;
 use super::present::{Placement, Shown};
 use crate::Fail;
+use fxgraph::gpu::fullscreen::begin_color_pass;
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
 
@@ -326,23 +327,8 @@ impl Viewer {
                         label: Some("viewer panel cache view"),
                         ..Default::default()
                     });
-                    let mut rp = encoder
-                        .begin_render_pass(&wgpu::RenderPassDescriptor {
-                            label: Some("viewer panel"),
-                            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                                view: &view,
-                                depth_slice: None,
-                                resolve_target: None,
-                                ops: wgpu::Operations {
-                                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                                    store: wgpu::StoreOp::Store,
-                                },
-                            })],
-                            depth_stencil_attachment: None,
-                            timestamp_writes: None,
-                            occlusion_query_set: None,
-                            multiview_mask: None,
-                        })
+                    let clear = wgpu::LoadOp::Clear(wgpu::Color::BLACK);
+                    let mut rp = begin_color_pass(&mut encoder, "viewer panel", &view, clear, None)
                         .forget_lifetime();
                     draw_egui(&mut rp);
                 }

@@ -7,6 +7,7 @@
 //! image) is drawn on the surface directly, every frame, as before.
 
 use egui::epaint::{ClippedPrimitive, Mesh, Primitive};
+use fxgraph::gpu::transfer::texture_2d;
 
 /// How the panel gets onto this frame.
 pub(super) enum PanelPaint {
@@ -93,20 +94,10 @@ impl PanelCache {
             .as_ref()
             .is_some_and(|t| (t.width(), t.height()) == size && t.format() == format);
         if !fits {
-            self.texture = Some(device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("viewer panel cache"),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            }));
+            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+            let label = "viewer panel cache";
+            self.texture =
+                Some(device.create_texture(&texture_2d(label, size, format, usage, &[])));
         }
         self.texture.as_ref().expect("made above")
     }

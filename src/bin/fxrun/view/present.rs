@@ -3,9 +3,11 @@
 //! (8-bit codes as stored, linear light with an exposure, data over a range) and
 //! the mark on clipped pixels.
 
+use fxgraph::gpu::bindings::{texture_entry, uniform_entry};
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::gpu::executor::{bgra_twin, wgpu_format};
-use fxgraph::gpu::transfer::create_output;
+use fxgraph::gpu::fullscreen::{begin_color_pass, fullscreen_pipeline};
+use fxgraph::gpu::transfer::{create_output, texture_2d};
 use fxgraph::script::types::Format;
 
 /// The texture format the window's copy of an output of `format` is in: the BGRA
@@ -33,26 +35,17 @@ pub(super) fn window_output(
     }
     // An sRGB output may be written through a raw view (as `create_output`'s).
     let raw = [wgpu::TextureFormat::Bgra8Unorm];
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("viewer output (BGRA)"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: tf,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: if tf == wgpu::TextureFormat::Bgra8UnormSrgb {
-            &raw
-        } else {
-            &[]
-        },
-    })
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | wgpu::TextureUsages::COPY_SRC
+        | wgpu::TextureUsages::TEXTURE_BINDING;
+    let view_formats: &[wgpu::TextureFormat] = if tf == wgpu::TextureFormat::Bgra8UnormSrgb {
+        &raw
+    } else {
+        &[]
+    };
+    let label = "viewer output (BGRA)";
+    ctx.device
+        .create_texture(&texture_2d(label, (width, height), tf, usage, view_formats))
 }
 
 /// How values are shown (the shader's `mode`).
@@ -186,63 +179,33 @@ impl Presenter {
             label: Some("viewer present"),
             source: wgpu::ShaderSource::Wgsl(include_str!("present.wgsl").into()),
         });
-        let tex = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let tex = |binding| {
+            texture_entry(
+                binding,
+                fragment,
+                unfilterable,
+                wgpu::TextureViewDimension::D2,
+            )
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("viewer present bind group layout"),
-            entries: &[
-                tex(0),
-                tex(1),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
+            entries: &[tex(0), tex(1), uniform_entry(2, fragment)],
         });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("viewer present pipeline layout"),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("viewer present pipeline"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: surface_format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = fullscreen_pipeline(
+            device,
+            "viewer present pipeline",
+            Some(&pl),
+            (&module, "vs_main"),
+            (&module, "fs_main"),
+            surface_format,
+        );
         let uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewer present uniforms"),
             size: std::mem::size_of::<ViewUniform>() as u64,
@@ -400,24 +363,7 @@ impl Presenter {
             a: 1.0,
         };
         let pass = |encoder: &mut wgpu::CommandEncoder, load| {
-            encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("viewer present"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                })
-                .forget_lifetime()
+            begin_color_pass(encoder, "viewer present", view, load, None).forget_lifetime()
         };
         let copy = if image {
             self.copy_region(place, split, surface)
