@@ -10,6 +10,7 @@
 //! sphere at [`TEXTURED_CENTRE`] whose material ([`textured`]) uses every core
 //! texture, `KHR_texture_transform`, `TEXCOORD_1` and `COLOR_0`.
 
+use fxgraph::scene::Camera;
 use glam::{Quat, Vec2, Vec3};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -35,6 +36,18 @@ pub const CAMERA_TARGET: Vec3 = Vec3::ZERO;
 pub const CAMERA_FOV_Y: f32 = std::f32::consts::FRAC_PI_4;
 pub const CAMERA_ZNEAR: f32 = 0.1;
 pub const CAMERA_ZFAR: f32 = 100.0;
+
+/// The file's camera as the renderer's [`Camera`].
+pub fn camera() -> Camera {
+    Camera {
+        eye: CAMERA_EYE,
+        target: CAMERA_TARGET,
+        up: Vec3::Y,
+        fov_y: CAMERA_FOV_Y,
+        near: CAMERA_ZNEAR,
+        far: CAMERA_ZFAR,
+    }
+}
 
 /// A metallic-roughness material of a sphere.
 #[derive(Debug, Clone, Copy, PartialEq)]
