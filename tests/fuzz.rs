@@ -33,9 +33,9 @@
 
 mod common;
 
+use common::compile::compile_file;
 use common::rng::Rng;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
-use fxgraph::graph::{compile, CompileRequest};
 use fxgraph::script::{Diagnostics, SourceMap};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -148,6 +148,37 @@ struct Target {
     check: Check,
 }
 
+impl Target {
+    /// A target whose check takes the mutated bytes.
+    fn of_bytes(
+        name: &'static str,
+        file: &'static str,
+        seeds: Vec<Vec<u8>>,
+        check: impl Fn(&[u8], &Path) -> Result<bool, String> + Send + Sync + 'static,
+    ) -> Target {
+        Target {
+            name,
+            seeds,
+            file,
+            reads_file: false,
+            check: Box::new(check),
+        }
+    }
+
+    /// A target whose check reads the mutated input from the file `file`.
+    fn of_file(
+        name: &'static str,
+        file: &'static str,
+        seeds: Vec<Vec<u8>>,
+        check: impl Fn(&[u8], &Path) -> Result<bool, String> + Send + Sync + 'static,
+    ) -> Target {
+        Target {
+            reads_file: true,
+            ..Target::of_bytes(name, file, seeds, check)
+        }
+    }
+}
+
 fn files(dir: &Path, ext: &[&str], max_bytes: u64) -> Vec<PathBuf> {
     let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
         .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
@@ -176,110 +207,93 @@ fn corpus() -> PathBuf {
     root().join("../shared/corpus")
 }
 
+/// The repository's files with the extension `ext` in the folders `dirs`, of
+/// 64 KiB at most: the seeds of a target.
+fn repository_seeds(dirs: &[&str], ext: &str) -> Vec<Vec<u8>> {
+    let paths: Vec<PathBuf> = dirs
+        .iter()
+        .flat_map(|d| files(&root().join(d), &[ext], 64 << 10))
+        .collect();
+    read_all(&paths)
+}
+
 /// Every diagnostic rendered; a finding when one holds a [`FORBIDDEN`] form.
 fn render_all(d: &Diagnostics, s: &SourceMap) -> Result<(), String> {
     rejected_with(&d.render(s)).map(|_| ())
 }
 
 fn script_target() -> Target {
-    let mut paths = files(&root().join("effects"), &["fx"], 64 << 10);
-    paths.extend(files(&root().join("tests/diagnostics"), &["fx"], 64 << 10));
-    Target {
-        name: "script",
-        seeds: read_all(&paths),
-        file: "fuzz.fx",
-        reads_file: true,
-        check: Box::new(|_, path| {
-            let (graph, diags, sources) = compile(&CompileRequest {
-                source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-                effects: vec![path.display().to_string()],
-                ..Default::default()
-            });
-            render_all(&diags, &sources)?;
-            let Some(g) = graph else { return Ok(false) };
-            if diags.has_errors() {
-                return Err("a graph came back with errors".into());
+    let seeds = repository_seeds(&["effects", "tests/diagnostics"], "fx");
+    Target::of_file("script", "fuzz.fx", seeds, |_, path| {
+        let (graph, diags, sources) = compile_file(path);
+        render_all(&diags, &sources)?;
+        let Some(g) = graph else { return Ok(false) };
+        if diags.has_errors() {
+            return Err("a graph came back with errors".into());
+        }
+        let input = InputDesc::rgba8_srgb(64, 48).with_aux(&fxgraph::render::published_aux(true));
+        match plan(&g, &input, &PlanOptions::default()) {
+            Ok((_, notes)) => render_all(&notes, &sources)?,
+            Err(d) => {
+                render_all(&d, &sources)?;
+                return Ok(false);
             }
-            let input =
-                InputDesc::rgba8_srgb(64, 48).with_aux(&fxgraph::render::published_aux(true));
-            match plan(&g, &input, &PlanOptions::default()) {
-                Ok((_, notes)) => render_all(&notes, &sources)?,
-                Err(d) => {
-                    render_all(&d, &sources)?;
-                    return Ok(false);
-                }
-            }
-            Ok(true)
-        }),
-    }
+        }
+        Ok(true)
+    })
 }
 
 fn wgsl_target() -> Target {
-    let paths = files(&root().join("shaders"), &["wgsl"], 64 << 10);
-    Target {
-        name: "wgsl",
-        seeds: read_all(&paths),
-        file: "fuzz.wgsl",
-        reads_file: false,
-        check: Box::new(|bytes, _| {
-            let text = String::from_utf8_lossy(bytes);
-            let mut sources = SourceMap::new();
-            let Ok((wgsl, _)) = fxgraph::shader::preprocess(&text, &[("N".into(), 3)]) else {
-                return Ok(false);
-            };
-            // As the loader: spans point into the preprocessed text.
-            let id = sources.add("fuzz.wgsl", wgsl.clone());
-            match fxgraph::shader::reflect(&wgsl, id) {
-                Ok(_) => Ok(true),
-                Err(ds) => {
-                    let mut d = Diagnostics::default();
-                    ds.into_iter().for_each(|x| d.push(x));
-                    render_all(&d, &sources)?;
-                    Ok(false)
-                }
+    let seeds = repository_seeds(&["shaders"], "wgsl");
+    Target::of_bytes("wgsl", "fuzz.wgsl", seeds, |bytes, _| {
+        let text = String::from_utf8_lossy(bytes);
+        let mut sources = SourceMap::new();
+        let Ok((wgsl, _)) = fxgraph::shader::preprocess(&text, &[("N".into(), 3)]) else {
+            return Ok(false);
+        };
+        // As the loader: spans point into the preprocessed text.
+        let id = sources.add("fuzz.wgsl", wgsl.clone());
+        match fxgraph::shader::reflect(&wgsl, id) {
+            Ok(_) => Ok(true),
+            Err(ds) => {
+                let mut d = Diagnostics::default();
+                ds.into_iter().for_each(|x| d.push(x));
+                render_all(&d, &sources)?;
+                Ok(false)
             }
-        }),
-    }
+        }
+    })
 }
 
 /// MATERIAL files: the repository's and the docs' example, loaded next to the
 /// docs' example shaders (`stripes.wgsl`, `wrap_lambert.wgsl`), as `--materials`.
 fn material_target() -> Target {
-    let mut paths = files(&root().join("materials"), &["fx"], 64 << 10);
-    paths.extend(files(&root().join("docs/examples"), &["fx"], 64 << 10));
-    Target {
-        name: "material",
-        seeds: read_all(&paths),
-        file: "fuzz.fx",
-        reads_file: false,
-        check: Box::new(|bytes, path| {
-            let text = String::from_utf8_lossy(bytes);
-            let dir = root().join("docs/examples");
-            match fxgraph::scene::material_file::load_materials(
-                &path.display().to_string(),
-                &text,
-                Some(&dir),
-                0,
-            ) {
-                Ok(_) => Ok(true),
-                Err(rendered) => rejected_with(&rendered),
-            }
-        }),
-    }
+    let seeds = repository_seeds(&["materials", "docs/examples"], "fx");
+    Target::of_bytes("material", "fuzz.fx", seeds, |bytes, path| {
+        let text = String::from_utf8_lossy(bytes);
+        let dir = root().join("docs/examples");
+        match fxgraph::scene::material_file::load_materials(
+            &path.display().to_string(),
+            &text,
+            Some(&dir),
+            0,
+        ) {
+            Ok(_) => Ok(true),
+            Err(rendered) => rejected_with(&rendered),
+        }
+    })
 }
 
 /// Material shaders (surface and lighting), with their `#include`s of the
 /// built-in library, checked as a user's file of that kind.
 fn material_wgsl_target() -> Target {
-    let mut paths = files(&root().join("shaders/materials"), &["wgsl"], 64 << 10);
-    paths.extend(files(&root().join("docs/examples"), &["wgsl"], 64 << 10));
-    Target {
-        name: "material-wgsl",
-        seeds: read_all(&paths),
-        file: "fuzz_material.wgsl",
-        // (Its `#include`s are looked up from the file's canonical path.)
-        reads_file: true,
-        check: Box::new(|bytes, path| {
+    let seeds = repository_seeds(&["shaders/materials", "docs/examples"], "wgsl");
+    // A file: its `#include`s are looked up from the file's canonical path.
+    Target::of_file(
+        "material-wgsl",
+        "fuzz_material.wgsl",
+        seeds,
+        |bytes, path| {
             use fxgraph::shader::{load_material_shader, MaterialShaderKind, ShaderFile};
             let text = String::from_utf8_lossy(bytes).into_owned();
             let kind = if text.contains("fn surface") {
@@ -300,39 +314,33 @@ fn material_wgsl_target() -> Target {
                     Ok(false)
                 }
             }
-        }),
-    }
+        },
+    )
 }
 
 fn image_target(name: &'static str, file: &'static str, seeds: Vec<Vec<u8>>) -> Target {
-    Target {
-        name,
-        seeds,
-        file,
-        reads_file: false,
-        check: Box::new(|bytes, path| {
-            // As the CLI: the header is probed (and its size checked) first.
-            let (w, h) = match fxgraph::io::image_dimensions(bytes, path) {
-                Ok(d) => d,
-                Err(e) => return rejected_with(&e.to_string()),
-            };
-            let img = match fxgraph::io::decode_image(bytes, path, &Default::default()) {
-                Ok(i) => i,
-                Err(e) => return rejected_with(&e.to_string()),
-            };
-            if (img.width, img.height) != (w, h) {
-                return Err(format!(
-                    "header says {w}x{h}, decoded {}x{}",
-                    img.width, img.height
-                ));
-            }
-            let want = img.width as usize * img.height as usize * 4;
-            if img.pixels.len() != want {
-                return Err(format!("{} samples for {w}x{h}", img.pixels.len()));
-            }
-            Ok(true)
-        }),
-    }
+    Target::of_bytes(name, file, seeds, |bytes, path| {
+        // As the CLI: the header is probed (and its size checked) first.
+        let (w, h) = match fxgraph::io::image_dimensions(bytes, path) {
+            Ok(d) => d,
+            Err(e) => return rejected_with(&e.to_string()),
+        };
+        let img = match fxgraph::io::decode_image(bytes, path, &Default::default()) {
+            Ok(i) => i,
+            Err(e) => return rejected_with(&e.to_string()),
+        };
+        if (img.width, img.height) != (w, h) {
+            return Err(format!(
+                "header says {w}x{h}, decoded {}x{}",
+                img.width, img.height
+            ));
+        }
+        let want = img.width as usize * img.height as usize * 4;
+        if img.pixels.len() != want {
+            return Err(format!("{} samples for {w}x{h}", img.pixels.len()));
+        }
+        Ok(true)
+    })
 }
 
 /// A small pattern saved in every format the library writes (seeds of the image
@@ -370,36 +378,30 @@ fn y4m_target() -> Target {
         }
         seeds.push(w.into_inner().unwrap());
     }
-    Target {
-        name: "y4m",
-        seeds,
-        file: "fuzz.y4m",
-        reads_file: false,
-        check: Box::new(|bytes, _| {
-            let mut r = match Y4mReader::new(bytes, "fuzz") {
-                Ok(r) => r,
-                Err(e) => return rejected_with(&e.to_string()),
-            };
-            let want = r.header().frame_bytes();
-            let mut frames = 0;
-            loop {
-                match r.next_frame() {
-                    Ok(Some(f)) => {
-                        let got = f.y.len() + f.u.len() + f.v.len();
-                        if got != want {
-                            return Err(format!("frame of {got} bytes, header says {want}"));
-                        }
-                        frames += 1;
-                        if frames * want > bytes.len() {
-                            return Err("more frames than the bytes hold".into());
-                        }
+    Target::of_bytes("y4m", "fuzz.y4m", seeds, |bytes, _| {
+        let mut r = match Y4mReader::new(bytes, "fuzz") {
+            Ok(r) => r,
+            Err(e) => return rejected_with(&e.to_string()),
+        };
+        let want = r.header().frame_bytes();
+        let mut frames = 0;
+        loop {
+            match r.next_frame() {
+                Ok(Some(f)) => {
+                    let got = f.y.len() + f.u.len() + f.v.len();
+                    if got != want {
+                        return Err(format!("frame of {got} bytes, header says {want}"));
                     }
-                    Ok(None) => return Ok(true),
-                    Err(e) => return rejected_with(&e.to_string()),
+                    frames += 1;
+                    if frames * want > bytes.len() {
+                        return Err("more frames than the bytes hold".into());
+                    }
                 }
+                Ok(None) => return Ok(true),
+                Err(e) => return rejected_with(&e.to_string()),
             }
-        }),
-    }
+        }
+    })
 }
 
 fn gltf_target() -> Target {
@@ -417,26 +419,20 @@ fn gltf_target() -> Target {
         paths.extend(files(&corpus().join(dir), &["gltf"], 64 << 10));
     }
     paths.retain(|p| p.exists());
-    Target {
-        name: "gltf",
-        seeds: read_all(&paths),
-        file: "fuzz.gltf",
-        reads_file: true,
-        check: Box::new(|bytes, path| {
-            // `.glb` when the bytes say so (the loader reads the magic).
-            let path = if bytes.starts_with(b"glTF") {
-                let glb = path.with_extension("glb");
-                std::fs::write(&glb, bytes).unwrap();
-                glb
-            } else {
-                path.to_path_buf()
-            };
-            match fxgraph::scene::gltf::load_gltf(&path) {
-                Ok(_) => Ok(true),
-                Err(e) => rejected_with(&e.to_string()),
-            }
-        }),
-    }
+    Target::of_file("gltf", "fuzz.gltf", read_all(&paths), |bytes, path| {
+        // `.glb` when the bytes say so (the loader reads the magic).
+        let path = if bytes.starts_with(b"glTF") {
+            let glb = path.with_extension("glb");
+            std::fs::write(&glb, bytes).unwrap();
+            glb
+        } else {
+            path.to_path_buf()
+        };
+        match fxgraph::scene::gltf::load_gltf(&path) {
+            Ok(_) => Ok(true),
+            Err(e) => rejected_with(&e.to_string()),
+        }
+    })
 }
 
 struct Outcome {
@@ -654,13 +650,7 @@ fn findings_stay_fixed() {
     .enumerate()
     {
         std::fs::write(&path, text).unwrap();
-        let r = catch_unwind(|| {
-            compile(&CompileRequest {
-                source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-                effects: vec![path.display().to_string()],
-                ..Default::default()
-            })
-        });
+        let r = catch_unwind(|| compile_file(&path));
         let (graph, diags, sources) = r.unwrap_or_else(|_| panic!("case {i} panicked"));
         assert!(graph.is_none(), "case {i} compiled");
         assert!(

@@ -4,6 +4,7 @@
 pub mod anim_gltf;
 pub mod brdf;
 pub mod cli;
+pub mod compile;
 pub mod display;
 pub mod gltf_gen;
 pub mod ibl;
