@@ -8,6 +8,7 @@
 mod common;
 
 use fxgraph::app::Effect;
+use fxgraph::gpu::context::GpuContext;
 use fxgraph::gpu::executor::{Engine, FrameInputs, Prepared};
 use fxgraph::gpu::transfer::{create_output, read_pixels, upload_image};
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
@@ -26,6 +27,14 @@ fn prepare(engine: &mut Engine, effect: &str, input: &InputDesc, out: Format) ->
         output_format: Some(out),
     };
     e.prepare_with(engine, input, &opts).unwrap()
+}
+
+/// The test pattern (`w` x `h`, 8-bit sRGB) uploaded as an input, and its
+/// description.
+fn pattern_input(ctx: &GpuContext, w: u32, h: u32) -> (wgpu::Texture, InputDesc) {
+    let img = common::pattern_u8(w, h);
+    let input = upload_image(ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
+    (input, InputDesc::rgba8_srgb(w, h))
 }
 
 /// Record one frame into an encoder of our own and submit it.
@@ -47,10 +56,8 @@ fn an_inspected_pass_equals_the_effect_up_to_it_and_changes_nothing_else() {
     let Some(mut engine) = common::engine() else {
         return;
     };
-    let img = common::pattern_u8(64, 48);
     let ctx = engine.ctx.clone();
-    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
-    let desc = InputDesc::rgba8_srgb(64, 48);
+    let (input, desc) = pattern_input(&ctx, 64, 48);
     let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
     let out = create_output(&ctx, 64, 48, Format::Rgba8Srgb);
     frame(&mut engine, &mut glow, &input, &out);
@@ -107,10 +114,8 @@ fn gpu_times_of_recorded_frames_come_back_without_a_stall() {
     let Some(mut engine) = common::engine() else {
         return;
     };
-    let img = common::pattern_u8(32, 32);
     let ctx = engine.ctx.clone();
-    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
-    let desc = InputDesc::rgba8_srgb(32, 32);
+    let (input, desc) = pattern_input(&ctx, 32, 32);
     let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
     let out = create_output(&ctx, 32, 32, Format::Rgba8Srgb);
     let on = glow.set_gpu_timings(&engine, true);
@@ -141,10 +146,8 @@ fn an_output_in_the_bgra_twin_format_holds_the_same_values() {
     let Some(mut engine) = common::engine() else {
         return;
     };
-    let img = common::pattern_u8(40, 24);
     let ctx = engine.ctx.clone();
-    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
-    let desc = InputDesc::rgba8_srgb(40, 24);
+    let (input, desc) = pattern_input(&ctx, 40, 24);
     for (out, effect) in [(Format::Rgba8Srgb, "glow"), (Format::Rgba8, "edges")] {
         let mut p = prepare(&mut engine, effect, &desc, out);
         let rgba = create_output(&ctx, 40, 24, out);
