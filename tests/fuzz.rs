@@ -137,6 +137,14 @@ fn rejected_with(message: &str) -> Result<bool, String> {
     }
 }
 
+/// How a target's check is given the mutated input: its bytes, or the file it
+/// reads; under this file name either way (its extension picks the parser), and a
+/// finding is replayed from a file of that name.
+enum Input {
+    Bytes(&'static str),
+    File(&'static str),
+}
+
 struct Target {
     name: &'static str,
     seeds: Vec<Vec<u8>>,
@@ -149,32 +157,22 @@ struct Target {
 }
 
 impl Target {
-    /// A target whose check takes the mutated bytes.
-    fn of_bytes(
+    fn new(
         name: &'static str,
-        file: &'static str,
+        input: Input,
         seeds: Vec<Vec<u8>>,
         check: impl Fn(&[u8], &Path) -> Result<bool, String> + Send + Sync + 'static,
     ) -> Target {
+        let (file, reads_file) = match input {
+            Input::Bytes(file) => (file, false),
+            Input::File(file) => (file, true),
+        };
         Target {
             name,
             seeds,
             file,
-            reads_file: false,
+            reads_file,
             check: Box::new(check),
-        }
-    }
-
-    /// A target whose check reads the mutated input from the file `file`.
-    fn of_file(
-        name: &'static str,
-        file: &'static str,
-        seeds: Vec<Vec<u8>>,
-        check: impl Fn(&[u8], &Path) -> Result<bool, String> + Send + Sync + 'static,
-    ) -> Target {
-        Target {
-            reads_file: true,
-            ..Target::of_bytes(name, file, seeds, check)
         }
     }
 }
@@ -224,7 +222,7 @@ fn render_all(d: &Diagnostics, s: &SourceMap) -> Result<(), String> {
 
 fn script_target() -> Target {
     let seeds = repository_seeds(&["effects", "tests/diagnostics"], "fx");
-    Target::of_file("script", "fuzz.fx", seeds, |_, path| {
+    Target::new("script", Input::File("fuzz.fx"), seeds, |_, path| {
         let (graph, diags, sources) = compile_file(path);
         render_all(&diags, &sources)?;
         let Some(g) = graph else { return Ok(false) };
@@ -245,7 +243,7 @@ fn script_target() -> Target {
 
 fn wgsl_target() -> Target {
     let seeds = repository_seeds(&["shaders"], "wgsl");
-    Target::of_bytes("wgsl", "fuzz.wgsl", seeds, |bytes, _| {
+    Target::new("wgsl", Input::Bytes("fuzz.wgsl"), seeds, |bytes, _| {
         let text = String::from_utf8_lossy(bytes);
         let mut sources = SourceMap::new();
         let Ok((wgsl, _)) = fxgraph::shader::preprocess(&text, &[("N".into(), 3)]) else {
@@ -269,7 +267,7 @@ fn wgsl_target() -> Target {
 /// docs' example shaders (`stripes.wgsl`, `wrap_lambert.wgsl`), as `--materials`.
 fn material_target() -> Target {
     let seeds = repository_seeds(&["materials", "docs/examples"], "fx");
-    Target::of_bytes("material", "fuzz.fx", seeds, |bytes, path| {
+    Target::new("material", Input::Bytes("fuzz.fx"), seeds, |bytes, path| {
         let text = String::from_utf8_lossy(bytes);
         let dir = root().join("docs/examples");
         match fxgraph::scene::material_file::load_materials(
@@ -289,37 +287,33 @@ fn material_target() -> Target {
 fn material_wgsl_target() -> Target {
     let seeds = repository_seeds(&["shaders/materials", "docs/examples"], "wgsl");
     // A file: its `#include`s are looked up from the file's canonical path.
-    Target::of_file(
-        "material-wgsl",
-        "fuzz_material.wgsl",
-        seeds,
-        |bytes, path| {
-            use fxgraph::shader::{load_material_shader, MaterialShaderKind, ShaderFile};
-            let text = String::from_utf8_lossy(bytes).into_owned();
-            let kind = if text.contains("fn surface") {
-                MaterialShaderKind::Surface
-            } else {
-                MaterialShaderKind::Lighting
-            };
-            let file = ShaderFile {
-                shown: path.display().to_string(),
-                text,
-                path: Some(path.to_path_buf()),
-            };
-            let mut sources = SourceMap::new();
-            match load_material_shader(kind, "fuzz_material", file, &mut sources) {
-                Ok(_) => Ok(true),
-                Err(list) => {
-                    render_all(&Diagnostics { list }, &sources)?;
-                    Ok(false)
-                }
+    let input = Input::File("fuzz_material.wgsl");
+    Target::new("material-wgsl", input, seeds, |bytes, path| {
+        use fxgraph::shader::{load_material_shader, MaterialShaderKind, ShaderFile};
+        let text = String::from_utf8_lossy(bytes).into_owned();
+        let kind = if text.contains("fn surface") {
+            MaterialShaderKind::Surface
+        } else {
+            MaterialShaderKind::Lighting
+        };
+        let file = ShaderFile {
+            shown: path.display().to_string(),
+            text,
+            path: Some(path.to_path_buf()),
+        };
+        let mut sources = SourceMap::new();
+        match load_material_shader(kind, "fuzz_material", file, &mut sources) {
+            Ok(_) => Ok(true),
+            Err(list) => {
+                render_all(&Diagnostics { list }, &sources)?;
+                Ok(false)
             }
-        },
-    )
+        }
+    })
 }
 
 fn image_target(name: &'static str, file: &'static str, seeds: Vec<Vec<u8>>) -> Target {
-    Target::of_bytes(name, file, seeds, |bytes, path| {
+    Target::new(name, Input::Bytes(file), seeds, |bytes, path| {
         // As the CLI: the header is probed (and its size checked) first.
         let (w, h) = match fxgraph::io::image_dimensions(bytes, path) {
             Ok(d) => d,
@@ -378,7 +372,7 @@ fn y4m_target() -> Target {
         }
         seeds.push(w.into_inner().unwrap());
     }
-    Target::of_bytes("y4m", "fuzz.y4m", seeds, |bytes, _| {
+    Target::new("y4m", Input::Bytes("fuzz.y4m"), seeds, |bytes, _| {
         let mut r = match Y4mReader::new(bytes, "fuzz") {
             Ok(r) => r,
             Err(e) => return rejected_with(&e.to_string()),
@@ -419,7 +413,8 @@ fn gltf_target() -> Target {
         paths.extend(files(&corpus().join(dir), &["gltf"], 64 << 10));
     }
     paths.retain(|p| p.exists());
-    Target::of_file("gltf", "fuzz.gltf", read_all(&paths), |bytes, path| {
+    let seeds = read_all(&paths);
+    Target::new("gltf", Input::File("fuzz.gltf"), seeds, |bytes, path| {
         // `.glb` when the bytes say so (the loader reads the magic).
         let path = if bytes.starts_with(b"glTF") {
             let glb = path.with_extension("glb");
