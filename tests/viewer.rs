@@ -13,16 +13,17 @@ mod common;
 
 use common::cli::{stdout, write};
 use common::viewer::{
-    assert_same_image, diff_u8, normal, photo, pixels, scripted, setup, tempdir, view, view_shot,
+    assert_same_image, diff_u8, normal, photo, pixels, scripted, setup, setup_with_photo, tempdir,
+    view, view_shot,
 };
 use fxgraph::io::Pixels;
 use std::path::Path;
 
 #[test]
 fn image_screenshot_equals_a_normal_run() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     normal(dir.path(), &["glow", "-i", "in.png", "-o", "n.png"]);
     view_shot(&d, dir.path(), &["glow", "-i", "in.png"], 2, &[], "v.png");
     assert_same_image(&dir.path().join("v.png"), &dir.path().join("n.png"));
@@ -192,9 +193,9 @@ fn a_scene_without_size_follows_the_window_and_is_planned_again() {
 
 #[test]
 fn a_parameter_set_as_the_panel_does_changes_the_next_frame_as_set_would() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     // A pass parameter (set_param), an effect parameter feeding a uniform (applied
     // as set_param) and one that changes a #define (planned again).
     let cases: [(&str, &str, &str); 3] = [
@@ -249,9 +250,9 @@ fn a_parameter_set_as_the_panel_does_changes_the_next_frame_as_set_would() {
 
 #[test]
 fn the_inspected_pass_equals_a_run_of_the_effect_up_to_that_pass() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     write(
         dir.path(),
         "upto.fx",

@@ -15,16 +15,16 @@ use common::cli::{code, stderr, write};
 use common::display::{fxrun_view, grab_screen, window_names};
 use common::viewer::{
     assert_same_image, image_rect, normal, photo, pixels, region_psnr, scaling_effect, screen_psnr,
-    scripted, setup, tempdir, view_with_edit, write_scale_shader, Running,
+    scripted, setup_with_photo, tempdir, view_with_edit, write_scale_shader, Running,
 };
 use fxgraph::io::Pixels;
 use std::time::{Duration, Instant};
 
 #[test]
 fn a_reload_shows_the_edited_shader_and_a_broken_one_keeps_the_last_image() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     scaling_effect(dir.path(), "0.5");
     normal(dir.path(), &["k.fx", "-i", "in.png", "-o", "half.png"]);
     let (status, err) = view_with_edit(&d, dir.path(), "edited.png", "c.rgb * 0.25");
@@ -51,9 +51,9 @@ fn a_reload_shows_the_edited_shader_and_a_broken_one_keeps_the_last_image() {
 
 #[test]
 fn the_x_display_shows_the_output_in_the_window() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     normal(dir.path(), &["glow", "-i", "in.png", "-o", "n.png"]);
     // Panel hidden, 1:1 pixels, paused after frame 2.
     let glow = ["glow", "-i", "in.png"];
@@ -115,9 +115,9 @@ fn the_x_display_shows_the_output_in_the_window() {
 
 #[test]
 fn errors_are_refused_at_the_start_and_shown_in_the_window_after_a_reload() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     write(
         dir.path(),
         "bad.fx",

@@ -25,6 +25,19 @@ pub fn setup() -> Option<(
     Some((d, gpu))
 }
 
+/// [`setup`] and a folder holding the test [`photo`] `in.png`: the display, the
+/// engine's lock and the folder, or `None` (skipped).
+pub fn setup_with_photo() -> Option<(
+    String,
+    std::sync::MutexGuard<'static, fxgraph::gpu::executor::Engine>,
+    tempfile::TempDir,
+)> {
+    let (d, gpu) = setup()?;
+    let dir = tempdir();
+    photo(dir.path(), "in.png");
+    Some((d, gpu, dir))
+}
+
 pub fn tempdir() -> tempfile::TempDir {
     tempfile::tempdir().unwrap()
 }
