@@ -130,6 +130,12 @@ pub fn pattern_u8(w: u32, h: u32) -> Image {
     })
 }
 
+/// The words of `line` (split at spaces): `--set` arguments written as one line,
+/// `"amount=1 sigma=2"`.
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
+
 /// What [`run`] returns: the output's width, height and pixels.
 pub type Ran = Result<(u32, u32, Pixels), RunError>;
 
