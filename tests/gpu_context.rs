@@ -292,29 +292,15 @@ fn scoped_turns_validation_errors_into_err() {
 #[test]
 fn upload_and_readback_report_bad_input() {
     let ctx = context_or_skip!();
-    let short = upload(
-        ctx,
-        "short data",
-        (4, 4),
-        wgpu::TextureFormat::Rgba8Unorm,
-        &[0; 10],
-    );
+    use wgpu::TextureFormat::{Depth32Float, Rgba8Unorm};
+    let short = upload(ctx, "short data", (4, 4), Rgba8Unorm, &[0; 10]);
     assert!(
         matches!(short, Err(GpuError::Validation { .. })),
         "{short:?}"
     );
-
-    let depth = upload(
-        ctx,
-        "depth",
-        (4, 4),
-        wgpu::TextureFormat::Depth32Float,
-        &[0; 64],
-    );
-    assert!(
-        matches!(depth, Err(GpuError::UnsupportedFormat { .. })),
-        "{depth:?}"
-    );
+    let depth = upload(ctx, "depth", (4, 4), Depth32Float, &[0; 64]);
+    let unsupported = matches!(depth, Err(GpuError::UnsupportedFormat { .. }));
+    assert!(unsupported, "{depth:?}");
 
     let usage = wgpu::TextureUsages::TEXTURE_BINDING;
     let no_copy_src = rgba8_texture(&ctx.device, "no copy src", (4, 4), usage);

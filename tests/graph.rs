@@ -45,6 +45,13 @@ fn clean(effects: &[String], sets: &[&str]) -> Graph {
     g.unwrap()
 }
 
+/// The effect file `name` holding `text`, compiled with the `--set` arguments
+/// `sets`: a graph without any diagnostic.
+fn clean_file(name: &str, text: &str, sets: &[&str]) -> Graph {
+    let dir = tempfile::tempdir().unwrap();
+    clean(&[write(&dir, name, text).display().to_string()], sets)
+}
+
 fn compile_text(text: &str) -> (Option<Graph>, Diagnostics, SourceMap) {
     let dir = tempfile::tempdir().unwrap();
     compile_file(&write(&dir, "t.fx", text))
@@ -154,9 +161,7 @@ fn temporal_inputs_set_latency_and_history() {
 
 #[test]
 fn nested_effects_expand_in_their_namespace_with_their_parameters() {
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(
-        &dir,
+    let g = clean_file(
         "outer.fx",
         "EFFECT.inner = {
             PARAM = { k = FLOAT { DEFAULT = 1  RANGE = (0, 10) } }
@@ -172,8 +177,8 @@ fn nested_effects_expand_in_their_namespace_with_their_parameters() {
             }
             OUT = c
         }",
+        &["strength=7"],
     );
-    let g = clean(&[p.display().to_string()], &["strength=7"]);
     assert_eq!(names(&g), ["outer/a/x", "outer/b/x", "outer/c"]);
     let k: Vec<f64> = g.schedule[..2]
         .iter()
@@ -416,13 +421,11 @@ proptest! {
 /// parameter only (not a pass parameter `k` of pass `e`).
 #[test]
 fn effect_parameter_override_is_not_also_a_pass_override() {
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(
-        &dir,
+    let g = clean_file(
         "e.fx",
         "EFFECT.e = { PARAM = { mode = ENUM { VALUES = (a, b)  DEFAULT = a } } PASS = { e = SHADER.s { img = IN  m = PARAM.mode } } OUT = e }",
+        &["e.mode=b"],
     );
-    let g = clean(&[p.display().to_string()], &["e.mode=b"]);
     let pass = g.pass(g.schedule[0]);
     assert_eq!(pass.params.len(), 1);
     assert_eq!(

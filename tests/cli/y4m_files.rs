@@ -33,6 +33,18 @@ fn frame_420(
     ]
 }
 
+/// `n` 4:2:0 frames of [`frame_420`]: frame `i` has the luma `y(i, x, y)`.
+fn frames_420(
+    n: usize,
+    (w, h): (usize, usize),
+    (cb, cr): (u16, u16),
+    y: impl Fn(usize, usize, usize) -> u16,
+) -> Vec<Vec<Vec<u16>>> {
+    (0..n)
+        .map(|i| frame_420(w, h, cb, cr, |px, py| y(i, px, py)))
+        .collect()
+}
+
 /// `fxrun LINE` in `d` (expected to succeed), then the y4m file it wrote (`-o OUT`):
 /// its header line and frames of `samples` samples at `depth` bits.
 fn run_read(d: &Path, line: &str, depth: u8, samples: usize) -> (String, Vec<Vec<u16>>) {
@@ -61,13 +73,9 @@ fn an_8bit_file_round_trip_equals_the_pipe() {
     let Some(dir) = setup() else { return };
     let d = dir.path();
     let (w, h) = (64, 48);
-    let frames: Vec<_> = (0..4)
-        .map(|i| {
-            frame_420(w, h, 120, 136, |x, y| {
-                (40 + (x * 3 + y * 2 + i * 5) % 180) as u16
-            })
-        })
-        .collect();
+    let frames = frames_420(4, (w, h), (120, 136), |i, x, y| {
+        (40 + (x * 3 + y * 2 + i * 5) % 180) as u16
+    });
     let input = y4m("W64 H48 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
     let o = fxrun_line_in(d, "id.fx -i in.y4m -o out.y4m");
@@ -100,14 +108,10 @@ fn deinterlace_reads_and_writes_y4m_files() {
     let d = dir.path();
     let (w, h) = (64, 48);
     // Top field (even rows) and bottom field (odd rows) of a moving ramp.
-    let frames: Vec<_> = (0..4)
-        .map(|i| {
-            frame_420(w, h, 128, 128, |x, y| {
-                let shift = if y % 2 == 0 { 2 * i } else { 2 * i + 1 };
-                (30 + ((x + shift) * 3) % 190) as u16
-            })
-        })
-        .collect();
+    let frames = frames_420(4, (w, h), (128, 128), |i, x, y| {
+        let shift = if y % 2 == 0 { 2 * i } else { 2 * i + 1 };
+        (30 + ((x + shift) * 3) % 190) as u16
+    });
     let input = y4m("W64 H48 F25:1 It A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
     let (header, got) = run_read(d, "deinterlace -i in.y4m -o out.y4m", 8, samples_420(w, h));
@@ -147,9 +151,7 @@ fn deinterlace_reads_and_writes_y4m_files() {
 fn a_failed_run_keeps_the_existing_output() {
     let Some(dir) = setup() else { return };
     let d = dir.path();
-    let frames: Vec<_> = (0..3)
-        .map(|i| frame_420(32, 16, 128, 128, |x, _| (40 + x + i) as u16))
-        .collect();
+    let frames = frames_420(3, (32, 16), (128, 128), |i, x, _| (40 + x + i) as u16);
     let mut input = y4m("W32 H16 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     input.truncate(input.len() - 100);
     std::fs::write(d.join("cut.y4m"), &input).unwrap();
