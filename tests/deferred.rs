@@ -8,15 +8,15 @@ mod common;
 
 use common::gpu_context as gpu;
 use common::renders::{rgb_psnr, save_rgb_review};
-use common::scenes::opaque_room;
+use common::scenes::{one_object, opaque_room};
 
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::normal::{self, NormalEncoding};
 use fxgraph::render::renderer::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
 use fxgraph::render::{RenderOutput, RenderStats, Renderer, RendererOptions, Technique};
-use fxgraph::scene::builtin::{box_mesh, grid_plane};
-use fxgraph::scene::{Camera, Instance, Light, Material, Scene};
+use fxgraph::scene::builtin::{box_mesh, grid_plane, uv_sphere};
+use fxgraph::scene::{Camera, Light, Material, Scene};
 use glam::{Mat4, Vec3};
 use std::path::PathBuf;
 
@@ -262,8 +262,10 @@ fn techniques_render_the_same_opaque_room() {
     }
 }
 
-#[test]
-fn light_outside_the_frustum_changes_nothing() {
+/// Renders the opaque room from its default camera with every technique, without
+/// and with the light `extra(camera)`: the image is the same, and the light is
+/// among the visible ones (after culling) if and only if `visible`.
+fn assert_light_changes_nothing(extra: impl Fn(&Camera) -> Light, visible: bool) {
     let Some(ctx) = gpu() else { return };
     let scene = opaque_room();
     let camera = scene.default_camera();
@@ -271,38 +273,35 @@ fn light_outside_the_frustum_changes_nothing() {
     for t in Technique::ALL {
         let (before, _, s0) = render(&ctx, &mut r, &camera, t);
         let mut lights = scene.lights.clone();
-        // behind the camera, radius 2: the sphere is entirely outside the frustum
-        lights.push(Light::point(
-            camera.eye + (camera.eye - camera.target).normalize() * 3.0,
-            Vec3::ONE,
-            5.0,
-            2.0,
-        ));
+        lights.push(extra(&camera));
         r.set_lights(lights);
         let (after, _, s1) = render(&ctx, &mut r, &camera, t);
         r.set_lights(scene.lights.clone());
-        assert_eq!(s1.lights_visible, s0.lights_visible, "{t}: not culled");
+        let culled = if visible { "culled" } else { "not culled" };
+        assert_eq!(
+            s1.lights_visible,
+            s0.lights_visible + visible as usize,
+            "{t}: {culled}"
+        );
         assert!(before == after, "{t}: the image changed");
     }
 }
 
 #[test]
+fn light_outside_the_frustum_changes_nothing() {
+    // behind the camera, radius 2: the sphere is entirely outside the frustum
+    let behind = |camera: &Camera| {
+        let eye = camera.eye + (camera.eye - camera.target).normalize() * 3.0;
+        Light::point(eye, Vec3::ONE, 5.0, 2.0)
+    };
+    assert_light_changes_nothing(behind, false);
+}
+
+#[test]
 fn light_volume_without_geometry_changes_nothing() {
-    let Some(ctx) = gpu() else { return };
-    let scene = opaque_room();
-    let camera = scene.default_camera();
-    let mut r = Renderer::new(&ctx, &scene, &RendererOptions::default()).unwrap();
-    for t in Technique::ALL {
-        let (before, _, s0) = render(&ctx, &mut r, &camera, t);
-        let mut lights = scene.lights.clone();
-        // in the air in front of the camera, 3 units from the nearest surface
-        lights.push(Light::point(Vec3::new(0.0, 3.0, 6.0), Vec3::ONE, 5.0, 0.5));
-        r.set_lights(lights);
-        let (after, _, s1) = render(&ctx, &mut r, &camera, t);
-        r.set_lights(scene.lights.clone());
-        assert_eq!(s1.lights_visible, s0.lights_visible + 1, "{t}: culled");
-        assert!(before == after, "{t}: the image changed");
-    }
+    // in the air in front of the camera, 3 units from the nearest surface
+    let in_the_air = |_: &Camera| Light::point(Vec3::new(0.0, 3.0, 6.0), Vec3::ONE, 5.0, 0.5);
+    assert_light_changes_nothing(in_the_air, true);
 }
 
 #[test]
@@ -349,24 +348,12 @@ fn camera_inside_a_light_volume_still_lights() {
 fn depth_aux_is_the_linear_depth_of_a_plane() {
     let Some(ctx) = gpu() else { return };
     let distance = 5.0;
-    let mut scene = Scene {
-        name: "plane test".into(),
-        ..Default::default()
-    };
-    scene.meshes.push(grid_plane(4));
-    scene
-        .materials
-        .push(Material::phong("grey", Vec3::splat(0.5), 0.5, 32.0));
     // the XZ plane rotated to face +Z, at z = -distance, much larger than the view
-    scene.instances.push(Instance {
-        name: "wall".into(),
-        mesh: 0,
-        material: 0,
-        transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -distance))
-            * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
-            * Mat4::from_scale(Vec3::splat(100.0)),
-        ..Default::default()
-    });
+    let wall = Mat4::from_translation(Vec3::new(0.0, 0.0, -distance))
+        * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+        * Mat4::from_scale(Vec3::splat(100.0));
+    let grey = Material::phong("grey", Vec3::splat(0.5), 0.5, 32.0);
+    let mut scene = one_object("plane test", "wall", grid_plane(4), grey, wall);
     scene.ensure_lights();
     let camera = Camera {
         eye: Vec3::ZERO,
@@ -444,23 +431,8 @@ fn normal_encodings_agree_through_the_gpu() {
     // A sphere filling the view: the G-buffer normal decoded by the resolve pass
     // against the same scene rendered with the other encoding and the forward
     // technique (which writes the same target from unencoded normals).
-    let mut scene = Scene {
-        name: "sphere".into(),
-        ..Default::default()
-    };
-    scene
-        .meshes
-        .push(fxgraph::scene::builtin::uv_sphere(64, 32));
-    scene
-        .materials
-        .push(Material::phong("white", Vec3::ONE, 0.5, 32.0));
-    scene.instances.push(Instance {
-        name: "sphere".into(),
-        mesh: 0,
-        material: 0,
-        transform: Mat4::IDENTITY,
-        ..Default::default()
-    });
+    let white = Material::phong("white", Vec3::ONE, 0.5, 32.0);
+    let mut scene = one_object("sphere", "sphere", uv_sphere(64, 32), white, Mat4::IDENTITY);
     scene.ensure_lights();
     let camera = Camera::parse_spec("eye=0,0,2.2;target=0,0,0;fov=60", &scene).unwrap();
     let mut results = Vec::new();
@@ -532,21 +504,14 @@ fn gbuffer_files_are_written() {
 #[test]
 fn default_light_makes_an_unlit_scene_visible() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = Scene {
-        name: "unlit box".into(),
-        ..Default::default()
-    };
-    scene.meshes.push(box_mesh(Vec3::ONE));
-    scene
-        .materials
-        .push(Material::phong("grey", Vec3::splat(0.7), 0.2, 16.0));
-    scene.instances.push(Instance {
-        name: "box".into(),
-        mesh: 0,
-        material: 0,
-        transform: Mat4::IDENTITY,
-        ..Default::default()
-    });
+    let grey = Material::phong("grey", Vec3::splat(0.7), 0.2, 16.0);
+    let mut scene = one_object(
+        "unlit box",
+        "box",
+        box_mesh(Vec3::ONE),
+        grey,
+        Mat4::IDENTITY,
+    );
     assert!(scene.lights.is_empty());
     scene.ensure_lights();
     let camera = scene.default_camera();

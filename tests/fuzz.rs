@@ -33,9 +33,9 @@
 
 mod common;
 
+use common::compile::compile_file;
 use common::rng::Rng;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
-use fxgraph::graph::{compile, CompileRequest};
 use fxgraph::script::{Diagnostics, SourceMap};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -137,6 +137,14 @@ fn rejected_with(message: &str) -> Result<bool, String> {
     }
 }
 
+/// How a target's check is given the mutated input: its bytes, or the file it
+/// reads; under this file name either way (its extension picks the parser), and a
+/// finding is replayed from a file of that name.
+enum Input {
+    Bytes(&'static str),
+    File(&'static str),
+}
+
 struct Target {
     name: &'static str,
     seeds: Vec<Vec<u8>>,
@@ -146,6 +154,27 @@ struct Target {
     /// file is written only for a finding to be replayed).
     reads_file: bool,
     check: Check,
+}
+
+impl Target {
+    fn new(
+        name: &'static str,
+        input: Input,
+        seeds: Vec<Vec<u8>>,
+        check: impl Fn(&[u8], &Path) -> Result<bool, String> + Send + Sync + 'static,
+    ) -> Target {
+        let (file, reads_file) = match input {
+            Input::Bytes(file) => (file, false),
+            Input::File(file) => (file, true),
+        };
+        Target {
+            name,
+            seeds,
+            file,
+            reads_file,
+            check: Box::new(check),
+        }
+    }
 }
 
 fn files(dir: &Path, ext: &[&str], max_bytes: u64) -> Vec<PathBuf> {
@@ -176,163 +205,136 @@ fn corpus() -> PathBuf {
     root().join("../shared/corpus")
 }
 
+/// The repository's files with the extension `ext` in the folders `dirs`, of
+/// 64 KiB at most: the seeds of a target.
+fn repository_seeds(dirs: &[&str], ext: &str) -> Vec<Vec<u8>> {
+    let paths: Vec<PathBuf> = dirs
+        .iter()
+        .flat_map(|d| files(&root().join(d), &[ext], 64 << 10))
+        .collect();
+    read_all(&paths)
+}
+
 /// Every diagnostic rendered; a finding when one holds a [`FORBIDDEN`] form.
 fn render_all(d: &Diagnostics, s: &SourceMap) -> Result<(), String> {
     rejected_with(&d.render(s)).map(|_| ())
 }
 
 fn script_target() -> Target {
-    let mut paths = files(&root().join("effects"), &["fx"], 64 << 10);
-    paths.extend(files(&root().join("tests/diagnostics"), &["fx"], 64 << 10));
-    Target {
-        name: "script",
-        seeds: read_all(&paths),
-        file: "fuzz.fx",
-        reads_file: true,
-        check: Box::new(|_, path| {
-            let (graph, diags, sources) = compile(&CompileRequest {
-                source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-                effects: vec![path.display().to_string()],
-                ..Default::default()
-            });
-            render_all(&diags, &sources)?;
-            let Some(g) = graph else { return Ok(false) };
-            if diags.has_errors() {
-                return Err("a graph came back with errors".into());
+    let seeds = repository_seeds(&["effects", "tests/diagnostics"], "fx");
+    Target::new("script", Input::File("fuzz.fx"), seeds, |_, path| {
+        let (graph, diags, sources) = compile_file(path);
+        render_all(&diags, &sources)?;
+        let Some(g) = graph else { return Ok(false) };
+        if diags.has_errors() {
+            return Err("a graph came back with errors".into());
+        }
+        let input = InputDesc::rgba8_srgb(64, 48).with_aux(&fxgraph::render::published_aux(true));
+        match plan(&g, &input, &PlanOptions::default()) {
+            Ok((_, notes)) => render_all(&notes, &sources)?,
+            Err(d) => {
+                render_all(&d, &sources)?;
+                return Ok(false);
             }
-            let input =
-                InputDesc::rgba8_srgb(64, 48).with_aux(&fxgraph::render::published_aux(true));
-            match plan(&g, &input, &PlanOptions::default()) {
-                Ok((_, notes)) => render_all(&notes, &sources)?,
-                Err(d) => {
-                    render_all(&d, &sources)?;
-                    return Ok(false);
-                }
-            }
-            Ok(true)
-        }),
-    }
+        }
+        Ok(true)
+    })
 }
 
 fn wgsl_target() -> Target {
-    let paths = files(&root().join("shaders"), &["wgsl"], 64 << 10);
-    Target {
-        name: "wgsl",
-        seeds: read_all(&paths),
-        file: "fuzz.wgsl",
-        reads_file: false,
-        check: Box::new(|bytes, _| {
-            let text = String::from_utf8_lossy(bytes);
-            let mut sources = SourceMap::new();
-            let Ok((wgsl, _)) = fxgraph::shader::preprocess(&text, &[("N".into(), 3)]) else {
-                return Ok(false);
-            };
-            // As the loader: spans point into the preprocessed text.
-            let id = sources.add("fuzz.wgsl", wgsl.clone());
-            match fxgraph::shader::reflect(&wgsl, id) {
-                Ok(_) => Ok(true),
-                Err(ds) => {
-                    let mut d = Diagnostics::default();
-                    ds.into_iter().for_each(|x| d.push(x));
-                    render_all(&d, &sources)?;
-                    Ok(false)
-                }
+    let seeds = repository_seeds(&["shaders"], "wgsl");
+    Target::new("wgsl", Input::Bytes("fuzz.wgsl"), seeds, |bytes, _| {
+        let text = String::from_utf8_lossy(bytes);
+        let mut sources = SourceMap::new();
+        let Ok((wgsl, _)) = fxgraph::shader::preprocess(&text, &[("N".into(), 3)]) else {
+            return Ok(false);
+        };
+        // As the loader: spans point into the preprocessed text.
+        let id = sources.add("fuzz.wgsl", wgsl.clone());
+        match fxgraph::shader::reflect(&wgsl, id) {
+            Ok(_) => Ok(true),
+            Err(ds) => {
+                let mut d = Diagnostics::default();
+                ds.into_iter().for_each(|x| d.push(x));
+                render_all(&d, &sources)?;
+                Ok(false)
             }
-        }),
-    }
+        }
+    })
 }
 
 /// MATERIAL files: the repository's and the docs' example, loaded next to the
 /// docs' example shaders (`stripes.wgsl`, `wrap_lambert.wgsl`), as `--materials`.
 fn material_target() -> Target {
-    let mut paths = files(&root().join("materials"), &["fx"], 64 << 10);
-    paths.extend(files(&root().join("docs/examples"), &["fx"], 64 << 10));
-    Target {
-        name: "material",
-        seeds: read_all(&paths),
-        file: "fuzz.fx",
-        reads_file: false,
-        check: Box::new(|bytes, path| {
-            let text = String::from_utf8_lossy(bytes);
-            let dir = root().join("docs/examples");
-            match fxgraph::scene::material_file::load_materials(
-                &path.display().to_string(),
-                &text,
-                Some(&dir),
-                0,
-            ) {
-                Ok(_) => Ok(true),
-                Err(rendered) => rejected_with(&rendered),
-            }
-        }),
-    }
+    let seeds = repository_seeds(&["materials", "docs/examples"], "fx");
+    Target::new("material", Input::Bytes("fuzz.fx"), seeds, |bytes, path| {
+        let text = String::from_utf8_lossy(bytes);
+        let dir = root().join("docs/examples");
+        match fxgraph::scene::material_file::load_materials(
+            &path.display().to_string(),
+            &text,
+            Some(&dir),
+            0,
+        ) {
+            Ok(_) => Ok(true),
+            Err(rendered) => rejected_with(&rendered),
+        }
+    })
 }
 
 /// Material shaders (surface and lighting), with their `#include`s of the
 /// built-in library, checked as a user's file of that kind.
 fn material_wgsl_target() -> Target {
-    let mut paths = files(&root().join("shaders/materials"), &["wgsl"], 64 << 10);
-    paths.extend(files(&root().join("docs/examples"), &["wgsl"], 64 << 10));
-    Target {
-        name: "material-wgsl",
-        seeds: read_all(&paths),
-        file: "fuzz_material.wgsl",
-        // (Its `#include`s are looked up from the file's canonical path.)
-        reads_file: true,
-        check: Box::new(|bytes, path| {
-            use fxgraph::shader::{load_material_shader, MaterialShaderKind, ShaderFile};
-            let text = String::from_utf8_lossy(bytes).into_owned();
-            let kind = if text.contains("fn surface") {
-                MaterialShaderKind::Surface
-            } else {
-                MaterialShaderKind::Lighting
-            };
-            let file = ShaderFile {
-                shown: path.display().to_string(),
-                text,
-                path: Some(path.to_path_buf()),
-            };
-            let mut sources = SourceMap::new();
-            match load_material_shader(kind, "fuzz_material", file, &mut sources) {
-                Ok(_) => Ok(true),
-                Err(list) => {
-                    render_all(&Diagnostics { list }, &sources)?;
-                    Ok(false)
-                }
+    let seeds = repository_seeds(&["shaders/materials", "docs/examples"], "wgsl");
+    // A file: its `#include`s are looked up from the file's canonical path.
+    let input = Input::File("fuzz_material.wgsl");
+    Target::new("material-wgsl", input, seeds, |bytes, path| {
+        use fxgraph::shader::{load_material_shader, MaterialShaderKind, ShaderFile};
+        let text = String::from_utf8_lossy(bytes).into_owned();
+        let kind = if text.contains("fn surface") {
+            MaterialShaderKind::Surface
+        } else {
+            MaterialShaderKind::Lighting
+        };
+        let file = ShaderFile {
+            shown: path.display().to_string(),
+            text,
+            path: Some(path.to_path_buf()),
+        };
+        let mut sources = SourceMap::new();
+        match load_material_shader(kind, "fuzz_material", file, &mut sources) {
+            Ok(_) => Ok(true),
+            Err(list) => {
+                render_all(&Diagnostics { list }, &sources)?;
+                Ok(false)
             }
-        }),
-    }
+        }
+    })
 }
 
 fn image_target(name: &'static str, file: &'static str, seeds: Vec<Vec<u8>>) -> Target {
-    Target {
-        name,
-        seeds,
-        file,
-        reads_file: false,
-        check: Box::new(|bytes, path| {
-            // As the CLI: the header is probed (and its size checked) first.
-            let (w, h) = match fxgraph::io::image_dimensions(bytes, path) {
-                Ok(d) => d,
-                Err(e) => return rejected_with(&e.to_string()),
-            };
-            let img = match fxgraph::io::decode_image(bytes, path, &Default::default()) {
-                Ok(i) => i,
-                Err(e) => return rejected_with(&e.to_string()),
-            };
-            if (img.width, img.height) != (w, h) {
-                return Err(format!(
-                    "header says {w}x{h}, decoded {}x{}",
-                    img.width, img.height
-                ));
-            }
-            let want = img.width as usize * img.height as usize * 4;
-            if img.pixels.len() != want {
-                return Err(format!("{} samples for {w}x{h}", img.pixels.len()));
-            }
-            Ok(true)
-        }),
-    }
+    Target::new(name, Input::Bytes(file), seeds, |bytes, path| {
+        // As the CLI: the header is probed (and its size checked) first.
+        let (w, h) = match fxgraph::io::image_dimensions(bytes, path) {
+            Ok(d) => d,
+            Err(e) => return rejected_with(&e.to_string()),
+        };
+        let img = match fxgraph::io::decode_image(bytes, path, &Default::default()) {
+            Ok(i) => i,
+            Err(e) => return rejected_with(&e.to_string()),
+        };
+        if (img.width, img.height) != (w, h) {
+            return Err(format!(
+                "header says {w}x{h}, decoded {}x{}",
+                img.width, img.height
+            ));
+        }
+        let want = img.width as usize * img.height as usize * 4;
+        if img.pixels.len() != want {
+            return Err(format!("{} samples for {w}x{h}", img.pixels.len()));
+        }
+        Ok(true)
+    })
 }
 
 /// A small pattern saved in every format the library writes (seeds of the image
@@ -370,36 +372,30 @@ fn y4m_target() -> Target {
         }
         seeds.push(w.into_inner().unwrap());
     }
-    Target {
-        name: "y4m",
-        seeds,
-        file: "fuzz.y4m",
-        reads_file: false,
-        check: Box::new(|bytes, _| {
-            let mut r = match Y4mReader::new(bytes, "fuzz") {
-                Ok(r) => r,
-                Err(e) => return rejected_with(&e.to_string()),
-            };
-            let want = r.header().frame_bytes();
-            let mut frames = 0;
-            loop {
-                match r.next_frame() {
-                    Ok(Some(f)) => {
-                        let got = f.y.len() + f.u.len() + f.v.len();
-                        if got != want {
-                            return Err(format!("frame of {got} bytes, header says {want}"));
-                        }
-                        frames += 1;
-                        if frames * want > bytes.len() {
-                            return Err("more frames than the bytes hold".into());
-                        }
+    Target::new("y4m", Input::Bytes("fuzz.y4m"), seeds, |bytes, _| {
+        let mut r = match Y4mReader::new(bytes, "fuzz") {
+            Ok(r) => r,
+            Err(e) => return rejected_with(&e.to_string()),
+        };
+        let want = r.header().frame_bytes();
+        let mut frames = 0;
+        loop {
+            match r.next_frame() {
+                Ok(Some(f)) => {
+                    let got = f.y.len() + f.u.len() + f.v.len();
+                    if got != want {
+                        return Err(format!("frame of {got} bytes, header says {want}"));
                     }
-                    Ok(None) => return Ok(true),
-                    Err(e) => return rejected_with(&e.to_string()),
+                    frames += 1;
+                    if frames * want > bytes.len() {
+                        return Err("more frames than the bytes hold".into());
+                    }
                 }
+                Ok(None) => return Ok(true),
+                Err(e) => return rejected_with(&e.to_string()),
             }
-        }),
-    }
+        }
+    })
 }
 
 fn gltf_target() -> Target {
@@ -417,26 +413,21 @@ fn gltf_target() -> Target {
         paths.extend(files(&corpus().join(dir), &["gltf"], 64 << 10));
     }
     paths.retain(|p| p.exists());
-    Target {
-        name: "gltf",
-        seeds: read_all(&paths),
-        file: "fuzz.gltf",
-        reads_file: true,
-        check: Box::new(|bytes, path| {
-            // `.glb` when the bytes say so (the loader reads the magic).
-            let path = if bytes.starts_with(b"glTF") {
-                let glb = path.with_extension("glb");
-                std::fs::write(&glb, bytes).unwrap();
-                glb
-            } else {
-                path.to_path_buf()
-            };
-            match fxgraph::scene::gltf::load_gltf(&path) {
-                Ok(_) => Ok(true),
-                Err(e) => rejected_with(&e.to_string()),
-            }
-        }),
-    }
+    let seeds = read_all(&paths);
+    Target::new("gltf", Input::File("fuzz.gltf"), seeds, |bytes, path| {
+        // `.glb` when the bytes say so (the loader reads the magic).
+        let path = if bytes.starts_with(b"glTF") {
+            let glb = path.with_extension("glb");
+            std::fs::write(&glb, bytes).unwrap();
+            glb
+        } else {
+            path.to_path_buf()
+        };
+        match fxgraph::scene::gltf::load_gltf(&path) {
+            Ok(_) => Ok(true),
+            Err(e) => rejected_with(&e.to_string()),
+        }
+    })
 }
 
 struct Outcome {
@@ -654,13 +645,7 @@ fn findings_stay_fixed() {
     .enumerate()
     {
         std::fs::write(&path, text).unwrap();
-        let r = catch_unwind(|| {
-            compile(&CompileRequest {
-                source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-                effects: vec![path.display().to_string()],
-                ..Default::default()
-            })
-        });
+        let r = catch_unwind(|| compile_file(&path));
         let (graph, diags, sources) = r.unwrap_or_else(|_| panic!("case {i} panicked"));
         assert!(graph.is_none(), "case {i} compiled");
         assert!(

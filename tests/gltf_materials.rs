@@ -195,38 +195,22 @@ fn textured_material_maps_every_texture() {
         assert_eq!(texture_name(&scene, m, var), image, "{var}");
     }
     assert_eq!(m.surface.textures.len(), 5);
-    assert_close(&param(m, "base_color"), &textured::BASE_COLOR, 1e-6, "base");
-    assert_close(
-        &param(m, "metallic"),
-        &[textured::METALLIC],
-        1e-6,
-        "metallic",
-    );
-    assert_close(
-        &param(m, "roughness"),
-        &[textured::ROUGHNESS],
-        1e-6,
-        "rough",
-    );
     let emissive = textured::EMISSIVE.map(|e| e * textured::EMISSIVE_STRENGTH);
-    assert_close(
-        &param(m, "emissive"),
-        &emissive,
-        1e-6,
-        "emissive × strength",
-    );
-    assert_close(
-        &param(m, "normal_scale"),
-        &[textured::NORMAL_SCALE],
-        1e-6,
-        "ns",
-    );
-    assert_close(
-        &param(m, "occlusion_strength"),
-        &[textured::OCCLUSION_STRENGTH],
-        1e-6,
-        "occlusion strength",
-    );
+    let params: [(&str, &[f32], &str); 6] = [
+        ("base_color", &textured::BASE_COLOR, "base"),
+        ("metallic", &[textured::METALLIC], "metallic"),
+        ("roughness", &[textured::ROUGHNESS], "rough"),
+        ("emissive", &emissive, "emissive × strength"),
+        ("normal_scale", &[textured::NORMAL_SCALE], "ns"),
+        (
+            "occlusion_strength",
+            &[textured::OCCLUSION_STRENGTH],
+            "occlusion strength",
+        ),
+    ];
+    for (name, want, what) in params {
+        assert_close(&param(m, name), want, 1e-6, what);
+    }
     assert_eq!(m.alpha_mode, AlphaMode::Mask);
     assert!((m.alpha_cutoff - textured::ALPHA_CUTOFF).abs() < 1e-6);
     assert!(m.double_sided);
@@ -696,23 +680,15 @@ fn oracle_light_attenuation() {
 /// (`Camera::view`, `perspective_rh`) project to.
 #[test]
 fn oracle_camera_matches_the_renderer() {
-    let cam = OracleCamera {
+    let camera = Camera {
         eye: Vec3::new(1.0, 2.0, 5.0),
         target: Vec3::new(-0.5, 0.2, 0.0),
         up: Vec3::Y,
         fov_y: 0.8,
-        aspect: 160.0 / 90.0,
-        width: 160,
-        height: 90,
-    };
-    let camera = Camera {
-        eye: cam.eye,
-        target: cam.target,
-        up: cam.up,
-        fov_y: cam.fov_y,
         near: 0.1,
         far: 100.0,
     };
+    let cam = OracleCamera::of(&camera, 160, 90);
     let view_proj = camera.proj(cam.aspect) * camera.view();
     for (x, y) in [(0, 0), (159, 0), (80, 45), (17, 83), (159, 89)] {
         let (o, d) = cam.ray(x, y);
@@ -730,15 +706,7 @@ fn oracle_camera_matches_the_renderer() {
 #[test]
 fn oracle_renders_a_sphere() {
     let (w, h) = (64, 48);
-    let cam = OracleCamera {
-        eye: gltf_gen::CAMERA_EYE,
-        target: gltf_gen::CAMERA_TARGET,
-        up: Vec3::Y,
-        fov_y: gltf_gen::CAMERA_FOV_Y,
-        aspect: w as f32 / h as f32,
-        width: w,
-        height: h,
-    };
+    let cam = OracleCamera::of(&gltf_gen::camera(), w, h);
     let surface = Surface::new(Vec3::new(0.5, 0.25, 1.0), Vec3::ZERO, 1.0);
     // Light from the eye: the sphere's centre pixel sees n = l = v.
     let sun = Light::directional(Vec3::NEG_Z, Vec3::ONE, 2.0);

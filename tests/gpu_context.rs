@@ -63,6 +63,40 @@ fn upload(
     ctx.upload_texture(label, w, h, format, data, wgpu::TextureUsages::empty())
 }
 
+/// A 256-byte buffer `label` with `usage`, made on `device`.
+fn buffer(device: &wgpu::Device, label: &str, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: 256,
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+/// A `w` x `h` RGBA8 texture `label` (one mip level, one sample) with `usage`,
+/// made on `device` with no data.
+fn rgba8_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage,
+        view_formats: &[],
+    })
+}
+
 fn rgba8_pattern(width: u32, height: u32) -> Vec<u8> {
     (0..width * height * 4)
         .map(|i| (i.wrapping_mul(37) ^ (i >> 7)) as u8)
@@ -217,20 +251,8 @@ fn srgb_texture_reads_back_stored_bytes_and_has_a_linear_view() {
 fn scoped_turns_validation_errors_into_err() {
     let ctx = context_or_skip!();
     let zero = ctx.scoped("zero-size texture", |device| {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("zero-size texture"),
-            size: wgpu::Extent3d {
-                width: 0,
-                height: 0,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
+        let usage = wgpu::TextureUsages::TEXTURE_BINDING;
+        rgba8_texture(device, "zero-size texture", (0, 0), usage)
     });
     match zero {
         Err(GpuError::Validation { what, message }) => {
@@ -241,12 +263,8 @@ fn scoped_turns_validation_errors_into_err() {
     }
 
     let bad_buffer = ctx.scoped("map-read storage buffer", |device| {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("map-read storage buffer"),
-            size: 256,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        })
+        let usage = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::STORAGE;
+        buffer(device, "map-read storage buffer", usage)
     });
     assert!(
         matches!(bad_buffer, Err(GpuError::Validation { .. })),
@@ -256,24 +274,16 @@ fn scoped_turns_validation_errors_into_err() {
     // Nested scopes are LIFO and the outer one stays clean.
     let nested = ctx.scoped("outer", |_| {
         ctx.scoped("inner", |device| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("bad inner buffer"),
-                size: 256,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
-                mapped_at_creation: false,
-            })
+            let usage = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE;
+            buffer(device, "bad inner buffer", usage)
         })
         .is_err()
     });
     assert!(matches!(nested, Ok(true)), "{nested:?}");
 
     let fine = ctx.scoped("valid buffer", |device| {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("valid buffer"),
-            size: 256,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        })
+        let usage = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
+        buffer(device, "valid buffer", usage)
     });
     assert!(fine.is_ok());
     assert!(ctx.take_uncaptured_errors().is_empty());
@@ -282,44 +292,18 @@ fn scoped_turns_validation_errors_into_err() {
 #[test]
 fn upload_and_readback_report_bad_input() {
     let ctx = context_or_skip!();
-    let short = upload(
-        ctx,
-        "short data",
-        (4, 4),
-        wgpu::TextureFormat::Rgba8Unorm,
-        &[0; 10],
-    );
+    use wgpu::TextureFormat::{Depth32Float, Rgba8Unorm};
+    let short = upload(ctx, "short data", (4, 4), Rgba8Unorm, &[0; 10]);
     assert!(
         matches!(short, Err(GpuError::Validation { .. })),
         "{short:?}"
     );
+    let depth = upload(ctx, "depth", (4, 4), Depth32Float, &[0; 64]);
+    let unsupported = matches!(depth, Err(GpuError::UnsupportedFormat { .. }));
+    assert!(unsupported, "{depth:?}");
 
-    let depth = upload(
-        ctx,
-        "depth",
-        (4, 4),
-        wgpu::TextureFormat::Depth32Float,
-        &[0; 64],
-    );
-    assert!(
-        matches!(depth, Err(GpuError::UnsupportedFormat { .. })),
-        "{depth:?}"
-    );
-
-    let no_copy_src = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("no copy src"),
-        size: wgpu::Extent3d {
-            width: 4,
-            height: 4,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING;
+    let no_copy_src = rgba8_texture(&ctx.device, "no copy src", (4, 4), usage);
     let read = ctx.read_texture(&no_copy_src);
     assert!(matches!(read, Err(GpuError::Validation { .. })), "{read:?}");
     assert!(ctx.take_uncaptured_errors().is_empty());

@@ -1,8 +1,11 @@
 //! Graph compiler and lifetime plan: schedule, culling, namespaces, temporal
 //! references, chains, and property tests of the plan on random DAGs.
 
+mod common;
+
+use common::compile::{compile_chain, compile_file};
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, Resource, ReusePolicy, Step};
-use fxgraph::graph::{compile, library, CompileRequest, Graph, Override};
+use fxgraph::graph::{compile, library, CompileRequest, Graph};
 use fxgraph::script::{Diagnostics, SourceMap};
 use proptest::prelude::*;
 use std::path::PathBuf;
@@ -35,14 +38,23 @@ fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
     p
 }
 
+/// [`compile_chain`], which must give a graph without any diagnostic.
+fn clean(effects: &[String], sets: &[&str]) -> Graph {
+    let (g, d, s) = compile_chain(effects, sets);
+    assert!(d.is_empty(), "{}", d.render(&s));
+    g.unwrap()
+}
+
+/// The effect file `name` holding `text`, compiled with the `--set` arguments
+/// `sets`: a graph without any diagnostic.
+fn clean_file(name: &str, text: &str, sets: &[&str]) -> Graph {
+    let dir = tempfile::tempdir().unwrap();
+    clean(&[write(&dir, name, text).display().to_string()], sets)
+}
+
 fn compile_text(text: &str) -> (Option<Graph>, Diagnostics, SourceMap) {
     let dir = tempfile::tempdir().unwrap();
-    let p = write(&dir, "t.fx", text);
-    compile(&CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: vec![p.display().to_string()],
-        ..Default::default()
-    })
+    compile_file(&write(&dir, "t.fx", text))
 }
 
 fn ok(text: &str) -> Graph {
@@ -149,9 +161,7 @@ fn temporal_inputs_set_latency_and_history() {
 
 #[test]
 fn nested_effects_expand_in_their_namespace_with_their_parameters() {
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(
-        &dir,
+    let g = clean_file(
         "outer.fx",
         "EFFECT.inner = {
             PARAM = { k = FLOAT { DEFAULT = 1  RANGE = (0, 10) } }
@@ -167,16 +177,8 @@ fn nested_effects_expand_in_their_namespace_with_their_parameters() {
             }
             OUT = c
         }",
+        &["strength=7"],
     );
-    let (g, d, s) = compile(&CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: vec![p.display().to_string()],
-        overrides: vec![Override {
-            arg: "strength=7".into(),
-        }],
-    });
-    assert!(d.is_empty(), "{}", d.render(&s));
-    let g = g.unwrap();
     assert_eq!(names(&g), ["outer/a/x", "outer/b/x", "outer/c"]);
     let k: Vec<f64> = g.schedule[..2]
         .iter()
@@ -203,17 +205,8 @@ fn chains_share_one_graph_and_namespace_repeats() {
         "a.fx",
         "EFFECT.a = { PASS = { p = SHADER.s { img = IN } } OUT = p }",
     );
-    let (g, d, s) = compile(&CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: vec![
-            a.display().to_string(),
-            "glow".into(),
-            a.display().to_string(),
-        ],
-        ..Default::default()
-    });
-    assert!(d.is_empty(), "{}", d.render(&s));
-    let g = g.unwrap();
+    let a = a.display().to_string();
+    let g = clean(&[a.clone(), "glow".into(), a], &[]);
     assert_eq!(
         names(&g),
         [
@@ -309,11 +302,7 @@ fn stored_colour_space_follows_the_input() {
 #[test]
 fn every_shipped_effect_plans_at_the_lower_bound() {
     for (name, _) in library::builtin_effects() {
-        let (g, d, s) = compile(&CompileRequest {
-            source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-            effects: vec![name.clone()],
-            ..Default::default()
-        });
+        let (g, d, s) = compile_chain(std::slice::from_ref(&name), &[]);
         assert!(!d.has_errors(), "{name}: {}", d.render(&s));
         let g = g.unwrap();
         for (w, h) in [(1920, 1080), (67, 41), (1, 1)] {
@@ -432,21 +421,11 @@ proptest! {
 /// parameter only (not a pass parameter `k` of pass `e`).
 #[test]
 fn effect_parameter_override_is_not_also_a_pass_override() {
-    let dir = tempfile::tempdir().unwrap();
-    let p = write(
-        &dir,
+    let g = clean_file(
         "e.fx",
         "EFFECT.e = { PARAM = { mode = ENUM { VALUES = (a, b)  DEFAULT = a } } PASS = { e = SHADER.s { img = IN  m = PARAM.mode } } OUT = e }",
+        &["e.mode=b"],
     );
-    let (g, d, s) = compile(&CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: vec![p.display().to_string()],
-        overrides: vec![Override {
-            arg: "e.mode=b".into(),
-        }],
-    });
-    assert!(d.is_empty(), "{}", d.render(&s));
-    let g = g.unwrap();
     let pass = g.pass(g.schedule[0]);
     assert_eq!(pass.params.len(), 1);
     assert_eq!(

@@ -8,11 +8,13 @@
 mod common;
 
 use fxgraph::app::Effect;
+use fxgraph::gpu::context::GpuContext;
 use fxgraph::gpu::executor::{Engine, FrameInputs, Prepared};
 use fxgraph::gpu::transfer::{create_output, read_pixels, upload_image};
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::io::Pixels;
 use fxgraph::script::types::Format;
+use std::sync::MutexGuard;
 
 const UPTO_BLUR_X: &str = "EFFECT.upto = { PASS = {
     brightPass = SHADER.brightPass { img = IN }
@@ -26,6 +28,25 @@ fn prepare(engine: &mut Engine, effect: &str, input: &InputDesc, out: Format) ->
         output_format: Some(out),
     };
     e.prepare_with(engine, input, &opts).unwrap()
+}
+
+/// What each test starts from: the test engine, its context, and a `w` x `h` test
+/// pattern uploaded as an 8-bit sRGB input with its description; `None` (test
+/// skipped) without a GPU.
+fn setup(
+    w: u32,
+    h: u32,
+) -> Option<(
+    MutexGuard<'static, Engine>,
+    GpuContext,
+    wgpu::Texture,
+    InputDesc,
+)> {
+    let engine = common::engine()?;
+    let ctx = engine.ctx.clone();
+    let img = common::pattern_u8(w, h);
+    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
+    Some((engine, ctx, input, InputDesc::rgba8_srgb(w, h)))
 }
 
 /// Record one frame into an encoder of our own and submit it.
@@ -44,13 +65,9 @@ fn frame(engine: &mut Engine, p: &mut Prepared, input: &wgpu::Texture, out: &wgp
 
 #[test]
 fn an_inspected_pass_equals_the_effect_up_to_it_and_changes_nothing_else() {
-    let Some(mut engine) = common::engine() else {
+    let Some((mut engine, ctx, input, desc)) = setup(64, 48) else {
         return;
     };
-    let img = common::pattern_u8(64, 48);
-    let ctx = engine.ctx.clone();
-    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
-    let desc = InputDesc::rgba8_srgb(64, 48);
     let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
     let out = create_output(&ctx, 64, 48, Format::Rgba8Srgb);
     frame(&mut engine, &mut glow, &input, &out);
@@ -104,13 +121,9 @@ fn an_inspected_pass_equals_the_effect_up_to_it_and_changes_nothing_else() {
 
 #[test]
 fn gpu_times_of_recorded_frames_come_back_without_a_stall() {
-    let Some(mut engine) = common::engine() else {
+    let Some((mut engine, ctx, input, desc)) = setup(32, 32) else {
         return;
     };
-    let img = common::pattern_u8(32, 32);
-    let ctx = engine.ctx.clone();
-    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
-    let desc = InputDesc::rgba8_srgb(32, 32);
     let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
     let out = create_output(&ctx, 32, 32, Format::Rgba8Srgb);
     let on = glow.set_gpu_timings(&engine, true);
@@ -138,13 +151,9 @@ fn gpu_times_of_recorded_frames_come_back_without_a_stall() {
 
 #[test]
 fn an_output_in_the_bgra_twin_format_holds_the_same_values() {
-    let Some(mut engine) = common::engine() else {
+    let Some((mut engine, ctx, input, desc)) = setup(40, 24) else {
         return;
     };
-    let img = common::pattern_u8(40, 24);
-    let ctx = engine.ctx.clone();
-    let input = upload_image(&ctx, "test input", &img, Format::Rgba8Srgb).unwrap();
-    let desc = InputDesc::rgba8_srgb(40, 24);
     for (out, effect) in [(Format::Rgba8Srgb, "glow"), (Format::Rgba8, "edges")] {
         let mut p = prepare(&mut engine, effect, &desc, out);
         let rgba = create_output(&ctx, 40, 24, out);

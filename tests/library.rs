@@ -6,7 +6,7 @@ mod common;
 
 use fxgraph::app::Effect;
 use fxgraph::gpu::context::{require_gpu, GpuContext};
-use fxgraph::gpu::executor::{Engine, FrameInputs, ParamError};
+use fxgraph::gpu::executor::{Engine, FrameInputs, ParamError, Prepared};
 use fxgraph::gpu::stream::Stream;
 use fxgraph::gpu::transfer::{read_pixels, texture_2d};
 use fxgraph::graph::plan::{InputDesc, PlanOptions};
@@ -80,42 +80,79 @@ fn app_device() -> Option<(wgpu::Adapter, wgpu::Device, wgpu::Queue)> {
     Some((adapter, device, queue))
 }
 
-/// An engine on the application's device (`GpuContext::from_existing`), with the
-/// device and queue the application keeps.
-fn app_engine() -> Option<(Engine, wgpu::Device, wgpu::Queue)> {
+/// An engine on the application's device (`GpuContext::from_existing`), and the
+/// application, which keeps the device and queue.
+fn app_engine() -> Option<(Engine, App)> {
     let (adapter, device, queue) = app_device()?;
     let ctx = GpuContext::from_existing(adapter, device.clone(), queue.clone());
-    Some((Engine::new(ctx), device, queue))
+    Some((Engine::new(ctx), App { device, queue }))
 }
 
-fn texture(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat) -> wgpu::Texture {
-    let usage = wgpu::TextureUsages::TEXTURE_BINDING
-        | wgpu::TextureUsages::COPY_DST
-        | wgpu::TextureUsages::COPY_SRC
-        | wgpu::TextureUsages::RENDER_ATTACHMENT;
-    device.create_texture(&texture_2d(label, (W, H), format, usage, &[]))
+/// The application: its device and queue, its own textures and encoders.
+struct App {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
 }
 
-fn write_f32(queue: &wgpu::Queue, tex: &wgpu::Texture, texels: &[f32]) {
-    queue.write_texture(
-        tex.as_image_copy(),
-        bytemuck::cast_slice(texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(W * 16),
-            rows_per_image: None,
-        },
-        tex.size(),
-    );
-}
-
-fn effect_in(dir: &std::path::Path, shaders: &[(&str, &str)], fx: &str) -> Effect {
-    for (name, text) in shaders {
-        std::fs::write(dir.join(format!("{name}.wgsl")), text).unwrap();
+impl App {
+    /// A W x H rgba32f texture of the application's (sampled, copied, rendered to).
+    fn texture(&self, label: &str) -> wgpu::Texture {
+        let usage = wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_DST
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let format = wgpu::TextureFormat::Rgba32Float;
+        self.device
+            .create_texture(&texture_2d(label, (W, H), format, usage, &[]))
     }
-    let path = dir.join("effect.fx");
+
+    /// Writes `texels` (W x H rgba32f) to `tex` through the application's queue.
+    fn write(&self, tex: &wgpu::Texture, texels: &[f32]) {
+        self.queue.write_texture(
+            tex.as_image_copy(),
+            bytemuck::cast_slice(texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(W * 16),
+                rows_per_image: None,
+            },
+            tex.size(),
+        );
+    }
+
+    /// One frame of `prepared` as the application runs it: recorded into its own
+    /// encoder to `out_view` (a view of `output`), submitted on its queue; `output`
+    /// read back.
+    fn frame(
+        &self,
+        engine: &mut Engine,
+        prepared: &mut Prepared,
+        inputs: &FrameInputs,
+        (out_view, output): (&wgpu::TextureView, &wgpu::Texture),
+    ) -> Vec<f32> {
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("app frame"),
+            });
+        let recorded = prepared.record(engine, &mut encoder, inputs, out_view);
+        recorded.unwrap();
+        self.queue.submit([encoder.finish()]);
+        read_f32(&engine.ctx, output)
+    }
+}
+
+/// The effect `fx` compiled from a folder with `shaders` (name, WGSL) in it; the
+/// folder lives as long as the effect is used.
+fn effect(shaders: &[(&str, &str)], fx: &str) -> (tempfile::TempDir, Effect) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in shaders {
+        std::fs::write(dir.path().join(format!("{name}.wgsl")), text).unwrap();
+    }
+    let path = dir.path().join("effect.fx");
     std::fs::write(&path, fx).unwrap();
-    Effect::compile(&[path.display().to_string()], &[]).unwrap()
+    let effect = Effect::compile(&[path.display().to_string()], &[]).unwrap();
+    (dir, effect)
 }
 
 fn f32_input() -> InputDesc {
@@ -137,18 +174,16 @@ fn read_f32(ctx: &GpuContext, tex: &wgpu::Texture) -> Vec<f32> {
 
 #[test]
 fn caller_encoder_parameters_per_frame_against_a_cpu_oracle() {
-    let Some((mut engine, device, queue)) = app_engine() else {
+    let Some((mut engine, app)) = app_engine() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let mut effect = effect_in(dir.path(), &[("gain", GAIN)], TWO_GAINS);
+    let (_dir, mut effect) = effect(&[("gain", GAIN)], TWO_GAINS);
     let mut prepared = effect
         .prepare(&mut engine, &f32_input(), Some(Format::Rgba32f))
         .unwrap();
-    let input = texture(&device, "app input", wgpu::TextureFormat::Rgba32Float);
-    let output = texture(&device, "app output", wgpu::TextureFormat::Rgba32Float);
+    let (input, output) = (app.texture("app input"), app.texture("app output"));
     let src: Vec<f32> = (0..W * H * 4).map(|i| (i % 7) as f32 / 8.0).collect();
-    write_f32(&queue, &input, &src);
+    app.write(&input, &src);
     let in_view = input.create_view(&Default::default());
     let out_view = output.create_view(&Default::default());
     for frame in 0..6u32 {
@@ -158,14 +193,8 @@ fn caller_encoder_parameters_per_frame_against_a_cpu_oracle() {
         prepared.set_param("first.gain", &[gain]).unwrap();
         prepared.set_param("twogain/second.gain", &[2.0]).unwrap();
         prepared.set_param("bias", &bias).unwrap();
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("app frame"),
-        });
         let inputs = FrameInputs::single(&in_view);
-        let recorded = prepared.record(&mut engine, &mut encoder, &inputs, &out_view);
-        recorded.unwrap();
-        queue.submit([encoder.finish()]);
-        let got = read_f32(&engine.ctx, &output);
+        let got = app.frame(&mut engine, &mut prepared, &inputs, (&out_view, &output));
         for (i, (g, s)) in got.iter().zip(&src).enumerate() {
             let c = i % 4;
             let (b, k) = match c {
@@ -196,8 +225,7 @@ fn set_param_checks_like_set() {
     let Some(mut engine) = common::engine() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let mut effect = effect_in(dir.path(), &[("gain", GAIN)], TWO_GAINS);
+    let (_dir, mut effect) = effect(&[("gain", GAIN)], TWO_GAINS);
     let mut prepared = effect
         .prepare(&mut engine, &f32_input(), Some(Format::Rgba32f))
         .unwrap();
@@ -239,6 +267,15 @@ fn set_param_checks_like_set() {
     assert_eq!(prepared.stats().uniform_writes, writes + 2);
 }
 
+/// A `w` x `h` sRGB texture, every byte 100, uploaded to `ctx`.
+fn grey(ctx: &GpuContext, label: &str, w: u32, h: u32) -> wgpu::Texture {
+    let data = vec![100u8; (w * h * 4) as usize];
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let usage = wgpu::TextureUsages::empty();
+    ctx.upload_texture(label, w, h, format, &data, usage)
+        .unwrap()
+}
+
 #[test]
 fn pool_creates_nothing_after_the_first_frame() {
     let Some(mut engine) = common::engine() else {
@@ -252,20 +289,10 @@ fn pool_creates_nothing_after_the_first_frame() {
         d = SHADER.blurX { img = PASS.c  sigma = 2 }
         e = SHADER.add { img1 = PASS.d  img2 = IN }
     } OUT = e }";
-    let dir = tempfile::tempdir().unwrap();
-    let mut effect = effect_in(dir.path(), &[], fx);
+    let (_dir, mut effect) = effect(&[], fx);
     let input = InputDesc::rgba8_srgb(16, 8);
     let ctx = engine.ctx.clone();
-    let tex = ctx
-        .upload_texture(
-            "pool input",
-            16,
-            8,
-            wgpu::TextureFormat::Rgba8UnormSrgb,
-            &[100u8; 16 * 8 * 4],
-            wgpu::TextureUsages::empty(),
-        )
-        .unwrap();
+    let tex = grey(&ctx, "pool input", 16, 8);
     for policy in [
         fxgraph::graph::plan::ReusePolicy::MinPeak,
         fxgraph::graph::plan::ReusePolicy::Pool,
@@ -308,16 +335,7 @@ fn pool_creates_nothing_after_the_first_frame() {
     let mut prepared = effect
         .prepare(&mut engine, &small, Some(Format::Rgba8Srgb))
         .unwrap();
-    let tex = ctx
-        .upload_texture(
-            "pool input 8x4",
-            8,
-            4,
-            wgpu::TextureFormat::Rgba8UnormSrgb,
-            &[100u8; 8 * 4 * 4],
-            wgpu::TextureUsages::empty(),
-        )
-        .unwrap();
+    let tex = grey(&ctx, "pool input 8x4", 8, 4);
     let out = fxgraph::gpu::transfer::create_output(&ctx, 8, 4, Format::Rgba8Srgb);
     for _ in 0..3 {
         prepared
@@ -335,11 +353,10 @@ fn pool_creates_nothing_after_the_first_frame() {
 
 #[test]
 fn feedback_through_the_caller_encoder_matches_the_stream() {
-    let Some((mut engine, device, queue)) = app_engine() else {
+    let Some((mut engine, app)) = app_engine() else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let mut effect = effect_in(dir.path(), &[("accum", ACCUM)], FEEDBACK);
+    let (_dir, mut effect) = effect(&[("accum", ACCUM)], FEEDBACK);
     let opts = PlanOptions {
         output_format: Some(Format::Rgba32f),
         ..Default::default()
@@ -371,21 +388,14 @@ fn feedback_through_the_caller_encoder_matches_the_stream() {
     let mut prepared = effect
         .prepare_with(&mut engine, &f32_input(), &opts)
         .unwrap();
-    let input = texture(&device, "app input", wgpu::TextureFormat::Rgba32Float);
-    let output = texture(&device, "app output", wgpu::TextureFormat::Rgba32Float);
+    let (input, output) = (app.texture("app input"), app.texture("app output"));
     let out_view = output.create_view(&Default::default());
     let mut from_caller = Vec::new();
     for i in 0..frames {
         let v = value(i);
-        write_f32(&queue, &input, &[v, v, v, 1.0].repeat((W * H) as usize));
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("app frame"),
-        });
+        app.write(&input, &[v, v, v, 1.0].repeat((W * H) as usize));
         let inputs = FrameInputs::single(&input);
-        let recorded = prepared.record(&mut engine, &mut encoder, &inputs, &out_view);
-        recorded.unwrap();
-        queue.submit([encoder.finish()]);
-        from_caller.push(read_f32(&engine.ctx, &output));
+        from_caller.push(app.frame(&mut engine, &mut prepared, &inputs, (&out_view, &output)));
     }
     assert_eq!(from_stream.len(), frames as usize);
     assert_eq!(from_caller, from_stream);

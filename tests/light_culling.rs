@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::cli::{exits_with, fxrun_line};
 use common::gpu_context;
 use common::renders::rgb_psnr;
 
@@ -42,15 +43,31 @@ fn render(
     (read_rgba_f32(ctx, &out.scene).unwrap(), stats)
 }
 
+/// [`render`] with the deferred technique.
+fn deferred(
+    ctx: &GpuContext,
+    scene: &Scene,
+    camera: &Camera,
+    culling: LightCulling,
+) -> (Vec<[f32; 4]>, fxgraph::render::RenderStats) {
+    render(ctx, scene, camera, Technique::Deferred, culling)
+}
+
 fn mean(p: &[[f32; 4]]) -> f64 {
     p.iter().map(|v| f64::from(v[0] + v[1] + v[2])).sum::<f64>() / (p.len() * 3) as f64
+}
+
+/// The built-in room without its lights.
+fn unlit_room() -> Scene {
+    let mut scene = Scene::load("builtin:room").unwrap();
+    scene.lights.clear();
+    scene
 }
 
 /// The built-in room lit by `n` random point lights (the renderer benchmark's
 /// sizes: 4–10 % of the scene diagonal) and nothing else.
 fn room_with_lights(n: usize, seed: u64) -> Scene {
-    let mut scene = Scene::load("builtin:room").unwrap();
-    scene.lights.clear();
+    let mut scene = unlit_room();
     scene.add_random_point_lights(n, seed);
     scene
 }
@@ -130,13 +147,7 @@ fn dark_lights_are_ignored() {
     let ctx = &*gpu;
     let scene = room_with_lights(20, 5);
     let camera = scene.default_camera();
-    let (before, s0) = render(
-        ctx,
-        &scene,
-        &camera,
-        Technique::Deferred,
-        LightCulling::default(),
-    );
+    let (before, s0) = deferred(ctx, &scene, &camera, LightCulling::default());
     let mut dark = scene.clone();
     dark.lights
         .push(Light::point(Vec3::new(0.0, 1.0, 0.0), Vec3::ONE, 0.0, 3.0));
@@ -146,13 +157,7 @@ fn dark_lights_are_ignored() {
     let mut nan = Light::directional(Vec3::NEG_Y, Vec3::ONE, 1.0);
     nan.intensity = f32::NAN;
     dark.lights.push(nan);
-    let (after, s1) = render(
-        ctx,
-        &dark,
-        &camera,
-        Technique::Deferred,
-        LightCulling::default(),
-    );
+    let (after, s1) = deferred(ctx, &dark, &camera, LightCulling::default());
     assert_eq!(s1.lights_visible, s0.lights_visible);
     assert_eq!(s1.lights_dark, 3);
     assert!(before == after, "dark lights changed the image");
@@ -165,8 +170,7 @@ fn dark_lights_are_ignored() {
 fn extreme_spot_cones() {
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
-    let mut scene = Scene::load("builtin:room").unwrap();
-    scene.lights.clear();
+    let mut scene = unlit_room();
     let spot = |outer: f32| {
         Light::spot(
             Vec3::new(0.0, 2.5, 0.0),
@@ -181,29 +185,11 @@ fn extreme_spot_cones() {
     };
     let camera = scene.default_camera();
     // the room has emissive surfaces: measure the light added to them
-    let (black, _) = render(
-        ctx,
-        &scene,
-        &camera,
-        Technique::Deferred,
-        LightCulling::None,
-    );
+    let (black, _) = deferred(ctx, &scene, &camera, LightCulling::None);
     scene.lights = vec![spot(0.0)];
-    let (narrow, _) = render(
-        ctx,
-        &scene,
-        &camera,
-        Technique::Deferred,
-        LightCulling::None,
-    );
+    let (narrow, _) = deferred(ctx, &scene, &camera, LightCulling::None);
     scene.lights = vec![spot(std::f32::consts::FRAC_PI_2)];
-    let (wide, _) = render(
-        ctx,
-        &scene,
-        &camera,
-        Technique::Deferred,
-        LightCulling::None,
-    );
+    let (wide, _) = deferred(ctx, &scene, &camera, LightCulling::None);
     let (narrow, wide) = (mean(&narrow) - mean(&black), mean(&wide) - mean(&black));
     eprintln!("light added: spot 0°: {narrow:.6}; spot 90°: {wide:.6}");
     assert!(narrow < 0.01 * wide, "a 0° cone lit the room");
@@ -220,19 +206,12 @@ fn extreme_spot_cones() {
 fn light_inside_an_object() {
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
-    let mut scene = Scene::load("builtin:room").unwrap();
-    scene.lights.clear();
+    let mut scene = unlit_room();
     let camera = scene.default_camera();
     let b = scene.bounds();
     let centre = (b.min + b.max) * 0.5;
     scene.lights.push(Light::point(centre, Vec3::ONE, 3.0, 2.0));
-    let (img, _) = render(
-        ctx,
-        &scene,
-        &camera,
-        Technique::Deferred,
-        LightCulling::default(),
-    );
+    let (img, _) = deferred(ctx, &scene, &camera, LightCulling::default());
     assert!(img.iter().all(|p| p.iter().all(|c| c.is_finite())));
     agree(ctx, &scene, &camera, "light inside an object");
 }
@@ -244,13 +223,7 @@ fn ten_thousand_lights() {
     let ctx = &*gpu;
     let scene = room_with_lights(10_000, 11);
     let camera = scene.default_camera();
-    let (img, stats) = render(
-        ctx,
-        &scene,
-        &camera,
-        Technique::Deferred,
-        LightCulling::default(),
-    );
+    let (img, stats) = deferred(ctx, &scene, &camera, LightCulling::default());
     eprintln!(
         "10,000 lights: {} visible, {} cluster entries (max {} per cluster), {:.1} KiB of lists",
         stats.lights_visible,
@@ -273,17 +246,7 @@ fn a_scene_without_geometry_is_rejected() {
         r#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[]}],"scene":0}"#,
     )
     .unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(["--scene", path.to_str().unwrap(), "-o"])
-        .arg(dir.path().join("out.png"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(
-        err.contains("empty.gltf") && err.contains("no triangles"),
-        "{err}"
-    );
+    let o = fxrun_line("--scene {} -o {}", &[&path, &dir.path().join("out.png")]);
+    exits_with(&o, 1, &["empty.gltf", "no triangles"]);
     assert!(!dir.path().join("out.png").exists());
 }

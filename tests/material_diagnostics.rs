@@ -4,12 +4,11 @@
 
 mod common;
 
-use common::cli::fxrun;
+use common::cli::{code, exits, exits_with, fxrun, fxrun_line, stderr, stdout};
 
 use fxgraph::scene::material_file::load_materials;
 use proptest::prelude::*;
 use std::path::Path;
-use std::process::Command;
 
 /// Loads `text` as `bad.fx` in `dir` and returns the rendered report with the
 /// folder replaced by `<dir>`.
@@ -26,11 +25,16 @@ fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
     dir
 }
 
+/// The [`report`] of the material file `text` in a folder that holds `shaders`
+/// (file name, WGSL).
+fn report_with(shaders: &[(&str, &str)], text: &str) -> String {
+    report(dir_with(shaders).path(), text)
+}
+
 #[test]
 fn unknown_shader() {
-    let dir = dir_with(&[]);
-    let got = report(
-        dir.path(),
+    let got = report_with(
+        &[],
         "MATERIAL.a = {\n    SURFACE = SHADER.standrd\n    LIGHTING = SHADER.phong\n}\n",
     );
     assert_eq!(
@@ -48,9 +52,8 @@ fn unknown_shader() {
 
 #[test]
 fn missing_texture_and_wrong_parameter_types() {
-    let dir = dir_with(&[]);
-    let got = report(
-        dir.path(),
+    let got = report_with(
+        &[],
         r#"MATERIAL.b = {
     SURFACE = SHADER.standard { base_color_map = "missing.png" roughness = (1, 2) metallic = 3 }
     LIGHTING = SHADER.phong { SPECULAR_POWER = "x.png" shine = 3 }
@@ -92,12 +95,11 @@ bad.fx:3:56: error: lighting shader `phong` has no setting `shine`
 
 #[test]
 fn surface_shader_with_the_wrong_signature() {
-    let dir = dir_with(&[(
-        "flat.wgsl",
-        "fn surface(in: SurfaceInput) -> vec4<f32> {\n    return vec4<f32>(1.0);\n}\n",
-    )]);
-    let got = report(
-        dir.path(),
+    let got = report_with(
+        &[(
+            "flat.wgsl",
+            "fn surface(in: SurfaceInput) -> vec4<f32> {\n    return vec4<f32>(1.0);\n}\n",
+        )],
         "MATERIAL.c = {\n    SURFACE = SHADER.flat\n    LIGHTING = SHADER.lambert\n}\n",
     );
     assert_eq!(
@@ -119,12 +121,11 @@ fn surface_shader_with_the_wrong_signature() {
 
 #[test]
 fn wgsl_type_error_points_into_the_users_file() {
-    let dir = dir_with(&[(
+    let got = report_with(
+        &[(
         "tinted.wgsl",
         "struct SurfaceParams {\n    tint: vec3<f32>, // @default(1, 1, 1)\n}\n@group(2) @binding(0) var<uniform> p: SurfaceParams;\n\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var out: SurfaceOutput;\n    out.diffuse = p.tint * 2;\n    out.normal = in.normal;\n    out.alpha = vec2<f32>(1.0);\n    return out;\n}\n",
-    )]);
-    let got = report(
-        dir.path(),
+    )],
         "MATERIAL.d = {\n    SURFACE = SHADER.tinted\n    LIGHTING = SHADER.lambert\n}\n",
     );
     assert!(
@@ -142,12 +143,11 @@ fn wgsl_type_error_points_into_the_users_file() {
 
 #[test]
 fn lighting_shader_may_not_declare_textures() {
-    let dir = dir_with(&[(
+    let got = report_with(
+        &[(
         "lit.wgsl",
         "@group(2) @binding(0) var t: texture_2d<f32>;\nfn lighting(in: LightingInput) -> LightingOutput {\n    return LightingOutput(in.light, vec3<f32>(0.0));\n}\n",
-    )]);
-    let got = report(
-        dir.path(),
+    )],
         "MATERIAL.e = {\n    SURFACE = SHADER.standard\n    LIGHTING = SHADER.lit\n}\n",
     );
     assert!(
@@ -159,9 +159,8 @@ fn lighting_shader_may_not_declare_textures() {
 
 #[test]
 fn three_materials_three_mistakes_one_report() {
-    let dir = dir_with(&[]);
-    let got = report(
-        dir.path(),
+    let got = report_with(
+        &[],
         "MATERIAL.a = { SURFACE = SHADER.nope LIGHTING = SHADER.lambert }\nMATERIAL.b = { SURFACE = SHADER.standard { roughness = 7 } LIGHTING = SHADER.lambert }\nMATERIAL.c = { SURFACE = SHADER.standard LIGHTING = SHADER.lambert ALPHA = sometimes }\n",
     );
     assert!(
@@ -232,19 +231,14 @@ proptest! {
 #[test]
 fn fxrun_rejects_a_bad_material_file_with_exit_1() {
     let dir = dir_with(&[("bad.fx", "MATERIAL.red = { SURFACE = SHADER.standard { roughness = 9 } LIGHTING = SHADER.lambert }\n")]);
-    let out = Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(["--scene", "builtin:room", "--size", "32x32", "--materials"])
-        .arg(dir.path().join("bad.fx"))
-        .arg("-o")
-        .arg(dir.path().join("out.png"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(
-        stderr.contains("bad.fx:1:58: error: `roughness` = 9 is outside its range 0..1"),
-        "{stderr}"
+    let out = fxrun_line(
+        "--scene builtin:room --size 32x32 --materials {} -o {}",
+        &[&dir.path().join("bad.fx"), &dir.path().join("out.png")],
+    );
+    exits_with(
+        &out,
+        1,
+        &["bad.fx:1:58: error: `roughness` = 9 is outside its range 0..1"],
     );
     assert!(!dir.path().join("out.png").exists());
 }
@@ -318,13 +312,8 @@ fn fxrun_describes_materials_and_checks_scene_options() {
         "32x32",
         "--describe-materials",
     ]);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    exits(&out, 0);
+    let stdout = stdout(&out);
     assert!(
         stdout.contains("materials (preprocess variants mode):"),
         "{stdout}"
@@ -360,8 +349,8 @@ fn fxrun_describes_materials_and_checks_scene_options() {
         ];
         all.extend(args.iter().copied());
         let out = fxrun(&all);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        let stderr = stderr(&out);
+        assert_eq!(code(&out), 1, "{args:?}: {stderr}");
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
     }
 }
@@ -374,13 +363,7 @@ fn ambient_is_added_only_when_asked() {
         let path_s = path.to_str().unwrap().to_string();
         let mut args = vec!["--scene", "builtin:bench", "--size", "48x32", "-o", &path_s];
         args.extend_from_slice(extra);
-        let out = fxrun(&args);
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        exits(&fxrun(&args), 0);
         let img = fxgraph::io::load_image(&path, &Default::default()).unwrap();
         let px = img.pixels.to_f32_linear(false);
         px.chunks_exact(4).map(|p| p[0] + p[1] + p[2]).sum::<f32>() / (px.len() / 4) as f32

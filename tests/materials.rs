@@ -10,6 +10,7 @@ use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen;
 use common::gpu_context;
 use common::renders::{rgb_psnr, save_rgb_review};
+use common::scenes::one_object;
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::material::VariantMode;
@@ -19,6 +20,16 @@ use fxgraph::scene::material_file::{apply_materials, load_materials};
 use fxgraph::scene::{Camera, Instance, Light, Material, Scene, ShaderBinding};
 use glam::{Mat4, Vec3, Vec4};
 
+/// A renderer of `scene` whose material variants are made as `variants` says.
+fn renderer(ctx: &GpuContext, scene: &Scene, variants: VariantMode) -> Renderer {
+    let options = RendererOptions {
+        variants,
+        ..Default::default()
+    };
+    Renderer::new(ctx, scene, &options).unwrap_or_else(|e| panic!("{}: {e}", scene.name))
+}
+
+/// `scene` seen from `camera`, rendered and read back (HDR RGBA).
 fn render(
     ctx: &GpuContext,
     scene: &Scene,
@@ -27,19 +38,24 @@ fn render(
     technique: Technique,
     variants: VariantMode,
 ) -> Vec<[f32; 4]> {
-    let mut r = Renderer::new(
-        ctx,
-        scene,
-        &RendererOptions {
-            variants,
-            ..Default::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{}: {e}", scene.name));
+    let mut r = renderer(ctx, scene, variants);
     let (out, _) = r
         .render(ctx, camera, w, h, technique, None)
         .unwrap_or_else(|e| panic!("{technique}: {e}"));
     read_rgba_f32(ctx, &out.scene).unwrap()
+}
+
+/// [`render`] as every other technique and variant mode is compared against:
+/// deferred, with preprocessed variants.
+fn reference(ctx: &GpuContext, scene: &Scene, camera: &Camera, size: (u32, u32)) -> Vec<[f32; 4]> {
+    render(
+        ctx,
+        scene,
+        camera,
+        size,
+        Technique::Deferred,
+        VariantMode::Preprocess,
+    )
 }
 
 /// Per-pixel comparison with the oracle over the sphere's interior (pixels whose
@@ -77,19 +93,8 @@ fn oracle_error(
 const SPHERE_SIZE: (u32, u32) = (160, 160);
 
 fn sphere_scene(material: Material, lights: Vec<Light>) -> Scene {
-    let mut scene = Scene {
-        name: format!("sphere ({})", material.lighting.shader),
-        ..Default::default()
-    };
-    scene.meshes.push(uv_sphere(192, 96));
-    scene.materials.push(material);
-    scene.instances.push(Instance {
-        name: "sphere".into(),
-        mesh: 0,
-        material: 0,
-        transform: Mat4::IDENTITY,
-        ..Default::default()
-    });
+    let name = format!("sphere ({})", material.lighting.shader);
+    let mut scene = one_object(name, "sphere", uv_sphere(192, 96), material, Mat4::IDENTITY);
     scene.lights = lights;
     scene
 }
@@ -217,23 +222,8 @@ fn gltf_metallic_roughness_spheres_follow_the_specification() {
     let scene = Scene::load(path.to_str().unwrap()).unwrap();
     assert_eq!(scene.lights.len(), 1, "the file's light and no other");
     let (w, h) = (480, 192);
-    let camera = Camera {
-        eye: gltf_gen::CAMERA_EYE,
-        target: gltf_gen::CAMERA_TARGET,
-        up: Vec3::Y,
-        fov_y: gltf_gen::CAMERA_FOV_Y,
-        near: gltf_gen::CAMERA_ZNEAR,
-        far: gltf_gen::CAMERA_ZFAR,
-    };
-    let ocam = OracleCamera {
-        eye: camera.eye,
-        target: camera.target,
-        up: camera.up,
-        fov_y: camera.fov_y,
-        aspect: w as f32 / h as f32,
-        width: w,
-        height: h,
-    };
+    let camera = gltf_gen::camera();
+    let ocam = OracleCamera::of(&camera, w, h);
     for technique in [Technique::Deferred, Technique::Forward] {
         let img = render(
             ctx,
@@ -279,12 +269,18 @@ const USER_SURFACE: &str = include_str!("../docs/examples/stripes.wgsl");
 const USER_LIGHTING: &str = include_str!("../docs/examples/wrap_lambert.wgsl");
 const USER_MATERIALS: &str = include_str!("../docs/examples/stripes.fx");
 
-/// Eight objects: the library's two surfaces (standard with colour and normal
-/// maps, triplanar with a colour map) × four lighting shaders, plus the user pair.
-fn pairs_scene() -> (Scene, tempfile::TempDir) {
+/// A folder with the user's shaders of [`USER_MATERIALS`] in it.
+fn user_shaders() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("stripes.wgsl"), USER_SURFACE).unwrap();
     std::fs::write(dir.path().join("wrap_lambert.wgsl"), USER_LIGHTING).unwrap();
+    dir
+}
+
+/// Eight objects: the library's two surfaces (standard with colour and normal
+/// maps, triplanar with a colour map) × four lighting shaders, plus the user pair.
+fn pairs_scene() -> (Scene, tempfile::TempDir) {
+    let dir = user_shaders();
     let mut scene = Scene {
         name: "pairs".into(),
         ..Default::default()
@@ -356,14 +352,7 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
     let (scene, _dir) = pairs_scene();
     let size = (192, 144);
     let camera = Camera::parse_spec("eye=0,6,7;target=0,0,0;fov=50", &scene).unwrap();
-    let reference = render(
-        ctx,
-        &scene,
-        &camera,
-        size,
-        Technique::Deferred,
-        VariantMode::Preprocess,
-    );
+    let reference = reference(ctx, &scene, &camera, size);
     save_rgb_review("materials_pairs_deferred", size, &reference);
     assert!(
         reference
@@ -397,15 +386,7 @@ fn variants_are_compiled_once_and_counted_by_mode() {
     let camera = scene.default_camera();
     let mut counts = Vec::new();
     for mode in VariantMode::ALL {
-        let mut r = Renderer::new(
-            ctx,
-            &scene,
-            &RendererOptions {
-                variants: mode,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let mut r = renderer(ctx, &scene, mode);
         let (_, first) = r
             .render(ctx, &camera, 64, 48, Technique::Deferred, None)
             .unwrap();
@@ -457,9 +438,7 @@ fn variants_are_compiled_once_and_counted_by_mode() {
 fn user_materials_replace_scene_materials_by_name_and_star() {
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("stripes.wgsl"), USER_SURFACE).unwrap();
-    std::fs::write(dir.path().join("wrap_lambert.wgsl"), USER_LIGHTING).unwrap();
+    let dir = user_shaders();
     let mut scene = Scene::load("builtin:room").unwrap();
     let first = scene.textures.len();
     let file = load_materials("stripes.fx", USER_MATERIALS, Some(dir.path()), first).unwrap();
@@ -484,14 +463,7 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
     let replaced = apply_materials(&mut all, file, &[("*".into(), "stripes".into())]).unwrap();
     assert_eq!(replaced.len(), n);
     let camera = all.default_camera();
-    let img = render(
-        ctx,
-        &all,
-        &camera,
-        (96, 64),
-        Technique::Deferred,
-        VariantMode::Preprocess,
-    );
+    let img = reference(ctx, &all, &camera, (96, 64));
     assert!(img.iter().any(|p| p[0] > 0.01));
     let err = apply_materials(
         &mut scene,
@@ -581,14 +553,7 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
     );
     let camera = Camera::parse_spec("eye=0,-1.2,7;target=0,-1.2,0;fov=55", &scene).unwrap();
     let size = (160, 160);
-    let reference = render(
-        ctx,
-        &scene,
-        &camera,
-        size,
-        Technique::Deferred,
-        VariantMode::Preprocess,
-    );
+    let reference = reference(ctx, &scene, &camera, size);
     save_rgb_review("materials_gltf_textured", size, &reference);
     for technique in Technique::ALL {
         for mode in VariantMode::ALL {
@@ -645,22 +610,8 @@ fn mesh_flags_follow_the_mesh_in_every_mode() {
     )];
     let camera = Camera::parse_spec("eye=0,0.5,4;target=0,0,0;fov=45", &scene).unwrap();
     let size = (96, 64);
-    let pre = render(
-        ctx,
-        &scene,
-        &camera,
-        size,
-        Technique::Forward,
-        VariantMode::Preprocess,
-    );
-    let branch = render(
-        ctx,
-        &scene,
-        &camera,
-        size,
-        Technique::Forward,
-        VariantMode::Branch,
-    );
+    let [pre, branch] = [VariantMode::Preprocess, VariantMode::Branch]
+        .map(|mode| render(ctx, &scene, &camera, size, Technique::Forward, mode));
     let p = rgb_psnr(&pre, &branch, true);
     assert!(p >= 60.0, "preprocess vs branch: {p:.2} dB");
     // the two boxes differ: blue (no colours) and red (vertex colours)

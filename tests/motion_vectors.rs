@@ -21,15 +21,7 @@ use shadow_scene::*;
 const TOLERANCE_PX: f32 = 0.05;
 
 fn oracle(c: &Camera) -> OracleCamera {
-    OracleCamera {
-        eye: c.eye,
-        target: c.target,
-        up: c.up,
-        fov_y: c.fov_y,
-        aspect: W as f32 / H as f32,
-        width: W,
-        height: H,
-    }
+    OracleCamera::of(c, W, H)
 }
 
 /// What a ray sees: 0 nothing, 1 the ground, 2 the box; and the hit point.

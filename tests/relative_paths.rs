@@ -9,14 +9,18 @@
 
 mod common;
 
-use common::cli::{code, fxrun_in, stderr};
+use common::cli::{code, fxrun_in, save, stderr, write};
 use std::path::Path;
 
-/// Runs `args` in `dir`, then the same with `with_dot` substituted; both must exit
-/// 0 and write identical files `outputs` (removed between the runs).
-fn same_with_dot(dir: &Path, bare: &[&str], dotted: &[&str], outputs: &[&str]) {
+/// Runs `fxrun LINE` in `dir` with each `{NAME}` of the line given as `NAME`, then
+/// as `./NAME`; both must exit 0 and write identical files `outputs` (removed
+/// between the runs).
+fn same_with_dot(dir: &Path, line: &str, outputs: &[&str]) {
+    let bare = line.replace(['{', '}'], "");
+    let dotted = line.replace('{', "./").replace('}', "");
     let mut results = Vec::new();
-    for args in [bare, dotted] {
+    for line in [bare, dotted] {
+        let args: Vec<&str> = line.split_whitespace().collect();
         for o in outputs {
             let p = dir.join(o);
             if p.is_dir() {
@@ -25,7 +29,7 @@ fn same_with_dot(dir: &Path, bare: &[&str], dotted: &[&str], outputs: &[&str]) {
                 let _ = std::fs::remove_file(&p);
             }
         }
-        let out = fxrun_in(dir, args);
+        let out = fxrun_in(dir, &args);
         assert_eq!(code(&out), 0, "fxrun {args:?}:\n{}", stderr(&out));
         let mut files = Vec::new();
         for o in outputs {
@@ -59,35 +63,17 @@ fn same_with_dot(dir: &Path, bare: &[&str], dotted: &[&str], outputs: &[&str]) {
 /// `--scene builtin:room --materials FILE --material '*=DEF'`, with FILE bare and
 /// with `./`: the same image.
 fn room_with_materials(dir: &Path, file: &str, def: &str) {
-    let map = format!("*={def}");
-    let dotted_file = format!("./{file}");
-    let run = |f: &str| -> Vec<String> {
-        [
-            "--materials",
-            f,
-            "--scene",
-            "builtin:room",
-            "--size",
-            "64x48",
-            "--material",
-            &map,
-            "-o",
-            "out.png",
-        ]
-        .map(String::from)
-        .to_vec()
-    };
-    let (bare, dotted) = (run(file), run(&dotted_file));
-    fn as_str(v: &[String]) -> Vec<&str> {
-        v.iter().map(String::as_str).collect()
-    }
-    same_with_dot(dir, &as_str(&bare), &as_str(&dotted), &["out.png"]);
+    let line = format!(
+        "--materials {{{file}}} --scene builtin:room --size 64x48 --material *={def} -o out.png"
+    );
+    same_with_dot(dir, &line, &["out.png"]);
 }
 
 /// A surface shader that is flat colour, and a half-Lambert lighting shader.
 fn write_material_shaders(dir: &Path) {
-    std::fs::write(
-        dir.join("flat.wgsl"),
+    write(
+        dir,
+        "flat.wgsl",
         "struct SurfaceParams { color: vec4<f32>, }\n\
          @group(2) @binding(0) var<uniform> params: SurfaceParams;\n\
          fn surface(in: SurfaceInput) -> SurfaceOutput {\n\
@@ -101,16 +87,15 @@ fn write_material_shaders(dir: &Path) {
          \x20   out.occlusion = 1.0;\n\
          \x20   return out;\n\
          }\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("halflambert.wgsl"),
+    );
+    write(
+        dir,
+        "halflambert.wgsl",
         "fn lighting(in: LightingInput) -> LightingOutput {\n\
          \x20   let h = dot(in.normal, in.light_dir) * 0.5 + 0.5;\n\
          \x20   return LightingOutput(in.light * h * h / 3.14159265, vec3<f32>(0.0));\n\
          }\n",
-    )
-    .unwrap();
+    );
 }
 
 /// The case of the issue: `--materials mine.fx` with the material's shaders next
@@ -119,11 +104,11 @@ fn write_material_shaders(dir: &Path) {
 fn materials_file_by_bare_name_finds_its_shaders() {
     let dir = tempfile::tempdir().unwrap();
     write_material_shaders(dir.path());
-    std::fs::write(
-        dir.path().join("mine.fx"),
+    write(
+        dir.path(),
+        "mine.fx",
         "MATERIAL.mine = {\n    SURFACE = SHADER.flat { color = (0.8, 0.3, 0.2, 1) }\n    LIGHTING = SHADER.halflambert\n}\n",
-    )
-    .unwrap();
+    );
     room_with_materials(dir.path(), "mine.fx", "mine");
 }
 
@@ -133,19 +118,12 @@ fn materials_file_by_bare_name_finds_its_shaders() {
 fn material_textures_resolve_next_to_a_bare_material_file() {
     let dir = tempfile::tempdir().unwrap();
     let tex = common::pattern_u8(16, 16);
-    fxgraph::io::save_image(
-        &dir.path().join("tex.png"),
-        16,
-        16,
-        &tex.pixels,
-        &Default::default(),
-    )
-    .unwrap();
-    std::fs::write(
-        dir.path().join("textured.fx"),
+    save(&dir.path().join("tex.png"), &tex);
+    write(
+        dir.path(),
+        "textured.fx",
         "MATERIAL.t = {\n    SURFACE = SHADER.standard { base_color_map = \"tex.png\" }\n    LIGHTING = SHADER.lambert\n}\n",
-    )
-    .unwrap();
+    );
     room_with_materials(dir.path(), "textured.fx", "t");
 }
 
@@ -160,35 +138,11 @@ fn aux_image_by_bare_name() {
             common::image_u8(24, 16, |x, y| [x as u8 * 9, y as u8 * 13, 90, 255]),
         ),
     ] {
-        fxgraph::io::save_image(
-            &dir.path().join(name),
-            24,
-            16,
-            &img.pixels,
-            &Default::default(),
-        )
-        .unwrap();
+        save(&dir.path().join(name), &img);
     }
     same_with_dot(
         dir.path(),
-        &[
-            "chroma_composite",
-            "-i",
-            "in.png",
-            "--aux",
-            "background=bg.png",
-            "-o",
-            "out.png",
-        ],
-        &[
-            "chroma_composite",
-            "-i",
-            "./in.png",
-            "--aux",
-            "background=./bg.png",
-            "-o",
-            "out.png",
-        ],
+        "chroma_composite -i {in.png} --aux background={bg.png} -o out.png",
         &["out.png"],
     );
 }
@@ -206,22 +160,7 @@ fn scene_by_bare_name_finds_its_buffer() {
     common::gltf_gen::write_gltf(dir.path(), "spheres.gltf", &json);
     same_with_dot(
         dir.path(),
-        &[
-            "--scene",
-            "spheres.gltf",
-            "--size",
-            "64x48",
-            "-o",
-            "out.png",
-        ],
-        &[
-            "--scene",
-            "./spheres.gltf",
-            "--size",
-            "64x48",
-            "-o",
-            "out.png",
-        ],
+        "--scene {spheres.gltf} --size 64x48 -o out.png",
         &["out.png"],
     );
 }
@@ -232,22 +171,7 @@ fn gbuffer_folder_by_bare_name() {
     let dir = tempfile::tempdir().unwrap();
     same_with_dot(
         dir.path(),
-        &[
-            "--scene",
-            "builtin:room",
-            "--size",
-            "64x48",
-            "--gbuffer",
-            "gb",
-        ],
-        &[
-            "--scene",
-            "builtin:room",
-            "--size",
-            "64x48",
-            "--gbuffer",
-            "./gb",
-        ],
+        "--scene builtin:room --size 64x48 --gbuffer {gb}",
         &["gb"],
     );
 }
@@ -256,39 +180,27 @@ fn gbuffer_folder_by_bare_name() {
 #[test]
 fn effect_file_by_bare_name_finds_its_shader_and_include() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("tint.wgsl"),
+    write(
+        dir.path(),
+        "tint.wgsl",
         "@group(0) @binding(0) var img: texture_2d<f32>;\n\
          @fragment\n\
          fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n\
          \x20   let c = textureLoad(img, vec2<i32>(pos.xy), 0);\n\
          \x20   return vec4<f32>(c.r, c.g * 0.5, c.b, c.a);\n\
          }\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.path().join("inner.fx"),
-        "EFFECT.inner = { PASS = { t = SHADER.tint { img = IN } } OUT = t }\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.path().join("mine.fx"),
-        "INCLUDE \"inner.fx\"\nEFFECT.mine = { PASS = { a = EFFECT.inner { IN = IN } b = SHADER.tint { img = PASS.a } } OUT = b }\n",
-    )
-    .unwrap();
-    let img = common::pattern_u8(20, 12);
-    fxgraph::io::save_image(
-        &dir.path().join("in.png"),
-        20,
-        12,
-        &img.pixels,
-        &Default::default(),
-    )
-    .unwrap();
-    same_with_dot(
-        dir.path(),
-        &["mine.fx", "-i", "in.png", "-o", "out.png"],
-        &["./mine.fx", "-i", "./in.png", "-o", "out.png"],
-        &["out.png"],
     );
+    write(
+        dir.path(),
+        "inner.fx",
+        "EFFECT.inner = { PASS = { t = SHADER.tint { img = IN } } OUT = t }\n",
+    );
+    write(
+        dir.path(),
+        "mine.fx",
+        "INCLUDE \"inner.fx\"\nEFFECT.mine = { PASS = { a = EFFECT.inner { IN = IN } b = SHADER.tint { img = PASS.a } } OUT = b }\n",
+    );
+    let img = common::pattern_u8(20, 12);
+    save(&dir.path().join("in.png"), &img);
+    same_with_dot(dir.path(), "{mine.fx} -i {in.png} -o out.png", &["out.png"]);
 }

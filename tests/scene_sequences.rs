@@ -7,15 +7,11 @@
 
 mod common;
 
-use common::cli::{code, fxrun, stderr};
+use common::cli::{assert_same_file, code, fxrun, read, stderr};
 use std::path::Path;
 
 fn gpu() -> bool {
     common::engine().is_some()
-}
-
-fn read(p: &Path) -> Vec<u8> {
-    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
 fn ok(args: &[&str]) {
@@ -23,24 +19,27 @@ fn ok(args: &[&str]) {
     assert_eq!(code(&o), 0, "fxrun {}: {}", args.join(" "), stderr(&o));
 }
 
-#[test]
-fn a_frame_of_a_sequence_equals_it_rendered_alone_and_in_a_slice() {
-    if !gpu() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path().to_str().unwrap();
-    let base = [
-        "tonemap",
+/// `EFFECTS... --scene builtin:room --camera CAMERA --size SIZE MORE...`: the
+/// built-in room seen from a moving camera.
+fn room<'a>(effects: &[&'a str], camera: &'a str, size: &'a str, more: &[&'a str]) -> Vec<&'a str> {
+    let scene = [
         "--scene",
         "builtin:room",
         "--camera",
-        "orbit:period=2",
+        camera,
         "--size",
-        "96x64",
-        "--fps",
-        "24",
+        size,
     ];
+    [effects, &scene[..], more].concat()
+}
+
+#[test]
+fn a_frame_of_a_sequence_equals_it_rendered_alone_and_in_a_slice() {
+    let Some(dir) = common::gpu_scratch() else {
+        return;
+    };
+    let d = dir.path().to_str().unwrap();
+    let base = room(&["tonemap"], "orbit:period=2", "96x64", &["--fps", "24"]);
     let seq = format!("{d}/seq/%04d.png");
     ok(&[&base[..], &["--frames", "0..4", "-o", &seq]].concat());
     for n in 0..=4 {
@@ -49,86 +48,49 @@ fn a_frame_of_a_sequence_equals_it_rendered_alone_and_in_a_slice() {
     // frame 3 at 3/24 s alone
     let alone = format!("{d}/alone.png");
     ok(&[&base[..], &["--time", "0.125", "-o", &alone]].concat());
-    assert_eq!(
-        read(Path::new(&alone)),
-        read(Path::new(&format!("{d}/seq/0003.png")))
-    );
+    assert_same_file(&alone, format!("{d}/seq/0003.png"));
     // a slice 3..4 on "another machine"
     let slice = format!("{d}/slice/%04d.png");
     ok(&[&base[..], &["--frames", "3..4", "-o", &slice]].concat());
     for n in 3..=4 {
-        assert_eq!(
-            read(Path::new(&format!("{d}/slice/{n:04}.png"))),
-            read(Path::new(&format!("{d}/seq/{n:04}.png"))),
-            "frame {n}"
+        assert_same_file(
+            format!("{d}/slice/{n:04}.png"),
+            format!("{d}/seq/{n:04}.png"),
         );
     }
     // the camera moves: consecutive frames differ
     assert_ne!(
-        read(Path::new(&format!("{d}/seq/0000.png"))),
-        read(Path::new(&format!("{d}/seq/0001.png")))
+        read(format!("{d}/seq/0000.png")),
+        read(format!("{d}/seq/0001.png"))
     );
 }
 
 #[test]
 fn a_rendered_sequence_feeds_temporal_effects_with_history() {
-    if !gpu() {
+    let Some(dir) = common::gpu_scratch() else {
         return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    };
     let d = dir.path().to_str().unwrap();
     // frame_blend mixes IN[-1] and IN: frame 2 of the sequence needs frame 1,
     // which a slice starting at 2 renders first (the chain's history)
-    let base = [
-        "frame_blend",
-        "tonemap",
-        "--scene",
-        "builtin:room",
-        "--camera",
-        "orbit:period=1",
-        "--size",
-        "80x48",
-    ];
-    ok(&[
-        &base[..],
-        &["--frames", "0..3", "-o", &format!("{d}/all/%02d.png")],
-    ]
-    .concat());
-    ok(&[
-        &base[..],
-        &["--frames", "2..3", "-o", &format!("{d}/part/%02d.png")],
-    ]
-    .concat());
+    let base = room(&["frame_blend", "tonemap"], "orbit:period=1", "80x48", &[]);
+    let (all, part) = (format!("{d}/all/%02d.png"), format!("{d}/part/%02d.png"));
+    ok(&[&base[..], &["--frames", "0..3", "-o", &all]].concat());
+    ok(&[&base[..], &["--frames", "2..3", "-o", &part]].concat());
     for n in 2..=3 {
-        assert_eq!(
-            read(Path::new(&format!("{d}/part/{n:02}.png"))),
-            read(Path::new(&format!("{d}/all/{n:02}.png"))),
-            "frame {n}"
+        assert_same_file(
+            format!("{d}/part/{n:02}.png"),
+            format!("{d}/all/{n:02}.png"),
         );
     }
-    ok(&[&base[..], &["--time", "0.1", "-o", &format!("{d}/t.png")]].concat());
-    assert_eq!(
-        read(Path::new(&format!("{d}/t.png"))),
-        read(Path::new(&format!("{d}/all/03.png")))
-    );
+    let t = format!("{d}/t.png");
+    ok(&[&base[..], &["--time", "0.1", "-o", &t]].concat());
+    assert_same_file(&t, format!("{d}/all/03.png"));
     // the blend differs from the plain frame (the previous frame is mixed in)
-    ok(&[
-        "tonemap",
-        "--scene",
-        "builtin:room",
-        "--camera",
-        "orbit:period=1",
-        "--size",
-        "80x48",
-        "--time",
-        "0.1",
-        "-o",
-        &format!("{d}/plain.png"),
-    ]);
-    assert_ne!(
-        read(Path::new(&format!("{d}/plain.png"))),
-        read(Path::new(&format!("{d}/t.png")))
-    );
+    let plain = format!("{d}/plain.png");
+    let tonemap = room(&["tonemap"], "orbit:period=1", "80x48", &[]);
+    ok(&[&tonemap[..], &["--time", "0.1", "-o", &plain]].concat());
+    assert_ne!(read(&plain), read(&t));
 }
 
 #[test]
@@ -136,19 +98,8 @@ fn a_rendered_sequence_streams_y4m_on_stdout() {
     if !gpu() {
         return;
     }
-    let o = fxrun(&[
-        "tonemap",
-        "--scene",
-        "builtin:room",
-        "--size",
-        "64x48",
-        "--frames",
-        "0..2",
-        "--fps",
-        "25",
-        "-o",
-        "-",
-    ]);
+    let scene = ["tonemap", "--scene", "builtin:room", "--size", "64x48"];
+    let o = fxrun(&[&scene[..], &["--frames", "0..2", "--fps", "25", "-o", "-"]].concat());
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let header = String::from_utf8_lossy(&o.stdout[..40]).into_owned();
     assert!(header.starts_with("YUV4MPEG2 W64 H48 F25:1"), "{header}");
@@ -166,6 +117,10 @@ fn time_and_frame_options_are_checked() {
             "--gbuffer writes one frame",
         ),
         (&["--frames", "0..2", "--fps", "0"][..], "--fps 0"),
+        (
+            &["--frames", "0..2", "--camera", "orbit:period=0"][..],
+            "period",
+        ),
     ] {
         let mut a = vec!["--scene", "builtin:room", "-o", "x/%04d.png"];
         a.extend_from_slice(args);
@@ -173,41 +128,23 @@ fn time_and_frame_options_are_checked() {
         assert_eq!(code(&o), 1, "{a:?}: {}", stderr(&o));
         assert!(stderr(&o).contains(want), "{a:?}: {}", stderr(&o));
     }
-    let o = fxrun(&[
-        "--scene",
-        "builtin:room",
-        "--frames",
-        "0..2",
-        "--camera",
-        "orbit:period=0",
-        "-o",
-        "x/%04d.png",
-    ]);
-    assert_eq!(code(&o), 1, "{}", stderr(&o));
-    assert!(stderr(&o).contains("period"), "{}", stderr(&o));
 }
 
 #[test]
 fn a_rendered_sequence_writes_y4m_and_video_files() {
-    if !gpu() {
+    let Some(dir) = common::gpu_scratch() else {
         return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    };
     let d = dir.path().to_str().unwrap();
-    let base = [
-        "tonemap",
-        "--scene",
-        "builtin:room",
-        "--camera",
+    let base = room(
+        &["tonemap"],
         "orbit:period=1",
-        "--size",
         "64x48",
-        "--frames",
-        "0..5",
-    ];
+        &["--frames", "0..5"],
+    );
     let y4m = format!("{d}/room.y4m");
     ok(&[&base[..], &["-o", &y4m]].concat());
-    let bytes = read(Path::new(&y4m));
+    let bytes = read(&y4m);
     assert!(bytes.starts_with(b"YUV4MPEG2 W64 H48 F30:1"));
     assert_eq!(bytes.windows(6).filter(|w| w == b"FRAME\n").count(), 6);
     // a video file through ffmpeg (CI installs it; without it this must fail)

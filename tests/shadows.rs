@@ -63,34 +63,26 @@ fn directional_light_shadow_matches_the_ray_cast_oracle() {
     }
 }
 
-#[test]
-fn spot_light_shadow_matches_the_ray_cast_oracle() {
+/// The scene lit by `light`, rendered deferred with PCF shadows: the shadow map
+/// has `layers` layers (`what` they are), and the image matches the ray-cast oracle.
+fn pcf_shadow_matches_the_oracle(name: &str, light: Light, layers: usize, what: &str) {
     if gpu().is_none() {
         return;
     }
-    let light = spot();
-    let (pixels, stats) = render(
-        &scene(light.clone()),
-        &options(ShadowMode::Pcf),
-        Technique::Deferred,
-    );
-    assert_eq!(stats.shadow_layers, 1);
-    check_against_oracle("spot", &pixels, &light);
+    let options = options(ShadowMode::Pcf);
+    let (pixels, stats) = render(&scene(light.clone()), &options, Technique::Deferred);
+    assert_eq!(stats.shadow_layers, layers, "{what}");
+    check_against_oracle(name, &pixels, &light);
+}
+
+#[test]
+fn spot_light_shadow_matches_the_ray_cast_oracle() {
+    pcf_shadow_matches_the_oracle("spot", spot(), 1, "one layer");
 }
 
 #[test]
 fn point_light_shadow_matches_the_ray_cast_oracle() {
-    if gpu().is_none() {
-        return;
-    }
-    let light = point();
-    let (pixels, stats) = render(
-        &scene(light.clone()),
-        &options(ShadowMode::Pcf),
-        Technique::Deferred,
-    );
-    assert_eq!(stats.shadow_layers, 6, "six cube faces");
-    check_against_oracle("point", &pixels, &light);
+    pcf_shadow_matches_the_oracle("point", point(), 6, "six cube faces");
 }
 
 #[test]

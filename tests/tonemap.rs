@@ -13,7 +13,7 @@
 mod common;
 
 use common::cli::{code, fxrun, stdout};
-use common::{engine, image_f32, run};
+use common::{engine, image_f32, run, words};
 use fxgraph::io::Pixels;
 use fxgraph::script::types::Format;
 
@@ -109,13 +109,8 @@ fn ramp() -> (u32, u32, fxgraph::io::Image) {
 fn check(operator: &str, look: &str, exposure: f64, reference: impl Fn([f64; 3]) -> [f64; 3]) {
     let Some(mut eng) = engine() else { return };
     let (w, h, img) = ramp();
-    let sets = [
-        format!("operator={operator}"),
-        format!("look={look}"),
-        format!("exposure={exposure}"),
-    ];
-    let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-    let (_, _, px) = run(&mut eng, &["tonemap"], &sets, &img, Format::Rgba32f).unwrap();
+    let sets = format!("operator={operator} look={look} exposure={exposure}");
+    let (_, _, px) = run(&mut eng, &["tonemap"], &words(&sets), &img, Format::Rgba32f).unwrap();
     let (Pixels::F32(out), Pixels::F32(src)) = (&px, &img.pixels) else {
         panic!("expected float pixels")
     };

@@ -11,31 +11,21 @@
 
 mod common;
 
-use common::cli::stdout;
-use common::viewer::{assert_same_image, diff_u8, normal, photo, pixels, setup, tempdir, view};
+use common::cli::{stdout, write};
+use common::viewer::{
+    assert_same_image, diff_u8, normal, photo, pixels, scripted, setup, setup_with_photo, tempdir,
+    view, view_shot,
+};
 use fxgraph::io::Pixels;
 use std::path::Path;
 
 #[test]
 fn image_screenshot_equals_a_normal_run() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     normal(dir.path(), &["glow", "-i", "in.png", "-o", "n.png"]);
-    view(
-        &d,
-        dir.path(),
-        &[
-            "glow",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "2",
-            "--screenshot",
-            "v.png",
-        ],
-    );
+    view_shot(&d, dir.path(), &["glow", "-i", "in.png"], 2, &[], "v.png");
     assert_same_image(&dir.path().join("v.png"), &dir.path().join("n.png"));
     // A batch: the arrow key goes to the next image.
     let p2 = dir.path().join("b");
@@ -44,22 +34,8 @@ fn image_screenshot_equals_a_normal_run() {
     let img = common::image_u8(64, 48, |x, y| [(x * 4) as u8, (y * 5) as u8, 255, 255]);
     fxgraph::io::save_image(&p2.join("2.png"), 64, 48, &img.pixels, &Default::default()).unwrap();
     normal(dir.path(), &["glow", "-i", "b/2.png", "-o", "n2.png"]);
-    view(
-        &d,
-        dir.path(),
-        &[
-            "glow",
-            "-i",
-            "b/",
-            "--view",
-            "--view-frames",
-            "2",
-            "--view-do",
-            "1:key Right",
-            "--screenshot",
-            "v2.png",
-        ],
-    );
+    let args = ["glow", "-i", "b/"];
+    view_shot(&d, dir.path(), &args, 2, &["1:key Right"], "v2.png");
     assert_same_image(&dir.path().join("v2.png"), &dir.path().join("n2.png"));
 }
 
@@ -112,43 +88,12 @@ fn sequence_frames_equal_the_normal_runs_frames_also_after_going_back() {
         normal(dir.path(), &[effect, "-i", input, "-o", &out]);
         let frame = |n: u32| dir.path().join(&name).join(format!("{n:04}.png"));
         // One frame further per frame shown: the 4th frame shown is frame 3.
-        view(
-            &d,
-            dir.path(),
-            &[
-                effect,
-                "-i",
-                input,
-                "--view",
-                "--view-frames",
-                "4",
-                "--screenshot",
-                "v3.png",
-            ],
-        );
+        view_shot(&d, dir.path(), &[effect, "-i", input], 4, &[], "v3.png");
         assert_same_image(&dir.path().join("v3.png"), &frame(3));
         // Pause at frame 3, go back twice: frame 1, with its history replayed
         // (frame_blend reads earlier frames, motion_trail its own earlier output).
-        view(
-            &d,
-            dir.path(),
-            &[
-                effect,
-                "-i",
-                input,
-                "--view",
-                "--view-frames",
-                "6",
-                "--view-do",
-                "4:key Space",
-                "--view-do",
-                "5:key Left",
-                "--view-do",
-                "6:key Left",
-                "--screenshot",
-                "v1.png",
-            ],
-        );
+        let back = ["4:key Space", "5:key Left", "6:key Left"];
+        view_shot(&d, dir.path(), &[effect, "-i", input], 6, &back, "v1.png");
         assert_same_image(&dir.path().join("v1.png"), &frame(1));
     }
 }
@@ -157,28 +102,19 @@ fn sequence_frames_equal_the_normal_runs_frames_also_after_going_back() {
 fn scene_screenshot_equals_a_normal_run() {
     let Some((d, _gpu)) = setup() else { return };
     let dir = tempdir();
-    let scene = ["--scene", "builtin:room", "--size", "160x120"];
-    let mut args = vec!["tonemap"];
-    args.extend(scene);
-    let mut n = args.clone();
-    n.extend(["-o", "n.png"]);
-    normal(dir.path(), &n);
-    let mut v = args.clone();
-    v.extend(["--view", "--view-frames", "2", "--screenshot", "v.png"]);
-    view(&d, dir.path(), &v);
+    let scene = ["tonemap", "--scene", "builtin:room", "--size", "160x120"];
+    normal(dir.path(), &[&scene[..], &["-o", "n.png"]].concat());
+    view_shot(&d, dir.path(), &scene, 2, &[], "v.png");
     assert_same_image(&dir.path().join("v.png"), &dir.path().join("n.png"));
     // The G-buffer is in the pass list: AUX.depth is written as a run writes R32F.
-    let mut a = args.clone();
-    a.extend([
-        "--view",
-        "--view-frames",
-        "2",
-        "--view-do",
-        "1:inspect aux:depth",
-        "--screenshot",
+    view_shot(
+        &d,
+        dir.path(),
+        &scene,
+        2,
+        &["1:inspect aux:depth"],
         "depth.exr",
-    ]);
-    view(&d, dir.path(), &a);
+    );
     let (w, h, p) = pixels(&dir.path().join("depth.exr"));
     assert_eq!((w, h), (160, 120));
     let Pixels::F32(v) = p else {
@@ -199,34 +135,19 @@ fn an_animated_scene_plays_frame_by_frame_as_a_run_at_that_time() {
     let model = common::anim_gltf::animated_corpus("RiggedSimple");
     let model = model.to_str().unwrap();
     let scene = ["tonemap", "--scene", model, "--size", "160x120"];
-    let mut n = scene.to_vec();
-    n.extend(["--time", "0.5", "-o", "n.png"]);
-    normal(dir.path(), &n);
-    let mut v = scene.to_vec();
-    v.extend(["--view", "--view-frames", "16", "--screenshot", "v.png"]);
-    view(&d, dir.path(), &v);
+    normal(
+        dir.path(),
+        &[&scene[..], &["--time", "0.5", "-o", "n.png"]].concat(),
+    );
+    view_shot(&d, dir.path(), &scene, 16, &[], "v.png");
     assert_same_image(&dir.path().join("v.png"), &dir.path().join("n.png"));
     // Paused at frame 3, one back and one on, then Home: frame 0 (--time 0).
-    let mut n = scene.to_vec();
-    n.extend(["--time", "0", "-o", "n0.png"]);
-    normal(dir.path(), &n);
-    let mut v = scene.to_vec();
-    v.extend([
-        "--view",
-        "--view-frames",
-        "6",
-        "--view-do",
-        "4:key Space",
-        "--view-do",
-        "4:key Left",
-        "--view-do",
-        "5:key Right",
-        "--view-do",
-        "5:key Home",
-        "--screenshot",
-        "v0.png",
-    ]);
-    view(&d, dir.path(), &v);
+    normal(
+        dir.path(),
+        &[&scene[..], &["--time", "0", "-o", "n0.png"]].concat(),
+    );
+    let keys = ["4:key Space", "4:key Left", "5:key Right", "5:key Home"];
+    view_shot(&d, dir.path(), &scene, 6, &keys, "v0.png");
     assert_same_image(&dir.path().join("v0.png"), &dir.path().join("n0.png"));
     // A moving camera (an orbit) is a clock too: --time starts there.
     let orbit = [
@@ -238,20 +159,12 @@ fn an_animated_scene_plays_frame_by_frame_as_a_run_at_that_time() {
         "--size",
         "96x64",
     ];
-    let mut n = orbit.to_vec();
-    n.extend(["--time", "1", "-o", "o.png"]);
-    normal(dir.path(), &n);
-    let mut v = orbit.to_vec();
-    v.extend([
-        "--view",
-        "--view-frames",
-        "3",
-        "--time",
-        "0.9333333333333333",
-        "--screenshot",
-        "vo.png",
-    ]);
-    view(&d, dir.path(), &v);
+    normal(
+        dir.path(),
+        &[&orbit[..], &["--time", "1", "-o", "o.png"]].concat(),
+    );
+    let earlier = [&orbit[..], &["--time", "0.9333333333333333"]].concat();
+    view_shot(&d, dir.path(), &earlier, 3, &[], "vo.png");
     assert_same_image(&dir.path().join("vo.png"), &dir.path().join("o.png"));
 }
 
@@ -260,37 +173,10 @@ fn a_scene_without_size_follows_the_window_and_is_planned_again() {
     let Some((d, _gpu)) = setup() else { return };
     let dir = tempdir();
     // No --size: the render takes the image area; hiding the panel widens it.
-    view(
-        &d,
-        dir.path(),
-        &[
-            "fxaa",
-            "--scene",
-            "builtin:room",
-            "--view",
-            "--view-frames",
-            "3",
-            "--view-do",
-            "1:key Tab",
-            "--screenshot",
-            "wide.png",
-        ],
-    );
+    let scene = ["fxaa", "--scene", "builtin:room"];
+    view_shot(&d, dir.path(), &scene, 3, &["1:key Tab"], "wide.png");
     let (w, h, _) = pixels(&dir.path().join("wide.png"));
-    view(
-        &d,
-        dir.path(),
-        &[
-            "fxaa",
-            "--scene",
-            "builtin:room",
-            "--view",
-            "--view-frames",
-            "2",
-            "--screenshot",
-            "narrow.png",
-        ],
-    );
+    view_shot(&d, dir.path(), &scene, 2, &[], "narrow.png");
     let (nw, nh, _) = pixels(&dir.path().join("narrow.png"));
     assert!(
         w > nw && h == nh,
@@ -300,24 +186,16 @@ fn a_scene_without_size_follows_the_window_and_is_planned_again() {
     let size = format!("{w}x{h}");
     normal(
         dir.path(),
-        &[
-            "fxaa",
-            "--scene",
-            "builtin:room",
-            "--size",
-            &size,
-            "-o",
-            "n.png",
-        ],
+        &[&scene[..], &["--size", &size, "-o", "n.png"]].concat(),
     );
     assert_same_image(&dir.path().join("wide.png"), &dir.path().join("n.png"));
 }
 
 #[test]
 fn a_parameter_set_as_the_panel_does_changes_the_next_frame_as_set_would() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     // A pass parameter (set_param), an effect parameter feeding a uniform (applied
     // as set_param) and one that changes a #define (planned again).
     let cases: [(&str, &str, &str); 3] = [
@@ -334,24 +212,9 @@ fn a_parameter_set_as_the_panel_does_changes_the_next_frame_as_set_would() {
         );
         let v = format!("v{i}.png");
         let action = format!("1:set {set}");
-        let o = view(
-            &d,
-            dir.path(),
-            &[
-                effect,
-                "-i",
-                "in.png",
-                "--view",
-                "--view-frames",
-                "2",
-                "--view-do",
-                &action,
-                "--view-do",
-                "2:copy-set",
-                "--screenshot",
-                &v,
-            ],
-        );
+        let actions = [action.as_str(), "2:copy-set"];
+        let script = scripted(&[effect, "-i", "in.png"], 2, &actions, Some(&v));
+        let o = view(&d, dir.path(), &script);
         assert_same_image(&dir.path().join(&v), &dir.path().join(&n));
         // "Copy as --set" gives arguments that reproduce it.
         let line = stdout(&o);
@@ -371,34 +234,12 @@ fn a_parameter_set_as_the_panel_does_changes_the_next_frame_as_set_would() {
     // An effect parameter in a loop bound (gaussian_blur's sigma): equal within one
     // 8-bit step (lavapipe specialises shaders on uniform values it sees in loop
     // bounds, so a value set after the first frame may round differently).
+    let blur = ["gaussian_blur", "-i", "in.png"];
     normal(
         dir.path(),
-        &[
-            "gaussian_blur",
-            "-i",
-            "in.png",
-            "-o",
-            "g.png",
-            "--set",
-            "sigma=5",
-        ],
+        &[&blur[..], &["-o", "g.png", "--set", "sigma=5"]].concat(),
     );
-    view(
-        &d,
-        dir.path(),
-        &[
-            "gaussian_blur",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "2",
-            "--view-do",
-            "1:set sigma=5",
-            "--screenshot",
-            "gv.png",
-        ],
-    );
+    view_shot(&d, dir.path(), &blur, 2, &["1:set sigma=5"], "gv.png");
     let (max, share) = diff_u8(&dir.path().join("gv.png"), &dir.path().join("g.png"));
     assert!(
         max <= 1 && share < 0.01,
@@ -409,54 +250,24 @@ fn a_parameter_set_as_the_panel_does_changes_the_next_frame_as_set_would() {
 
 #[test]
 fn the_inspected_pass_equals_a_run_of_the_effect_up_to_that_pass() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
-    std::fs::write(
-        dir.path().join("upto.fx"),
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
+    write(
+        dir.path(),
+        "upto.fx",
         "EFFECT.upto = { PASS = {
             brightPass = SHADER.brightPass { img = IN }
             blurX = SHADER.blurX { img = PASS.brightPass  OUT.SCALE = (0.5, 0.5) }
         } OUT = blurX }",
-    )
-    .unwrap();
-    normal(dir.path(), &["upto.fx", "-i", "in.png", "-o", "n.exr"]);
-    view(
-        &d,
-        dir.path(),
-        &[
-            "glow",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "2",
-            "--view-do",
-            "1:inspect blurX",
-            "--screenshot",
-            "v.exr",
-        ],
     );
+    normal(dir.path(), &["upto.fx", "-i", "in.png", "-o", "n.exr"]);
+    let glow = ["glow", "-i", "in.png"];
+    view_shot(&d, dir.path(), &glow, 2, &["1:inspect blurX"], "v.exr");
     assert_same_image(&dir.path().join("v.exr"), &dir.path().join("n.exr"));
     // Inspecting does not change the output: back to it, the same as a normal run.
     normal(dir.path(), &["glow", "-i", "in.png", "-o", "o.png"]);
-    view(
-        &d,
-        dir.path(),
-        &[
-            "glow",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "3",
-            "--view-do",
-            "1:inspect blurY",
-            "--view-do",
-            "2:inspect output",
-            "--screenshot",
-            "vo.png",
-        ],
-    );
+    let inspect_and_back = ["1:inspect blurY", "2:inspect output"];
+    view_shot(&d, dir.path(), &glow, 3, &inspect_and_back, "vo.png");
     assert_same_image(&dir.path().join("vo.png"), &dir.path().join("o.png"));
 }

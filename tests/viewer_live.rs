@@ -11,21 +11,20 @@
 
 mod common;
 
-use common::cli::{code, stderr};
+use common::cli::{code, stderr, write};
 use common::display::{fxrun_view, grab_screen, window_names};
 use common::viewer::{
     assert_same_image, image_rect, normal, photo, pixels, region_psnr, scaling_effect, screen_psnr,
-    setup, tempdir, view_with_edit, write_scale_shader, Running,
+    scripted, setup_with_photo, tempdir, view_with_edit, write_scale_shader, Running,
 };
 use fxgraph::io::Pixels;
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 #[test]
 fn a_reload_shows_the_edited_shader_and_a_broken_one_keeps_the_last_image() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     scaling_effect(dir.path(), "0.5");
     normal(dir.path(), &["k.fx", "-i", "in.png", "-o", "half.png"]);
     let (status, err) = view_with_edit(&d, dir.path(), "edited.png", "c.rgb * 0.25");
@@ -52,29 +51,15 @@ fn a_reload_shows_the_edited_shader_and_a_broken_one_keeps_the_last_image() {
 
 #[test]
 fn the_x_display_shows_the_output_in_the_window() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
     normal(dir.path(), &["glow", "-i", "in.png", "-o", "n.png"]);
     // Panel hidden, 1:1 pixels, paused after frame 2.
-    let mut v = Running::start(
-        &d,
-        dir.path(),
-        &[
-            "glow",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "3",
-            "--view-do",
-            "1:key Tab",
-            "--view-do",
-            "1:key 1",
-            "--view-do",
-            "2:pause",
-        ],
-    );
+    let glow = ["glow", "-i", "in.png"];
+    let one_to_one = ["1:key Tab", "1:key 1"];
+    let script = scripted(&glow, 3, &[&one_to_one[..], &["2:pause"]].concat(), None);
+    let mut v = Running::start(&d, dir.path(), &script);
     let line = v.wait_for("paused at frame");
     let (x, y, w, h) = image_rect(&line);
     assert_eq!((w, h), (96, 64), "{line}");
@@ -92,27 +77,11 @@ fn the_x_display_shows_the_output_in_the_window() {
 
     // Where presentation converts: an inspected float pass (blurX, half size, so
     // magnified twice in the output's place), sRGB-encoded for the display.
+    let inspect = [&one_to_one[..], &["1:inspect blurX", "2:pause"]].concat();
     let mut v = Running::start(
         &d,
         dir.path(),
-        &[
-            "glow",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "3",
-            "--view-do",
-            "1:key Tab",
-            "--view-do",
-            "1:key 1",
-            "--view-do",
-            "1:inspect blurX",
-            "--view-do",
-            "2:pause",
-            "--screenshot",
-            "blurx.exr",
-        ],
+        &scripted(&glow, 3, &inspect, Some("blurx.exr")),
     );
     let line = v.wait_for("paused at frame");
     let (x, y, w, h) = image_rect(&line);
@@ -146,57 +115,36 @@ fn the_x_display_shows_the_output_in_the_window() {
 
 #[test]
 fn errors_are_refused_at_the_start_and_shown_in_the_window_after_a_reload() {
-    let Some((d, _gpu)) = setup() else { return };
-    let dir = tempdir();
-    photo(dir.path(), "in.png");
-    std::fs::write(
-        dir.path().join("bad.fx"),
+    let Some((d, _gpu, dir)) = setup_with_photo() else {
+        return;
+    };
+    write(
+        dir.path(),
+        "bad.fx",
         "EFFECT.bad = { PASS = { s = SHADER.nosuchshader { img = IN } } OUT = s }",
-    )
-    .unwrap();
+    );
     // An effect that does not compile at the start is an input error (exit 1).
     let o = fxrun_view(
         &d,
         dir.path(),
-        &["bad.fx", "-i", "in.png", "--view", "--view-frames", "1"],
+        &scripted(&["bad.fx", "-i", "in.png"], 1, &[], None),
     );
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     assert!(stderr(&o).contains("bad.fx:1:"), "{}", stderr(&o));
     // A scripted set out of range is refused, naming the range.
+    let out_of_range = ["1:set brightPass.threshold=-3"];
     let o = fxrun_view(
         &d,
         dir.path(),
-        &[
-            "glow",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "1",
-            "--view-do",
-            "1:set brightPass.threshold=-3",
-        ],
+        &scripted(&["glow", "-i", "in.png"], 1, &out_of_range, None),
     );
     assert_eq!(code(&o), 1);
     assert!(stderr(&o).contains("out of range"), "{}", stderr(&o));
     // After a broken reload the window's title says so (the panel shows the error).
     scaling_effect(dir.path(), "0.5");
-    let mut v = Running::start(
-        &d,
-        dir.path(),
-        &[
-            "k.fx",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "2",
-            "--view-do",
-            "1:wait-reload",
-            "--view-do",
-            "2:pause",
-        ],
-    );
+    let reload_then_pause = ["1:wait-reload", "2:pause"];
+    let script = scripted(&["k.fx", "-i", "in.png"], 2, &reload_then_pause, None);
+    let mut v = Running::start(&d, dir.path(), &script);
     v.wait_for("watching");
     write_scale_shader(dir.path(), "c.rgb * undefined_name");
     v.wait_for("paused at frame");
@@ -212,12 +160,10 @@ fn without_a_display_the_viewer_is_refused_with_exit_1() {
     let dir = tempdir();
     photo(dir.path(), "in.png");
     let run = |display: Option<&str>| {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_fxrun"));
-        c.args(["glow", "-i", "in.png", "--view"])
-            .current_dir(dir.path())
+        let mut c = common::cli::command(["glow", "-i", "in.png", "--view"]);
+        c.current_dir(dir.path())
             .env_remove("WAYLAND_DISPLAY")
-            .env_remove("WAYLAND_SOCKET")
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir());
+            .env_remove("WAYLAND_SOCKET");
         match display {
             Some(d) => c.env("DISPLAY", d),
             None => c.env_remove("DISPLAY"),

@@ -2,7 +2,7 @@
 //! streams, outputs written whole or not at all, checked with an independent y4m
 //! reader (tests/common/video.rs) and with ffmpeg/ffprobe.
 
-use crate::common::cli::{assert_no_temporaries, exits_with, fxrun_in, fxrun_with};
+use crate::common::cli::{assert_no_temporaries, exits_with, fxrun_line_in, fxrun_with};
 use crate::common::video::{ffmpeg, have_ffmpeg, probe, read_y4m, samples_420, streams, y4m};
 use std::path::Path;
 
@@ -33,11 +33,24 @@ fn frame_420(
     ]
 }
 
-/// `fxrun ARGS` in `d` (expected to succeed), then the y4m file `out` it wrote: its
-/// header line and frames of `samples` samples at `depth` bits.
-fn run_read(d: &Path, args: &str, out: &str, depth: u8, samples: usize) -> (String, Vec<Vec<u16>>) {
-    let args: Vec<&str> = args.split(' ').collect();
-    exits_with(&fxrun_in(d, &args), 0, &[]);
+/// `n` 4:2:0 frames of [`frame_420`]: frame `i` has the luma `y(i, x, y)`.
+fn frames_420(
+    n: usize,
+    (w, h): (usize, usize),
+    (cb, cr): (u16, u16),
+    y: impl Fn(usize, usize, usize) -> u16,
+) -> Vec<Vec<Vec<u16>>> {
+    (0..n)
+        .map(|i| frame_420(w, h, cb, cr, |px, py| y(i, px, py)))
+        .collect()
+}
+
+/// `fxrun LINE` in `d` (expected to succeed), then the y4m file it wrote (`-o OUT`):
+/// its header line and frames of `samples` samples at `depth` bits.
+fn run_read(d: &Path, line: &str, depth: u8, samples: usize) -> (String, Vec<Vec<u16>>) {
+    exits_with(&fxrun_line_in(d, line), 0, &[]);
+    let out = line.split(" -o ").nth(1).and_then(|o| o.split(' ').next());
+    let out = out.unwrap_or_else(|| panic!("no `-o OUT` in `{line}`"));
     read_y4m(&std::fs::read(d.join(out)).unwrap(), depth, samples)
 }
 
@@ -60,16 +73,12 @@ fn an_8bit_file_round_trip_equals_the_pipe() {
     let Some(dir) = setup() else { return };
     let d = dir.path();
     let (w, h) = (64, 48);
-    let frames: Vec<_> = (0..4)
-        .map(|i| {
-            frame_420(w, h, 120, 136, |x, y| {
-                (40 + (x * 3 + y * 2 + i * 5) % 180) as u16
-            })
-        })
-        .collect();
+    let frames = frames_420(4, (w, h), (120, 136), |i, x, y| {
+        (40 + (x * 3 + y * 2 + i * 5) % 180) as u16
+    });
     let input = y4m("W64 H48 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
-    let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "out.y4m"]);
+    let o = fxrun_line_in(d, "id.fx -i in.y4m -o out.y4m");
     exits_with(&o, 0, &[]);
     let out = std::fs::read(d.join("out.y4m")).unwrap();
     let (header, got) = read_y4m(&out, 8, samples_420(w, h));
@@ -99,23 +108,13 @@ fn deinterlace_reads_and_writes_y4m_files() {
     let d = dir.path();
     let (w, h) = (64, 48);
     // Top field (even rows) and bottom field (odd rows) of a moving ramp.
-    let frames: Vec<_> = (0..4)
-        .map(|i| {
-            frame_420(w, h, 128, 128, |x, y| {
-                let shift = if y % 2 == 0 { 2 * i } else { 2 * i + 1 };
-                (30 + ((x + shift) * 3) % 190) as u16
-            })
-        })
-        .collect();
+    let frames = frames_420(4, (w, h), (128, 128), |i, x, y| {
+        let shift = if y % 2 == 0 { 2 * i } else { 2 * i + 1 };
+        (30 + ((x + shift) * 3) % 190) as u16
+    });
     let input = y4m("W64 H48 F25:1 It A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
-    let (header, got) = run_read(
-        d,
-        "deinterlace -i in.y4m -o out.y4m",
-        "out.y4m",
-        8,
-        samples_420(w, h),
-    );
+    let (header, got) = run_read(d, "deinterlace -i in.y4m -o out.y4m", 8, samples_420(w, h));
     assert_eq!(
         header, "YUV4MPEG2 W64 H48 F25:1 Ip A1:1 C420jpeg",
         "progressive out"
@@ -132,7 +131,6 @@ fn deinterlace_reads_and_writes_y4m_files() {
     let (header, got) = run_read(
         d,
         "deinterlace -i in.y4m -o out2.y4m --rate 2",
-        "out2.y4m",
         8,
         samples_420(w, h),
     );
@@ -142,7 +140,6 @@ fn deinterlace_reads_and_writes_y4m_files() {
     let (_, got) = run_read(
         d,
         "deinterlace -i in.y4m -o part.y4m --frames 1..2",
-        "part.y4m",
         8,
         samples_420(w, h),
     );
@@ -154,50 +151,34 @@ fn deinterlace_reads_and_writes_y4m_files() {
 fn a_failed_run_keeps_the_existing_output() {
     let Some(dir) = setup() else { return };
     let d = dir.path();
-    let frames: Vec<_> = (0..3)
-        .map(|i| frame_420(32, 16, 128, 128, |x, _| (40 + x + i) as u16))
-        .collect();
+    let frames = frames_420(3, (32, 16), (128, 128), |i, x, _| (40 + x + i) as u16);
     let mut input = y4m("W32 H16 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     input.truncate(input.len() - 100);
     std::fs::write(d.join("cut.y4m"), &input).unwrap();
     std::fs::write(d.join("out.y4m"), b"the old output").unwrap();
-    let o = fxrun_in(d, &["id.fx", "-i", "cut.y4m", "-o", "out.y4m"]);
+    let o = fxrun_line_in(d, "id.fx -i cut.y4m -o out.y4m");
     exits_with(&o, 1, &["frame 2"]);
     assert_eq!(std::fs::read(d.join("out.y4m")).unwrap(), b"the old output");
     assert_no_temporaries(d);
     // --skip-existing: a whole file exists, nothing to do.
-    let o = fxrun_in(
-        d,
-        &["id.fx", "-i", "cut.y4m", "-o", "out.y4m", "--skip-existing"],
-    );
+    let o = fxrun_line_in(d, "id.fx -i cut.y4m -o out.y4m --skip-existing");
     exits_with(&o, 0, &["exists already"]);
     assert_eq!(std::fs::read(d.join("out.y4m")).unwrap(), b"the old output");
     // The input as the output is refused (it would be replaced).
-    let o = fxrun_in(d, &["id.fx", "-i", "cut.y4m", "-o", "./cut.y4m"]);
+    let o = fxrun_line_in(d, "id.fx -i cut.y4m -o ./cut.y4m");
     exits_with(&o, 1, &["would replace the input"]);
     // A good run replaces it.
     put(d, "in.y4m", "W32 H16 F25:1 Ip A1:1 C420jpeg", 8, &frames);
-    let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "out.y4m"]);
+    let o = fxrun_line_in(d, "id.fx -i in.y4m -o out.y4m");
     exits_with(&o, 0, &[]);
     assert!(std::fs::read(d.join("out.y4m"))
         .unwrap()
         .starts_with(b"YUV4MPEG2 W32 H16"));
     // Image frames to a y4m file: the rate is --fps.
     std::fs::create_dir(d.join("png")).unwrap();
-    let o = fxrun_in(d, &["id.fx", "-i", "in.y4m", "-o", "png/%02d.png"]);
+    let o = fxrun_line_in(d, "id.fx -i in.y4m -o png/%02d.png");
     exits_with(&o, 0, &[]);
-    let o = fxrun_in(
-        d,
-        &[
-            "id.fx",
-            "-i",
-            "png/%02d.png",
-            "-o",
-            "back.y4m",
-            "--fps",
-            "29.97",
-        ],
-    );
+    let o = fxrun_line_in(d, "id.fx -i png/%02d.png -o back.y4m --fps 29.97");
     exits_with(&o, 0, &[]);
     let back = std::fs::read(d.join("back.y4m")).unwrap();
     assert!(
@@ -232,13 +213,7 @@ fn ten_bit_streams_keep_every_level() {
         let f = ramp(w, h, 10, full);
         let header = format!("W160 H64 F25:1 Ip A1:1 C420p10 XYSCSS=420P10 XCOLORRANGE={range}");
         put(d, "in.y4m", &header, 10, &[f.clone(), f.clone()]);
-        let (head, got) = run_read(
-            d,
-            "id.fx -i in.y4m -o out.y4m",
-            "out.y4m",
-            10,
-            samples_420(w, h),
-        );
+        let (head, got) = run_read(d, "id.fx -i in.y4m -o out.y4m", 10, samples_420(w, h));
         assert_eq!(head, format!("YUV4MPEG2 {header}"));
         assert_eq!(got.len(), 2);
         let luma = &got[0][..w * h];
@@ -267,7 +242,6 @@ fn ten_bit_streams_keep_every_level() {
     let (head, got) = run_read(
         d,
         "id.fx -i in.y4m -o out12.y4m --bit-depth 12",
-        "out12.y4m",
         12,
         samples_420(w, h),
     );
@@ -275,18 +249,7 @@ fn ten_bit_streams_keep_every_level() {
     let times4: Vec<u16> = f[0].iter().map(|v| v * 4).collect();
     assert!(max_diff(&got[0][..w * h], &times4) <= 2);
     // Depths y4m has no form for are refused up front.
-    let o = fxrun_in(
-        d,
-        &[
-            "id.fx",
-            "-i",
-            "in.y4m",
-            "-o",
-            "bad.y4m",
-            "--bit-depth",
-            "11",
-        ],
-    );
+    let o = fxrun_line_in(d, "id.fx -i in.y4m -o bad.y4m --bit-depth 11");
     exits_with(&o, 1, &["8, 9, 10, 12, 14, 16"]);
     assert!(!d.join("bad.y4m").exists());
     assert_no_temporaries(d);
@@ -305,13 +268,7 @@ fn twelve_bit_and_mono16_are_read_and_written() {
         12,
         std::slice::from_ref(&f),
     );
-    let (head, got) = run_read(
-        d,
-        "id.fx -i in12.y4m -o out12.y4m",
-        "out12.y4m",
-        12,
-        samples_420(w, h),
-    );
+    let (head, got) = run_read(d, "id.fx -i in12.y4m -o out12.y4m", 12, samples_420(w, h));
     assert_eq!(head, "YUV4MPEG2 W160 H64 F25:1 Ip A1:1 C420p12");
     let diff = max_diff(&got[0], &f.concat());
     eprintln!("12-bit: max difference {diff}");
@@ -323,7 +280,7 @@ fn twelve_bit_and_mono16_are_read_and_written() {
     let header = "W160 H64 F25:1 Ip A1:1 Cmono16 XCOLORRANGE=FULL";
     put(d, "in16.y4m", header, 16, &[vec![mono.clone()]]);
     let args = "id.fx -i in16.y4m -o out16.y4m";
-    let (head, got) = run_read(d, args, "out16.y4m", 16, w * h);
+    let (head, got) = run_read(d, args, 16, w * h);
     assert_eq!(head, format!("YUV4MPEG2 {header}"));
     let diff = max_diff(&got[0], &mono);
     eprintln!("Cmono16: max difference {diff}");
@@ -357,18 +314,7 @@ fn ten_bit_colours_match_the_bt601_formulas() {
     let f = vec![plane(&yf), plane(&uf), plane(&vf)];
     let header = "W64 H32 F25:1 Ip A1:1 C444p10 XCOLORRANGE=LIMITED";
     put(d, "in.y4m", header, 10, &[f]);
-    let o = fxrun_in(
-        d,
-        &[
-            "id.fx",
-            "-i",
-            "in.y4m",
-            "-o",
-            "fx/%d.png",
-            "--bit-depth",
-            "16",
-        ],
-    );
+    let o = fxrun_line_in(d, "id.fx -i in.y4m -o fx/%d.png --bit-depth 16");
     exits_with(&o, 0, &[]);
     let load = |p: &Path| -> Vec<f32> {
         let opts = fxgraph::io::LoadOptions {

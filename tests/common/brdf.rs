@@ -314,6 +314,19 @@ pub struct OracleCamera {
 }
 
 impl OracleCamera {
+    /// The oracle twin of `camera` for a `width` x `height` image.
+    pub fn of(camera: &Camera, width: u32, height: u32) -> OracleCamera {
+        OracleCamera {
+            eye: camera.eye,
+            target: camera.target,
+            up: camera.up,
+            fov_y: camera.fov_y,
+            aspect: width as f32 / height as f32,
+            width,
+            height,
+        }
+    }
+
     /// The world-space ray (origin, unit direction) through the centre of pixel
     /// `(x, y)`: NDC `((x + 0.5)/w · 2 − 1, 1 − (y + 0.5)/h · 2)` (y down in the
     /// image, up in NDC), view space looking down −Z with +Y up, right = f × up.
@@ -340,15 +353,7 @@ pub fn sphere_camera(px: u32) -> (Camera, OracleCamera) {
         near: 0.5,
         far: 10.0,
     };
-    let o = OracleCamera {
-        eye: cam.eye,
-        target: cam.target,
-        up: cam.up,
-        fov_y: cam.fov_y,
-        aspect: 1.0,
-        width: px,
-        height: px,
-    };
+    let o = OracleCamera::of(&cam, px, px);
     (cam, o)
 }
 

@@ -31,6 +31,11 @@ pub fn fxrun_in(dir: &Path, args: &[&str]) -> Output {
     command(args).current_dir(dir).output().expect("run fxrun")
 }
 
+/// `fxrun` with the command line `line` (its words split at spaces) in `dir`.
+pub fn fxrun_line_in(dir: &Path, line: &str) -> Output {
+    fxrun_in(dir, &line.split_whitespace().collect::<Vec<_>>())
+}
+
 /// `fxrun ARGS` in the repository's root, reading `stdin` (nothing: an empty,
 /// closed stdin).
 pub fn fxrun_stdin(args: &[&str], stdin: Option<&[u8]>) -> Output {
@@ -203,4 +208,22 @@ pub fn write_effect(dir: &Path, name: &str, fx: &str, shader: (&str, &str)) -> S
     let p = dir.join(format!("{name}.fx"));
     std::fs::write(&p, fx).unwrap();
     p.display().to_string()
+}
+
+/// The bytes of the file at `path` (panics naming it).
+pub fn read(path: impl AsRef<Path>) -> Vec<u8> {
+    let p = path.as_ref();
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Asserts that the files at `a` and `b` hold the same bytes.
+#[track_caller]
+pub fn assert_same_file(a: impl AsRef<Path>, b: impl AsRef<Path>) {
+    let (a, b) = (a.as_ref(), b.as_ref());
+    assert!(
+        read(a) == read(b),
+        "{} and {} differ",
+        a.display(),
+        b.display()
+    );
 }

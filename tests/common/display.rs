@@ -5,6 +5,7 @@
 //! (CI), as the GPU tests do.
 #![allow(dead_code)]
 
+use std::ffi::OsStr;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
@@ -65,14 +66,18 @@ fn start_xvfb() -> Result<String, String> {
     Err("no free X display number in :90..:139".into())
 }
 
-/// `fxrun ARGS` in `dir` on the test display.
-pub fn fxrun_view(display: &str, dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fxrun"))
-        .args(args)
-        .current_dir(dir)
+/// The `fxrun ARGS` command in `dir` on the test display (no Wayland), not started.
+pub fn viewer_command<S: AsRef<OsStr>>(display: &str, dir: &Path, args: &[S]) -> Command {
+    let mut c = super::cli::command(args);
+    c.current_dir(dir)
         .env("DISPLAY", display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env_remove("WAYLAND_DISPLAY");
+    c
+}
+
+/// `fxrun ARGS` in `dir` on the test display.
+pub fn fxrun_view<S: AsRef<OsStr>>(display: &str, dir: &Path, args: &[S]) -> Output {
+    viewer_command(display, dir, args)
         .stdin(Stdio::null())
         .output()
         .expect("run fxrun")

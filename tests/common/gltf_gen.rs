@@ -10,6 +10,7 @@
 //! sphere at [`TEXTURED_CENTRE`] whose material ([`textured`]) uses every core
 //! texture, `KHR_texture_transform`, `TEXCOORD_1` and `COLOR_0`.
 
+use fxgraph::scene::Camera;
 use glam::{Quat, Vec2, Vec3};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -35,6 +36,18 @@ pub const CAMERA_TARGET: Vec3 = Vec3::ZERO;
 pub const CAMERA_FOV_Y: f32 = std::f32::consts::FRAC_PI_4;
 pub const CAMERA_ZNEAR: f32 = 0.1;
 pub const CAMERA_ZFAR: f32 = 100.0;
+
+/// The file's camera as the renderer's [`Camera`].
+pub fn camera() -> Camera {
+    Camera {
+        eye: CAMERA_EYE,
+        target: CAMERA_TARGET,
+        up: Vec3::Y,
+        fov_y: CAMERA_FOV_Y,
+        near: CAMERA_ZNEAR,
+        far: CAMERA_ZFAR,
+    }
+}
 
 /// A metallic-roughness material of a sphere.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -228,6 +241,15 @@ pub fn uv1_of(uv0: Vec2) -> Vec2 {
     Vec2::new(uv0.y, uv0.x)
 }
 
+/// The little-endian bytes of float vectors (a glTF buffer's data).
+fn le_bytes<const N: usize>(vectors: impl IntoIterator<Item = [f32; N]>) -> Vec<u8> {
+    vectors
+        .into_iter()
+        .flatten()
+        .flat_map(f32::to_le_bytes)
+        .collect()
+}
+
 /// The glTF document (see [`SpheresGltf`]); change it and write it with
 /// [`write_gltf`] to make variants.
 pub fn spheres_gltf_json(opts: &SpheresGltf) -> Value {
@@ -253,29 +275,17 @@ pub fn spheres_gltf_json(opts: &SpheresGltf) -> Value {
         };
     const ARRAY: u32 = 34962;
     const ELEMENTS: u32 = 34963;
-    let f32s = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
-    let positions = add(
-        &mut buf,
-        f32s(&pos.iter().flat_map(|p| p.to_array()).collect::<Vec<_>>()),
-        None,
-        ARRAY,
-        json!({"componentType": 5126, "count": n, "type": "VEC3",
-               "min": [-1.0, -1.0, -1.0], "max": [1.0, 1.0, 1.0]}),
-    );
-    let normals = add(
-        &mut buf,
-        f32s(&pos.iter().flat_map(|p| p.to_array()).collect::<Vec<_>>()),
-        None,
-        ARRAY,
-        json!({"componentType": 5126, "count": n, "type": "VEC3"}),
-    );
-    let uv0 = add(
-        &mut buf,
-        f32s(&uv.iter().flat_map(|p| p.to_array()).collect::<Vec<_>>()),
-        None,
-        ARRAY,
-        json!({"componentType": 5126, "count": n, "type": "VEC2"}),
-    );
+    // The accessor of `n` float vectors of `kind`.
+    let floats = |kind: &str| json!({"componentType": 5126, "count": n, "type": kind});
+    let mut bounded = floats("VEC3");
+    bounded["min"] = json!([-1.0, -1.0, -1.0]);
+    bounded["max"] = json!([1.0, 1.0, 1.0]);
+    // The normals of a unit sphere at the origin are its positions.
+    let points = le_bytes(pos.iter().map(|p| p.to_array()));
+    let positions = add(&mut buf, points.clone(), None, ARRAY, bounded);
+    let normals = add(&mut buf, points, None, ARRAY, floats("VEC3"));
+    let set0 = le_bytes(uv.iter().map(|p| p.to_array()));
+    let uv0 = add(&mut buf, set0, None, ARRAY, floats("VEC2"));
     let indices = add(
         &mut buf,
         idx.iter().flat_map(|i| i.to_le_bytes()).collect(),
@@ -319,17 +329,8 @@ pub fn spheres_gltf_json(opts: &SpheresGltf) -> Value {
     });
     if opts.textured {
         use textured as t;
-        let uv1 = add(
-            &mut buf,
-            f32s(
-                &uv.iter()
-                    .flat_map(|p| uv1_of(*p).to_array())
-                    .collect::<Vec<_>>(),
-            ),
-            None,
-            ARRAY,
-            json!({"componentType": 5126, "count": n, "type": "VEC2"}),
-        );
+        let set1 = le_bytes(uv.iter().map(|p| uv1_of(*p).to_array()));
+        let uv1 = add(&mut buf, set1, None, ARRAY, floats("VEC2"));
         // Unsigned-byte RGB colours, each element padded to 4 bytes (stride 4).
         let colors = add(
             &mut buf,

@@ -7,7 +7,7 @@
 
 use super::brdf::{gltf_spec_brdf, hemisphere_albedo, Model, OracleCamera};
 use fxgraph::scene::environment::{uv_to_direction, Equirect};
-use fxgraph::scene::{Camera, Environment, Instance, Material, Scene, ShaderBinding};
+use fxgraph::scene::{Camera, Environment, Material, Scene, ShaderBinding};
 use glam::{Mat4, Vec3};
 use std::f32::consts::PI;
 
@@ -122,14 +122,7 @@ pub const SPHERE_PX: u32 = 96;
 /// A unit sphere at the origin with a glTF metallic-roughness material, lit by
 /// `env` alone (no punctual light).
 pub fn env_sphere(base: Vec3, metallic: f32, roughness: f32, env: Environment) -> Scene {
-    let mut scene = Scene {
-        name: format!("sphere (metallic {metallic}, roughness {roughness})"),
-        ..Default::default()
-    };
-    scene
-        .meshes
-        .push(fxgraph::scene::builtin::uv_sphere(192, 96));
-    scene.materials.push(Material::new(
+    let material = Material::new(
         "sphere",
         ShaderBinding::new("standard")
             .with(
@@ -139,14 +132,10 @@ pub fn env_sphere(base: Vec3, metallic: f32, roughness: f32, env: Environment) -
             .with("metallic", &[metallic as f64])
             .with("roughness", &[roughness as f64]),
         ShaderBinding::new("cook_torrance"),
-    ));
-    scene.instances.push(Instance {
-        name: "sphere".into(),
-        mesh: 0,
-        material: 0,
-        transform: Mat4::IDENTITY,
-        ..Default::default()
-    });
+    );
+    let name = format!("sphere (metallic {metallic}, roughness {roughness})");
+    let mesh = fxgraph::scene::builtin::uv_sphere(192, 96);
+    let mut scene = super::scenes::one_object(name, "sphere", mesh, material, Mat4::IDENTITY);
     scene.environment = Some(env);
     scene
 }

@@ -4,6 +4,7 @@
 pub mod anim_gltf;
 pub mod brdf;
 pub mod cli;
+pub mod compile;
 pub mod display;
 pub mod gltf_gen;
 pub mod ibl;
@@ -127,6 +128,12 @@ pub fn pattern_u8(w: u32, h: u32) -> Image {
         };
         [r.max(spot), g, b, 255]
     })
+}
+
+/// The words of `line` (split at spaces): `--set` arguments written as one line,
+/// `"amount=1 sigma=2"`.
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
 }
 
 /// What [`run`] returns: the output's width, height and pixels.

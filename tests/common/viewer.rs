@@ -5,11 +5,13 @@
 #![allow(dead_code)]
 
 use super::cli::{code, stderr};
-use super::display::{display, fxrun_view, grab_screen};
+use super::display::{display, fxrun_view, grab_screen, viewer_command};
 use fxgraph::io::{load_image, LoadOptions, Pixels};
+use std::ffi::OsStr;
+use std::fmt::Debug;
 use std::io::{BufRead as _, BufReader, Write as _};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 /// A display and an adapter, or `None` (skipped). The engine's lock is held while
@@ -21,6 +23,19 @@ pub fn setup() -> Option<(
     let d = display()?;
     let gpu = super::engine()?;
     Some((d, gpu))
+}
+
+/// [`setup`] and a folder holding the test [`photo`] `in.png`: the display, the
+/// engine's lock and the folder, or `None` (skipped).
+pub fn setup_with_photo() -> Option<(
+    String,
+    std::sync::MutexGuard<'static, fxgraph::gpu::executor::Engine>,
+    tempfile::TempDir,
+)> {
+    let (d, gpu) = setup()?;
+    let dir = tempdir();
+    photo(dir.path(), "in.png");
+    Some((d, gpu, dir))
 }
 
 pub fn tempdir() -> tempfile::TempDir {
@@ -41,11 +56,32 @@ pub fn normal(dir: &Path, args: &[&str]) {
     assert_eq!(code(&o), 0, "fxrun {args:?}: {}", stderr(&o));
 }
 
+/// The arguments of a scripted viewer run: `ARGS --view --view-frames FRAMES`,
+/// a `--view-do ACTION` for each of `actions` (`N:WHAT`: after frame N), and
+/// `--screenshot SHOT` when a screenshot is named.
+pub fn scripted(args: &[&str], frames: u32, actions: &[&str], shot: Option<&str>) -> Vec<String> {
+    let mut v: Vec<String> = args.iter().map(|a| a.to_string()).collect();
+    v.extend(["--view".into(), "--view-frames".into(), frames.to_string()]);
+    for action in actions {
+        v.extend(["--view-do".into(), action.to_string()]);
+    }
+    if let Some(shot) = shot {
+        v.extend(["--screenshot".into(), shot.into()]);
+    }
+    v
+}
+
 /// `fxrun ARGS --view ...` in `dir` on the display, which must succeed.
-pub fn view(d: &str, dir: &Path, args: &[&str]) -> std::process::Output {
+pub fn view<S: AsRef<OsStr> + Debug>(d: &str, dir: &Path, args: &[S]) -> std::process::Output {
     let o = fxrun_view(d, dir, args);
     assert_eq!(code(&o), 0, "fxrun {args:?}: {}", stderr(&o));
     o
+}
+
+/// [`view`] of the run [`scripted`] with `args`, `frames` and `actions` that
+/// ends with the screenshot `shot`.
+pub fn view_shot(d: &str, dir: &Path, args: &[&str], frames: u32, actions: &[&str], shot: &str) {
+    view(d, dir, &scripted(args, frames, actions, Some(shot)));
 }
 
 pub fn pixels(path: &Path) -> (u32, u32, Pixels) {
@@ -116,13 +152,8 @@ pub struct Running {
 }
 
 impl Running {
-    pub fn start(d: &str, dir: &Path, args: &[&str]) -> Running {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
-            .args(args)
-            .current_dir(dir)
-            .env("DISPLAY", d)
-            .env_remove("WAYLAND_DISPLAY")
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+    pub fn start<S: AsRef<OsStr>>(d: &str, dir: &Path, args: &[S]) -> Running {
+        let mut child = viewer_command(d, dir, args)
             .stdin(Stdio::piped())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
@@ -181,22 +212,8 @@ impl Running {
 /// Runs the viewer (waiting for a reload after frame 1), edits the shader once it
 /// watches; returns its status and stderr.
 pub fn view_with_edit(d: &str, dir: &Path, shot: &str, edit: &str) -> (i32, String) {
-    let mut v = Running::start(
-        d,
-        dir,
-        &[
-            "k.fx",
-            "-i",
-            "in.png",
-            "--view",
-            "--view-frames",
-            "2",
-            "--view-do",
-            "1:wait-reload",
-            "--screenshot",
-            shot,
-        ],
-    );
+    let args = ["k.fx", "-i", "in.png"];
+    let mut v = Running::start(d, dir, &scripted(&args, 2, &["1:wait-reload"], Some(shot)));
     v.wait_for("watching");
     write_scale_shader(dir, edit);
     v.finish()

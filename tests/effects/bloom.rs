@@ -111,14 +111,8 @@ fn bloom_energy_and_identity() {
     for intensity in [1.0, 0.25] {
         let mut at_40px = 0.0;
         for radius in [0.3, 0.7, 1.0] {
-            let sets = [
-                format!("intensity={intensity}"),
-                format!("radius={radius}"),
-                "threshold=0".to_string(),
-                "knee=0".to_string(),
-            ];
-            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-            let px = apply_fx(&mut eng, "bloom", &sets, &img, Format::Rgba32f);
+            let sets = format!("intensity={intensity} radius={radius} threshold=0 knee=0");
+            let px = apply_fx(&mut eng, "bloom", &words(&sets), &img, Format::Rgba32f);
             let out = f32s(&px);
             assert_finite(out, "bloom");
             let added: f64 = (0..out.len())

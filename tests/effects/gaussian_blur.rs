@@ -11,9 +11,15 @@ use fxgraph::script::types::Format;
 /// the f64 oracle.
 fn gaussian_u8_diff(img: &Image, sigma: f64, exact: bool) -> Option<U8Diff> {
     let mut eng = engine()?;
-    let sets = [format!("sigma={sigma}"), format!("exact={exact}")];
-    let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-    let (w, h, px) = run_raw(&mut eng, &["gaussian_blur"], &sets, img, Format::Rgba8).unwrap();
+    let sets = format!("sigma={sigma} exact={exact}");
+    let (w, h, px) = run_raw(
+        &mut eng,
+        &["gaussian_blur"],
+        &words(&sets),
+        img,
+        Format::Rgba8,
+    )
+    .unwrap();
     assert_eq!((w, h), (img.width, img.height));
     let want = blur_f64(&stored_u8(img), w, h, sigma);
     Some(u8_diff(u8s(&px), &want))
@@ -76,10 +82,15 @@ fn gaussian_blur_float_matches_oracle() {
     for sigma in [1.0, 4.0] {
         for exact in [false, true] {
             let Some(mut eng) = engine() else { return };
-            let sets = [format!("sigma={sigma}"), format!("exact={exact}")];
-            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-            let (w, h, px) =
-                run(&mut eng, &["gaussian_blur"], &sets, &img, Format::Rgba32f).unwrap();
+            let sets = format!("sigma={sigma} exact={exact}");
+            let (w, h, px) = run(
+                &mut eng,
+                &["gaussian_blur"],
+                &words(&sets),
+                &img,
+                Format::Rgba32f,
+            )
+            .unwrap();
             let want = blur_f64(&src, w, h, sigma);
             let d = max_diff(f32s(&px), &want);
             eprintln!("gaussian_blur float sigma {sigma} exact={exact}: max abs diff {d:.2e}");

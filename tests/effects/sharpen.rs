@@ -33,9 +33,9 @@ fn sharpen_matches_oracle_8bit() {
     for (name, img) in &images {
         for (amount, sigma) in [(1.0, 1.5), (0.5, 3.0), (2.0, 1.0)] {
             let Some(mut eng) = engine() else { return };
-            let sets = [format!("amount={amount}"), format!("sigma={sigma}")];
-            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-            let (w, h, px) = run_raw(&mut eng, &["sharpen"], &sets, img, Format::Rgba8).unwrap();
+            let sets = format!("amount={amount} sigma={sigma}");
+            let (w, h, px) =
+                run_raw(&mut eng, &["sharpen"], &words(&sets), img, Format::Rgba8).unwrap();
             let want = sharpen_f64(&stored_u8(img), w, h, amount, sigma, 0.0);
             let d = u8_diff(u8s(&px), &want);
             eprintln!("sharpen {name} amount {amount} sigma {sigma}: {d:?}");
@@ -55,13 +55,8 @@ fn sharpen_matches_oracle_float() {
     let src = uploaded_f16(&img);
     for (amount, sigma, threshold) in [(1.0, 1.5, 0.0), (3.0, 2.0, 0.0), (1.5, 1.0, 0.05)] {
         let Some(mut eng) = engine() else { return };
-        let sets = [
-            format!("amount={amount}"),
-            format!("sigma={sigma}"),
-            format!("threshold={threshold}"),
-        ];
-        let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-        let (w, h, px) = run(&mut eng, &["sharpen"], &sets, &img, Format::Rgba32f).unwrap();
+        let sets = format!("amount={amount} sigma={sigma} threshold={threshold}");
+        let (w, h, px) = run(&mut eng, &["sharpen"], &words(&sets), &img, Format::Rgba32f).unwrap();
         let out = f32s(&px);
         assert_finite(out, "sharpen");
         let want = sharpen_f64(&src, w, h, amount, sigma, threshold);

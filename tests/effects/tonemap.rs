@@ -35,13 +35,8 @@ fn tonemap_matches_oracle_on_hdr_gradient() {
     ];
     for (op_name, exposure, op, white) in cases {
         let Some(mut eng) = engine() else { return };
-        let sets = [
-            format!("operator={op_name}"),
-            format!("exposure={exposure}"),
-            format!("white={white}"),
-        ];
-        let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
-        let (_, h, px) = run(&mut eng, &["tonemap"], &sets, &img, Format::Rgba32f).unwrap();
+        let sets = format!("operator={op_name} exposure={exposure} white={white}");
+        let (_, h, px) = run(&mut eng, &["tonemap"], &words(&sets), &img, Format::Rgba32f).unwrap();
         let out = f32s(&px);
         assert_finite(out, "tonemap");
         let want: Vec<f64> = src

@@ -172,6 +172,25 @@ fn s(p: &Path) -> String {
     p.to_str().unwrap().to_string()
 }
 
+/// The input sequence `-i SPEC` names.
+fn open_input(spec: &str) -> Result<InputSequence, IoError> {
+    InputSequence::open(&SequenceSpec::parse_input(spec))
+}
+
+/// The output pattern `-o SPEC` names (its folder created).
+fn open_output(spec: &str) -> Result<OutputPattern, IoError> {
+    OutputPattern::new(&SequenceSpec::parse_output(spec))
+}
+
+/// A temporary folder holding an empty file (one byte) for each of `names`.
+fn folder_with(names: &[&str]) -> tempfile::TempDir {
+    let dir = tmp();
+    for name in names {
+        touch(&dir.path().join(name));
+    }
+    dir
+}
+
 fn numbers(seq: &InputSequence) -> Vec<u64> {
     seq.frames.iter().map(|f| f.0).collect()
 }

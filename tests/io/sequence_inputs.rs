@@ -24,7 +24,7 @@ fn pattern_input_with_gaps_not_starting_at_zero() {
     fs::create_dir(d.join("f_0106.png")).unwrap();
 
     let pattern = format!("{}/f_%04d.png", s(d));
-    let seq = InputSequence::open(&SequenceSpec::parse_input(&pattern)).unwrap();
+    let seq = open_input(&pattern).unwrap();
     assert_eq!(numbers(&seq), [98, 99, 100, 103, 110]);
     assert_eq!(seq.frames[0].1, d.join("f_0098.png"));
     assert_eq!(seq.first_number(), Some(98));
@@ -57,7 +57,7 @@ fn pattern_without_matches_or_folder_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     touch(&dir.path().join("a_1.png"));
     let pattern = format!("{}/b_%04d.png", s(dir.path()));
-    let e = InputSequence::open(&SequenceSpec::parse_input(&pattern)).unwrap_err();
+    let e = open_input(&pattern).unwrap_err();
     assert!(
         matches!(&e, IoError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound)
     );
@@ -68,10 +68,10 @@ fn pattern_without_matches_or_folder_is_an_error() {
     );
 
     let pattern = format!("{}/missing/%04d.png", s(dir.path()));
-    let e = InputSequence::open(&SequenceSpec::parse_input(&pattern)).unwrap_err();
+    let e = open_input(&pattern).unwrap_err();
     assert!(matches!(e, IoError::Io { .. }), "{e}");
 
-    let e = InputSequence::open(&SequenceSpec::parse_input("x/%d_%d.png")).unwrap_err();
+    let e = open_input("x/%d_%d.png").unwrap_err();
     assert!(e.is_input_error(), "{e}");
     assert!(e.to_string().contains("more than one"), "{e}");
 
@@ -81,20 +81,17 @@ fn pattern_without_matches_or_folder_is_an_error() {
 
 #[test]
 fn folder_input_is_sorted_by_the_numbers_in_the_names() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    for name in [
+    let dir = folder_with(&[
         "f10.png",
         "f2.jpg",
         "f1.png",
         "notes.txt",
         ".f3.png",
         "f4.png.fxtmp",
-    ] {
-        touch(&d.join(name));
-    }
+    ]);
+    let d = dir.path();
     fs::create_dir(d.join("f5.png")).unwrap();
-    let seq = InputSequence::open(&SequenceSpec::parse_input(&s(d))).unwrap();
+    let seq = open_input(&s(d)).unwrap();
     assert_eq!(numbers(&seq), [1, 2, 10]);
     assert_eq!(names(&seq), ["f1.png", "f2.jpg", "f10.png"]);
     assert_eq!(seq.gaps(), [FrameRange { start: 3, end: 9 }]);
@@ -102,24 +99,20 @@ fn folder_input_is_sorted_by_the_numbers_in_the_names() {
 
 #[test]
 fn folder_input_without_distinct_numbers_is_sorted_by_name() {
-    let dir = tempfile::tempdir().unwrap();
-    for name in ["b.png", "a.png", "c.exr"] {
-        touch(&dir.path().join(name));
+    for (files, sorted) in [
+        (["b.png", "a.png", "c.exr"], ["a.png", "b.png", "c.exr"]),
+        (
+            ["cam1_7.png", "cam2_7.png", "cam1_8.png"],
+            ["cam1_7.png", "cam1_8.png", "cam2_7.png"],
+        ),
+    ] {
+        let dir = folder_with(&files);
+        let seq = InputSequence::open(&SequenceSpec::Dir(dir.path().into())).unwrap();
+        assert_eq!(numbers(&seq), [0, 1, 2], "{files:?}");
+        assert_eq!(names(&seq), sorted);
     }
-    let seq = InputSequence::open(&SequenceSpec::Dir(dir.path().into())).unwrap();
-    assert_eq!(numbers(&seq), [0, 1, 2]);
-    assert_eq!(names(&seq), ["a.png", "b.png", "c.exr"]);
 
-    let dir = tempfile::tempdir().unwrap();
-    for name in ["cam1_7.png", "cam2_7.png", "cam1_8.png"] {
-        touch(&dir.path().join(name));
-    }
-    let seq = InputSequence::open(&SequenceSpec::Dir(dir.path().into())).unwrap();
-    assert_eq!(numbers(&seq), [0, 1, 2]);
-    assert_eq!(names(&seq), ["cam1_7.png", "cam1_8.png", "cam2_7.png"]);
-
-    let empty = tempfile::tempdir().unwrap();
-    touch(&empty.path().join("readme.txt"));
+    let empty = folder_with(&["readme.txt"]);
     let e = InputSequence::open(&SequenceSpec::Dir(empty.path().into())).unwrap_err();
     assert!(e.to_string().contains("no image files"), "{e}");
 }

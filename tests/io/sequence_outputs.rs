@@ -8,11 +8,7 @@ fn output_naming_and_skip_existing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
 
-    let out = OutputPattern::new(&SequenceSpec::parse_output(&format!(
-        "{}/a/b/f_%05d.png",
-        s(d)
-    )))
-    .unwrap();
+    let out = open_output(&format!("{}/a/b/f_%05d.png", s(d))).unwrap();
     assert!(d.join("a/b").is_dir(), "the output folder is created");
     assert_eq!(out.path_for(42), d.join("a/b/f_00042.png"));
     assert_eq!(out.dir(), d.join("a/b/").as_path());
@@ -21,8 +17,7 @@ fn output_naming_and_skip_existing() {
     assert!(out.exists(42));
     assert!(!out.exists(43));
 
-    let out =
-        OutputPattern::new(&SequenceSpec::parse_output(&format!("{}/frames/", s(d)))).unwrap();
+    let out = open_output(&format!("{}/frames/", s(d))).unwrap();
     assert!(d.join("frames").is_dir());
     assert_eq!(out.path_for(7), d.join("frames/000007.png"));
     assert_eq!(out.path_for(1234567), d.join("frames/1234567.png"));
@@ -31,16 +26,15 @@ fn output_naming_and_skip_existing() {
     assert_eq!(out.path_for(3), d.join("exr/000003.exr"));
 
     // Existing folder given without a trailing slash.
-    let out = OutputPattern::new(&SequenceSpec::parse_output(&s(&d.join("exr")))).unwrap();
+    let out = open_output(&s(&d.join("exr"))).unwrap();
     assert_eq!(out.path_for(3), d.join("exr/000003.png"));
 
-    let e = OutputPattern::new(&SequenceSpec::parse_output(&format!("{}/x/%04d.xyz", s(d))))
-        .unwrap_err();
+    let e = open_output(&format!("{}/x/%04d.xyz", s(d))).unwrap_err();
     assert!(
         e.is_input_error() && e.to_string().contains("extension"),
         "{e}"
     );
-    let e = OutputPattern::new(&SequenceSpec::parse_output("single.png")).unwrap_err();
+    let e = open_output("single.png").unwrap_err();
     assert!(e.to_string().contains("pattern such as"), "{e}");
     let e = OutputPattern::new(&SequenceSpec::Stdout).unwrap_err();
     assert!(e.is_input_error(), "{e}");

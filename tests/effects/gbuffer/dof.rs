@@ -36,6 +36,22 @@ fn square_over_checker(
     (g, scene)
 }
 
+/// `dof` with `sets` (a 60° camera) on the `n` x `n` [`square_over_checker`]: the
+/// scene's samples and the output's, which must be finite.
+fn dof_of_square(
+    eng: &mut Engine,
+    n: u32,
+    square: impl Fn(u32, u32) -> bool,
+    (depths, colour): ((f32, f32), [f32; 4]),
+    sets: &[&str],
+) -> (Vec<f32>, Vec<f32>) {
+    let (g, scene) = square_over_checker(n, square, depths, colour);
+    let cam = perspective(60.0, 1.0);
+    let out = run_gbuffer(eng, "dof", sets, &scene, &g, &cam);
+    assert_finite(&out, "dof");
+    (f32s(&scene.pixels).to_vec(), out)
+}
+
 #[test]
 fn dof_in_focus_is_identity() {
     let Some(mut eng) = engine() else { return };
@@ -101,11 +117,8 @@ fn dof_sharp_foreground_keeps_its_edge_without_halo() {
     // An in-focus red square (depth 5 = focus) in front of a far checker (depth 50).
     let n = 64;
     let fg = |x: u32, y: u32| (16..40).contains(&x) && (20..44).contains(&y);
-    let (g, scene) = square_over_checker(n, fg, (5.0, 50.0), [1.0, 0.25, 0.125, 1.0]);
-    let src = f32s(&scene.pixels);
-    let cam = perspective(60.0, 1.0);
-    let out = run_gbuffer(&mut eng, "dof", &["focus_distance=5"], &scene, &g, &cam);
-    assert_finite(&out, "dof");
+    let square = ((5.0, 50.0), [1.0, 0.25, 0.125, 1.0]);
+    let (src, out) = dof_of_square(&mut eng, n, fg, square, &["focus_distance=5"]);
     let (mut fg_diff, mut halo) = (0.0f32, 0.0f32);
     for y in 0..n {
         for x in 0..n {
@@ -126,7 +139,7 @@ fn dof_sharp_foreground_keeps_its_edge_without_halo() {
     assert!(halo < 1e-3, "halo: red {halo} on the background");
     // The background itself is blurred, right up to the object.
     let strip = |v: &[f32]| region(&channel(v, 1), n, 44, 60, 4, 60);
-    let (before, after) = (variance(&strip(src)), variance(&strip(&out)));
+    let (before, after) = (variance(&strip(&src)), variance(&strip(&out)));
     eprintln!("background beside the object: green variance {before:.4} -> {after:.5}");
     assert!(
         after < 0.1 * before,
@@ -141,12 +154,9 @@ fn dof_blurred_foreground_spreads_over_a_sharp_background() {
     // CoC of the square -2 (4.5 / 1 - 1) = -7 px.
     let n = 64;
     let fg = |x: u32, y: u32| (20..44).contains(&x) && (20..44).contains(&y);
-    let (g, scene) = square_over_checker(n, fg, (1.0, 5.0), [1.0, 0.0, 0.0, 1.0]);
-    let src = f32s(&scene.pixels);
-    let cam = perspective(60.0, 1.0);
+    let square = ((1.0, 5.0), [1.0, 0.0, 0.0, 1.0]);
     let sets = ["focus_distance=5", "focal_range=1", "aperture=2"];
-    let out = run_gbuffer(&mut eng, "dof", &sets, &scene, &g, &cam);
-    assert_finite(&out, "dof");
+    let (src, out) = dof_of_square(&mut eng, n, fg, square, &sets);
     let red = channel(&out, 0);
     dump("dof near field (red)", &red, n, 0.0, 1.0);
     // Distance (Chebyshev) of a background pixel from the square.
