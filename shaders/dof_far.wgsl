@@ -22,7 +22,7 @@
 @group(0) @binding(0) var img: texture_2d<f32>;
 @group(0) @binding(1) var coc: texture_2d<f32>;
 
-const GOLDEN_ANGLE: f32 = 2.39996323;
+#include "lib/dof.wgsl"
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
@@ -34,10 +34,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         var bg = vec4<f32>(0.0);
         var count = 0.0;
         for (var i = 0; i < SAMPLES; i++) {
-            let fi = f32(i);
-            let r = -cp * sqrt((fi + 0.5) / f32(SAMPLES));
-            let a = fi * GOLDEN_ANGLE;
-            let q = clamp(p + vec2<i32>(round(r * vec2<f32>(cos(a), sin(a)))), vec2<i32>(0), hi);
+            let q = lib_disc_tap(p, hi, -cp, i, SAMPLES);
             if (textureLoad(coc, q, 0).r >= 0.0) {
                 bg += textureLoad(img, q, 0);
                 count += 1.0;
@@ -52,10 +49,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var sum = c0 * w0;
     var total = w0;
     for (var i = 0; i < SAMPLES; i++) {
-        let fi = f32(i);
-        let r = cp * sqrt((fi + 0.5) / f32(SAMPLES));
-        let a = fi * GOLDEN_ANGLE;
-        let q = clamp(p + vec2<i32>(round(r * vec2<f32>(cos(a), sin(a)))), vec2<i32>(0), hi);
+        let q = lib_disc_tap(p, hi, cp, i, SAMPLES);
         if (all(q == p)) {
             continue;
         }

@@ -19,7 +19,7 @@
 @group(0) @binding(2) var far: texture_2d<f32>;
 @group(0) @binding(3) var nearmax: texture_2d<f32>;
 
-const GOLDEN_ANGLE: f32 = 2.39996323;
+#include "lib/dof.wgsl"
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
@@ -34,10 +34,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var total = 0.0;
     var full = 0.0;
     for (var i = 0; i < SAMPLES; i++) {
-        let fi = f32(i);
-        let r = R * sqrt((fi + 0.5) / f32(SAMPLES));
-        let ang = fi * GOLDEN_ANGLE;
-        let q = clamp(p + vec2<i32>(round(r * vec2<f32>(cos(ang), sin(ang)))), vec2<i32>(0), hi);
+        let q = lib_disc_tap(p, hi, R, i, SAMPLES);
         let dist = length(vec2<f32>(q - p));
         full += clamp(R - dist + 0.5, 0.0, 1.0);
         let cq = textureLoad(coc, q, 0).r;

@@ -159,14 +159,20 @@ impl Stream {
         extras: FrameExtras,
     ) -> Result<(), GpuError> {
         let input = self.input_texture(engine, img)?;
+        self.hold(input, Some(extras), true);
+        Ok(())
+    }
+
+    /// Queue `input` as the next frame; `recycle`: its texture may take a later
+    /// uploaded frame once the ring lets it go.
+    fn hold(&mut self, input: wgpu::Texture, extras: Option<FrameExtras>, recycle: bool) {
         self.frames.push_back(Held {
             index: self.pushed,
             input,
-            extras: Some(extras),
-            recycle: true,
+            extras,
+            recycle,
         });
         self.pushed += 1;
-        Ok(())
     }
 
     fn input_texture(&mut self, engine: &Engine, img: &Image) -> Result<wgpu::Texture, GpuError> {
@@ -214,13 +220,7 @@ impl Stream {
     /// Queue the next input frame (uploaded once). Outputs become ready as the
     /// graph's latency allows: run them with [`Stream::next`].
     pub fn push_texture(&mut self, input: wgpu::Texture) {
-        self.frames.push_back(Held {
-            index: self.pushed,
-            input,
-            extras: None,
-            recycle: true,
-        });
-        self.pushed += 1;
+        self.hold(input, None, true);
     }
 
     /// Queue a frame made on the device with its own auxiliary images and camera
@@ -228,13 +228,7 @@ impl Stream {
     /// the frame ([`Stream::ring_len`] frames): a producer that draws every frame
     /// into the same textures passes copies unless the ring holds one frame.
     pub fn push_frame(&mut self, input: wgpu::Texture, extras: FrameExtras) {
-        self.frames.push_back(Held {
-            index: self.pushed,
-            input,
-            extras: Some(extras),
-            recycle: false,
-        });
-        self.pushed += 1;
+        self.hold(input, Some(extras), false);
     }
 
     /// Mark the end of the input: the last `latency` outputs become ready.

@@ -71,6 +71,18 @@ pub fn read_pixels(
     pixels_from_bytes(ctx.read_texture(texture)?, format)
 }
 
+/// One little-endian `Rgb10a2Unorm` texel (`texel[..4]`) as its four unorm
+/// channels: r, g, b in 10 bits, alpha in 2.
+pub fn unpack_rgb10a2(texel: &[u8]) -> [f32; 4] {
+    let v = u32::from_le_bytes([texel[0], texel[1], texel[2], texel[3]]);
+    [
+        (v & 1023) as f32 / 1023.0,
+        ((v >> 10) & 1023) as f32 / 1023.0,
+        ((v >> 20) & 1023) as f32 / 1023.0,
+        (v >> 30) as f32 / 3.0,
+    ]
+}
+
 /// Tightly packed texel bytes of `format` as pixels.
 pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuError> {
     Ok(match format {

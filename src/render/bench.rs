@@ -72,7 +72,8 @@ pub struct BenchReport {
     pub rows: Vec<BenchRow>,
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// The upper median of `v` (sorted in place); NaN when it is empty.
+pub(crate) fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     if v.is_empty() {
         f64::NAN

@@ -3,6 +3,7 @@
 
 use super::renderer::{RenderError, RenderOutput};
 use crate::gpu::context::GpuContext;
+use crate::gpu::transfer::unpack_rgb10a2;
 use crate::io::{save_image, Pixels, SaveOptions};
 use std::path::{Path, PathBuf};
 
@@ -33,18 +34,7 @@ pub fn read_rgba_f32(
                 ]
             })
             .collect(),
-        F::Rgb10a2Unorm => bytes
-            .chunks_exact(4)
-            .map(|p| {
-                let v = u32::from_le_bytes([p[0], p[1], p[2], p[3]]);
-                [
-                    (v & 1023) as f32 / 1023.0,
-                    ((v >> 10) & 1023) as f32 / 1023.0,
-                    ((v >> 20) & 1023) as f32 / 1023.0,
-                    (v >> 30) as f32 / 3.0,
-                ]
-            })
-            .collect(),
+        F::Rgb10a2Unorm => bytes.chunks_exact(4).map(unpack_rgb10a2).collect(),
         F::Rgba16Float => bytes
             .chunks_exact(8)
             .map(|p| {

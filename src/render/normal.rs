@@ -115,14 +115,8 @@ pub fn fibonacci_sphere(count: usize) -> Vec<Vec3> {
             Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32)
         })
         .collect();
-    v.extend([
-        Vec3::X,
-        Vec3::NEG_X,
-        Vec3::Y,
-        Vec3::NEG_Y,
-        Vec3::Z,
-        Vec3::NEG_Z,
-    ]);
+    // the six axis directions, as a cube's faces face
+    v.extend(super::shadows::CUBE_FACES);
     v
 }
 

@@ -9,6 +9,7 @@
 //! shaders (deferred: `geometry`, forward: `forward`) and of the whole frame are
 //! reported (GPU timestamps; CPU wall time to idle where the device has none).
 
+use super::bench::median;
 use super::material::VariantMode;
 use super::renderer::{RenderError, Renderer, RendererOptions, Technique};
 use crate::gpu::context::{GpuContext, GpuTimer};
@@ -39,11 +40,6 @@ pub struct VariantReport {
     pub frames: usize,
     pub lights: usize,
     pub rows: Vec<VariantRow>,
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 /// Renders `scene` from `camera` in every mode and technique of the lists.

@@ -12,6 +12,7 @@
 use super::present::{auto_shade, Shade};
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::gpu::executor::Prepared;
+use fxgraph::gpu::transfer::unpack_rgb10a2;
 use fxgraph::script::types::Format;
 
 /// What is shown.
@@ -106,20 +107,7 @@ pub(super) fn texel_values(raw: &[u8], format: Format) -> (usize, Vec<f32>) {
         Format::Rgba32f => (4, raw.chunks_exact(4).map(single).collect()),
         Format::R32f => (1, raw.chunks_exact(4).map(single).collect()),
         Format::Rg32f => (2, raw.chunks_exact(4).map(single).collect()),
-        Format::Rgb10a2 => (
-            4,
-            raw.chunks_exact(4)
-                .flat_map(|c| {
-                    let v = u32::from_le_bytes([c[0], c[1], c[2], c[3]]);
-                    [
-                        (v & 1023) as f32 / 1023.0,
-                        ((v >> 10) & 1023) as f32 / 1023.0,
-                        ((v >> 20) & 1023) as f32 / 1023.0,
-                        (v >> 30) as f32 / 3.0,
-                    ]
-                })
-                .collect(),
-        ),
+        Format::Rgb10a2 => (4, raw.chunks_exact(4).flat_map(unpack_rgb10a2).collect()),
     }
 }
 
