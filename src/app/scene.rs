@@ -152,6 +152,18 @@ impl SceneJob {
             ..Default::default()
         }
     }
+
+    /// What the effects get from a frame this job renders: linear rgba16f at the
+    /// render size, with the renderer's auxiliary images.
+    pub(super) fn effect_input(&self, renderer: &Renderer) -> InputDesc {
+        InputDesc {
+            width: self.width,
+            height: self.height,
+            format: Format::Rgba16f,
+            colorspace: ColorSpace::Linear,
+            aux: renderer.aux_formats().to_vec(),
+        }
+    }
 }
 
 /// Everything a scene job does before rendering: the user's input checked (the
@@ -343,13 +355,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     let (result_tex, result_format) = match effect.as_mut() {
         None => (None, Format::Rgba16f),
         Some(effect) => {
-            let desc = InputDesc {
-                width: job.width,
-                height: job.height,
-                format: Format::Rgba16f,
-                colorspace: ColorSpace::Linear,
-                aux: renderer.aux_formats().to_vec(),
-            };
+            let desc = job.effect_input(&renderer);
             let t = Instant::now();
             let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
             report.steps.pipeline_ms = ms(t.elapsed());

@@ -19,10 +19,10 @@ use super::report::{ms, JobKind, MemoryReport, Progress, RunReport};
 use super::scene::{prepare, SceneJob};
 use crate::gpu::executor::Engine;
 use crate::gpu::stream::{FrameExtras, Stream};
-use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use crate::graph::plan::{PlanOptions, ReusePolicy};
 use crate::render::{FrameMotion, Renderer};
 use crate::scene::{CameraPath, Playback, Pose, Scene};
-use crate::script::types::{ColorSpace, Format};
+use crate::script::types::Format;
 use glam::Mat4;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -320,13 +320,7 @@ fn stream_for(
     renderer: &Renderer,
     output_format: Format,
 ) -> Result<(Stream, u64, u64), RunError> {
-    let desc = InputDesc {
-        width: job.width,
-        height: job.height,
-        format: Format::Rgba16f,
-        colorspace: ColorSpace::Linear,
-        aux: renderer.aux_formats().to_vec(),
-    };
+    let desc = job.effect_input(renderer);
     let mut prepared = effect.prepare_with(
         engine,
         &desc,

@@ -406,6 +406,20 @@ fn run(cli: Cli) -> Result<(), Fail> {
     run_job(&cli)
 }
 
+/// The auxiliary images of `--aux NAME=FILE`.
+fn aux_images(cli: &Cli) -> Result<Vec<(String, PathBuf)>, Fail> {
+    cli.aux
+        .iter()
+        .map(|a| {
+            let (n, f) = a
+                .split_once('=')
+                .filter(|(n, f)| !n.trim().is_empty() && !f.is_empty())
+                .ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
+            Ok((n.to_string(), PathBuf::from(f)))
+        })
+        .collect()
+}
+
 /// An image, batch or sequence run (what `--watch` re-runs).
 fn run_job(cli: &Cli) -> Result<(), Fail> {
     if try_run_batch(cli)? {
@@ -438,14 +452,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
             "--format sets the format of -o DIR outputs; an output file has its own extension",
         ));
     }
-    let mut aux = Vec::new();
-    for a in &cli.aux {
-        let (n, f) = a
-            .split_once('=')
-            .filter(|(n, f)| !n.trim().is_empty() && !f.is_empty())
-            .ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
-        aux.push((n.to_string(), PathBuf::from(f)));
-    }
+    let aux = aux_images(cli)?;
     let job = ImageJob {
         effects: cli.effects.clone(),
         overrides: cli.set.clone(),
@@ -457,27 +464,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
         timings: cli.timings || cli.timings_json.is_some(),
     };
     let report = apply_to_image(&job, None, &adapter_choice(&cli.adapter))?;
-    print_report(cli, &report);
-    if let Some(path) = &cli.timings_json {
-        write_json(path, &report)?;
-    }
-    Ok(())
-}
-
-/// Write `value` as pretty JSON to `path`, atomically (`--timings-json`).
-fn write_json(path: &std::path::Path, value: &impl serde::Serialize) -> Result<(), Fail> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| Fail {
-        code: 2,
-        message: e.to_string(),
-    })?;
-    fxgraph::io::write_atomic(path, |w| {
-        w.write_all(text.as_bytes())
-            .map_err(|e| fxgraph::io::IoError::Io {
-                path: path.to_path_buf(),
-                source: e,
-            })
-    })
-    .map_err(RunError::from)?;
+    finish_report(cli, &report)?;
     Ok(())
 }
 
@@ -519,6 +506,6 @@ fn run_view(_cli: &Cli) -> Result<(), Fail> {
 use args::Cli;
 use batch::{check_outputs, check_same_size, collect_inputs, try_run_batch};
 use describe::{describe, pass_param_rows};
-use report::print_report;
+use report::finish_report;
 use scene::run_scene_cli;
 use sequence::{print_diagnostics, run_sequence_cli, ProgressLine};

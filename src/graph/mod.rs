@@ -163,6 +163,18 @@ impl Graph {
             .expect("every pass input has an edge")
     }
 
+    /// The inputs of pass `n`, each with the node feeding it.
+    pub fn inputs_with_sources(
+        &self,
+        n: NodeIndex,
+    ) -> impl Iterator<Item = (&PassInput, NodeIndex)> + '_ {
+        let p = self.pass(n);
+        p.inputs
+            .iter()
+            .enumerate()
+            .map(move |(i, inp)| (inp, self.input_source(n, i)))
+    }
+
     /// The node feeding the output.
     pub fn output_source(&self) -> NodeIndex {
         self.graph

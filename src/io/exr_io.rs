@@ -58,18 +58,9 @@ pub(crate) fn exr_dimensions(bytes: &[u8]) -> Result<(u32, u32), String> {
     if meta.headers.is_empty() {
         return Err("the file has no image layers".into());
     }
-    let w = meta
-        .headers
-        .iter()
-        .map(|h| h.layer_size.width())
-        .max()
-        .unwrap_or(0);
-    let h = meta
-        .headers
-        .iter()
-        .map(|h| h.layer_size.height())
-        .max()
-        .unwrap_or(0);
+    let (w, h) = meta.headers.iter().fold((0, 0), |(w, h), l| {
+        (w.max(l.layer_size.width()), h.max(l.layer_size.height()))
+    });
     Ok((
         w.min(u32::MAX as usize) as u32,
         h.min(u32::MAX as usize) as u32,

@@ -15,7 +15,7 @@
 //! contain whole statements, and not declare names used after the block.
 //! Directives on other names are left for the preprocessor.
 
-use super::preprocess::PreprocessError;
+use super::preprocess::{lines_with_offsets, PreprocessError};
 
 /// How a surface shader's feature flags are compiled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -91,10 +91,7 @@ pub fn convert_features(
     let mut out = String::with_capacity(text.len() + 64);
     let mut stack: Vec<Open> = Vec::new();
     let mut depth = BraceDepth::default();
-    let mut offset = 0;
-    for line in text.split_inclusive('\n') {
-        let start = offset;
-        offset += line.len();
+    for (start, line) in lines_with_offsets(text) {
         let body = line.trim_end_matches(['\n', '\r']);
         let eol = &line[body.len()..];
         let t = body.trim_start();

@@ -20,6 +20,7 @@
 //! Includes are unconditional: they are resolved before the `#ifdef` preprocessor.
 
 use crate::script::{Diagnostic, FileId, SourceMap, Span};
+use crate::shader::preprocess::lines_with_offsets;
 use std::collections::HashSet;
 use std::path::{Component, Path, PathBuf};
 
@@ -168,10 +169,7 @@ struct Directive {
 /// Every `#include` line of `text`.
 fn directives(text: &str) -> Vec<Directive> {
     let mut out = Vec::new();
-    let mut offset = 0;
-    for line in text.split_inclusive('\n') {
-        let line_start = offset;
-        offset += line.len();
+    for (line_start, line) in lines_with_offsets(text) {
         let body = line.trim_end_matches(['\n', '\r']);
         let t = body.trim_start();
         let Some(rest) = t.strip_prefix("#include") else {

@@ -29,16 +29,24 @@ pub struct Varying {
     pub sampling: Option<Sampling>,
 }
 
+/// The entry point `name` of `module` for `stage`.
+fn entry_point<'m>(
+    module: &'m naga::Module,
+    name: &str,
+    stage: naga::ShaderStage,
+) -> Option<&'m naga::EntryPoint> {
+    module
+        .entry_points
+        .iter()
+        .find(|e| e.name == name && e.stage == stage)
+}
+
 /// The `@location` outputs of the vertex entry point `entry` of `wgsl`.
 pub fn vertex_outputs(wgsl: &str, entry: &str) -> Vec<Varying> {
     let Ok(module) = naga::front::wgsl::parse_str(wgsl) else {
         return Vec::new();
     };
-    let Some(ep) = module
-        .entry_points
-        .iter()
-        .find(|e| e.name == entry && e.stage == naga::ShaderStage::Vertex)
-    else {
+    let Some(ep) = entry_point(&module, entry, naga::ShaderStage::Vertex) else {
         return Vec::new();
     };
     let Some(result) = &ep.function.result else {
@@ -152,11 +160,7 @@ pub fn check_fragment_inputs(
     provided: &[Varying],
     stage: &str,
 ) -> Vec<Diagnostic> {
-    let Some(ep) = module
-        .entry_points
-        .iter()
-        .find(|e| e.name == entry && e.stage == naga::ShaderStage::Fragment)
-    else {
+    let Some(ep) = entry_point(module, entry, naga::ShaderStage::Fragment) else {
         return Vec::new();
     };
     let header = crate::shader::wgsl_names::fn_header(wgsl, entry);

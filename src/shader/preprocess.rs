@@ -25,6 +25,16 @@ struct Frame {
     start: usize,
 }
 
+/// The lines of `text` (with their line endings), each with the byte offset
+/// where it starts.
+pub(crate) fn lines_with_offsets(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.split_inclusive('\n').scan(0, |offset, line| {
+        let start = *offset;
+        *offset += line.len();
+        Some((start, line))
+    })
+}
+
 /// Preprocess `source` with `defines` (from the script; they override `#define`s
 /// in the shader, which act as defaults). Returns the WGSL text and the final set
 /// of defines, sorted.
@@ -36,10 +46,7 @@ pub fn preprocess(
     let script_defined: Vec<String> = defines.iter().map(|(n, _)| n.clone()).collect();
     let mut out = String::with_capacity(source.len() + 64);
     let mut stack: Vec<Frame> = Vec::new();
-    let mut offset = 0usize;
-    for line in source.split_inclusive('\n') {
-        let start = offset;
-        offset += line.len();
+    for (start, line) in lines_with_offsets(source) {
         let trimmed = line.trim();
         let active = stack.last().map(|f| f.active).unwrap_or(true);
         let err = |msg: String| PreprocessError {

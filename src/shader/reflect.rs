@@ -317,8 +317,7 @@ pub(crate) fn member_annotations(
     name: &str,
     file: FileId,
 ) -> MemberNotes {
-    let mut off = 0;
-    for line in decl.split_inclusive('\n') {
+    for (off, line) in crate::shader::preprocess::lines_with_offsets(decl) {
         let t = line.trim_start();
         let lead = line.len() - t.len();
         let matches = t
@@ -366,7 +365,6 @@ pub(crate) fn member_annotations(
             }
             return (Some(sp), default, range, desc);
         }
-        off += line.len();
     }
     (None, None, None, String::new())
 }

@@ -205,8 +205,7 @@ fn function_of<'a>(
 /// The byte range of `fn NAME` in WGSL text (outside `//` comments), if present.
 pub fn fn_header(wgsl: &str, name: &str) -> Option<std::ops::Range<usize>> {
     let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
-    let mut offset = 0;
-    for line in wgsl.split_inclusive('\n') {
+    for (offset, line) in crate::shader::preprocess::lines_with_offsets(wgsl) {
         let code = line.split("//").next().unwrap_or("");
         let mut from = 0;
         while let Some(i) = code[from..].find("fn") {
@@ -226,7 +225,6 @@ pub fn fn_header(wgsl: &str, name: &str) -> Option<std::ops::Range<usize>> {
                 return Some(offset + at..offset + end);
             }
         }
-        offset += line.len();
     }
     None
 }

@@ -341,10 +341,7 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
     progress.finish();
     print_diagnostics(cli, effect);
     let report = result?;
-    print_report(cli, &report);
-    if let Some(path) = &cli.timings_json {
-        write_json(path, &report)?;
-    }
+    finish_report(cli, &report)?;
     if report.interrupted {
         return Err(Fail {
             code: 130,

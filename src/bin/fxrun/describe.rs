@@ -46,11 +46,9 @@ pub(crate) fn describe(graph: &fxgraph::graph::Graph) {
     outln!("passes (in execution order):");
     for &n in &graph.schedule {
         let p = graph.pass(n);
-        let inputs: Vec<String> = p
-            .inputs
-            .iter()
-            .enumerate()
-            .map(|(i, inp)| format!("{}={}", inp.name, graph.label(graph.input_source(n, i))))
+        let inputs: Vec<String> = graph
+            .inputs_with_sources(n)
+            .map(|(inp, src)| format!("{}={}", inp.name, graph.label(src)))
             .collect();
         outln!(
             "  {:<28} SHADER.{:<16} {}",

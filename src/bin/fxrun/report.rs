@@ -8,8 +8,35 @@ use super::*;
 use fxgraph::app::{JobKind, RunReport};
 use fxgraph::gpu::executor::PassTiming;
 
+/// Print what `fxrun` reports about a finished job and write it to
+/// `--timings-json` when that is given.
+pub(crate) fn finish_report(cli: &Cli, report: &RunReport) -> Result<(), Fail> {
+    print_report(cli, report);
+    match &cli.timings_json {
+        Some(path) => write_json(path, report),
+        None => Ok(()),
+    }
+}
+
+/// Write `value` as pretty JSON to `path`, atomically (`--timings-json`).
+fn write_json(path: &std::path::Path, value: &impl serde::Serialize) -> Result<(), Fail> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| Fail {
+        code: 2,
+        message: e.to_string(),
+    })?;
+    fxgraph::io::write_atomic(path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(|e| fxgraph::io::IoError::Io {
+                path: path.to_path_buf(),
+                source: e,
+            })
+    })
+    .map_err(RunError::from)?;
+    Ok(())
+}
+
 /// Print what `fxrun` reports about a finished job.
-pub(crate) fn print_report(cli: &Cli, r: &RunReport) {
+fn print_report(cli: &Cli, r: &RunReport) {
     for f in &r.failed {
         if f.message.contains(&f.input) {
             eprintln!("fxrun: error: {}", f.message);

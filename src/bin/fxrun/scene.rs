@@ -33,10 +33,7 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
             stats.shader_modules
         );
     }
-    print_report(cli, &report);
-    if let Some(path) = &cli.timings_json {
-        write_json(path, &report)?;
-    }
+    finish_report(cli, &report)?;
     Ok(())
 }
 
@@ -308,21 +305,8 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
     );
     progress.finish();
     let report = result?;
-    print_report(cli, &report);
-    if let Some(path) = &cli.timings_json {
-        write_json(path, &report)?;
-    }
-    if report.interrupted {
-        return Err(Fail {
-            code: 130,
-            message: format!(
-                "interrupted after {} frames; {}",
-                report.done.len(),
-                super::streams::interrupted_hint(&ospec)
-            ),
-        });
-    }
-    Ok(())
+    finish_report(cli, &report)?;
+    super::streams::check_interrupted(&report, &ospec)
 }
 
 /// The environment of `--environment` (the default: [`DEFAULT_ENVIRONMENT`])

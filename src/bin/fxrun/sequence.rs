@@ -5,8 +5,8 @@ use super::*;
 use fxgraph::app::BatchItem;
 use std::collections::HashMap;
 use streams::{
-    interrupted_hint, open_input, open_stream_output, skip_whole_file, stream_input, stream_output,
-    StreamPlan,
+    check_interrupted, open_input, open_stream_output, skip_whole_file, stream_input,
+    stream_output, StreamPlan,
 };
 
 /// `fxrun EFFECT -i 'in/%04d.png' -o 'out/%04d.png'`, `-i - -o -` (y4m streams),
@@ -187,37 +187,13 @@ pub(crate) fn run_sequence_cli(
             })?;
             let _ = fxgraph::io::sequence::remove_stale_temporaries(dir);
             let probe = names.values().next().cloned().unwrap_or_default();
-            let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear)
-                .map_err(RunError::from)?;
-            let save = fxgraph::io::SaveOptions {
-                bit_depth: cli.bit_depth,
-                assume_linear: cli.assume_linear,
-            };
-            (
-                Box::new(FilesSink {
-                    names: fxgraph::app::OutputNames::Named(names),
-                    save,
-                }) as Box<dyn FrameSink>,
-                format,
-            )
+            files_sink(cli, fxgraph::app::OutputNames::Named(names), &probe)?
         }
         spec => {
             let pattern = output_pattern(cli, spec).map_err(RunError::from)?;
             let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
             let probe = pattern.path_for(0);
-            let format = output_format_for(&probe, cli.bit_depth, cli.assume_linear)
-                .map_err(RunError::from)?;
-            let save = fxgraph::io::SaveOptions {
-                bit_depth: cli.bit_depth,
-                assume_linear: cli.assume_linear,
-            };
-            (
-                Box::new(FilesSink {
-                    names: fxgraph::app::OutputNames::Pattern(pattern),
-                    save,
-                }) as Box<dyn FrameSink>,
-                format,
-            )
+            files_sink(cli, fxgraph::app::OutputNames::Pattern(pattern), &probe)?
         }
     };
     // An interlaced y4m input sets the field order of effects that take one.
@@ -264,18 +240,24 @@ pub(crate) fn run_sequence_cli(
     );
     progress.finish();
     let report = result?;
-    print_report(cli, &report);
-    if let Some(path) = &cli.timings_json {
-        write_json(path, &report)?;
-    }
-    if report.interrupted {
-        let hint = interrupted_hint(&ospec);
-        return Err(Fail {
-            code: 130,
-            message: format!("interrupted after {} frames; {hint}", report.done.len()),
-        });
-    }
-    Ok(())
+    finish_report(cli, &report)?;
+    check_interrupted(&report, &ospec)
+}
+
+/// A sequence's output image files, named by `names`, and the output texture
+/// format (from `probe`, one of the names: its extension).
+fn files_sink(
+    cli: &Cli,
+    names: fxgraph::app::OutputNames,
+    probe: &std::path::Path,
+) -> Result<(Box<dyn FrameSink>, fxgraph::script::types::Format), Fail> {
+    let format =
+        output_format_for(probe, cli.bit_depth, cli.assume_linear).map_err(RunError::from)?;
+    let save = fxgraph::io::SaveOptions {
+        bit_depth: cli.bit_depth,
+        assume_linear: cli.assume_linear,
+    };
+    Ok((Box::new(FilesSink { names, save }), format))
 }
 
 /// The effect's warnings, each once (each plan, one per image size, may have added

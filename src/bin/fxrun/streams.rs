@@ -70,16 +70,27 @@ pub(crate) fn skip_whole_file(cli: &Cli, ospec: &SequenceSpec) -> bool {
     false
 }
 
-/// What an interrupted run left of its output, for the message.
-pub(crate) fn interrupted_hint(ospec: &SequenceSpec) -> String {
-    match ospec {
+/// A sequence run's end: an interrupted run fails (exit code 130) with a message
+/// saying what it left of its output.
+pub(crate) fn check_interrupted(
+    report: &fxgraph::app::RunReport,
+    ospec: &SequenceSpec,
+) -> Result<(), Fail> {
+    if !report.interrupted {
+        return Ok(());
+    }
+    let hint = match ospec {
         SequenceSpec::Stdout => "the y4m stream on stdout ends after the last whole frame (--skip-existing does not apply to a stream)".to_string(),
         SequenceSpec::Y4m(p) | SequenceSpec::Video(p) => format!(
             "{} was not written (a partial file is not kept; an existing one is untouched)",
             p.display()
         ),
         _ => "completed frames are intact (rerun with --skip-existing to resume)".to_string(),
-    }
+    };
+    Err(Fail {
+        code: 130,
+        message: format!("interrupted after {} frames; {hint}", report.done.len()),
+    })
 }
 
 /// What the output stream passes on from the input.

@@ -340,8 +340,7 @@ pub fn plan(
             );
         }
         let mut inputs = Vec::new();
-        for (i, inp) in p.inputs.iter().enumerate() {
-            let src = graph.input_source(n, i);
+        for (inp, src) in graph.inputs_with_sources(n) {
             let Some(src_desc) = r.desc(src) else {
                 continue;
             };

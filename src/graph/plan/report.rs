@@ -163,31 +163,15 @@ impl Plan {
             };
             let _ = writeln!(out, "  {line}");
         }
-        let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
-        let _ = writeln!(
-            out,
-            "naive bytes:       {:>12} ({:.2} MiB)",
-            self.naive_bytes,
-            mib(self.naive_bytes)
-        );
-        let _ = writeln!(
-            out,
-            "peak bytes:        {:>12} ({:.2} MiB)",
-            self.peak_bytes,
-            mib(self.peak_bytes)
-        );
-        let _ = writeln!(
-            out,
-            "lower bound bytes: {:>12} ({:.2} MiB)",
-            self.lower_bound_bytes,
-            mib(self.lower_bound_bytes)
-        );
-        let _ = writeln!(
-            out,
-            "persistent bytes:  {:>12} ({:.2} MiB)",
-            self.persistent_bytes,
-            mib(self.persistent_bytes)
-        );
+        for (what, bytes) in [
+            ("naive bytes:      ", self.naive_bytes),
+            ("peak bytes:       ", self.peak_bytes),
+            ("lower bound bytes:", self.lower_bound_bytes),
+            ("persistent bytes: ", self.persistent_bytes),
+        ] {
+            let mib = bytes as f64 / (1024.0 * 1024.0);
+            let _ = writeln!(out, "{what} {bytes:>12} ({mib:.2} MiB)");
+        }
         if self.latency > 0 || self.history > 0 {
             let _ = writeln!(
                 out,

@@ -207,14 +207,9 @@ fn not_found(path: &Path, message: String) -> IoError {
 /// The regular files of a folder (symbolic links followed), as (UTF-8 name, path). Names
 /// that are not UTF-8 are skipped.
 fn list_files(dir: &Path) -> Result<Vec<(String, PathBuf)>, IoError> {
-    let rd = fs::read_dir(dir).map_err(|e| IoError::io(dir, e))?;
     let mut out = Vec::new();
-    for entry in rd {
-        let entry = entry.map_err(|e| IoError::io(dir, e))?;
-        let Ok(name) = entry.file_name().into_string() else {
-            continue;
-        };
-        let path = entry.path();
+    for entry in named_entries(dir)? {
+        let (name, path) = entry?;
         // `fs::metadata` follows links; a dangling link is skipped.
         if fs::metadata(&path).map(|m| m.is_file()).unwrap_or(false) {
             out.push((name, path));

@@ -166,6 +166,21 @@ pub fn is_y4m_path(p: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("y4m"))
 }
 
+/// The entries of folder `dir` whose names are UTF-8, as (name, path), read as the
+/// iterator goes (other names are skipped).
+fn named_entries(
+    dir: &Path,
+) -> Result<impl Iterator<Item = Result<(String, PathBuf), IoError>> + '_, IoError> {
+    let rd = std::fs::read_dir(dir).map_err(|e| IoError::io(dir, e))?;
+    Ok(rd.filter_map(move |entry| match entry {
+        Err(e) => Some(Err(IoError::io(dir, e))),
+        Ok(entry) => {
+            let name = entry.file_name().into_string().ok()?;
+            Some(Ok((name, entry.path())))
+        }
+    }))
+}
+
 fn ends_with_separator(s: &str) -> bool {
     s.ends_with('/') || (cfg!(windows) && s.ends_with('\\'))
 }

@@ -138,20 +138,15 @@ fn process_alive(pid: u32) -> bool {
 /// disturbed; a process on another machine sharing the folder is not seen). Nothing else
 /// is touched, and subfolders are not visited. Returns the removed paths.
 pub fn remove_stale_temporaries(dir: &Path) -> Result<Vec<PathBuf>, IoError> {
-    let rd = fs::read_dir(dir).map_err(|e| IoError::io(dir, e))?;
     let mut removed = Vec::new();
-    for entry in rd {
-        let entry = entry.map_err(|e| IoError::io(dir, e))?;
-        let Ok(name) = entry.file_name().into_string() else {
-            continue;
-        };
+    for entry in named_entries(dir)? {
+        let (name, path) = entry?;
         let Some(pid) = atomic_temporary_pid(&name) else {
             continue;
         };
         if process_alive(pid) {
             continue;
         }
-        let path = entry.path();
         let is_file = fs::symlink_metadata(&path)
             .map(|m| m.file_type().is_file())
             .unwrap_or(false);

@@ -52,9 +52,15 @@ pub(crate) fn horner<const N: usize>(c: &[f32; N], t: f32) -> f32 {
 #[inline(always)]
 pub(crate) fn srgb_decode_unit(x: f32) -> f32 {
     let p = horner(&DEC_POLY, x * DEC_T_SCALE + DEC_T_OFFSET);
-    let lin = x * (1.0 / 12.92);
-    let v = if x <= 0.04045 { lin } else { p };
-    // Exactly 1 at 1 (the polynomial is 1.2e-6 short).
+    segments(x, 0.04045, x * (1.0 / 12.92), p)
+}
+
+/// An sRGB curve in [0, 1] from both of its segments, computed: `lin` up to `knee`,
+/// `poly` above it, and exactly 1 at 1 (the decoding polynomial is 1.2e-6 short
+/// there).
+#[inline(always)]
+fn segments(x: f32, knee: f32, lin: f32, poly: f32) -> f32 {
+    let v = if x <= knee { lin } else { poly };
     if x >= 1.0 {
         1.0
     } else {
@@ -79,13 +85,7 @@ pub(crate) fn srgb_decode(x: f32) -> f32 {
 pub(crate) fn srgb_encode_unit(x: f32) -> f32 {
     let s = x.sqrt().sqrt();
     let p = horner(&ENC_POLY, s * ENC_T_SCALE + ENC_T_OFFSET);
-    let lin = x * 12.92;
-    let v = if x <= 0.003_130_8 { lin } else { p };
-    if x >= 1.0 {
-        1.0
-    } else {
-        v
-    }
+    segments(x, 0.003_130_8, x * 12.92, p)
 }
 
 /// Linear light to an sRGB-encoded value for any `x` (see [`srgb_decode`]).

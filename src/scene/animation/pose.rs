@@ -110,29 +110,8 @@ impl Scene {
             .iter()
             .map(|inst| self.pose_instance(inst, &nodes, &weights))
             .collect();
-        let node_world = |n: Option<usize>| n.and_then(|n| nodes.get(n));
-        let lights = self
-            .lights
-            .iter()
-            .map(|l| {
-                let mut l = l.clone();
-                if let Some(w) = node_world(l.node) {
-                    l.place(w);
-                }
-                l
-            })
-            .collect();
-        let cameras = self
-            .cameras
-            .iter()
-            .map(|c| {
-                let mut c = c.clone();
-                if let Some(w) = node_world(c.node) {
-                    c.camera.place(w);
-                }
-                c
-            })
-            .collect();
+        let lights = placed(&self.lights, &nodes, |l| l.node, Light::place);
+        let cameras = placed(&self.cameras, &nodes, |c| c.node, |c, w| c.camera.place(w));
         Pose {
             time,
             nodes,
@@ -222,4 +201,24 @@ impl Pose {
         }
         b
     }
+}
+
+/// Copies of `items` (lights, cameras), those on a node (`node`) placed by its
+/// world matrix among `nodes`.
+fn placed<T: Clone>(
+    items: &[T],
+    nodes: &[Mat4],
+    node: impl Fn(&T) -> Option<usize>,
+    place: impl Fn(&mut T, &Mat4),
+) -> Vec<T> {
+    items
+        .iter()
+        .map(|item| {
+            let mut item = item.clone();
+            if let Some(w) = node(&item).and_then(|n| nodes.get(n)) {
+                place(&mut item, w);
+            }
+            item
+        })
+        .collect()
 }

@@ -360,25 +360,35 @@ pub(super) fn texture_refs<'a>(mat: &gltf::Material<'a>) -> Result<Vec<TexRef<'a
             });
         }
     }
-    if let Some(n) = mat.normal_texture() {
-        let what = "normalTexture";
-        out.push(TexRef {
-            var: "normal_map",
-            what,
-            texture: n.texture(),
-            tex_coord: n.tex_coord(),
-            transform: UvTransform::from_json(n.extension_value("KHR_texture_transform"), what)?,
-        });
-    }
-    if let Some(o) = mat.occlusion_texture() {
-        let what = "occlusionTexture";
-        out.push(TexRef {
-            var: "occlusion_map",
-            what,
-            texture: o.texture(),
-            tex_coord: o.tex_coord(),
-            transform: UvTransform::from_json(o.extension_value("KHR_texture_transform"), what)?,
-        });
+    // The normal and occlusion infos are other types, with the transform as JSON.
+    let ext = "KHR_texture_transform";
+    let (normal, occlusion) = (mat.normal_texture(), mat.occlusion_texture());
+    let json_infos = [
+        (
+            "normal_map",
+            "normalTexture",
+            normal
+                .as_ref()
+                .map(|n| (n.texture(), n.tex_coord(), n.extension_value(ext))),
+        ),
+        (
+            "occlusion_map",
+            "occlusionTexture",
+            occlusion
+                .as_ref()
+                .map(|o| (o.texture(), o.tex_coord(), o.extension_value(ext))),
+        ),
+    ];
+    for (var, what, info) in json_infos {
+        if let Some((texture, tex_coord, transform)) = info {
+            out.push(TexRef {
+                var,
+                what,
+                texture,
+                tex_coord,
+                transform: UvTransform::from_json(transform, what)?,
+            });
+        }
     }
     Ok(out)
 }

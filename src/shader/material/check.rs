@@ -11,7 +11,7 @@ use super::{
 use crate::script::{Diagnostic, FileId, SourceMap, Span};
 use crate::shader::features::{self, convert_features};
 use crate::shader::include::{Assembly, LineMap};
-use crate::shader::preprocess::{preprocess, PreprocessError};
+use crate::shader::preprocess::{lines_with_offsets, preprocess, PreprocessError};
 use crate::shader::rename::{find_attributes, module_declarations};
 
 /// One way the checks compile the text.
@@ -351,15 +351,13 @@ fn defines(text: &str, name: &str) -> bool {
 
 /// The byte range of the first `#ifdef name` / `#ifndef name` line's directive.
 fn directive_span(text: &str, name: &str) -> Option<(usize, usize)> {
-    let mut off = 0;
-    for line in text.split_inclusive('\n') {
+    for (off, line) in lines_with_offsets(text) {
         let t = line.trim();
         let mut w = t.split_whitespace();
         if matches!(w.next(), Some("#ifdef" | "#ifndef")) && w.next() == Some(name) {
             let s = off + (line.len() - line.trim_start().len());
             return Some((s, s + t.len()));
         }
-        off += line.len();
     }
     None
 }

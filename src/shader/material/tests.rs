@@ -51,6 +51,14 @@ fn load_mem(
     (r, sources)
 }
 
+/// The rendered errors of loading a shader of `kind` whose one file is `/m/NAME`.
+fn errors_of(kind: MaterialShaderKind, name: &str, src: &str) -> String {
+    let path = format!("/m/{name}");
+    let fs = MemFs::default().file(&path, src);
+    let (r, sources) = load_mem(kind, &fs, &path);
+    errors(r, &sources)
+}
+
 fn errors(r: Result<MaterialShader, Vec<Diagnostic>>, sources: &SourceMap) -> String {
     match r {
         Ok(_) => panic!("expected errors"),
@@ -263,17 +271,13 @@ const GOOD_SURFACE: &str = "fn surface(in: SurfaceInput) -> SurfaceOutput {\n   
 #[test]
 fn type_error_at_users_line_and_column() {
     let src = "#include \"lib/normal.wgsl\"\n\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var o: SurfaceOutput;\n#ifdef HAS_VERTEX_COLOR\n    o.diffuse = in.color.rgb;\n#endif\n    let k: f32 = in.normal;\n    return o;\n}\n";
-    let fs = MemFs::default().file("/m/s.wgsl", src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
     assert_eq!(
-        errors(r, &sources),
+        errors_of(MaterialShaderKind::Surface, "s.wgsl", src),
         "s.wgsl:8:9: error: WGSL: the type of `k` is expected to be `f32`, but got `vec3<f32>`\n  |\n8 |     let k: f32 = in.normal;\n  |         ^ definition of `k`\n  = note: with the feature flags `HAS_VERTEX_COLOR` defined\n"
     );
     // A validation error (not caught by the front end).
     let src = "fn surface(in: SurfaceInput) -> SurfaceOutput {\n    var o: SurfaceOutput;\n    o.diffuse = in.normal + in.uv0.xy;\n    return o;\n}\n";
-    let fs = MemFs::default().file("/m/s.wgsl", src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Surface, "s.wgsl", src);
     assert!(text.starts_with("s.wgsl:3:17: error: WGSL"), "{text}");
     assert!(
         !text.contains("Vector {") && !text.contains("Scalar {"),
@@ -299,49 +303,37 @@ fn error_inside_included_file() {
         "{text}"
     );
     // A missing include: at the directive.
-    let fs = MemFs::default().file(
-        "/m/s.wgsl",
-        &format!("{GOOD_SURFACE}  #include \"gone.wgsl\"\n"),
-    );
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    assert!(
-        errors(r, &sources).starts_with("s.wgsl:6:3: error: cannot find included file `gone.wgsl`")
-    );
+    assert!(errors_of(
+        MaterialShaderKind::Surface,
+        "s.wgsl",
+        &format!("{GOOD_SURFACE}  #include \"gone.wgsl\"\n")
+    )
+    .starts_with("s.wgsl:6:3: error: cannot find included file `gone.wgsl`"));
 }
 
 #[test]
 fn wrong_signature() {
     let src = "fn surface(in: SurfaceInput) -> vec4<f32> {\n    return vec4<f32>(1.0);\n}\n";
-    let fs = MemFs::default().file("/m/s.wgsl", src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
     assert_eq!(
-        errors(r, &sources),
+        errors_of(MaterialShaderKind::Surface, "s.wgsl", src),
         "s.wgsl:1:1: error: `surface` must be `fn surface(in: SurfaceInput) -> SurfaceOutput`; found `fn surface(in: SurfaceInput) -> vec4<f32>`\n  |\n1 | fn surface(in: SurfaceInput) -> vec4<f32> {\n  | ^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^^ wrong signature\n"
     );
-    let fs = MemFs::default().file("/m/s.wgsl", "fn surfac(in: SurfaceInput) -> SurfaceOutput {\n    var o: SurfaceOutput;\n    return o;\n}\n");
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    assert!(errors(r, &sources)
+    assert!(errors_of(MaterialShaderKind::Surface, "s.wgsl", "fn surfac(in: SurfaceInput) -> SurfaceOutput {\n    var o: SurfaceOutput;\n    return o;\n}\n")
         .starts_with("s.wgsl:1:1: error: the surface shader defines no `surface` function"));
-    let fs = MemFs::default().file("/m/l.wgsl", "fn lighting(in: LightingInput, k: f32) -> LightingOutput {\n    return LightingOutput(in.light * k, vec3<f32>(0.0));\n}\n");
-    let (r, sources) = load_mem(MaterialShaderKind::Lighting, &fs, "/m/l.wgsl");
-    assert!(errors(r, &sources)
+    assert!(errors_of(MaterialShaderKind::Lighting, "l.wgsl", "fn lighting(in: LightingInput, k: f32) -> LightingOutput {\n    return LightingOutput(in.light * k, vec3<f32>(0.0));\n}\n")
         .contains("found `fn lighting(in: LightingInput, k: f32) -> LightingOutput`"));
 }
 
 #[test]
 fn interface_clash_and_entry_points() {
     let src = format!("struct SurfaceInput {{ a: f32 }}\n{GOOD_SURFACE}");
-    let fs = MemFs::default().file("/m/s.wgsl", &src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Surface, "s.wgsl", &src);
     assert!(
         text.starts_with("s.wgsl:1:8: error: WGSL: redefinition of `SurfaceInput`"),
         "{text}"
     );
     let src = format!("@fragment\n{GOOD_SURFACE}");
-    let fs = MemFs::default().file("/m/s.wgsl", &src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Surface, "s.wgsl", &src);
     assert!(
         text.starts_with(
             "s.wgsl:1:1: error: a material shader has no entry points: remove `@fragment`"
@@ -353,9 +345,7 @@ fn interface_clash_and_entry_points() {
 #[test]
 fn lighting_with_texture_rejected() {
     let src = "@group(2) @binding(0) var t: texture_2d<f32>;\nfn lighting(in: LightingInput) -> LightingOutput {\n    return LightingOutput(in.light, vec3<f32>(0.0));\n}\n";
-    let fs = MemFs::default().file("/m/l.wgsl", src);
-    let (r, sources) = load_mem(MaterialShaderKind::Lighting, &fs, "/m/l.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Lighting, "l.wgsl", src);
     assert!(
         text.starts_with(
             "l.wgsl:1:23: error: a lighting shader declares no resources: `t` is one\n"
@@ -369,17 +359,13 @@ fn surface_resource_rules() {
     let src = format!(
         "struct SurfaceParams {{\n    k: f32, // @default(1, 2)\n}}\n@group(2) @binding(0) var<uniform> p: SurfaceParams;\n@group(2) @binding(16) var a: texture_2d<f32>;\n@group(1) @binding(1) var b: texture_2d<f32>;\n@group(2) @binding(2) var c: texture_2d<f32>; // @gamma\n@group(2) @binding(3) var<storage> d: array<f32>;\n@group(2) @binding(0) var s: sampler;\nfn fx_helper() {{}}\n{GOOD_SURFACE}"
     );
-    let fs = MemFs::default().file("/m/s.wgsl", &src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Surface, "s.wgsl", &src);
     assert!(
         text.contains("s.wgsl:10:4: error: `fx_helper`: names starting with `fx_`"),
         "{text}"
     );
     let src = src.replace("fn fx_helper() {}\n", "");
-    let fs = MemFs::default().file("/m/s.wgsl", &src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Surface, "s.wgsl", &src);
     for want in [
         "s.wgsl:5:24: error: `a` is at @group(2) @binding(16)",
         "s.wgsl:6:23: error: `b` is at @group(1) @binding(1)",
@@ -396,9 +382,7 @@ fn surface_resource_rules() {
 fn feature_rules() {
     // A typo in a texture flag.
     let src = "@group(2) @binding(0) var base_map: texture_2d<f32>;\n@group(2) @binding(1) var smp: sampler;\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var o: SurfaceOutput;\n#ifdef HAS_BASEMAP\n    o.diffuse = textureSample(base_map, smp, in.uv0).rgb;\n#endif\n    return o;\n}\n";
-    let fs = MemFs::default().file("/m/s.wgsl", src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Surface, "s.wgsl", src);
     assert!(
         text.starts_with("s.wgsl:5:1: error: `HAS_BASEMAP` is not a feature flag of this shader"),
         "{text}"
@@ -413,9 +397,7 @@ fn feature_rules() {
     // A block that declares something used after it: fine when preprocessed,
     // wrong as an `if` statement.
     let src = "fn surface(in: SurfaceInput) -> SurfaceOutput {\n    var o: SurfaceOutput;\n#ifdef HAS_UV1\n    let uv = in.uv1;\n#else\n    let uv = in.uv0;\n#endif\n    o.roughness = uv.x;\n    return o;\n}\n";
-    let fs = MemFs::default().file("/m/s.wgsl", src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    let text = errors(r, &sources);
+    let text = errors_of(MaterialShaderKind::Surface, "s.wgsl", src);
     assert!(
         text.starts_with("s.wgsl:8:19: error: WGSL: no definition in scope for identifier: `uv`"),
         "{text}"
@@ -423,9 +405,7 @@ fn feature_rules() {
     assert!(text.contains("note: in override mode"), "{text}");
     // A flag around a declaration.
     let src = "#ifdef HAS_UV1\nconst K = 1.0;\n#endif\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var o: SurfaceOutput;\n    return o;\n}\n";
-    let fs = MemFs::default().file("/m/s.wgsl", src);
-    let (r, sources) = load_mem(MaterialShaderKind::Surface, &fs, "/m/s.wgsl");
-    assert!(errors(r, &sources)
+    assert!(errors_of(MaterialShaderKind::Surface, "s.wgsl", src)
         .starts_with("s.wgsl:1:1: error: feature flag `HAS_UV1` used outside a function"));
 }
 

@@ -110,15 +110,13 @@ fn structure(g: &Graph) -> Vec<String> {
     )];
     for &n in &g.schedule {
         let p = g.pass(n);
-        let inputs: Vec<String> = p
-            .inputs
-            .iter()
-            .enumerate()
-            .map(|(i, inp)| {
+        let inputs: Vec<String> = g
+            .inputs_with_sources(n)
+            .map(|(inp, src)| {
                 format!(
                     "{}={} {:?} {:?}",
                     inp.name,
-                    g.label(g.input_source(n, i)),
+                    g.label(src),
                     inp.sampling,
                     inp.colorspace
                 )

@@ -189,14 +189,7 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
         .into_iter()
         .map(|(_, p)| p)
         .collect();
-    let mut aux = Vec::new();
-    for a in &cli.aux {
-        let (n, f) = a
-            .split_once('=')
-            .filter(|(n, f)| !n.trim().is_empty() && !f.is_empty())
-            .ok_or_else(|| rejected(format!("--aux {a}: expected NAME=FILE")))?;
-        aux.push((n.to_string(), PathBuf::from(f)));
-    }
+    let aux = aux_images(cli)?;
     if !aux.is_empty() && items.len() > 1 {
         return Err(rejected("--view takes --aux with a single image only"));
     }

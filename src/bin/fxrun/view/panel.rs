@@ -94,18 +94,6 @@ const KEYS: &[(&str, &str)] = &[
     ("Esc, Ctrl+Q", "quit"),
 ];
 
-fn is_float(format: Format) -> bool {
-    matches!(
-        format,
-        Format::Rgba16f
-            | Format::Rgba32f
-            | Format::R16f
-            | Format::R32f
-            | Format::Rg16f
-            | Format::Rg32f
-    )
-}
-
 /// The panel and the image area; returns the mouse over the image area.
 pub(super) fn show(
     ui: &mut egui::Ui,
@@ -215,7 +203,7 @@ fn view_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec
             ui.add(egui::Slider::new(s, 0.0..=1.0).show_value(false));
         }
     });
-    if m.shown_format.is_some_and(is_float) {
+    if m.shown_format.is_some_and(Format::is_float) {
         ui.horizontal(|ui| {
             ui.label("exposure");
             ui.add(egui::Slider::new(&mut state.exposure, -10.0..=10.0).suffix(" EV"));
@@ -226,7 +214,7 @@ fn view_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec
         );
     }
     if let Some(f) = m.output_format {
-        let what = if is_float(f) {
+        let what = if f.is_float() {
             "linear light, as an EXR stores it; shown sRGB-encoded with the exposure"
         } else {
             "the bytes a file of this format gets"
@@ -234,47 +222,42 @@ fn view_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec
         ui.label(RichText::new(format!("output {f}: {what}")).small());
     }
     if let Some(playing) = m.playing {
-        ui.horizontal(|ui| {
-            if ui
-                .button("|<")
-                .on_hover_text("first frame (Home)")
-                .clicked()
-            {
-                out.push(UiEvent::Command(Command::First));
-            }
-            if ui
-                .button("<")
-                .on_hover_text("previous frame (Left)")
-                .clicked()
-            {
-                out.push(UiEvent::Command(Command::Prev));
-            }
-            let label = if playing { "pause" } else { "play" };
-            if ui.button(label).on_hover_text("Space").clicked() {
-                out.push(UiEvent::Command(Command::PlayPause));
-            }
-            if ui.button(">").on_hover_text("next frame (Right)").clicked() {
-                out.push(UiEvent::Command(Command::Next));
-            }
-        });
+        let play = if playing { "pause" } else { "play" };
+        command_buttons(
+            ui,
+            &[
+                ("|<", "first frame (Home)", Command::First),
+                ("<", "previous frame (Left)", Command::Prev),
+                (play, "Space", Command::PlayPause),
+                (">", "next frame (Right)", Command::Next),
+            ],
+            out,
+        );
     } else if !m.scene {
-        ui.horizontal(|ui| {
-            if ui
-                .button("<")
-                .on_hover_text("previous image (Left)")
-                .clicked()
-            {
-                out.push(UiEvent::Command(Command::Prev));
-            }
-            if ui.button(">").on_hover_text("next image (Right)").clicked() {
-                out.push(UiEvent::Command(Command::Next));
-            }
-        });
+        command_buttons(
+            ui,
+            &[
+                ("<", "previous image (Left)", Command::Prev),
+                (">", "next image (Right)", Command::Next),
+            ],
+            out,
+        );
     }
     if m.scene && ui.button("camera of the run (H)").clicked() {
         out.push(UiEvent::Command(Command::CameraHome));
     }
     ui.checkbox(&mut state.continuous, "run the effect every frame");
+}
+
+/// A row of buttons, each (label, hover text, the command it gives).
+fn command_buttons(ui: &mut egui::Ui, buttons: &[(&str, &str, Command)], out: &mut Vec<UiEvent>) {
+    ui.horizontal(|ui| {
+        for &(label, hover, command) in buttons {
+            if ui.button(label).on_hover_text(hover).clicked() {
+                out.push(UiEvent::Command(command));
+            }
+        }
+    });
 }
 
 /// A number, a vector or a colour; true when changed.
