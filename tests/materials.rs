@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::bench;
 use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen;
 use common::gpu_context;
@@ -486,12 +487,9 @@ fn variant_benchmark() {
     use fxgraph::render::variant_bench::run_variant_benchmark;
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
-    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
-    let size = env("FX_BENCH_SIZE", "1920x1080");
-    let (w, h) = size.split_once('x').expect("FX_BENCH_SIZE=WxH");
-    let (w, h): (u32, u32) = (w.parse().unwrap(), h.parse().unwrap());
-    let frames: usize = env("FX_BENCH_FRAMES", "5").parse().unwrap();
-    let lights: usize = env("FX_BENCH_LIGHTS", "16").parse().unwrap();
+    let (w, h) = bench::size().unwrap_or((1920, 1080));
+    let frames: usize = bench::setting("FRAMES").unwrap_or(5);
+    let lights: usize = bench::setting("LIGHTS").unwrap_or(16);
     let mut scene = Scene::load("builtin:bench").unwrap();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("bench");
     let text = std::fs::read_to_string(dir.join("materials_maps.fx")).unwrap();
@@ -525,10 +523,7 @@ fn variant_benchmark() {
         },
     )
     .unwrap();
-    println!("{report}");
-    if let Ok(out) = std::env::var("FX_BENCH_OUT") {
-        std::fs::write(&out, report.to_string()).unwrap();
-    }
+    bench::publish(&report);
 }
 
 /// The glTF sphere that uses every core texture, KHR_texture_transform, texture

@@ -232,6 +232,14 @@ fn read_err(bytes: Vec<u8>) -> Y4mError {
     }
 }
 
+/// The error of reading the second frame of the y4m stream `bytes` (named
+/// `name`), whose header and first frame must read.
+fn second_frame_error(bytes: Vec<u8>, name: &str) -> Y4mError {
+    let mut r = Y4mReader::new(Cursor::new(bytes), name).unwrap();
+    r.next_frame().unwrap();
+    r.next_frame().unwrap_err()
+}
+
 /// (max, mean) absolute difference of the RGB channels of two RGBA byte buffers.
 fn rgb_diff(a: &[u8], b: &[u8]) -> (u8, f64) {
     assert_eq!(a.len(), b.len());
