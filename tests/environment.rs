@@ -138,11 +138,16 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
     ] {
         let scene = env_sphere(base, metallic, roughness, env.clone());
         let (_, px) = render(ctx, &scene, Technique::Deferred);
+        let surface = ibl::MetalRough {
+            base,
+            metallic,
+            roughness,
+        };
         let (brdf, facing, grazing) = sphere_error(&px, &pixels, |n, v| {
-            ibl::reference_radiance(&t, base, metallic, roughness, n, v)
+            ibl::reference_radiance(&t, surface, n, v)
         });
         let (model, _, _) = sphere_error(&px, &pixels, |n, v| {
-            ibl::split_sum_radiance(&t, base, metallic, roughness, n, v)
+            ibl::split_sum_radiance(&t, surface, n, v)
         });
         eprintln!(
             "city.exr, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.0} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the split sum on the CPU, {} pixels",

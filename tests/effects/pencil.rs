@@ -18,8 +18,9 @@ fn pencil_oracle(enc: &[f64], w: u32, h: u32, sigma: f64, darkness: f64) -> Vec<
         })
         .collect();
     let hs = half_size(w, h);
-    let bh = blur_pass(&lum, (w, h), hs, sigma * 0.5, true);
-    let g = blur_pass(&bh, hs, hs, sigma * 0.5, false);
+    let sigma = sigma * 0.5;
+    let bh = BlurPass::along_x((w, h), hs, sigma).bilinear(&lum);
+    let g = BlurPass::along_y(hs, hs, sigma).bilinear(&bh);
     let mut out = Vec::with_capacity((w * h) as usize);
     for y in 0..h {
         for x in 0..w {
