@@ -59,6 +59,21 @@ fn reference(ctx: &GpuContext, scene: &Scene, camera: &Camera, size: (u32, u32))
     )
 }
 
+/// [`reference`] of `scene` seen from the camera `spec` at `size`, written to
+/// tests/output/NAME.png for review: the camera and the image.
+fn reviewed_reference(
+    ctx: &GpuContext,
+    scene: &Scene,
+    spec: &str,
+    size: (u32, u32),
+    name: &str,
+) -> (Camera, Vec<[f32; 4]>) {
+    let camera = Camera::parse_spec(spec, scene).unwrap();
+    let image = reference(ctx, scene, &camera, size);
+    save_rgb_review(name, size, &image);
+    (camera, image)
+}
+
 /// Per-pixel comparison with the oracle over the sphere's interior (pixels whose
 /// four neighbours also hit, so silhouette coverage does not count): the error
 /// relative to max(reference, `floor`), per channel. Returns (99th percentile,
@@ -352,9 +367,9 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
     let ctx = &*gpu;
     let (scene, _dir) = pairs_scene();
     let size = (192, 144);
-    let camera = Camera::parse_spec("eye=0,6,7;target=0,0,0;fov=50", &scene).unwrap();
-    let reference = reference(ctx, &scene, &camera, size);
-    save_rgb_review("materials_pairs_deferred", size, &reference);
+    let spec = "eye=0,6,7;target=0,0,0;fov=50";
+    let (camera, reference) =
+        reviewed_reference(ctx, &scene, spec, size, "materials_pairs_deferred");
     assert!(
         reference
             .iter()
@@ -546,10 +561,10 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
         "{:?}",
         textured.surface.textures
     );
-    let camera = Camera::parse_spec("eye=0,-1.2,7;target=0,-1.2,0;fov=55", &scene).unwrap();
     let size = (160, 160);
-    let reference = reference(ctx, &scene, &camera, size);
-    save_rgb_review("materials_gltf_textured", size, &reference);
+    let spec = "eye=0,-1.2,7;target=0,-1.2,0;fov=55";
+    let (camera, reference) =
+        reviewed_reference(ctx, &scene, spec, size, "materials_gltf_textured");
     for technique in Technique::ALL {
         for mode in VariantMode::ALL {
             let img = render(ctx, &scene, &camera, size, technique, mode);

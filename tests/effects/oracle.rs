@@ -6,7 +6,6 @@
 use crate::common::samples::{f16r, f32s, u8s};
 use crate::common::*;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
-use fxgraph::graph::{compile, CompileRequest};
 use fxgraph::io::Image;
 
 // ---------------------------------------------------------------- samples
@@ -215,12 +214,8 @@ pub fn greenscreen() -> Option<(Image, Image)> {
 
 /// Compile effects (names or paths) and plan them for an 8-bit `w`x`h` input.
 pub fn plan_for(effects: &[&str], w: u32, h: u32) -> (fxgraph::graph::Plan, usize, usize) {
-    let req = CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: effects.iter().map(|s| s.to_string()).collect(),
-        ..Default::default()
-    };
-    let (graph, diags, sources) = compile(&req);
+    let chain: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
+    let (graph, diags, sources) = crate::common::compile::compile_chain(&chain, &[]);
     let graph = graph
         .unwrap_or_else(|| panic!("{effects:?} does not compile:\n{}", diags.render(&sources)));
     let warnings = diags.warning_count();
@@ -243,6 +238,29 @@ pub fn grey_step_u8(w: u32, h: u32, x0: u32, lo: u8, hi: u8) -> Image {
         let v = if x < x0 { lo } else { hi };
         [v, v, v, 255]
     })
+}
+
+/// Asserts that `effect` (its defaults) turns a flat `w` x `h` image of `colour`
+/// into a flat image of `want`.
+pub fn assert_flat_becomes(
+    eng: &mut fxgraph::gpu::executor::Engine,
+    effect: &str,
+    (w, h): (u32, u32),
+    colour: [u8; 4],
+    want: [u8; 4],
+) {
+    let flat = image_u8(w, h, |_, _| colour);
+    let px = apply_fx(
+        eng,
+        effect,
+        &[],
+        &flat,
+        fxgraph::script::types::Format::Rgba8Srgb,
+    );
+    assert!(
+        u8s(&px).chunks(4).all(|p| p == want),
+        "{effect}: flat {colour:?} does not become {want:?}"
+    );
 }
 
 // ---------------------------------------------------------------- blurs
