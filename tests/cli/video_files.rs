@@ -6,7 +6,7 @@
 use crate::common::cli::{
     assert_no_temporaries, exits_with, fxrun_in, fxrun_line_in, fxrun_with, names, succeeds_in,
 };
-use crate::common::video::{ffmpeg, frame_count, have_ffmpeg, probe, streams};
+use crate::common::video::{assert_y4m_header, ffmpeg, frame_count, have_ffmpeg, probe, streams};
 use std::path::Path;
 
 const IDENTITY: &str = "EFFECT.id = { OUT = IN }";
@@ -157,11 +157,9 @@ fn a_10_bit_video_gives_a_10_bit_output() {
     assert_eq!(streams(&v, "video")[0]["pix_fmt"], "yuv420p10le");
     assert_eq!(frame_count(&d.join("out.mp4")), 6);
     succeeds_in(d, "id.fx -i in10.mkv -o out.y4m");
-    let y = std::fs::read(d.join("out.y4m")).unwrap();
-    assert!(
-        y.starts_with(b"YUV4MPEG2 W96 H64 F25:1 Ip A1:1 C420p10"),
-        "{}",
-        String::from_utf8_lossy(&y[..60])
+    assert_y4m_header(
+        &d.join("out.y4m"),
+        "YUV4MPEG2 W96 H64 F25:1 Ip A1:1 C420p10",
     );
     // A 10-bit y4m to WebM: VP9 at 10 bits.
     succeeds_in(d, "id.fx -i out.y4m -o out.webm -v");

@@ -74,6 +74,20 @@ pub fn frame_count(path: &Path) -> u64 {
         .unwrap_or_else(|_| panic!("frame count of {}: {text:?}", path.display()))
 }
 
+/// Asserts that the y4m file at `path` starts with the header `start`
+/// (`YUV4MPEG2 W.. H..`, as far as given); returns the file's bytes.
+#[track_caller]
+pub fn assert_y4m_header(path: &Path, start: &str) -> Vec<u8> {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(80)]);
+    assert!(
+        bytes.starts_with(start.as_bytes()),
+        "{}: {head}",
+        path.display()
+    );
+    bytes
+}
+
 /// A y4m stream: `header` (without `YUV4MPEG2 ` and the newline) and frames of planes
 /// of samples (one byte each at 8 bits, two little-endian bytes above).
 pub fn y4m(header: &str, depth: u8, frames: &[Vec<Vec<u16>>]) -> Vec<u8> {

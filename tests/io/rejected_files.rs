@@ -124,8 +124,8 @@ fn oversized_images_are_refused_before_decoding() {
         &p,
         40000,
         1,
-        png::ColorType::Grayscale,
-        png::BitDepth::Eight,
+        ColorType::Grayscale,
+        BitDepth::Eight,
         &vec![9u8; 40000],
     );
     let e = load_image(&p, &LoadOptions::default()).unwrap_err();
