@@ -10,7 +10,7 @@ use common::bench;
 use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen;
 use common::gpu_context;
-use common::renders::{rgb_psnr, save_rgb_review};
+use common::renders::{assert_psnr, save_rgb_review};
 use common::scenes::one_object;
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
@@ -383,13 +383,16 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
             .iter()
             .map(|&mode| render(ctx, &scene, &camera, size, technique, mode))
             .collect();
-        let p = rgb_psnr(&reference, &per_mode[0], true);
-        eprintln!("deferred vs {technique}: PSNR {p:.2} dB");
-        assert!(p >= 40.0, "deferred vs {technique}: {p:.2} dB");
+        let preprocessed = &per_mode[0];
+        assert_psnr(
+            &format!("deferred vs {technique}"),
+            &reference,
+            preprocessed,
+            40.0,
+        );
         for (mode, img) in VariantMode::ALL.iter().zip(&per_mode).skip(1) {
-            let p = rgb_psnr(&per_mode[0], img, true);
-            eprintln!("{technique}: preprocess vs {mode}: PSNR {p:.2} dB");
-            assert!(p >= 60.0, "{technique}: preprocess vs {mode}: {p:.2} dB");
+            let what = format!("{technique}: preprocess vs {mode}");
+            assert_psnr(&what, preprocessed, img, 60.0);
         }
     }
 }
@@ -568,9 +571,8 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
     for technique in Technique::ALL {
         for mode in VariantMode::ALL {
             let img = render(ctx, &scene, &camera, size, technique, mode);
-            let p = rgb_psnr(&reference, &img, true);
-            eprintln!("textured glTF: deferred/preprocess vs {technique}/{mode}: PSNR {p:.2} dB");
-            assert!(p >= 40.0, "{technique}/{mode}: {p:.2} dB");
+            let what = format!("textured glTF: deferred/preprocess vs {technique}/{mode}");
+            assert_psnr(&what, &reference, &img, 40.0);
         }
     }
 }
@@ -622,8 +624,7 @@ fn mesh_flags_follow_the_mesh_in_every_mode() {
     let size = (96, 64);
     let [pre, branch] = [VariantMode::Preprocess, VariantMode::Branch]
         .map(|mode| render(ctx, &scene, &camera, size, Technique::Forward, mode));
-    let p = rgb_psnr(&pre, &branch, true);
-    assert!(p >= 60.0, "preprocess vs branch: {p:.2} dB");
+    assert_psnr("preprocess vs branch", &pre, &branch, 60.0);
     // the two boxes differ: blue (no colours) and red (vertex colours)
     let left = pre[(32 * 96 + 24) as usize];
     let right = pre[(32 * 96 + 72) as usize];
