@@ -79,14 +79,16 @@ fn bench(c: &mut Criterion) {
             }
         }
         let passes = prepared.plan.passes.len() as f64;
-        let out_view = out.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("bench output view"),
-            ..Default::default()
-        });
-        let in_view = tex.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("bench input view"),
-            ..Default::default()
-        });
+        let view = |t: &wgpu::Texture, label| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                label: Some(label),
+                ..Default::default()
+            })
+        };
+        let (out_view, in_view) = (
+            view(&out, "bench output view"),
+            view(&tex, "bench input view"),
+        );
         // CPU side of a frame as an application pays it: record into its encoder
         // (`record`), then finish and submit.
         let mut record_total = Duration::ZERO;

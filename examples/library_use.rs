@@ -110,14 +110,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "parameters: {:?}",
         params.iter().map(|p| p.name.as_str()).collect::<Vec<_>>()
     );
-    let input_view = input.create_view(&wgpu::TextureViewDescriptor {
-        label: Some("application scene view"),
-        ..Default::default()
-    });
-    let output_view = output.create_view(&wgpu::TextureViewDescriptor {
-        label: Some("application output view"),
-        ..Default::default()
-    });
+    let view = |t: &wgpu::Texture, label| {
+        t.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(label),
+            ..Default::default()
+        })
+    };
+    let input_view = view(&input, "application scene view");
+    let output_view = view(&output, "application output view");
     for frame in 0..5 {
         // Raise the glow threshold a little each frame (when the chain has one).
         if params

@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::bench;
 use common::gpu_context as gpu;
 use common::renders::{rgb_psnr, save_rgb_review};
 use common::scenes::{one_object, opaque_room};
@@ -558,21 +559,15 @@ fn renderer_benchmark() {
     use fxgraph::render::bench::{run_benchmark, BenchConfig};
     let Some(ctx) = gpu() else { return };
     let mut cfg = BenchConfig::default();
-    if let Ok(s) = std::env::var("FX_BENCH_SIZE") {
-        let (w, h) = s.split_once('x').expect("FX_BENCH_SIZE=WxH");
-        cfg.width = w.parse().unwrap();
-        cfg.height = h.parse().unwrap();
+    if let Some((w, h)) = bench::size() {
+        (cfg.width, cfg.height) = (w, h);
     }
-    if let Ok(s) = std::env::var("FX_BENCH_LIGHTS") {
+    if let Some(s) = bench::setting::<String>("LIGHTS") {
         cfg.light_counts = s.split(',').map(|v| v.trim().parse().unwrap()).collect();
     }
-    if let Ok(s) = std::env::var("FX_BENCH_FRAMES") {
-        cfg.frames = s.parse().unwrap();
-    }
-    if let Ok(s) = std::env::var("FX_BENCH_WARMUP") {
-        cfg.warmup = s.parse().unwrap();
-    }
-    if let Ok(s) = std::env::var("FX_BENCH_TECHNIQUES") {
+    cfg.frames = bench::setting("FRAMES").unwrap_or(cfg.frames);
+    cfg.warmup = bench::setting("WARMUP").unwrap_or(cfg.warmup);
+    if let Some(s) = bench::setting::<String>("TECHNIQUES") {
         cfg.techniques = s.split(',').map(|v| v.parse().unwrap()).collect();
     }
     let report = run_benchmark(&ctx, &cfg, |row| {
@@ -585,8 +580,5 @@ fn renderer_benchmark() {
         )
     })
     .unwrap();
-    println!("{report}");
-    if let Ok(out) = std::env::var("FX_BENCH_OUT") {
-        std::fs::write(&out, report.to_string()).unwrap();
-    }
+    bench::publish(&report);
 }

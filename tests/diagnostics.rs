@@ -4,16 +4,14 @@
 //! `NAME.expected` exactly. A missing or different snapshot fails and writes
 //! `NAME.actual` next to it; `FX_BLESS=1` writes `NAME.expected` (review the diff).
 
+mod common;
+
+use common::compile::compile_file;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
-use fxgraph::graph::{compile, CompileRequest};
 use std::path::Path;
 
 fn render(rel: &str) -> String {
-    let (graph, mut diags, sources) = compile(&CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: vec![rel.to_string()],
-        ..Default::default()
-    });
+    let (graph, mut diags, sources) = compile_file(Path::new(rel));
     if let Some(g) = graph {
         let mut input = InputDesc::rgba8_srgb(1920, 1080);
         if !rel.ends_with("aux_missing.fx") {

@@ -32,10 +32,10 @@ fn uniform(v: f32) -> Environment {
 
 #[test]
 fn white_furnace() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let (_, o) = sphere_camera();
     let pixels = interior_pixels(&o, 1);
     // (what, base, metallic, roughness, tolerance)
@@ -112,10 +112,10 @@ fn sphere_error(
 /// approximation.
 #[test]
 fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let path = common::ibl::corpus("hdri/city.exr");
     let env = Environment::new(EnvironmentSource::File(path));
     let map = env.load().unwrap();
@@ -138,11 +138,16 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
     ] {
         let scene = env_sphere(base, metallic, roughness, env.clone());
         let (_, px) = render(ctx, &scene, Technique::Deferred);
+        let surface = ibl::MetalRough {
+            base,
+            metallic,
+            roughness,
+        };
         let (brdf, facing, grazing) = sphere_error(&px, &pixels, |n, v| {
-            ibl::reference_radiance(&t, base, metallic, roughness, n, v)
+            ibl::reference_radiance(&t, surface, n, v)
         });
         let (model, _, _) = sphere_error(&px, &pixels, |n, v| {
-            ibl::split_sum_radiance(&t, base, metallic, roughness, n, v)
+            ibl::split_sum_radiance(&t, surface, n, v)
         });
         eprintln!(
             "city.exr, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.0} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the split sum on the CPU, {} pixels",
@@ -177,10 +182,10 @@ const METAL_LIMIT: f64 = 0.12;
 /// overcast map (city) and a studio's small bright lamps (the hard case).
 #[test]
 fn prefiltered_levels_and_irradiance_match_cpu_convolutions() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let mut failures = Vec::new();
     // (map, limit of the importance-sampled levels below roughness 0.3, of the
     // others; the convolved levels (roughness >= 0.75) and the irradiance are
@@ -268,10 +273,10 @@ fn prefiltered_levels_and_irradiance_match_cpu_convolutions() {
 
 #[test]
 fn dfg_table_matches_the_specular_albedo() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let r = Renderer::new(
         ctx,
         &env_sphere(Vec3::ONE, 0.0, 0.5, uniform(1.0)),
@@ -306,10 +311,10 @@ fn dfg_table_matches_the_specular_albedo() {
 
 #[test]
 fn the_map_is_oriented_as_blender_and_rotates_about_y() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     // light only from the +X half of the world: its texels are the middle half
     // of the map's columns (u in 0.25..0.75)
     let dir = tempfile::tempdir().unwrap();

@@ -111,8 +111,5 @@ fn environment_benchmark() {
             );
         }
     }
-    println!("{report}");
-    if let Ok(out) = std::env::var("FX_BENCH_OUT") {
-        std::fs::write(out, &report).unwrap();
-    }
+    common::bench::publish(&report);
 }

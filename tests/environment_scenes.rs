@@ -34,10 +34,10 @@ fn frame(
 
 #[test]
 fn techniques_agree_with_an_environment_and_its_background() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let mut scene = common::scenes::opaque_room();
     scene.set_environment(Some(Environment::new(EnvironmentSource::File(
         common::ibl::corpus("hdri/city.exr"),
@@ -77,10 +77,10 @@ fn techniques_agree_with_an_environment_and_its_background() {
 
 #[test]
 fn a_transparent_background_keeps_alpha_zero() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let mut scene = Scene::load("builtin:room").unwrap();
     scene.set_environment(Some(Environment::new(EnvironmentSource::Studio)));
     let camera = scene.default_camera();
@@ -113,10 +113,10 @@ fn a_transparent_background_keeps_alpha_zero() {
 
 #[test]
 fn prefiltered_maps_are_cached_by_content() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let sky = Environment::new(EnvironmentSource::Sky(Sky::default()));
     let mut r = Renderer::new(
         ctx,
@@ -158,10 +158,10 @@ fn environment(in: EnvironmentInput, params: LightingParams) -> LightingOutput {
 
 #[test]
 fn a_lighting_shader_may_replace_the_environment_term() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("flat_env.wgsl"), USER_LIGHTING).unwrap();
     let text =
@@ -206,10 +206,10 @@ fn a_lighting_shader_may_replace_the_environment_term() {
 
 #[test]
 fn the_sky_sun_is_a_directional_light_that_casts_shadows() {
-    let Some(engine) = common::engine() else {
+    let Some(gpu) = common::gpu_context() else {
         return;
     };
-    let ctx = &engine.ctx;
+    let ctx = &*gpu;
     // the shadow test scene with the sky's sun straight overhead instead of its light
     let mut scene = shadow_scene::scene(shadow_scene::directional());
     scene.lights.clear();

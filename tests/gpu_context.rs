@@ -52,6 +52,15 @@ macro_rules! context_or_skip {
     };
 }
 
+/// The formats whose support the tests print: the engine's texture formats.
+const REPORTED_FORMATS: [wgpu::TextureFormat; 5] = [
+    wgpu::TextureFormat::Rgba8Unorm,
+    wgpu::TextureFormat::Rgba8UnormSrgb,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rgba32Float,
+    wgpu::TextureFormat::R32Float,
+];
+
 /// `ctx.upload_texture` of a `w` x `h` texture with no extra usage.
 fn upload(
     ctx: &GpuContext,
@@ -332,13 +341,7 @@ fn check_size_rejects_one_more_than_the_limit() {
 #[test]
 fn format_support_matches_webgpu_basics() {
     let ctx = context_or_skip!();
-    for format in [
-        wgpu::TextureFormat::Rgba8Unorm,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        wgpu::TextureFormat::Rgba16Float,
-        wgpu::TextureFormat::Rgba32Float,
-        wgpu::TextureFormat::R32Float,
-    ] {
+    for format in REPORTED_FORMATS {
         eprintln!("{format:?}: {:?}", ctx.format_support(format));
     }
     let rgba8 = ctx.format_support(wgpu::TextureFormat::Rgba8Unorm);
@@ -532,13 +535,7 @@ fn gl_child_probe() {
         ctx.timestamps,
         ctx.device.limits().max_texture_dimension_2d
     );
-    for format in [
-        wgpu::TextureFormat::Rgba8Unorm,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        wgpu::TextureFormat::Rgba16Float,
-        wgpu::TextureFormat::Rgba32Float,
-        wgpu::TextureFormat::R32Float,
-    ] {
+    for format in REPORTED_FORMATS {
         eprintln!("GL {format:?}: {:?}", ctx.format_support(format));
     }
     for format in [

@@ -16,11 +16,6 @@ use fxgraph::io::Pixels;
 use fxgraph::script::types::Format;
 use std::sync::MutexGuard;
 
-const UPTO_BLUR_X: &str = "EFFECT.upto = { PASS = {
-    brightPass = SHADER.brightPass { img = IN }
-    blurX = SHADER.blurX { img = PASS.brightPass  OUT.SCALE = (0.5, 0.5) }
-} OUT = blurX }";
-
 fn prepare(engine: &mut Engine, effect: &str, input: &InputDesc, out: Format) -> Prepared {
     let mut e = Effect::compile(&[effect.to_string()], &[]).unwrap();
     let opts = PlanOptions {
@@ -49,6 +44,17 @@ fn setup(
     Some((engine, ctx, input, InputDesc::rgba8_srgb(w, h)))
 }
 
+/// `glow` prepared for `desc` (pooled) and an 8-bit sRGB output of its size.
+fn prepared_glow(
+    engine: &mut Engine,
+    ctx: &GpuContext,
+    desc: &InputDesc,
+) -> (Prepared, wgpu::Texture) {
+    let glow = prepare(engine, "glow", desc, Format::Rgba8Srgb);
+    let out = create_output(ctx, desc.width, desc.height, Format::Rgba8Srgb);
+    (glow, out)
+}
+
 /// Record one frame into an encoder of our own and submit it.
 fn frame(engine: &mut Engine, p: &mut Prepared, input: &wgpu::Texture, out: &wgpu::Texture) {
     let ctx = engine.ctx.clone();
@@ -68,8 +74,7 @@ fn an_inspected_pass_equals_the_effect_up_to_it_and_changes_nothing_else() {
     let Some((mut engine, ctx, input, desc)) = setup(64, 48) else {
         return;
     };
-    let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
-    let out = create_output(&ctx, 64, 48, Format::Rgba8Srgb);
+    let (mut glow, out) = prepared_glow(&mut engine, &ctx, &desc);
     frame(&mut engine, &mut glow, &input, &out);
     let plain = read_pixels(&ctx, &out, Format::Rgba8Srgb).unwrap();
     let created = engine.stats().pool.created;
@@ -102,7 +107,7 @@ fn an_inspected_pass_equals_the_effect_up_to_it_and_changes_nothing_else() {
     // The reference: the effect up to blurX, run on its own.
     let dir = tempfile::tempdir().unwrap();
     let fx = dir.path().join("upto.fx");
-    std::fs::write(&fx, UPTO_BLUR_X).unwrap();
+    std::fs::write(&fx, common::UPTO_BLUR_X).unwrap();
     let mut upto = prepare(&mut engine, fx.to_str().unwrap(), &desc, pass.desc.format);
     let o = upto.plan.output;
     let out2 = create_output(&ctx, o.width, o.height, o.format);
@@ -124,8 +129,7 @@ fn gpu_times_of_recorded_frames_come_back_without_a_stall() {
     let Some((mut engine, ctx, input, desc)) = setup(32, 32) else {
         return;
     };
-    let mut glow = prepare(&mut engine, "glow", &desc, Format::Rgba8Srgb);
-    let out = create_output(&ctx, 32, 32, Format::Rgba8Srgb);
+    let (mut glow, out) = prepared_glow(&mut engine, &ctx, &desc);
     let on = glow.set_gpu_timings(&engine, true);
     assert_eq!(on, ctx.timestamps);
     // A frame is timed, mapped at the next `record` and read at a later one.

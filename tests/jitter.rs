@@ -18,11 +18,7 @@ use fxgraph::script::{halton23, Diagnostics, JitterPattern, SourceMap};
 fn compile_text(dir: &tempfile::TempDir, text: &str) -> (Option<Graph>, Diagnostics, SourceMap) {
     let p = dir.path().join("t.fx");
     std::fs::write(&p, text).unwrap();
-    compile(&CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: vec![p.display().to_string()],
-        ..Default::default()
-    })
+    common::compile::compile_file(&p)
 }
 
 const JITTERED: &str = "EFFECT.acc = {

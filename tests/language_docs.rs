@@ -1,8 +1,10 @@
 //! Every ```fx example in docs/language.md compiles without errors or warnings and
 //! plans at 256x256 (with the G-buffer as auxiliary inputs).
 
+mod common;
+
+use common::compile::compile_file;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
-use fxgraph::graph::{compile, CompileRequest};
 
 fn examples() -> Vec<(usize, String)> {
     let doc =
@@ -35,12 +37,7 @@ fn every_documented_example_compiles_and_plans() {
     for (line, text) in examples {
         let path = dir.path().join(format!("example_{line}.fx"));
         std::fs::write(&path, &text).unwrap();
-        let req = CompileRequest {
-            source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-            effects: vec![path.display().to_string()],
-            ..Default::default()
-        };
-        let (graph, diags, sources) = compile(&req);
+        let (graph, diags, sources) = compile_file(&path);
         assert!(
             diags.is_empty(),
             "docs/language.md:{line}: example has diagnostics:\n{}",

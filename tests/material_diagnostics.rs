@@ -119,42 +119,45 @@ fn surface_shader_with_the_wrong_signature() {
     );
 }
 
-#[test]
-fn wgsl_type_error_points_into_the_users_file() {
-    let got = report_with(
-        &[(
-        "tinted.wgsl",
-        "struct SurfaceParams {\n    tint: vec3<f32>, // @default(1, 1, 1)\n}\n@group(2) @binding(0) var<uniform> p: SurfaceParams;\n\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var out: SurfaceOutput;\n    out.diffuse = p.tint * 2;\n    out.normal = in.normal;\n    out.alpha = vec2<f32>(1.0);\n    return out;\n}\n",
-    )],
-        "MATERIAL.d = {\n    SURFACE = SHADER.tinted\n    LIGHTING = SHADER.lambert\n}\n",
-    );
-    assert!(
-        got.starts_with("bad.fx:2:22: error: surface shader `tinted` has 1 error"),
-        "{got}"
-    );
-    assert!(got.contains("<dir>/tinted.wgsl:10:"), "{got}");
-    // WGSL type names, not naga internals
-    assert!(
-        !got.contains("Vector {") && !got.contains("Scalar {"),
-        "{got}"
-    );
-    assert!(got.contains("vec2<f32>"), "{got}");
-}
+/// A surface shader with a type error (a `vec2` where `alpha` is an `f32`).
+const TINTED: &str = "struct SurfaceParams {\n    tint: vec3<f32>, // @default(1, 1, 1)\n}\n@group(2) @binding(0) var<uniform> p: SurfaceParams;\n\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var out: SurfaceOutput;\n    out.diffuse = p.tint * 2;\n    out.normal = in.normal;\n    out.alpha = vec2<f32>(1.0);\n    return out;\n}\n";
 
+/// A lighting shader that declares a texture.
+const LIT: &str = "@group(2) @binding(0) var t: texture_2d<f32>;\nfn lighting(in: LightingInput) -> LightingOutput {\n    return LightingOutput(in.light, vec3<f32>(0.0));\n}\n";
+
+/// A mistake in a user's surface or lighting shader: the material file's error
+/// names the shader, and the shader's own error points into the user's file, in
+/// WGSL's words (not naga's internals).
 #[test]
-fn lighting_shader_may_not_declare_textures() {
-    let got = report_with(
-        &[(
-        "lit.wgsl",
-        "@group(2) @binding(0) var t: texture_2d<f32>;\nfn lighting(in: LightingInput) -> LightingOutput {\n    return LightingOutput(in.light, vec3<f32>(0.0));\n}\n",
-    )],
-        "MATERIAL.e = {\n    SURFACE = SHADER.standard\n    LIGHTING = SHADER.lit\n}\n",
-    );
-    assert!(
-        got.starts_with("bad.fx:3:23: error: lighting shader `lit` has 1 error"),
-        "{got}"
-    );
-    assert!(got.contains("<dir>/lit.wgsl:1:"), "{got}");
+fn users_shader_errors_point_into_the_users_file() {
+    // (shader file, its text, material file, first line, place in the shader, more)
+    let cases = [
+        (
+            ("tinted.wgsl", TINTED),
+            "MATERIAL.d = {\n    SURFACE = SHADER.tinted\n    LIGHTING = SHADER.lambert\n}\n",
+            "bad.fx:2:22: error: surface shader `tinted` has 1 error",
+            "<dir>/tinted.wgsl:10:",
+            &["vec2<f32>"][..],
+        ),
+        (
+            ("lit.wgsl", LIT),
+            "MATERIAL.e = {\n    SURFACE = SHADER.standard\n    LIGHTING = SHADER.lit\n}\n",
+            "bad.fx:3:23: error: lighting shader `lit` has 1 error",
+            "<dir>/lit.wgsl:1:",
+            &[],
+        ),
+    ];
+    for (shader, material, first, place, more) in cases {
+        let got = report_with(&[shader], material);
+        assert!(got.starts_with(first), "{got}");
+        for needle in [place].iter().chain(more) {
+            assert!(got.contains(needle), "{got}");
+        }
+        assert!(
+            !got.contains("Vector {") && !got.contains("Scalar {"),
+            "{got}"
+        );
+    }
 }
 
 #[test]

@@ -6,10 +6,11 @@
 
 mod common;
 
+use common::bench;
 use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen;
 use common::gpu_context;
-use common::renders::{rgb_psnr, save_rgb_review};
+use common::renders::{assert_psnr, save_rgb_review};
 use common::scenes::one_object;
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
@@ -56,6 +57,21 @@ fn reference(ctx: &GpuContext, scene: &Scene, camera: &Camera, size: (u32, u32))
         Technique::Deferred,
         VariantMode::Preprocess,
     )
+}
+
+/// [`reference`] of `scene` seen from the camera `spec` at `size`, written to
+/// tests/output/NAME.png for review: the camera and the image.
+fn reviewed_reference(
+    ctx: &GpuContext,
+    scene: &Scene,
+    spec: &str,
+    size: (u32, u32),
+    name: &str,
+) -> (Camera, Vec<[f32; 4]>) {
+    let camera = Camera::parse_spec(spec, scene).unwrap();
+    let image = reference(ctx, scene, &camera, size);
+    save_rgb_review(name, size, &image);
+    (camera, image)
 }
 
 /// Per-pixel comparison with the oracle over the sphere's interior (pixels whose
@@ -351,9 +367,9 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
     let ctx = &*gpu;
     let (scene, _dir) = pairs_scene();
     let size = (192, 144);
-    let camera = Camera::parse_spec("eye=0,6,7;target=0,0,0;fov=50", &scene).unwrap();
-    let reference = reference(ctx, &scene, &camera, size);
-    save_rgb_review("materials_pairs_deferred", size, &reference);
+    let spec = "eye=0,6,7;target=0,0,0;fov=50";
+    let (camera, reference) =
+        reviewed_reference(ctx, &scene, spec, size, "materials_pairs_deferred");
     assert!(
         reference
             .iter()
@@ -367,13 +383,16 @@ fn techniques_and_variant_modes_agree_for_every_surface_and_lighting_pair() {
             .iter()
             .map(|&mode| render(ctx, &scene, &camera, size, technique, mode))
             .collect();
-        let p = rgb_psnr(&reference, &per_mode[0], true);
-        eprintln!("deferred vs {technique}: PSNR {p:.2} dB");
-        assert!(p >= 40.0, "deferred vs {technique}: {p:.2} dB");
+        let preprocessed = &per_mode[0];
+        assert_psnr(
+            &format!("deferred vs {technique}"),
+            &reference,
+            preprocessed,
+            40.0,
+        );
         for (mode, img) in VariantMode::ALL.iter().zip(&per_mode).skip(1) {
-            let p = rgb_psnr(&per_mode[0], img, true);
-            eprintln!("{technique}: preprocess vs {mode}: PSNR {p:.2} dB");
-            assert!(p >= 60.0, "{technique}: preprocess vs {mode}: {p:.2} dB");
+            let what = format!("{technique}: preprocess vs {mode}");
+            assert_psnr(&what, preprocessed, img, 60.0);
         }
     }
 }
@@ -486,12 +505,9 @@ fn variant_benchmark() {
     use fxgraph::render::variant_bench::run_variant_benchmark;
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
-    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
-    let size = env("FX_BENCH_SIZE", "1920x1080");
-    let (w, h) = size.split_once('x').expect("FX_BENCH_SIZE=WxH");
-    let (w, h): (u32, u32) = (w.parse().unwrap(), h.parse().unwrap());
-    let frames: usize = env("FX_BENCH_FRAMES", "5").parse().unwrap();
-    let lights: usize = env("FX_BENCH_LIGHTS", "16").parse().unwrap();
+    let (w, h) = bench::size().unwrap_or((1920, 1080));
+    let frames: usize = bench::setting("FRAMES").unwrap_or(5);
+    let lights: usize = bench::setting("LIGHTS").unwrap_or(16);
     let mut scene = Scene::load("builtin:bench").unwrap();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("bench");
     let text = std::fs::read_to_string(dir.join("materials_maps.fx")).unwrap();
@@ -525,10 +541,7 @@ fn variant_benchmark() {
         },
     )
     .unwrap();
-    println!("{report}");
-    if let Ok(out) = std::env::var("FX_BENCH_OUT") {
-        std::fs::write(&out, report.to_string()).unwrap();
-    }
+    bench::publish(&report);
 }
 
 /// The glTF sphere that uses every core texture, KHR_texture_transform, texture
@@ -551,16 +564,15 @@ fn textured_gltf_material_agrees_across_techniques_and_modes() {
         "{:?}",
         textured.surface.textures
     );
-    let camera = Camera::parse_spec("eye=0,-1.2,7;target=0,-1.2,0;fov=55", &scene).unwrap();
     let size = (160, 160);
-    let reference = reference(ctx, &scene, &camera, size);
-    save_rgb_review("materials_gltf_textured", size, &reference);
+    let spec = "eye=0,-1.2,7;target=0,-1.2,0;fov=55";
+    let (camera, reference) =
+        reviewed_reference(ctx, &scene, spec, size, "materials_gltf_textured");
     for technique in Technique::ALL {
         for mode in VariantMode::ALL {
             let img = render(ctx, &scene, &camera, size, technique, mode);
-            let p = rgb_psnr(&reference, &img, true);
-            eprintln!("textured glTF: deferred/preprocess vs {technique}/{mode}: PSNR {p:.2} dB");
-            assert!(p >= 40.0, "{technique}/{mode}: {p:.2} dB");
+            let what = format!("textured glTF: deferred/preprocess vs {technique}/{mode}");
+            assert_psnr(&what, &reference, &img, 40.0);
         }
     }
 }
@@ -612,8 +624,7 @@ fn mesh_flags_follow_the_mesh_in_every_mode() {
     let size = (96, 64);
     let [pre, branch] = [VariantMode::Preprocess, VariantMode::Branch]
         .map(|mode| render(ctx, &scene, &camera, size, Technique::Forward, mode));
-    let p = rgb_psnr(&pre, &branch, true);
-    assert!(p >= 60.0, "preprocess vs branch: {p:.2} dB");
+    assert_psnr("preprocess vs branch", &pre, &branch, 60.0);
     // the two boxes differ: blue (no colours) and red (vertex colours)
     let left = pre[(32 * 96 + 24) as usize];
     let right = pre[(32 * 96 + 72) as usize];

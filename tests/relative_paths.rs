@@ -60,9 +60,10 @@ fn same_with_dot(dir: &Path, line: &str, outputs: &[&str]) {
     }
 }
 
-/// `--scene builtin:room --materials FILE --material '*=DEF'`, with FILE bare and
-/// with `./`: the same image.
-fn room_with_materials(dir: &Path, file: &str, def: &str) {
+/// `--scene builtin:room --materials FILE --material '*=DEF'`, FILE holding
+/// `text`, with FILE bare and with `./`: the same image.
+fn room_with_materials(dir: &Path, (file, text): (&str, &str), def: &str) {
+    write(dir, file, text);
     let line = format!(
         "--materials {{{file}}} --scene builtin:room --size 64x48 --material *={def} -o out.png"
     );
@@ -104,12 +105,8 @@ fn write_material_shaders(dir: &Path) {
 fn materials_file_by_bare_name_finds_its_shaders() {
     let dir = tempfile::tempdir().unwrap();
     write_material_shaders(dir.path());
-    write(
-        dir.path(),
-        "mine.fx",
-        "MATERIAL.mine = {\n    SURFACE = SHADER.flat { color = (0.8, 0.3, 0.2, 1) }\n    LIGHTING = SHADER.halflambert\n}\n",
-    );
-    room_with_materials(dir.path(), "mine.fx", "mine");
+    let mine = "MATERIAL.mine = {\n    SURFACE = SHADER.flat { color = (0.8, 0.3, 0.2, 1) }\n    LIGHTING = SHADER.halflambert\n}\n";
+    room_with_materials(dir.path(), ("mine.fx", mine), "mine");
 }
 
 /// A texture a material names (`base_color_map = "tex.png"`) is next to the
@@ -119,12 +116,8 @@ fn material_textures_resolve_next_to_a_bare_material_file() {
     let dir = tempfile::tempdir().unwrap();
     let tex = common::pattern_u8(16, 16);
     save(&dir.path().join("tex.png"), &tex);
-    write(
-        dir.path(),
-        "textured.fx",
-        "MATERIAL.t = {\n    SURFACE = SHADER.standard { base_color_map = \"tex.png\" }\n    LIGHTING = SHADER.lambert\n}\n",
-    );
-    room_with_materials(dir.path(), "textured.fx", "t");
+    let textured = "MATERIAL.t = {\n    SURFACE = SHADER.standard { base_color_map = \"tex.png\" }\n    LIGHTING = SHADER.lambert\n}\n";
+    room_with_materials(dir.path(), ("textured.fx", textured), "t");
 }
 
 /// `--aux background=bg.png`.

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::cli::fxrun;
+use common::cli::{exits, exits_with, fxrun_line};
 use common::scenes::opaque_room;
 
 use fxgraph::io::{load_image, Pixels};
@@ -36,38 +36,13 @@ fn template_fog_equals_the_fog_effect() {
         dir.path().join("effect.exr"),
         dir.path().join("template.exr"),
     );
-    let common_args = ["--scene", "builtin:room", "--size", "160x96"];
-    let o = fxrun(
-        &[
-            &[
-                "fog",
-                "tonemap",
-                "--set",
-                "fog.density=0.15",
-                "--set",
-                "fog.color=(0.6,0.5,0.4)",
-            ][..],
-            &common_args,
-            &["-o", a.to_str().unwrap()],
-        ]
-        .concat(),
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = fxrun(
-        &[
-            &[
-                "tonemap",
-                "--fog",
-                "density=0.15",
-                "--fog",
-                "color=0.6,0.5,0.4",
-            ][..],
-            &common_args,
-            &["-o", b.to_str().unwrap()],
-        ]
-        .concat(),
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The same room, fogged by the effect and by the template.
+    let room = "--scene builtin:room --size 160x96";
+    let effect =
+        format!("fog tonemap --set fog.density=0.15 --set fog.color=(0.6,0.5,0.4) {room} -o {{}}");
+    exits(&fxrun_line(&effect, &[&a]), 0);
+    let template = format!("tonemap --fog density=0.15 --fog color=0.6,0.5,0.4 {room} -o {{}}");
+    exits(&fxrun_line(&template, &[&b]), 0);
     let (ea, eb) = (floats(&a), floats(&b));
     assert_eq!(ea.len(), eb.len());
     // Transparent surfaces differ: the template fogs them at their own depth,
@@ -94,8 +69,7 @@ fn template_fog_equals_the_fog_effect() {
     assert!(worst < 0.05, "worst relative difference {worst}");
     // and the fog is there: the fogged image is not the plain one
     let c = dir.path().join("plain.exr");
-    let o = fxrun(&[&["tonemap"][..], &common_args, &["-o", c.to_str().unwrap()]].concat());
-    assert!(o.status.success());
+    exits(&fxrun_line(&format!("tonemap {room} -o {{}}"), &[&c]), 0);
     let plain = floats(&c);
     let changed = plain
         .chunks(4)
@@ -206,19 +180,11 @@ fn height_fog_matches_the_oracle_in_every_technique() {
 
 #[test]
 fn bad_fog_settings_are_rejected_together() {
-    let o = fxrun(&[
-        "--scene",
-        "builtin:room",
-        "--fog",
-        "density=-1",
-        "--fog",
-        "colour=1",
-        "-o",
-        "/nonexistent/x.png",
-    ]);
-    assert_eq!(o.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("density") && err.contains("colour"), "{err}");
+    let o = fxrun_line(
+        "--scene builtin:room --fog density=-1 --fog colour=1 -o /nonexistent/x.png",
+        &[],
+    );
+    exits_with(&o, 1, &["density", "colour"]);
 }
 
 /// The default chain's fog is scaled to the scene: the Cornell box of the
@@ -236,15 +202,10 @@ fn default_chain_fog_is_scaled_to_the_scene() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("box.png");
-    let o = fxrun(&[
-        "--scene",
-        scene.to_str().unwrap(),
-        "--size",
-        "160x96",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    exits(
+        &fxrun_line("--scene {} --size 160x96 -o {}", &[&scene, &out]),
+        0,
+    );
     let img = load_image(&out, &Default::default()).unwrap();
     let Pixels::U8(px) = img.pixels else {
         panic!("expected 8-bit pixels")

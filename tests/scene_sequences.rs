@@ -144,8 +144,7 @@ fn a_rendered_sequence_writes_y4m_and_video_files() {
     );
     let y4m = format!("{d}/room.y4m");
     ok(&[&base[..], &["-o", &y4m]].concat());
-    let bytes = read(&y4m);
-    assert!(bytes.starts_with(b"YUV4MPEG2 W64 H48 F30:1"));
+    let bytes = common::video::assert_y4m_header(Path::new(&y4m), "YUV4MPEG2 W64 H48 F30:1");
     assert_eq!(bytes.windows(6).filter(|w| w == b"FRAME\n").count(), 6);
     // a video file through ffmpeg (CI installs it; without it this must fail)
     let mp4 = format!("{d}/room.mp4");

@@ -12,7 +12,7 @@ mod common;
 #[path = "common/shadow_scene.rs"]
 mod shadow_scene;
 
-use common::renders::rgb_psnr;
+use common::renders::assert_psnr;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::renderer::DEFAULT_SHADOW_SIZE;
 use fxgraph::render::{RenderStats, Renderer, RendererOptions, ShadowMode, Technique};
@@ -99,9 +99,12 @@ fn techniques_agree_with_shadows() {
         let (reference, _) = render(&s, &options(ShadowMode::Pcf), Technique::Deferred);
         for t in [Technique::LightPrepass, Technique::Forward] {
             let (pixels, _) = render(&s, &options(ShadowMode::Pcf), t);
-            let db = rgb_psnr(&reference, &pixels, true);
-            eprintln!("{name}: deferred vs {t}: {db:.1} dB");
-            assert!(db >= 40.0, "{name}: deferred vs {t}: {db:.1} dB");
+            assert_psnr(
+                &format!("{name}: deferred vs {t}"),
+                &reference,
+                &pixels,
+                40.0,
+            );
             check_against_oracle(&format!("{name} {t}"), &pixels, &light);
         }
     }

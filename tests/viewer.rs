@@ -253,14 +253,7 @@ fn the_inspected_pass_equals_a_run_of_the_effect_up_to_that_pass() {
     let Some((d, _gpu, dir)) = setup_with_photo() else {
         return;
     };
-    write(
-        dir.path(),
-        "upto.fx",
-        "EFFECT.upto = { PASS = {
-            brightPass = SHADER.brightPass { img = IN }
-            blurX = SHADER.blurX { img = PASS.brightPass  OUT.SCALE = (0.5, 0.5) }
-        } OUT = blurX }",
-    );
+    write(dir.path(), "upto.fx", common::UPTO_BLUR_X);
     normal(dir.path(), &["upto.fx", "-i", "in.png", "-o", "n.exr"]);
     let glow = ["glow", "-i", "in.png"];
     view_shot(&d, dir.path(), &glow, 2, &["1:inspect blurX"], "v.exr");

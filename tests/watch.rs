@@ -122,10 +122,9 @@ fn save_png(path: &Path, w: u32, h: u32) {
 /// alone (the others are not written again); a changed shader re-runs them all.
 #[test]
 fn a_watched_input_folder_processes_new_images() {
-    if common::engine().is_none() {
+    let Some(dir) = common::gpu_scratch() else {
         return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    };
     let d = dir.path();
     let (input, output) = (d.join("in"), d.join("out"));
     std::fs::create_dir(&input).unwrap();
@@ -164,10 +163,9 @@ fn a_watched_input_folder_processes_new_images() {
 
 #[test]
 fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
-    if common::engine().is_none() {
+    let Some(dir) = common::gpu_scratch() else {
         return;
-    }
-    let dir = tempfile::tempdir().unwrap();
+    };
     let d = dir.path();
     let input = d.join("in.png");
     save_png(&input, 16, 8);
@@ -210,16 +208,9 @@ fn watch_refuses_analysis_modes_and_streams_with_exit_1() {
         // The output folder as an input folder: every output would be a new input.
         &["glow", "-i", "src", "-o", "src", "--watch"][..],
     ] {
-        let o = Command::new(env!("CARGO_BIN_EXE_fxrun"))
-            .args(args)
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-            .output()
-            .unwrap();
-        assert_eq!(o.status.code(), Some(1), "{args:?}");
-        assert!(
-            String::from_utf8_lossy(&o.stderr).contains("--watch"),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let o = common::cli::fxrun(args);
+        let err = common::cli::stderr(&o);
+        assert_eq!(common::cli::code(&o), 1, "{args:?}: {err}");
+        assert!(err.contains("--watch"), "{args:?}: {err}");
     }
 }

@@ -3,8 +3,10 @@
 //! ffmpeg rejects, ffmpeg failing while decoding or encoding, Ctrl-C), checked with
 //! ffprobe. ffmpeg is required in CI (FX_REQUIRE_GPU set).
 
-use crate::common::cli::{assert_no_temporaries, exits_with, fxrun_in, fxrun_with, names};
-use crate::common::video::{ffmpeg, frame_count, have_ffmpeg, probe, streams};
+use crate::common::cli::{
+    assert_no_temporaries, exits_with, fxrun_in, fxrun_line_in, fxrun_with, names, succeeds_in,
+};
+use crate::common::video::{assert_y4m_header, ffmpeg, frame_count, have_ffmpeg, probe, streams};
 use std::path::Path;
 
 const IDENTITY: &str = "EFFECT.id = { OUT = IN }";
@@ -84,7 +86,7 @@ fn an_mkv_with_audio_becomes_an_mp4_with_its_audio_and_subtitles() {
     let Some(dir) = setup() else { return };
     let d = dir.path();
     make_mkv(d, "in.mkv", 10, "yuv420p", true);
-    let o = fxrun_in(d, &["id.fx", "-i", "in.mkv", "-o", "out.mp4", "-v"]);
+    let o = fxrun_line_in(d, "id.fx -i in.mkv -o out.mp4 -v");
     exits_with(
         &o,
         0,
@@ -128,13 +130,7 @@ fn an_mkv_with_audio_becomes_an_mp4_with_its_audio_and_subtitles() {
     assert!(psnr > 35.0, "PSNR {psnr:.1} dB");
     assert_no_temporaries(d);
     // --frames: 5 frames, and the audio of those 5 frames (0.2 s).
-    let o = fxrun_in(
-        d,
-        &[
-            "id.fx", "-i", "in.mkv", "-o", "part.mkv", "--frames", "2..6",
-        ],
-    );
-    exits_with(&o, 0, &[]);
+    succeeds_in(d, "id.fx -i in.mkv -o part.mkv --frames 2..6");
     assert_eq!(frame_count(&d.join("part.mkv")), 5);
     let probe = crate::common::video::probe(&d.join("part.mkv"));
     let dur: f64 = probe["format"]["duration"]
@@ -156,43 +152,25 @@ fn a_10_bit_video_gives_a_10_bit_output() {
     let Some(dir) = setup() else { return };
     let d = dir.path();
     make_mkv(d, "in10.mkv", 6, "yuv420p10le", false);
-    let o = fxrun_in(d, &["deinterlace", "-i", "in10.mkv", "-o", "out.mp4"]);
-    exits_with(&o, 0, &[]);
+    succeeds_in(d, "deinterlace -i in10.mkv -o out.mp4");
     let v = probe(&d.join("out.mp4"));
     assert_eq!(streams(&v, "video")[0]["pix_fmt"], "yuv420p10le");
     assert_eq!(frame_count(&d.join("out.mp4")), 6);
-    let o = fxrun_in(d, &["id.fx", "-i", "in10.mkv", "-o", "out.y4m"]);
-    exits_with(&o, 0, &[]);
-    let y = std::fs::read(d.join("out.y4m")).unwrap();
-    assert!(
-        y.starts_with(b"YUV4MPEG2 W96 H64 F25:1 Ip A1:1 C420p10"),
-        "{}",
-        String::from_utf8_lossy(&y[..60])
+    succeeds_in(d, "id.fx -i in10.mkv -o out.y4m");
+    assert_y4m_header(
+        &d.join("out.y4m"),
+        "YUV4MPEG2 W96 H64 F25:1 Ip A1:1 C420p10",
     );
     // A 10-bit y4m to WebM: VP9 at 10 bits.
-    let o = fxrun_in(d, &["id.fx", "-i", "out.y4m", "-o", "out.webm", "-v"]);
-    exits_with(&o, 0, &[]);
+    succeeds_in(d, "id.fx -i out.y4m -o out.webm -v");
     let v = probe(&d.join("out.webm"));
     assert_eq!(streams(&v, "video")[0]["codec_name"], "vp9");
     assert_eq!(streams(&v, "video")[0]["pix_fmt"], "yuv420p10le");
     // The depth can be lowered.
-    let o = fxrun_in(
+    succeeds_in(
         d,
-        &[
-            "id.fx",
-            "-i",
-            "in10.mkv",
-            "-o",
-            "out8.mp4",
-            "--bit-depth",
-            "8",
-            "--crf",
-            "23",
-            "--preset",
-            "veryfast",
-        ],
+        "id.fx -i in10.mkv -o out8.mp4 --bit-depth 8 --crf 23 --preset veryfast",
     );
-    exits_with(&o, 0, &[]);
     assert_eq!(
         streams(&probe(&d.join("out8.mp4")), "video")[0]["pix_fmt"],
         "yuv420p"
@@ -264,7 +242,7 @@ fn ffmpeg_failures_are_reported_with_its_stderr_and_leave_no_output() {
     let d = dir.path();
     // A file ffprobe rejects.
     std::fs::write(d.join("bad.mkv"), crate::common::rng::Rng(7).bytes(4000)).unwrap();
-    let o = fxrun_in(d, &["id.fx", "-i", "bad.mkv", "-o", "out.mp4"]);
+    let o = fxrun_line_in(d, "id.fx -i bad.mkv -o out.mp4");
     exits_with(
         &o,
         1,

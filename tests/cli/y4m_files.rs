@@ -2,8 +2,12 @@
 //! streams, outputs written whole or not at all, checked with an independent y4m
 //! reader (tests/common/video.rs) and with ffmpeg/ffprobe.
 
-use crate::common::cli::{assert_no_temporaries, exits_with, fxrun_line_in, fxrun_with};
-use crate::common::video::{ffmpeg, have_ffmpeg, probe, read_y4m, samples_420, streams, y4m};
+use crate::common::cli::{
+    assert_no_temporaries, exits_with, fxrun_line_in, fxrun_with, succeeds_in,
+};
+use crate::common::video::{
+    assert_y4m_header, ffmpeg, have_ffmpeg, probe, read_y4m, samples_420, streams, y4m,
+};
 use std::path::Path;
 
 /// The identity effect: the output is the input.
@@ -48,10 +52,15 @@ fn frames_420(
 /// `fxrun LINE` in `d` (expected to succeed), then the y4m file it wrote (`-o OUT`):
 /// its header line and frames of `samples` samples at `depth` bits.
 fn run_read(d: &Path, line: &str, depth: u8, samples: usize) -> (String, Vec<Vec<u16>>) {
-    exits_with(&fxrun_line_in(d, line), 0, &[]);
+    succeeds_in(d, line);
     let out = line.split(" -o ").nth(1).and_then(|o| o.split(' ').next());
     let out = out.unwrap_or_else(|| panic!("no `-o OUT` in `{line}`"));
     read_y4m(&std::fs::read(d.join(out)).unwrap(), depth, samples)
+}
+
+/// Write the y4m file `name` of one frame in `d` (see [`y4m`]).
+fn put_frame(d: &Path, name: &str, header: &str, depth: u8, frame: &[Vec<u16>]) {
+    std::fs::write(d.join(name), y4m(header, depth, &[frame.to_vec()])).unwrap();
 }
 
 /// Write the y4m file `name` in `d` (see [`y4m`]).
@@ -78,8 +87,7 @@ fn an_8bit_file_round_trip_equals_the_pipe() {
     });
     let input = y4m("W64 H48 F25:1 Ip A1:1 C420jpeg", 8, &frames);
     std::fs::write(d.join("in.y4m"), &input).unwrap();
-    let o = fxrun_line_in(d, "id.fx -i in.y4m -o out.y4m");
-    exits_with(&o, 0, &[]);
+    succeeds_in(d, "id.fx -i in.y4m -o out.y4m");
     let out = std::fs::read(d.join("out.y4m")).unwrap();
     let (header, got) = read_y4m(&out, 8, samples_420(w, h));
     assert_eq!(header, "YUV4MPEG2 W64 H48 F25:1 Ip A1:1 C420jpeg");
@@ -169,23 +177,13 @@ fn a_failed_run_keeps_the_existing_output() {
     exits_with(&o, 1, &["would replace the input"]);
     // A good run replaces it.
     put(d, "in.y4m", "W32 H16 F25:1 Ip A1:1 C420jpeg", 8, &frames);
-    let o = fxrun_line_in(d, "id.fx -i in.y4m -o out.y4m");
-    exits_with(&o, 0, &[]);
-    assert!(std::fs::read(d.join("out.y4m"))
-        .unwrap()
-        .starts_with(b"YUV4MPEG2 W32 H16"));
+    succeeds_in(d, "id.fx -i in.y4m -o out.y4m");
+    assert_y4m_header(&d.join("out.y4m"), "YUV4MPEG2 W32 H16");
     // Image frames to a y4m file: the rate is --fps.
     std::fs::create_dir(d.join("png")).unwrap();
-    let o = fxrun_line_in(d, "id.fx -i in.y4m -o png/%02d.png");
-    exits_with(&o, 0, &[]);
-    let o = fxrun_line_in(d, "id.fx -i png/%02d.png -o back.y4m --fps 29.97");
-    exits_with(&o, 0, &[]);
-    let back = std::fs::read(d.join("back.y4m")).unwrap();
-    assert!(
-        back.starts_with(b"YUV4MPEG2 W32 H16 F30000:1001 Ip"),
-        "{}",
-        String::from_utf8_lossy(&back[..40])
-    );
+    succeeds_in(d, "id.fx -i in.y4m -o png/%02d.png");
+    succeeds_in(d, "id.fx -i png/%02d.png -o back.y4m --fps 29.97");
+    assert_y4m_header(&d.join("back.y4m"), "YUV4MPEG2 W32 H16 F30000:1001 Ip");
     assert_no_temporaries(d);
 }
 
@@ -232,13 +230,7 @@ fn ten_bit_streams_keep_every_level() {
     }
     // 10 bits in, 12 bits out (--bit-depth): the same levels times 4.
     let f = ramp(w, h, 10, false);
-    put(
-        d,
-        "in.y4m",
-        "W160 H64 F25:1 Ip A1:1 C420p10",
-        10,
-        std::slice::from_ref(&f),
-    );
+    put_frame(d, "in.y4m", "W160 H64 F25:1 Ip A1:1 C420p10", 10, &f);
     let (head, got) = run_read(
         d,
         "id.fx -i in.y4m -o out12.y4m --bit-depth 12",
@@ -261,13 +253,7 @@ fn twelve_bit_and_mono16_are_read_and_written() {
     let d = dir.path();
     let (w, h) = (160, 64);
     let f = ramp(w, h, 12, false);
-    put(
-        d,
-        "in12.y4m",
-        "W160 H64 F25:1 Ip A1:1 C420p12",
-        12,
-        std::slice::from_ref(&f),
-    );
+    put_frame(d, "in12.y4m", "W160 H64 F25:1 Ip A1:1 C420p12", 12, &f);
     let (head, got) = run_read(d, "id.fx -i in12.y4m -o out12.y4m", 12, samples_420(w, h));
     assert_eq!(head, "YUV4MPEG2 W160 H64 F25:1 Ip A1:1 C420p12");
     let diff = max_diff(&got[0], &f.concat());
@@ -314,8 +300,7 @@ fn ten_bit_colours_match_the_bt601_formulas() {
     let f = vec![plane(&yf), plane(&uf), plane(&vf)];
     let header = "W64 H32 F25:1 Ip A1:1 C444p10 XCOLORRANGE=LIMITED";
     put(d, "in.y4m", header, 10, &[f]);
-    let o = fxrun_line_in(d, "id.fx -i in.y4m -o fx/%d.png --bit-depth 16");
-    exits_with(&o, 0, &[]);
+    succeeds_in(d, "id.fx -i in.y4m -o fx/%d.png --bit-depth 16");
     let load = |p: &Path| -> Vec<f32> {
         let opts = fxgraph::io::LoadOptions {
             assume_linear: true,

@@ -36,6 +36,14 @@ pub fn fxrun_line_in(dir: &Path, line: &str) -> Output {
     fxrun_in(dir, &line.split_whitespace().collect::<Vec<_>>())
 }
 
+/// [`fxrun_line_in`], which must succeed (exit 0; its stderr shown if not).
+#[track_caller]
+pub fn succeeds_in(dir: &Path, line: &str) -> Output {
+    let o = fxrun_line_in(dir, line);
+    exits(&o, 0);
+    o
+}
+
 /// `fxrun ARGS` in the repository's root, reading `stdin` (nothing: an empty,
 /// closed stdin).
 pub fn fxrun_stdin(args: &[&str], stdin: Option<&[u8]>) -> Output {

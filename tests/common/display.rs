@@ -87,17 +87,13 @@ pub fn fxrun_view<S: AsRef<OsStr>>(display: &str, dir: &Path, args: &[S]) -> Out
 /// 8-bit RGB rows: (width, height, bytes).
 pub fn grab_screen(display: &str, dir: &Path) -> (u32, u32, Vec<u8>) {
     let path = dir.join("screen.png");
-    let out = Command::new("import")
+    let mut import = Command::new("import");
+    import
         .args(["-window", "root"])
         .arg(&path)
-        .env("DISPLAY", display)
-        .output()
-        .expect("run ImageMagick's import (Debian: apt-get install imagemagick)");
-    assert!(
-        out.status.success(),
-        "import -window root failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .env("DISPLAY", display);
+    let install = "run ImageMagick's import (Debian: apt-get install imagemagick)";
+    super::tools::checked(&mut import, "import -window root", install);
     let img = fxgraph::io::load_image(&path, &Default::default()).expect("decode the screenshot");
     let fxgraph::io::Pixels::U8(rgba) = img.pixels else {
         panic!("an 8-bit screenshot expected");

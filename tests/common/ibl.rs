@@ -70,6 +70,26 @@ pub fn ggx_prefiltered(t: &[Texel], n: Vec3, roughness: f32) -> Vec3 {
     sum / w.max(1e-30) as f32
 }
 
+/// A glTF metallic-roughness surface: what the radiance oracles below take.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MetalRough {
+    pub base: Vec3,
+    pub metallic: f32,
+    pub roughness: f32,
+}
+
+impl MetalRough {
+    /// The specular reflectance at normal incidence: `mix(0.04, base, metallic)`.
+    pub fn f0(&self) -> Vec3 {
+        Vec3::splat(0.04).lerp(self.base, self.metallic)
+    }
+
+    /// The diffuse colour: `mix(base, 0, metallic)`.
+    pub fn c_diff(&self) -> Vec3 {
+        self.base * (1.0 - self.metallic)
+    }
+}
+
 /// The reflected radiance of a glTF metallic-roughness surface lit by the
 /// environment `t`: the glTF 2.0 BRDF (Appendix B, [`gltf_spec_brdf`])
 /// integrated over every texel, plus the multiple-scattering lobe of
@@ -78,20 +98,10 @@ pub fn ggx_prefiltered(t: &[Texel], n: Vec3, roughness: f32) -> Vec3 {
 /// surface's F0) integrated here by brute force over the hemisphere
 /// ([`hemisphere_albedo`]), `Favg = F0 + (1 − F0)/21`,
 /// `Fms = Fss·Ess · Favg / (1 − (1 − Ess) Favg)`.
-pub fn reference_radiance(
-    t: &[Texel],
-    base: Vec3,
-    metallic: f32,
-    roughness: f32,
-    n: Vec3,
-    v: Vec3,
-) -> Vec3 {
-    let single: Vec3 = t
-        .iter()
-        .map(|(l, le, omega)| *le * *omega * gltf_spec_brdf(base, metallic, roughness, n, v, *l))
-        .sum();
-    let f0 = Vec3::splat(0.04).lerp(base, metallic);
-    let (_, fms_ems) = scattering(f0, roughness, n, v);
+pub fn reference_radiance(t: &[Texel], s: MetalRough, n: Vec3, v: Vec3) -> Vec3 {
+    let brdf = |l: Vec3| gltf_spec_brdf(s.base, s.metallic, s.roughness, n, v, l);
+    let single: Vec3 = t.iter().map(|(l, le, omega)| *le * *omega * brdf(*l)).sum();
+    let (_, fms_ems) = scattering(s.f0(), s.roughness, n, v);
     single + fms_ems * irradiance(t, n)
 }
 
@@ -173,25 +183,16 @@ pub fn interior_pixels(o: &OracleCamera, stride: u32) -> Vec<(u32, u32, Vec3, Ve
 /// dominant direction (Lagarde's lean of the mirror direction towards the
 /// normal) and the albedos are brute-force hemisphere integrals. What it
 /// differs by from [`reference_radiance`] is the split sum's own error.
-pub fn split_sum_radiance(
-    t: &[Texel],
-    base: Vec3,
-    metallic: f32,
-    roughness: f32,
-    n: Vec3,
-    v: Vec3,
-) -> Vec3 {
-    let f0 = Vec3::splat(0.04).lerp(base, metallic);
-    let c_diff = base * (1.0 - metallic);
-    let (fss_ess, fms_ems) = scattering(f0, roughness, n, v);
-    let a = roughness * roughness;
+pub fn split_sum_radiance(t: &[Texel], s: MetalRough, n: Vec3, v: Vec3) -> Vec3 {
+    let (fss_ess, fms_ems) = scattering(s.f0(), s.roughness, n, v);
+    let a = s.roughness * s.roughness;
     let gloss = 1.0 - a;
     let mirror = 2.0 * n.dot(v) * n - v;
     let r = n.lerp(mirror, gloss * (gloss.sqrt() + a)).normalize();
     let e = irradiance(t, n);
-    fss_ess * ggx_prefiltered(t, r, roughness)
+    fss_ess * ggx_prefiltered(t, r, s.roughness)
         + fms_ems * e
-        + c_diff * (Vec3::ONE - fss_ess - fms_ems) * e
+        + s.c_diff() * (Vec3::ONE - fss_ess - fms_ems) * e
 }
 
 /// `(Fss·Ess, Fms·Ems)` of Fdez-Agüera (2019) at a point of normal `n` seen

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod anim_gltf;
+pub mod bench;
 pub mod brdf;
 pub mod cli;
 pub mod compile;
@@ -14,6 +15,7 @@ pub mod rng;
 pub mod samples;
 pub mod scenes;
 pub mod stream;
+pub mod tools;
 pub mod video;
 pub mod viewer;
 
@@ -23,6 +25,13 @@ use fxgraph::gpu::executor::Engine;
 use fxgraph::io::{FileFormat, Image, Pixels, SourceInfo};
 use fxgraph::script::types::Format;
 use std::sync::{Mutex, OnceLock};
+
+/// `glow` up to its `blurX` pass (`effects/glow.fx` cut short): what an inspected
+/// `blurX` of `glow` holds.
+pub const UPTO_BLUR_X: &str = "EFFECT.upto = { PASS = {
+    brightPass = SHADER.brightPass { img = IN }
+    blurX = SHADER.blurX { img = PASS.brightPass  OUT.SCALE = (0.5, 0.5) }
+} OUT = blurX }";
 
 /// The test engine, or `None` (test skipped) when there is no adapter and
 /// FX_REQUIRE_GPU is not set. With FX_REQUIRE_GPU=1 a missing adapter panics.
@@ -78,15 +87,15 @@ fn samples<T: Copy>(w: u32, h: u32, f: impl Fn(u32, u32) -> [T; 4]) -> Vec<T> {
     v
 }
 
-/// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
-pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
+/// A `w` x `h` RGBA image of `pixels` as read from a file of `format` with
+/// `bit_depth` bits per sample.
+fn image(w: u32, h: u32, pixels: Pixels, format: FileFormat, bit_depth: u8) -> Image {
     let source = SourceInfo {
-        format: FileFormat::Png,
-        bit_depth: 8,
+        format,
+        bit_depth,
         has_alpha: true,
-        float: false,
+        float: matches!(pixels, Pixels::F32(_)),
     };
-    let pixels = Pixels::U8(samples(w, h, f));
     Image {
         width: w,
         height: h,
@@ -95,21 +104,14 @@ pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
     }
 }
 
+/// An 8-bit RGBA image from a closure of (x, y) -> [r, g, b, a].
+pub fn image_u8(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Image {
+    image(w, h, Pixels::U8(samples(w, h, f)), FileFormat::Png, 8)
+}
+
 /// A linear float RGBA image from a closure.
 pub fn image_f32(w: u32, h: u32, f: impl Fn(u32, u32) -> [f32; 4]) -> Image {
-    let source = SourceInfo {
-        format: FileFormat::Exr,
-        bit_depth: 32,
-        has_alpha: true,
-        float: true,
-    };
-    let pixels = Pixels::F32(samples(w, h, f));
-    Image {
-        width: w,
-        height: h,
-        pixels,
-        source,
-    }
+    image(w, h, Pixels::F32(samples(w, h, f)), FileFormat::Exr, 32)
 }
 
 /// A deterministic test pattern with edges, gradients and colour (8-bit).

@@ -23,6 +23,15 @@ pub fn rgb_psnr(a: &[[f32; 4]], b: &[[f32; 4]], clamp01: bool) -> f64 {
     }
 }
 
+/// Asserts that `b` is within `min_db` dB PSNR of `a` ([`rgb_psnr`], values
+/// clamped to [0, 1]), printing the PSNR as `what`.
+#[track_caller]
+pub fn assert_psnr(what: &str, a: &[[f32; 4]], b: &[[f32; 4]], min_db: f64) {
+    let db = rgb_psnr(a, b, true);
+    eprintln!("{what}: PSNR {db:.2} dB");
+    assert!(db >= min_db, "{what}: PSNR {db:.2} dB < {min_db} dB");
+}
+
 /// Writes `pixels` (`w` x `h`, RGB with alpha 1) to tests/output/NAME.png for review.
 pub fn save_rgb_review(name: &str, (w, h): (u32, u32), pixels: &[[f32; 4]]) {
     let data: Vec<f32> = pixels

@@ -3,6 +3,7 @@
 //! fxgraph's own reader, and probes of outputs.
 #![allow(dead_code)]
 
+use super::tools::checked;
 use std::path::Path;
 use std::process::Command;
 
@@ -27,30 +28,20 @@ pub fn have_ffmpeg() -> bool {
 
 /// Run `ffmpeg -v error -y ARGS`; panics with its stderr when it fails.
 pub fn ffmpeg(args: &[&str]) {
-    let o = Command::new("ffmpeg")
-        .args(["-v", "error", "-y"])
-        .args(args)
-        .output()
-        .expect("run ffmpeg");
-    assert!(
-        o.status.success(),
-        "ffmpeg {args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let mut cmd = Command::new("ffmpeg");
+    cmd.args(["-v", "error", "-y"]).args(args);
+    checked(&mut cmd, &format!("ffmpeg {args:?}"), "run ffmpeg");
 }
 
 /// `ffprobe -show_streams -show_format` of a file, as JSON.
 pub fn probe(path: &Path) -> serde_json::Value {
-    let o = Command::new("ffprobe")
-        .args("-v error -print_format json -show_streams -show_format".split(' '))
-        .arg(path)
-        .output()
-        .expect("run ffprobe");
-    assert!(
-        o.status.success(),
-        "ffprobe {}: {}",
-        path.display(),
-        String::from_utf8_lossy(&o.stderr)
+    let mut cmd = Command::new("ffprobe");
+    cmd.args("-v error -print_format json -show_streams -show_format".split(' '))
+        .arg(path);
+    let o = checked(
+        &mut cmd,
+        &format!("ffprobe {}", path.display()),
+        "run ffprobe",
     );
     serde_json::from_slice(&o.stdout).expect("ffprobe JSON")
 }
@@ -65,25 +56,36 @@ pub fn streams<'a>(probe: &'a serde_json::Value, kind: &str) -> Vec<&'a serde_js
 
 /// Frames of the first video stream, decoded and counted by ffprobe.
 pub fn frame_count(path: &Path) -> u64 {
-    let o = Command::new("ffprobe")
-        .args([
-            "-v",
-            "error",
-            "-count_frames",
-            "-select_streams",
-            "v:0",
-            "-show_entries",
-            "stream=nb_read_frames",
-            "-of",
-            "default=nokey=1:noprint_wrappers=1",
-        ])
-        .arg(path)
-        .output()
-        .expect("run ffprobe");
+    let mut cmd = Command::new("ffprobe");
+    cmd.args(
+        "-v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames \
+         -of default=nokey=1:noprint_wrappers=1"
+            .split_whitespace(),
+    )
+    .arg(path);
+    let o = checked(
+        &mut cmd,
+        &format!("ffprobe {}", path.display()),
+        "run ffprobe",
+    );
     let text = String::from_utf8_lossy(&o.stdout);
     text.trim()
         .parse()
         .unwrap_or_else(|_| panic!("frame count of {}: {text:?}", path.display()))
+}
+
+/// Asserts that the y4m file at `path` starts with the header `start`
+/// (`YUV4MPEG2 W.. H..`, as far as given); returns the file's bytes.
+#[track_caller]
+pub fn assert_y4m_header(path: &Path, start: &str) -> Vec<u8> {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(80)]);
+    assert!(
+        bytes.starts_with(start.as_bytes()),
+        "{}: {head}",
+        path.display()
+    );
+    bytes
 }
 
 /// A y4m stream: `header` (without `YUV4MPEG2 ` and the newline) and frames of planes

@@ -4,6 +4,7 @@
 //! and the EV limits. EVs are read back from the output: for an input pixel of
 //! luminance L the output is L 2^(compensation - ev).
 
+use crate::common::engine;
 use crate::common::raster::constant;
 use crate::common::stream::{run_stream_frames, SeqFrame};
 use fxgraph::io::Image;
@@ -39,9 +40,7 @@ fn evs(outs: &[Vec<f32>], inputs: &[f32], compensation: f64) -> Vec<f64> {
 
 #[test]
 fn metering_is_the_log_average_and_the_result_averages_middle_grey() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     // A size the reductions do not divide evenly (67 x 41: 9 x 5 blocks of 8 x 8,
     // partial at the edges, then 32 x 32 and 1 x 1), columns 0..33 at 0.5 and the
     // rest at 8: the log-average is 2^((33 log2 0.5 + 34 log2 8) / 67).
@@ -83,9 +82,7 @@ fn metering_is_the_log_average_and_the_result_averages_middle_grey() {
 
 #[test]
 fn adaptation_follows_at_speed_up_and_speed_down() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     let fps = 30.0;
     let dt = 1.0 / fps;
     let (l1, l2) = (0.18f32, 0.18f32 * 16.0); // EV 0 and EV 4
@@ -132,9 +129,7 @@ fn adaptation_follows_at_speed_up_and_speed_down() {
 
 #[test]
 fn ev_limits_clamp() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     for (set, l, ev) in [
         (vec![], 0.18f32 * 4096.0, 10.0f64), // EV 12, limited to max_ev = 10
         (vec![], 0.18 / 4096.0, -10.0),      // EV -12, limited to min_ev = -10
@@ -172,9 +167,7 @@ fn ev_limits_clamp() {
 /// (x (2.43 x + 0.59) + 0.14)).
 #[test]
 fn the_chain_with_tonemap_gives_middle_grey() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     let x = 0.18f64;
     let aces = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14);
     for l in [0.02f32, 3.0, 100.0] {

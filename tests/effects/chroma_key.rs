@@ -258,23 +258,18 @@ fn chroma_key_on_the_greenscreen_photo() {
     .unwrap();
     let comp = u8s(&comp);
     let bg = u8s(&background.pixels);
-    for (x, y) in [(20u32, 20u32), (600, 300), (500, 50)] {
-        let i = ((y * w + x) * 4) as usize;
-        assert!(
-            (0..3).all(|c| comp[i + c].abs_diff(bg[i + c]) <= 1),
-            "backdrop ({x}, {y}): {:?} vs background {:?}",
-            &comp[i..i + 4],
-            &bg[i..i + 4]
-        );
-    }
-    for (x, y) in [(300u32, 120u32), (310, 70)] {
-        let i = ((y * w + x) * 4) as usize;
-        assert!(
-            (0..3).all(|c| comp[i + c].abs_diff(v[i + c]) <= 1),
-            "person ({x}, {y}): {:?} vs keyed {:?}",
-            &comp[i..i + 4],
-            &v[i..i + 4]
-        );
+    let backdrop = [(20u32, 20u32), (600, 300), (500, 50)];
+    let person = [(300u32, 120u32), (310, 70)];
+    for (what, points, want) in [("backdrop", &backdrop[..], bg), ("person", &person, v)] {
+        for &(x, y) in points {
+            let i = ((y * w + x) * 4) as usize;
+            assert!(
+                (0..3).all(|c| comp[i + c].abs_diff(want[i + c]) <= 1),
+                "{what} ({x}, {y}): {:?} vs {:?}",
+                &comp[i..i + 4],
+                &want[i..i + 4]
+            );
+        }
     }
     let path = save_for_review(
         "chroma_composite_greenscreen",

@@ -85,11 +85,12 @@ fn sobel_oracle_e(enc: &[f64], w: u32, h: u32, x: i64, y: i64) -> f64 {
 fn edges_flat_is_zero_and_step_gives_the_analytic_magnitude() {
     let Some(mut eng) = engine() else { return };
     // Flat colour: no gradient anywhere, borders included.
-    let flat = image_u8(67, 41, |_, _| [90, 140, 200, 255]);
-    let px = apply_fx(&mut eng, "edges", &[], &flat, Format::Rgba8Srgb);
-    assert!(
-        u8s(&px).chunks(4).all(|p| p == [0, 0, 0, 255]),
-        "flat image has edges"
+    assert_flat_becomes(
+        &mut eng,
+        "edges",
+        (67, 41),
+        [90, 140, 200, 255],
+        [0, 0, 0, 255],
     );
     // Vertical step of grey 40 | 200 between x = 29 and x = 30: |G| / 4 = 160 / 255 on
     // both columns beside it, 0 elsewhere (also at the replicated borders).

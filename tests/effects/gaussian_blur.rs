@@ -105,17 +105,8 @@ fn gaussian_blur_float_matches_oracle() {
 #[test]
 fn gaussian_blur_srgb_blurs_linear_light() {
     let img = pattern_u8(96, 64);
-    let lin: Vec<f64> = u8s(&img.pixels)
-        .iter()
-        .enumerate()
-        .map(|(i, &b)| {
-            if i % 4 == 3 {
-                b as f64 / 255.0
-            } else {
-                srgb_to_linear(b as f32 / 255.0) as f64
-            }
-        })
-        .collect();
+    // sRGB-decoded colour, alpha / 255.
+    let lin: Vec<f64> = linear(&img.pixels).iter().map(|&v| v as f64).collect();
     for sigma in [1.0, 4.0] {
         let Some(mut eng) = engine() else { return };
         let set = format!("sigma={sigma}");

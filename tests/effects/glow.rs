@@ -135,7 +135,13 @@ fn downsampling_blurs_match_the_prefiltering_oracle() {
                     ((h as f64 * scale).round() as u32),
                 );
                 assert_eq!((ow, oh), expect_size);
-                let want = down_blur(&src, (w, h), (ow, oh), sigma, horizontal);
+                let pass = BlurPass {
+                    from: (w, h),
+                    to: (ow, oh),
+                    sigma,
+                    horizontal,
+                };
+                let want = pass.prefiltered(&src);
                 let got = f64s(&px);
                 // Half-float storage is modelled; what remains is f32 arithmetic,
                 // the sampler's weight precision and rounding-boundary flips:
@@ -224,8 +230,8 @@ fn glow_oracle(src: &[f64], w: u32, h: u32) -> Vec<f64> {
         })
         .collect();
     let hs = half_size(w, h);
-    let bx = down_blur(&bright, (w, h), hs, sigma, true);
-    let by = blur_pass(&bx, hs, hs, sigma, false);
+    let bx = BlurPass::along_x((w, h), hs, sigma).prefiltered(&bright);
+    let by = BlurPass::along_y(hs, hs, sigma).bilinear(&bx);
     let mut out = Vec::with_capacity(src.len());
     for y in 0..h {
         for x in 0..w {

@@ -3,6 +3,7 @@
 //! (each 4 x 4 supersampled), on a scene with a moving textured disc, a static bar
 //! in front of its path and a static box behind, beside it.
 
+use crate::common::engine;
 use crate::common::raster::{rgb_rmse, supersampled};
 use crate::common::samples::f32s;
 use crate::common::stream::{run_stream_frames, SeqFrame};
@@ -140,9 +141,7 @@ fn inside(region: impl Fn(f32, f32) -> bool, x: u32, y: u32, margin: f32) -> boo
 
 #[test]
 fn motion_blur_is_near_the_true_blur_and_keeps_static_objects_sharp() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     let f = frame();
     let sharp = f32s(&f.image.pixels).to_vec();
     for shutter in [0.5f32, 1.0] {
@@ -183,9 +182,7 @@ fn motion_blur_is_near_the_true_blur_and_keeps_static_objects_sharp() {
 /// With the shutter closed (0) or no motion, the frame is returned as it is.
 #[test]
 fn no_blur_without_exposure_time_or_motion() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     let f = frame();
     let sharp = f32s(&f.image.pixels).to_vec();
     let out = blur(&mut engine, &["shutter=0"], &f);

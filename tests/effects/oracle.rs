@@ -6,7 +6,6 @@
 use crate::common::samples::{f16r, f32s, u8s};
 use crate::common::*;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
-use fxgraph::graph::{compile, CompileRequest};
 use fxgraph::io::Image;
 
 // ---------------------------------------------------------------- samples
@@ -215,12 +214,8 @@ pub fn greenscreen() -> Option<(Image, Image)> {
 
 /// Compile effects (names or paths) and plan them for an 8-bit `w`x`h` input.
 pub fn plan_for(effects: &[&str], w: u32, h: u32) -> (fxgraph::graph::Plan, usize, usize) {
-    let req = CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: effects.iter().map(|s| s.to_string()).collect(),
-        ..Default::default()
-    };
-    let (graph, diags, sources) = compile(&req);
+    let chain: Vec<String> = effects.iter().map(|s| s.to_string()).collect();
+    let (graph, diags, sources) = crate::common::compile::compile_chain(&chain, &[]);
     let graph = graph
         .unwrap_or_else(|| panic!("{effects:?} does not compile:\n{}", diags.render(&sources)));
     let warnings = diags.warning_count();
@@ -245,6 +240,29 @@ pub fn grey_step_u8(w: u32, h: u32, x0: u32, lo: u8, hi: u8) -> Image {
     })
 }
 
+/// Asserts that `effect` (its defaults) turns a flat `w` x `h` image of `colour`
+/// into a flat image of `want`.
+pub fn assert_flat_becomes(
+    eng: &mut fxgraph::gpu::executor::Engine,
+    effect: &str,
+    (w, h): (u32, u32),
+    colour: [u8; 4],
+    want: [u8; 4],
+) {
+    let flat = image_u8(w, h, |_, _| colour);
+    let px = apply_fx(
+        eng,
+        effect,
+        &[],
+        &flat,
+        fxgraph::script::types::Format::Rgba8Srgb,
+    );
+    assert!(
+        u8s(&px).chunks(4).all(|p| p == want),
+        "{effect}: flat {colour:?} does not become {want:?}"
+    );
+}
+
 // ---------------------------------------------------------------- blurs
 
 /// The taps of blurX/blurY/pencil_blur for a standard deviation of `sigma` output
@@ -266,98 +284,120 @@ pub fn blur_taps(sigma: f64) -> (Vec<(f64, f64)>, f64) {
     (taps, total)
 }
 
-/// One blurX/blurY-style pass: the output (`ow` x `oh`) samples `src` (`iw` x `ih`,
-/// RGBA) bilinearly, clamp to edge, at its pixel centres +- the tap offsets in
-/// output pixels along x (`horizontal`) or y. Results rounded to half floats
-/// (rgba16f / r16f storage).
-pub fn blur_pass(
-    src: &[f64],
-    (iw, ih): (u32, u32),
-    (ow, oh): (u32, u32),
-    sigma: f64,
-    horizontal: bool,
-) -> Vec<f64> {
-    let (taps, total) = blur_taps(sigma);
-    let mut out = vec![0.0; (ow * oh * 4) as usize];
-    for y in 0..oh {
-        for x in 0..ow {
-            let (u, v) = ((x as f64 + 0.5) / ow as f64, (y as f64 + 0.5) / oh as f64);
-            for c in 0..4 {
-                let s = |o: f64| {
-                    let (uu, vv) = if horizontal {
-                        (u + o / ow as f64, v)
-                    } else {
-                        (u, v + o / oh as f64)
-                    };
-                    bilinear(src, iw, ih, uu * iw as f64 - 0.5, vv * ih as f64 - 0.5, c)
-                };
-                let mut sum = s(0.0);
-                for &(o, p) in &taps[1..] {
-                    sum += p * (s(o) + s(-o));
-                }
-                out[((y * ow + x) * 4) as usize + c] = f16r(sum / total);
-            }
-        }
-    }
-    out
+/// One blurX/blurY-style pass: a Gaussian of `sigma` output pixels along x
+/// (`horizontal`) or y, from an RGBA image of size `from` to one of size `to`.
+#[derive(Debug, Clone, Copy)]
+pub struct BlurPass {
+    pub from: (u32, u32),
+    pub to: (u32, u32),
+    pub sigma: f64,
+    pub horizontal: bool,
 }
 
-/// CPU oracle of a downsampling blurX (`horizontal`) or blurY: `src` (`iw` x `ih`)
-/// is box-prefiltered over the texels under each output texel (m = ceil(ratio / 2)
-/// bilinear fetches per axis, 2 input texels apart, each the mean of 2x2 texels),
-/// then blurred at the output resolution with the exact weights
-/// exp(-i^2 / (2 sigma^2)), |i| <= ceil(3 sigma), edge texels repeated.
-/// Rounded to half floats (rgba16f storage).
-pub fn down_blur(
-    src: &[f64],
-    (iw, ih): (u32, u32),
-    (ow, oh): (u32, u32),
-    sigma: f64,
-    horizontal: bool,
-) -> Vec<f64> {
-    let (rx, ry) = (iw as f64 / ow as f64, ih as f64 / oh as f64);
-    let m = |r: f64| ((r * 0.5 - 1e-4).ceil() as i64).max(1);
-    let (mx, my) = (m(rx), m(ry));
-    let prefiltered = |px: i64, py: i64, c: usize| {
-        let (u, v) = ((px as f64 + 0.5) / ow as f64, (py as f64 + 0.5) / oh as f64);
-        let mut s = 0.0;
-        for j in 0..my {
-            for k in 0..mx {
-                let ox = (k as f64 - 0.5 * (mx - 1) as f64) * 2.0;
-                let oy = (j as f64 - 0.5 * (my - 1) as f64) * 2.0;
-                s += bilinear(
-                    src,
-                    iw,
-                    ih,
-                    u * iw as f64 - 0.5 + ox,
-                    v * ih as f64 - 0.5 + oy,
-                    c,
-                );
-            }
-        }
-        s / (mx * my) as f64
-    };
-    let r = (3.0 * sigma).ceil() as i64;
-    let mut out = vec![0.0; (ow * oh * 4) as usize];
-    for y in 0..oh as i64 {
-        for x in 0..ow as i64 {
-            for c in 0..4 {
-                let (mut sum, mut total) = (0.0, 0.0);
-                for i in -r..=r {
-                    let w = (-((i * i) as f64) / (2.0 * sigma * sigma)).exp();
-                    let v = if horizontal {
-                        prefiltered((x + i).clamp(0, ow as i64 - 1), y, c)
-                    } else {
-                        prefiltered(x, (y + i).clamp(0, oh as i64 - 1), c)
-                    };
-                    sum += w * v;
-                    total += w;
-                }
-                out[((y as u32 * ow + x as u32) * 4) as usize + c] = f16r(sum / total);
-            }
+impl BlurPass {
+    /// A blurX pass.
+    pub fn along_x(from: (u32, u32), to: (u32, u32), sigma: f64) -> BlurPass {
+        let horizontal = true;
+        BlurPass {
+            from,
+            to,
+            sigma,
+            horizontal,
         }
     }
-    out
+
+    /// A blurY pass.
+    pub fn along_y(from: (u32, u32), to: (u32, u32), sigma: f64) -> BlurPass {
+        let horizontal = false;
+        BlurPass {
+            horizontal,
+            ..BlurPass::along_x(from, to, sigma)
+        }
+    }
+
+    /// The pass as blurX/blurY sample: the output (`ow` x `oh`) samples `src`
+    /// (`iw` x `ih`, RGBA) bilinearly, clamp to edge, at its pixel centres +- the
+    /// tap offsets in output pixels. Results rounded to half floats (rgba16f /
+    /// r16f storage).
+    pub fn bilinear(&self, src: &[f64]) -> Vec<f64> {
+        let ((iw, ih), (ow, oh)) = (self.from, self.to);
+        let (taps, total) = blur_taps(self.sigma);
+        let mut out = vec![0.0; (ow * oh * 4) as usize];
+        for y in 0..oh {
+            for x in 0..ow {
+                let (u, v) = ((x as f64 + 0.5) / ow as f64, (y as f64 + 0.5) / oh as f64);
+                for c in 0..4 {
+                    let s = |o: f64| {
+                        let (uu, vv) = if self.horizontal {
+                            (u + o / ow as f64, v)
+                        } else {
+                            (u, v + o / oh as f64)
+                        };
+                        bilinear(src, iw, ih, uu * iw as f64 - 0.5, vv * ih as f64 - 0.5, c)
+                    };
+                    let mut sum = s(0.0);
+                    for &(o, p) in &taps[1..] {
+                        sum += p * (s(o) + s(-o));
+                    }
+                    out[((y * ow + x) * 4) as usize + c] = f16r(sum / total);
+                }
+            }
+        }
+        out
+    }
+
+    /// CPU oracle of a downsampling blurX (`horizontal`) or blurY: `src` (`iw` x `ih`)
+    /// is box-prefiltered over the texels under each output texel (m = ceil(ratio / 2)
+    /// bilinear fetches per axis, 2 input texels apart, each the mean of 2x2 texels),
+    /// then blurred at the output resolution with the exact weights
+    /// exp(-i^2 / (2 sigma^2)), |i| <= ceil(3 sigma), edge texels repeated.
+    /// Rounded to half floats (rgba16f storage).
+    pub fn prefiltered(&self, src: &[f64]) -> Vec<f64> {
+        let ((iw, ih), (ow, oh)) = (self.from, self.to);
+        let (rx, ry) = (iw as f64 / ow as f64, ih as f64 / oh as f64);
+        let m = |r: f64| ((r * 0.5 - 1e-4).ceil() as i64).max(1);
+        let (mx, my) = (m(rx), m(ry));
+        let prefiltered = |px: i64, py: i64, c: usize| {
+            let (u, v) = ((px as f64 + 0.5) / ow as f64, (py as f64 + 0.5) / oh as f64);
+            let mut s = 0.0;
+            for j in 0..my {
+                for k in 0..mx {
+                    let ox = (k as f64 - 0.5 * (mx - 1) as f64) * 2.0;
+                    let oy = (j as f64 - 0.5 * (my - 1) as f64) * 2.0;
+                    s += bilinear(
+                        src,
+                        iw,
+                        ih,
+                        u * iw as f64 - 0.5 + ox,
+                        v * ih as f64 - 0.5 + oy,
+                        c,
+                    );
+                }
+            }
+            s / (mx * my) as f64
+        };
+        let r = (3.0 * self.sigma).ceil() as i64;
+        let mut out = vec![0.0; (ow * oh * 4) as usize];
+        for y in 0..oh as i64 {
+            for x in 0..ow as i64 {
+                for c in 0..4 {
+                    let (mut sum, mut total) = (0.0, 0.0);
+                    for i in -r..=r {
+                        let w = (-((i * i) as f64) / (2.0 * self.sigma * self.sigma)).exp();
+                        let v = if self.horizontal {
+                            prefiltered((x + i).clamp(0, ow as i64 - 1), y, c)
+                        } else {
+                            prefiltered(x, (y + i).clamp(0, oh as i64 - 1), c)
+                        };
+                        sum += w * v;
+                        total += w;
+                    }
+                    out[((y as u32 * ow + x as u32) * 4) as usize + c] = f16r(sum / total);
+                }
+            }
+        }
+        out
+    }
 }
 
 /// Bilinear upsample of `src` (`sw` x `sh`) at the pixel centres of a `w` x `h` image.

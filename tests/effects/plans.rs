@@ -4,7 +4,6 @@
 
 use crate::oracle::plan_for;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};
-use fxgraph::graph::{compile, CompileRequest};
 use fxgraph::script::types::Format;
 
 #[test]
@@ -41,12 +40,8 @@ fn effects_compile_without_warnings_and_plan_at_the_lower_bound() {
         }
     }
     // chroma_composite reads AUX.background: plan it with that image provided.
-    let req = CompileRequest {
-        source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
-        effects: vec!["effects/chroma_composite.fx".into()],
-        ..Default::default()
-    };
-    let (graph, diags, sources) = compile(&req);
+    let composite = std::path::Path::new("effects/chroma_composite.fx");
+    let (graph, diags, sources) = crate::common::compile::compile_file(composite);
     let graph = graph.unwrap_or_else(|| panic!("chroma_composite:\n{}", diags.render(&sources)));
     assert_eq!(diags.warning_count(), 0);
     let mut input = InputDesc::rgba8_srgb(640, 360);

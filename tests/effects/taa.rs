@@ -4,6 +4,7 @@
 //! AUX.motion and AUX.depth. References: the box-filtered (4 x 4 supersampled)
 //! frame, the un-anti-aliased frame and `fxaa` of it.
 
+use crate::common::engine;
 use crate::common::raster::{constant, object_aux, point_sampled, rgb_rmse, supersampled};
 use crate::common::samples::f32s;
 use crate::common::stream::{run_stream_frames, SeqFrame};
@@ -50,9 +51,7 @@ fn translating_sequence(vel: [f32; 2], frames: u32) -> Vec<SeqFrame> {
 
 #[test]
 fn taa_of_a_moving_pattern_is_closer_to_the_box_filtered_frame_than_aliased_and_fxaa() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     // A known sub-pixel velocity, not a multiple of the jitter pattern.
     let vel = [0.61, 0.27];
     let n = 24;
@@ -140,9 +139,7 @@ fn square_run(
 
 #[test]
 fn no_ghost_where_a_moving_object_was_four_frames_ago() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     let vel = [2.5, 0.5];
     let n = 12;
     let last = n - 1;
@@ -172,9 +169,7 @@ fn no_ghost_where_a_moving_object_was_four_frames_ago() {
 
 #[test]
 fn history_is_reset_where_it_falls_off_screen_or_is_disoccluded() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     // view = history: n / frames as grey (frames = 10).
     let vel = [2.5, 0.5];
     let n = 14;
@@ -236,9 +231,7 @@ fn history_is_reset_where_it_falls_off_screen_or_is_disoccluded() {
 /// static, unjittered image is that image), the first frame included.
 #[test]
 fn a_static_unjittered_sequence_passes_through() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     let img: Image = point_sampled(W, H, [0.0, 0.0], checker);
     let seq: Vec<SeqFrame> = (0..4)
         .map(|_| SeqFrame {
@@ -264,9 +257,7 @@ fn a_static_unjittered_sequence_passes_through() {
 /// not given (reported as 0).
 #[test]
 fn the_jitter_is_removed_from_the_current_frame() {
-    let Some(mut engine) = crate::common::engine() else {
-        return;
-    };
+    let Some(mut engine) = engine() else { return };
     let ramp = |x: f32, y: f32| [x / W as f32, y / H as f32, 0.5];
     let truth = point_sampled(W, H, [0.0, 0.0], ramp);
     let frames = |told: bool| -> Vec<SeqFrame> {

@@ -4,20 +4,31 @@
 
 use super::*;
 
+/// The 67 x 41 float pattern with the samples `special` (index, value) put in,
+/// written to an EXR file of `bits` bits (`None`: the default, half) and loaded
+/// again: the samples written and the image read.
+fn exr_round_trip(special: &[(usize, f32)], bits: Option<u8>) -> (Vec<f32>, Image) {
+    let d = tmp();
+    let p = d.path().join("round_trip.exr");
+    let mut px = pattern_f32(67, 41);
+    for &(i, v) in special {
+        px[i] = v;
+    }
+    save(&p, 67, 41, &Pixels::F32(px.clone()), bits);
+    (px, load(&p))
+}
+
 #[test]
 fn exr_half_round_trip_keeps_hdr_values() {
-    let d = tmp();
-    let (w, h) = (67, 41);
-    let p = d.path().join("half.exr");
-    let mut px = pattern_f32(w, h);
-    px[0] = 413.0;
-    px[1] = 0.000_123;
-    px[2] = 1234.5;
-    px[3] = 0.25;
-    px[4] = -0.5;
-    save(&p, w, h, &Pixels::F32(px.clone()), None);
-    let img = load(&p);
-    assert_eq!((img.width, img.height), (w, h));
+    let special = [
+        (0, 413.0),
+        (1, 0.000_123),
+        (2, 1234.5),
+        (3, 0.25),
+        (4, -0.5),
+    ];
+    let (px, img) = exr_round_trip(&special, None);
+    assert_eq!((img.width, img.height), (67, 41));
     assert_eq!(img.source.format, FileFormat::Exr);
     assert_eq!(img.source.bit_depth, 16);
     assert!(img.source.float && img.source.has_alpha);
@@ -33,19 +44,12 @@ fn exr_half_round_trip_keeps_hdr_values() {
 
 #[test]
 fn exr_float_round_trip_is_exact() {
-    let d = tmp();
-    let (w, h) = (67, 41);
-    let p = d.path().join("float.exr");
-    let mut px = pattern_f32(w, h);
-    px[0] = 413.123_46;
-    px[5] = 1e-9;
-    px[6] = 70000.0;
-    save(&p, w, h, &Pixels::F32(px.clone()), Some(32));
-    let img = load(&p);
+    let (px, img) = exr_round_trip(&[(0, 413.123_46), (5, 1e-9), (6, 70000.0)], Some(32));
     assert_eq!(img.source.bit_depth, 32);
     assert_eq!(f32s(&img), &px[..]);
 
     // 1x1
+    let d = tmp();
     let p1 = d.path().join("one.exr");
     save(&p1, 1, 1, &Pixels::F32(vec![1.5, 2.5, 3.5, 1.0]), Some(32));
     assert_eq!(f32s(&load(&p1)), &[1.5, 2.5, 3.5, 1.0]);

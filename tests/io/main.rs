@@ -27,6 +27,7 @@ mod y4m_headers;
 mod yuv_conversion;
 
 use common::rng::Rng;
+use png::{BitDepth, ColorType};
 
 use std::fs;
 use std::io::Cursor;
@@ -142,14 +143,7 @@ fn dir_names(d: &Path) -> Vec<String> {
 }
 
 /// A PNG of `data` in the given colour type and bit depth, written by the png crate.
-fn write_raw_png(
-    p: &Path,
-    w: u32,
-    h: u32,
-    color: png::ColorType,
-    depth: png::BitDepth,
-    data: &[u8],
-) {
+fn write_raw_png(p: &Path, w: u32, h: u32, color: ColorType, depth: BitDepth, data: &[u8]) {
     let f = std::fs::File::create(p).unwrap();
     let mut e = png::Encoder::new(f, w, h);
     e.set_color(color);
@@ -230,6 +224,14 @@ fn read_err(bytes: Vec<u8>) -> Y4mError {
         Ok(_) => panic!("header accepted"),
         Err(e) => e,
     }
+}
+
+/// The error of reading the second frame of the y4m stream `bytes` (named
+/// `name`), whose header and first frame must read.
+fn second_frame_error(bytes: Vec<u8>, name: &str) -> Y4mError {
+    let mut r = Y4mReader::new(Cursor::new(bytes), name).unwrap();
+    r.next_frame().unwrap();
+    r.next_frame().unwrap_err()
 }
 
 /// (max, mean) absolute difference of the RGB channels of two RGBA byte buffers.

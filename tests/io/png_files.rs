@@ -143,8 +143,8 @@ fn gray_and_gray_alpha_png_expand() {
         &p,
         3,
         1,
-        png::ColorType::Grayscale,
-        png::BitDepth::Eight,
+        ColorType::Grayscale,
+        BitDepth::Eight,
         &[0, 77, 255],
     );
     let img = load(&p);
@@ -160,8 +160,8 @@ fn gray_and_gray_alpha_png_expand() {
         &p,
         2,
         1,
-        png::ColorType::GrayscaleAlpha,
-        png::BitDepth::Eight,
+        ColorType::GrayscaleAlpha,
+        BitDepth::Eight,
         &[10, 20, 200, 0],
     );
     let img = load(&p);
@@ -174,8 +174,8 @@ fn gray_and_gray_alpha_png_expand() {
         &p,
         1,
         1,
-        png::ColorType::Grayscale,
-        png::BitDepth::Sixteen,
+        ColorType::Grayscale,
+        BitDepth::Sixteen,
         &[0x80, 0x00],
     );
     let img = load(&p);
@@ -194,14 +194,7 @@ fn assume_linear_changes_16bit_decoding() {
         .iter()
         .flat_map(|v| v.to_be_bytes())
         .collect();
-    write_raw_png(
-        &p,
-        1,
-        1,
-        png::ColorType::Rgba,
-        png::BitDepth::Sixteen,
-        &data,
-    );
+    write_raw_png(&p, 1, 1, ColorType::Rgba, BitDepth::Sixteen, &data);
     let srgb_img = load(&p);
     let lin_img = load_image(
         &p,

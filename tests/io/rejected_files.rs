@@ -32,24 +32,16 @@ fn content_wins_over_extension() {
 
 #[test]
 fn format_names_and_bit_depths() {
-    assert_eq!(
-        FileFormat::from_path(Path::new("a/B.PNG")),
-        Some(FileFormat::Png)
-    );
-    assert_eq!(
-        FileFormat::from_path(Path::new("x.jpeg")),
-        Some(FileFormat::Jpeg)
-    );
-    assert_eq!(
-        FileFormat::from_path(Path::new("x.exr")),
-        Some(FileFormat::Exr)
-    );
-    assert_eq!(
-        FileFormat::from_path(Path::new("x.tiff")),
-        Some(FileFormat::Tiff)
-    );
-    assert_eq!(FileFormat::from_path(Path::new("x.txt")), None);
-    assert_eq!(FileFormat::from_path(Path::new("png")), None);
+    for (path, format) in [
+        ("a/B.PNG", Some(FileFormat::Png)),
+        ("x.jpeg", Some(FileFormat::Jpeg)),
+        ("x.exr", Some(FileFormat::Exr)),
+        ("x.tiff", Some(FileFormat::Tiff)),
+        ("x.txt", None),
+        ("png", None),
+    ] {
+        assert_eq!(FileFormat::from_path(Path::new(path)), format, "{path}");
+    }
     assert!(FileFormat::Png.supports_bit_depth(16));
     assert!(!FileFormat::Jpeg.supports_bit_depth(16));
     assert!(FileFormat::Exr.supports_bit_depth(32));
@@ -106,17 +98,17 @@ fn empty_missing_and_text_files() {
         .to_string()
         .starts_with(&format!("{}: ", missing.display())));
 
-    let text = d.path().join("notes.png");
-    std::fs::write(&text, "this is not an image\n").unwrap();
-    let e = load_image(&text, &LoadOptions::default()).unwrap_err();
-    assert!(matches!(e, IoError::Decode { .. }), "{e:?}");
-    assert!(e.to_string().contains("not a valid PNG file"), "{e}");
-
-    let text = d.path().join("notes.txt");
-    std::fs::write(&text, "this is not an image\n").unwrap();
-    let e = load_image(&text, &LoadOptions::default()).unwrap_err();
-    assert!(matches!(e, IoError::Decode { .. }), "{e:?}");
-    assert!(e.to_string().contains("not a recognised image file"), "{e}");
+    // Text: named as a PNG, or with an extension of no image format.
+    for (name, why) in [
+        ("notes.png", "not a valid PNG file"),
+        ("notes.txt", "not a recognised image file"),
+    ] {
+        let text = d.path().join(name);
+        std::fs::write(&text, "this is not an image\n").unwrap();
+        let e = load_image(&text, &LoadOptions::default()).unwrap_err();
+        assert!(matches!(e, IoError::Decode { .. }), "{e:?}");
+        assert!(e.to_string().contains(why), "{e}");
+    }
 
     // a folder
     let e = load_image(d.path(), &LoadOptions::default()).unwrap_err();
@@ -132,8 +124,8 @@ fn oversized_images_are_refused_before_decoding() {
         &p,
         40000,
         1,
-        png::ColorType::Grayscale,
-        png::BitDepth::Eight,
+        ColorType::Grayscale,
+        BitDepth::Eight,
         &vec![9u8; 40000],
     );
     let e = load_image(&p, &LoadOptions::default()).unwrap_err();

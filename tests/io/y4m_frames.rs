@@ -128,9 +128,7 @@ fn truncated_and_malformed_frames_name_the_frame() {
     );
     // Truncated inside the chroma planes: the count covers all planes.
     let cut = header_len + frame_len + 6 + 414_720 + 10;
-    let mut r = Y4mReader::new(Cursor::new(full[..cut].to_vec()), "in.y4m").unwrap();
-    r.next_frame().unwrap();
-    let e = r.next_frame().unwrap_err();
+    let e = second_frame_error(full[..cut].to_vec(), "in.y4m");
     assert_eq!(
         e.to_string(),
         "in.y4m: y4m frame 1 (0-based): truncated (got 414730 of 622080 bytes)"
@@ -142,9 +140,7 @@ fn truncated_and_malformed_frames_name_the_frame() {
 
     // Truncated inside the FRAME line.
     let cut = header_len + frame_len + 3;
-    let mut r = Y4mReader::new(Cursor::new(full[..cut].to_vec()), "stdin").unwrap();
-    r.next_frame().unwrap();
-    let e = r.next_frame().unwrap_err();
+    let e = second_frame_error(full[..cut].to_vec(), "stdin");
     assert!(
         e.to_string().starts_with(
             "stdin: y4m frame 1 (0-based): truncated: the stream ends inside the FRAME line"
@@ -155,9 +151,7 @@ fn truncated_and_malformed_frames_name_the_frame() {
     // A malformed FRAME line.
     let mut bad = full.clone();
     bad[header_len + frame_len..header_len + frame_len + 5].copy_from_slice(b"FRAMX");
-    let mut r = Y4mReader::new(Cursor::new(bad), "stdin").unwrap();
-    r.next_frame().unwrap();
-    let e = r.next_frame().unwrap_err();
+    let e = second_frame_error(bad, "stdin");
     assert!(
         e.to_string()
             .starts_with("stdin: y4m frame 1 (0-based): expected a `FRAME` line, found \"FRAMX"),
@@ -166,9 +160,7 @@ fn truncated_and_malformed_frames_name_the_frame() {
     // Extra bytes after a frame (the frame size disagrees with the header).
     let mut bad = full[..header_len + frame_len].to_vec();
     bad.extend_from_slice(b"\0\0FRAME\n");
-    let mut r = Y4mReader::new(Cursor::new(bad), "stdin").unwrap();
-    r.next_frame().unwrap();
-    let e = r.next_frame().unwrap_err();
+    let e = second_frame_error(bad, "stdin");
     assert!(
         e.to_string()
             .contains("frame 1 (0-based): expected a `FRAME` line"),

@@ -35,12 +35,17 @@ fn outline_mask(eng: &mut Engine, o: &[&str], g: &GBuffer, cam: &Camera) -> Vec<
     channel(&out, 0)
 }
 
+/// An `n` x `n` view of a board at depth 4 on the left half and a wall at depth 6
+/// on the right half (x >= n / 2).
+fn depth_step(n: u32) -> GBuffer {
+    depth_map(n, n, |x, _| if x < n / 2 { 4.0 } else { 6.0 })
+}
+
 #[test]
 fn outline_marks_a_depth_step_exactly() {
     let Some(mut eng) = engine() else { return };
-    // A board at depth 4 on the left, a wall at depth 6 on the right (x >= 32).
     let n = 64;
-    let g = depth_map(n, n, |x, _| if x < 32 { 4.0 } else { 6.0 });
+    let g = depth_step(n);
     let cam = perspective(60.0, 1.0);
     let mask = outline_mask(&mut eng, &[], &g, &cam);
     assert!(
@@ -199,7 +204,7 @@ fn outline_detects_a_normal_crease() {
 fn outline_antialias_blends_across_edges_only() {
     let Some(mut eng) = engine() else { return };
     let n = 32;
-    let g = depth_map(n, n, |x, _| if x < 16 { 4.0 } else { 6.0 });
+    let g = depth_step(n);
     let cam = perspective(60.0, 1.0);
     let (red, blue) = ([1.0, 0.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]);
     let scene = image_f32(n, n, |x, y| {
