@@ -13,6 +13,7 @@ use std::time::Instant;
 use fxgraph::gpu::context::{
     list_adapters, require_gpu, AdapterChoice, GpuContext, GpuError, GpuTimer,
 };
+use fxgraph::gpu::transfer::texture_2d;
 
 fn init_logging() {
     let _ = env_logger::builder().is_test(true).try_init();
@@ -82,28 +83,16 @@ fn buffer(device: &wgpu::Device, label: &str, usage: wgpu::BufferUsages) -> wgpu
     })
 }
 
-/// A `w` x `h` RGBA8 texture `label` (one mip level, one sample) with `usage`,
+/// A `size` RGBA8 texture `label` (one mip level, one sample) with `usage`,
 /// made on `device` with no data.
 fn rgba8_texture(
     device: &wgpu::Device,
     label: &str,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage,
-        view_formats: &[],
-    })
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    device.create_texture(&texture_2d(label, size, format, usage, &[]))
 }
 
 fn rgba8_pattern(width: u32, height: u32) -> Vec<u8> {

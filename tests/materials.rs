@@ -233,9 +233,7 @@ fn every_lighting_shader_matches_the_cpu_oracle_on_a_sphere() {
 fn gltf_metallic_roughness_spheres_follow_the_specification() {
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
-    let dir = tempfile::tempdir().unwrap();
-    let path = gltf_gen::write_spheres_gltf(dir.path());
-    let scene = Scene::load(path.to_str().unwrap()).unwrap();
+    let scene = gltf_gen::load_spheres(false);
     assert_eq!(scene.lights.len(), 1, "the file's light and no other");
     let (w, h) = (480, 192);
     let camera = gltf_gen::camera();
@@ -551,9 +549,7 @@ fn variant_benchmark() {
 fn textured_gltf_material_agrees_across_techniques_and_modes() {
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
-    let dir = tempfile::tempdir().unwrap();
-    let path = gltf_gen::write_spheres_gltf_textured(dir.path());
-    let scene = Scene::load(path.to_str().unwrap()).unwrap();
+    let scene = gltf_gen::load_spheres(true);
     let textured = scene
         .materials
         .iter()

@@ -241,6 +241,18 @@ pub fn uv1_of(uv0: Vec2) -> Vec2 {
     Vec2::new(uv0.y, uv0.x)
 }
 
+/// The scene of [`write_spheres_gltf`] (`textured`: of
+/// [`write_spheres_gltf_textured`]) loaded by the renderer from a temporary file.
+pub fn load_spheres(textured: bool) -> fxgraph::scene::Scene {
+    let dir = tempfile::tempdir().unwrap();
+    let path = if textured {
+        write_spheres_gltf_textured(dir.path())
+    } else {
+        write_spheres_gltf(dir.path())
+    };
+    fxgraph::scene::Scene::load(path.to_str().unwrap()).unwrap()
+}
+
 /// The little-endian bytes of float vectors (a glTF buffer's data).
 fn le_bytes<const N: usize>(vectors: impl IntoIterator<Item = [f32; N]>) -> Vec<u8> {
     vectors
