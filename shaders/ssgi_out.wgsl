@@ -1,0 +1,94 @@
+// ssgi_out: spatial denoising of the accumulated indirect light of the `ssgi`
+// effect (shaders/ssgi_accum.wgsl) and the composite (effects/ssgi.fx has the
+// method in words).
+//
+// Over the 5x5 neighbourhood q of the pixel p (neighbours outside the image or
+// without geometry are skipped), with spatial weights w_s = a(dx) a(dy),
+// a = [0.5, 1, 1, 1, 0.5] (every phase of the 4x4 per-pixel pattern of
+// shaders/ssgi_trace.wgsl gets the same total weight, so the pattern cancels on a
+// flat surface), the weight of the same form as in shaders/ssao_blur.wgsl:
+//   w_q = w_s * exp(-(dot(Q - P, n_p) / (depth_tolerance * d_p))^2) * max(dot(n_p, n_q), 0)^8
+// (taps off p's tangent plane or facing another way do not count);
+//   gi = sum(w_q gi_q) / sum(w_q)   (BLUR = 0: gi = gi_p)
+// The receiver's added radiance is intensity * albedo(p) * gi (gi = E / pi, the
+// albedo from AUX.albedo: the diffuse colour, 0 for metals).
+// OUTPUT = 0: out = vec4(img.rgb + added, img.a); OUTPUT = 1: out = vec4(added, 1).
+#define BLUR 1
+#define OUTPUT 0
+
+@group(0) @binding(0) var img: texture_2d<f32>;
+@group(0) @binding(1) var gi: texture_2d<f32>;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var normal: texture_2d<f32>;
+@group(0) @binding(4) var albedo: texture_2d<f32>;
+
+struct Params {
+    intensity: f32,       // @default(1) @range(0, 100) scales the added bounce (1: physically based)
+    depth_tolerance: f32, // @default(0.02) @range(0.00001, 10) blur: plane distance (relative to depth) where a tap's weight falls to 1/e
+    inv_proj: mat4x4<f32>,
+}
+@group(0) @binding(5) var<uniform> params: Params;
+
+#include "lib/view.wgsl"
+
+fn geometry_normal(q: vec2<i32>) -> vec3<f32> {
+    let d = textureLoad(depth, q, 0).r;
+    let n = textureLoad(normal, q, 0).xyz;
+    if (!lib_has_geometry(d) || !(length(n) > 1e-6)) {
+        return vec3<f32>(0.0);
+    }
+    return normalize(n);
+}
+
+fn blurred(p: vec2<i32>) -> vec3<f32> {
+    let centre = textureLoad(gi, p, 0).rgb;
+#if BLUR
+    let size = vec2<i32>(textureDimensions(depth));
+    let sizef = vec2<f32>(size);
+    let n = geometry_normal(p);
+    if (all(n == vec3<f32>(0.0))) {
+        return centre;
+    }
+    let d = textureLoad(depth, p, 0).r;
+    let P = lib_texel_view_pos(params.inv_proj, p, sizef, d);
+    let tol = params.depth_tolerance * d;
+    var sum = centre;
+    var total = 1.0;
+    for (var dy = -2; dy <= 2; dy++) {
+        for (var dx = -2; dx <= 2; dx++) {
+            let q = p + vec2<i32>(dx, dy);
+            if ((dx == 0 && dy == 0) || !lib_inside(q, size)) {
+                continue;
+            }
+            let nq = geometry_normal(q);
+            if (all(nq == vec3<f32>(0.0))) {
+                continue;
+            }
+            let Q = lib_texel_view_pos(params.inv_proj, q, sizef, textureLoad(depth, q, 0).r);
+            let e = dot(Q - P, n) / tol;
+            let facing = max(dot(n, nq), 0.0);
+            let f2 = facing * facing;
+            let f4 = f2 * f2;
+            let ws = select(1.0, 0.5, abs(dx) == 2) * select(1.0, 0.5, abs(dy) == 2);
+            let w = ws * exp(-e * e) * f4 * f4;
+            sum += w * textureLoad(gi, q, 0).rgb;
+            total += w;
+        }
+    }
+    return sum / total;
+#else
+    return centre;
+#endif
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(pos.xy);
+    let added = params.intensity * textureLoad(albedo, p, 0).rgb * blurred(p);
+#if OUTPUT == 1
+    return vec4<f32>(added, 1.0);
+#else
+    let c = textureLoad(img, p, 0);
+    return vec4<f32>(c.rgb + added, c.a);
+#endif
+}
