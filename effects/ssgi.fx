@@ -23,10 +23,13 @@
 //   E(P) = integral over the hemisphere of L(w) cos(theta) dw,
 //   added radiance = intensity * albedo(P) * E / pi
 // 1. trace (shaders/ssgi_trace.wgsl): `directions` cosine-distributed directions
-//    per pixel (a 4x4 per-pixel pattern of rotations, elevation and step offsets,
-//    shifted each frame), each marched in `steps` samples out to `radius`; a
-//    sample hits the surface of the pixel it projects to when the ray's segment
-//    reaches behind its depth by less than `thickness`. The hit's IN colour is
+//    per pixel, each pixel of a 4x4 block taking every 16th direction of one
+//    evenly spread set of 16 x `directions` (a Fibonacci spiral; the set turns
+//    each frame), each marched in `steps` samples out to `radius`; a
+//    sample hits the surface of the pixel it projects to when it lies behind
+//    that surface's depth by at most `thickness`, and a step that went through
+//    a surface (from in front of it to far behind it or past its silhouette) hits
+//    it where it crosses the surface's plane. The hit's IN colour is
 //    L(w) (the radiance it sends to the camera, taken as what it sends to P: a
 //    diffuse sender); a hit on the back of a surface (its normal facing away
 //    from P) ends the ray in the dark: light does not pass through walls. No hit
