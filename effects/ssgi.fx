@@ -75,7 +75,9 @@
 // taken as diffuse (a mirror's IN colour is sent in every direction); the depth
 // buffer has no back faces, so a ray passing behind a thin object within
 // `thickness` counts as blocked; thin objects between two samples of a ray can be
-// missed. Cost: directions x steps depth reads per pixel (see the README's table).
+// missed; a small, very bright sender (a lamp) that few of a pixel's rays meet
+// gives speckles on a single frame (the temporal filter averages them over
+// frames). Cost: directions x steps depth reads per pixel (docs/renderer.md).
 //
 // Passes:
 //   trace   SHADER.ssgi_trace  IN, AUX.depth, AUX.normal -> E / pi (rgb), depth (a); rgba16f

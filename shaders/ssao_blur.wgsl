@@ -55,12 +55,7 @@ fn blurred(p: vec2<i32>) -> f32 {
                 continue;
             }
             let Q = lib_texel_view_pos(params.inv_proj, q, sizef, dq);
-            let e = dot(Q - P, n) / tol;
-            let facing = max(dot(n, normalize(nq)), 0.0);
-            let f2 = facing * facing;
-            let f4 = f2 * f2;
-            let ws = select(1.0, 0.5, abs(dx) == 2) * select(1.0, 0.5, abs(dy) == 2);
-            let w = ws * exp(-e * e) * f4 * f4;
+            let w = lib_blur_weight(vec2<i32>(dx, dy), P, n, Q, normalize(nq), tol);
             sum += w * textureLoad(ao, q, 0).r;
             total += w;
         }

@@ -3,11 +3,11 @@
 // method in words).
 //
 // Over the 5x5 neighbourhood q of the pixel p (neighbours outside the image or
-// without geometry are skipped), with spatial weights w_s = a(dx) a(dy),
-// a = [0.5, 1, 1, 1, 0.5] (every phase of the 4x4 per-pixel pattern of
-// shaders/ssgi_trace.wgsl gets the same total weight, so the pattern cancels on a
-// flat surface), the weight of the same form as in shaders/ssao_blur.wgsl:
-//   w_q = w_s * exp(-(dot(Q - P, n_p) / (depth_tolerance * d_p))^2) * max(dot(n_p, n_q), 0)^8
+// without geometry are skipped), the weights w_q of lib_blur_weight
+// (lib/view.wgsl, the same as ssao's blur): [0.5 1 1 1 0.5] per axis (every phase
+// of the 4x4 direction pattern of shaders/ssgi_trace.wgsl weighs the same, so the
+// pattern cancels on a flat surface), times
+//   exp(-(dot(Q - P, n_p) / (depth_tolerance * d_p))^2) * max(dot(n_p, n_q), 0)^8
 // (taps off p's tangent plane or facing another way do not count);
 //   gi = sum(w_q gi_q) / sum(w_q)   (BLUR = 0: gi = gi_p)
 // The receiver's added radiance is intensity * albedo(p) * gi (gi = E / pi, the
@@ -65,12 +65,7 @@ fn blurred(p: vec2<i32>) -> vec3<f32> {
                 continue;
             }
             let Q = lib_texel_view_pos(params.inv_proj, q, sizef, textureLoad(depth, q, 0).r);
-            let e = dot(Q - P, n) / tol;
-            let facing = max(dot(n, nq), 0.0);
-            let f2 = facing * facing;
-            let f4 = f2 * f2;
-            let ws = select(1.0, 0.5, abs(dx) == 2) * select(1.0, 0.5, abs(dy) == 2);
-            let w = ws * exp(-e * e) * f4 * f4;
+            let w = lib_blur_weight(vec2<i32>(dx, dy), P, n, Q, nq, tol);
             sum += w * textureLoad(gi, q, 0).rgb;
             total += w;
         }

@@ -13,6 +13,7 @@
 
 mod common;
 
+use common::brdf::OracleCamera;
 use common::stream::effect_path;
 use fxgraph::app::Effect;
 use fxgraph::gpu::executor::FrameInputs;
@@ -23,7 +24,7 @@ use fxgraph::render::{Renderer, RendererOptions, Technique};
 use fxgraph::scene::builtin::grid_plane;
 use fxgraph::scene::{Camera, Instance, Light, Material, Scene, ShaderBinding};
 use fxgraph::script::types::{ColorSpace, Format};
-use glam::{DVec3, Mat4, Vec3, Vec4};
+use glam::{DVec3, Mat4, Vec3};
 use std::f32::consts::PI;
 
 const W: u32 = 400;
@@ -174,15 +175,20 @@ enum Hit {
 /// Ray-casts every pixel centre (CPU) against the floor and the wall.
 fn ray_cast() -> Vec<Hit> {
     let cam = camera();
-    let inv = (cam.proj(W as f32 / H as f32) * cam.view()).inverse();
+    let oracle = OracleCamera {
+        eye: cam.eye,
+        target: cam.target,
+        up: cam.up,
+        fov_y: cam.fov_y,
+        aspect: W as f32 / H as f32,
+        width: W,
+        height: H,
+    };
     let eye = cam.eye.as_dvec3();
     let mut out = Vec::with_capacity((W * H) as usize);
     for y in 0..H {
         for x in 0..W {
-            let ndc_x = (x as f32 + 0.5) / W as f32 * 2.0 - 1.0;
-            let ndc_y = 1.0 - (y as f32 + 0.5) / H as f32 * 2.0;
-            let far = inv * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
-            let d = (far.truncate() / far.w).as_dvec3() - eye;
+            let d = oracle.ray(x, y).1.as_dvec3();
             let t_floor = -eye.y / d.y;
             let t_wall = -eye.z / d.z;
             let f = eye + d * t_floor;

@@ -1,6 +1,6 @@
 // View-space reconstruction from a projection's inverse and G-buffer neighbourhood
 // sampling, shared by the G-buffer effects (shaders/ssao.wgsl, ssao_blur.wgsl,
-// fog.wgsl, outline_detect.wgsl): `#include "lib/view.wgsl"`.
+// fog.wgsl, outline_detect.wgsl, ssgi_*.wgsl): `#include "lib/view.wgsl"`.
 
 // The view-space point of the pixel at `uv` (0..1, y down) and NDC depth `z`.
 fn lib_unproject(inv_proj: mat4x4<f32>, uv: vec2<f32>, z: f32) -> vec3<f32> {
@@ -39,4 +39,22 @@ fn lib_has_geometry(d: f32) -> bool {
 // outside are skipped, not clamped).
 fn lib_inside(q: vec2<i32>, size: vec2<i32>) -> bool {
     return all(q >= vec2<i32>(0)) && all(q < size);
+}
+
+// The weight of the neighbour at offset `o` (|o.x|, |o.y| <= 2) in the 5x5 depth-
+// and normal-aware blurs of the G-buffer effects (shaders/ssao_blur.wgsl,
+// ssgi_out.wgsl), with P, n the pixel's view-space position and unit normal and
+// Q, nq the neighbour's: spatial a(o.x) a(o.y), a = [0.5, 1, 1, 1, 0.5] (every
+// phase of a 4x4 pattern gets the same total weight, so the pattern cancels on a
+// flat surface), times
+//   exp(-(dot(Q - P, n) / tol)^2) * max(dot(n, nq), 0)^8
+// (a neighbour off the pixel's tangent plane, by `tol` view-space units for 1/e,
+// or facing another way, does not count).
+fn lib_blur_weight(o: vec2<i32>, P: vec3<f32>, n: vec3<f32>, Q: vec3<f32>, nq: vec3<f32>, tol: f32) -> f32 {
+    let e = dot(Q - P, n) / tol;
+    let facing = max(dot(n, nq), 0.0);
+    let f2 = facing * facing;
+    let f4 = f2 * f2;
+    let ws = select(1.0, 0.5, abs(o.x) == 2) * select(1.0, 0.5, abs(o.y) == 2);
+    return ws * exp(-e * e) * f4 * f4;
 }
