@@ -3,8 +3,8 @@
 // method in words).
 //
 // Over the 5x5 neighbourhood q of the pixel p (neighbours outside the image or
-// without geometry are skipped), the weights w_q of lib_blur_weight
-// (lib/view.wgsl, the same as ssao's blur): [0.5 1 1 1 0.5] per axis (every phase
+// without geometry are skipped), the weights w_q of lib_gbuffer_blur
+// (lib/view.wgsl, also ssao's blur): [0.5 1 1 1 0.5] per axis (every phase
 // of the 4x4 direction pattern of shaders/ssgi_trace.wgsl weighs the same, so the
 // pattern cancels on a flat surface), times
 //   exp(-(dot(Q - P, n_p) / (depth_tolerance * d_p))^2) * max(dot(n_p, n_q), 0)^8
@@ -31,48 +31,11 @@ struct Params {
 
 #include "lib/view.wgsl"
 
-fn geometry_normal(q: vec2<i32>) -> vec3<f32> {
-    let d = textureLoad(depth, q, 0).r;
-    let n = textureLoad(normal, q, 0).xyz;
-    if (!lib_has_geometry(d) || !(length(n) > 1e-6)) {
-        return vec3<f32>(0.0);
-    }
-    return normalize(n);
-}
-
 fn blurred(p: vec2<i32>) -> vec3<f32> {
-    let centre = textureLoad(gi, p, 0).rgb;
 #if BLUR
-    let size = vec2<i32>(textureDimensions(depth));
-    let sizef = vec2<f32>(size);
-    let n = geometry_normal(p);
-    if (all(n == vec3<f32>(0.0))) {
-        return centre;
-    }
-    let d = textureLoad(depth, p, 0).r;
-    let P = lib_texel_view_pos(params.inv_proj, p, sizef, d);
-    let tol = params.depth_tolerance * d;
-    var sum = centre;
-    var total = 1.0;
-    for (var dy = -2; dy <= 2; dy++) {
-        for (var dx = -2; dx <= 2; dx++) {
-            let q = p + vec2<i32>(dx, dy);
-            if ((dx == 0 && dy == 0) || !lib_inside(q, size)) {
-                continue;
-            }
-            let nq = geometry_normal(q);
-            if (all(nq == vec3<f32>(0.0))) {
-                continue;
-            }
-            let Q = lib_texel_view_pos(params.inv_proj, q, sizef, textureLoad(depth, q, 0).r);
-            let w = lib_blur_weight(vec2<i32>(dx, dy), P, n, Q, nq, tol);
-            sum += w * textureLoad(gi, q, 0).rgb;
-            total += w;
-        }
-    }
-    return sum / total;
+    return lib_gbuffer_blur(gi, depth, normal, params.inv_proj, p, params.depth_tolerance).rgb;
 #else
-    return centre;
+    return textureLoad(gi, p, 0).rgb;
 #endif
 }
 

@@ -175,15 +175,7 @@ enum Hit {
 /// Ray-casts every pixel centre (CPU) against the floor and the wall.
 fn ray_cast() -> Vec<Hit> {
     let cam = camera();
-    let oracle = OracleCamera {
-        eye: cam.eye,
-        target: cam.target,
-        up: cam.up,
-        fov_y: cam.fov_y,
-        aspect: W as f32 / H as f32,
-        width: W,
-        height: H,
-    };
+    let oracle = OracleCamera::of(&cam, W, H);
     let eye = cam.eye.as_dvec3();
     let mut out = Vec::with_capacity((W * H) as usize);
     for y in 0..H {

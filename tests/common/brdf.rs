@@ -314,6 +314,19 @@ pub struct OracleCamera {
 }
 
 impl OracleCamera {
+    /// The oracle twin of the renderer's `camera` for a `width` × `height` image.
+    pub fn of(camera: &Camera, width: u32, height: u32) -> Self {
+        OracleCamera {
+            eye: camera.eye,
+            target: camera.target,
+            up: camera.up,
+            fov_y: camera.fov_y,
+            aspect: width as f32 / height as f32,
+            width,
+            height,
+        }
+    }
+
     /// The world-space ray (origin, unit direction) through the centre of pixel
     /// `(x, y)`: NDC `((x + 0.5)/w · 2 − 1, 1 − (y + 0.5)/h · 2)` (y down in the
     /// image, up in NDC), view space looking down −Z with +Y up, right = f × up.
