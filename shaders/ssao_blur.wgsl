@@ -1,5 +1,6 @@
 // ssao_blur: depth- and normal-aware (bilateral) blur of the raw AO from
-// shaders/ssao.wgsl, then the composite (used by the `ssao` effect).
+// shaders/ssao.wgsl (lib_gbuffer_blur of lib/view.wgsl), then the composite (used
+// by the `ssao` effect).
 //
 // Over the 5x5 neighbourhood q of the pixel p (border pixels outside the image are
 // skipped), with spatial weights w_s = a(dx) a(dy), a = [0.5, 1, 1, 1, 0.5] (every
@@ -29,45 +30,10 @@ struct Params {
 #include "lib/view.wgsl"
 
 fn blurred(p: vec2<i32>) -> f32 {
-    let centre = textureLoad(ao, p, 0).r;
 #if BLUR
-    let size = vec2<i32>(textureDimensions(depth));
-    let sizef = vec2<f32>(size);
-    let d = textureLoad(depth, p, 0).r;
-    var n = textureLoad(normal, p, 0).xyz;
-    if (!lib_has_geometry(d) || !(length(n) > 1e-6)) {
-        return centre;
-    }
-    n = normalize(n);
-    let P = lib_texel_view_pos(params.inv_proj, p, sizef, d);
-    let tol = params.depth_tolerance * d;
-    var sum = centre;
-    var total = 1.0;
-    for (var dy = -2; dy <= 2; dy++) {
-        for (var dx = -2; dx <= 2; dx++) {
-            let q = p + vec2<i32>(dx, dy);
-            if ((dx == 0 && dy == 0) || !lib_inside(q, size)) {
-                continue;
-            }
-            let dq = textureLoad(depth, q, 0).r;
-            let nq = textureLoad(normal, q, 0).xyz;
-            if (!lib_has_geometry(dq) || !(length(nq) > 1e-6)) {
-                continue;
-            }
-            let Q = lib_texel_view_pos(params.inv_proj, q, sizef, dq);
-            let e = dot(Q - P, n) / tol;
-            let facing = max(dot(n, normalize(nq)), 0.0);
-            let f2 = facing * facing;
-            let f4 = f2 * f2;
-            let ws = select(1.0, 0.5, abs(dx) == 2) * select(1.0, 0.5, abs(dy) == 2);
-            let w = ws * exp(-e * e) * f4 * f4;
-            sum += w * textureLoad(ao, q, 0).r;
-            total += w;
-        }
-    }
-    return sum / total;
+    return lib_gbuffer_blur(ao, depth, normal, params.inv_proj, p, params.depth_tolerance).r;
 #else
-    return centre;
+    return textureLoad(ao, p, 0).r;
 #endif
 }
 

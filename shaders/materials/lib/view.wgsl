@@ -1,6 +1,6 @@
 // View-space reconstruction from a projection's inverse and G-buffer neighbourhood
 // sampling, shared by the G-buffer effects (shaders/ssao.wgsl, ssao_blur.wgsl,
-// fog.wgsl, outline_detect.wgsl): `#include "lib/view.wgsl"`.
+// fog.wgsl, outline_detect.wgsl, ssgi_*.wgsl): `#include "lib/view.wgsl"`.
 
 // The view-space point of the pixel at `uv` (0..1, y down) and NDC depth `z`.
 fn lib_unproject(inv_proj: mat4x4<f32>, uv: vec2<f32>, z: f32) -> vec3<f32> {
@@ -39,4 +39,52 @@ fn lib_has_geometry(d: f32) -> bool {
 // outside are skipped, not clamped).
 fn lib_inside(q: vec2<i32>, size: vec2<i32>) -> bool {
     return all(q >= vec2<i32>(0)) && all(q < size);
+}
+
+// The 5x5 depth- and normal-aware blur of the G-buffer effects (shaders/ssao_blur.wgsl,
+// ssgi_out.wgsl): `src` (all four channels) at pixel p, over the neighbours q
+// inside the image with geometry (depth and a non-zero normal), weighted by
+//   a(dx) a(dy) * exp(-(dot(Q - P, n) / (tol_rel * d))^2) * max(dot(n, n_q), 0)^8
+// with a = [0.5, 1, 1, 1, 0.5] (every phase of a 4x4 pattern gets the same total
+// weight, so the pattern cancels on a flat surface), P, n, d the pixel's
+// view-space position, unit normal and depth and Q, n_q the neighbour's: a
+// neighbour off the pixel's tangent plane (by tol_rel * d view-space units for
+// 1/e) or facing another way does not count. The centre weighs 1; a pixel without
+// geometry keeps its value.
+fn lib_gbuffer_blur(src: texture_2d<f32>, depth: texture_2d<f32>, normal: texture_2d<f32>, inv_proj: mat4x4<f32>, p: vec2<i32>, tol_rel: f32) -> vec4<f32> {
+    let centre = textureLoad(src, p, 0);
+    let size = vec2<i32>(textureDimensions(depth));
+    let sizef = vec2<f32>(size);
+    let d = textureLoad(depth, p, 0).r;
+    let n_raw = textureLoad(normal, p, 0).xyz;
+    if (!lib_has_geometry(d) || !(length(n_raw) > 1e-6)) {
+        return centre;
+    }
+    let n = normalize(n_raw);
+    let P = lib_texel_view_pos(inv_proj, p, sizef, d);
+    let tol = tol_rel * d;
+    var sum = centre;
+    var total = 1.0;
+    for (var dy = -2; dy <= 2; dy++) {
+        for (var dx = -2; dx <= 2; dx++) {
+            let q = p + vec2<i32>(dx, dy);
+            if ((dx == 0 && dy == 0) || !lib_inside(q, size)) {
+                continue;
+            }
+            let dq = textureLoad(depth, q, 0).r;
+            let nq = textureLoad(normal, q, 0).xyz;
+            if (!lib_has_geometry(dq) || !(length(nq) > 1e-6)) {
+                continue;
+            }
+            let e = dot(lib_texel_view_pos(inv_proj, q, sizef, dq) - P, n) / tol;
+            let facing = max(dot(n, normalize(nq)), 0.0);
+            let f2 = facing * facing;
+            let f4 = f2 * f2;
+            let ws = select(1.0, 0.5, abs(dx) == 2) * select(1.0, 0.5, abs(dy) == 2);
+            let w = ws * exp(-e * e) * f4 * f4;
+            sum += w * textureLoad(src, q, 0);
+            total += w;
+        }
+    }
+    return sum / total;
 }
