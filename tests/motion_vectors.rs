@@ -352,20 +352,7 @@ fn a_skinned_mesh_moves_its_pixels_with_its_joints() {
     };
     let prev_cam = oracle(&camera);
     let covered: Vec<Option<Vec3>> = (0..W * H).map(|i| hit(i % W, i / W)).collect();
-    let motion = FrameMotion {
-        transforms: now.instances.iter().map(|p| p.world).collect(),
-        prev_transforms: prev.instances.iter().map(|p| p.world).collect(),
-        prev_camera: None,
-        jitter: [0.0, 0.0],
-        deformed: deformed
-            .iter()
-            .map(|&i| now.deformed_mesh(&scene, i))
-            .collect(),
-        prev_deformed: deformed
-            .iter()
-            .map(|&i| prev.deformed_mesh(&scene, i))
-            .collect(),
-    };
+    let motion = FrameMotion::posed(&scene, &now, &prev);
     for technique in Technique::ALL {
         let mut r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
         let (out, _) = r

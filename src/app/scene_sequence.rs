@@ -21,9 +21,8 @@ use crate::gpu::executor::Engine;
 use crate::gpu::stream::{FrameExtras, Stream};
 use crate::graph::plan::{PlanOptions, ReusePolicy};
 use crate::render::{FrameMotion, Renderer};
-use crate::scene::{CameraPath, Playback, Pose, Scene};
+use crate::scene::{CameraPath, Playback, Scene};
 use crate::script::types::Format;
-use glam::Mat4;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::sync_channel;
@@ -84,10 +83,6 @@ pub(super) fn playback(job: &SceneJob, scene: &Scene) -> Result<Playback, RunErr
 }
 
 /// The instances' world transforms (scene order) of a pose.
-fn transforms(pose: &Pose) -> Vec<Mat4> {
-    pose.instances.iter().map(|i| i.world).collect()
-}
-
 /// One texture copied (the renderer draws the next frame into its own).
 fn copy_of(engine: &Engine, enc: &mut wgpu::CommandEncoder, tex: &wgpu::Texture) -> wgpu::Texture {
     let copy = engine.ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -127,15 +122,6 @@ pub fn run_scene_sequence(
         .map_err(|e| super::scene::scene_error(&job.scene, e))?;
     let playback = playback(job, &scene)?;
     let animated = scene.is_animated();
-    let deformed: Vec<usize> = (0..scene.instances.len())
-        .filter(|&i| scene.is_deformed(i))
-        .collect();
-    let deform = |pose: &Pose| -> Vec<crate::scene::PosedMesh> {
-        deformed
-            .iter()
-            .map(|&i| pose.deformed_mesh(&scene, i))
-            .collect()
-    };
     let mut report = RunReport {
         job: JobKind::Scene,
         adapter: engine.ctx.info.name.clone(),
@@ -192,12 +178,9 @@ pub fn run_scene_sequence(
             renderer.set_lights(pose.lights.clone());
         }
         let motion = FrameMotion {
-            transforms: transforms(&pose),
-            prev_transforms: transforms(&prev),
             prev_camera: Some(path.at(&scene, Some(&prev), t - dt)),
             jitter,
-            deformed: deform(&pose),
-            prev_deformed: deform(&prev),
+            ..FrameMotion::posed(&scene, &pose, &prev)
         };
         let camera = path.at(&scene, Some(&pose), t);
         let rendered = renderer.render_frame(

@@ -42,6 +42,22 @@ pub fn storage_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::Bind
     )
 }
 
+/// A storage buffer (or a range of one) the shader writes (and may read).
+pub fn storage_rw_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
+}
+
 /// A single-sampled texture of `view_dimension` read as `sample_type`.
 pub fn texture_entry(
     binding: u32,

@@ -264,7 +264,11 @@ pub(crate) fn encode(
     ctx.scoped(label, |device| {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
-        // Shadow maps first: every technique's light passes read them.
+        // Skinned and morphed vertices first: every pass below draws them.
+        if let Some(skinning) = &r.geometry.skinning {
+            skinning.encode(&mut encoder, &mut names, timer);
+        }
+        // Shadow maps next: every technique's light passes read them.
         draws += r
             .shadow_maps
             .encode(&mut encoder, &r.geometry, &mut names, timer);

@@ -1,6 +1,6 @@
 //! What a frame of a sequence adds to a still ([`FrameMotion`]: transforms now
-//! and one frame earlier, the previous camera, deformed vertices, the sub-pixel
-//! jitter) and how the renderer applies it before drawing ([`Renderer::pose`]).
+//! and one frame earlier, the previous camera, the poses of deformed instances,
+//! the sub-pixel jitter) and how the renderer applies it before drawing ([`Renderer::pose`]).
 
 use super::renderer::{RenderError, Renderer};
 use crate::gpu::context::GpuContext;
@@ -24,11 +24,40 @@ pub struct FrameMotion {
     /// y down): the projection is shifted so that pixel p shows what the
     /// unjittered camera shows at p + jitter. Motion vectors never contain it.
     pub jitter: [f32; 2],
-    /// The vertices of the deformed instances (skins, morph targets: those of
-    /// `Scene::is_deformed`, in instance order) in object space, now and one
-    /// frame earlier ([`crate::scene::Pose::deformed_mesh`]); empty: at rest.
-    pub deformed: Vec<crate::scene::PosedMesh>,
-    pub prev_deformed: Vec<crate::scene::PosedMesh>,
+    /// The poses of the deformed instances (skins, morph targets: those of
+    /// `Scene::is_deformed`, in instance order), now and one frame earlier
+    /// (`Pose::instances[i]`): only their joint matrices and morph weights are
+    /// read, and the GPU deforms the vertices uploaded once
+    /// (`crate::render::skinning`, the same result as
+    /// [`crate::scene::Pose::deformed_mesh`]). Empty: the vertices at rest.
+    pub deformed: Vec<crate::scene::InstancePose>,
+    pub prev_deformed: Vec<crate::scene::InstancePose>,
+}
+
+impl FrameMotion {
+    /// A frame of `scene` posed at `now`, one frame after `prev`: the instance
+    /// transforms and the poses of the deformed instances at both (no previous
+    /// camera, no jitter: set those fields after).
+    pub fn posed(
+        scene: &crate::scene::Scene,
+        now: &crate::scene::Pose,
+        prev: &crate::scene::Pose,
+    ) -> FrameMotion {
+        let transforms = |p: &crate::scene::Pose| p.instances.iter().map(|i| i.world).collect();
+        let deformed = |p: &crate::scene::Pose| {
+            (0..scene.instances.len())
+                .filter(|&i| scene.is_deformed(i))
+                .filter_map(|i| p.instances.get(i).cloned())
+                .collect()
+        };
+        FrameMotion {
+            transforms: transforms(now),
+            prev_transforms: transforms(prev),
+            deformed: deformed(now),
+            prev_deformed: deformed(prev),
+            ..Default::default()
+        }
+    }
 }
 
 /// `proj` shifted so that pixel p samples the unjittered image at p + `jitter`
@@ -53,6 +82,7 @@ impl Renderer {
         ctx: &GpuContext,
         motion: &FrameMotion,
     ) -> Result<(crate::scene::Aabb, Vec<super::upload::Batch>), RenderError> {
+        self.deform(ctx, motion)?;
         let n = self.rest_transforms.len();
         for (what, t) in [
             ("transforms", &motion.transforms),
@@ -79,24 +109,35 @@ impl Renderer {
         if motion.transforms.is_empty() && motion.prev_transforms.is_empty() && !self.posed {
             return Ok((self.bounds, Vec::new()));
         }
-        let d = self.geometry.deformed.len();
-        if !motion.deformed.is_empty() {
-            if motion.deformed.len() != d || motion.prev_deformed.len() != d {
-                return Err(RenderError::Invalid(format!(
-                    "{}: vertices for {} and {} deformed instances, the scene has {d}",
-                    self.name,
-                    motion.deformed.len(),
-                    motion.prev_deformed.len()
-                )));
-            }
-            self.geometry
-                .write_deformed(ctx, &motion.deformed, &motion.prev_deformed);
-        }
         let moving = self.geometry.moving(now, prev);
         let (now, prev) = (now.clone(), prev.clone());
         let bounds = self.geometry.write_transforms(ctx, &now, &prev);
         self.posed = !(motion.transforms.is_empty() && motion.prev_transforms.is_empty());
         self.motion.prepare(ctx, &moving)?;
         Ok((bounds, moving))
+    }
+
+    /// Writes the poses of the deformed instances for the skinning pass (or
+    /// their rest pose when `motion` has none).
+    fn deform(&mut self, ctx: &GpuContext, motion: &FrameMotion) -> Result<(), RenderError> {
+        let d = self.geometry.deformed.len();
+        let Some(skinning) = self.geometry.skinning.as_mut() else {
+            return Ok(());
+        };
+        if motion.deformed.is_empty() && motion.prev_deformed.is_empty() {
+            skinning.rest(ctx);
+            return Ok(());
+        }
+        if motion.deformed.len() != d || motion.prev_deformed.len() != d {
+            return Err(RenderError::Invalid(format!(
+                "{}: poses for {} and {} deformed instances, the scene has {d}",
+                self.name,
+                motion.deformed.len(),
+                motion.prev_deformed.len()
+            )));
+        }
+        skinning
+            .write_pose(ctx, &motion.deformed, &motion.prev_deformed)
+            .map_err(|e| RenderError::Invalid(format!("{}: {e}", self.name)))
     }
 }

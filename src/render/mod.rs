@@ -11,8 +11,12 @@
 //! - [`renderer`]: [`Renderer`] with three techniques ([`Technique`]): deferred
 //!   shading with the compressed G-buffer and light volumes (seed 001), light
 //!   pre-pass (seed 000) and forward shading, plus forward transparency. Its
-//!   parts: `targets.rs` (G-buffer, light buffers, AUX images), `upload.rs`
-//!   (geometry, textures, material bind groups), `lights.rs` (per-frame light
+//!   parts: `targets.rs` (G-buffer, light buffers, AUX images), `upload/`
+//!   (the scene uploaded once: `geometry.rs`, `textures.rs`, `materials.rs` for the
+//!   material bind groups), `skinning.rs` (skinned and morphed vertices deformed
+//!   on the GPU per frame from joints and weights), `frame_motion.rs` and
+//!   `motion.rs` (a frame of a sequence: transforms, poses, camera cuts, motion
+//!   vectors), `lights.rs` (per-frame light
 //!   lists, light volumes), `light_buffers.rs`, `clusters.rs` (clustered light
 //!   lists binned on the CPU), `pipelines.rs` (layouts, module and pipeline
 //!   caches), `frame.rs` (the passes of each technique), [`shadows`] (which lights
@@ -63,6 +67,7 @@ mod pipelines;
 pub mod renderer;
 mod shadow_pass;
 pub mod shadows;
+mod skinning;
 pub mod targets;
 mod technique;
 mod upload;
@@ -77,3 +82,4 @@ pub use renderer::{
     Renderer, RendererOptions, Technique,
 };
 pub use shadows::ShadowMode;
+pub use skinning::DeformedVertices;

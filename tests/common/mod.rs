@@ -14,6 +14,7 @@ pub mod renders;
 pub mod rng;
 pub mod samples;
 pub mod scenes;
+pub mod skinned_scene;
 pub mod stream;
 pub mod tools;
 pub mod video;

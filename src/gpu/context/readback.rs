@@ -100,3 +100,40 @@ pub(super) fn unpad_rows(data: &[u8], unpadded: usize, padded: usize, rows: usiz
     }
     out
 }
+
+impl GpuContext {
+    /// Copies `size` bytes of `buffer` from `offset` (both multiples of 4; the
+    /// buffer needs `COPY_SRC`) and returns them once the device has finished
+    /// all work submitted before (a blocking read, for tests and inspection).
+    pub fn read_buffer(
+        &self,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        size: u64,
+    ) -> Result<Vec<u8>, GpuError> {
+        if size == 0 {
+            return Ok(Vec::new());
+        }
+        let staging = self.scoped("fxgraph buffer readback", |device| {
+            let staging = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("fxgraph buffer readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("fxgraph buffer readback"),
+            });
+            encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, size);
+            self.queue.submit([encoder.finish()]);
+            staging
+        })?;
+        map_read(&self.device, &staging)?;
+        let bytes = staging
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Map(e.to_string()))?
+            .to_vec();
+        staging.unmap();
+        Ok(bytes)
+    }
+}

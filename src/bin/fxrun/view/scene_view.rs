@@ -74,8 +74,6 @@ pub(super) struct SceneView {
     playback: Playback,
     /// Animated, or seen from a moving camera: the clock matters.
     timed: bool,
-    /// The instances deformed by skins or morph targets.
-    deformed: Vec<usize>,
     pub clock: Clock,
     /// The camera was moved by hand: it no longer follows the run's camera.
     free: bool,
@@ -103,9 +101,6 @@ impl SceneView {
             },
         };
         let timed = scene.is_animated() || !matches!(path, CameraPath::Fixed(_));
-        let deformed = (0..scene.instances.len())
-            .filter(|&i| scene.is_deformed(i))
-            .collect();
         let b = scene.bounds();
         let radius = if b.is_empty() {
             1.0
@@ -137,7 +132,6 @@ impl SceneView {
             path,
             playback,
             timed,
-            deformed,
             clock: Clock {
                 frame: (time * fps).round().max(0.0) as u64,
                 fps,
@@ -191,20 +185,10 @@ impl SceneView {
             .as_ref()
             .and_then(|p| p.jitter())
             .map_or([0.0, 0.0], |p| p.offset(self.clock.frame));
-        let transforms = |p: &Pose| p.instances.iter().map(|i| i.world).collect();
-        let deform = |p: &Pose| {
-            self.deformed
-                .iter()
-                .map(|&i| p.deformed_mesh(&self.scene, i))
-                .collect()
-        };
         let motion = FrameMotion {
-            transforms: transforms(&pose),
-            prev_transforms: transforms(&prev),
             prev_camera: Some(prev_camera),
             jitter,
-            deformed: deform(&pose),
-            prev_deformed: deform(&prev),
+            ..FrameMotion::posed(&self.scene, &pose, &prev)
         };
         (camera, motion)
     }
