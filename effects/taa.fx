@@ -28,7 +28,9 @@
 //    and the softening builds up with its length: with f the fraction of
 //    p - motion (from the texel centres) and s = fx (1 - fx) + fy (1 - fy) (0 for
 //    whole-pixel motion, at most 0.5), n_prev is capped at resample_limit / s.
-//    The history is dropped (n = 0) when p - motion is outside the frame (content
+//    The history is dropped (n = 0) everywhere on the first frame after a camera
+//    cut (the standard value `cut`: the previous frame shows another shot), and
+//    per pixel when p - motion is outside the frame (content
 //    entering at an edge), or when the data stored there one frame earlier shows
 //    another surface: its nearest depth differs by more than depth_tolerance
 //    times the current one, or its motion by more than motion_tolerance pixels

@@ -22,6 +22,9 @@ struct Params {
     resample_limit: f32,   // @default(0.5) @range(0.01, 1000) caps the history length in sub-pixel motion at resample_limit / s frames, s = fx (1 - fx) + fy (1 - fy) of the reprojected position's fraction
     jitter: vec2<f32>,
     out_size: vec2<f32>,
+    // 1 on the first frame after a camera cut (the standard value `cut`): the
+    // history shows another shot and is dropped everywhere
+    cut: f32,
 }
 @group(0) @binding(5) var<uniform> params: Params;
 
@@ -117,7 +120,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     // 2. Where this pixel was one frame earlier.
     let g = textureLoad(geo, p, 0);
     let prev = pos.xy - g.yz;
-    var valid = all(prev >= vec2<f32>(0.0)) && all(prev <= params.out_size);
+    var valid = params.cut < 0.5 && all(prev >= vec2<f32>(0.0)) && all(prev <= params.out_size);
     // 3. Disocclusion: the surface seen there one frame earlier is another one
     // (its nearest depth or its motion differ).
     if (valid) {

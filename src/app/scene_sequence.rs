@@ -177,9 +177,13 @@ pub fn run_scene_sequence(
             // lights on animated nodes move with them
             renderer.set_lights(pose.lights.clone());
         }
+        // a camera that jumps (a STEP key) starts a new shot: no camera motion,
+        // and effects see the standard value `cut`
+        let cut = path.cuts(&scene, &playback, t - dt, t);
         let motion = FrameMotion {
             prev_camera: Some(path.at(&scene, Some(&prev), t - dt)),
             jitter,
+            cut,
             ..FrameMotion::posed(&scene, &pose, &prev)
         };
         let camera = path.at(&scene, Some(&pose), t);
@@ -214,7 +218,7 @@ pub fn run_scene_sequence(
                 engine,
                 s,
                 &out,
-                jitter,
+                (jitter, cut),
                 n == to,
                 (first, last),
                 &mut emitted,
@@ -327,7 +331,7 @@ fn push_and_drain(
     engine: &mut Engine,
     stream: &mut Stream,
     out: &crate::render::RenderOutput,
-    jitter: [f32; 2],
+    (jitter, cut): ([f32; 2], bool),
     is_last: bool,
     (first, last): (u64, u64),
     emitted: &mut u64,
@@ -364,6 +368,7 @@ fn push_and_drain(
             aux,
             camera: Some(out.camera),
             jitter,
+            cut,
         },
     );
     if is_last {

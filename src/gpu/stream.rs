@@ -41,6 +41,9 @@ pub struct FrameExtras {
     /// renderer sets it to `pattern.offset(n)` for frame `n` when
     /// [`Prepared::jitter`] asks for a pattern; `[0, 0]` otherwise.
     pub jitter: [f32; 2],
+    /// The camera cut between the previous frame and this one: the standard
+    /// value `cut` ([`FrameInputs::cut`]).
+    pub cut: bool,
 }
 
 /// An input frame held in the ring.
@@ -299,15 +302,16 @@ impl Stream {
             .iter()
             .find(|f| f.index == t)
             .and_then(|f| f.extras.as_ref());
-        let (aux, camera, jitter) = match extras {
-            Some(e) => (&e.aux, e.camera, e.jitter),
-            None => (&self.aux, self.camera, [0.0, 0.0]),
+        let (aux, camera, jitter, cut) = match extras {
+            Some(e) => (&e.aux, e.camera, e.jitter, e.cut),
+            None => (&self.aux, self.camera, [0.0, 0.0], false),
         };
         let mut inputs = FrameInputs {
             frames: HashMap::new(),
             aux: aux.iter().map(|(n, t)| (n.clone(), t.into())).collect(),
             camera,
             jitter,
+            cut,
         };
         for &k in &self.offsets {
             let idx = (t as i64 + k as i64).clamp(0, last as i64) as u64;

@@ -24,6 +24,10 @@ pub struct FrameMotion {
     /// y down): the projection is shifted so that pixel p shows what the
     /// unjittered camera shows at p + jitter. Motion vectors never contain it.
     pub jitter: [f32; 2],
+    /// The camera cut between the previous frame and this one (a new shot,
+    /// `CameraPath::cuts`): the motion vectors carry no camera motion (the
+    /// previous camera is taken to be this frame's), only the objects' own.
+    pub cut: bool,
     /// The poses of the deformed instances (skins, morph targets: those of
     /// `Scene::is_deformed`, in instance order), now and one frame earlier
     /// (`Pose::instances[i]`): only their joint matrices and morph weights are

@@ -102,6 +102,21 @@ impl CameraPath {
             CameraPath::Orbit(o) => o.at(t),
         }
     }
+
+    /// Whether the camera cuts between times `t0` and `t1` (the previous and the
+    /// current frame): a scene camera whose node jumps ([`Scene::jumps`]: a
+    /// STEP key, or a looping clock that wraps onto another value). Fixed and
+    /// orbiting cameras never cut.
+    pub fn cuts(&self, scene: &Scene, playback: &crate::scene::Playback, t0: f64, t1: f64) -> bool {
+        match self {
+            CameraPath::SceneCamera(i) => scene
+                .cameras
+                .get(*i)
+                .and_then(|c| c.node)
+                .is_some_and(|n| scene.jumps(playback, n, t0, t1)),
+            CameraPath::Fixed(_) | CameraPath::Orbit(_) => false,
+        }
+    }
 }
 
 fn parse_orbit(spec: &str, scene: &Scene) -> Result<Orbit, SceneError> {

@@ -33,6 +33,9 @@ pub enum StdValue {
     /// `jitter`: the frame's sub-pixel jitter in pixels (offset of the sample
     /// position from the pixel centre, x right, y down; 0 without jitter).
     Jitter,
+    /// `cut`: 1 on the first frame of a new shot (the camera cut since the
+    /// previous frame: history from before it shows another view), else 0.
+    Cut,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -69,6 +72,7 @@ pub struct StdContext {
     pub proj: [f32; 16],
     pub inv_proj: [f32; 16],
     pub jitter: [f32; 2],
+    pub cut: bool,
 }
 
 impl UniformLayout {
@@ -99,6 +103,7 @@ impl UniformLayout {
                     StdValue::Proj => ctx.proj.iter().map(|&x| x as f64).collect(),
                     StdValue::InvProj => ctx.inv_proj.iter().map(|&x| x as f64).collect(),
                     StdValue::Jitter => vec![ctx.jitter[0] as f64, ctx.jitter[1] as f64],
+                    StdValue::Cut => vec![if ctx.cut { 1.0 } else { 0.0 }],
                 },
             };
             for (i, &x) in values.iter().take(f.ty.components()).enumerate() {
@@ -120,7 +125,11 @@ impl UniformLayout {
             matches!(
                 f.source,
                 UniformSource::Std(
-                    StdValue::Frame | StdValue::Time | StdValue::Subframe | StdValue::Jitter
+                    StdValue::Frame
+                        | StdValue::Time
+                        | StdValue::Subframe
+                        | StdValue::Jitter
+                        | StdValue::Cut
                 )
             )
         })
@@ -144,6 +153,7 @@ pub(crate) fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'st
         "proj" => (StdValue::Proj, M4),
         "inv_proj" => (StdValue::InvProj, M4),
         "jitter" => (StdValue::Jitter, V2),
+        "cut" => (StdValue::Cut, SCALAR),
         _ => {
             for (i, inp) in inputs.iter().enumerate() {
                 if name.strip_prefix(inp.as_str()) == Some("_size") {

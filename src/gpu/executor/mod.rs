@@ -149,6 +149,10 @@ pub struct FrameInputs<'a> {
     /// `jitter`. `[0, 0]` (the default) for unjittered frames. A frame source that
     /// honours [`Prepared::jitter`] sets it to `pattern.offset(frame index)`.
     pub jitter: [f32; 2],
+    /// The frame starts a new shot: the camera cut since the previous frame
+    /// (the standard value `cut`, 1; effects with history drop it). `false`
+    /// (the default) for every frame of a continuous sequence.
+    pub cut: bool,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -174,6 +178,7 @@ impl<'a> FrameInputs<'a> {
             aux: HashMap::new(),
             camera: None,
             jitter: [0.0; 2],
+            cut: false,
         }
     }
 

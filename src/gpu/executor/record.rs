@@ -330,7 +330,7 @@ impl Prepared {
     }
 
     /// Write the uniform buffers whose bytes changed (per-frame standard values).
-    fn write_uniforms(&mut self, camera: Option<CameraStd>, jitter: [f32; 2]) {
+    fn write_uniforms(&mut self, camera: Option<CameraStd>, jitter: [f32; 2], cut: bool) {
         let cam = camera.unwrap_or(NO_CAMERA);
         let camera_changed = self.camera != Some(cam);
         self.camera = Some(cam);
@@ -347,6 +347,7 @@ impl Prepared {
             u.std.proj = cam.proj;
             u.std.inv_proj = cam.inv_proj;
             u.std.jitter = jitter;
+            u.std.cut = cut;
             let bytes = u.layout.write(&u.std);
             if bytes != u.written {
                 self.queue.write_buffer(&u.buffer, 0, &bytes);
@@ -371,7 +372,7 @@ impl Prepared {
             ImageRef::Texture(t) => is_bgra(t.format()),
             ImageRef::View(v) => is_bgra(v.texture().format()),
         };
-        self.write_uniforms(inputs.camera, inputs.jitter);
+        self.write_uniforms(inputs.camera, inputs.jitter, inputs.cut);
         engine.frames += 1;
         let frame_no = engine.frames;
         let gl = engine.is_gl();

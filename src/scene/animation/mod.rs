@@ -21,6 +21,7 @@
 //! property, the later one in the file wins. Key times are `f32` as stored; the
 //! clock and the segment arithmetic are `f64`.
 
+pub mod cut;
 pub mod pose;
 pub mod sample;
 pub mod skin;

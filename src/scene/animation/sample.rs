@@ -68,7 +68,7 @@ impl Sampler {
     }
 
     /// The value of key `k`.
-    fn key_value(&self, k: usize) -> &[f32] {
+    pub(super) fn key_value(&self, k: usize) -> &[f32] {
         match self.interpolation {
             Interpolation::CubicSpline => self.element(k, 1),
             _ => self.element(k, 0),
