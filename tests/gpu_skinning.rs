@@ -286,8 +286,7 @@ fn the_three_techniques_agree_on_an_animated_skinned_scene() {
             .render_frame(&ctx, &camera, &motion, w, h, technique, None)
             .unwrap();
         let image = read_rgba_f32(&ctx, &out.scene).unwrap();
-        let motion_tex = &out.aux.iter().find(|(n, _)| n == "motion").unwrap().1;
-        let vectors = read_rgba_f32(&ctx, motion_tex).unwrap();
+        let vectors = read_rgba_f32(&ctx, out.aux("motion").expect("AUX.motion")).unwrap();
         save_rgb_review(&format!("skinned_{technique}"), (w, h), &image);
         images.push((technique, image, vectors));
     }

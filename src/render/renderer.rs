@@ -499,7 +499,10 @@ impl Renderer {
         let view = camera.view();
         let unjittered = camera.proj(aspect);
         let proj = jittered(unjittered, motion.jitter, width, height);
-        let prev_camera = motion.prev_camera.filter(|_| !motion.cut).unwrap_or(*camera);
+        let prev_camera = motion
+            .prev_camera
+            .filter(|_| !motion.cut)
+            .unwrap_or(*camera);
         let motion_cams = MotionCameras {
             view,
             proj,

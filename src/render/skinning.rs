@@ -185,7 +185,7 @@ impl Skinning {
                 message,
             })
         })?;
-        let limit = u64::from(ctx.device.limits().max_storage_buffer_binding_size);
+        let limit = ctx.device.limits().max_storage_buffer_binding_size;
         let too_big = |what: &str, bytes: u64| {
             RenderError::Invalid(format!(
                 "{}: {what} needs {bytes} bytes of GPU storage, this device binds at most {limit}",

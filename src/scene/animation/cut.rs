@@ -19,7 +19,7 @@ impl Scene {
     /// `t1` while such a channel (any interpolation) ends on another value than it
     /// starts with. Out-of-range nodes never jump.
     pub fn jumps(&self, playback: &Playback, node: usize, t0: f64, t1: f64) -> bool {
-        if !(t1 > t0) || node >= self.nodes.len() {
+        if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) || node >= self.nodes.len() {
             return false;
         }
         let mut chain = vec![node];
