@@ -13,13 +13,15 @@
 //!   cargo bench --bench temporal_effects      (bash bench/temporal_effects.sh)
 
 use fxgraph::app::Effect;
-use fxgraph::gpu::context::{AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::{Engine, FrameInputs, Prepared};
 use fxgraph::gpu::transfer::{create_output, upload_image};
 use fxgraph::graph::plan::InputDesc;
 use fxgraph::io::Image;
 use fxgraph::script::halton23;
 use fxgraph::script::types::{ColorSpace, Format};
+
+mod bench_env;
+use bench_env::{adapter, env_or, median, size};
 
 // The tests' helpers (CPU-made images).
 #[path = "../tests/common/mod.rs"]
@@ -57,33 +59,12 @@ fn frame(w: u32, h: u32, t: u32, jitter: [f32; 2]) -> (Image, Image, Image) {
 /// One frame of one effect: the GPU time of all its passes, and of each (ms).
 type FrameTimes = (f64, Vec<(String, f64)>);
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn main() {
-    if std::env::args().any(|a| a == "--list") {
-        return;
-    }
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-        std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir());
-    }
-    let Ok(ctx) = GpuContext::new(&AdapterChoice::Auto) else {
-        eprintln!("no adapter: temporal effects benchmark skipped");
+    let Some(ctx) = adapter("temporal effects") else {
         return;
     };
-    let (w, h) = std::env::var("FX_BENCH_SIZE")
-        .ok()
-        .and_then(|s| {
-            let (a, b) = s.split_once('x')?;
-            Some((a.parse().ok()?, b.parse().ok()?))
-        })
-        .unwrap_or((1920u32, 1080u32));
-    let measured: u32 = std::env::var("FX_BENCH_FRAMES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(8);
+    let (w, h) = size((1920, 1080));
+    let measured: u32 = env_or("FX_BENCH_FRAMES", 8);
     let warmup = 2;
     println!("adapter: {} ({:?})", ctx.info.name, ctx.info.backend);
     let mut engine = Engine::new(ctx.clone());
