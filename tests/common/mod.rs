@@ -7,6 +7,7 @@ pub mod cli;
 pub mod display;
 pub mod gltf_gen;
 pub mod ibl;
+pub mod layers;
 pub mod raster;
 pub mod renders;
 pub mod rng;

@@ -86,7 +86,8 @@ fn fx_surface_input(in: FxVsOut, front: bool) -> SurfaceInput {
 
 // The surface with the engine's post-conditions (unit normal, clamped ranges).
 fn fx_surface(in: FxVsOut, front: bool) -> SurfaceOutput {
-    var s = surface(fx_surface_input(in, front));
+    let si = fx_surface_input(in, front);
+    var s = surface(si);
     s.normal = fx_safe_normalize(s.normal);
     s.roughness = clamp(s.roughness, 0.0, 1.0);
     // what the 8-bit G-buffer can hold, in every technique alike
@@ -94,6 +95,13 @@ fn fx_surface(in: FxVsOut, front: bool) -> SurfaceOutput {
     s.alpha = clamp(s.alpha, 0.0, 1.0);
     s.specular = clamp(s.specular, vec3<f32>(0.0), vec3<f32>(1.0));
     s.occlusion = clamp(s.occlusion, 0.0, 1.0);
+    // the layers (layers.wgsl): a coat without a normal of its own follows the
+    // vertex normal
+    s.clearcoat = clamp(s.clearcoat, 0.0, 1.0);
+    s.clearcoat_roughness = clamp(s.clearcoat_roughness, 0.0, 1.0);
+    let cn = s.clearcoat_normal;
+    s.clearcoat_normal = select(si.normal, cn * inverseSqrt(dot(cn, cn)), dot(cn, cn) > 1e-12);
+    s.transmission = clamp(s.transmission, 0.0, 1.0);
     return s;
 }
 
@@ -115,7 +123,8 @@ fn fx_unlit(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
 struct FxGBufferOut {
     // rgb diffuse colour, a = material id / 255 (seed 001 table 2)
     @location(0) albedo: vec4<f32>,
-    // rg = encoded normal, b = roughness
+    // rg = encoded normal, b = roughness, a = 0 where the pixel is already lit
+    // (a layered surface: the light pass leaves it alone), else 1
     @location(1) normal: vec4<f32>,
     // rgb specular colour F0 (sRGB storage), a = lighting model id / 255
     @location(2) specular: vec4<f32>,
@@ -130,10 +139,16 @@ fn fx_fs_gbuffer(in: FxVsOut, @builtin(front_facing) front: bool) -> FxGBufferOu
         discard;
     }
     var out: FxGBufferOut;
+    let layered = fx_layered(s);
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
-    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, layered));
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
-    out.light = vec4<f32>(fx_unlit(s, in.view_pos, in.material), 0.0);
+    if layered {
+        // clear coat or transmission: every light here, as forward does
+        out.light = vec4<f32>(fx_lit_color(s, in.view_pos, in.clip.xy, in.material, fx_frame.light_count), 0.0);
+    } else {
+        out.light = vec4<f32>(fx_unlit(s, in.view_pos, in.material), 0.0);
+    }
     return out;
 }
 
@@ -152,7 +167,7 @@ fn fx_fs_prepass(in: FxVsOut, @builtin(front_facing) front: bool) -> FxPrepassOu
     }
     var out: FxPrepassOut;
     out.albedo = vec4<f32>(0.0, 0.0, 0.0, f32(in.material) / 255.0);
-    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, fx_layered(s)));
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
     return out;
 }
@@ -169,48 +184,58 @@ fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOu
     if fx_masked(in, s) {
         discard;
     }
-    let c = vec2<i32>(in.clip.xy);
-    let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
-    let specular = textureLoad(fx_light_specular, c, 0).rgb;
+    var color: vec3<f32>;
+    if fx_layered(s) {
+        // clear coat or transmission: the light pass skipped it; every light here
+        color = fx_lit_color(s, in.view_pos, in.clip.xy, in.material, fx_frame.light_count);
+    } else {
+        let c = vec2<i32>(in.clip.xy);
+        let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
+        let specular = textureLoad(fx_light_specular, c, 0).rgb;
+        color = s.diffuse * diffuse + specular + fx_unlit(s, in.view_pos, in.material);
+    }
     var out: FxFinalOut;
-    out.scene = vec4<f32>(fx_fog(s.diffuse * diffuse + specular + fx_unlit(s, in.view_pos, in.material), in.view_pos), 1.0);
+    out.scene = vec4<f32>(fx_fog(color, in.view_pos), 1.0);
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     return out;
 }
 
-// The lights of a fragment at `frag_xy`: with cluster lists (cluster.w > 0)
-// the global lights and the fragment's cluster; otherwise every visible light,
-// the loop bound a compile-time constant in the preprocessor and override modes
-// (the padding past the visible lights is skipped).
-fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32) -> vec3<f32> {
+// The light of surface `s` at view-space point `p` from every light of the
+// fragment at `frag_xy`, plus its unlit light and its layers: with cluster lists
+// (cluster.w > 0) the global lights and the fragment's cluster; otherwise the
+// first `light_count` entries of the visible lights (the forward loop's bound is a
+// compile-time constant in the preprocessor and override modes, padded past the
+// visible lights, which are skipped).
+fn fx_lit_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32, light_count: u32) -> vec3<f32> {
     let v = fx_safe_normalize(-p);
-    var diffuse = vec3<f32>(0.0);
-    var specular = vec3<f32>(0.0);
+    var sums: FxLightSums;
     if fx_frame.cluster.w != 0u {
         let range = fx_cluster_range(frag_xy, -p.z);
         let globals = fx_frame.global_lights;
         for (var i = 0u; i < globals + range.y; i++) {
             // (the unselected operand may wrap round: u32 arithmetic is modular)
             let j = select(range.x + i - globals, i, i < globals);
-            let ls = fx_light_sample_shadowed(fx_lights[fx_cluster_lights[j]], p, s.normal);
-            if ls.lit {
-                let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
-                diffuse += lo.diffuse;
-                specular += lo.specular;
-            }
+            fx_add_light(&sums, s, p, v, fx_cluster_lights[j], material, false);
         }
     } else {
-        for (var i = 0u; i < FX_LIGHT_COUNT; i++) {
-            let ls = fx_light_sample_shadowed(fx_lights[fx_visible[i]], p, s.normal);
-            // lights past the visible ones pad the constant loop: not shaded
-            if ls.lit && i < fx_frame.light_count {
-                let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
-                diffuse += lo.diffuse;
-                specular += lo.specular;
-            }
+        for (var i = 0u; i < light_count; i++) {
+            fx_add_light(&sums, s, p, v, fx_visible[i], material, i >= fx_frame.light_count);
         }
     }
-    return s.diffuse * diffuse + specular + fx_unlit(s, p, material);
+    var diffuse = sums.diffuse;
+    if s.transmission > 0.0 {
+        diffuse = mix(diffuse, sums.transmitted, s.transmission);
+    }
+    var color = s.diffuse * diffuse + sums.specular + fx_unlit(s, p, material);
+    if s.clearcoat > 0.0 {
+        // the coat over everything below it, emission included
+        color = mix(color, sums.coat + fx_environment_coat(s, p), fx_coat_weight(s, v));
+    }
+    return color;
+}
+
+fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32) -> vec3<f32> {
+    return fx_lit_color(s, p, frag_xy, material, FX_LIGHT_COUNT);
 }
 
 struct FxForwardOut {
