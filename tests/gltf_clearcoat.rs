@@ -8,7 +8,7 @@ mod common;
 use common::brdf::{self, render_sphere_oracle, Model, Surface};
 use common::gltf_gen::{self, SpheresGltf};
 use common::ibl::{self, interior_pixels, SPHERE_PX};
-use common::layers::{self, Layered};
+use common::layers::{self, Layered, Spread};
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::{Renderer, RendererOptions, Technique};
@@ -16,16 +16,6 @@ use fxgraph::scene::environment::Equirect;
 use fxgraph::scene::{Environment, EnvironmentSource, Light, Scene};
 use glam::Vec3;
 use serde_json::json;
-
-fn render(ctx: &GpuContext, scene: &Scene, technique: Technique) -> Vec<[f32; 4]> {
-    let mut r = Renderer::new(ctx, scene, &RendererOptions::default())
-        .unwrap_or_else(|e| panic!("{}: {e}", scene.name));
-    let (camera, _) = ibl::sphere_camera();
-    let (out, _) = r
-        .render(ctx, &camera, SPHERE_PX, SPHERE_PX, technique, None)
-        .unwrap_or_else(|e| panic!("{technique}: {e}"));
-    read_rgba_f32(ctx, &out.scene).unwrap()
-}
 
 const PAINT: Vec3 = Vec3::new(0.8, 0.25, 0.15);
 
@@ -63,31 +53,19 @@ fn clearcoat_under_a_directional_light_matches_the_extension() {
             .iter()
             .map(|&(x, y, n, v)| (x, y, layers::punctual_radiance(&m, n, n, v, &lights)))
             .collect();
-        for technique in Technique::ALL {
-            let px = render(ctx, &layers::sphere(&m, lights.clone(), None), technique);
-            let mut errs: Vec<f32> = Vec::new();
-            for (x, y, w) in &want {
-                let got = px[(y * SPHERE_PX + x) as usize];
-                for c in 0..3 {
-                    errs.push((got[c] - w[c]).abs() / w[c].max(0.02));
-                }
-            }
-            errs.sort_by(f32::total_cmp);
-            let p99 = errs[errs.len() * 99 / 100];
-            let mean = errs.iter().sum::<f32>() / errs.len() as f32;
-            eprintln!(
-                "clearcoat {} (roughness {}) under a directional light, {technique}: mean {:.3} %, 99th percentile {:.3} % over {} pixels",
-                m.clearcoat,
-                m.clearcoat_roughness,
-                mean * 100.0,
-                p99 * 100.0,
-                want.len()
-            );
-            assert!(
-                mean <= 0.01 && p99 <= 0.03,
-                "{technique}: mean {mean}, p99 {p99}"
-            );
-        }
+        let what = format!(
+            "clearcoat {} (roughness {}) under a directional light",
+            m.clearcoat, m.clearcoat_roughness
+        );
+        let scene = layers::sphere(&m, lights.clone(), None);
+        layers::check_techniques(
+            ctx,
+            &what,
+            &scene,
+            &want,
+            Spread::Percentile99,
+            (0.01, 0.03),
+        );
     }
 }
 
@@ -106,12 +84,12 @@ fn the_coat_adds_its_own_highlight() {
         Vec3::ONE,
         3.0,
     )];
-    let plain = render(
+    let plain = layers::render(
         ctx,
         &layers::sphere(&coated(0.0, 0.2), lights.clone(), None),
         Technique::Deferred,
     );
-    let coat = render(
+    let coat = layers::render(
         ctx,
         &layers::sphere(&coated(1.0, 0.2), lights.clone(), None),
         Technique::Deferred,
@@ -153,26 +131,12 @@ fn clearcoat_under_a_constant_environment_matches_the_extension() {
             .iter()
             .map(|&(x, y, n, v)| (x, y, layers::environment_radiance(&t, &m, n, v)))
             .collect();
-        for technique in Technique::ALL {
-            let px = render(
-                ctx,
-                &layers::sphere(&m, vec![], Some(env.clone())),
-                technique,
-            );
-            let (mean, worst) = layers::relative_errors(&px, SPHERE_PX, &want, 0.02);
-            eprintln!(
-                "clearcoat {} (roughness {}) in a uniform environment, {technique}: mean {:.2} %, largest {:.2} % over {} pixels",
-                m.clearcoat,
-                m.clearcoat_roughness,
-                mean * 100.0,
-                worst * 100.0,
-                want.len()
-            );
-            assert!(
-                mean <= 0.02 && worst <= 0.05,
-                "{technique}: mean {mean}, largest {worst}"
-            );
-        }
+        let what = format!(
+            "clearcoat {} (roughness {}) in a uniform environment",
+            m.clearcoat, m.clearcoat_roughness
+        );
+        let scene = layers::sphere(&m, vec![], Some(env.clone()));
+        layers::check_techniques(ctx, &what, &scene, &want, Spread::Largest, (0.02, 0.05));
     }
 }
 
@@ -199,8 +163,8 @@ fn a_coat_of_strength_zero_is_the_plain_material() {
         .retain(|(n, _)| !n.starts_with("clearcoat") && n != "transmission");
     let zero_scene = layers::sphere(&coated(0.0, 0.7), lights, env);
     for technique in Technique::ALL {
-        let plain = render(ctx, &plain_scene, technique);
-        let zero = render(ctx, &zero_scene, technique);
+        let plain = layers::render(ctx, &plain_scene, technique);
+        let zero = layers::render(ctx, &zero_scene, technique);
         let differ = plain.iter().zip(&zero).filter(|(a, b)| a != b).count();
         eprintln!("clearcoat 0 against no coat, {technique}: {differ} pixels differ");
         assert_eq!(differ, 0, "{technique}");
@@ -263,14 +227,7 @@ fn clearcoat_is_read_from_gltf() {
     let path = gltf_gen::write_gltf(dir.path(), "coat.gltf", &doc);
     let scene = Scene::load(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{e}"));
     let m = &scene.materials[0];
-    let param = |name: &str| {
-        m.surface
-            .params
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.clone())
-            .unwrap_or_else(|| panic!("{name} not set"))
-    };
+    let param = |name: &str| layers::param(m, name);
     assert_eq!(param("clearcoat"), vec![0.75]);
     assert_eq!(param("clearcoat_roughness"), vec![0.25]);
     assert_eq!(param("clearcoat_normal_scale"), vec![0.5]);

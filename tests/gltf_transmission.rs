@@ -8,7 +8,7 @@ mod common;
 
 use common::gltf_gen::{self, SpheresGltf};
 use common::ibl::{self, interior_pixels, SPHERE_PX};
-use common::layers::{self, Layered};
+use common::layers::{self, Layered, Spread};
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::{Renderer, RendererOptions, Technique};
@@ -16,16 +16,6 @@ use fxgraph::scene::environment::Equirect;
 use fxgraph::scene::{Environment, EnvironmentSource, Light, Scene};
 use glam::Vec3;
 use serde_json::json;
-
-fn render(ctx: &GpuContext, scene: &Scene, technique: Technique) -> Vec<[f32; 4]> {
-    let mut r = Renderer::new(ctx, scene, &RendererOptions::default())
-        .unwrap_or_else(|e| panic!("{}: {e}", scene.name));
-    let (camera, _) = ibl::sphere_camera();
-    let (out, _) = r
-        .render(ctx, &camera, SPHERE_PX, SPHERE_PX, technique, None)
-        .unwrap_or_else(|e| panic!("{technique}: {e}"));
-    read_rgba_f32(ctx, &out.scene).unwrap()
-}
 
 const GLASS: Vec3 = Vec3::new(0.9, 0.75, 0.3);
 
@@ -76,26 +66,12 @@ fn transmission_in_a_constant_environment_matches_the_extension() {
                 }
             })
             .collect();
-        for technique in Technique::ALL {
-            let px = render(
-                ctx,
-                &layers::sphere(&m, vec![], Some(env.clone())),
-                technique,
-            );
-            let (mean, worst) = layers::relative_errors(&px, SPHERE_PX, &want, 0.02);
-            eprintln!(
-                "transmission {} (roughness {}) in a uniform environment, {technique}: mean {:.2} %, largest {:.2} % over {} pixels",
-                m.transmission,
-                m.roughness,
-                mean * 100.0,
-                worst * 100.0,
-                want.len()
-            );
-            assert!(
-                mean <= 0.02 && worst <= 0.06,
-                "{technique}: mean {mean}, largest {worst}"
-            );
-        }
+        let what = format!(
+            "transmission {} (roughness {}) in a uniform environment",
+            m.transmission, m.roughness
+        );
+        let scene = layers::sphere(&m, vec![], Some(env.clone()));
+        layers::check_techniques(ctx, &what, &scene, &want, Spread::Largest, (0.02, 0.06));
     }
 }
 
@@ -140,12 +116,12 @@ fn transmission_shows_the_environment_behind() {
             .iter()
             .map(|&(x, y, n, v)| (x, y, layers::environment_radiance(&t, &m, n, v)))
             .collect();
-        let px = render(
+        let px = layers::render(
             ctx,
             &layers::sphere(&m, vec![], Some(env.clone())),
             Technique::Deferred,
         );
-        let (mean, worst) = layers::relative_errors(&px, SPHERE_PX, &want, 0.02);
+        let (mean, worst) = layers::relative_errors(&px, &want);
         // the centre pixel (n = v = +Z) sees mostly -Z: red low, green high
         let c = px[((SPHERE_PX / 2) * SPHERE_PX + SPHERE_PX / 2) as usize];
         eprintln!(
@@ -194,29 +170,16 @@ fn a_light_behind_a_thin_wall_shines_through() {
         .map(|&(_, _, p, n, v)| layers::punctual_radiance(&m, p, n, v, &lights[..1]).y)
         .fold(0.0, f32::max);
     assert!(behind > 0.3, "the light behind transmits {behind} at most");
-    for technique in Technique::ALL {
-        let px = render(ctx, &layers::square(&m, lights.clone(), None), technique);
-        let mut errs: Vec<f32> = Vec::new();
-        for (x, y, w) in &want {
-            let got = px[(y * SPHERE_PX + x) as usize];
-            for c in 0..3 {
-                errs.push((got[c] - w[c]).abs() / w[c].max(0.02));
-            }
-        }
-        errs.sort_by(f32::total_cmp);
-        let p99 = errs[errs.len() * 99 / 100];
-        let mean = errs.iter().sum::<f32>() / errs.len() as f32;
-        eprintln!(
-            "thin square, light behind (largest transmitted {behind:.3}), {technique}: mean {:.3} %, 99th percentile {:.3} % over {} pixels",
-            mean * 100.0,
-            p99 * 100.0,
-            want.len()
-        );
-        assert!(
-            mean <= 0.01 && p99 <= 0.03,
-            "{technique}: mean {mean}, p99 {p99}"
-        );
-    }
+    let what = format!("thin square, light behind (largest transmitted {behind:.3})");
+    let scene = layers::square(&m, lights, None);
+    layers::check_techniques(
+        ctx,
+        &what,
+        &scene,
+        &want,
+        Spread::Percentile99,
+        (0.01, 0.03),
+    );
 }
 
 /// Metals absorb what enters them (the extension's "transparent metals"): a
@@ -243,12 +206,12 @@ fn metals_transmit_nothing() {
         transmission: t,
     };
     for technique in Technique::ALL {
-        let opaque = render(
+        let opaque = layers::render(
             ctx,
             &layers::sphere(&metal(0.0), lights.clone(), env.clone()),
             technique,
         );
-        let clear = render(
+        let clear = layers::render(
             ctx,
             &layers::sphere(&metal(1.0), lights.clone(), env.clone()),
             technique,
@@ -276,14 +239,7 @@ fn transmission_is_read_from_gltf() {
     let path = gltf_gen::write_gltf(dir.path(), "glass.gltf", &doc);
     let scene = Scene::load(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{e}"));
     let m = &scene.materials[1];
-    let param = |name: &str| {
-        m.surface
-            .params
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.clone())
-            .unwrap_or_else(|| panic!("{name} not set"))
-    };
+    let param = |name: &str| layers::param(m, name);
     assert_eq!(param("transmission"), vec![0.9]);
     assert_eq!(param("transmission_map_uv_offset")[2], 1.0, "texCoord 1");
     assert!(m

@@ -18,7 +18,10 @@
 #![allow(dead_code)]
 
 use super::brdf::{cook_torrance, gltf_spec_brdf, illuminance, OracleCamera};
-use super::ibl::{irradiance, scattering, Texel};
+use super::ibl::{irradiance, scattering, Texel, SPHERE_PX};
+use fxgraph::gpu::context::GpuContext;
+use fxgraph::render::gbuffer::read_rgba_f32;
+use fxgraph::render::{Renderer, RendererOptions, Technique};
 use fxgraph::scene::{Environment, Instance, Light, Material, Scene, ShaderBinding};
 use glam::{Mat4, Vec3};
 use std::f32::consts::PI;
@@ -208,24 +211,82 @@ pub fn square_pixels(o: &OracleCamera, stride: u32) -> Vec<(u32, u32, Vec3, Vec3
     out
 }
 
-/// Mean and largest relative error of `px` (row-major, `width` wide) against
-/// `want` over `pixels` (x, y, reference), per channel, relative to
-/// max(reference, `floor`).
-pub fn relative_errors(
-    px: &[[f32; 4]],
-    width: u32,
-    pixels: &[(u32, u32, Vec3)],
-    floor: f32,
-) -> (f32, f32) {
-    let (mut sum, mut worst, mut count) = (0.0f64, 0.0f32, 0usize);
-    for (x, y, want) in pixels {
-        let got = px[(y * width + x) as usize];
-        for c in 0..3 {
-            let e = (got[c] - want[c]).abs() / want[c].max(floor);
-            sum += f64::from(e);
-            worst = worst.max(e);
-            count += 1;
-        }
+/// `scene` rendered by `technique` with the sphere camera
+/// ([`super::ibl::sphere_camera`], [`SPHERE_PX`]²), as linear RGBA.
+pub fn render(ctx: &GpuContext, scene: &Scene, technique: Technique) -> Vec<[f32; 4]> {
+    let mut r = Renderer::new(ctx, scene, &RendererOptions::default())
+        .unwrap_or_else(|e| panic!("{}: {e}", scene.name));
+    let (camera, _) = super::ibl::sphere_camera();
+    let (out, _) = r
+        .render(ctx, &camera, SPHERE_PX, SPHERE_PX, technique, None)
+        .unwrap_or_else(|e| panic!("{technique}: {e}"));
+    read_rgba_f32(ctx, &out.scene).unwrap()
+}
+
+/// Which spread of the per-channel errors [`check_techniques`] holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Spread {
+    Largest,
+    Percentile99,
+}
+
+/// Renders `scene` in every technique and holds each to `want` (x, y,
+/// reference radiance): the error of each channel relative to max(reference,
+/// 0.02), its mean within `limits.0` and its `spread` within `limits.1`; prints
+/// one line per technique, starting with `what`.
+pub fn check_techniques(
+    ctx: &GpuContext,
+    what: &str,
+    scene: &Scene,
+    want: &[(u32, u32, Vec3)],
+    spread: Spread,
+    limits: (f32, f32),
+) {
+    for technique in Technique::ALL {
+        let mut errs = channel_errors(&render(ctx, scene, technique), want);
+        errs.sort_by(f32::total_cmp);
+        let mean = errs.iter().sum::<f32>() / errs.len() as f32;
+        let (name, top) = match spread {
+            Spread::Largest => ("largest", errs[errs.len() - 1]),
+            Spread::Percentile99 => ("99th percentile", errs[errs.len() * 99 / 100]),
+        };
+        eprintln!(
+            "{what}, {technique}: mean {:.3} %, {name} {:.3} % over {} pixels",
+            mean * 100.0,
+            top * 100.0,
+            want.len()
+        );
+        assert!(
+            mean <= limits.0 && top <= limits.1,
+            "{what}, {technique}: mean {mean}, {name} {top}"
+        );
     }
-    ((sum / count.max(1) as f64) as f32, worst)
+}
+
+/// The value of setting `name` of material `m`'s surface (panics if unset).
+pub fn param(m: &Material, name: &str) -> Vec<f64> {
+    m.surface
+        .params
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v.clone())
+        .unwrap_or_else(|| panic!("{name} not set"))
+}
+
+/// The error of each channel of `px` (a [`render`] image) against `want` (x,
+/// y, reference), relative to max(reference, 0.02).
+pub fn channel_errors(px: &[[f32; 4]], want: &[(u32, u32, Vec3)]) -> Vec<f32> {
+    want.iter()
+        .flat_map(|(x, y, w)| {
+            let got = px[(y * SPHERE_PX + x) as usize];
+            (0..3).map(move |c| (got[c] - w[c]).abs() / w[c].max(0.02))
+        })
+        .collect()
+}
+
+/// Mean and largest of [`channel_errors`].
+pub fn relative_errors(px: &[[f32; 4]], want: &[(u32, u32, Vec3)]) -> (f32, f32) {
+    let errs = channel_errors(px, want);
+    let mean = errs.iter().map(|e| f64::from(*e)).sum::<f64>() / errs.len().max(1) as f64;
+    (mean as f32, errs.iter().copied().fold(0.0, f32::max))
 }

@@ -139,16 +139,20 @@ fn fx_fs_gbuffer(in: FxVsOut, @builtin(front_facing) front: bool) -> FxGBufferOu
         discard;
     }
     var out: FxGBufferOut;
-    let layered = fx_layered(s);
+    var layered = false;
+#ifdef HAS_LAYERS
+    layered = fx_layered(s);
+#endif
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, layered));
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
+    out.light = vec4<f32>(fx_unlit(s, in.view_pos, in.material), 0.0);
+#ifdef HAS_LAYERS
     if layered {
         // clear coat or transmission: every light here, as forward does
         out.light = vec4<f32>(fx_lit_color(s, in.view_pos, in.clip.xy, in.material, fx_frame.light_count), 0.0);
-    } else {
-        out.light = vec4<f32>(fx_unlit(s, in.view_pos, in.material), 0.0);
     }
+#endif
     return out;
 }
 
@@ -166,8 +170,12 @@ fn fx_fs_prepass(in: FxVsOut, @builtin(front_facing) front: bool) -> FxPrepassOu
         discard;
     }
     var out: FxPrepassOut;
+    var layered = false;
+#ifdef HAS_LAYERS
+    layered = fx_layered(s);
+#endif
     out.albedo = vec4<f32>(0.0, 0.0, 0.0, f32(in.material) / 255.0);
-    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, fx_layered(s)));
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, layered));
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
     return out;
 }
@@ -184,58 +192,63 @@ fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOu
     if fx_masked(in, s) {
         discard;
     }
-    var color: vec3<f32>;
+    let c = vec2<i32>(in.clip.xy);
+    let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
+    let specular = textureLoad(fx_light_specular, c, 0).rgb;
+    var color = s.diffuse * diffuse + specular + fx_unlit(s, in.view_pos, in.material);
+#ifdef HAS_LAYERS
     if fx_layered(s) {
         // clear coat or transmission: the light pass skipped it; every light here
         color = fx_lit_color(s, in.view_pos, in.clip.xy, in.material, fx_frame.light_count);
-    } else {
-        let c = vec2<i32>(in.clip.xy);
-        let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
-        let specular = textureLoad(fx_light_specular, c, 0).rgb;
-        color = s.diffuse * diffuse + specular + fx_unlit(s, in.view_pos, in.material);
     }
+#endif
     var out: FxFinalOut;
     out.scene = vec4<f32>(fx_fog(color, in.view_pos), 1.0);
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     return out;
 }
 
-// The light of surface `s` at view-space point `p` from every light of the
-// fragment at `frag_xy`, plus its unlit light and its layers: with cluster lists
-// (cluster.w > 0) the global lights and the fragment's cluster; otherwise the
-// first `light_count` entries of the visible lights (the forward loop's bound is a
-// compile-time constant in the preprocessor and override modes, padded past the
-// visible lights, which are skipped).
-fn fx_lit_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32, light_count: u32) -> vec3<f32> {
+// The lights of a fragment at `frag_xy`: with cluster lists (cluster.w > 0)
+// the global lights and the fragment's cluster; otherwise every visible light,
+// the loop bound a compile-time constant in the preprocessor and override modes
+// (the padding past the visible lights is skipped). A surface with a layer
+// (clear coat, transmission) goes to `fx_lit_color` (layers.wgsl); this loop is
+// kept apart from that one because sharing it (with the layers' per-light
+// branches) made the forward pass of the built-in room 1.4x slower on lavapipe.
+fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32) -> vec3<f32> {
+#ifdef HAS_LAYERS
+    if fx_layered(s) {
+        return fx_lit_color(s, p, frag_xy, material, FX_LIGHT_COUNT);
+    }
+#endif
     let v = fx_safe_normalize(-p);
-    var sums: FxLightSums;
+    var diffuse = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
     if fx_frame.cluster.w != 0u {
         let range = fx_cluster_range(frag_xy, -p.z);
         let globals = fx_frame.global_lights;
         for (var i = 0u; i < globals + range.y; i++) {
             // (the unselected operand may wrap round: u32 arithmetic is modular)
             let j = select(range.x + i - globals, i, i < globals);
-            fx_add_light(&sums, s, p, v, fx_cluster_lights[j], material, false);
+            let ls = fx_light_sample_shadowed(fx_lights[fx_cluster_lights[j]], p, s.normal);
+            if ls.lit {
+                let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
+                diffuse += lo.diffuse;
+                specular += lo.specular;
+            }
         }
     } else {
-        for (var i = 0u; i < light_count; i++) {
-            fx_add_light(&sums, s, p, v, fx_visible[i], material, i >= fx_frame.light_count);
+        for (var i = 0u; i < FX_LIGHT_COUNT; i++) {
+            let ls = fx_light_sample_shadowed(fx_lights[fx_visible[i]], p, s.normal);
+            // lights past the visible ones pad the constant loop: not shaded
+            if ls.lit && i < fx_frame.light_count {
+                let lo = fx_lighting(material, LightingInput(s.normal, v, ls.dir, ls.light, s.specular, s.roughness));
+                diffuse += lo.diffuse;
+                specular += lo.specular;
+            }
         }
     }
-    var diffuse = sums.diffuse;
-    if s.transmission > 0.0 {
-        diffuse = mix(diffuse, sums.transmitted, s.transmission);
-    }
-    var color = s.diffuse * diffuse + sums.specular + fx_unlit(s, p, material);
-    if s.clearcoat > 0.0 {
-        // the coat over everything below it, emission included
-        color = mix(color, sums.coat + fx_environment_coat(s, p), fx_coat_weight(s, v));
-    }
-    return color;
-}
-
-fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32) -> vec3<f32> {
-    return fx_lit_color(s, p, frag_xy, material, FX_LIGHT_COUNT);
+    return s.diffuse * diffuse + specular + fx_unlit(s, p, material);
 }
 
 struct FxForwardOut {

@@ -12,7 +12,7 @@
 //     dielectric's fresnel_mix; thin walled: the BTDF is the GGX lobe of the
 //     reflection mirrored through the surface (light leaves along the line of sight).
 // The surface's pixels that use a layer are shaded in one place, `fx_lit_color`
-// (geometry.wgsl), in all three techniques (docs/materials.md).
+// below, in all three techniques (docs/materials.md).
 
 // Whether surface `s` has a layer (else every technique shades it as before); a
 // surface without a diffuse colour (a metal) transmits nothing.
@@ -112,4 +112,36 @@ fn fx_add_light(sums: ptr<function, FxLightSums>, s: SurfaceOutput, p: vec3<f32>
         let back = fx_light_sample_shadowed(fx_lights[light], p, -s.normal);
         (*sums).transmitted += fx_transmitted_light(s, v, back.dir, back.light);
     }
+}
+
+// The light of layered surface `s` at view-space point `p` from every light of
+// the fragment at `frag_xy` (as `fx_forward_color` iterates them; with a list,
+// its first `light_count` entries, padding skipped), plus its unlit light and
+// its layers. Forward calls it per fragment, deferred in its G-buffer pass, the
+// light pre-pass in its final geometry pass.
+fn fx_lit_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32, light_count: u32) -> vec3<f32> {
+    let v = fx_safe_normalize(-p);
+    var sums: FxLightSums;
+    if fx_frame.cluster.w != 0u {
+        let range = fx_cluster_range(frag_xy, -p.z);
+        let globals = fx_frame.global_lights;
+        for (var i = 0u; i < globals + range.y; i++) {
+            let j = select(range.x + i - globals, i, i < globals);
+            fx_add_light(&sums, s, p, v, fx_cluster_lights[j], material, false);
+        }
+    } else {
+        for (var i = 0u; i < light_count; i++) {
+            fx_add_light(&sums, s, p, v, fx_visible[i], material, i >= fx_frame.light_count);
+        }
+    }
+    var diffuse = sums.diffuse;
+    if s.transmission > 0.0 {
+        diffuse = mix(diffuse, sums.transmitted, s.transmission);
+    }
+    var color = s.diffuse * diffuse + sums.specular + fx_unlit(s, p, material);
+    if s.clearcoat > 0.0 {
+        // the coat over everything below it, emission included
+        color = mix(color, sums.coat + fx_environment_coat(s, p), fx_coat_weight(s, v));
+    }
+    return color;
 }
