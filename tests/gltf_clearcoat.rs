@@ -9,7 +9,6 @@ use common::brdf::{self, render_sphere_oracle, Model, Surface};
 use common::gltf_gen::{self, SpheresGltf};
 use common::ibl::{self, interior_pixels, SPHERE_PX};
 use common::layers::{self, Layered, Spread};
-use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::{Renderer, RendererOptions, Technique};
 use fxgraph::scene::environment::Equirect;
