@@ -16,6 +16,12 @@
 //   opacity_map             linear r x alpha
 //   detail_map              @srgb  base rgb x detail rgb x 2 (0.5 grey leaves the
 //                                  base unchanged), sampled at uv x detail_scale
+//   clearcoat_map           linear r x clearcoat          (KHR_materials_clearcoat)
+//   clearcoat_roughness_map linear g x clearcoat_roughness
+//   clearcoat_normal_map    linear the coat's tangent-space normal, xy x
+//                                  clearcoat_normal_scale (without it the coat
+//                                  follows the vertex normal, not normal_map)
+//   transmission_map        linear r x transmission       (KHR_materials_transmission)
 //
 // Each map X has its texture transform (KHR_texture_transform): X_uv holds the
 // 2x2 matrix (xy = first column, zw = second column), X_uv_offset.xy the offset
@@ -25,7 +31,9 @@
 // Output: diffuse = base.rgb (1 - metallic); specular = mix(specular, base.rgb,
 // metallic) (F0: dielectrics reflect the specular colour, metals their base
 // colour); roughness, alpha, normal, emission and occlusion as above. The vertex
-// colour (HAS_VERTEX_COLOR) multiplies the base colour.
+// colour (HAS_VERTEX_COLOR) multiplies the base colour. The clear coat and the
+// transmission are the engine's layers (docs/materials.md): this surface only
+// reports them.
 
 #include "lib/normal.wgsl"
 
@@ -54,6 +62,18 @@ struct SurfaceParams {
     opacity_map_uv_offset: vec4<f32>, // @default(0, 0, 0, 0) offset and coordinate set of opacity_map
     detail_map_uv: vec4<f32>, // @default(1, 0, 0, 1) texture transform matrix of detail_map
     detail_map_uv_offset: vec4<f32>, // @default(0, 0, 0, 0) offset and coordinate set of detail_map
+    clearcoat: f32, // @default(0) @range(0, 1) strength of the clear coat (0: none)
+    clearcoat_roughness: f32, // @default(0) @range(0, 1) perceptual roughness of the clear coat
+    clearcoat_normal_scale: f32, // @default(1) scale of the clear coat normal map's xy
+    transmission: f32, // @default(0) @range(0, 1) thin-walled transmission of the light entering the surface
+    clearcoat_map_uv: vec4<f32>, // @default(1, 0, 0, 1) texture transform matrix of clearcoat_map
+    clearcoat_map_uv_offset: vec4<f32>, // @default(0, 0, 0, 0) offset and coordinate set of clearcoat_map
+    clearcoat_roughness_map_uv: vec4<f32>, // @default(1, 0, 0, 1) texture transform matrix of clearcoat_roughness_map
+    clearcoat_roughness_map_uv_offset: vec4<f32>, // @default(0, 0, 0, 0) offset and coordinate set of clearcoat_roughness_map
+    clearcoat_normal_map_uv: vec4<f32>, // @default(1, 0, 0, 1) texture transform matrix of clearcoat_normal_map
+    clearcoat_normal_map_uv_offset: vec4<f32>, // @default(0, 0, 0, 0) offset and coordinate set of clearcoat_normal_map
+    transmission_map_uv: vec4<f32>, // @default(1, 0, 0, 1) texture transform matrix of transmission_map
+    transmission_map_uv_offset: vec4<f32>, // @default(0, 0, 0, 0) offset and coordinate set of transmission_map
 }
 
 @group(2) @binding(0) var<uniform> material: SurfaceParams;
@@ -66,6 +86,10 @@ struct SurfaceParams {
 @group(2) @binding(7) var specular_map: texture_2d<f32>; // @srgb specular (F0) colour
 @group(2) @binding(8) var opacity_map: texture_2d<f32>; // opacity (r)
 @group(2) @binding(9) var detail_map: texture_2d<f32>; // @srgb detail colour, 0.5 = neutral
+@group(2) @binding(10) var clearcoat_map: texture_2d<f32>; // clear coat strength (r)
+@group(2) @binding(11) var clearcoat_roughness_map: texture_2d<f32>; // clear coat roughness (g)
+@group(2) @binding(12) var clearcoat_normal_map: texture_2d<f32>; // clear coat tangent-space normal
+@group(2) @binding(13) var transmission_map: texture_2d<f32>; // transmission (r)
 
 // The texture coordinates of a map: its coordinate set, transformed.
 fn standard_uv(in: SurfaceInput, m: vec4<f32>, o: vec4<f32>) -> vec2<f32> {
@@ -133,6 +157,32 @@ fn surface(in: SurfaceInput) -> SurfaceOutput {
 #endif
 #endif
 
+    var clearcoat = material.clearcoat;
+#ifdef HAS_CLEARCOAT_MAP
+    clearcoat *= textureSample(clearcoat_map, material_sampler,
+        standard_uv(in, material.clearcoat_map_uv, material.clearcoat_map_uv_offset)).r;
+#endif
+    var clearcoat_roughness = material.clearcoat_roughness;
+#ifdef HAS_CLEARCOAT_ROUGHNESS_MAP
+    clearcoat_roughness *= textureSample(clearcoat_roughness_map, material_sampler,
+        standard_uv(in, material.clearcoat_roughness_map_uv, material.clearcoat_roughness_map_uv_offset)).g;
+#endif
+    // zero: the engine uses the vertex normal
+    var clearcoat_normal = vec3<f32>(0.0);
+#ifdef HAS_CLEARCOAT_NORMAL_MAP
+#ifdef HAS_TANGENTS
+    let coat_texel = textureSample(clearcoat_normal_map, material_sampler,
+        standard_uv(in, material.clearcoat_normal_map_uv, material.clearcoat_normal_map_uv_offset)).xyz;
+    let coat_tangent = select(in.tangent, -in.tangent, !in.front_facing);
+    clearcoat_normal = perturb_normal(in.normal, coat_tangent, unpack_normal(coat_texel, material.clearcoat_normal_scale));
+#endif
+#endif
+    var transmission = material.transmission;
+#ifdef HAS_TRANSMISSION_MAP
+    transmission *= textureSample(transmission_map, material_sampler,
+        standard_uv(in, material.transmission_map_uv, material.transmission_map_uv_offset)).r;
+#endif
+
     metallic = clamp(metallic, 0.0, 1.0);
     var out: SurfaceOutput;
     out.diffuse = base.rgb * (1.0 - metallic);
@@ -142,5 +192,9 @@ fn surface(in: SurfaceInput) -> SurfaceOutput {
     out.normal = normal;
     out.emission = emission;
     out.occlusion = occlusion;
+    out.clearcoat = clearcoat;
+    out.clearcoat_roughness = clearcoat_roughness;
+    out.clearcoat_normal = clearcoat_normal;
+    out.transmission = transmission;
     return out;
 }

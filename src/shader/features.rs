@@ -33,6 +33,8 @@ pub const ENGINE_FLAGS: &[&str] = &[
     "HAS_UV1",
     "HAS_VERTEX_COLOR",
     "HAS_TANGENTS",
+    // the material turns on a layer: a `clearcoat` or `transmission` setting > 0
+    "HAS_LAYERS",
 ];
 
 /// The flag set when a texture is bound: `base_color_map` → `HAS_BASE_COLOR_MAP`.

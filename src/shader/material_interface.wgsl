@@ -47,6 +47,17 @@ struct SurfaceOutput {
     emission: vec3<f32>,
     // ambient occlusion 0..1: scales ambient and environment light only
     occlusion: f32,
+    // Optional layers (0 when a shader leaves them unset: `var out: SurfaceOutput;`
+    // starts zeroed). A clear coat over the surface (KHR_materials_clearcoat):
+    // its strength 0..1, perceptual roughness and unit view-space normal (a zero
+    // vector means the interpolated vertex normal, without normal mapping).
+    clearcoat: f32,
+    clearcoat_roughness: f32,
+    clearcoat_normal: vec3<f32>,
+    // thin-walled transmission 0..1 (KHR_materials_transmission): the fraction of
+    // the light entering the surface that passes through it, tinted by `diffuse`,
+    // instead of being diffusely reflected
+    transmission: f32,
 }
 
 // One light as a lighting shader sees it.

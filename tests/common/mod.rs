@@ -9,6 +9,7 @@ pub mod compile;
 pub mod display;
 pub mod gltf_gen;
 pub mod ibl;
+pub mod layers;
 pub mod raster;
 pub mod renders;
 pub mod rng;

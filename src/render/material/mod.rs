@@ -216,6 +216,9 @@ impl MaterialSet {
         if m.double_sided {
             features |= variant::engine_bit("DOUBLE_SIDED");
         }
+        if has_layers(s, &m.surface) {
+            features |= variant::engine_bit("HAS_LAYERS");
+        }
         let mut textures = vec![None; s.shader.textures.len()];
         for (name, index) in &m.surface.textures {
             match s.shader.textures.iter().position(|t| &t.name == name) {
@@ -308,6 +311,31 @@ fn list_or_none<'a>(names: impl Iterator<Item = &'a str>) -> String {
 /// names ignoring case, so the paper's `SPECULAR_POWER` sets `specular_power`),
 /// the fields' `@default`s, or zero. Unknown names, wrong component counts and
 /// values outside `@range` are errors.
+/// Whether material binding `b` of surface `s` turns on a layer (the
+/// `HAS_LAYERS` feature, layers.wgsl): its `clearcoat` or `transmission`
+/// parameter, given or by default, above 0. Only such materials compile and run
+/// the layers' shading (a material without them pays nothing for it).
+fn has_layers(s: &ShaderInfo, b: &ShaderBinding) -> bool {
+    let Some(p) = &s.shader.params else {
+        return false;
+    };
+    p.members
+        .iter()
+        .filter(|m| {
+            ["clearcoat", "transmission"]
+                .iter()
+                .any(|n| m.name.eq_ignore_ascii_case(n))
+        })
+        .any(|m| {
+            let given = b
+                .params
+                .iter()
+                .find(|(n, _)| n.eq_ignore_ascii_case(&m.name));
+            let value = given.map(|(_, v)| v.clone()).or_else(|| m.default.clone());
+            value.is_some_and(|v| v.iter().any(|x| *x > 0.0))
+        })
+}
+
 fn pack_params(
     s: &ShaderInfo,
     b: &ShaderBinding,

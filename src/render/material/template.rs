@@ -4,7 +4,7 @@
 //! several light sources").
 //!
 //! A geometry module = the engine part + the shadow lookups + the geometry
-//! template + one surface shader + one lighting shader (renamed `lmK_*`, K its
+//! template and its layers (clear coat, transmission) + one surface shader + one lighting shader (renamed `lmK_*`, K its
 //! model id) + the interface types. The light module = the engine part + the
 //! shadow lookups + the light template +
 //! every lighting shader of the scene + a dispatch on the model id stored in the
@@ -21,7 +21,10 @@ const ENGINE: &str = concat!(
     include_str!("../shaders/instance.wgsl"),
     include_str!("../shaders/environment.wgsl")
 );
-const GEOMETRY: &str = include_str!("../shaders/geometry.wgsl");
+const GEOMETRY: &str = concat!(
+    include_str!("../shaders/geometry.wgsl"),
+    include_str!("../shaders/layers.wgsl")
+);
 const LIGHT: &str = include_str!("../shaders/light.wgsl");
 /// Shadow-map lookups: both modules shade through `fx_light_sample_shadowed`.
 const SHADOW: &str = include_str!("../shaders/shadow.wgsl");

@@ -79,8 +79,46 @@ fn fx_environment(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
     if fx_env.flags.x == 0u {
         return vec3<f32>(0.0);
     }
-    let lo = fx_environment_lighting(material, fx_environment_input(s, p));
-    return s.diffuse * lo.diffuse + lo.specular;
+    let e = fx_environment_input(s, p);
+    let lo = fx_environment_lighting(material, e);
+    var diffuse = lo.diffuse;
+    if s.transmission > 0.0 {
+        // KHR_materials_transmission (layers.wgsl): the base's diffuse lobe gives
+        // way to the light through the wall
+        diffuse = mix(diffuse, fx_environment_transmitted(e), s.transmission);
+    }
+    return s.diffuse * diffuse + lo.specular;
+}
+
+// The environment seen through the thin wall, before the diffuse colour and the
+// transmission factor: the prefiltered radiance at the surface's roughness along
+// the mirrored dominant direction of its reflection lobe (-v for a mirror), times
+// the transmitted albedo (1 - F0) A of the split sum (the integral of the BTDF
+// term above over a constant environment).
+fn fx_environment_transmitted(e: EnvironmentInput) -> vec3<f32> {
+    let n = e.normal;
+    let alpha = e.roughness * e.roughness;
+    let gloss = 1.0 - alpha;
+    let r = normalize(mix(n, reflect(-e.view_dir, n), gloss * (sqrt(gloss) + alpha)));
+    let t = r - 2.0 * dot(n, r) * n;
+    let radiance = textureSampleLevel(fx_env_specular, fx_env_sampler, fx_env.map_from_view * t, e.roughness * fx_env.params.y).rgb * fx_env.params.x;
+    return radiance * (vec3<f32>(1.0) - e.specular) * e.dfg.x;
+}
+
+// The coat's reflection of the environment (before w): the split sum of its lobe
+// without Fresnel, (A + B) x the prefiltered radiance at the coat's roughness
+// about its normal, with the specular occlusion of the base's term.
+fn fx_environment_coat(s: SurfaceOutput, p: vec3<f32>) -> vec3<f32> {
+    if fx_env.flags.x == 0u {
+        return vec3<f32>(0.0);
+    }
+    var c = s;
+    c.normal = s.clearcoat_normal;
+    c.roughness = s.clearcoat_roughness;
+    let e = fx_environment_input(c, p);
+    let ndv = max(dot(e.normal, e.view_dir), 1e-4);
+    let spec_ao = clamp(pow(ndv + e.occlusion, exp2(-16.0 * e.roughness * e.roughness - 1.0)) - 1.0 + e.occlusion, 0.0, 1.0);
+    return e.prefiltered * (e.dfg.x + e.dfg.y) * spec_ao;
 }
 
 // What the pixel at `frag_xy` shows where no geometry is: the frame's colour,

@@ -86,7 +86,8 @@ fn fx_surface_input(in: FxVsOut, front: bool) -> SurfaceInput {
 
 // The surface with the engine's post-conditions (unit normal, clamped ranges).
 fn fx_surface(in: FxVsOut, front: bool) -> SurfaceOutput {
-    var s = surface(fx_surface_input(in, front));
+    let si = fx_surface_input(in, front);
+    var s = surface(si);
     s.normal = fx_safe_normalize(s.normal);
     s.roughness = clamp(s.roughness, 0.0, 1.0);
     // what the 8-bit G-buffer can hold, in every technique alike
@@ -94,6 +95,13 @@ fn fx_surface(in: FxVsOut, front: bool) -> SurfaceOutput {
     s.alpha = clamp(s.alpha, 0.0, 1.0);
     s.specular = clamp(s.specular, vec3<f32>(0.0), vec3<f32>(1.0));
     s.occlusion = clamp(s.occlusion, 0.0, 1.0);
+    // the layers (layers.wgsl): a coat without a normal of its own follows the
+    // vertex normal
+    s.clearcoat = clamp(s.clearcoat, 0.0, 1.0);
+    s.clearcoat_roughness = clamp(s.clearcoat_roughness, 0.0, 1.0);
+    let cn = s.clearcoat_normal;
+    s.clearcoat_normal = select(si.normal, cn * inverseSqrt(dot(cn, cn)), dot(cn, cn) > 1e-12);
+    s.transmission = clamp(s.transmission, 0.0, 1.0);
     return s;
 }
 
@@ -115,7 +123,8 @@ fn fx_unlit(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
 struct FxGBufferOut {
     // rgb diffuse colour, a = material id / 255 (seed 001 table 2)
     @location(0) albedo: vec4<f32>,
-    // rg = encoded normal, b = roughness
+    // rg = encoded normal, b = roughness, a = 0 where the pixel is already lit
+    // (a layered surface: the light pass leaves it alone), else 1
     @location(1) normal: vec4<f32>,
     // rgb specular colour F0 (sRGB storage), a = lighting model id / 255
     @location(2) specular: vec4<f32>,
@@ -130,10 +139,20 @@ fn fx_fs_gbuffer(in: FxVsOut, @builtin(front_facing) front: bool) -> FxGBufferOu
         discard;
     }
     var out: FxGBufferOut;
+    var layered = false;
+#ifdef HAS_LAYERS
+    layered = fx_layered(s);
+#endif
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
-    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, layered));
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
     out.light = vec4<f32>(fx_unlit(s, in.view_pos, in.material), 0.0);
+#ifdef HAS_LAYERS
+    if layered {
+        // clear coat or transmission: every light here, as forward does
+        out.light = vec4<f32>(fx_lit_color(s, in.view_pos, in.clip.xy, in.material, fx_frame.light_count), 0.0);
+    }
+#endif
     return out;
 }
 
@@ -151,8 +170,12 @@ fn fx_fs_prepass(in: FxVsOut, @builtin(front_facing) front: bool) -> FxPrepassOu
         discard;
     }
     var out: FxPrepassOut;
+    var layered = false;
+#ifdef HAS_LAYERS
+    layered = fx_layered(s);
+#endif
     out.albedo = vec4<f32>(0.0, 0.0, 0.0, f32(in.material) / 255.0);
-    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0);
+    out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, layered));
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
     return out;
 }
@@ -172,8 +195,15 @@ fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOu
     let c = vec2<i32>(in.clip.xy);
     let diffuse = textureLoad(fx_light_diffuse, c, 0).rgb;
     let specular = textureLoad(fx_light_specular, c, 0).rgb;
+    var color = s.diffuse * diffuse + specular + fx_unlit(s, in.view_pos, in.material);
+#ifdef HAS_LAYERS
+    if fx_layered(s) {
+        // clear coat or transmission: the light pass skipped it; every light here
+        color = fx_lit_color(s, in.view_pos, in.clip.xy, in.material, fx_frame.light_count);
+    }
+#endif
     var out: FxFinalOut;
-    out.scene = vec4<f32>(fx_fog(s.diffuse * diffuse + specular + fx_unlit(s, in.view_pos, in.material), in.view_pos), 1.0);
+    out.scene = vec4<f32>(fx_fog(color, in.view_pos), 1.0);
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     return out;
 }
@@ -181,8 +211,16 @@ fn fx_fs_lpp_final(in: FxVsOut, @builtin(front_facing) front: bool) -> FxFinalOu
 // The lights of a fragment at `frag_xy`: with cluster lists (cluster.w > 0)
 // the global lights and the fragment's cluster; otherwise every visible light,
 // the loop bound a compile-time constant in the preprocessor and override modes
-// (the padding past the visible lights is skipped).
+// (the padding past the visible lights is skipped). A surface with a layer
+// (clear coat, transmission) goes to `fx_lit_color` (layers.wgsl); this loop is
+// kept apart from that one because sharing it (with the layers' per-light
+// branches) made the forward pass of the built-in room 1.4x slower on lavapipe.
 fn fx_forward_color(s: SurfaceOutput, p: vec3<f32>, frag_xy: vec2<f32>, material: u32) -> vec3<f32> {
+#ifdef HAS_LAYERS
+    if fx_layered(s) {
+        return fx_lit_color(s, p, frag_xy, material, FX_LIGHT_COUNT);
+    }
+#endif
     let v = fx_safe_normalize(-p);
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);

@@ -7,7 +7,8 @@
 @group(1) @binding(0) var fx_t_depth: texture_depth_2d;
 // rgb diffuse colour (sRGB storage, linear when loaded), a = material id / 255
 @group(1) @binding(1) var fx_t_albedo: texture_2d<f32>;
-// rg encoded view-space normal, b = roughness
+// rg encoded view-space normal, b = roughness, a = 0 for a layered surface (lit
+// in its geometry pass: the light passes skip it)
 @group(1) @binding(2) var fx_t_normal: texture_2d<f32>;
 // rgb specular colour F0, a = lighting model id / 255
 @group(1) @binding(3) var fx_t_specular: texture_2d<f32>;
@@ -63,6 +64,10 @@ fn fx_fs_light(in: FxLightVsOut) -> FxLightOut {
     }
     let p = fx_view_position(in.pos.xy, depth);
     let g = textureLoad(fx_t_normal, c, 0);
+    if g.a < 0.5 {
+        // a layered surface (clear coat, transmission), lit in its geometry pass
+        return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
+    }
     let n = fx_decode_normal(g.xy);
     let ls = fx_light_sample_shadowed(fx_lights[in.light], p, n);
     if !ls.lit {
@@ -88,6 +93,10 @@ fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
     }
     let p = fx_view_position(pos.xy, depth);
     let g = textureLoad(fx_t_normal, c, 0);
+    if g.a < 0.5 {
+        // a layered surface (clear coat, transmission), lit in its geometry pass
+        return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
+    }
     let sp = textureLoad(fx_t_specular, c, 0);
     let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
     let model = u32(round(sp.a * 255.0));

@@ -1,7 +1,8 @@
 //! glTF materials and textures: the metallic-roughness material mapped onto the
 //! `standard` surface and the `cook_torrance` lighting shader (with
-//! `KHR_materials_emissive_strength`, `KHR_materials_ior`, `KHR_materials_specular`),
-//! `KHR_texture_transform` on every texture, and images decoded to RGBA8.
+//! `KHR_materials_emissive_strength`, `KHR_materials_ior`, `KHR_materials_specular`;
+//! clear coat and transmission in `material_layers.rs`), `KHR_texture_transform` on
+//! every texture, and images decoded to RGBA8.
 
 use super::Converter;
 use crate::scene::model::{AlphaMode, Material, TextureImage};
@@ -40,7 +41,7 @@ impl Converter<'_> {
     /// Binds one texture reference to the standard surface: the texture variable,
     /// `VAR_uv` (the KHR_texture_transform matrix, columns) and `VAR_uv_offset`
     /// (offset, texture coordinate set).
-    fn bind_map(&mut self, m: &mut Material, r: &TexRef) -> Result<(), String> {
+    pub(super) fn bind_map(&mut self, m: &mut Material, r: &TexRef) -> Result<(), String> {
         let t = self.texture(r.texture.clone(), r.what)?;
         let set = self.uv_set(&m.name, r);
         let [c0x, c0y, c1x, c1y] = r.transform.matrix_columns();
@@ -124,6 +125,7 @@ impl Converter<'_> {
         }
         m.surface
             .set("emissive", &emissive.to_array().map(f64::from));
+        self.material_layers(&mat, &mut m, &name)?;
         for r in texture_refs(&mat).map_err(|e| format!("{name}: {e}"))? {
             self.bind_map(&mut m, &r)?;
         }
@@ -266,7 +268,10 @@ impl UvTransform {
 
     /// From the raw JSON of the extension (normal and occlusion texture infos,
     /// which the `gltf` crate leaves untyped).
-    fn from_json(value: Option<&serde_json::Value>, what: &str) -> Result<UvTransform, String> {
+    pub(super) fn from_json(
+        value: Option<&serde_json::Value>,
+        what: &str,
+    ) -> Result<UvTransform, String> {
         let Some(value) = value else {
             return Ok(UvTransform::IDENTITY);
         };
@@ -318,11 +323,11 @@ pub(super) struct TexRef<'a> {
     /// The standard surface's texture variable.
     pub(super) var: &'static str,
     /// For messages.
-    what: &'static str,
-    texture: gltf::Texture<'a>,
+    pub(super) what: &'static str,
+    pub(super) texture: gltf::Texture<'a>,
     /// The texture info's `texCoord`.
-    tex_coord: u32,
-    transform: UvTransform,
+    pub(super) tex_coord: u32,
+    pub(super) transform: UvTransform,
 }
 
 impl TexRef<'_> {

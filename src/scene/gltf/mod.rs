@@ -15,7 +15,8 @@
 //! metallic-roughness materials mapped exactly onto the `standard` surface and the
 //! `cook_torrance` lighting shader (every core factor and texture, alpha mode,
 //! double-sided, `KHR_materials_emissive_strength`, `KHR_materials_ior`,
-//! `KHR_materials_specular` factors, `KHR_texture_transform` on every texture;
+//! `KHR_materials_specular` factors, `KHR_materials_clearcoat` and
+//! `KHR_materials_transmission` (`material_layers.rs`), `KHR_texture_transform` on every texture;
 //! see [`UvTransform`]); texture coordinate sets 0 and 1 (`TEXCOORD_1` is loaded
 //! into [`Mesh::uvs1`]; a texture reading a higher set reads set 0, with a
 //! warning) and vertex colours (`COLOR_0` into [`Mesh::colors`]); animations of
@@ -39,6 +40,7 @@ mod animation;
 mod json_checks;
 mod lights_cameras;
 mod material;
+mod material_layers;
 mod nodes;
 mod skin_attributes;
 
@@ -125,6 +127,7 @@ type Imported = (
 /// methods are in `material.rs`).
 pub(super) struct Converter<'a> {
     pub(super) name: &'a str,
+    pub(super) document: &'a gltf::Document,
     buffers: &'a [gltf::buffer::Data],
     pub(super) images: &'a [gltf::image::Data],
     pub(super) scene: Scene,
@@ -139,6 +142,7 @@ pub(super) struct Converter<'a> {
 fn convert(name: &str, (doc, buffers, images): &Imported) -> Result<Scene, String> {
     let mut c = Converter {
         name,
+        document: doc,
         buffers,
         images,
         scene: Scene {
@@ -528,8 +532,13 @@ impl Converter<'_> {
                 m.tangents = Some(t);
             }
             None => {
-                // Derived from the texture coordinates the normal map reads.
-                match refs.iter().find(|r| r.var == "normal_map").map(TexRef::set) {
+                // Derived from the texture coordinates the normal map reads (a
+                // clear coat normal map alone: set 0).
+                let coat_normal = material
+                    .extension_value("KHR_materials_clearcoat")
+                    .is_some_and(|c| c.get("clearcoatNormalTexture").is_some());
+                let normal_set = refs.iter().find(|r| r.var == "normal_map").map(TexRef::set);
+                match normal_set.or(coat_normal.then_some(0)) {
                     Some(1) if !m.uvs1.is_empty() => {
                         std::mem::swap(&mut m.uvs, &mut m.uvs1);
                         m.compute_tangents();

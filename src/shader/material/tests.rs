@@ -208,7 +208,11 @@ fn standard_params_and_textures() {
     assert_eq!(get("metallic").offset, 28);
     assert_eq!(get("roughness").offset, 44);
     assert_eq!(get("base_color_map_uv").offset, 64);
-    assert_eq!(p.size, 320);
+    // + clearcoat, clearcoat_roughness, clearcoat_normal_scale, transmission and
+    // the four layer maps' transforms
+    assert_eq!(get("clearcoat").offset, 320);
+    assert_eq!(get("clearcoat_map_uv").offset, 336);
+    assert_eq!(p.size, 464);
     let maps = [
         ("base_color_map", true),
         ("normal_map", false),
@@ -218,6 +222,10 @@ fn standard_params_and_textures() {
         ("specular_map", true),
         ("opacity_map", false),
         ("detail_map", true),
+        ("clearcoat_map", false),
+        ("clearcoat_roughness_map", false),
+        ("clearcoat_normal_map", false),
+        ("transmission_map", false),
     ];
     assert_eq!(m.textures.len(), maps.len());
     for (t, (name, srgb)) in m.textures.iter().zip(maps) {
