@@ -175,3 +175,61 @@ fn a_rendered_sequence_writes_y4m_and_video_files() {
     );
     assert_eq!(std::fs::read(&y4m).unwrap(), before);
 }
+
+#[test]
+fn gbuffer_with_time_writes_that_frames_motion() {
+    let Some(dir) = common::gpu_scratch() else {
+        return;
+    };
+    let d = dir.path().to_str().unwrap();
+    let motion = |gb: &str| {
+        let img = fxgraph::io::load_image(
+            &Path::new(d).join(gb).join("motion.exr"),
+            &Default::default(),
+        )
+        .expect("motion.exr");
+        let fxgraph::io::Pixels::F32(px) = img.pixels else {
+            panic!("motion.exr holds floats")
+        };
+        (0..px.len() / 4)
+            .map(|i| (px[4 * i], px[4 * i + 1]))
+            .collect::<Vec<_>>()
+    };
+    // a turntable (orbit about +Y, elevation 0): between t - 1/30 and t the camera
+    // turns 360 / 8 / 30 = 1.5 degrees, so pixels move sideways, hardly up or down
+    let turning = room(&["tonemap"], "orbit:period=8,elevation=0", "96x54", &[]);
+    let gb = format!("{d}/gb");
+    ok(&[
+        &turning[..],
+        &[
+            "--time",
+            "0.5",
+            "--gbuffer",
+            &gb,
+            "-o",
+            &format!("{d}/t.png"),
+        ],
+    ]
+    .concat());
+    let m = motion("gb");
+    let moving = m.iter().filter(|(x, _)| x.abs() > 0.1).count();
+    assert!(
+        moving > m.len() * 9 / 10,
+        "{moving} of {} pixels move",
+        m.len()
+    );
+    // perspective gives the floor and ceiling some vertical motion; on the whole
+    // the motion is sideways
+    let (sx, sy) = m
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x.abs(), b + y.abs()));
+    assert!(sx > 4.0 * sy, "mean |x| {sx} against mean |y| {sy}");
+    // the still (no --time) of the same camera has no motion at all
+    let still = format!("{d}/still");
+    ok(&[
+        &turning[..],
+        &["--gbuffer", &still, "-o", &format!("{d}/s.png")],
+    ]
+    .concat());
+    assert!(motion("still").iter().all(|&(x, y)| x == 0.0 && y == 0.0));
+}

@@ -308,10 +308,11 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     };
     let (scene, mut renderer, mut effect) = prepare(job, engine, &mut stats)?;
     let ctx = engine.ctx.clone();
-    let camera = match &job.camera {
-        Some(spec) => Camera::parse_spec(spec, &scene).map_err(|e| scene_error(&job.scene, e))?,
-        None => scene.default_camera(),
-    };
+    // a still is the camera path at time 0 (an orbit's start, a scene camera in
+    // its rest pose, a fixed `eye=...`, or the scene's default)
+    let camera = crate::scene::CameraPath::parse(job.camera.as_deref(), &scene)
+        .map_err(|e| scene_error(&job.scene, e))?
+        .at(&scene, None, 0.0);
     let timer = if job.timings {
         crate::gpu::context::GpuTimer::new(&ctx, 64)
     } else {

@@ -204,6 +204,14 @@ pub fn run_scene_sequence(
             }
         };
         report.frames_in += 1;
+        // `--time` with `--gbuffer`: the one output frame's G-buffer, its motion
+        // vectors those of the previous frame time
+        if let (Some(dir), true) = (&job.gbuffer, n == first && first == last) {
+            if let Err(e) = crate::render::write_gbuffer(dir, &out, &engine.ctx) {
+                fatal = Some(super::scene::render_error(&job.scene, e));
+                break;
+            }
+        }
         stats.render_cpu_ms += rs.cpu_ms;
         stats.render_gpu_ms = match (stats.render_gpu_ms, rs.gpu_ms) {
             (Some(a), Some(b)) => Some(a + b),

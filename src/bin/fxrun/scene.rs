@@ -174,9 +174,9 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
             "--fps {fps}: expected a number above 0, at most 1000"
         )));
     }
-    if cli.gbuffer.is_some() {
+    if cli.gbuffer.is_some() && cli.frames.is_some() {
         return Err(rejected(
-            "--gbuffer writes one frame's G-buffer: use it without --frames/--time",
+            "--gbuffer writes one frame's G-buffer: use it with a still or --time, not --frames",
         ));
     }
     let Some(output) = &cli.output else {
