@@ -41,10 +41,6 @@ struct Params {
 
 #include "lib/view.wgsl"
 
-fn forward_sign() -> f32 {
-    return select(-1.0, 1.0, lib_unproject(params.inv_proj, vec2<f32>(0.5), 0.25).z >= 0.0);
-}
-
 // The 4x4 rotation noise: a hash of (x mod 4, y mod 4) to [0, 1).
 fn noise(p: vec2<i32>) -> f32 {
     var h = u32(p.x & 3) * 0x9E3779B1u + u32(p.y & 3) * 0x85EBCA77u + 0x27d4eb2fu;
@@ -73,19 +69,14 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let sizef = vec2<f32>(size);
     let d = textureLoad(depth, p, 0).r;
     var n = textureLoad(normal, p, 0).xyz;
-    let nl = length(n);
-    if (!lib_has_geometry(d) || !(nl > 1e-6)) {
+    if (!lib_has_surface(d, n)) {
         return vec4<f32>(1.0);
     }
-    n = n / nl;
+    n = normalize(n);
     let uv = (vec2<f32>(p) + 0.5) / sizef;
     let P = lib_view_pos(params.inv_proj, uv, d);
-    let s = forward_sign();
-    // Face the camera: against the ray direction.
-    let ray = lib_unproject(params.inv_proj, uv, 0.75) - lib_unproject(params.inv_proj, uv, 0.25);
-    if (dot(n, ray) > 0.0) {
-        n = -n;
-    }
+    let s = lib_forward_sign(params.inv_proj);
+    n = lib_facing_camera(params.inv_proj, n, uv);
     // Tangent frame rotated by the noise angle about n.
     let ang = 6.28318531 * noise(p);
     var rv = vec3<f32>(cos(ang), sin(ang), 0.0);

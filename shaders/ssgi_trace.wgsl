@@ -69,16 +69,6 @@ struct Params {
 // The 4x4 Bayer matrix, row by row: a pixel's index in the shared direction set.
 const BAYER = array<i32, 16>(0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5);
 
-fn has_geometry(d: f32, n: vec3<f32>) -> bool {
-    return lib_has_geometry(d) && length(n) > 1e-6;
-}
-
-// A view-space normal turned against the view ray of `uv`.
-fn facing_camera(n: vec3<f32>, uv: vec2<f32>) -> vec3<f32> {
-    let ray = lib_unproject(params.inv_proj, uv, 0.75) - lib_unproject(params.inv_proj, uv, 0.25);
-    return select(n, -n, dot(n, ray) > 0.0);
-}
-
 // The pixel that view-space point X projects to; (-1, -1) when X is behind the
 // camera or outside the image.
 fn pixel_of(X: vec3<f32>, sizef: vec2<f32>) -> vec2<i32> {
@@ -134,7 +124,7 @@ fn sent(q: vec2<i32>, P: vec3<f32>, n: vec3<f32>, sizef: vec2<f32>) -> vec4<f32>
     if (!(length(nq) > 1e-6)) {
         return vec4<f32>(0.0);
     }
-    let facing = facing_camera(normalize(nq), (vec2<f32>(q) + 0.5) / sizef);
+    let facing = lib_facing_camera(params.inv_proj, normalize(nq), (vec2<f32>(q) + 0.5) / sizef);
     if (dot(facing, P - Q) > 0.0) {
         return vec4<f32>(textureLoad(img, q, 0).rgb, 1.0);
     }
@@ -148,14 +138,13 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let sizef = vec2<f32>(size);
     let d = textureLoad(depth, p, 0).r;
     var n = textureLoad(normal, p, 0).xyz;
-    if (!has_geometry(d, n)) {
+    if (!lib_has_surface(d, n)) {
         return vec4<f32>(0.0);
     }
     let uv = (vec2<f32>(p) + 0.5) / sizef;
-    n = facing_camera(normalize(n), uv);
+    n = lib_facing_camera(params.inv_proj, normalize(n), uv);
     let P = lib_view_pos(params.inv_proj, uv, d);
-    // The sign that turns a view-space z into a linear depth.
-    let s = select(-1.0, 1.0, lib_unproject(params.inv_proj, vec2<f32>(0.5), 0.25).z >= 0.0);
+    let s = lib_forward_sign(params.inv_proj);
     // The frame's offsets (an R2 low-discrepancy sequence over the frames) and
     // the pixel's place in its 4x4 block.
     let fr = f32(params.frame % 65536u);

@@ -23,6 +23,18 @@ fn lib_view_pos(inv_proj: mat4x4<f32>, uv: vec2<f32>, d: f32) -> vec3<f32> {
     return a + t * (b - a);
 }
 
+// The sign of z along the view axis (+1 or -1): turns a view-space z into a
+// linear depth (the z of a point inside the frustum, as in lib_view_pos).
+fn lib_forward_sign(inv_proj: mat4x4<f32>) -> f32 {
+    return select(-1.0, 1.0, lib_unproject(inv_proj, vec2<f32>(0.5), 0.25).z >= 0.0);
+}
+
+// A view-space normal turned against the view ray of the pixel at `uv`.
+fn lib_facing_camera(inv_proj: mat4x4<f32>, n: vec3<f32>, uv: vec2<f32>) -> vec3<f32> {
+    let ray = lib_unproject(inv_proj, uv, 0.75) - lib_unproject(inv_proj, uv, 0.25);
+    return select(n, -n, dot(n, ray) > 0.0);
+}
+
 // View-space position of the centre of texel `p` of a G-buffer of `size` texels,
 // with linear depth `d` (lib_view_pos at uv = (p + 0.5) / size).
 fn lib_texel_view_pos(inv_proj: mat4x4<f32>, p: vec2<i32>, size: vec2<f32>, d: f32) -> vec3<f32> {
@@ -33,6 +45,12 @@ fn lib_texel_view_pos(inv_proj: mat4x4<f32>, p: vec2<i32>, size: vec2<f32>, d: f
 // the renderer's "nothing here").
 fn lib_has_geometry(d: f32) -> bool {
     return d > 0.0 && d < 3.0e38;
+}
+
+// Whether a G-buffer texel holds a surface: geometry and a normal of non-zero,
+// non-NaN length.
+fn lib_has_surface(d: f32, n: vec3<f32>) -> bool {
+    return lib_has_geometry(d) && length(n) > 1e-6;
 }
 
 // Whether the neighbour `q` lies inside an image of `size` texels (neighbours
