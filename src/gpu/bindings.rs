@@ -16,29 +16,34 @@ fn entry(
     }
 }
 
-/// A uniform buffer bound whole (no dynamic offset, no minimum size).
-pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+/// A buffer of binding type `ty` bound whole (no dynamic offset, no minimum size).
+fn buffer_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
     entry(
         binding,
         visibility,
         wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
+            ty,
             has_dynamic_offset: false,
             min_binding_size: None,
         },
     )
 }
 
+/// A uniform buffer bound whole.
+pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, visibility, wgpu::BufferBindingType::Uniform)
+}
+
 /// A read-only storage buffer bound whole.
 pub fn storage_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    entry(
+    buffer_entry(
         binding,
         visibility,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
+        wgpu::BufferBindingType::Storage { read_only: true },
     )
 }
 
@@ -47,14 +52,10 @@ pub fn storage_rw_entry(
     binding: u32,
     visibility: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
-    entry(
+    buffer_entry(
         binding,
         visibility,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: false },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
+        wgpu::BufferBindingType::Storage { read_only: false },
     )
 }
 
