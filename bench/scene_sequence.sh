@@ -10,9 +10,8 @@
 # Environment (optional): FX_BENCH_SIZE=WxH (1280x720), FX_BENCH_SCENE=FILE,
 # FX_BENCH_ROUNDS=2, FX_BENCH_TECHNIQUE=deferred|light-prepass|forward.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
+. "$(dirname "$0")/lib.sh"
 export FX_BENCH_FRAMES=${1:-16}
-echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "machine: $(nproc) cores, $(load)"
 cargo bench --quiet --bench scene_sequence
-echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "after: $(load)"
