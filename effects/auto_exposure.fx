@@ -9,21 +9,21 @@
 // 0.18 * 2^compensation, unless its EV is beyond min_ev / max_ev, which clamp it.
 //
 // Method:
-// 1. Metering (m1 -> m2 -> m3, shaders/ae_meter.wgsl), the log-average: per pixel
+// 1. Metering (m1 -> m2 -> m3, shaders/effects/auto_exposure/auto_exposure_meter.wgsl), the log-average: per pixel
 //    e = clamp(log2(Y / 0.18), min_ev, max_ev) with Y the Rec. 709 luminance of the
 //    linear input (at least 1e-10: black counts as min_ev, so letterbox bars or a
 //    black frame cannot drive the exposure to infinity; a few very bright pixels
 //    count as max_ev). Three reduction passes of fixed small size, each texel the
 //    exact (mean, count) of the texels it covers: m1 at 1/8 of the input (8 x 8
 //    pixel blocks), m2 32 x 32, m3 1 x 1: the mean of e over every pixel.
-// 2. Adaptation (adapt, 1 x 1, shaders/ae_adapt.wgsl, fed back: PASS.adapt[-1]):
+// 2. Adaptation (adapt, 1 x 1, shaders/effects/auto_exposure/auto_exposure_adapt.wgsl, fed back: PASS.adapt[-1]):
 //    target = clamp(metered mean, min_ev, max_ev); dt = this frame's time minus the
 //    last one's (the standard value `time`, frame / fps). The EV moves towards the
 //    target by at most speed_up * dt EV per frame when it rises (the scene got
 //    brighter) and speed_down * dt when it falls: linear in EV, so it reaches the
 //    target exactly. The first frame of a sequence, a still image, or a frame whose
 //    time did not advance takes the target at once.
-// 3. Exposure (out, shaders/ae_apply.wgsl): rgb * 2^(compensation - ev), alpha kept.
+// 3. Exposure (out, shaders/effects/auto_exposure/auto_exposure_apply.wgsl): rgb * 2^(compensation - ev), alpha kept.
 //
 // Parameters:
 //   compensation  EV added to the result (default 0: the scene averages 0.18)
@@ -44,7 +44,7 @@ EFFECT.auto_exposure = {
         max_ev = FLOAT { DEFAULT = 10  RANGE = (-64, 64)  DESCRIPTION = "highest exposure value (brighter scenes are darkened less)" }
     }
     PASS = {
-        m1 = SHADER.ae_meter {
+        m1 = SHADER.auto_exposure_meter {
             img = IN
             min_ev = PARAM.min_ev
             max_ev = PARAM.max_ev
@@ -52,9 +52,9 @@ EFFECT.auto_exposure = {
             OUT.SCALE = 0.125
             OUT.FORMAT = rg32f
         }
-        m2 = SHADER.ae_meter { img = PASS.m1  OUT.SIZE = (32, 32)  OUT.FORMAT = rg32f }
-        m3 = SHADER.ae_meter { img = PASS.m2  OUT.SIZE = (1, 1)  OUT.FORMAT = rg32f }
-        adapt = SHADER.ae_adapt {
+        m2 = SHADER.auto_exposure_meter { img = PASS.m1  OUT.SIZE = (32, 32)  OUT.FORMAT = rg32f }
+        m3 = SHADER.auto_exposure_meter { img = PASS.m2  OUT.SIZE = (1, 1)  OUT.FORMAT = rg32f }
+        adapt = SHADER.auto_exposure_adapt {
             meter = PASS.m3
             last = PASS.adapt[-1]
             speed_up = PARAM.speed_up
@@ -64,7 +64,7 @@ EFFECT.auto_exposure = {
             OUT.SIZE = (1, 1)
             OUT.FORMAT = rgba32f
         }
-        out = SHADER.ae_apply {
+        out = SHADER.auto_exposure_apply {
             img = IN
             state = PASS.adapt
             compensation = PARAM.compensation

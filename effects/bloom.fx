@@ -14,7 +14,7 @@
 // filter13: the 13-tap downsample of Jimenez (SIGGRAPH 2014, Call of Duty: AW);
 // box4x4: 4 bilinear taps (the first level reads the full-size input, so it takes
 // the cheaper filter); tent: 3x3 tent upsample; box: 4 bilinear taps at half a
-// texel (see shaders/bloomDown.wgsl and shaders/bloomUp.wgsl).
+// texel (see shaders/effects/bloom/bloom_down.wgsl and shaders/effects/bloom/bloom_up.wgsl).
 // The level weights (1 - radius), radius (1 - radius), ..., radius^4 sum to 1, so the
 // bloom carries the thresholded light's energy, scaled by `intensity`.
 // soft_threshold: brightness b = max(r, g, b), colour scaled by contribution(b) / b,
@@ -40,7 +40,7 @@ EFFECT.bloom = {
         radius = FLOAT { DEFAULT = 0.7  RANGE = (0, 1)  DESCRIPTION = "weight of the coarser levels: larger spreads the light wider" }
     }
     PASS = {
-        down1 = SHADER.bloomDown {
+        down1 = SHADER.bloom_down {
             img = IN
             threshold = PARAM.threshold
             knee = PARAM.knee
@@ -48,55 +48,55 @@ EFFECT.bloom = {
             DEFINE.TAPS = 4
             OUT.SCALE = (0.5, 0.5)
         }
-        down2 = SHADER.bloomDown {
+        down2 = SHADER.bloom_down {
             img = PASS.down1
             OUT.SCALE = (0.5, 0.5)
             OUT.RELATIVE_TO = img
         }
-        down3 = SHADER.bloomDown {
+        down3 = SHADER.bloom_down {
             img = PASS.down2
             OUT.SCALE = (0.5, 0.5)
             OUT.RELATIVE_TO = img
         }
-        down4 = SHADER.bloomDown {
+        down4 = SHADER.bloom_down {
             img = PASS.down3
             OUT.SCALE = (0.5, 0.5)
             OUT.RELATIVE_TO = img
         }
-        down5 = SHADER.bloomDown {
+        down5 = SHADER.bloom_down {
             img = PASS.down4
             OUT.SCALE = (0.5, 0.5)
             OUT.RELATIVE_TO = img
         }
-        up4 = SHADER.bloomUp {
+        up4 = SHADER.bloom_up {
             base = PASS.down4
             low = PASS.down5
             radius = PARAM.radius
             OUT.SCALE = (1, 1)
             OUT.RELATIVE_TO = base
         }
-        up3 = SHADER.bloomUp {
+        up3 = SHADER.bloom_up {
             base = PASS.down3
             low = PASS.up4
             radius = PARAM.radius
             OUT.SCALE = (1, 1)
             OUT.RELATIVE_TO = base
         }
-        up2 = SHADER.bloomUp {
+        up2 = SHADER.bloom_up {
             base = PASS.down2
             low = PASS.up3
             radius = PARAM.radius
             OUT.SCALE = (1, 1)
             OUT.RELATIVE_TO = base
         }
-        up1 = SHADER.bloomUp {
+        up1 = SHADER.bloom_up {
             base = PASS.down1
             low = PASS.up2
             radius = PARAM.radius
             OUT.SCALE = (1, 1)
             OUT.RELATIVE_TO = base
         }
-        final = SHADER.bloomUp {
+        final = SHADER.bloom_up {
             base = IN
             low = PASS.up1
             intensity = PARAM.intensity

@@ -2,7 +2,7 @@
 //
 // What it does
 //   Keys out the backdrop of IN exactly like `chroma_key` (same parameters, same
-//   maths: see effects/chroma_key.fx and shaders/chroma_key.wgsl) and puts the
+//   maths: see effects/chroma_key.fx and shaders/effects/chroma_key/chroma_key.wgsl) and puts the
 //   despilled foreground over AUX.background (`fxrun ... --aux background=FILE`,
 //   same size as the input), in linear light:
 //       rgb = fg * a + bg * (1 - a),   alpha = a + bg.alpha * (1 - a)

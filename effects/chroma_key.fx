@@ -6,7 +6,7 @@
 //   (spill) from the foreground. The only input is IN; `chroma_composite` puts the
 //   result over a background image.
 //
-// Maths (shaders/chroma_key.wgsl)
+// Maths (shaders/effects/chroma_key/chroma_key.wgsl)
 //   On sRGB-encoded values (free for 8-bit inputs: raw view), Rec.709 Y'CbCr:
 //       Y' = 0.2126 R' + 0.7152 G' + 0.0722 B'
 //       Cb = (B' - Y') / 1.8556,  Cr = (R' - Y') / 1.5748

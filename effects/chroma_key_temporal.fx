@@ -10,7 +10,7 @@
 // Maths
 //   keyed = chroma_key(IN) (see effects/chroma_key.fx: alpha from the CbCr distance
 //   to the key colour, soft band, spill suppression), a = keyed.alpha.
-//   Pass `matte` (shaders/ckt_matte.wgsl), per pixel, on the sRGB-encoded input
+//   Pass `matte` (shaders/effects/chroma_key_temporal/chroma_key_temporal_matte.wgsl), per pixel, on the sRGB-encoded input
 //   colours of this frame and the previous one (IN, IN[-1]):
 //       D = IN - IN[-1]                                  (r, g, b)
 //       m = max(|mean of D over 3x3|, |D| / 3), averaged over r, g, b
@@ -22,7 +22,7 @@
 //   frame-to-frame differences by more. The 3x3 mean keeps the noise itself from
 //   counting as motion; the |D| / 3 term catches changes of single pixels.
 //   Frame 0 (no history): matte = a.
-//   Pass `out` (shaders/ckt_out.wgsl): keyed colour (despilled, straight) with the
+//   Pass `out` (shaders/effects/chroma_key_temporal/chroma_key_temporal_out.wgsl): keyed colour (despilled, straight) with the
 //   smoothed matte, as straight RGBA, premultiplied RGBA, or the matte as grey.
 //
 // Parameters: key, tolerance, softness, spill (forwarded to chroma_key), strength,
@@ -52,7 +52,7 @@ EFFECT.chroma_key_temporal = {
             softness = PARAM.softness
             spill = PARAM.spill
         }
-        matte = SHADER.ckt_matte {
+        matte = SHADER.chroma_key_temporal_matte {
             keyed = PASS.keyed
             cur = IN
             cur.COLORSPACE = srgb
@@ -63,7 +63,7 @@ EFFECT.chroma_key_temporal = {
             sigma = PARAM.sigma
             OUT.FORMAT = r16f
         }
-        out = SHADER.ckt_out {
+        out = SHADER.chroma_key_temporal_out {
             keyed = PASS.keyed
             matte = PASS.matte
             DEFINE.OUTPUT = PARAM.output

@@ -20,7 +20,7 @@
 //   clamp  true: clamp to [0, 1] after SOP and saturation, as the ASC spec does;
 //          false: no clamping, for HDR values above 1
 //
-// Passes: grade (SHADER.colorGrade, input size and format).
+// Passes: grade (SHADER.color_grade, input size and format).
 EFFECT.color_grade = {
     DESCRIPTION = "Colour grading: ASC CDL slope/offset/power and saturation, then lift/gamma/gain.\nThe defaults are the identity: set the parameters to grade."
     FORMAT = IN
@@ -35,7 +35,7 @@ EFFECT.color_grade = {
         clamp = BOOL { DEFAULT = true  DESCRIPTION = "clamp to [0, 1] after SOP and saturation (ASC); false keeps HDR values" }
     }
     PASS = {
-        grade = SHADER.colorGrade {
+        grade = SHADER.color_grade {
             img = IN
             slope = PARAM.slope
             offset = PARAM.offset

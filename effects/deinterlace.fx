@@ -16,7 +16,7 @@
 //   are copied exactly (bob, adaptive) and the rows of the other parity, the
 //   "missing" rows, are reconstructed.
 //
-// Modes (shaders/deint.wgsl, DEFINE.MODE)
+// Modes (shaders/effects/deinterlace/deinterlace.wgsl, DEFINE.MODE)
 //   bob       missing row y = (cur[y-1] + cur[y+1]) / 2: line doubling of the kept
 //             field with linear vertical interpolation. Never combs, halves the
 //             vertical resolution everywhere.
@@ -72,7 +72,7 @@
 // non-negative neighbours.
 //
 // Parameters: mode, field_order, threshold (below).
-// Passes: `rows` (SHADER.deint STAGE 0 with IN, IN[-1], IN[+1]) reconstructs the
+// Passes: `rows` (SHADER.deinterlace STAGE 0 with IN, IN[-1], IN[+1]) reconstructs the
 // missing rows at half height (rgba16f); `deint` (STAGE 1) weaves them with the kept
 // rows at the input's size (rgba32f; written straight into an 8-bit output).
 EFFECT.deinterlace = {
@@ -85,7 +85,7 @@ EFFECT.deinterlace = {
     PASS = {
         // The missing rows only, at half height (row r is image row 2r + 1 - p;
         // round(h / 2) rows, enough for either parity).
-        rows = SHADER.deint {
+        rows = SHADER.deinterlace {
             cur = IN
             prev = IN[-1]
             next = IN[+1]
@@ -103,7 +103,7 @@ EFFECT.deinterlace = {
         }
         // Full size: the kept rows from IN, the missing rows from `rows` (blend
         // computes every row here).
-        deint = SHADER.deint {
+        deint = SHADER.deinterlace {
             cur = IN
             missing = PASS.rows
             cur.COLORSPACE = stored

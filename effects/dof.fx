@@ -9,7 +9,7 @@
 // Inputs: IN (the scene), AUX.depth (linear view-space depth).
 //
 // Maths
-//   CoC (shaders/dof_coc.wgsl), signed radius in pixels, thin-lens shape with a
+//   CoC (shaders/effects/dof/dof_coc.wgsl), signed radius in pixels, thin-lens shape with a
 //   sharp band of depth `focal_range` around `focus_distance`:
 //       s_near = max(focus_distance - focal_range / 2, 0), s_far = focus_distance + focal_range / 2
 //       d > s_far:  c =  aperture * (1 - s_far / d)     far field, -> aperture at infinity
@@ -18,7 +18,7 @@
 //       c = clamp(c, -max_radius, max_radius); no geometry (depth 0): c = aperture.
 //   (The thin-lens CoC A f |d - s| / (d (s - f)) is proportional to |1 - s / d| when
 //   the focal length f << s.)
-//   Far field (shaders/dof_far.wgsl): gather over the disc of radius c_p with
+//   Far field (shaders/effects/dof/dof_far.wgsl): gather over the disc of radius c_p with
 //   `samples` golden-angle taps (texel loads); near-field taps are skipped; a tap's
 //   CoC is limited to the centre's, e_q = min(c_q, c_p), it covers p by
 //   clamp(e_q - |q - p| + 0.5, 0, 1) and weighs coverage / e_q^2. A sharp pixel
@@ -26,7 +26,7 @@
 //   reaches a background pixel: no halo, no background bleeding onto the sharp
 //   object. A near-field pixel gets the mean of the non-near taps of its disc: the
 //   background seen through the near field's semi-transparent edge.
-//   Near field (shaders/dof_nearmax.wgsl, dof_near.wgsl): R = the largest near CoC
+//   Near field (shaders/effects/dof/dof_nearmax.wgsl, dof_near.wgsl): R = the largest near CoC
 //   within max_radius (separable max filter); gather over the disc of radius R of
 //   near taps only, weight coverage / a_q^2 (a_q = -c_q); the near colour is their
 //   weighted mean and its coverage alpha = the collected weight divided by that of

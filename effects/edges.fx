@@ -5,7 +5,7 @@
 //   grey edge map (`mode = magnitude`), or draws it over the image in a colour
 //   (`mode = overlay`).
 //
-// Maths (shaders/sobel.wgsl)
+// Maths (shaders/effects/edges/edges_sobel.wgsl)
 //   The luma is taken on sRGB-encoded values (perceptual, like CPU tools working on
 //   8-bit files; for an 8-bit input this costs nothing: the texture is read through
 //   its raw view), with Rec.709 weights:
@@ -34,7 +34,7 @@ EFFECT.edges = {
         color = VEC3 { DEFAULT = (0, 0, 0)  RANGE = (0, 1)  DESCRIPTION = "overlay mode: colour of the edges (sRGB-encoded 0..1)" }
     }
     PASS = {
-        sobel = SHADER.sobel {
+        sobel = SHADER.edges_sobel {
             img = IN
             img.COLORSPACE = srgb
             scale = PARAM.scale

@@ -5,7 +5,7 @@
 // view-space position P of a pixel (the point of its view ray at that depth;
 // identity without a renderer: P = (ndc x, ndc y, depth)).
 //
-// Maths (shaders/fog.wgsl)
+// Maths (shaders/effects/fog/fog.wgsl)
 //   distance    L = depth (distance = depth: the view-axis distance, AUX.depth as is)
 //               L = |P|   (distance = radial: Euclidean distance from the camera,
 //                          which does not change when the camera turns)

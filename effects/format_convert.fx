@@ -7,7 +7,7 @@
 //   to a float file (EXR) or, with `fxrun --assume-linear`, to an 8-bit file
 //   without any further encoding, or to be read by a following format_convert.
 //
-// Maths (shaders/format_convert.wgsl; K = (Kr, Kb): BT.709 (0.2126, 0.0722),
+// Maths (shaders/effects/format_convert/format_convert.wgsl; K = (Kr, Kb): BT.709 (0.2126, 0.0722),
 // BT.601 (0.299, 0.114), Kg = 1 - Kr - Kb)
 //   rgb_to_ycbcr:  R'G'B' = sRGB_OETF(RGB) (transfer = srgb) or RGB (transfer = none)
 //                  Y' = Kr R' + Kg G' + Kb B'

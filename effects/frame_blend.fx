@@ -1,6 +1,6 @@
 // frame_blend: weighted average of the last N frames (like ffmpeg's tmix).
 //
-// Maths (shaders/tmix.wgsl), per pixel and channel (alpha too):
+// Maths (shaders/effects/frame_blend/frame_blend.wgsl), per pixel and channel (alpha too):
 //     out(t) = k * sum_{i=0}^{N-1} w_i * IN(max(t - i, 0))
 //     k      = scale, or 1 / sum_{i<N} w_i when scale = 0 (the default: a weighted
 //              mean; if the weights sum to 0, k = 1)
@@ -16,7 +16,7 @@
 //
 // Parameters: frames, weights, weights_more, scale (below).
 //
-// Passes: one, `mix` (SHADER.tmix with f0 = IN, f1 = IN[-1], .., f7 = IN[-7]) at the
+// Passes: one, `mix` (SHADER.frame_blend with f0 = IN, f1 = IN[-1], .., f7 = IN[-7]) at the
 // input's size in rgba16f. The script binds all 8 frames whatever N is (the
 // runtime keeps 7 earlier input frames); only the first N are read (FRAMES define).
 EFFECT.frame_blend = {
@@ -28,7 +28,7 @@ EFFECT.frame_blend = {
         scale = FLOAT { DEFAULT = 0  RANGE = (0, 32767)  DESCRIPTION = "factor of the weighted sum; 0: divide by the sum of the weights" }
     }
     PASS = {
-        mix = SHADER.tmix {
+        mix = SHADER.frame_blend {
             f0 = IN
             f1 = IN[-1]
             f2 = IN[-2]

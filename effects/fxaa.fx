@@ -6,7 +6,7 @@
 //   fraction of a texel across the edge. Flat and low-contrast pixels are left
 //   exactly as they are.
 //
-// Algorithm (shaders/fxaa.wgsl), after T. Lottes' published FXAA 3.11 description
+// Algorithm (shaders/effects/fxaa/fxaa.wgsl), after T. Lottes' published FXAA 3.11 description
 //   luma L = Rec.709 weighted sum of the sRGB-encoded colour (perceptual, as FXAA
 //   computes it on gamma-encoded frames), read through a second binding of IN
 //   with COLORSPACE = srgb: free for 8-bit inputs (raw view of the same texture);

@@ -14,8 +14,8 @@
 //          the sampler's sub-texel precision; a little slower on lavapipe)
 //
 // Passes (both at the input's size):
-//   horizontal  SHADER.gauss            IN -> horizontal blur, rgba16f
-//   vertical    SHADER.gauss VERTICAL   horizontal -> output, in the input's format
+//   horizontal  SHADER.gaussian_blur            IN -> horizontal blur, rgba16f
+//   vertical    SHADER.gaussian_blur VERTICAL   horizontal -> output, in the input's format
 //                                       (8-bit stays 8-bit)
 // The intermediate is rgba16f rather than the input's format: on lavapipe
 // sampling an rgba8-srgb texture with bilinear filtering costs more than sampling
@@ -30,13 +30,13 @@ EFFECT.gaussian_blur = {
         exact = BOOL { DEFAULT = false  DESCRIPTION = "one textureLoad per texel instead of bilinear-pair taps (slower)" }
     }
     PASS = {
-        horizontal = SHADER.gauss {
+        horizontal = SHADER.gaussian_blur {
             img = IN
             sigma = PARAM.sigma
             DEFINE.EXACT = PARAM.exact
             OUT.FORMAT = rgba16f
         }
-        vertical = SHADER.gauss {
+        vertical = SHADER.gaussian_blur {
             img = PASS.horizontal
             sigma = PARAM.sigma
             DEFINE.VERTICAL = 1

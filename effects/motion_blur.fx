@@ -13,12 +13,12 @@
 // pixels long.
 //
 // Passes:
-// 1. tile_h, tile_v (shaders/mb_tilemax.wgsl): the longest motion vector of each
+// 1. tile_h, tile_v (shaders/effects/motion_blur/motion_blur_tilemax.wgsl): the longest motion vector of each
 //    tile of about 32 x 32 pixels (OUT.SCALE 1/32 on each axis in turn; a pixel x
 //    belongs to tile floor(x tiles / width)).
-// 2. neighbor (shaders/mb_neighbor.wgsl): the longest vector of each tile's 3x3
+// 2. neighbor (shaders/effects/motion_blur/motion_blur_neighbor.wgsl): the longest vector of each tile's 3x3
 //    tiles: every pixel whose blur can reach the tile is in one of them.
-// 3. blur (shaders/mb_blur.wgsl), per pixel X with neighbour-max half-vector hn:
+// 3. blur (shaders/effects/motion_blur/motion_blur_gather.wgsl), per pixel X with neighbour-max half-vector hn:
 //    if |hn| <= 0.5 px, X is returned as it is (static regions cost one lookup).
 //    Otherwise `samples` pixels Y = X + hn t, t evenly spaced in (-1, 1) with a
 //    per-pixel offset (interleaved gradient noise), are weighted by
@@ -55,26 +55,26 @@ EFFECT.motion_blur = {
         soft_depth = FLOAT { DEFAULT = 0.05  RANGE = (0.0001, 10)  DESCRIPTION = "depth difference, relative to the pixel's depth, over which a sample goes from in front to behind" }
     }
     PASS = {
-        tile_h = SHADER.mb_tilemax {
+        tile_h = SHADER.motion_blur_tilemax {
             motion = AUX.motion
             DEFINE.AXIS = 0
             OUT.SCALE = (0.03125, 1)
             OUT.FORMAT = rg32f
         }
-        tile_v = SHADER.mb_tilemax {
+        tile_v = SHADER.motion_blur_tilemax {
             motion = PASS.tile_h
             DEFINE.AXIS = 1
             OUT.SCALE = (1, 0.03125)
             OUT.RELATIVE_TO = motion
             OUT.FORMAT = rg32f
         }
-        neighbor = SHADER.mb_neighbor {
+        neighbor = SHADER.motion_blur_neighbor {
             tiles = PASS.tile_v
             OUT.SCALE = 1
             OUT.RELATIVE_TO = tiles
             OUT.FORMAT = rg32f
         }
-        blur = SHADER.mb_blur {
+        blur = SHADER.motion_blur_gather {
             img = IN
             motion = AUX.motion
             depth = AUX.depth

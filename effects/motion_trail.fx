@@ -1,6 +1,6 @@
 // motion_trail: moving bright things leave a fading trail (feedback decay).
 //
-// Maths (shaders/trail.wgsl), per pixel, with prev = this pass's own output of the
+// Maths (shaders/effects/motion_trail/motion_trail.wgsl), per pixel, with prev = this pass's own output of the
 // previous frame (feedback PASS.trail[-1]; zero before the first frame):
 //   mode = max  out = max(cur, decay * prev)           (per channel, alpha too)
 //               A pixel that a bright object left k frames ago holds
@@ -18,7 +18,7 @@
 //   decay  fraction of the trail kept per frame (0 .. 1, default 0.8)
 //   mode   max (default) or add
 //
-// Passes: one, `trail` (SHADER.trail: cur = IN, prev = PASS.trail[-1]) at the input's
+// Passes: one, `trail` (SHADER.motion_trail: cur = IN, prev = PASS.trail[-1]) at the input's
 // size in rgba16f (HDR sums do not clip and the decay is not quantised to 8 bits).
 // Temporal behaviour: feedback only; no latency, no input history.
 EFFECT.motion_trail = {
@@ -28,7 +28,7 @@ EFFECT.motion_trail = {
         mode = ENUM { VALUES = (max, add)  DEFAULT = max  DESCRIPTION = "max: the brighter of the frame and the fading trail; add: the frame plus the fading trail" }
     }
     PASS = {
-        trail = SHADER.trail {
+        trail = SHADER.motion_trail {
             cur = IN
             prev = PASS.trail[-1]
             decay = PARAM.decay

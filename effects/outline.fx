@@ -4,7 +4,7 @@
 // Inputs: IN (the scene), AUX.depth (linear view-space depth), AUX.normal
 // (view-space normal), inv_proj (identity without a renderer).
 //
-// Detection (shaders/outline_detect.wgsl), for every pair of 4-neighbours p, q with
+// Detection (shaders/effects/outline/outline_detect.wgsl), for every pair of 4-neighbours p, q with
 // view-space positions P, Q (from depth with inv_proj) and unit normals n_p, n_q:
 //   depth edge:   max(|dot(Q - P, n_p)|, |dot(Q - P, n_q)|) > depth_threshold * min(d_p, d_q)
 //                 the distance of each pixel from the other's tangent plane, relative
@@ -17,7 +17,7 @@
 // infinitely far; both at equal depth): a line one pixel wide on the silhouette of
 // the nearer surface, none on smooth or flat regions.
 //
-// Drawing (shaders/outline_apply.wgsl):
+// Drawing (shaders/effects/outline/outline_apply.wgsl):
 //   coverage c(p) = max over outline pixels q of clamp(width - |q - p|, 0, 1)
 //   overlay:    out = vec4(mix(IN.rgb, color, opacity * c), IN.a)
 //   mask:       out = vec4(c, c, c, 1)     (white outline on black)

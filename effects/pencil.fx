@@ -20,9 +20,9 @@
 //   perceptual grey level, stored so that an 8-bit output holds 255 s.
 //
 // Passes
-//   blur_h: luma + horizontal Gaussian, half size   (shaders/pencil_blur.wgsl) -> r16f
+//   blur_h: luma + horizontal Gaussian, half size   (shaders/effects/pencil/pencil_blur.wgsl) -> r16f
 //   blur_v: vertical Gaussian, half size            (pencil_blur, VERTICAL)     -> r16f
-//   sketch: dodge, grain, tint at full size         (shaders/pencil.wgsl)       -> 8-bit
+//   sketch: dodge, grain, tint at full size         (shaders/effects/pencil/pencil_sketch.wgsl)       -> 8-bit
 //   G is smooth, so it is computed at half resolution (sigma / 2 half-size pixels,
 //   blur_h's bilinear taps averaging 2x2 input pixels) and upsampled bilinearly:
 //   a quarter of the pixels and half the taps, about 3x faster at 1920x1080 than
@@ -56,7 +56,7 @@ EFFECT.pencil = {
             OUT.SCALE = (0.5, 0.5)
             OUT.FORMAT = r16f
         }
-        sketch = SHADER.pencil {
+        sketch = SHADER.pencil_sketch {
             img = IN
             img.COLORSPACE = srgb
             blurred = PASS.blur_v

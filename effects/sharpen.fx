@@ -15,9 +15,9 @@
 //              noise and smooth areas stay as they are (0 .. 1, default 0)
 //
 // Passes (both at the input's size):
-//   blur     SHADER.gauss                     IN -> horizontal blur, rgba16f (see
+//   blur     SHADER.gaussian_blur                     IN -> horizontal blur, rgba16f (see
 //                                             gaussian_blur.fx for why)
-//   sharpen  SHADER.gauss VERTICAL UNSHARP    vertical blur of `blur`, combined
+//   sharpen  SHADER.gaussian_blur VERTICAL UNSHARP    vertical blur of `blur`, combined
 //                                             with IN in the same pass -> output,
 //                                             in the input's format
 EFFECT.sharpen = {
@@ -29,12 +29,12 @@ EFFECT.sharpen = {
         threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "per-channel differences below this are not sharpened" }
     }
     PASS = {
-        blur = SHADER.gauss {
+        blur = SHADER.gaussian_blur {
             img = IN
             sigma = PARAM.sigma
             OUT.FORMAT = rgba16f
         }
-        sharpen = SHADER.gauss {
+        sharpen = SHADER.gaussian_blur {
             img = PASS.blur
             orig = IN
             sigma = PARAM.sigma

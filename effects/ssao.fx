@@ -10,7 +10,7 @@
 // (view-space normal), and the camera's proj / inv_proj standard values (identity
 // without a renderer: then view x, y = ndc x, y, an orthographic camera).
 //
-// Maths (shaders/ssao.wgsl)
+// Maths (shaders/effects/ssao/ssao_occlusion.wgsl)
 //   P = view-space position of the pixel: the point of its view ray (unprojected
 //   with inv_proj) whose coordinate along the view axis equals AUX.depth; n = its
 //   normal, turned towards the camera. A tangent frame (t, b, n) is rotated about n
@@ -31,7 +31,7 @@
 //       ao = clamp(1 - intensity * sum_i(occluded_i r_i) / samples, 0, 1)
 //   Pixels without geometry (depth 0, infinite or NaN; zero normal) get ao = 1.
 //
-// Blur and composite (shaders/ssao_blur.wgsl)
+// Blur and composite (shaders/effects/ssao/ssao_blur.wgsl)
 //   5x5 bilateral blur, spatial weights [0.5 1 1 1 0.5] per axis (each phase of the
 //   4x4 noise gets the same weight, so its pattern cancels on flat surfaces), times
 //       exp(-(dot(Q - P, n_p) / (depth_tolerance * depth_p))^2) * max(dot(n_p, n_q), 0)^8
@@ -56,7 +56,7 @@
 // ordinary scene; at 1 the built-in room's AO is barely visible).
 //
 // Passes:
-//   ao     SHADER.ssao       AUX.depth, AUX.normal -> raw AO (r16f, input size)
+//   ao     SHADER.ssao_occlusion       AUX.depth, AUX.normal -> raw AO (r16f, input size)
 //   final  SHADER.ssao_blur  ao, AUX.depth, AUX.normal, IN -> blurred AO applied
 //                            (in IN's format)
 EFFECT.ssao = {
@@ -71,7 +71,7 @@ EFFECT.ssao = {
         output = ENUM { VALUES = (composite, ao)  DEFAULT = composite  DESCRIPTION = "composite: scene times AO; ao: the occlusion alone (grey)" }
     }
     PASS = {
-        ao = SHADER.ssao {
+        ao = SHADER.ssao_occlusion {
             depth = AUX.depth
             normal = AUX.normal
             radius = PARAM.radius

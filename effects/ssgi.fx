@@ -22,7 +22,7 @@
 // approximation of it:
 //   E(P) = integral over the hemisphere of L(w) cos(theta) dw,
 //   added radiance = intensity * albedo(P) * E / pi
-// 1. trace (shaders/ssgi_trace.wgsl): `directions` cosine-distributed directions
+// 1. trace (shaders/effects/ssgi/ssgi_trace.wgsl): `directions` cosine-distributed directions
 //    per pixel, each pixel of a 4x4 block taking every 16th direction of one
 //    evenly spread set of 16 x `directions` (a Fibonacci spiral; the set turns
 //    each frame), each marched in `steps` samples out to `radius`; a
@@ -35,11 +35,11 @@
 //    from P) ends the ray in the dark: light does not pass through walls. No hit
 //    within the radius, or leaving the image: no bounce from that direction.
 //    With cosine-distributed directions, E / pi = the mean of the L(w).
-// 2. accum (shaders/ssgi_accum.wgsl): temporal accumulation along AUX.motion: the
+// 2. accum (shaders/effects/ssgi/ssgi_accum.wgsl): temporal accumulation along AUX.motion: the
 //    running mean of up to `frames` frames, dropped on a disocclusion (depth
 //    change beyond `depth_tolerance`, relative) or outside the frame, the history
 //    clamped to mean +- clip_gamma sigma of the 3x3 current estimates.
-// 3. final (shaders/ssgi_out.wgsl): a 5x5 depth- and normal-aware blur of the
+// 3. final (shaders/effects/ssgi/ssgi_out.wgsl): a 5x5 depth- and normal-aware blur of the
 //    accumulated E / pi (the weights of ssao's blur, `blur_tolerance`), times the
 //    receiver's albedo and `intensity`, added to IN (output = indirect: the added
 //    light alone).

@@ -14,11 +14,11 @@
 // converges to the aliased image, and only flicker and crawling are reduced.
 //
 // Method, per pixel p (one frame):
-// 1. Reprojection data (geo, shaders/taa_geometry.wgsl): the nearest depth of the
+// 1. Reprojection data (geo, shaders/effects/taa/taa_geometry.wgsl): the nearest depth of the
 //    3x3 neighbourhood and the motion vector of that nearest pixel (the
 //    foreground's motion dilated by one pixel over its silhouette: edge pixels
 //    follow the object). Kept one frame (PASS.geo[-1]) for the disocclusion test.
-// 2. Current pixel without jitter (resolve, shaders/taa_resolve.wgsl): the 3x3
+// 2. Current pixel without jitter (resolve, shaders/effects/taa/taa_resolve.wgsl): the 3x3
 //    samples were taken at o + jitter from p's centre (o the integer offset);
 //    their Gaussian-weighted mean, weights exp(-|o + jitter|^2 / (2 filter_width^2)),
 //    estimates the scene at p's centre.

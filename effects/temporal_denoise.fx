@@ -82,19 +82,19 @@ EFFECT.temporal_denoise = {
         view = ENUM { VALUES = (denoised, sigma, history, motion)  DEFAULT = denoised  DESCRIPTION = "output: the denoised image, or for inspection the noise estimate, n / frames, or the motion vectors" }
     }
     PASS = {
-        nres = SHADER.tdn_noise_res { img = IN  OUT.SCALE = 0.25  OUT.FORMAT = rg16f }
-        nblk = SHADER.tdn_noise_blk { img = PASS.nres  OUT.SCALE = 0.25  OUT.RELATIVE_TO = img  OUT.FORMAT = rg16f }
-        nsig = SHADER.tdn_noise_est {
+        nres = SHADER.temporal_denoise_noise_residual { img = IN  OUT.SCALE = 0.25  OUT.FORMAT = rg16f }
+        nblk = SHADER.temporal_denoise_noise_blocks { img = PASS.nres  OUT.SCALE = 0.25  OUT.RELATIVE_TO = img  OUT.FORMAT = rg16f }
+        nsig = SHADER.temporal_denoise_noise_estimate {
             blk = PASS.nblk
             last = PASS.nsig[-1]
             sigma = PARAM.sigma
             OUT.SIZE = (1, 1)
             OUT.FORMAT = r32f
         }
-        y1 = SHADER.tdn_luma { img = IN  DEFINE.LUMA = 1  OUT.SCALE = 0.5  OUT.FORMAT = r16f }
-        y2 = SHADER.tdn_luma { img = PASS.y1  OUT.SCALE = 0.5  OUT.RELATIVE_TO = img  OUT.FORMAT = r16f }
-        y3 = SHADER.tdn_luma { img = PASS.y2  OUT.SCALE = 0.5  OUT.RELATIVE_TO = img  OUT.FORMAT = r16f }
-        mv3 = SHADER.tdn_match {
+        y1 = SHADER.temporal_denoise_luma { img = IN  DEFINE.LUMA = 1  OUT.SCALE = 0.5  OUT.FORMAT = r16f }
+        y2 = SHADER.temporal_denoise_luma { img = PASS.y1  OUT.SCALE = 0.5  OUT.RELATIVE_TO = img  OUT.FORMAT = r16f }
+        y3 = SHADER.temporal_denoise_luma { img = PASS.y2  OUT.SCALE = 0.5  OUT.RELATIVE_TO = img  OUT.FORMAT = r16f }
+        mv3 = SHADER.temporal_denoise_match {
             cur = PASS.y3
             prev = PASS.y3[-1]
             last = PASS.mv3[-1]
@@ -105,7 +105,7 @@ EFFECT.temporal_denoise = {
             OUT.RELATIVE_TO = cur
             OUT.FORMAT = rg32f
         }
-        mv2 = SHADER.tdn_match {
+        mv2 = SHADER.temporal_denoise_match {
             cur = PASS.y2
             prev = PASS.y2[-1]
             last = PASS.mv2[-1]
@@ -115,7 +115,7 @@ EFFECT.temporal_denoise = {
             OUT.RELATIVE_TO = cur
             OUT.FORMAT = rg32f
         }
-        mv1 = SHADER.tdn_match {
+        mv1 = SHADER.temporal_denoise_match {
             cur = PASS.y1
             prev = PASS.y1[-1]
             last = PASS.mv1[-1]
@@ -125,15 +125,15 @@ EFFECT.temporal_denoise = {
             OUT.RELATIVE_TO = cur
             OUT.FORMAT = rg32f
         }
-        mv0 = SHADER.tdn_refine {
+        mv0 = SHADER.temporal_denoise_refine {
             cur = IN
             hist = PASS.acc[-1]
             coarse = PASS.mv1
             OUT.SCALE = 0.125
             OUT.FORMAT = rg32f
         }
-        warp = SHADER.tdn_warp { hist = PASS.acc[-1]  mv = PASS.mv0  OUT.FORMAT = rgba16f }
-        acc = SHADER.tdn_blend {
+        warp = SHADER.temporal_denoise_warp { hist = PASS.acc[-1]  mv = PASS.mv0  OUT.FORMAT = rgba16f }
+        acc = SHADER.temporal_denoise_blend {
             cur = IN
             warped = PASS.warp
             sig = PASS.nsig
@@ -141,7 +141,7 @@ EFFECT.temporal_denoise = {
             threshold = PARAM.threshold
             OUT.FORMAT = rgba16f
         }
-        out = SHADER.tdn_out {
+        out = SHADER.temporal_denoise_out {
             cur = IN
             acc = PASS.acc
             sig = PASS.nsig

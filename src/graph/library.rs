@@ -55,11 +55,21 @@ pub fn embedded_effect(file_name: &str) -> Option<&'static str> {
         .map(|(_, t)| *t)
 }
 
-/// The embedded text of `shaders/<name>`.
-pub fn embedded_shader(file_name: &str) -> Option<&'static str> {
+/// The embedded pass shader named `file_name` (`blurX.wgsl`): its path under
+/// `shaders/` (`effects/glow/blurX.wgsl`) and its text.
+pub fn embedded_shader(file_name: &str) -> Option<(&'static str, &'static str)> {
     EMBEDDED_SHADERS
         .iter()
-        .find(|(n, _)| *n == file_name)
+        .find(|(n, _, _)| *n == file_name)
+        .map(|(_, rel, t)| (*rel, *t))
+}
+
+/// A file of the shared WGSL library by its path under `shaders/`
+/// (`lib/brdf.wgsl`).
+pub fn embedded_library_file(rel: &str) -> Option<&'static str> {
+    EMBEDDED_SHADER_LIBRARY
+        .iter()
+        .find(|(n, _)| *n == rel)
         .map(|(_, t)| *t)
 }
 

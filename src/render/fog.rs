@@ -2,7 +2,7 @@
 //! sources, shadows and fog"): distance and height fog applied per fragment in
 //! forward shading and the light pre-pass final pass, and per pixel in deferred
 //! composition, with the parameters and maths of the `fog` effect
-//! (effects/fog.fx, shaders/fog.wgsl) so that a scene can be fogged without a
+//! (effects/fog.fx, shaders/effects/fog/fog.wgsl) so that a scene can be fogged without a
 //! post pass. Transparent surfaces are fogged before they are blended.
 //!
 //! Differences from the effect, both because the renderer knows more: the

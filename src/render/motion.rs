@@ -29,8 +29,8 @@ use std::collections::HashMap;
 pub(crate) const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
 const SHADER: &str = concat!(
-    include_str!("shaders/instance.wgsl"),
-    include_str!("shaders/motion.wgsl")
+    include_str!("../../shaders/render/instance.wgsl"),
+    include_str!("../../shaders/render/motion.wgsl")
 );
 
 /// `MotionFrame` of motion.wgsl.

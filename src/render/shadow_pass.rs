@@ -32,8 +32,8 @@ const BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState {
     clamp: 0.0,
 };
 const SHADER: &str = concat!(
-    include_str!("shaders/shadow_depth.wgsl"),
-    include_str!("shaders/instance.wgsl")
+    include_str!("../../shaders/render/shadow_depth.wgsl"),
+    include_str!("../../shaders/render/instance.wgsl")
 );
 
 /// The group 0 layout entries of the shadow lookups.

@@ -32,7 +32,7 @@ use bytemuck::{Pod, Zeroable};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
-const SHADER: &str = include_str!("shaders/skinning.wgsl");
+const SHADER: &str = include_str!("../../shaders/render/skinning.wgsl");
 const WORKGROUP: u32 = 64;
 const COMPUTE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
 /// `targets` entry of an attribute a morph target does not displace.

@@ -13,7 +13,7 @@
 //!   resolved and the target must still lie under that folder, and the target must
 //!   be a regular file of at most 1 MiB. A refused file is never read.
 //! - `#include "lib/NAME.wgsl"`: the including folder first (a file on disk
-//!   overrides the library), then the built-in library `shaders/materials/lib/`.
+//!   overrides the library), then the built-in library `shaders/lib/`.
 //! - Files of the built-in library (and in-memory files) include from the built-in
 //!   tree only.
 //!
@@ -36,10 +36,10 @@ pub trait IncludeFs {
     fn file_info(&self, path: &Path) -> std::io::Result<(bool, u64)>;
     /// Read a canonical path that passed the checks.
     fn read(&self, path: &Path) -> std::io::Result<String>;
-    /// A file of the built-in material tree (`shaders/materials/`), by its path
-    /// relative to that folder (`"lib/brdf.wgsl"`).
+    /// A file of the built-in library (`shaders/lib/`), by its path relative to
+    /// `shaders/` (`"lib/brdf.wgsl"`).
     fn builtin(&self, rel: &str) -> Option<String> {
-        crate::shader::material::embedded_material_shader(rel).map(str::to_string)
+        crate::graph::library::embedded_library_file(rel).map(str::to_string)
     }
 }
 
@@ -65,8 +65,8 @@ impl IncludeFs for RealFs {
 pub enum IncludeOrigin {
     /// A file on disk (its path; made canonical by the assembler).
     Disk(PathBuf),
-    /// A file of the built-in material tree, by its path in it (`"standard.wgsl"`,
-    /// `"lib/brdf.wgsl"`).
+    /// A built-in file: a material shader by its name (`"standard.wgsl"`) or a
+    /// library file by its path under `shaders/` (`"lib/brdf.wgsl"`).
     Builtin(String),
     /// Text with no folder (tests, generated text): includes come from the
     /// built-in tree's top folder.
@@ -334,7 +334,7 @@ fn resolve(
     match fs.builtin(&full) {
         Some(text) => Ok(Resolved {
             key: format!("<builtin>/{full}"),
-            shown: format!("<builtin>/shaders/materials/{full}"),
+            shown: format!("<builtin>/shaders/{full}"),
             text,
             origin: IncludeOrigin::Builtin(full),
         }),
@@ -529,9 +529,10 @@ pub(crate) mod tests {
                 .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "no file"))
         }
         fn builtin(&self, rel: &str) -> Option<String> {
-            self.builtin.get(rel).cloned().or_else(|| {
-                crate::shader::material::embedded_material_shader(rel).map(str::to_string)
-            })
+            self.builtin
+                .get(rel)
+                .cloned()
+                .or_else(|| crate::graph::library::embedded_library_file(rel).map(str::to_string))
         }
     }
 
@@ -645,8 +646,8 @@ pub(crate) mod tests {
             names,
             [
                 "/m/a.wgsl",
-                "<builtin>/shaders/materials/lib/x.wgsl",
-                "<builtin>/shaders/materials/lib/y.wgsl"
+                "<builtin>/shaders/lib/x.wgsl",
+                "<builtin>/shaders/lib/y.wgsl"
             ]
         );
         // A file on disk overrides the library.

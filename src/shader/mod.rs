@@ -89,8 +89,8 @@ pub fn find_shader(
             });
         }
     }
-    embedded_shader(&file).map(|t| ShaderFile {
-        shown: format!("<builtin>/shaders/{file}"),
+    embedded_shader(&file).map(|(rel, t)| ShaderFile {
+        shown: format!("<builtin>/shaders/{rel}"),
         text: t.to_string(),
         path: None,
     })

@@ -1,5 +1,5 @@
 //! CPU references of the glTF material layers, written from the extensions'
-//! specifications (independent of the WGSL in src/render/shaders/layers.wgsl):
+//! specifications (independent of the WGSL in shaders/render/layers.wgsl):
 //!
 //! - `KHR_materials_clearcoat`: `coated = mix(material, clearcoat_brdf, w)` with
 //!   `w = clearcoat · (0.04 + 0.96 (1 − |v·n_c|)^5)` and `clearcoat_brdf` the glTF

@@ -10,7 +10,7 @@
 //! - this file: [`EnvironmentLighting`], the state a [`super::Renderer`] keeps
 //!   (the current maps, the cache, the background), its group-0 bindings 11–15
 //!   and its per-frame uniform.
-//! - `src/render/shaders/environment.wgsl`: the shading side, in every
+//! - `shaders/render/environment.wgsl`: the shading side, in every
 //!   generated module: the lookups, the default environment term (split sum with
 //!   Fdez-Agüera's multiple-scattering compensation, specular occlusion) and the
 //!   background.

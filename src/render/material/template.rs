@@ -1,4 +1,4 @@
-//! Generates the renderer's WGSL from templates (`src/render/shaders/`) and the
+//! Generates the renderer's WGSL from templates (`shaders/render/`) and the
 //! materials' surface and lighting shaders (seed 003: "the vertex and pixel shader
 //! code is generated from the high-level shaders by a template that supports
 //! several light sources").
@@ -17,17 +17,17 @@ use crate::shader::preprocess::preprocess;
 use std::fmt::Write as _;
 
 const ENGINE: &str = concat!(
-    include_str!("../shaders/engine.wgsl"),
-    include_str!("../shaders/instance.wgsl"),
-    include_str!("../shaders/environment.wgsl")
+    include_str!("../../../shaders/render/engine.wgsl"),
+    include_str!("../../../shaders/render/instance.wgsl"),
+    include_str!("../../../shaders/render/environment.wgsl")
 );
 const GEOMETRY: &str = concat!(
-    include_str!("../shaders/geometry.wgsl"),
-    include_str!("../shaders/layers.wgsl")
+    include_str!("../../../shaders/render/geometry.wgsl"),
+    include_str!("../../../shaders/render/layers.wgsl")
 );
-const LIGHT: &str = include_str!("../shaders/light.wgsl");
+const LIGHT: &str = include_str!("../../../shaders/render/light.wgsl");
 /// Shadow-map lookups: both modules shade through `fx_light_sample_shadowed`.
-const SHADOW: &str = include_str!("../shaders/shadow.wgsl");
+const SHADOW: &str = include_str!("../../../shaders/render/shadow.wgsl");
 
 /// Binding of the per-material feature bits in group 2 (run-time-branching mode).
 pub const FEATURES_BINDING: u32 = 16;

@@ -2,7 +2,7 @@
 //! `KHR_materials_transmission`, read from the material's raw extension JSON (the
 //! `gltf` crate types neither with our features) onto the `standard` surface's
 //! `clearcoat*` and `transmission*` settings. The engine shades them
-//! (`src/render/shaders/layers.wgsl`, docs/materials.md).
+//! (`shaders/render/layers.wgsl`, docs/materials.md).
 
 use super::material::{TexRef, UvTransform};
 use super::Converter;

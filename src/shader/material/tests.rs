@@ -81,8 +81,8 @@ fn library_lists() {
             "triplanar"
         ]
     );
-    assert!(embedded_material_shader("lib/brdf.wgsl").is_some());
-    assert!(embedded_material_shader("lib/normal.wgsl").is_some());
+    assert!(crate::graph::library::embedded_library_file("lib/brdf.wgsl").is_some());
+    assert!(crate::graph::library::embedded_library_file("lib/normal.wgsl").is_some());
     assert!(find_material_shader("lib/brdf", None).is_none());
     assert!(find_material_shader("../shaders/blurX", None).is_none());
     for (name, text) in EMBEDDED_MATERIAL_SHADERS {
