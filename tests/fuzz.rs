@@ -242,7 +242,16 @@ fn script_target() -> Target {
 }
 
 fn wgsl_target() -> Target {
-    let seeds = repository_seeds(&["shaders"], "wgsl");
+    // The pass shaders: one folder per built-in effect, and the engine's.
+    let mut dirs: Vec<String> = std::fs::read_dir(root().join("shaders/effects"))
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| format!("shaders/effects/{}", e.file_name().to_string_lossy()))
+        .collect();
+    dirs.sort();
+    dirs.push("shaders/engine".into());
+    let dirs: Vec<&str> = dirs.iter().map(String::as_str).collect();
+    let seeds = repository_seeds(&dirs, "wgsl");
     Target::new("wgsl", Input::Bytes("fuzz.wgsl"), seeds, |bytes, _| {
         let text = String::from_utf8_lossy(bytes);
         let mut sources = SourceMap::new();
@@ -285,7 +294,10 @@ fn material_target() -> Target {
 /// Material shaders (surface and lighting), with their `#include`s of the
 /// built-in library, checked as a user's file of that kind.
 fn material_wgsl_target() -> Target {
-    let seeds = repository_seeds(&["shaders/materials", "shaders/lib", "docs/examples"], "wgsl");
+    let seeds = repository_seeds(
+        &["shaders/materials", "shaders/lib", "docs/examples"],
+        "wgsl",
+    );
     // A file: its `#include`s are looked up from the file's canonical path.
     let input = Input::File("fuzz_material.wgsl");
     Target::new("material-wgsl", input, seeds, |bytes, path| {

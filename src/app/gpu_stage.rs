@@ -181,7 +181,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             }
         }
         if let Some(s) = &self.stream {
-            self.report.passes = s.last_timings.clone();
+            self.report.passes = s.median_timings();
         }
         None
     }

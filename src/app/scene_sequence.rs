@@ -293,7 +293,7 @@ pub fn run_scene_sequence(
         return Err(f.error);
     }
     if let Some(s) = &stream {
-        report.passes = s.last_timings.clone();
+        report.passes = s.median_timings();
     }
     report.done = enc.done;
     report.stages.gpu_busy_ms = ms(gpu_busy);

@@ -241,6 +241,11 @@ fn adapter_choice(a: &Option<String>) -> AdapterChoice {
 }
 
 fn run(cli: Cli) -> Result<(), Fail> {
+    let execution: fxgraph::gpu::executor::Execution = cli
+        .execution
+        .parse()
+        .map_err(|e: String| rejected(format!("--execution: {e}")))?;
+    fxgraph::gpu::executor::set_default_execution(execution);
     if cli.adapters {
         let list = list_adapters();
         if list.is_empty() {

@@ -85,6 +85,8 @@ pub struct Stream {
     pub want_timings: bool,
     /// Timings of the last frame run (when `want_timings`).
     pub last_timings: Vec<PassTiming>,
+    /// Per pass, the GPU and CPU milliseconds of every timed frame.
+    samples: Vec<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Stream {
@@ -123,7 +125,28 @@ impl Stream {
             frame_offset: 0,
             want_timings: false,
             last_timings: Vec::new(),
+            samples: Vec::new(),
         }
+    }
+
+    /// Per-pass timings over every timed frame: the last frame's passes with the
+    /// median GPU and CPU times of all frames (`frames` says how many).
+    pub fn median_timings(&self) -> Vec<PassTiming> {
+        let median = |v: &[f64]| {
+            let mut v = v.to_vec();
+            v.sort_by(f64::total_cmp);
+            (!v.is_empty()).then(|| v[v.len() / 2])
+        };
+        self.last_timings
+            .iter()
+            .zip(&self.samples)
+            .map(|(t, (gpu, cpu))| PassTiming {
+                gpu_ms: median(gpu),
+                cpu_ms: median(cpu).unwrap_or(t.cpu_ms),
+                frames: cpu.len() as u32,
+                ..t.clone()
+            })
+            .collect()
     }
 
     /// Frames of delay between an input and its output.
@@ -330,8 +353,29 @@ impl Stream {
                     then(enc, output)
                 })?;
         if self.want_timings {
-            self.last_timings = timings;
+            self.note_timings(timings);
         }
         Ok(extra)
+    }
+
+    /// Keep a frame's timings: the last frame's, and every pass's samples (the
+    /// samples restart when the passes change, as after a new plan).
+    fn note_timings(&mut self, timings: Vec<PassTiming>) {
+        let same = self.samples.len() == timings.len()
+            && self
+                .last_timings
+                .iter()
+                .zip(&timings)
+                .all(|(a, b)| a.path == b.path);
+        if !same {
+            self.samples = vec![(Vec::new(), Vec::new()); timings.len()];
+        }
+        for (s, t) in self.samples.iter_mut().zip(&timings) {
+            if let Some(g) = t.gpu_ms {
+                s.0.push(g);
+            }
+            s.1.push(t.cpu_ms);
+        }
+        self.last_timings = timings;
     }
 }

@@ -105,7 +105,11 @@ pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuErro
     })
 }
 
-/// Create an output texture for a plan.
+/// Create an output texture for a plan. Under compute execution (the process
+/// default, [`crate::gpu::executor::default_execution`], resolved for this
+/// adapter) a format the device can store to also gets `STORAGE_BINDING`, so the
+/// pass writing it can be a compute dispatch; a caller making its own output
+/// texture adds that usage for the same effect.
 pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
     // An sRGB output may be written through a raw 8-bit view (View::Raw).
     let view_formats: &[wgpu::TextureFormat] =
@@ -114,9 +118,14 @@ pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) 
         } else {
             &[]
         };
-    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+    let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT
         | wgpu::TextureUsages::COPY_SRC
         | wgpu::TextureUsages::TEXTURE_BINDING;
+    let compute = crate::gpu::executor::default_execution().resolve(&ctx.info)
+        == crate::gpu::executor::Execution::Compute;
+    if compute && ctx.format_support(wgpu_format(format)).storage {
+        usage |= wgpu::TextureUsages::STORAGE_BINDING;
+    }
     let desc = texture_2d(
         "fxgraph output",
         (width, height),

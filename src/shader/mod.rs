@@ -4,6 +4,7 @@
 //!
 //! The conventions are documented in `docs/shaders.md`.
 
+pub mod compute;
 pub mod features;
 pub mod include;
 pub mod interface;

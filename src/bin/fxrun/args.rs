@@ -123,6 +123,11 @@ pub(crate) struct Cli {
     /// Pick an adapter by index (see --adapters) or by part of its name.
     #[arg(help_heading = COMMON, long)]
     pub(crate) adapter: Option<String>,
+    /// How passes run: `fragment` (full-screen render passes), `compute`
+    /// (compute dispatches of the same shaders), or `auto`: fragment on CPU
+    /// adapters (lavapipe) and GL, compute on other GPUs.
+    #[arg(help_heading = COMMON, long, value_name = "auto|fragment|compute", default_value = "auto")]
+    pub(crate) execution: String,
     /// Sequences: only write the outputs of input frames A to B (inclusive);
     /// history/future frames outside the range are still read.
     #[arg(help_heading = SEQUENCES, long, value_name = "A..B")]

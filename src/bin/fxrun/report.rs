@@ -216,25 +216,38 @@ fn timing_lines(r: &RunReport) -> Vec<String> {
     out
 }
 
-/// The passes with their GPU (and CPU recording) time, one line each.
+/// The passes with their GPU (and CPU recording) time and the path they ran on,
+/// one line each; over a sequence, the medians of its frames.
 fn pass_lines(passes: &[PassTiming]) -> Vec<String> {
     if passes.is_empty() {
         return Vec::new();
     }
+    let frames = passes.iter().map(|p| p.frames).max().unwrap_or(1);
     let mut out = vec![format!(
-        "  {:<32} {:>11} {:<10} {:>9} {:>9}",
-        "pass", "size", "format", "gpu ms", "cpu ms"
+        "  {:<32} {:>11} {:<10} {:<8} {:>9} {:>9}{}",
+        "pass",
+        "size",
+        "format",
+        "runs as",
+        "gpu ms",
+        "cpu ms",
+        if frames > 1 {
+            format!("  (medians of {frames} frames)")
+        } else {
+            String::new()
+        }
     )];
     for p in passes {
         let gpu = p
             .gpu_ms
-            .map(|g| format!("{g:.2}"))
+            .map(|g| format!("{g:.3}"))
             .unwrap_or_else(|| "-".into());
         out.push(format!(
-            "  {:<32} {:>11} {:<10} {:>9} {:>9.2}",
+            "  {:<32} {:>11} {:<10} {:<8} {:>9} {:>9.2}",
             p.path,
             format!("{}x{}", p.width, p.height),
             p.format,
+            p.execution.name(),
             gpu,
             p.cpu_ms
         ));

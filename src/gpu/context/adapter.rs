@@ -107,12 +107,46 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
 /// An instance configured from the environment (`WGPU_BACKEND`, `WGPU_DEBUG`, ...);
 /// all backends when `WGPU_BACKEND` is unset or blank.
 pub(super) fn create_instance() -> (wgpu::Instance, wgpu::Backends) {
+    let (_, backends) = backends_from_env();
+    create_instance_with(backends)
+}
+
+/// The instance and adapters [`AdapterChoice::Auto`] chooses from: the native
+/// backends (Vulkan, Metal, DX12) first, and GL only when none of them has an
+/// adapter. Creating a GL instance and enumerating its adapters (EGL, often
+/// llvmpipe) costs tens of milliseconds of every run and never wins the Auto
+/// preference over a native adapter. `WGPU_BACKEND` still restricts the backends.
+pub(super) fn auto_instance() -> (wgpu::Instance, wgpu::Backends, Vec<wgpu::Adapter>) {
+    let (_, wanted) = backends_from_env();
+    let native = wanted & !wgpu::Backends::GL;
+    if !native.is_empty() && native != wanted {
+        let (instance, backends) = create_instance_with(native);
+        let adapters = enumerate(&instance);
+        if !adapters.is_empty() {
+            return (instance, backends, adapters);
+        }
+        log::debug!("no adapter on {}; trying GL", backend_names(native));
+    }
+    let (instance, backends) = create_instance();
+    let adapters = enumerate(&instance);
+    (instance, backends, adapters)
+}
+
+/// The instance descriptor from the environment and the backends it enables.
+fn backends_from_env() -> (wgpu::InstanceDescriptor, wgpu::Backends) {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     if std::env::var("WGPU_BACKEND").is_ok_and(|v| v.trim().is_empty()) {
         // wgpu reads a blank value as "no backends"; treat it as unset.
         desc.backends = wgpu::Backends::all();
     }
     let backends = desc.backends & wgpu::Instance::enabled_backend_features();
+    (desc, backends)
+}
+
+/// An instance configured from the environment, on `backends` only.
+fn create_instance_with(backends: wgpu::Backends) -> (wgpu::Instance, wgpu::Backends) {
+    let (mut desc, _) = backends_from_env();
+    desc.backends = backends;
     log::debug!("wgpu instance backends: {}", backend_names(backends));
     (wgpu::Instance::new(desc), backends)
 }

@@ -11,9 +11,12 @@ use std::time::{Duration, Instant};
 
 /// Features requested when the adapter has them; never required.
 ///
-/// `TIMESTAMP_QUERY` enables [`GpuTimer`], `FLOAT32_FILTERABLE` linear sampling of
-/// 32-bit float textures and `FLOAT32_BLENDABLE` blending into them.
+/// `TIMESTAMP_QUERY` enables [`GpuTimer`], `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`
+/// the adapter's own format capabilities (storage `r16f`, `rg16f`, `r8`, `rgb10a2`
+/// for compute execution), `FLOAT32_FILTERABLE` linear sampling of 32-bit float
+/// textures and `FLOAT32_BLENDABLE` blending into them.
 const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
     .union(wgpu::Features::FLOAT32_FILTERABLE)
     .union(wgpu::Features::FLOAT32_BLENDABLE);
 
@@ -83,7 +86,9 @@ mod timer;
 
 #[cfg(test)]
 use adapter::preference;
-use adapter::{backend_names, by_preference, create_instance, enumerate, request_device};
+use adapter::{
+    auto_instance, backend_names, by_preference, create_instance, enumerate, request_device,
+};
 pub use adapter::{list_adapters, AdapterChoice, AdapterSummary};
 use readback::map_slice_read;
 #[cfg(test)]
@@ -115,6 +120,9 @@ pub struct GpuContext {
     pub info: wgpu::AdapterInfo,
     /// The device has `TIMESTAMP_QUERY` (so [`GpuTimer`] works).
     pub timestamps: bool,
+    /// The backends enumerated to find the adapter (empty for
+    /// [`GpuContext::from_existing`]): GL only when no native adapter exists.
+    pub enumerated: wgpu::Backends,
     uncaptured: Arc<Mutex<Vec<String>>>,
 }
 
@@ -129,8 +137,15 @@ impl GpuContext {
     /// records errors (see [`GpuContext::take_uncaptured_errors`]) instead of panicking.
     pub fn new(choice: &AdapterChoice) -> Result<Self, GpuError> {
         let start = Instant::now();
-        let (instance, backends) = create_instance();
-        let adapters = enumerate(&instance);
+        let (instance, backends, adapters) = match choice {
+            AdapterChoice::Auto => auto_instance(),
+            // An index or a name refers to the full list (`--adapters`).
+            _ => {
+                let (instance, backends) = create_instance();
+                let adapters = enumerate(&instance);
+                (instance, backends, adapters)
+            }
+        };
         if adapters.is_empty() {
             return Err(GpuError::NoAdapter {
                 tried: backend_names(backends),
@@ -168,7 +183,8 @@ impl GpuContext {
             let info = adapter.get_info();
             match request_device(adapter) {
                 Ok((device, queue)) => {
-                    let ctx = Self::assemble(Some(instance), adapter.clone(), device, queue);
+                    let mut ctx = Self::assemble(Some(instance), adapter.clone(), device, queue);
+                    ctx.enumerated = backends;
                     ctx.install_error_handler();
                     log::info!(
                         "GPU: {} ({}, {:?}, {} {}); timestamps {}; max texture {}; created in {:.1} ms",
@@ -219,6 +235,7 @@ impl GpuContext {
             queue,
             info,
             timestamps,
+            enumerated: wgpu::Backends::empty(),
             uncaptured: Arc::default(),
         }
     }

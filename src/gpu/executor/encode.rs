@@ -18,7 +18,7 @@ pub(super) enum BindKey {
 }
 
 /// The view a source names this frame, with its bind-group key.
-fn source_view<'v>(
+pub(super) fn source_view<'v>(
     source: &Source,
     format: Option<wgpu::TextureFormat>,
     pool: &'v TexturePool,
@@ -47,27 +47,36 @@ fn source_view<'v>(
     }
 }
 
-/// The index in the pass's cache of its bind group for this frame's textures,
-/// made now on a miss; with the number of bind groups created (0 or 1).
-pub(super) fn bind_group(
-    gp: &mut GpuPass,
-    device: &wgpu::Device,
-    pool: &TexturePool,
+/// The views of the textures a pass reads this frame, in binding order, with
+/// their bind-group keys.
+pub(super) fn bound_views<'v>(
+    gp: &GpuPass,
+    pool: &'v TexturePool,
     slots: &[Option<usize>],
-    rings: &[Vec<PooledTexture>],
+    rings: &'v [Vec<PooledTexture>],
     ring_head: &[usize],
-    caller: &[wgpu::TextureView],
-) -> Result<(usize, u64), ExecError> {
-    let mut key = Vec::with_capacity(gp.textures.len());
-    for (_, source, format) in &gp.textures {
-        key.push(source_view(source, *format, pool, slots, rings, ring_head, caller)?.0);
-    }
-    if let Some(i) = gp.bind_groups.iter().position(|(k, _)| *k == key) {
-        return Ok((i, 0));
-    }
-    let mut entries: Vec<wgpu::BindGroupEntry> = Vec::with_capacity(gp.textures.len() + 3);
-    for (binding, source, format) in &gp.textures {
-        let (_, v) = source_view(source, *format, pool, slots, rings, ring_head, caller)?;
+    caller: &'v [wgpu::TextureView],
+) -> Result<Vec<(BindKey, &'v wgpu::TextureView)>, ExecError> {
+    gp.textures
+        .iter()
+        .map(|(_, source, format)| {
+            source_view(source, *format, pool, slots, rings, ring_head, caller)
+        })
+        .collect()
+}
+
+/// A bind group of a pass: its textures (`views`, in the order of
+/// `gp.textures`), samplers and uniform, and a storage target when given.
+pub(super) fn create_bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    gp: &GpuPass,
+    views: &[(BindKey, &wgpu::TextureView)],
+    storage: Option<(u32, &wgpu::TextureView)>,
+) -> wgpu::BindGroup {
+    let mut entries: Vec<wgpu::BindGroupEntry> = Vec::with_capacity(gp.textures.len() + 4);
+    for ((binding, _, _), (_, v)) in gp.textures.iter().zip(views) {
         entries.push(wgpu::BindGroupEntry {
             binding: *binding,
             resource: wgpu::BindingResource::TextureView(v),
@@ -85,11 +94,37 @@ pub(super) fn bind_group(
             resource: u.buffer.as_entire_binding(),
         });
     }
-    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(&format!("{} bind group", gp.path)),
-        layout: &gp.pipeline.layout,
+    if let Some((binding, v)) = storage {
+        entries.push(wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(v),
+        });
+    }
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
         entries: &entries,
-    });
+    })
+}
+
+/// The index in the pass's cache of its bind group for this frame's textures,
+/// made now on a miss; with the number of bind groups created (0 or 1).
+pub(super) fn bind_group(
+    gp: &mut GpuPass,
+    device: &wgpu::Device,
+    pool: &TexturePool,
+    slots: &[Option<usize>],
+    rings: &[Vec<PooledTexture>],
+    ring_head: &[usize],
+    caller: &[wgpu::TextureView],
+) -> Result<(usize, u64), ExecError> {
+    let views = bound_views(gp, pool, slots, rings, ring_head, caller)?;
+    let key: Vec<BindKey> = views.iter().map(|(k, _)| k.clone()).collect();
+    if let Some(i) = gp.bind_groups.iter().position(|(k, _)| *k == key) {
+        return Ok((i, 0));
+    }
+    let label = format!("{} bind group", gp.path);
+    let bg = create_bind_group(device, &label, &gp.pipeline.layout, gp, &views, None);
     if gp.bind_groups.len() == BIND_GROUPS_PER_PASS {
         gp.bind_groups.remove(0);
     }

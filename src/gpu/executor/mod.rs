@@ -10,6 +10,8 @@
 //! - `prepare.rs`: checks the plan against the device and builds everything that
 //!   does not change from frame to frame.
 //! - `encode.rs`: one pass: its views, its cached bind group, its render pass.
+//! - `execution.rs`, `compute.rs`: [`Execution`], and passes run as compute
+//!   dispatches (the fragment shader wrapped by [`crate::shader::compute`]).
 //! - `pool.rs`: transient textures by descriptor, reused across frames.
 //! - `params.rs`: [`Prepared::set_param`], parameters changed between frames.
 //! - `caller.rs`: the caller's images of a frame, in the view formats the plan
@@ -22,7 +24,9 @@
 
 mod bgra;
 mod caller;
+mod compute;
 mod encode;
+mod execution;
 mod inspect;
 mod params;
 mod pool;
@@ -35,6 +39,7 @@ mod prepare;
 mod record;
 
 pub use bgra::bgra_twin;
+pub use execution::{default_execution, set_default_execution, Execution};
 pub use params::{ParamError, ParamInfo};
 pub use pool::PoolStats;
 pub use record::{Prepared, PreparedStats};
@@ -98,10 +103,14 @@ pub struct PassTiming {
     pub width: u32,
     pub height: u32,
     pub format: String,
+    /// The path the pass ran on: a fragment pass or a compute dispatch.
+    pub execution: Execution,
     /// GPU time from timestamp queries, when the adapter has them.
     pub gpu_ms: Option<f64>,
     /// CPU time to record the pass into the frame's command encoder.
     pub cpu_ms: f64,
+    /// Frames these times are the medians of (1: one frame's own times).
+    pub frames: u32,
 }
 
 /// The camera of a rendered input, for the standard values `near`, `far`, `proj`
@@ -222,6 +231,8 @@ pub struct EngineStats {
     pub frames: u64,
     /// The texture pool.
     pub pool: PoolStats,
+    /// Compute pipelines created (wrapped pass shaders).
+    pub compute_pipelines_created: usize,
 }
 
 /// Device-level caches shared by every effect run on one device.
@@ -229,6 +240,9 @@ pub struct Engine {
     pub ctx: GpuContext,
     vs: wgpu::ShaderModule,
     pipelines: HashMap<PipelineKey, Arc<CachedPipeline>>,
+    compute_pipelines: HashMap<compute::ComputeKey, Option<Arc<compute::CachedCompute>>>,
+    /// The resolved execution (fragment or compute) of effects prepared next.
+    execution: Execution,
     samplers: HashMap<(Sampling, bool), wgpu::Sampler>,
     pool: TexturePool,
     ids: Ids,
@@ -236,6 +250,7 @@ pub struct Engine {
     pub shader_dirs: Vec<PathBuf>,
     /// Number of pipelines created (for tests of the cache).
     pub pipelines_created: usize,
+    compute_pipelines_created: usize,
     bind_groups_created: u64,
     frames: u64,
 }
@@ -248,18 +263,38 @@ impl Engine {
                 label: Some("fxgraph fullscreen vertex"),
                 source: wgpu::ShaderSource::Wgsl(crate::shader::FULLSCREEN_VS.into()),
             });
-        Engine {
+        let mut engine = Engine {
             ctx,
             vs,
             pipelines: HashMap::new(),
+            compute_pipelines: HashMap::new(),
+            execution: Execution::Fragment,
             samplers: HashMap::new(),
             pool: TexturePool::new(),
             ids: Ids::default(),
             shader_dirs: Vec::new(),
             pipelines_created: 0,
+            compute_pipelines_created: 0,
             bind_groups_created: 0,
             frames: 0,
-        }
+        };
+        engine.set_execution(default_execution());
+        engine
+    }
+
+    /// Run the passes of effects prepared from now on as `execution` says
+    /// (`Auto` is resolved for this engine's adapter by [`Execution::resolve`]).
+    /// Pooled textures made afterwards get the storage usage compute needs.
+    pub fn set_execution(&mut self, execution: Execution) {
+        self.execution = execution.resolve(&self.ctx.info);
+        let formats = compute::storage_formats(self, self.execution == Execution::Compute);
+        self.pool.set_storage_formats(formats);
+        log::debug!("execution: {} ({execution} requested)", self.execution);
+    }
+
+    /// The execution of effects prepared next: `Fragment` or `Compute`.
+    pub fn execution(&self) -> Execution {
+        self.execution
     }
 
     /// The engine's counters: pipelines and bind groups created, frames recorded,
@@ -270,6 +305,7 @@ impl Engine {
             bind_groups_created: self.bind_groups_created,
             frames: self.frames,
             pool: self.pool.stats,
+            compute_pipelines_created: self.compute_pipelines_created,
         }
     }
 

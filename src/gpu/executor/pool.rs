@@ -17,8 +17,11 @@ use std::collections::HashMap;
 /// A texture with its views, made once.
 pub(crate) struct PooledTexture {
     pub texture: wgpu::Texture,
-    /// The view in the texture's own format.
+    /// The view in the format of the plan's descriptor.
     pub natural: wgpu::TextureView,
+    /// That format (`rgba8-srgb` textures of compute engines are made as
+    /// `rgba8unorm` with an sRGB view: a storage texture cannot be sRGB).
+    pub natural_format: wgpu::TextureFormat,
     /// The view in the other 8-bit format (`rgba8` seen as sRGB, `rgba8-srgb` seen
     /// raw), where the backend allows one.
     pub alternate: Option<(wgpu::TextureFormat, wgpu::TextureView)>,
@@ -31,15 +34,26 @@ pub(crate) struct PooledTexture {
 }
 
 impl PooledTexture {
-    /// A texture usable as render target, sampled input and copy source.
+    /// A texture usable as render target, sampled input and copy source, and as
+    /// a storage texture when `storage` (compute execution).
     pub fn create(
         device: &wgpu::Device,
         gl: bool,
         label: &str,
         desc: TextureDesc,
         id: u64,
+        storage: bool,
     ) -> Self {
-        let format = wgpu_format(desc.format);
+        let natural_format = wgpu_format(desc.format);
+        // An sRGB texture cannot be bound for storage: under compute an sRGB
+        // texture is made in its raw twin format, its natural view is sRGB, and
+        // compute passes encode in the shader.
+        let twin = storage && natural_format.is_srgb() && !gl;
+        let format = if twin {
+            natural_format.remove_srgb_suffix()
+        } else {
+            natural_format
+        };
         let alternate = if gl {
             None
         } else {
@@ -49,20 +63,35 @@ impl PooledTexture {
                 _ => None,
             }
         };
-        let view_formats: Vec<wgpu::TextureFormat> = alternate.into_iter().collect();
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        let view_formats: Vec<wgpu::TextureFormat> = if twin {
+            vec![natural_format]
+        } else {
+            alternate.into_iter().collect()
+        };
+        let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC;
+        if storage {
+            usage |= wgpu::TextureUsages::STORAGE_BINDING;
+        }
         let size = (desc.width, desc.height);
         let texture = device.create_texture(&texture_2d(label, size, format, usage, &view_formats));
+        // A view inherits the texture's usages; an sRGB view cannot be a storage one.
+        let view_usage = |f: wgpu::TextureFormat| {
+            f.is_srgb()
+                .then_some(usage - wgpu::TextureUsages::STORAGE_BINDING)
+        };
         let natural = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some(&format!("{label} view")),
+            format: Some(natural_format),
+            usage: view_usage(natural_format),
             ..Default::default()
         });
         let alternate = alternate.map(|f| {
             let view = texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some(&format!("{label} view {f:?}")),
                 format: Some(f),
+                usage: view_usage(f),
                 ..Default::default()
             });
             (f, view)
@@ -70,6 +99,7 @@ impl PooledTexture {
         PooledTexture {
             texture,
             natural,
+            natural_format,
             alternate,
             desc,
             id,
@@ -82,7 +112,7 @@ impl PooledTexture {
     pub fn view(&self, format: Option<wgpu::TextureFormat>) -> Option<&wgpu::TextureView> {
         match format {
             None => Some(&self.natural),
-            Some(f) if f == self.texture.format() => Some(&self.natural),
+            Some(f) if f == self.natural_format => Some(&self.natural),
             Some(f) => self
                 .alternate
                 .as_ref()
@@ -125,6 +155,8 @@ pub(crate) struct TexturePool {
     vacant: Vec<usize>,
     /// Free textures unused for more frames than this are destroyed.
     pub keep_frames: u64,
+    /// Formats whose textures are made with `STORAGE_BINDING` (compute execution).
+    storage_formats: Vec<Format>,
     pub stats: PoolStats,
 }
 
@@ -135,8 +167,19 @@ impl TexturePool {
             free: HashMap::new(),
             vacant: Vec::new(),
             keep_frames: 8,
+            storage_formats: Vec::new(),
             stats: PoolStats::default(),
         }
+    }
+
+    /// Textures of `formats` made from now on can be storage textures.
+    pub fn set_storage_formats(&mut self, formats: Vec<Format>) {
+        self.storage_formats = formats;
+    }
+
+    /// Whether textures of `format` made now can be storage textures.
+    pub fn stores(&self, format: Format) -> bool {
+        self.storage_formats.contains(&format)
     }
 
     /// A texture of `desc`: the most recently freed one, or a new one.
@@ -154,7 +197,8 @@ impl TexturePool {
             "fxgraph pooled {}x{} {} #{}",
             desc.width, desc.height, desc.format, self.stats.created
         );
-        let t = PooledTexture::create(device, gl, &label, desc, ids.next());
+        let storage = self.stores(desc.format);
+        let t = PooledTexture::create(device, gl, &label, desc, ids.next(), storage);
         self.stats.created += 1;
         self.stats.held += 1;
         self.stats.held_bytes += desc.bytes();

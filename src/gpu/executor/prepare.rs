@@ -213,6 +213,13 @@ impl Engine {
                     written,
                 }
             });
+            let compute = match self.execution {
+                super::Execution::Compute => {
+                    let storage_target = source_of(&p.output, None, &plan, &mut caller);
+                    self.prepare_compute(p, &key, &refl, &samplers, storage_target)
+                }
+                _ => None,
+            };
             // A pass writing the caller's output may write a BGRA twin of it.
             let twin = match p.output {
                 Resource::Output => TwinPipeline::new(&key, &refl, &samplers, &p.path),
@@ -245,6 +252,7 @@ impl Engine {
                 (target, target_format),
             );
             gp.twin = twin;
+            gp.compute = compute;
             passes.push(gp);
         }
         if diags.has_errors() {
@@ -264,6 +272,7 @@ impl Engine {
                             &format!("{} history {i}", r.pass),
                             r.desc,
                             self.ids.next(),
+                            self.pool.stores(r.desc.format),
                         )
                     })
                     .collect::<Vec<_>>()

@@ -12,10 +12,13 @@
 //! - rotates the feedback rings after the frame.
 
 use super::bgra::{is_bgra, TwinPipeline};
+use super::compute::{encode_compute_pass, ComputePath};
 use super::encode::{bind_group, encode_pass, BindKey};
 use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
-use super::{CachedPipeline, CameraStd, Engine, ExecError, FrameInputs, ImageRef, PassTiming};
+use super::{
+    CachedPipeline, CameraStd, Engine, ExecError, Execution, FrameInputs, ImageRef, PassTiming,
+};
 use crate::gpu::context::{GpuError, GpuTimer};
 use crate::graph::plan::{Plan, Resource, Step};
 use crate::shader::reflect::StdContext;
@@ -69,6 +72,8 @@ pub(super) struct GpuPass {
     pub(super) bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
     /// A pass writing the caller's output: its pipeline for a BGRA output.
     pub(super) twin: Option<TwinPipeline>,
+    /// The pass as a compute dispatch (compute execution), where it can be one.
+    pub(super) compute: Option<ComputePath>,
 }
 
 impl GpuPass {
@@ -90,6 +95,7 @@ impl GpuPass {
             target_format: target.1,
             bind_groups: Vec::new(),
             twin: None,
+            compute: None,
         }
     }
 }
@@ -105,6 +111,10 @@ pub struct PreparedStats {
     pub bind_groups_created: u64,
     /// Views made of caller textures.
     pub caller_views_created: u64,
+    /// Passes recorded as compute dispatches.
+    pub compute_passes: u64,
+    /// Passes recorded as fragment (render) passes.
+    pub fragment_passes: u64,
 }
 
 /// A plan prepared for a device; record frames with [`Prepared::record`] or
@@ -404,48 +414,26 @@ impl Prepared {
                 }
                 Step::Run { pass } => {
                     let t0 = Instant::now();
-                    let writes = timer.and_then(|t| t.pass_writes(timings.len() as u32));
-                    let pipeline = match self.passes[pass].pipeline_for(engine, bgra) {
-                        Ok(p) => p,
-                        Err(e) => {
-                            result = Err(e.into());
-                            break;
-                        }
-                    };
-                    let recorded = encode_pass(
-                        &mut self.passes[pass],
-                        &pipeline,
-                        &engine.ctx,
-                        &engine.pool,
-                        &self.slots,
-                        &self.rings,
-                        &self.ring_head,
-                        &caller,
-                        encoder,
-                        writes,
-                    );
-                    match recorded.and_then(|created| {
-                        self.copy_inspected(engine, encoder, pass, &caller)?;
-                        Ok(created)
-                    }) {
-                        Ok(created) => {
-                            engine.bind_groups_created += created;
-                            self.stats.bind_groups_created += created;
+                    let index = timings.len() as u32;
+                    match self.record_pass(engine, encoder, pass, &caller, bgra, timer, index) {
+                        Ok(execution) => {
+                            let p = &self.plan.passes[pass];
+                            timings.push(PassTiming {
+                                path: p.path.clone(),
+                                width: p.desc.width,
+                                height: p.desc.height,
+                                format: p.desc.format.name().to_string(),
+                                execution,
+                                gpu_ms: None,
+                                cpu_ms: t0.elapsed().as_secs_f64() * 1e3,
+                                frames: 1,
+                            });
                         }
                         Err(e) => {
                             result = Err(e);
                             break;
                         }
                     }
-                    let p = &self.plan.passes[pass];
-                    timings.push(PassTiming {
-                        path: p.path.clone(),
-                        width: p.desc.width,
-                        height: p.desc.height,
-                        format: p.desc.format.name().to_string(),
-                        gpu_ms: None,
-                        cpu_ms: t0.elapsed().as_secs_f64() * 1e3,
-                    });
                 }
             }
         }
@@ -464,6 +452,68 @@ impl Prepared {
         self.frame += 1;
         self.stats.frames += 1;
         Ok(timings)
+    }
+
+    /// Record pass `pass` (the `index`-th of the frame, for timestamps): as a
+    /// compute dispatch where it has a compute path and its target allows storage,
+    /// as a render pass otherwise; then the inspection copy. Returns the path taken.
+    #[allow(clippy::too_many_arguments)]
+    fn record_pass(
+        &mut self,
+        engine: &mut Engine,
+        encoder: &mut wgpu::CommandEncoder,
+        pass: usize,
+        caller: &[wgpu::TextureView],
+        bgra: bool,
+        timer: Option<&GpuTimer>,
+        index: u32,
+    ) -> Result<Execution, ExecError> {
+        let gp = &self.passes[pass];
+        let compute = !bgra
+            && gp.runs_as_compute(
+                &engine.pool,
+                &self.slots,
+                &self.rings,
+                &self.ring_head,
+                caller,
+            );
+        let created = if compute {
+            self.stats.compute_passes += 1;
+            encode_compute_pass(
+                &mut self.passes[pass],
+                &engine.ctx.device,
+                &engine.pool,
+                &self.slots,
+                &self.rings,
+                &self.ring_head,
+                caller,
+                encoder,
+                timer.and_then(|t| t.compute_pass_writes(index)),
+            )?
+        } else {
+            self.stats.fragment_passes += 1;
+            let pipeline = self.passes[pass].pipeline_for(engine, bgra)?;
+            encode_pass(
+                &mut self.passes[pass],
+                &pipeline,
+                &engine.ctx,
+                &engine.pool,
+                &self.slots,
+                &self.rings,
+                &self.ring_head,
+                caller,
+                encoder,
+                timer.and_then(|t| t.pass_writes(index)),
+            )?
+        };
+        self.copy_inspected(engine, encoder, pass, caller)?;
+        engine.bind_groups_created += created;
+        self.stats.bind_groups_created += created;
+        Ok(if compute {
+            Execution::Compute
+        } else {
+            Execution::Fragment
+        })
     }
 
     /// Walk the plan's steps once against the pool and create the bind groups of

@@ -1,0 +1,354 @@
+//! Passes run as compute dispatches (docs/architecture.md, "Execution paths").
+//!
+//! A pass prepared under [`Execution::Compute`](super::Execution) keeps its
+//! render pipeline and gains a compute pipeline built from the same WGSL by
+//! [`crate::shader::compute`]. At each frame the pass is dispatched as compute
+//! when its target texture can be bound as a storage texture (pooled and ring
+//! textures are created with that usage on such engines; a caller's output needs
+//! `STORAGE_BINDING` too) and is drawn as before otherwise, so a caller that
+//! passes a render-only output still gets a correct frame.
+
+use super::encode::{bound_views, create_bind_group, source_view, BindKey};
+use super::pool::{PooledTexture, TexturePool};
+use super::record::{GpuPass, Source};
+use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
+use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
+use crate::gpu::context::GpuError;
+use crate::graph::plan::PlannedPass;
+use crate::script::types::{Format, Sampling};
+use crate::shader::compute::{
+    wrap_fragment_as_compute, StorageTarget, COMPUTE_ENTRY, WRAP_WORKGROUP,
+};
+use crate::shader::Reflection;
+use std::sync::Arc;
+
+/// Bind groups kept per pass, as for the fragment path.
+const BIND_GROUPS_PER_PASS: usize = 8;
+
+/// A compute pipeline with its bind group layout, shared like render pipelines.
+pub(super) struct CachedCompute {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// What a compute pipeline is made from.
+#[derive(Hash, PartialEq, Eq, Clone)]
+pub(super) struct ComputeKey {
+    /// The render pipeline's key, with `target` the storage format.
+    base: PipelineKey,
+    encode_srgb: bool,
+}
+
+/// The compute path of one pass.
+pub(super) struct ComputePath {
+    pipeline: Arc<CachedCompute>,
+    /// The storage texture's binding.
+    binding: u32,
+    /// The pass's target, viewed in `storage` (the storage view).
+    target: Source,
+    storage: wgpu::TextureFormat,
+    size: (u32, u32),
+    bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
+}
+
+/// The WGSL texel format of a storage texture of `f`.
+fn wgsl_storage_format(f: wgpu::TextureFormat) -> Option<&'static str> {
+    use wgpu::TextureFormat as T;
+    Some(match f {
+        T::Rgba8Unorm => "rgba8unorm",
+        T::Rgba16Float => "rgba16float",
+        T::Rgba32Float => "rgba32float",
+        T::Rgb10a2Unorm => "rgb10a2unorm",
+        T::R8Unorm => "r8unorm",
+        T::R16Float => "r16float",
+        T::R32Float => "r32float",
+        T::Rg16Float => "rg16float",
+        T::Rg32Float => "rg32float",
+        _ => return None,
+    })
+}
+
+/// The format a pass writing `f` stores to: `f`'s own, or for `rgba8-srgb` its
+/// raw twin (the pool makes such textures in that format on compute engines).
+fn storage_format(f: Format) -> wgpu::TextureFormat {
+    wgpu_format(f).remove_srgb_suffix()
+}
+
+/// The formats whose pooled textures an engine under `compute` creates with
+/// `STORAGE_BINDING`: those the device can store to.
+pub(super) fn storage_formats(engine: &Engine, compute: bool) -> Vec<Format> {
+    if !compute {
+        return Vec::new();
+    }
+    Format::ALL
+        .into_iter()
+        .filter(|f| {
+            let storage = storage_format(*f);
+            wgsl_storage_format(storage).is_some() && engine.ctx.format_support(storage).storage
+        })
+        .collect()
+}
+
+impl Engine {
+    /// The compute path of pass `p`, or `None` where it keeps the fragment path
+    /// (fragment execution, a target format the device cannot store to, a target
+    /// written through a raw view of an sRGB texture, or a shader only the
+    /// fragment stage can run). `target` is where the pass writes, in its own
+    /// format.
+    pub(super) fn prepare_compute(
+        &mut self,
+        p: &PlannedPass,
+        render_key: &PipelineKey,
+        refl: &Reflection,
+        samplers: &[(u32, Sampling, bool)],
+        target: Source,
+    ) -> Option<ComputePath> {
+        if !self.pool.stores(p.desc.format) {
+            return None;
+        }
+        let storage = storage_format(p.desc.format);
+        let format = wgsl_storage_format(storage)?;
+        // Written through an sRGB view (or into an sRGB texture) on the fragment
+        // path, where the hardware encodes: encode in the shader.
+        let encode_srgb = view_format(p.desc.format, p.target_view)
+            .unwrap_or(wgpu_format(p.desc.format))
+            .is_srgb();
+        let binding = 1 + refl
+            .textures
+            .iter()
+            .map(|t| t.binding)
+            .chain(refl.samplers.iter().map(|s| s.binding))
+            .chain(refl.uniform.iter().map(|u| u.binding))
+            .max()
+            .unwrap_or(0);
+        let key = ComputeKey {
+            base: PipelineKey {
+                target: storage,
+                ..render_key.clone()
+            },
+            encode_srgb,
+        };
+        let st = StorageTarget {
+            format: format.to_string(),
+            encode_srgb,
+            binding,
+        };
+        let pipeline = self.compute_pipeline(&key, &st, refl, samplers, &p.path)?;
+        Some(ComputePath {
+            pipeline,
+            binding,
+            target,
+            storage,
+            size: (p.desc.width, p.desc.height),
+            bind_groups: Vec::new(),
+        })
+    }
+
+    /// The cached compute pipeline of `key`; `None` (cached too) when the shader
+    /// cannot run as compute or the pipeline fails to build.
+    fn compute_pipeline(
+        &mut self,
+        key: &ComputeKey,
+        st: &StorageTarget,
+        refl: &Reflection,
+        samplers: &[(u32, Sampling, bool)],
+        label: &str,
+    ) -> Option<Arc<CachedCompute>> {
+        if let Some(p) = self.compute_pipelines.get(key) {
+            return p.clone();
+        }
+        let built = match wrap_fragment_as_compute(&key.base.wgsl, &key.base.entry, st) {
+            Ok(wgsl) => match self.build_compute(key, &wgsl, st, refl, samplers, label) {
+                Ok(p) => Some(Arc::new(p)),
+                Err(e) => {
+                    log::warn!("pass `{label}` stays a fragment pass: {e}");
+                    None
+                }
+            },
+            Err(why) => {
+                log::info!("pass `{label}` stays a fragment pass: {why}");
+                None
+            }
+        };
+        self.compute_pipelines.insert(key.clone(), built.clone());
+        built
+    }
+
+    fn build_compute(
+        &mut self,
+        key: &ComputeKey,
+        wgsl: &str,
+        st: &StorageTarget,
+        refl: &Reflection,
+        samplers: &[(u32, Sampling, bool)],
+        label: &str,
+    ) -> Result<CachedCompute, GpuError> {
+        let entries = compute_layout_entries(key, st, refl, samplers);
+        let built = self.ctx.scoped(label, |device| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&format!("{label} (compute)")),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            });
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&format!("{label} compute bind group layout")),
+                entries: &entries,
+            });
+            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(&format!("{label} compute pipeline layout")),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(&format!("{label} compute pipeline")),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(COMPUTE_ENTRY),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            CachedCompute { pipeline, layout }
+        })?;
+        self.compute_pipelines_created += 1;
+        Ok(built)
+    }
+}
+
+/// The bind group layout of a wrapped pass: its textures, samplers and uniform
+/// seen from the compute stage, and the storage target.
+fn compute_layout_entries(
+    key: &ComputeKey,
+    st: &StorageTarget,
+    refl: &Reflection,
+    samplers: &[(u32, Sampling, bool)],
+) -> Vec<wgpu::BindGroupLayoutEntry> {
+    let stage = wgpu::ShaderStages::COMPUTE;
+    let mut entries: Vec<wgpu::BindGroupLayoutEntry> = refl
+        .textures
+        .iter()
+        .map(|t| {
+            let filterable = key
+                .base
+                .filterable
+                .iter()
+                .find(|(b, _)| *b == t.binding)
+                .is_none_or(|(_, f)| *f);
+            texture_entry(
+                t.binding,
+                stage,
+                wgpu::TextureSampleType::Float { filterable },
+                wgpu::TextureViewDimension::D2,
+            )
+        })
+        .collect();
+    for (binding, _, filtering) in samplers {
+        let ty = if *filtering {
+            wgpu::SamplerBindingType::Filtering
+        } else {
+            wgpu::SamplerBindingType::NonFiltering
+        };
+        entries.push(sampler_entry(*binding, stage, ty));
+    }
+    if let Some(u) = &refl.uniform {
+        entries.push(uniform_entry(u.binding, stage));
+    }
+    entries.push(wgpu::BindGroupLayoutEntry {
+        binding: st.binding,
+        visibility: stage,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format: key.base.target,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    });
+    entries
+}
+
+/// The storage view of a pass's target this frame, when its texture allows one.
+fn storage_target<'v>(
+    path: &ComputePath,
+    pool: &'v TexturePool,
+    slots: &[Option<usize>],
+    rings: &'v [Vec<PooledTexture>],
+    ring_head: &[usize],
+    caller: &'v [wgpu::TextureView],
+) -> Option<(BindKey, &'v wgpu::TextureView)> {
+    let format = Some(path.storage);
+    let (key, view) =
+        source_view(&path.target, format, pool, slots, rings, ring_head, caller).ok()?;
+    view.texture()
+        .usage()
+        .contains(wgpu::TextureUsages::STORAGE_BINDING)
+        .then_some((key, view))
+}
+
+impl GpuPass {
+    /// Whether this frame runs the pass as compute: it has a compute path and its
+    /// target can be bound for storage.
+    pub(super) fn runs_as_compute(
+        &self,
+        pool: &TexturePool,
+        slots: &[Option<usize>],
+        rings: &[Vec<PooledTexture>],
+        ring_head: &[usize],
+        caller: &[wgpu::TextureView],
+    ) -> bool {
+        self.compute
+            .as_ref()
+            .is_some_and(|c| storage_target(c, pool, slots, rings, ring_head, caller).is_some())
+    }
+}
+
+/// Record one pass as a compute dispatch over its target (8 × 8 pixels per
+/// workgroup). Call only when [`GpuPass::runs_as_compute`] said so. Returns the
+/// number of bind groups created.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn encode_compute_pass(
+    gp: &mut GpuPass,
+    device: &wgpu::Device,
+    pool: &TexturePool,
+    slots: &[Option<usize>],
+    rings: &[Vec<PooledTexture>],
+    ring_head: &[usize],
+    caller: &[wgpu::TextureView],
+    encoder: &mut wgpu::CommandEncoder,
+    timestamps: Option<wgpu::ComputePassTimestampWrites>,
+) -> Result<u64, ExecError> {
+    let mut views = bound_views(gp, pool, slots, rings, ring_head, caller)?;
+    let path = gp.compute.as_ref().expect("a compute path");
+    let target = storage_target(path, pool, slots, rings, ring_head, caller)
+        .ok_or_else(|| ExecError::Input(format!("pass `{}`: no storage view", gp.path)))?;
+    views.push(target.clone());
+    let key: Vec<BindKey> = views.iter().map(|(k, _)| k.clone()).collect();
+    let cached = path.bind_groups.iter().position(|(k, _)| *k == key);
+    let (bg, created) = match cached {
+        Some(i) => (i, 0),
+        None => {
+            let bound = &views[..views.len() - 1];
+            let bg = create_bind_group(
+                device,
+                &format!("{} compute bind group", gp.path),
+                &path.pipeline.layout,
+                gp,
+                bound,
+                Some((path.binding, target.1)),
+            );
+            let path = gp.compute.as_mut().expect("a compute path");
+            if path.bind_groups.len() == BIND_GROUPS_PER_PASS {
+                path.bind_groups.remove(0);
+            }
+            path.bind_groups.push((key, bg));
+            (path.bind_groups.len() - 1, 1)
+        }
+    };
+    let path = gp.compute.as_ref().expect("a compute path");
+    let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(&gp.path),
+        timestamp_writes: timestamps,
+    });
+    cp.set_pipeline(&path.pipeline.pipeline);
+    cp.set_bind_group(0, &path.bind_groups[bg].1, &[]);
+    let (wx, wy) = WRAP_WORKGROUP;
+    cp.dispatch_workgroups(path.size.0.div_ceil(wx), path.size.1.div_ceil(wy), 1);
+    Ok(created)
+}

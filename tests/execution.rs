@@ -1,0 +1,384 @@
+//! The two execution paths give the same images (docs/architecture.md,
+//! "Execution paths"): every built-in effect, a user shader, effects with history
+//! and feedback, and the G-buffer effects of a rendered scene run with
+//! `--execution fragment` and `--execution compute`, and the outputs agree within
+//! 1e-3 in float (EXR outputs) and 1 LSB at 8 bits (PNG outputs). The reference
+//! is the fragment path, which the effects' own oracle tests check; the timings
+//! JSON shows which path each pass took, so a silent fall-back to fragment fails.
+
+mod common;
+
+use common::cli::{command, save};
+use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};
+use fxgraph::io::{load_image, Image, LoadOptions, Pixels};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+/// Effects that read a still image (no AUX inputs, no other frames).
+const STILL_EFFECTS: &[&str] = &[
+    "bloom",
+    "chroma_key",
+    "color_grade",
+    "edges",
+    "format_convert",
+    "fxaa",
+    "gaussian_blur",
+    "glow",
+    "pencil",
+    "sharpen",
+    "tonemap",
+    "vignette",
+];
+
+/// Effects with history (`IN[-n]`) or feedback (`PASS.x[-1]`), run on a sequence.
+const TEMPORAL_EFFECTS: &[&str] = &[
+    "auto_exposure",
+    "chroma_key_temporal",
+    "deinterlace",
+    "frame_blend",
+    "motion_trail",
+    "temporal_denoise",
+];
+
+/// Effects reading the renderer's G-buffer (`AUX.*`), run on a rendered scene.
+const SCENE_EFFECTS: &[&str] = &[
+    "dof",
+    "fog",
+    "motion_blur",
+    "outline",
+    "ssao",
+    "ssgi",
+    "taa",
+];
+
+/// Float outputs agree within this (absolute, per channel).
+const FLOAT_TOLERANCE: f32 = 1e-3;
+
+/// The tolerance of an effect's float output. chroma_key_temporal keys into an
+/// `rgba8-srgb` texture: the compute path encodes sRGB in the shader where the
+/// fragment path's hardware does, and the two may round one 8-bit level apart.
+/// Decoded to linear near 1.0 one level is 2.4 / 1.055 / 255 = 0.0089, so the
+/// float output agrees within 1 LSB at 8 bits of that intermediate: 0.01.
+fn tolerance(effect: &str) -> f32 {
+    match effect {
+        "chroma_key_temporal" => 0.01,
+        _ => FLOAT_TOLERANCE,
+    }
+}
+
+/// Whether a GPU is present (tests skip without one unless FX_REQUIRE_GPU=1).
+fn gpu() -> bool {
+    match GpuContext::new(&AdapterChoice::Auto) {
+        Ok(_) => true,
+        Err(e) => {
+            assert!(!require_gpu(), "FX_REQUIRE_GPU=1 but no adapter: {e}");
+            false
+        }
+    }
+}
+
+/// A 96x64 test picture: gradients, a bright disc and thin lines (edges, keys
+/// and blurs all have something to do), shifted by `t` pixels.
+fn picture(t: u32) -> Image {
+    let (w, h) = (96u32, 64u32);
+    let mut px = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let xs = (x + t) as f32;
+            let d = ((xs - 40.0).powi(2) + (y as f32 - 30.0).powi(2)).sqrt();
+            let disc = if d < 12.0 { 1.0 } else { 0.0 };
+            let line = if (x + t) % 11 == 0 || y % 13 == 0 {
+                0.8
+            } else {
+                0.0
+            };
+            let r = (xs / w as f32 * 0.7 + disc * 0.3 + line * 0.2).min(1.0);
+            let g = (y as f32 / h as f32 * 0.6 + line).min(1.0);
+            let b = (0.2 + 0.6 * disc + 0.1 * ((xs * 0.3).sin() + 1.0)).min(1.0);
+            px.extend([r, g, b, 1.0]);
+        }
+    }
+    common::samples::float_image(w, h, px)
+}
+
+/// The outputs of one run, in float, and the execution of every pass it timed.
+struct Run {
+    images: Vec<Vec<f32>>,
+    executions: Vec<(String, String)>,
+}
+
+fn run(dir: &Path, tag: &str, args: &[&str], outputs: &[&str], execution: &str) -> Run {
+    let json = dir.join(format!("{tag}-{execution}.json"));
+    let mut all: Vec<String> = args.iter().map(|s| s.replace("EXEC", execution)).collect();
+    all.extend([
+        "--execution".into(),
+        execution.into(),
+        "--timings".into(),
+        "--timings-json".into(),
+        json.display().to_string(),
+    ]);
+    let o = command(&all).current_dir(dir).output().expect("run fxrun");
+    assert!(
+        o.status.success(),
+        "{tag} ({execution}): {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let images = outputs
+        .iter()
+        .map(|name| {
+            let path = dir.join(name.replace("EXEC", execution));
+            let img = load_image(&path, &LoadOptions::default())
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            to_f32(&img)
+        })
+        .collect();
+    let report: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let mut executions = Vec::new();
+    collect_executions(&report, &mut executions);
+    Run { images, executions }
+}
+
+fn to_f32(img: &Image) -> Vec<f32> {
+    match &img.pixels {
+        Pixels::F32(v) => v.clone(),
+        Pixels::U8(v) => v.iter().map(|&b| f32::from(b) / 255.0).collect(),
+    }
+}
+
+/// Every (pass path, execution) pair of a timings report.
+fn collect_executions(v: &Value, out: &mut Vec<(String, String)>) {
+    match v {
+        Value::Object(m) => {
+            if let (Some(Value::String(e)), Some(Value::String(p))) =
+                (m.get("execution"), m.get("path"))
+            {
+                out.push((p.clone(), e.clone()));
+            }
+            m.values().for_each(|x| collect_executions(x, out));
+        }
+        Value::Array(a) => a.iter().for_each(|x| collect_executions(x, out)),
+        _ => {}
+    }
+}
+
+/// Runs `args` both ways and compares every output; returns the largest
+/// difference. `tolerance` is per channel; the compute run must have dispatched
+/// every pass as compute but for at most `fragment_ok` of them.
+fn compare(
+    dir: &Path,
+    tag: &str,
+    args: &[&str],
+    outputs: &[&str],
+    tolerance: f32,
+    fragment_ok: usize,
+) -> f32 {
+    let f = run(dir, tag, args, outputs, "fragment");
+    let c = run(dir, tag, args, outputs, "compute");
+    assert!(
+        f.executions.iter().all(|(_, e)| e == "fragment"),
+        "{tag}: fragment run dispatched compute: {:?}",
+        f.executions
+    );
+    assert!(!c.executions.is_empty(), "{tag}: no pass timings");
+    let fragment: Vec<&String> = c
+        .executions
+        .iter()
+        .filter(|(_, e)| e != "compute")
+        .map(|(p, _)| p)
+        .collect();
+    assert!(
+        fragment.len() <= fragment_ok,
+        "{tag}: passes {fragment:?} ran as fragment passes under --execution compute"
+    );
+    let mut worst = 0.0f32;
+    for (i, (a, b)) in f.images.iter().zip(&c.images).enumerate() {
+        assert_eq!(a.len(), b.len(), "{tag} output {i}: sizes differ");
+        let (at, d) = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .enumerate()
+            .fold((0, 0.0f32), |m, (j, d)| if d > m.1 { (j, d) } else { m });
+        assert!(
+            d <= tolerance,
+            "{tag} output {i}: |fragment - compute| = {d} at sample {at} (tolerance {tolerance})"
+        );
+        worst = worst.max(d);
+    }
+    eprintln!("{tag}: max |fragment - compute| = {worst:.2e}");
+    worst
+}
+
+fn temp() -> tempfile::TempDir {
+    tempfile::tempdir().unwrap()
+}
+
+#[test]
+fn every_still_effect_gives_the_same_float_image() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    save(&dir.path().join("in.exr"), &picture(0));
+    for effect in STILL_EFFECTS {
+        let out = format!("{effect}-EXEC.exr");
+        let args = [*effect, "-i", "in.exr", "-o", &out];
+        let args: Vec<&str> = args.to_vec();
+        // The EXR path writes rgba16f/32f, which every adapter can store to.
+        compare(dir.path(), effect, &args, &[&out], FLOAT_TOLERANCE, 0);
+    }
+}
+
+#[test]
+fn eight_bit_outputs_agree_within_one_level() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    save(&dir.path().join("in.png"), &picture(3));
+    for effect in ["glow", "gaussian_blur", "pencil", "tonemap"] {
+        let out = format!("{effect}-EXEC.png");
+        let args = [effect, "-i", "in.png", "-o", &out];
+        // The output texture of an 8-bit file is sRGB-encoded by its format,
+        // which no adapter stores to: the last pass may stay a fragment pass.
+        let d = compare(dir.path(), effect, &args, &[&out], 1.0 / 255.0 + 1e-6, 1);
+        assert!(d <= 1.0 / 255.0 + 1e-6);
+    }
+}
+
+#[test]
+fn a_user_shader_runs_as_compute() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    save(&dir.path().join("in.exr"), &picture(1));
+    // A shader of the user's: a helper function sampling with implicit
+    // derivatives, `pos` and `uv` both read, a parameter.
+    let wgsl = r#"
+struct Params { gain: f32, }
+@group(0) @binding(0) var img: texture_2d<f32>;
+@group(0) @binding(1) var img_sampler: sampler;
+@group(0) @binding(2) var<uniform> params: Params;
+fn tap(uv: vec2<f32>, d: vec2<f32>) -> vec4<f32> {
+    return textureSample(img, img_sampler, uv + d);
+}
+@fragment
+fn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = 1.0 / vec2<f32>(textureDimensions(img));
+    let c = 0.5 * tap(uv, vec2<f32>(0.0)) + 0.25 * (tap(uv, vec2<f32>(px.x, 0.0)) + tap(uv, vec2<f32>(0.0, px.y)));
+    let checker = f32((u32(pos.x) + u32(pos.y)) % 2u);
+    return vec4<f32>(c.rgb * params.gain + 0.01 * checker, 1.0);
+}
+"#;
+    let fx = "EFFECT.mine = {\n    PASS = {\n        p = SHADER.mine { img = IN\n gain = 1.5 }\n    }\n    OUT = p\n}\n";
+    let effect = common::cli::write_effect(dir.path(), "mine", fx, ("mine", wgsl));
+    let args = [effect.as_str(), "-i", "in.exr", "-o", "mine-EXEC.exr"];
+    compare(
+        dir.path(),
+        "user shader",
+        &args,
+        &["mine-EXEC.exr"],
+        FLOAT_TOLERANCE,
+        0,
+    );
+}
+
+/// Numbered EXR frames of a moving picture: `dir/seq/0000.exr` ...
+fn sequence(dir: &Path, frames: u32) -> PathBuf {
+    let seq = dir.join("seq");
+    std::fs::create_dir_all(&seq).unwrap();
+    for i in 0..frames {
+        save(&seq.join(format!("{i:04}.exr")), &picture(2 * i));
+    }
+    seq
+}
+
+#[test]
+fn history_and_feedback_effects_agree_frame_by_frame() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    let frames = 4;
+    sequence(dir.path(), frames);
+    for effect in TEMPORAL_EFFECTS {
+        let out = format!("{effect}-EXEC/%04d.exr");
+        let outputs: Vec<String> = (0..frames)
+            .map(|i| format!("{effect}-EXEC/{i:04}.exr"))
+            .collect();
+        let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
+        let args = [*effect, "-i", "seq/%04d.exr", "-o", &out];
+        compare(dir.path(), effect, &args, &outputs, tolerance(effect), 0);
+    }
+}
+
+#[test]
+fn gbuffer_effects_of_a_rendered_scene_agree() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    for effect in SCENE_EFFECTS {
+        let out = format!("{effect}-EXEC.exr");
+        let args = [
+            *effect,
+            "--scene",
+            "builtin:room",
+            "--size",
+            "96x64",
+            "-o",
+            &out,
+        ];
+        compare(dir.path(), effect, &args, &[&out], FLOAT_TOLERANCE, 0);
+    }
+}
+
+/// The rule `auto` applies, as the run reports it: fragment on this machine's
+/// CPU adapter (lavapipe), compute on hardware GPUs.
+#[test]
+fn auto_is_fragment_on_a_cpu_adapter() {
+    let Ok(ctx) = GpuContext::new(&AdapterChoice::Auto) else {
+        assert!(!require_gpu());
+        return;
+    };
+    let want = if ctx.info.device_type == wgpu::DeviceType::Cpu {
+        "fragment"
+    } else {
+        "compute"
+    };
+    let dir = temp();
+    save(&dir.path().join("in.exr"), &picture(0));
+    let r = run(
+        dir.path(),
+        "auto",
+        &["glow", "-i", "in.exr", "-o", "auto-EXEC.exr"],
+        &["auto-auto.exr"],
+        "auto",
+    );
+    assert!(
+        r.executions.iter().all(|(_, e)| e == want),
+        "{:?}",
+        r.executions
+    );
+}
+
+/// Auto never enumerates GL adapters when a native (Vulkan) one exists:
+/// creating the GL instance costs every run tens of milliseconds.
+#[test]
+fn no_gl_enumeration_when_vulkan_has_an_adapter() {
+    let Ok(ctx) = GpuContext::new(&AdapterChoice::Auto) else {
+        assert!(!require_gpu());
+        return;
+    };
+    if ctx.info.backend == wgpu::Backend::Vulkan {
+        assert!(
+            !ctx.enumerated.contains(wgpu::Backends::GL),
+            "enumerated {:?}",
+            ctx.enumerated
+        );
+    }
+    assert!(ctx
+        .enumerated
+        .contains(wgpu::Backends::from(ctx.info.backend)));
+}
