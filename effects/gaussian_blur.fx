@@ -9,12 +9,15 @@
 //
 // Parameters:
 //   sigma  standard deviation in pixels (0.1 .. 128, default 2)
-//   exact  false (default): bilinear-pair taps, r + 1 fetches per pixel and pass;
-//          true: one textureLoad per texel, 2r + 1 fetches (does not depend on
-//          the sampler's sub-texel precision; a little slower on lavapipe)
+//   exact  the vertical pass: false (default): bilinear-pair taps, r + 1 fetches
+//          per pixel; true: one textureLoad per texel, 2r + 1 fetches (does not
+//          depend on the sampler's sub-texel precision; a little slower on
+//          lavapipe). The horizontal pass always uses exact weights.
 //
 // Passes (both at the input's size):
-//   horizontal  SHADER.gaussian_blur            IN -> horizontal blur, rgba16f
+//   horizontal  SHADER.gaussian_blur_rows       IN -> horizontal blur, rgba16f: a
+//                                       compute pass; each 256-pixel run of a row
+//                                       is read once into workgroup memory
 //   vertical    SHADER.gaussian_blur VERTICAL   horizontal -> output, in the input's format
 //                                       (8-bit stays 8-bit)
 // The intermediate is rgba16f rather than the input's format: on lavapipe
@@ -30,10 +33,9 @@ EFFECT.gaussian_blur = {
         exact = BOOL { DEFAULT = false  DESCRIPTION = "one textureLoad per texel instead of bilinear-pair taps (slower)" }
     }
     PASS = {
-        horizontal = SHADER.gaussian_blur {
+        horizontal = SHADER.gaussian_blur_rows {
             img = IN
             sigma = PARAM.sigma
-            DEFINE.EXACT = PARAM.exact
             OUT.FORMAT = rgba16f
         }
         vertical = SHADER.gaussian_blur {

@@ -29,7 +29,7 @@ EFFECT.sharpen = {
         threshold = FLOAT { DEFAULT = 0  RANGE = (0, 1)  DESCRIPTION = "per-channel differences below this are not sharpened" }
     }
     PASS = {
-        blur = SHADER.gaussian_blur {
+        blur = SHADER.gaussian_blur_rows {
             img = IN
             sigma = PARAM.sigma
             OUT.FORMAT = rgba16f

@@ -51,6 +51,9 @@ const SCENE_EFFECTS: &[&str] = &[
     "taa",
 ];
 
+/// Passes written as compute passes (`@compute` shaders): compute on both paths.
+const NATIVE: &[&str] = &["gaussian_blur/horizontal", "sharpen/blur"];
+
 /// Float outputs agree within this (absolute, per channel).
 const FLOAT_TOLERANCE: f32 = 1e-3;
 
@@ -175,7 +178,9 @@ fn compare(
     let f = run(dir, tag, args, outputs, "fragment");
     let c = run(dir, tag, args, outputs, "compute");
     assert!(
-        f.executions.iter().all(|(_, e)| e == "fragment"),
+        f.executions
+            .iter()
+            .all(|(p, e)| e == "fragment" || NATIVE.iter().any(|n| p.ends_with(n))),
         "{tag}: fragment run dispatched compute: {:?}",
         f.executions
     );
@@ -381,4 +386,72 @@ fn no_gl_enumeration_when_vulkan_has_an_adapter() {
     assert!(ctx
         .enumerated
         .contains(wgpu::Backends::from(ctx.info.backend)));
+}
+
+/// A compute pass of the user's (`@compute` and a storage output) runs on both
+/// execution paths and matches its CPU oracle (2 × the input, within the
+/// rounding of the rgba16f output);
+/// one whose storage format is not the pass's format is refused with the
+/// pass, the variable and both formats named.
+#[test]
+fn a_user_compute_pass_runs_and_a_wrong_storage_format_is_named() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    let input = picture(5);
+    save(&dir.path().join("in.exr"), &input);
+    let wgsl = |format: &str| {
+        format!(
+            r#"
+@group(0) @binding(0) var img: texture_2d<f32>;
+@group(0) @binding(1) var out: texture_storage_2d<{format}, write>;
+@compute @workgroup_size(8, 4, 1)
+fn twice(@builtin(global_invocation_id) id: vec3<u32>) {{
+    let size = textureDimensions(img);
+    if id.x >= size.x || id.y >= size.y {{
+        return;
+    }}
+    textureStore(out, id.xy, 2.0 * textureLoad(img, id.xy, 0));
+}}
+"#
+        )
+    };
+    let fx = "EFFECT.twice = {\n    PASS = {\n        p = SHADER.twice { img = IN\n OUT.FORMAT = rgba16f }\n    }\n    OUT = p\n}\n";
+    let effect =
+        common::cli::write_effect(dir.path(), "twice", fx, ("twice", &wgsl("rgba16float")));
+    let want: Vec<f32> = to_f32(&input).iter().map(|v| 2.0 * v).collect();
+    for execution in ["fragment", "compute"] {
+        let args = [effect.as_str(), "-i", "in.exr", "-o", "twice-EXEC.exr"];
+        let r = run(dir.path(), "twice", &args, &["twice-EXEC.exr"], execution);
+        assert_eq!(
+            r.executions,
+            [("twice/p".to_string(), "compute".to_string())]
+        );
+        let worst = r.images[0]
+            .iter()
+            .zip(&want)
+            .map(|(g, w)| (g - w).abs() / w.abs().max(1e-3))
+            .fold(0.0f32, f32::max);
+        // rgba16f keeps 11 significant bits: a relative error of at most 2^-11.
+        assert!(
+            worst <= 1.0 / 2048.0,
+            "{execution}: relative error {worst} from 2 x the input"
+        );
+    }
+    std::fs::write(dir.path().join("twice.wgsl"), wgsl("rgba32float")).unwrap();
+    let o = command([effect.as_str(), "-i", "in.exr", "-o", "bad.exr"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("twice.fx:3:9")
+            && err.contains("`out`")
+            && err.contains("rgba16f")
+            && err.contains("rgba32float"),
+        "{err}"
+    );
+    assert!(!dir.path().join("bad.exr").exists());
 }

@@ -105,11 +105,11 @@ pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuErro
     })
 }
 
-/// Create an output texture for a plan. Under compute execution (the process
-/// default, [`crate::gpu::executor::default_execution`], resolved for this
-/// adapter) a format the device can store to also gets `STORAGE_BINDING`, so the
-/// pass writing it can be a compute dispatch; a caller making its own output
-/// texture adds that usage for the same effect.
+/// Create an output texture for a plan. A format the device can store to also
+/// gets `STORAGE_BINDING`, so the pass writing it can be a compute dispatch
+/// (compute execution, or a compute-native pass); a caller making its own output
+/// texture adds that usage for the same effect. sRGB formats cannot be storage
+/// textures: their last pass stays a fragment pass.
 pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
     // An sRGB output may be written through a raw 8-bit view (View::Raw).
     let view_formats: &[wgpu::TextureFormat] =
@@ -121,9 +121,7 @@ pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) 
     let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT
         | wgpu::TextureUsages::COPY_SRC
         | wgpu::TextureUsages::TEXTURE_BINDING;
-    let compute = crate::gpu::executor::default_execution().resolve(&ctx.info)
-        == crate::gpu::executor::Execution::Compute;
-    if compute && ctx.format_support(wgpu_format(format)).storage {
+    if ctx.format_support(wgpu_format(format)).storage {
         usage |= wgpu::TextureUsages::STORAGE_BINDING;
     }
     let desc = texture_2d(

@@ -26,8 +26,8 @@ pub use material::{
 };
 pub use preprocess::preprocess;
 pub use reflect::{
-    check_member_value, reflect, Reflection, StdValue, UniformField, UniformLayout, UniformMember,
-    UniformSource, ValueMismatch,
+    check_member_value, reflect, ComputeNative, Reflection, StdValue, StorageOutput, UniformField,
+    UniformLayout, UniformMember, UniformSource, ValueMismatch,
 };
 pub use rename::prefix_module_names;
 

@@ -9,6 +9,25 @@ use naga::{ImageClass, ImageDimension, ScalarKind, TypeInner};
 pub(crate) use super::uniforms::std_value;
 pub use super::uniforms::{StdContext, StdValue, UniformField, UniformLayout, UniformSource};
 
+/// The output of a compute-native pass: its one write-only
+/// `texture_storage_2d<FORMAT, write>`.
+#[derive(Debug, Clone)]
+pub struct StorageOutput {
+    pub name: String,
+    pub binding: u32,
+    /// The WGSL texel format (`rgba16float`, ...).
+    pub format: naga::StorageFormat,
+    pub span: Span,
+}
+
+/// A pass written as a `@compute` entry point (docs/shaders.md, "Compute
+/// passes"): one invocation per output pixel, `workgroup` invocations a group.
+#[derive(Debug, Clone)]
+pub struct ComputeNative {
+    pub workgroup: [u32; 3],
+    pub output: StorageOutput,
+}
+
 /// A `texture_2d<f32>` the script binds an input to, by name.
 #[derive(Debug, Clone)]
 pub struct TextureBinding {
@@ -139,6 +158,9 @@ pub fn check_member_value(m: &UniformMember, value: &[f64]) -> Result<(), ValueM
 #[derive(Debug, Clone)]
 pub struct Reflection {
     pub entry_point: String,
+    /// A compute-native pass (`@compute` entry point and a storage output);
+    /// `None` for a fragment pass.
+    pub compute: Option<ComputeNative>,
     pub textures: Vec<TextureBinding>,
     pub samplers: Vec<SamplerBinding>,
     pub uniform: Option<UniformBlock>,
@@ -186,7 +208,26 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         .iter()
         .filter(|e| e.stage == naga::ShaderStage::Fragment)
         .collect();
+    let computes: Vec<_> = module
+        .entry_points
+        .iter()
+        .filter(|e| e.stage == naga::ShaderStage::Compute)
+        .collect();
+    let native = match (fragments.as_slice(), computes.as_slice()) {
+        ([], [one]) => Some(one),
+        (_, []) => None,
+        _ => {
+            diags.push(
+                Diagnostic::error(
+                    "a pass shader has one entry point: one `@fragment` or one `@compute`",
+                )
+                .at(Span::new(file, 0, 0), ""),
+            );
+            return Err(diags);
+        }
+    };
     let entry_point = match fragments.as_slice() {
+        _ if native.is_some() => native.map(|e| e.name.clone()).unwrap_or_default(),
         [one] => one.name.clone(),
         [] => {
             diags.push(Diagnostic::error("the shader has no `@fragment` entry point").at(Span::new(file, 0, 0), "expected `@fragment fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32>`"));
@@ -205,7 +246,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             String::new()
         }
     };
-    if !entry_point.is_empty() {
+    if !entry_point.is_empty() && native.is_none() {
         let vs = crate::shader::interface::fullscreen_outputs();
         let stage = "the pass's vertex stage";
         diags.extend(crate::shader::interface::check_fragment_inputs(
@@ -220,6 +261,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
     let mut textures = Vec::new();
     let mut samplers = Vec::new();
     let mut uniform = None;
+    let mut outputs: Vec<StorageOutput> = Vec::new();
     for (h, gv) in module.global_variables.iter() {
         let gspan = span(file, module.global_variables.get_span(h));
         let name = gv.name.clone().unwrap_or_default();
@@ -230,6 +272,13 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
                 arrayed: false,
                 class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
             } => textures.push(TextureBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
+            TypeInner::Image {
+                dim: ImageDimension::D2,
+                arrayed: false,
+                class: ImageClass::Storage { format, access },
+            } if native.is_some() && *access == naga::StorageAccess::STORE => {
+                outputs.push(StorageOutput { name, binding: rb.binding, format: *format, span: gspan })
+            }
             TypeInner::Sampler { comparison: false } => samplers.push(SamplerBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
             TypeInner::Struct { members, span: size } if gv.space == naga::AddressSpace::Uniform => {
                 if uniform.is_some() {
@@ -271,9 +320,23 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             );
         }
     }
+    let compute = native.and_then(|ep| match outputs.as_slice() {
+        [one] => Some(ComputeNative { workgroup: ep.workgroup_size, output: one.clone() }),
+        _ => {
+            diags.push(
+                Diagnostic::error(format!(
+                    "a `@compute` pass shader writes its output to exactly one `texture_storage_2d<FORMAT, write>` ({} declared)",
+                    outputs.len()
+                ))
+                .at(Span::new(file, 0, 0), "e.g. `@group(0) @binding(3) var out: texture_storage_2d<rgba16float, write>;`"),
+            );
+            None
+        }
+    });
     if diags.is_empty() {
         Ok(Reflection {
             entry_point,
+            compute,
             textures,
             samplers,
             uniform,

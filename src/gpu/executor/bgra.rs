@@ -74,7 +74,10 @@ impl GpuPass {
         bgra: bool,
     ) -> Result<Arc<CachedPipeline>, GpuError> {
         let Some(twin) = self.twin.as_mut().filter(|_| bgra) else {
-            return Ok(self.pipeline.clone());
+            return self.pipeline.clone().ok_or_else(|| GpuError::Validation {
+                what: self.path.clone(),
+                message: "a compute pass has no render pipeline".into(),
+            });
         };
         if let Some(p) = &twin.built {
             return Ok(p.clone());

@@ -16,10 +16,11 @@ use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
 use crate::gpu::context::GpuError;
 use crate::graph::plan::PlannedPass;
 use crate::script::types::{Format, Sampling};
+use crate::script::Diagnostic;
 use crate::shader::compute::{
     wrap_fragment_as_compute, StorageTarget, COMPUTE_ENTRY, WRAP_WORKGROUP,
 };
-use crate::shader::Reflection;
+use crate::shader::{ComputeNative, Reflection};
 use std::sync::Arc;
 
 /// Bind groups kept per pass, as for the fragment path.
@@ -48,6 +49,8 @@ pub(super) struct ComputePath {
     target: Source,
     storage: wgpu::TextureFormat,
     size: (u32, u32),
+    /// Invocations per workgroup in x and y: one invocation per output pixel.
+    workgroup: (u32, u32),
     bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
 }
 
@@ -66,6 +69,23 @@ fn wgsl_storage_format(f: wgpu::TextureFormat) -> Option<&'static str> {
         T::Rg32Float => "rg32float",
         _ => return None,
     })
+}
+
+/// The WGSL name of a storage texel format naga parsed.
+fn naga_storage_name(f: naga::StorageFormat) -> &'static str {
+    use naga::StorageFormat as S;
+    match f {
+        S::Rgba8Unorm => "rgba8unorm",
+        S::Rgba16Float => "rgba16float",
+        S::Rgba32Float => "rgba32float",
+        S::Rgb10a2Unorm => "rgb10a2unorm",
+        S::R8Unorm => "r8unorm",
+        S::R16Float => "r16float",
+        S::R32Float => "r32float",
+        S::Rg16Float => "rg16float",
+        S::Rg32Float => "rg32float",
+        _ => "another format",
+    }
 }
 
 /// The format a pass writing `f` stores to: `f`'s own, or for `rgba8-srgb` its
@@ -140,6 +160,78 @@ impl Engine {
             target,
             storage,
             size: (p.desc.width, p.desc.height),
+            workgroup: WRAP_WORKGROUP,
+            bind_groups: Vec::new(),
+        })
+    }
+
+    /// The compute path of a compute-native pass (its shader's own `@compute`
+    /// entry point, docs/shaders.md): the output storage texture must be the
+    /// format the pass writes, and one the device can store to.
+    pub(super) fn prepare_native(
+        &mut self,
+        p: &PlannedPass,
+        render_key: &PipelineKey,
+        refl: &Reflection,
+        samplers: &[(u32, Sampling, bool)],
+        native: &ComputeNative,
+        target: Source,
+    ) -> Result<ComputePath, Diagnostic> {
+        let storage = storage_format(p.desc.format);
+        let declared = wgsl_storage_format(storage);
+        let wanted = naga_storage_name(native.output.format);
+        if declared != Some(wanted) || wgpu_format(p.desc.format).is_srgb() {
+            return Err(Diagnostic::error(format!(
+                "pass `{}` writes {}, but its shader's `{}` is a texture_storage_2d<{wanted}, write>",
+                p.path, p.desc.format, native.output.name
+            ))
+            .note("set the pass's OUT.FORMAT to the storage format (rgba16f is rgba16float, r32f is r32float, ...); a compute pass cannot write rgba8-srgb"));
+        }
+        if !self.ctx.format_support(storage).storage {
+            return Err(Diagnostic::error(format!(
+                "pass `{}` is a compute pass writing {}, which this adapter ({}) cannot store to",
+                p.path, p.desc.format, self.ctx.info.name
+            )));
+        }
+        self.pool.add_storage_format(p.desc.format);
+        let key = ComputeKey {
+            base: PipelineKey {
+                target: storage,
+                ..render_key.clone()
+            },
+            encode_srgb: false,
+        };
+        let st = StorageTarget {
+            format: wanted.to_string(),
+            encode_srgb: false,
+            binding: native.output.binding,
+        };
+        let [wx, wy, _] = native.workgroup;
+        let pipeline = match self.compute_pipelines.get(&key) {
+            Some(Some(p)) => p.clone(),
+            _ => {
+                let built = self
+                    .build_compute(
+                        &key,
+                        (&key.base.wgsl.clone(), &key.base.entry.clone()),
+                        &st,
+                        refl,
+                        samplers,
+                        &p.path,
+                    )
+                    .map_err(|e| Diagnostic::error(format!("pass `{}`: {e}", p.path)))?;
+                let built = Arc::new(built);
+                self.compute_pipelines.insert(key, Some(built.clone()));
+                built
+            }
+        };
+        Ok(ComputePath {
+            pipeline,
+            binding: native.output.binding,
+            target,
+            storage,
+            size: (p.desc.width, p.desc.height),
+            workgroup: (wx.max(1), wy.max(1)),
             bind_groups: Vec::new(),
         })
     }
@@ -158,13 +250,15 @@ impl Engine {
             return p.clone();
         }
         let built = match wrap_fragment_as_compute(&key.base.wgsl, &key.base.entry, st) {
-            Ok(wgsl) => match self.build_compute(key, &wgsl, st, refl, samplers, label) {
-                Ok(p) => Some(Arc::new(p)),
-                Err(e) => {
-                    log::warn!("pass `{label}` stays a fragment pass: {e}");
-                    None
+            Ok(wgsl) => {
+                match self.build_compute(key, (&wgsl, COMPUTE_ENTRY), st, refl, samplers, label) {
+                    Ok(p) => Some(Arc::new(p)),
+                    Err(e) => {
+                        log::warn!("pass `{label}` stays a fragment pass: {e}");
+                        None
+                    }
                 }
-            },
+            }
             Err(why) => {
                 log::info!("pass `{label}` stays a fragment pass: {why}");
                 None
@@ -174,10 +268,11 @@ impl Engine {
         built
     }
 
+    /// Build the compute pipeline of `key` from `(wgsl, entry point)`.
     fn build_compute(
         &mut self,
         key: &ComputeKey,
-        wgsl: &str,
+        (wgsl, entry): (&str, &str),
         st: &StorageTarget,
         refl: &Reflection,
         samplers: &[(u32, Sampling, bool)],
@@ -202,7 +297,7 @@ impl Engine {
                 label: Some(&format!("{label} compute pipeline")),
                 layout: Some(&pl),
                 module: &module,
-                entry_point: Some(COMPUTE_ENTRY),
+                entry_point: Some(entry),
                 compilation_options: Default::default(),
                 cache: None,
             });
@@ -348,7 +443,7 @@ pub(super) fn encode_compute_pass(
     });
     cp.set_pipeline(&path.pipeline.pipeline);
     cp.set_bind_group(0, &path.bind_groups[bg].1, &[]);
-    let (wx, wy) = WRAP_WORKGROUP;
+    let (wx, wy) = path.workgroup;
     cp.dispatch_workgroups(path.size.0.div_ceil(wx), path.size.1.div_ceil(wy), 1);
     Ok(created)
 }

@@ -124,7 +124,8 @@ pub(super) fn bind_group(
         return Ok((i, 0));
     }
     let label = format!("{} bind group", gp.path);
-    let bg = create_bind_group(device, &label, &gp.pipeline.layout, gp, &views, None);
+    let layout = &gp.pipeline.as_ref().expect("a fragment pass").layout;
+    let bg = create_bind_group(device, &label, layout, gp, &views, None);
     if gp.bind_groups.len() == BIND_GROUPS_PER_PASS {
         gp.bind_groups.remove(0);
     }

@@ -177,6 +177,14 @@ impl TexturePool {
         self.storage_formats = formats;
     }
 
+    /// Textures of `format` made from now on can be storage textures too (a
+    /// compute-native pass writes that format).
+    pub fn add_storage_format(&mut self, format: Format) {
+        if !self.storage_formats.contains(&format) {
+            self.storage_formats.push(format);
+        }
+    }
+
     /// Whether textures of `format` made now can be storage textures.
     pub fn stores(&self, format: Format) -> bool {
         self.storage_formats.contains(&format)
@@ -190,14 +198,26 @@ impl TexturePool {
         desc: TextureDesc,
         ids: &mut Ids,
     ) -> usize {
-        if let Some(i) = self.free.get_mut(&desc).and_then(Vec::pop) {
-            return i;
+        let storage = self.stores(desc.format);
+        let textures = &self.textures;
+        // A free texture made before its format needed storage is left to trim.
+        let usable = |i: &usize| {
+            !storage
+                || textures[*i].as_ref().is_some_and(|t| {
+                    t.texture
+                        .usage()
+                        .contains(wgpu::TextureUsages::STORAGE_BINDING)
+                })
+        };
+        if let Some(list) = self.free.get_mut(&desc) {
+            if let Some(at) = list.iter().rposition(usable) {
+                return list.remove(at);
+            }
         }
         let label = format!(
             "fxgraph pooled {}x{} {} #{}",
             desc.width, desc.height, desc.format, self.stats.created
         );
-        let storage = self.stores(desc.format);
         let t = PooledTexture::create(device, gl, &label, desc, ids.next(), storage);
         self.stats.created += 1;
         self.stats.held += 1;

@@ -171,12 +171,26 @@ impl Engine {
                 target,
                 filterable: filterable.clone(),
             };
-            let pipeline = match self.pipeline(&key, &refl, &samplers, &p.path) {
-                Ok(pl) => pl,
-                Err(e) => {
-                    diags.push(at(Diagnostic::error(format!("pass `{}`: {e}", p.path))));
-                    continue;
+            // A compute-native pass has its compute pipeline only; a fragment
+            // pass its render pipeline, and a compute one under compute execution.
+            let (pipeline, native) = match &refl.compute {
+                Some(native) => {
+                    let target = source_of(&p.output, None, &plan, &mut caller);
+                    match self.prepare_native(p, &key, &refl, &samplers, native, target) {
+                        Ok(path) => (None, Some(path)),
+                        Err(d) => {
+                            diags.push(at(d));
+                            continue;
+                        }
+                    }
                 }
+                None => match self.pipeline(&key, &refl, &samplers, &p.path) {
+                    Ok(pl) => (Some(pl), None),
+                    Err(e) => {
+                        diags.push(at(Diagnostic::error(format!("pass `{}`: {e}", p.path))));
+                        continue;
+                    }
+                },
             };
             let uniform = refl.uniform.as_ref().map(|u| {
                 let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -214,6 +228,7 @@ impl Engine {
                 }
             });
             let compute = match self.execution {
+                _ if native.is_some() => native,
                 super::Execution::Compute => {
                     let storage_target = source_of(&p.output, None, &plan, &mut caller);
                     self.prepare_compute(p, &key, &refl, &samplers, storage_target)
@@ -222,7 +237,9 @@ impl Engine {
             };
             // A pass writing the caller's output may write a BGRA twin of it.
             let twin = match p.output {
-                Resource::Output => TwinPipeline::new(&key, &refl, &samplers, &p.path),
+                Resource::Output if pipeline.is_some() => {
+                    TwinPipeline::new(&key, &refl, &samplers, &p.path)
+                }
                 _ => None,
             };
             let textures = textures

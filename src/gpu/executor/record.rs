@@ -62,7 +62,8 @@ pub(super) struct PassUniform {
 /// What one prepared pass binds.
 pub(super) struct GpuPass {
     pub path: String,
-    pub pipeline: Arc<CachedPipeline>,
+    /// The render pipeline (`None` for a compute-native pass).
+    pub pipeline: Option<Arc<CachedPipeline>>,
     /// (binding, source, view format)
     pub textures: Vec<(u32, Source, Option<wgpu::TextureFormat>)>,
     pub samplers: Vec<(u32, wgpu::Sampler)>,
@@ -79,7 +80,7 @@ pub(super) struct GpuPass {
 impl GpuPass {
     pub fn new(
         path: String,
-        pipeline: Arc<CachedPipeline>,
+        pipeline: Option<Arc<CachedPipeline>>,
         textures: Vec<(u32, Source, Option<wgpu::TextureFormat>)>,
         samplers: Vec<(u32, wgpu::Sampler)>,
         uniform: Option<PassUniform>,
@@ -469,14 +470,20 @@ impl Prepared {
         index: u32,
     ) -> Result<Execution, ExecError> {
         let gp = &self.passes[pass];
-        let compute = !bgra
-            && gp.runs_as_compute(
-                &engine.pool,
-                &self.slots,
-                &self.rings,
-                &self.ring_head,
-                caller,
-            );
+        let storage = gp.runs_as_compute(
+            &engine.pool,
+            &self.slots,
+            &self.rings,
+            &self.ring_head,
+            caller,
+        );
+        if gp.pipeline.is_none() && (!storage || bgra) {
+            return Err(ExecError::Input(format!(
+                "pass `{}` is a compute pass and its output cannot be a storage texture here (an sRGB or BGRA output, or one made without STORAGE_BINDING)",
+                gp.path
+            )));
+        }
+        let compute = !bgra && storage;
         let created = if compute {
             self.stats.compute_passes += 1;
             encode_compute_pass(
@@ -545,10 +552,11 @@ impl Prepared {
                 }
                 Step::Run { pass } => {
                     let gp = &mut self.passes[pass];
-                    if gp
-                        .textures
-                        .iter()
-                        .any(|(_, s, _)| matches!(s, Source::Caller(_)))
+                    if gp.pipeline.is_none()
+                        || gp
+                            .textures
+                            .iter()
+                            .any(|(_, s, _)| matches!(s, Source::Caller(_)))
                     {
                         continue;
                     }
