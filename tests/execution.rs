@@ -455,3 +455,38 @@ fn twice(@builtin(global_invocation_id) id: vec3<u32>) {{
     );
     assert!(!dir.path().join("bad.exr").exists());
 }
+
+/// The pipeline cache is kept on disk where the backend has one (Vulkan), named
+/// by adapter and driver, and not with FX_PIPELINE_CACHE=0; a damaged file does
+/// not stop a run (the driver rejects it and starts empty).
+#[test]
+fn the_pipeline_cache_is_kept_on_disk() {
+    let Ok(ctx) = GpuContext::new(&AdapterChoice::Auto) else {
+        assert!(!require_gpu());
+        return;
+    };
+    if !ctx.has_pipeline_cache_feature() {
+        return;
+    }
+    let dir = temp();
+    save(&dir.path().join("in.png"), &picture(0));
+    let cache = dir.path().join("cache");
+    let run = |off: bool| {
+        let mut c = command(["glow", "-i", "in.png", "-o", "out.png"]);
+        c.current_dir(dir.path()).env("FX_CACHE_DIR", &cache);
+        if off {
+            c.env("FX_PIPELINE_CACHE", "0");
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run(true);
+    assert!(!cache.exists(), "FX_PIPELINE_CACHE=0 wrote a cache");
+    run(false);
+    let key = ctx.pipeline_cache_key().expect("a key on this backend");
+    let file = cache.join(&key);
+    assert!(file.is_file(), "no {}", file.display());
+    std::fs::write(&file, b"not a pipeline cache").unwrap();
+    run(false);
+    assert_ne!(std::fs::read(&file).unwrap(), b"not a pipeline cache");
+}

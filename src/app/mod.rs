@@ -23,6 +23,7 @@ pub mod error;
 pub mod frames;
 mod gpu_stage;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod report;
 pub mod scene;
 pub mod scene_sequence;

@@ -248,7 +248,10 @@ pub fn run_frames(
                     .name("fxgraph device".into())
                     .spawn(move || {
                         let t = Instant::now();
-                        let r = GpuContext::new(&adapter).map(Engine::new);
+                        let r = GpuContext::new(&adapter).map(|mut ctx| {
+                            super::pipeline_cache::attach(&mut ctx);
+                            Engine::new(ctx)
+                        });
                         // A failed device unblocks the decoder (the run ends anyway).
                         l.set(match &r {
                             Ok(e) => e.ctx.device.limits().max_texture_dimension_2d,
@@ -356,6 +359,9 @@ pub fn run_frames(
     }
     // (the stage's sender is dropped with it: the encoder ends after the last frame)
     drop(dec_rx);
+    if let Some(e) = &own_engine {
+        super::pipeline_cache::save(&e.ctx);
+    }
     let decode_busy = decoder.join().unwrap_or_default();
     let enc = encoder
         .join()

@@ -8,6 +8,7 @@ pub type Stage<'a> = (&'a wgpu::ShaderModule, &'a str);
 
 /// The pipeline of a full-screen pass writing `format` (`layout: None`: the layout
 /// is derived from the shaders).
+/// `cache`: the device's pipeline cache, if any.
 pub fn fullscreen_pipeline(
     device: &wgpu::Device,
     label: &str,
@@ -15,6 +16,7 @@ pub fn fullscreen_pipeline(
     (vertex, vs): Stage,
     (fragment, fs): Stage,
     format: wgpu::TextureFormat,
+    cache: Option<&wgpu::PipelineCache>,
 ) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
@@ -39,7 +41,7 @@ pub fn fullscreen_pipeline(
             })],
         }),
         multiview_mask: None,
-        cache: None,
+        cache,
     })
 }
 

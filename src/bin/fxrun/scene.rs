@@ -16,11 +16,10 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     if cli.time.is_some() || cli.frames.is_some() {
         return run_scene_sequence_cli(cli, &job);
     }
-    let mut engine = Engine::new(
-        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
-            .map_err(RunError::from)?,
-    );
-    let report = run_scene_job(&job, &mut engine)?;
+    let mut engine = open_engine(cli)?;
+    let report = run_scene_job(&job, &mut engine);
+    fxgraph::app::pipeline_cache::save(&engine.ctx);
+    let report = report?;
     if cli.describe_materials {
         let stats = report.scene.clone().unwrap_or_default();
         outln!("materials ({} variants mode):", job.variants);
@@ -288,10 +287,7 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         frames: (first, times.frames.1),
         ..times
     };
-    let mut engine = Engine::new(
-        fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))
-            .map_err(RunError::from)?,
-    );
+    let mut engine = open_engine(cli)?;
     let stop = stop_flag();
     let progress = ProgressLine::new("frames");
     let result = run_scene_sequence(
@@ -391,3 +387,10 @@ fn environment_options(
 /// The environment of a scene without `--environment`: like every glTF viewer,
 /// fxrun lights PBR materials with an environment by default (docs/renderer.md).
 const DEFAULT_ENVIRONMENT: &str = "builtin:studio";
+
+/// The engine of a scene job, with the pipeline cache of earlier runs attached.
+fn open_engine(cli: &Cli) -> Result<Engine, RunError> {
+    let mut ctx = fxgraph::gpu::context::GpuContext::new(&adapter_choice(&cli.adapter))?;
+    fxgraph::app::pipeline_cache::attach(&mut ctx);
+    Ok(Engine::new(ctx))
+}

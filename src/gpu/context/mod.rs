@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 /// textures and `FLOAT32_BLENDABLE` blending into them.
 const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+    .union(wgpu::Features::PIPELINE_CACHE)
     .union(wgpu::Features::FLOAT32_FILTERABLE)
     .union(wgpu::Features::FLOAT32_BLENDABLE);
 
@@ -120,6 +121,9 @@ pub struct GpuContext {
     pub info: wgpu::AdapterInfo,
     /// The device has `TIMESTAMP_QUERY` (so [`GpuTimer`] works).
     pub timestamps: bool,
+    /// The driver's pipeline cache, when one is attached
+    /// ([`GpuContext::attach_pipeline_cache`]); the executor's pipelines use it.
+    pub pipeline_cache: Option<wgpu::PipelineCache>,
     /// The backends enumerated to find the adapter (empty for
     /// [`GpuContext::from_existing`]): GL only when no native adapter exists.
     pub enumerated: wgpu::Backends,
@@ -236,8 +240,49 @@ impl GpuContext {
             info,
             timestamps,
             enumerated: wgpu::Backends::empty(),
+            pipeline_cache: None,
             uncaptured: Arc::default(),
         }
+    }
+
+    /// Whether the device has wgpu's `PIPELINE_CACHE` feature (Vulkan).
+    pub fn has_pipeline_cache_feature(&self) -> bool {
+        self.device
+            .features()
+            .contains(wgpu::Features::PIPELINE_CACHE)
+    }
+
+    /// wgpu's name for the pipeline cache data of this adapter and driver.
+    pub fn pipeline_cache_key(&self) -> Option<String> {
+        wgpu::util::pipeline_cache_key(&self.info)
+    }
+
+    /// Attach a pipeline cache, seeded with `data` from
+    /// [`GpuContext::pipeline_cache_data`] of an earlier device on the same
+    /// adapter and driver (the caller keeps it, e.g. in a file); data the driver
+    /// does not accept starts an empty cache. No effect without the feature.
+    pub fn attach_pipeline_cache(&mut self, data: Option<&[u8]>) {
+        if !self.has_pipeline_cache_feature() {
+            return;
+        }
+        // SAFETY: wgpu requires `data` to come from `PipelineCache::get_data` of
+        // this adapter; callers key it by `pipeline_cache_key` (adapter and
+        // driver), the driver validates the header, and `fallback` makes an
+        // empty cache of data it rejects.
+        let cache = unsafe {
+            self.device
+                .create_pipeline_cache(&wgpu::PipelineCacheDescriptor {
+                    label: Some("fxgraph pipeline cache"),
+                    data,
+                    fallback: true,
+                })
+        };
+        self.pipeline_cache = Some(cache);
+    }
+
+    /// The attached pipeline cache's data, to seed the next device with.
+    pub fn pipeline_cache_data(&self) -> Option<Vec<u8>> {
+        self.pipeline_cache.as_ref().and_then(|c| c.get_data())
     }
 
     /// Installs the handler that logs and records errors raised outside [`GpuContext::scoped`]

@@ -279,6 +279,7 @@ impl Engine {
         label: &str,
     ) -> Result<CachedCompute, GpuError> {
         let entries = compute_layout_entries(key, st, refl, samplers);
+        let cache = self.ctx.pipeline_cache.clone();
         let built = self.ctx.scoped(label, |device| {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&format!("{label} (compute)")),
@@ -299,7 +300,7 @@ impl Engine {
                 module: &module,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
-                cache: None,
+                cache: cache.as_ref(),
             });
             CachedCompute { pipeline, layout }
         })?;

@@ -361,6 +361,7 @@ impl Engine {
             entries.push(uniform_entry(u.binding, fragment));
         }
         let vs = self.vs.clone();
+        let cache = self.ctx.pipeline_cache.clone();
         let built = self.ctx.scoped(label, |device| {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
@@ -382,6 +383,7 @@ impl Engine {
                 (&vs, "vs_main"),
                 (&module, &key.entry),
                 key.target,
+                cache.as_ref(),
             );
             CachedPipeline { pipeline, layout }
         })?;

@@ -88,6 +88,7 @@ impl PrefilterPipelines {
                     (&module, "vs_fullscreen"),
                     (&module, fs),
                     FORMAT,
+                    None,
                 )
             };
             PrefilterPipelines {

@@ -207,6 +207,7 @@ impl Presenter {
             (&module, "vs_main"),
             (&module, "fs_main"),
             surface_format,
+            None,
         );
         let uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewer present uniforms"),
