@@ -127,6 +127,13 @@ const FORBIDDEN: &[&str] = &[
     "Some(",
     "Handle(",
     "Caused by:",
+    // naga's type dumps in a WGSL message (issue 29: `Struct { members:
+    // [StructMember { name: Some("w"), ...` for a struct)
+    "Struct { members",
+    "StructMember {",
+    "Vector { size",
+    "Scalar { kind",
+    "Matrix { columns",
 ];
 
 /// `Ok(false)` (rejected) when `message` is clean, a finding otherwise.
@@ -285,7 +292,10 @@ fn material_target() -> Target {
 /// Material shaders (surface and lighting), with their `#include`s of the
 /// built-in library, checked as a user's file of that kind.
 fn material_wgsl_target() -> Target {
-    let seeds = repository_seeds(&["shaders/materials", "shaders/lib", "docs/examples"], "wgsl");
+    let seeds = repository_seeds(
+        &["shaders/materials", "shaders/lib", "docs/examples"],
+        "wgsl",
+    );
     // A file: its `#include`s are looked up from the file's canonical path.
     let input = Input::File("fuzz_material.wgsl");
     Target::new("material-wgsl", input, seeds, |bytes, path| {

@@ -72,8 +72,8 @@ impl CameraPath {
     ///
     /// `name:NAME` is the scene camera named NAME whatever the name (`name:orbit`,
     /// `name:2`). A scene camera named like a keyword (`orbit`, `orbit:...`, or
-    /// the index of another camera) is not what `--camera NAME` chooses: that is
-    /// logged as a warning naming `--camera name:NAME`.
+    /// the index of another camera) is not what `--camera NAME` chooses
+    /// ([`shadowed_camera`] says so, for a warning).
     pub fn parse(spec: Option<&str>, scene: &Scene) -> Result<CameraPath, SceneError> {
         let Some(spec) = spec.map(str::trim) else {
             return Ok(if scene.cameras.is_empty() {
@@ -84,9 +84,6 @@ impl CameraPath {
         };
         if let Some(name) = spec.strip_prefix(NAME_PREFIX) {
             return by_name(spec, name, scene);
-        }
-        if let Some(w) = shadowed_camera(spec, scene) {
-            log::warn!("{w}");
         }
         if spec == "orbit" || spec.starts_with("orbit:") {
             return parse_orbit(spec, scene).map(CameraPath::Orbit);

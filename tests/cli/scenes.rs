@@ -159,11 +159,13 @@ fn a_camera_named_orbit_is_warned_about_and_named_with_name_colon() {
         (exits(&o, 0), std::fs::read(&out).unwrap())
     };
     let (warned, turntable) = run("orbit", "turntable.png");
+    let line = "orbit_camera.gltf: --camera orbit is the built-in turntable";
     assert!(
-        warned.contains("fxrun: warning: --camera orbit is the built-in turntable")
-            && warned.contains("--camera name:orbit"),
+        warned.contains("fxrun: warning: ") && warned.contains(line),
         "{warned}"
     );
+    assert!(warned.contains("--camera name:orbit"), "{warned}");
+    assert_eq!(warned.matches(line).count(), 1, "said once: {warned}");
     let (quiet, named) = run("name:orbit", "named.png");
     assert!(!quiet.contains("warning"), "{quiet}");
     let (_, by_index) = run("0", "index.png");
