@@ -190,6 +190,17 @@ pub fn sanitize(msg: &str) -> String {
             let t = TypeInner::Scalar(s);
             v.push((format!("{t:?}"), wgsl(&t)));
             v.push((format!("{s:?}"), wgsl(&t)));
+            // pointers to a vector's component or to a vector (`&v.x`)
+            for space in ADDRESS_SPACES {
+                for size in [None].into_iter().chain(sizes.map(Some)) {
+                    let t = TypeInner::ValuePointer {
+                        size,
+                        scalar: s,
+                        space,
+                    };
+                    v.push((format!("{t:?}"), wgsl(&t)));
+                }
+            }
         }
         v.sort_by_key(|(d, _)| std::cmp::Reverse(d.len()));
         v
@@ -431,6 +442,10 @@ mod tests {
         assert_eq!(
             sanitize("Operation And can't work with [1] (of type Scalar(Scalar { kind: Sint, width: 4 })) and [3] (of type Struct { members: [StructMember { name: Some(\"w\"), ty: [0], binding: None, offset: 0 }, StructMember { name: Some(\"h\"), ty: [0], binding: None, offset: 4 }], span: 8 })"),
             "operator `&` can't work with `i32` and `struct { w, h }`"
+        );
+        assert_eq!(
+            sanitize("ValuePointer { size: None, scalar: Scalar { kind: Float, width: 4 }, space: Function }"),
+            "ptr<function, f32>"
         );
         // only naga's operator phrase is rewritten
         assert_eq!(sanitize("Operation And ok"), "Operation And ok");
