@@ -249,7 +249,18 @@ fn script_target() -> Target {
 }
 
 fn wgsl_target() -> Target {
-    let seeds = repository_seeds(&["shaders"], "wgsl");
+    // The pass shaders: shaders/effects/<effect>/*.wgsl and shaders/engine/.
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(root().join("shaders/effects"))
+        .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    dirs.retain(|d| d.is_dir());
+    dirs.sort();
+    dirs.push(root().join("shaders/engine"));
+    let paths: Vec<PathBuf> = dirs
+        .iter()
+        .flat_map(|d| files(d, &["wgsl"], 64 << 10))
+        .collect();
+    let seeds = read_all(&paths);
     Target::new("wgsl", Input::Bytes("fuzz.wgsl"), seeds, |bytes, _| {
         let text = String::from_utf8_lossy(bytes);
         let mut sources = SourceMap::new();
