@@ -127,6 +127,13 @@ const FORBIDDEN: &[&str] = &[
     "Some(",
     "Handle(",
     "Caused by:",
+    // naga's type dumps in a WGSL message (issue 29: `Struct { members:
+    // [StructMember { name: Some("w"), ...` for a struct)
+    "Struct { members",
+    "StructMember {",
+    "Vector { size",
+    "Scalar { kind",
+    "Matrix { columns",
 ];
 
 /// `Ok(false)` (rejected) when `message` is clean, a finding otherwise.
@@ -242,16 +249,18 @@ fn script_target() -> Target {
 }
 
 fn wgsl_target() -> Target {
-    // The pass shaders: one folder per built-in effect, and the engine's.
-    let mut dirs: Vec<String> = std::fs::read_dir(root().join("shaders/effects"))
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| format!("shaders/effects/{}", e.file_name().to_string_lossy()))
-        .collect();
+    // The pass shaders: shaders/effects/<effect>/*.wgsl and shaders/engine/.
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(root().join("shaders/effects"))
+        .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    dirs.retain(|d| d.is_dir());
     dirs.sort();
-    dirs.push("shaders/engine".into());
-    let dirs: Vec<&str> = dirs.iter().map(String::as_str).collect();
-    let seeds = repository_seeds(&dirs, "wgsl");
+    dirs.push(root().join("shaders/engine"));
+    let paths: Vec<PathBuf> = dirs
+        .iter()
+        .flat_map(|d| files(d, &["wgsl"], 64 << 10))
+        .collect();
+    let seeds = read_all(&paths);
     Target::new("wgsl", Input::Bytes("fuzz.wgsl"), seeds, |bytes, _| {
         let text = String::from_utf8_lossy(bytes);
         let mut sources = SourceMap::new();

@@ -125,6 +125,10 @@ const TINTED: &str = "struct SurfaceParams {\n    tint: vec3<f32>, // @default(1
 /// A lighting shader that declares a texture.
 const LIT: &str = "@group(2) @binding(0) var t: texture_2d<f32>;\nfn lighting(in: LightingInput) -> LightingOutput {\n    return LightingOutput(in.light, vec3<f32>(0.0));\n}\n";
 
+/// A type error between an `i32` and the user's struct (issue 29: the struct was
+/// written as naga's `Struct { members: [StructMember { ...` dump).
+const PENCIL: &str = "struct SurfaceParams {\n    tint: vec3<f32>, // @default(1, 1, 1)\n}\n@group(2) @binding(0) var<uniform> p: SurfaceParams;\n\nfn surface(in: SurfaceInput) -> SurfaceOutput {\n    var out: SurfaceOutput;\n    let steps: i32 = 3;\n    let k = steps & p;\n    out.normal = in.normal;\n    return out;\n}\n";
+
 /// A mistake in a user's surface or lighting shader: the material file's error
 /// names the shader, and the shader's own error points into the user's file, in
 /// WGSL's words (not naga's internals).
@@ -146,6 +150,13 @@ fn users_shader_errors_point_into_the_users_file() {
             "<dir>/lit.wgsl:1:",
             &[],
         ),
+        (
+            ("pencil.wgsl", PENCIL),
+            "MATERIAL.f = {\n    SURFACE = SHADER.pencil\n    LIGHTING = SHADER.lambert\n}\n",
+            "bad.fx:2:22: error: surface shader `pencil` has 1 error",
+            "<dir>/pencil.wgsl:9:13: error: WGSL validation: operator `&` can't work with `i32` and `SurfaceParams`",
+            &[],
+        ),
     ];
     for (shader, material, first, place, more) in cases {
         let got = report_with(&[shader], material);
@@ -153,10 +164,9 @@ fn users_shader_errors_point_into_the_users_file() {
         for needle in [place].iter().chain(more) {
             assert!(got.contains(needle), "{got}");
         }
-        assert!(
-            !got.contains("Vector {") && !got.contains("Scalar {"),
-            "{got}"
-        );
+        for dump in ["Vector {", "Scalar {", "Struct {", "StructMember"] {
+            assert!(!got.contains(dump), "{got}");
+        }
     }
 }
 

@@ -282,3 +282,72 @@ fn gbuffer_with_time_writes_that_frames_motion() {
     let still = floats("still", "motion.exr");
     assert!(still.chunks(4).all(|m| m[0] == 0.0 && m[1] == 0.0));
 }
+
+/// `--time` with `--gbuffer` and no `-o` (issue 29, point 4) writes that frame's
+/// G-buffer, as a still with `--gbuffer` alone does: byte for byte the G-buffer of
+/// the same frame rendered with `-o` (whose motion.exr the test above checks
+/// against the projected displacement), with and without effects named, and
+/// nothing else.
+#[test]
+fn gbuffer_with_time_needs_no_output() {
+    let Some(dir) = common::gpu_scratch() else {
+        return;
+    };
+    let d = dir.path().to_str().unwrap();
+    let spec = "orbit:period=8,elevation=0";
+    let gbuffer = |name: &str| {
+        let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(Path::new(d).join(name))
+            .unwrap()
+            .map(|e| {
+                let p = e.unwrap().path();
+                (
+                    p.file_name().unwrap().to_string_lossy().into_owned(),
+                    std::fs::read(&p).unwrap(),
+                )
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    let with_o = format!("{d}/with_o");
+    let t_png = format!("{d}/t.png");
+    ok(&room(
+        &["tonemap"],
+        spec,
+        "96x54",
+        &["--time", "0.5", "--gbuffer", &with_o, "-o", &t_png],
+    ));
+    let reference = gbuffer("with_o");
+    assert!(
+        reference.iter().any(|(n, _)| n == "motion.exr"),
+        "{:?}",
+        reference.iter().map(|f| &f.0).collect::<Vec<_>>()
+    );
+    for (effects, name) in [(&["tonemap"][..], "alone"), (&[][..], "bare")] {
+        let gb = format!("{d}/{name}");
+        ok(&room(
+            effects,
+            spec,
+            "96x54",
+            &["--time", "0.5", "--gbuffer", &gb],
+        ));
+        let got = gbuffer(name);
+        assert_eq!(
+            got.iter().map(|f| &f.0).collect::<Vec<_>>(),
+            reference.iter().map(|f| &f.0).collect::<Vec<_>>()
+        );
+        for (a, b) in got.iter().zip(&reference) {
+            assert!(a.1 == b.1, "{name}/{} differs from the run with -o", a.0);
+        }
+    }
+    // nothing but the G-buffers and the one image of the run with -o
+    let mut names: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["alone", "bare", "t.png", "with_o"]);
+    // --frames still needs -o, and still refuses --gbuffer
+    let o = fxrun(&room(&[], spec, "96x54", &["--frames", "0..2"]));
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+}

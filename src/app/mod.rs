@@ -43,7 +43,7 @@ pub use scene::{run_scene_job, SceneJob};
 pub use scene_sequence::{run_scene_sequence, SceneTimes};
 pub use sequence::{run_sequence, SequenceOptions};
 pub use sources::{
-    FilesSink, FilesSource, MemorySink, MemorySource, OutputNames, Y4mSink, Y4mSource,
+    DiscardSink, FilesSink, FilesSource, MemorySink, MemorySource, OutputNames, Y4mSink, Y4mSource,
 };
 pub use still::{apply_to_image, output_format_for, ImageJob};
 pub use streams::{

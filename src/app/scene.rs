@@ -258,6 +258,14 @@ pub fn load_scene(job: &SceneJob) -> Result<(Scene, Camera), RunError> {
         }
         scene.set_environment(Some(env.clone()));
     }
+    // a scene camera named like a keyword (`orbit`): said once per job
+    if let Some(w) = job
+        .camera
+        .as_deref()
+        .and_then(|spec| crate::scene::camera_path::shadowed_camera(spec, &scene))
+    {
+        log::warn!("{}: {w}", job.scene);
+    }
     let camera = crate::scene::CameraPath::parse(job.camera.as_deref(), &scene)
         .map_err(|e| scene_error(&job.scene, e))?
         .at(&scene, None, 0.0);

@@ -365,3 +365,13 @@ impl FrameSink for MemorySink {
         Ok(format!("memory frame {number}"))
     }
 }
+
+/// Output frames dropped: for a run kept for what it writes besides its frames (a
+/// rendered frame's G-buffer with `--time` and `--gbuffer` alone).
+pub struct DiscardSink;
+
+impl FrameSink for DiscardSink {
+    fn write(&mut self, frame: OutputFrame) -> Result<String, IoError> {
+        Ok(format!("frame {} (not written)", frame.number))
+    }
+}

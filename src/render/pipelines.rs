@@ -198,7 +198,7 @@ pub(crate) fn check(label: &str, wgsl: &str) -> Result<(), String> {
     .map_err(|e| {
         format!(
             "{label}: generated WGSL is invalid: {}",
-            e.emit_to_string(wgsl)
+            crate::shader::wgsl_names::sanitize_in(&e.emit_to_string(wgsl), &module)
         )
     })?;
     Ok(())

@@ -1,6 +1,7 @@
 //! Cameras over time (`--camera` for rendered sequences): a fixed camera, a
 //! scene camera (which moves with its glTF node when the node is animated), or
-//! an orbit around the scene's bounds for models without a camera.
+//! an orbit around the scene's bounds for models without a camera. A scene camera
+//! named like a keyword (`orbit`) is chosen with `--camera name:orbit`.
 //!
 //! `--camera orbit[:key=value,...]` keys (all optional):
 //! - `period=SECONDS` (8): one full turn about +Y per period, counter-clockwise
@@ -68,6 +69,11 @@ impl CameraPath {
     /// Parses `--camera` for a sequence: `orbit[:...]`, a scene camera's index
     /// or name (which may move), or anything [`Camera::parse_spec`] takes (fixed);
     /// `None`: the scene's first camera, else a fixed framing of its bounds.
+    ///
+    /// `name:NAME` is the scene camera named NAME whatever the name (`name:orbit`,
+    /// `name:2`). A scene camera named like a keyword (`orbit`, `orbit:...`, or
+    /// the index of another camera) is not what `--camera NAME` chooses
+    /// ([`shadowed_camera`] says so, for a warning).
     pub fn parse(spec: Option<&str>, scene: &Scene) -> Result<CameraPath, SceneError> {
         let Some(spec) = spec.map(str::trim) else {
             return Ok(if scene.cameras.is_empty() {
@@ -76,6 +82,9 @@ impl CameraPath {
                 CameraPath::SceneCamera(0)
             });
         };
+        if let Some(name) = spec.strip_prefix(NAME_PREFIX) {
+            return by_name(spec, name, scene);
+        }
         if spec == "orbit" || spec.starts_with("orbit:") {
             return parse_orbit(spec, scene).map(CameraPath::Orbit);
         }
@@ -83,7 +92,8 @@ impl CameraPath {
             if i < scene.cameras.len() {
                 return Ok(CameraPath::SceneCamera(i));
             }
-        } else if let Some(i) = scene.cameras.iter().position(|c| c.name == spec) {
+        }
+        if let Some(i) = scene.cameras.iter().position(|c| c.name == spec) {
             return Ok(CameraPath::SceneCamera(i));
         }
         Camera::parse_spec(spec, scene).map(CameraPath::Fixed)
@@ -117,6 +127,57 @@ impl CameraPath {
             CameraPath::Fixed(_) | CameraPath::Orbit(_) => false,
         }
     }
+}
+
+/// `--camera name:NAME`: a scene camera by its name alone.
+pub const NAME_PREFIX: &str = "name:";
+
+/// The scene camera named `name` (`spec`: the whole `name:NAME`, for the error).
+fn by_name(spec: &str, name: &str, scene: &Scene) -> Result<CameraPath, SceneError> {
+    scene
+        .cameras
+        .iter()
+        .position(|c| c.name == name)
+        .map(CameraPath::SceneCamera)
+        .ok_or_else(|| {
+            let names: Vec<String> = scene
+                .cameras
+                .iter()
+                .map(|c| format!("`{}`", c.name))
+                .collect();
+            SceneError::Camera {
+                spec: spec.to_string(),
+                message: format!(
+                    "no scene camera named `{name}` (cameras: {})",
+                    if names.is_empty() {
+                        "none".to_string()
+                    } else {
+                        names.join(", ")
+                    }
+                ),
+            }
+        })
+}
+
+/// A warning when `spec` is also the name of a scene camera that `--camera spec`
+/// does not choose: the keyword `orbit` (or `orbit:...`), or the index of another
+/// camera. `None` when `spec` names nothing else or means that camera anyway.
+pub fn shadowed_camera(spec: &str, scene: &Scene) -> Option<String> {
+    let spec = spec.trim();
+    let named = scene.cameras.iter().position(|c| c.name == spec)?;
+    let meaning = if spec == "orbit" || spec.starts_with("orbit:") {
+        "the built-in turntable around the scene (orbit)".to_string()
+    } else {
+        match spec.parse::<usize>() {
+            Ok(i) if i != named && i < scene.cameras.len() => {
+                format!("scene camera {i} (by index)")
+            }
+            _ => return None,
+        }
+    };
+    Some(format!(
+        "--camera {spec} is {meaning}, not the scene's camera {named} named `{spec}`: choose that one with --camera {NAME_PREFIX}{spec}"
+    ))
 }
 
 fn parse_orbit(spec: &str, scene: &Scene) -> Result<Orbit, SceneError> {
@@ -230,6 +291,59 @@ mod tests {
             let e = CameraPath::parse(Some(spec), &s).unwrap_err().to_string();
             assert!(e.contains(word), "{spec}: {e}");
         }
+    }
+
+    #[test]
+    fn a_camera_named_like_a_keyword_is_chosen_with_name_and_warned_about() {
+        let mut s = scene();
+        let mut second = s.cameras[0].clone();
+        second.camera.eye.x += 1.0;
+        s.cameras.truncate(1);
+        s.cameras.push(second);
+        s.cameras[1].name = "orbit".into();
+        s.cameras[0].name = "1".into();
+        // the keyword and the index keep their meaning, with a warning each
+        assert!(matches!(
+            CameraPath::parse(Some("orbit"), &s).unwrap(),
+            CameraPath::Orbit(_)
+        ));
+        let w = shadowed_camera("orbit", &s).expect("a warning");
+        assert!(
+            w.contains("turntable") && w.contains("camera 1 named `orbit`"),
+            "{w}"
+        );
+        assert!(w.contains("--camera name:orbit"), "{w}");
+        assert_eq!(
+            CameraPath::parse(Some("1"), &s).unwrap(),
+            CameraPath::SceneCamera(1)
+        );
+        assert!(shadowed_camera("1", &s)
+            .unwrap()
+            .contains("scene camera 1 (by index)"));
+        // name: takes the name alone
+        assert_eq!(
+            CameraPath::parse(Some("name:orbit"), &s).unwrap(),
+            CameraPath::SceneCamera(1)
+        );
+        assert_eq!(
+            CameraPath::parse(Some("name:1"), &s).unwrap(),
+            CameraPath::SceneCamera(0)
+        );
+        let e = CameraPath::parse(Some("name:nope"), &s)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no scene camera named `nope`") && e.contains("`orbit`"),
+            "{e}"
+        );
+        // nothing to warn about: a plain name, a camera's own index, no such name
+        let plain = s.cameras[1].name.clone();
+        s.cameras[1].name = "front".into();
+        assert_eq!(shadowed_camera("orbit", &s), None);
+        assert_eq!(shadowed_camera("front", &s), None);
+        s.cameras[1].name = plain;
+        s.cameras[0].name = "0".into();
+        assert_eq!(shadowed_camera("0", &s), None);
     }
 
     #[test]

@@ -1,11 +1,149 @@
-//! naga's messages in WGSL terms: its `Debug` type forms written as WGSL type names.
+//! naga's messages in WGSL terms: its `Debug` type forms written as WGSL type names
+//! (`vec3<f32>`, a struct by its name, `ptr<function, Light>`), its operator names
+//! as the WGSL operators.
 
 use naga::common::wgsl::TypeContext as _;
 use naga::{ScalarKind, TypeInner};
 
+/// [`sanitize`] knowing the module the message is about: the `Debug` forms of its
+/// types (a struct's `Struct { members: [...], span: N }`, arrays, atomics, images,
+/// samplers) and of pointers to them are written by their WGSL names (the struct's
+/// own name), before the module-free forms of [`sanitize`].
+pub fn sanitize_in(msg: &str, module: &naga::Module) -> String {
+    if !msg.contains('{') && !msg.contains('(') {
+        return sanitize(msg);
+    }
+    let types = &module.types;
+    let wgsl = |inner: &TypeInner| {
+        let mut s = String::new();
+        let _ = types.write_type_inner(inner, &mut s);
+        s
+    };
+    let mut pairs: Vec<(String, String)> = Vec::new();
+    for (h, ty) in types.iter() {
+        if !matches!(ty.inner, TypeInner::Scalar(_) | TypeInner::Vector { .. }) {
+            pairs.push((format!("{:?}", ty.inner), types.type_to_string(h)));
+        }
+        for space in ADDRESS_SPACES {
+            let p = TypeInner::Pointer { base: h, space };
+            pairs.push((format!("{p:?}"), wgsl(&p)));
+        }
+    }
+    pairs.sort_by_key(|(d, _)| std::cmp::Reverse(d.len()));
+    let mut s = msg.to_string();
+    for (debug, name) in &pairs {
+        if s.contains(debug.as_str()) {
+            s = s.replace(debug.as_str(), name);
+        }
+    }
+    sanitize(&s)
+}
+
+/// The address spaces a pointer of a message may be in.
+const ADDRESS_SPACES: [naga::AddressSpace; 7] = [
+    naga::AddressSpace::Function,
+    naga::AddressSpace::Private,
+    naga::AddressSpace::WorkGroup,
+    naga::AddressSpace::Uniform,
+    naga::AddressSpace::Storage {
+        access: naga::StorageAccess::LOAD,
+    },
+    naga::AddressSpace::Storage {
+        access: naga::StorageAccess::LOAD.union(naga::StorageAccess::STORE),
+    },
+    naga::AddressSpace::Handle,
+];
+
+/// naga's operator names (`Operation And can't work with ...`) and the WGSL
+/// operators.
+const OPERATORS: [(&str, &str); 21] = [
+    ("Add", "+"),
+    ("Subtract", "-"),
+    ("Multiply", "*"),
+    ("Divide", "/"),
+    ("Modulo", "%"),
+    ("Equal", "=="),
+    ("NotEqual", "!="),
+    ("Less", "<"),
+    ("LessEqual", "<="),
+    ("Greater", ">"),
+    ("GreaterEqual", ">="),
+    ("And", "&"),
+    ("ExclusiveOr", "^"),
+    ("InclusiveOr", "|"),
+    ("LogicalAnd", "&&"),
+    ("LogicalOr", "||"),
+    ("ShiftLeft", "<<"),
+    ("ShiftRight", ">>"),
+    ("Negate", "-"),
+    ("LogicalNot", "!"),
+    ("BitwiseNot", "~"),
+];
+
+/// `Operation And can't work with` → ``operator `&` can't work with``.
+fn operator_names(msg: &str) -> String {
+    let Some(rest) = msg.strip_prefix("Operation ") else {
+        return msg.to_string();
+    };
+    let Some((name, tail)) = rest.split_once(' ') else {
+        return msg.to_string();
+    };
+    match OPERATORS.iter().find(|(n, _)| *n == name) {
+        Some((_, op)) if tail.starts_with("can't work with") => {
+            format!("operator `{op}` {tail}")
+        }
+        _ => msg.to_string(),
+    }
+}
+
+/// A struct's `Debug` form that no module named (`Struct { members:
+/// [StructMember { name: Some("w"), ... }, ...], span: 16 }`), written with its
+/// member names: `struct { w, ... }`.
+fn unnamed_structs(msg: &str) -> String {
+    const OPEN: &str = "Struct { members: [";
+    let mut out = String::with_capacity(msg.len());
+    let mut rest = msg;
+    while let Some(i) = rest.find(OPEN) {
+        out.push_str(&rest[..i]);
+        let body = &rest[i..];
+        // the `}` that closes `Struct {`
+        let mut depth = 0usize;
+        let mut end = body.len();
+        for (k, c) in body.char_indices() {
+            match c {
+                '{' | '[' | '(' => depth += 1,
+                '}' | ']' | ')' => {
+                    depth = depth.saturating_sub(1);
+                    if depth == 0 {
+                        end = k + 1;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        let form = &body[..end];
+        let names: Vec<&str> = form
+            .split("name: Some(\"")
+            .skip(1)
+            .filter_map(|p| p.split_once("\")").map(|(n, _)| n))
+            .collect();
+        if names.is_empty() {
+            out.push_str("struct");
+        } else {
+            out.push_str(&format!("struct {{ {} }}", names.join(", ")));
+        }
+        rest = &body[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// naga's messages with its `Debug` type forms (`Vector { size: Tri, scalar: ... }`)
-/// written as WGSL (`vec3<f32>`), `[N] (of type T)` as `` `T` `` and
-/// `Function [N] 'f'` as ``function `f` ``.
+/// written as WGSL (`vec3<f32>`), `[N] (of type T)` as `` `T` ``, `Function [N]
+/// 'f'` as ``function `f` ``, its operator names as the operators (``operator `&`
+/// can't work with``) and a struct no module names by its members (`struct { w }`;
+/// [`sanitize_in`] gives its name).
 pub fn sanitize(msg: &str) -> String {
     use std::sync::OnceLock;
     static PAIRS: OnceLock<Vec<(String, String)>> = OnceLock::new();
@@ -52,6 +190,17 @@ pub fn sanitize(msg: &str) -> String {
             let t = TypeInner::Scalar(s);
             v.push((format!("{t:?}"), wgsl(&t)));
             v.push((format!("{s:?}"), wgsl(&t)));
+            // pointers to a vector's component or to a vector (`&v.x`)
+            for space in ADDRESS_SPACES {
+                for size in [None].into_iter().chain(sizes.map(Some)) {
+                    let t = TypeInner::ValuePointer {
+                        size,
+                        scalar: s,
+                        space,
+                    };
+                    v.push((format!("{t:?}"), wgsl(&t)));
+                }
+            }
         }
         v.sort_by_key(|(d, _)| std::cmp::Reverse(d.len()));
         v
@@ -62,6 +211,7 @@ pub fn sanitize(msg: &str) -> String {
             s = s.replace(debug.as_str(), wgsl);
         }
     }
+    let s = unnamed_structs(&operator_names(&s));
     // `[3] (of type vec3<f32>)` → `` `vec3<f32>` ``
     let mut out = String::with_capacity(s.len());
     let mut rest = s.as_str();
@@ -127,8 +277,12 @@ pub fn validation_diagnostic(
     }
     causes.retain(|c| !is_expression_invalid(c));
     let (function, return_problem) = function_of(e.as_inner(), module);
-    let main = return_problem
-        .unwrap_or_else(|| sanitize(causes.last().map(String::as_str).unwrap_or("invalid")));
+    let main = return_problem.unwrap_or_else(|| {
+        sanitize_in(
+            causes.last().map(String::as_str).unwrap_or("invalid"),
+            module,
+        )
+    });
     let mut d = crate::script::Diagnostic::error(format!("WGSL validation: {main}"));
     let mut spans: Vec<crate::script::Span> = e.spans().filter_map(|(s, _)| map(*s)).collect();
     if spans.is_empty() {
@@ -142,7 +296,7 @@ pub fn validation_diagnostic(
             let context = causes
                 .first()
                 .filter(|_| causes.len() > 1)
-                .map(|c| sanitize(c))
+                .map(|c| sanitize_in(c, module))
                 .unwrap_or_default();
             for s in rest {
                 if s != last {
@@ -227,4 +381,74 @@ pub fn fn_header(wgsl: &str, name: &str) -> Option<std::ops::Range<usize>> {
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::script::{FileId, Span};
+
+    /// naga's validation error of `src` as the one diagnostic's message.
+    fn validation_message(src: &str) -> String {
+        let module = naga::front::wgsl::parse_str(src).expect("parses");
+        let e = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .expect_err("a validation error");
+        let file = FileId(0);
+        let d = validation_diagnostic(
+            &e,
+            &module,
+            src,
+            |s| s.to_range().map(|r| Span::new(file, r.start, r.end)),
+            Span::new(file, 0, 0),
+        );
+        d.message
+    }
+
+    /// The issue's case (issue 29): `&` between an `i32` and a struct named the
+    /// struct by naga's dump (`Struct { members: [StructMember { ...`).
+    #[test]
+    fn a_struct_in_a_type_error_is_named_by_its_wgsl_name() {
+        let src = "struct Pencil { w: f32, strength: vec2<f32> }\n\
+                   @group(0) @binding(0) var<uniform> pencil: Pencil;\n\
+                   @fragment fn fs_main() -> @location(0) vec4<f32> {\n\
+                   let i: i32 = 3;\n\
+                   let p = pencil;\n\
+                   let k = i & p;\n\
+                   return vec4<f32>(f32(k));\n}\n";
+        let m = validation_message(src);
+        assert_eq!(
+            m,
+            "WGSL validation: operator `&` can't work with `i32` and `Pencil`"
+        );
+    }
+
+    #[test]
+    fn arrays_and_pointers_are_written_as_wgsl() {
+        let src = "fn f() -> f32 {\n\
+                   var a: array<vec2<f32>, 4>;\n\
+                   let x: f32 = 1.0;\n\
+                   return x + a;\n}\n";
+        let m = validation_message(src);
+        assert!(!m.contains('{') && !m.contains("Array"), "{m}");
+        assert!(m.contains("`array<vec2<f32>, 4>`"), "{m}");
+    }
+
+    #[test]
+    fn operator_names_and_struct_dumps_without_a_module() {
+        assert_eq!(
+            sanitize("Operation And can't work with [1] (of type Scalar(Scalar { kind: Sint, width: 4 })) and [3] (of type Struct { members: [StructMember { name: Some(\"w\"), ty: [0], binding: None, offset: 0 }, StructMember { name: Some(\"h\"), ty: [0], binding: None, offset: 4 }], span: 8 })"),
+            "operator `&` can't work with `i32` and `struct { w, h }`"
+        );
+        assert_eq!(
+            sanitize("ValuePointer { size: None, scalar: Scalar { kind: Float, width: 4 }, space: Function }"),
+            "ptr<function, f32>"
+        );
+        // only naga's operator phrase is rewritten
+        assert_eq!(sanitize("Operation And ok"), "Operation And ok");
+        assert_eq!(sanitize("Struct { members: [x"), "struct");
+    }
 }

@@ -18,6 +18,7 @@ mod images;
 mod scenes;
 mod sequences;
 mod shader_diagnostics;
+mod video_audio;
 mod video_files;
 mod y4m_files;
 

@@ -170,8 +170,9 @@ pub(crate) struct Cli {
     #[arg(help_heading = SCENES, long, value_parser = clap::builder::NonEmptyStringValueParser::new())]
     pub(crate) scene: Option<String>,
     /// Scene camera: a glTF camera index or name (it moves with its animated
-    /// node), eye=x,y,z;target=x,y,z;fov=deg, or orbit[:period=S,elevation=DEG,
-    /// start=DEG,distance=D,fov=DEG] around the scene's bounds.
+    /// node; name:NAME for any name, even `orbit`), eye=x,y,z;target=x,y,z;fov=deg,
+    /// or orbit[:period=S,elevation=DEG,start=DEG,distance=D,fov=DEG] around the
+    /// scene's bounds.
     #[arg(help_heading = SCENES, long)]
     pub(crate) camera: Option<String>,
     /// Scene: render the scene at this time in seconds (0 or more); with

@@ -144,7 +144,7 @@ pub(crate) fn scene_job(
         output: cli.output.clone(),
         bit_depth: cli.bit_depth,
         gbuffer: cli.gbuffer.clone(),
-        timings: cli.timings,
+        timings: cli.timings || cli.timings_json.is_some(),
         materials: cli.materials.clone(),
         material_map,
         variants,
@@ -163,10 +163,11 @@ pub(crate) fn scene_job(
 
 /// `--scene` with `--frames A..B` or `--time SECONDS`: a rendered sequence (or one
 /// frame of it) written as numbered files, into a folder, to a y4m stream on
-/// stdout, or (one frame) to one file.
+/// stdout, or (one frame) to one file; `--time` with `--gbuffer` and no `-o`: that
+/// frame's G-buffer alone.
 fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(), Fail> {
-    use fxgraph::app::{run_scene_sequence, FilesSink, OutputNames, SceneTimes};
-    use fxgraph::io::sequence::{parse_frames, OutputPattern, SequenceSpec};
+    use fxgraph::app::{FilesSink, OutputNames, SceneTimes};
+    use fxgraph::io::sequence::{OutputPattern, SequenceSpec};
     let fps = cli.fps.unwrap_or(30.0);
     if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
         return Err(rejected(format!(
@@ -178,38 +179,32 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
             "--gbuffer writes one frame's G-buffer: use it with a still or --time, not --frames",
         ));
     }
+    let times = scene_times(cli, fps)?;
     let Some(output) = &cli.output else {
-        return Err(rejected("a rendered sequence needs -o OUTPUT"));
-    };
-    let times = match (cli.time, &cli.frames) {
-        (Some(_), Some(_)) => {
-            return Err(rejected(
-                "--time renders one frame, --frames a sequence: give one of them",
-            ))
+        if cli.gbuffer.is_none() {
+            return Err(rejected("a rendered sequence needs -o OUTPUT"));
         }
-        (Some(t), None) => {
-            if !(t.is_finite() && t >= 0.0) {
-                return Err(rejected(format!(
-                    "--time {t}: must be 0 or more seconds (frame 0 is at time 0; a scene's animation holds its first pose before its first key)"
-                )));
-            }
-            SceneTimes::at(t, fps, cli.warmup)
+        // `--time` with `--gbuffer` alone: that frame's G-buffer, as for a still
+        // (no effects run, no image written)
+        let job = fxgraph::app::SceneJob {
+            effects: Vec::new(),
+            ..job.clone()
+        };
+        let report = render_frames(
+            cli,
+            &job,
+            &times,
+            Box::new(fxgraph::app::DiscardSink),
+            fxgraph::script::types::Format::Rgba16f,
+        )?;
+        finish_report(cli, &report)?;
+        if report.interrupted && report.done.is_empty() {
+            return Err(Fail {
+                code: 130,
+                message: "interrupted before the frame's G-buffer was written".into(),
+            });
         }
-        (None, Some(f)) => {
-            let r = parse_frames(f).map_err(|e| rejected(format!("--frames {f}: {e}")))?;
-            if r.end == u64::MAX {
-                return Err(rejected(format!(
-                    "--frames {f}: a rendered sequence needs its last frame (A..B)"
-                )));
-            }
-            SceneTimes {
-                fps,
-                frames: (r.start, r.end),
-                warmup: cli.warmup,
-                time: None,
-            }
-        }
-        (None, None) => unreachable!("called with --time or --frames"),
+        return Ok(());
     };
     let ospec = SequenceSpec::parse_output(&output.to_string_lossy());
     let save = fxgraph::io::SaveOptions {
@@ -287,12 +282,63 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         frames: (first, times.frames.1),
         ..times
     };
+    let report = render_frames(cli, job, &times, sink, format)?;
+    finish_report(cli, &report)?;
+    super::streams::check_interrupted(&report, &ospec)
+}
+
+/// The frames `--time SECONDS` or `--frames A..B` render (at `fps`).
+fn scene_times(cli: &Cli, fps: f64) -> Result<fxgraph::app::SceneTimes, Fail> {
+    use fxgraph::app::SceneTimes;
+    use fxgraph::io::sequence::parse_frames;
+    let times = match (cli.time, &cli.frames) {
+        (Some(_), Some(_)) => {
+            return Err(rejected(
+                "--time renders one frame, --frames a sequence: give one of them",
+            ))
+        }
+        (Some(t), None) => {
+            if !(t.is_finite() && t >= 0.0) {
+                return Err(rejected(format!(
+                    "--time {t}: must be 0 or more seconds (frame 0 is at time 0; a scene's animation holds its first pose before its first key)"
+                )));
+            }
+            SceneTimes::at(t, fps, cli.warmup)
+        }
+        (None, Some(f)) => {
+            let r = parse_frames(f).map_err(|e| rejected(format!("--frames {f}: {e}")))?;
+            if r.end == u64::MAX {
+                return Err(rejected(format!(
+                    "--frames {f}: a rendered sequence needs its last frame (A..B)"
+                )));
+            }
+            SceneTimes {
+                fps,
+                frames: (r.start, r.end),
+                warmup: cli.warmup,
+                time: None,
+            }
+        }
+        (None, None) => unreachable!("called with --time or --frames"),
+    };
+    Ok(times)
+}
+
+/// Renders `times` of the scene job into `sink` (`format`: what its files take),
+/// with the progress line and Ctrl-C.
+fn render_frames(
+    cli: &Cli,
+    job: &fxgraph::app::SceneJob,
+    times: &fxgraph::app::SceneTimes,
+    sink: Box<dyn FrameSink>,
+    format: fxgraph::script::types::Format,
+) -> Result<fxgraph::app::RunReport, Fail> {
     let mut engine = open_engine(cli)?;
     let stop = stop_flag();
     let progress = ProgressLine::new("frames");
-    let result = run_scene_sequence(
+    let result = fxgraph::app::run_scene_sequence(
         job,
-        &times,
+        times,
         &mut engine,
         sink,
         format,
@@ -300,9 +346,7 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         progress.callback(),
     );
     progress.finish();
-    let report = result?;
-    finish_report(cli, &report)?;
-    super::streams::check_interrupted(&report, &ospec)
+    Ok(result?)
 }
 
 /// The environment of `--environment` (the default: [`DEFAULT_ENVIRONMENT`])

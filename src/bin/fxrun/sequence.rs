@@ -223,7 +223,7 @@ pub(crate) fn run_sequence_cli(
         fps,
         emit,
         queue: cli.queue.max(1),
-        timings: cli.timings,
+        timings: cli.timings || cli.timings_json.is_some(),
     };
     let adapter = adapter_choice(&cli.adapter);
     let progress = ProgressLine::new("frames");

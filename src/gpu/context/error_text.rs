@@ -2,8 +2,9 @@
 //! lines (`Validation Error`, `Caused by:`, the call with its label, then each cause
 //! indented) with `Debug` forms inside (`ShaderStages(FRAGMENT)`, `Some(Perspective)`).
 //! Here the chain of causes is walked instead and joined with `: `; the call and
-//! its label are left out (the [`super::GpuError`] names what was being done), and
-//! the `Debug` wrappers are unwrapped.
+//! its label are left out (the [`super::GpuError`] names what was being done), the
+//! `Debug` wrappers are unwrapped, and naga's type forms in a shader's validation
+//! error are written as WGSL types ([`crate::shader::wgsl_names::sanitize`]).
 
 /// The causes of `e`, innermost last, joined with `: `.
 pub fn wgpu_error_text(e: &wgpu::Error) -> String {
@@ -18,7 +19,7 @@ pub fn wgpu_error_text(e: &wgpu::Error) -> String {
         let text = err.to_string();
         // wgpu-core's context line (`In Device::create_render_pipeline, label = '...'`).
         if !(text.starts_with("In ") && text.contains("::")) {
-            let text = tidy(text.trim());
+            let text = crate::shader::wgsl_names::sanitize(&tidy(text.trim()));
             if !text.is_empty() && parts.last() != Some(&text) {
                 parts.push(text);
             }

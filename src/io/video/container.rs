@@ -36,7 +36,10 @@ pub struct Container {
 /// Text subtitle codecs ffmpeg converts between.
 pub const TEXT_SUBTITLES: [&str; 6] = ["subrip", "ass", "ssa", "webvtt", "mov_text", "text"];
 
-const MP4_AUDIO: &[&str] = &["aac", "mp3", "ac3", "eac3", "alac", "opus", "flac"];
+// Not FLAC: FFmpeg 5.1 (Debian 12's) writes it into MP4 only with `-strict
+// experimental` and otherwise fails at the header, after the first frames; it
+// becomes AAC.
+const MP4_AUDIO: &[&str] = &["aac", "mp3", "ac3", "eac3", "alac", "opus"];
 const MOV_AUDIO: &[&str] = &[
     "aac",
     "mp3",

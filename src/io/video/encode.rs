@@ -3,6 +3,7 @@
 //! renamed over the output once it succeeded; the audio and subtitles of the input
 //! video copied (or converted where the container needs it) from that file.
 
+use super::audio::{per_stream, plan_audio, AudioStream};
 use super::container::Container;
 use super::pix_fmt::{self, Layout};
 use super::probe::VideoInfo;
@@ -188,6 +189,15 @@ impl Encoder {
                 )));
             }
         }
+        // the audio's fate, before ffmpeg starts (it writes the header, where a
+        // codec the container cannot hold fails, only once the first frames came in)
+        let audio = match &opts.media {
+            Some(m) => plan_audio(container, &m.info.audio, |e| {
+                matches!(encoder_formats(&ffmpeg, e), Ok(Some(_)))
+            })
+            .map_err(|e| option(format!("{}: {e}", m.info.path.display())))?,
+            None => Vec::new(),
+        };
         let ext = output
             .extension()
             .map(|e| e.to_string_lossy().into_owned())
@@ -205,6 +215,7 @@ impl Encoder {
             pix_fmt,
             crf_default,
             opts,
+            &audio,
             &mut notes,
         );
         let line = shell_line("ffmpeg", &args);
@@ -332,17 +343,10 @@ impl Drop for Encoder {
     }
 }
 
-/// `-b:a` for the `k`-th audio output stream: `-b:a:k`; `-ar`: `-ar:a:k`.
-fn per_stream(opt: &str, kind: char, k: usize) -> String {
-    if opt.contains(&format!(":{kind}")) {
-        format!("{opt}:{k}")
-    } else {
-        format!("{opt}:{kind}:{k}")
-    }
-}
-
-/// The ffmpeg arguments of an encoder writing `tmp`; notes about the input's other
-/// streams are added to `notes`.
+/// The ffmpeg arguments of an encoder writing `tmp` (`audio`: what happens to the
+/// input's audio streams); notes about the input's other streams are added to
+/// `notes`.
+#[allow(clippy::too_many_arguments)]
 fn encode_args(
     tmp: &Path,
     container: &Container,
@@ -350,6 +354,7 @@ fn encode_args(
     pix_fmt: Option<String>,
     crf_default: Option<u32>,
     opts: &EncodeOptions,
+    audio: &[AudioStream],
     notes: &mut Vec<String>,
 ) -> Vec<String> {
     let mut a: Vec<String> = Vec::new();
@@ -372,22 +377,9 @@ fn encode_args(
             .extension()
             .map(|e| e.to_string_lossy().into_owned())
             .unwrap_or_default();
-        for (k, s) in m.info.audio.iter().enumerate() {
-            push(&["-map", &format!("1:{}", s.index)]);
-            let convert = container.audio_convert.split_first();
-            if let (false, Some((enc, rest))) = (container.copies_audio(&s.codec), convert) {
-                push(&[&per_stream("-c:a", 'a', k), enc]);
-                for pair in rest.chunks(2) {
-                    push(&[&per_stream(pair[0], 'a', k), pair[1]]);
-                }
-                notes.push(format!(
-                    "{name}: audio stream {} ({}) is converted to {enc} for .{ext}",
-                    s.index, s.codec
-                ));
-            } else {
-                push(&[&per_stream("-c:a", 'a', k), "copy"]);
-            }
-        }
+        let (audio_args, audio_notes) = super::audio::audio_args(audio, &name.to_string(), &ext);
+        push(&audio_args.iter().map(String::as_str).collect::<Vec<_>>());
+        notes.extend(audio_notes);
         let mut j = 0;
         for s in &m.info.subtitles {
             match container.subtitle_codec(&s.codec) {

@@ -18,9 +18,11 @@
 //!
 //! The children run in their own process group, so a Ctrl-C in the terminal reaches
 //! fxrun alone, which stops the run and ends them. Files: `container` (extensions and
-//! what each container takes), `pix_fmt` (ffmpeg pixel format names), `probe`,
+//! what each container takes), `audio` (what happens to each audio stream: copied
+//! or transcoded, decided before ffmpeg starts), `pix_fmt` (ffmpeg pixel format names), `probe`,
 //! `decode`, `encode`, `process` (finding, starting and reaping the programs).
 
+mod audio;
 mod container;
 mod decode;
 mod encode;
@@ -28,6 +30,7 @@ pub mod pix_fmt;
 mod probe;
 mod process;
 
+pub use audio::{plan_audio, AudioAction, AudioStream};
 pub use container::{is_video_path, Container, Subtitles, CONTAINERS};
 pub use decode::{decode_args, Decoder};
 pub use encode::{EncodeOptions, Encoder, MediaSource};

@@ -421,7 +421,7 @@ fn feature_rules() {
 fn sanitized_types() {
     assert_eq!(
         sanitize("Operation Add can't work with [2] (of type Vector { size: Tri, scalar: Scalar { kind: Float, width: 4 } }) and [4] (of type Matrix { columns: Bi, rows: Bi, scalar: Scalar { kind: Float, width: 4 } })"),
-        "Operation Add can't work with `vec3<f32>` and `mat2x2<f32>`"
+        "operator `+` can't work with `vec3<f32>` and `mat2x2<f32>`"
     );
     assert_eq!(
         sanitize("Function [0] 'f' is invalid"),
