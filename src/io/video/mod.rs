@@ -21,6 +21,7 @@
 //! what each container takes), `pix_fmt` (ffmpeg pixel format names), `probe`,
 //! `decode`, `encode`, `process` (finding, starting and reaping the programs).
 
+pub mod color;
 mod container;
 mod decode;
 mod encode;
@@ -28,6 +29,7 @@ pub mod pix_fmt;
 mod probe;
 mod process;
 
+pub use color::{video_color, HdrMetadata, Mastering, VideoColor};
 pub use container::{is_video_path, Container, Subtitles, CONTAINERS};
 pub use decode::{decode_args, Decoder};
 pub use encode::{EncodeOptions, Encoder, MediaSource};
