@@ -17,18 +17,27 @@ use super::*;
 
 /// PSNR (dB) of two videos in 8-bit RGB, by ffmpeg's `psnr` filter.
 fn psnr(a: &Path, b: &Path) -> f64 {
+    psnr_of(a, b, "[0:v]format=gbrp[a];[1:v]format=gbrp[b];[a][b]psnr")
+}
+
+/// PSNR (dB) of frame `fa` of `a` against frame `fb` of `b`, in 8-bit RGB.
+fn psnr_frames(a: &Path, fa: u32, b: &Path, fb: u32) -> f64 {
+    psnr_of(
+        a,
+        b,
+        &format!(
+            "[0:v]select=eq(n\\,{fa}),setpts=N,format=gbrp[a];[1:v]select=eq(n\\,{fb}),setpts=N,format=gbrp[b];[a][b]psnr"
+        ),
+    )
+}
+
+fn psnr_of(a: &Path, b: &Path, graph: &str) -> f64 {
     let out = std::process::Command::new("ffmpeg")
         .args(["-hide_banner", "-i"])
         .arg(a)
         .arg("-i")
         .arg(b)
-        .args([
-            "-lavfi",
-            "[0:v]format=gbrp[a];[1:v]format=gbrp[b];[a][b]psnr",
-            "-f",
-            "null",
-            "-",
-        ])
+        .args(["-lavfi", graph, "-f", "null", "-"])
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&out.stderr);
@@ -40,9 +49,10 @@ fn psnr(a: &Path, b: &Path) -> f64 {
     v.split_whitespace().next().unwrap().parse().unwrap()
 }
 
-/// The HDR10 test clip: corpus Desk.exr at 128 px wide, limited to 1,000 cd/m²,
-/// PQ BT.2020 4:4:4 10-bit by zimg, lossless HEVC with the metadata of
-/// [`super::streams::MASTER`]; 2 frames.
+/// The HDR10 test clip: corpus Desk.exr at 106x144, limited to 1,000 cd/m², PQ
+/// BT.2020 4:4:4 10-bit by zimg: `photo_pq.mkv` (FFV1, no metadata) and
+/// `hdr10.mkv` (lossless HEVC with the metadata of [`super::streams::MASTER`]);
+/// 2 frames.
 fn photo_clip(d: &Path) {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/exr/Desk.exr");
     let (sw, sh, full) = read_exr(&src);
@@ -162,4 +172,101 @@ fn bt2390_matches_libplacebo() {
     );
     let desat = psnr(&d.join("desat.mkv"), &d.join("lp.mkv"));
     eprintln!("default gamut mapping (desaturate) against libplacebo's clip: PSNR {desat:.2} dB");
+}
+
+/// PQ `photo.exr` (from [`photo_clip`]) with linear 1.0 at `npl` cd/m², `frames`
+/// frames, into `out` (FFV1, no metadata).
+fn photo_at(d: &Path, npl: f64, frames: u32, out: &str) {
+    ffmpeg(&[
+        "-loop",
+        "1",
+        "-i",
+        &p(d, "photo.exr"),
+        "-frames:v",
+        &frames.to_string(),
+        "-vf",
+        &format!("zscale=tin=linear:pin=709:min=gbr:t=smpte2084:p=2020:m=2020_ncl:r=tv:npl={npl},format=yuv444p10le"),
+        "-c:v",
+        "ffv1",
+        "-color_trc",
+        "smpte2084",
+        "-color_primaries",
+        "bt2020",
+        "-colorspace",
+        "bt2020nc",
+        &p(d, out),
+    ]);
+}
+
+/// Without metadata the peak is measured per frame: on the photo (peak 1,000
+/// cd/m²) the output matches libplacebo told the peak by metadata (≥ 45 dB). A
+/// scene cut (3 frames at a quarter of the light, then 3 at full light) restarts
+/// the measurement: the first bright frame matches the bright clip tone-mapped
+/// with `source_peak=1000` (≥ 45 dB), where without cut detection the smoothed
+/// peak still lags (lower PSNR).
+#[test]
+fn the_measured_peak_follows_the_content_and_restarts_at_cuts() {
+    let Some(dir) = setup() else { return };
+    let d = dir.path();
+    photo_clip(d);
+    libplacebo(&d.join("hdr10.mkv"), &d.join("lp.mkv"), 0.5);
+    let args = |input: &str, out: &str, extra: &[&str]| {
+        let mut a = vec![
+            "tonemap",
+            "--set",
+            "gamut=clip",
+            "-i",
+            input,
+            "-o",
+            out,
+            "--codec",
+            "ffv1",
+            "--pix-fmt",
+            "yuv444p",
+        ];
+        a.extend_from_slice(extra);
+        a.iter().map(|s| s.to_string()).collect::<Vec<_>>()
+    };
+    let run = |a: Vec<String>| run_ok(d, &a.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    let e = run(args("photo_pq.mkv", "measured.mkv", &["-v"]));
+    assert!(e.contains("tonemap measures each frame's peak"), "{e}");
+    let db = psnr(&d.join("measured.mkv"), &d.join("lp.mkv"));
+    eprintln!("measured peak against libplacebo with the metadata's: PSNR {db:.2} dB");
+    assert!(db >= 45.0, "{db}");
+    // A cut from a quarter of the light to full light.
+    photo_at(d, 203.0 / 4.0, 3, "dark.mkv");
+    photo_at(d, 203.0, 3, "bright.mkv");
+    ffmpeg(&[
+        "-i",
+        &p(d, "dark.mkv"),
+        "-i",
+        &p(d, "bright.mkv"),
+        "-filter_complex",
+        "[0:v][1:v]concat=n=2:v=1",
+        "-c:v",
+        "ffv1",
+        "-color_trc",
+        "smpte2084",
+        "-color_primaries",
+        "bt2020",
+        "-colorspace",
+        "bt2020nc",
+        &p(d, "cut.mkv"),
+    ]);
+    run(args("cut.mkv", "cut_out.mkv", &[]));
+    run(args(
+        "cut.mkv",
+        "lag_out.mkv",
+        &["--set", "scene_low=99", "--set", "scene_high=100"],
+    ));
+    run(args(
+        "bright.mkv",
+        "ref_out.mkv",
+        &["--set", "source_peak=1000"],
+    ));
+    let with_cut = psnr_frames(&d.join("cut_out.mkv"), 3, &d.join("ref_out.mkv"), 0);
+    let without = psnr_frames(&d.join("lag_out.mkv"), 3, &d.join("ref_out.mkv"), 0);
+    eprintln!("first frame after the cut: PSNR {with_cut:.2} dB with cut detection, {without:.2} dB without");
+    assert!(with_cut >= 45.0, "{with_cut}");
+    assert!(without < with_cut - 3.0, "{without} vs {with_cut}");
 }
