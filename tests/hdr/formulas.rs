@@ -300,3 +300,64 @@ fn the_wgsl_twin_has_the_bt2087_matrices() {
         }
     }
 }
+
+/// A 16-bit PNG with a cICP chunk (BT.2020, PQ, full range) is decoded with PQ:
+/// a ramp of PQ codes against the formula (1e-4 relative: rgba32f textures for
+/// 16-bit input); without the chunk the same file is sRGB.
+#[test]
+fn a_png_with_cicp_pq_decodes_with_pq() {
+    let Some(dir) = setup() else { return };
+    let d = dir.path();
+    let (w, h) = (64u32, 16u32);
+    let code = |x: u32| (x * 1023) as u16; // 0 to 64449 of 65535
+    let mut data = Vec::new();
+    for _ in 0..h {
+        for x in 0..w {
+            for _ in 0..3 {
+                data.extend_from_slice(&code(x).to_be_bytes());
+            }
+        }
+    }
+    let write = |name: &str, cicp: bool| {
+        let file = std::fs::File::create(d.join(name)).unwrap();
+        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Sixteen);
+        let mut wr = enc.write_header().unwrap();
+        if cicp {
+            // BT.2020 primaries (9), PQ (16), RGB (0), full range (1).
+            wr.write_chunk(png::chunk::cICP, &[9, 16, 0, 1]).unwrap();
+        }
+        wr.write_image_data(&data).unwrap();
+        wr.finish().unwrap();
+    };
+    write("pq.png", true);
+    write("plain.png", false);
+    run_ok(
+        d,
+        &["id.fx", "-i", "pq.png", "-o", "pq.exr", "--bit-depth", "32"],
+    );
+    run_ok(
+        d,
+        &[
+            "id.fx",
+            "-i",
+            "plain.png",
+            "-o",
+            "plain.exr",
+            "--bit-depth",
+            "32",
+        ],
+    );
+    let (_, _, v) = read_exr(&d.join("pq.exr"));
+    let (_, _, plain) = read_exr(&d.join("plain.exr"));
+    let mut worst: f64 = 0.0;
+    for x in 0..w as usize {
+        let want = pq_nits(code(x as u32) as f64 / 65535.0) / 203.0;
+        worst = worst.max(rel(v[x * 4] as f64, want));
+    }
+    eprintln!("cICP PQ PNG: largest relative error {worst:.2e}");
+    assert!(worst < 1e-4, "{worst}");
+    // Without cICP: sRGB (code 32736 of 65535 ≈ 0.5 → 0.214).
+    assert!((plain[32 * 4] - 0.2140).abs() < 1e-3, "{}", plain[32 * 4]);
+}
