@@ -174,6 +174,46 @@ fn bad_hdr_inputs_say_what_happens() {
     ]);
     let o = fxrun_in(d, &["id.fx", "-i", "log.mkv", "-o", "x.mkv"]);
     exits_with(&o, 1, &["log.mkv", "transfer `log100`", "--input-color"]);
+    // The colour options where they would do nothing.
+    let o = fxrun_in(
+        d,
+        &[
+            "id.fx",
+            "-i",
+            "pq.mkv",
+            "-o",
+            "f/%04d.exr",
+            "--output-color",
+            "hdr10",
+        ],
+    );
+    exits_with(&o, 1, &["--output-color is for y4m and video outputs"]);
+    let o = fxrun_in(
+        d,
+        &[
+            "id.fx",
+            "-i",
+            "pq.mkv",
+            "-o",
+            "x.mkv",
+            "--output-color",
+            "hdr",
+        ],
+    );
+    exits_with(&o, 1, &["--output-color", "expected hdr10, hlg or sdr"]);
+    let o = fxrun_in(
+        d,
+        &[
+            "id.fx",
+            "-i",
+            "pq.mkv",
+            "-o",
+            "x.mkv",
+            "--input-color",
+            "transfer=log",
+        ],
+    );
+    exits_with(&o, 1, &["--input-color transfer=log", "unknown value"]);
     // Contradicting tags: PQ with BT.709 primaries.
     ffmpeg(&[
         "-i",

@@ -19,6 +19,7 @@ pub(crate) fn run_sequence_cli(
     if cli.rate == 0 || cli.rate > 4 {
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
+    streams::check_color_options(cli, ispec.is_stream(), ospec.is_stream())?;
     // Ctrl-C stops the run from here on (the ffmpeg children started below are in
     // their own process group: fxrun ends them).
     let stop = stop_flag();

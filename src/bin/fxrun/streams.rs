@@ -72,6 +72,26 @@ pub(crate) fn open_input(cli: &Cli, input: &StreamInput) -> Result<OpenedInput, 
     Ok(opened)
 }
 
+/// `--input-color` and `--output-color` are for streams (y4m, video): refused for
+/// image inputs and outputs, where they would do nothing.
+pub(crate) fn check_color_options(
+    cli: &Cli,
+    input_stream: bool,
+    output_stream: bool,
+) -> Result<(), Fail> {
+    if cli.input_color.is_some() && !input_stream {
+        return Err(rejected(
+            "--input-color is for y4m and video inputs (image files say their own colour: EXR is linear, PNG sRGB or its cICP)",
+        ));
+    }
+    if cli.output_color.is_some() && !output_stream {
+        return Err(rejected(
+            "--output-color is for y4m and video outputs (EXR outputs are linear working space; 8/16-bit images are sRGB)",
+        ));
+    }
+    Ok(())
+}
+
 /// The HDR defaults of `tonemap` for an HDR input: the BT.2390 EETF unless an
 /// operator was set, and the source peak from the metadata (else measured per
 /// frame). Returns the `--set` list to compile the effects with.
