@@ -150,7 +150,8 @@ impl<R: std::io::Read + Send> Y4mSource<R> {
                 continue;
             }
             let header = self.reader.header();
-            let kind = if header.depth > 8 {
+            // Above 8 bits, and any signal other than sRGB (PQ, HLG...): linear floats.
+            let kind = if header.depth > 8 || !self.conversion.color.is_srgb() {
                 RgbKind::LinearF32
             } else {
                 RgbKind::SrgbU8
@@ -205,6 +206,8 @@ pub struct Y4mSink<W: io::OutputTarget> {
     pub template: io::y4m::Y4mHeader,
     pub conversion: io::y4m::YuvConversion,
     pub name: String,
+    /// Non-finite samples were reported already (once per output).
+    pub warned_non_finite: bool,
 }
 
 impl<W: io::OutputTarget> Y4mSink<W> {
@@ -221,6 +224,24 @@ impl<W: io::OutputTarget> Y4mSink<W> {
             template,
             conversion,
             name: name.into(),
+            warned_non_finite: false,
+        }
+    }
+
+    /// NaN or ±Inf samples in a frame for an HDR signal: say once what they become.
+    fn check_non_finite(&mut self, number: u64, pixels: &Pixels) {
+        let Pixels::F32(v) = pixels else { return };
+        if self.warned_non_finite || !self.conversion.color.transfer.is_hdr() {
+            return;
+        }
+        let bad = v.iter().filter(|x| !x.is_finite()).count();
+        if bad > 0 {
+            self.warned_non_finite = true;
+            log::warn!(
+                "{}: frame {number} has {bad} NaN or infinite samples: NaN is written as 0 (black), +Inf as the {} peak, -Inf as 0 (reported once)",
+                self.name,
+                self.conversion.color.transfer.name()
+            );
         }
     }
 
@@ -248,6 +269,7 @@ impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
             self.writer =
                 Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
         }
+        self.check_non_finite(frame.number, &frame.pixels);
         let w = self.writer.as_mut().expect("writer created");
         let header = w.header().clone();
         let img = Image {

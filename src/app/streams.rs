@@ -13,7 +13,9 @@
 use super::error::RunError;
 use super::frames::{FrameSink, FrameSource, SideLimit, SourceFrame};
 use super::sources::{Y4mSink, Y4mSource};
-use crate::io::video::{Decoder, EncodeOptions, Encoder, MediaSource, VideoInfo};
+use crate::io::video::{
+    video_color, Decoder, EncodeOptions, Encoder, HdrMetadata, MediaSource, VideoInfo,
+};
 use crate::io::y4m::{Y4mHeader, Y4mReader, YuvConversion};
 use crate::io::{AtomicFile, IoError};
 use crate::script::types::Format;
@@ -83,6 +85,9 @@ pub struct OpenedInput {
     pub frames: Option<u64>,
     /// The child processes run (ffprobe, ffmpeg), as command lines.
     pub commands: Vec<String>,
+    /// Doubts about the input's colour (tags that contradict each other, an HDR
+    /// stream of 8 bits), for the user.
+    pub color_warnings: Vec<String>,
     reader: Reader,
 }
 
@@ -114,6 +119,12 @@ impl OpenedInput {
             StreamInput::Video(path) => {
                 let (info, probe_line) =
                     crate::io::video::probe(path).map_err(|e| RunError::from(IoError::from(e)))?;
+                let color = video_color(&info).map_err(|message| {
+                    RunError::from(IoError::Unsupported {
+                        path: path.clone(),
+                        message,
+                    })
+                })?;
                 let mut decoder =
                     Decoder::spawn(&info).map_err(|e| RunError::from(IoError::from(e)))?;
                 let commands = vec![probe_line, decoder.command_line().to_string()];
@@ -137,6 +148,8 @@ impl OpenedInput {
                     commands,
                 );
                 opened.frames = frames;
+                opened.conversion.color = color.color;
+                opened.color_warnings = color.warnings;
                 Ok(opened)
             }
         }
@@ -163,8 +176,25 @@ impl OpenedInput {
             video,
             frames: None,
             commands,
+            color_warnings: Vec::new(),
             reader,
         }
+    }
+
+    /// Whether the frames are HDR (PQ or HLG).
+    pub fn is_hdr(&self) -> bool {
+        self.conversion.color.transfer.is_hdr()
+    }
+
+    /// The HDR metadata of a video input (empty for y4m streams).
+    pub fn hdr_metadata(&self) -> HdrMetadata {
+        self.video.as_ref().map(|v| v.hdr).unwrap_or_default()
+    }
+
+    /// Whether the stream's colour is ambiguous: a y4m stream above 8 bits (often
+    /// HDR) whose colour nobody said.
+    pub fn colour_is_ambiguous(&self) -> bool {
+        self.video.is_none() && self.header.depth > 8
     }
 
     /// The source of the stream's frames `skip` to `last` (0-based, inclusive;
@@ -267,6 +297,8 @@ pub struct OutputSettings {
     /// Colour tags of an input video carried over (primaries, transfer).
     pub primaries: Option<String>,
     pub transfer: Option<String>,
+    /// HDR metadata written into an HDR video output.
+    pub hdr: Option<HdrMetadata>,
 }
 
 impl OutputSettings {
@@ -282,7 +314,16 @@ impl OutputSettings {
             media: None,
             primaries: None,
             transfer: None,
+            hdr: None,
         }
+    }
+
+    /// Tags and depth of an output whose signal is `conversion.color` but not the
+    /// input's: the tags named after the signal.
+    pub fn tag_signal(&mut self) {
+        let c = self.conversion.color;
+        self.primaries = Some(c.primaries.ffmpeg_name().to_string());
+        self.transfer = Some(c.transfer.ffmpeg_name().to_string());
     }
 }
 
@@ -316,7 +357,11 @@ pub fn open_output(output: &StreamOutput, s: &OutputSettings) -> Result<OpenedOu
     ) -> Box<dyn FrameSink> {
         Box::new(Y4mSink::new(w, s.template.clone(), s.conversion, name))
     }
-    let texture_format = texture_format_for_depth(t.depth);
+    // A signal other than sRGB is encoded from linear floats (never from 8-bit sRGB).
+    let texture_format = match texture_format_for_depth(t.depth) {
+        Format::Rgba8Srgb if !s.conversion.color.is_srgb() => Format::Rgba16f,
+        f => f,
+    };
     let (sink, commands, notes) = match output {
         StreamOutput::Stdout => {
             let out = std::io::BufWriter::with_capacity(1 << 20, std::io::stdout());
@@ -338,6 +383,7 @@ pub fn open_output(output: &StreamOutput, s: &OutputSettings) -> Result<OpenedOu
                 primaries: s.primaries.clone(),
                 transfer: s.transfer.clone(),
                 media: s.media.clone(),
+                hdr: s.hdr,
             };
             let encoder =
                 Encoder::spawn(path, &opts).map_err(|e| RunError::from(IoError::from(e)))?;

@@ -452,6 +452,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
         return Err(rejected("give an input and an output image: -i INPUT -o OUTPUT (or --check, --plan, --dot, --describe)"));
     };
     let input = input.clone();
+    streams::check_color_options(cli, false, false)?;
     if cli.format.is_some() {
         return Err(rejected(
             "--format sets the format of -o DIR outputs; an output file has its own extension",

@@ -227,8 +227,10 @@ fn decode_with_image_crate(
         FileFormat::WebP => super::structure::check_webp_structure(bytes)?,
         _ => {}
     }
+    let mut cicp = None;
     let (w, h, img, bit_depth) = if format == FileFormat::Png {
-        let (img, depth) = super::png_decode::decode_png(bytes, MAX_DECODER_ALLOC)?;
+        let (img, depth, c) = super::png_decode::decode_png(bytes, MAX_DECODER_ALLOC)?;
+        cicp = c;
         (img.width(), img.height(), img, depth)
     } else {
         let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format.image_format());
@@ -260,7 +262,28 @@ fn decode_with_image_crate(
         DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_)
     );
     let lin = opts.assume_linear;
-    let pixels = match img {
+    let pixels = match (img, cicp) {
+        // A PNG's cICP (PQ, HLG, BT.2020...): decoded to linear working space.
+        (img, Some(c)) if !lin => Pixels::F32(super::png_decode::decode_cicp(&img, &c)),
+        (img, _) => plain_pixels(img, lin),
+    };
+    Ok(Image {
+        width: w,
+        height: h,
+        pixels,
+        source: SourceInfo {
+            format,
+            bit_depth,
+            has_alpha,
+            float,
+        },
+    })
+}
+
+/// The pixels of a decoded image: 8-bit RGBA as stored, 16 bits sRGB-decoded to
+/// floats (or scaled with `lin`), floats as they are.
+fn plain_pixels(img: DynamicImage, lin: bool) -> Pixels {
+    match img {
         DynamicImage::ImageRgba8(b) => Pixels::U8(b.into_raw()),
         img @ (DynamicImage::ImageLuma8(_)
         | DynamicImage::ImageLumaA8(_)
@@ -279,16 +302,5 @@ fn decode_with_image_crate(
             Pixels::F32(out)
         }
         other => Pixels::F32(other.into_rgba32f().into_raw()),
-    };
-    Ok(Image {
-        width: w,
-        height: h,
-        pixels,
-        source: SourceInfo {
-            format,
-            bit_depth,
-            has_alpha,
-            float,
-        },
-    })
+    }
 }

@@ -13,6 +13,7 @@
 //! [`IoError::Decode`], never a panic or an abort.
 
 mod atomic;
+pub mod color_option;
 mod decode;
 mod encode;
 mod exr_io;

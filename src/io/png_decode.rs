@@ -13,12 +13,51 @@
 //! IDAT, critical: true, ... }`) and deflate errors by their variant names
 //! (`WrongChecksum`); [`png_error_text`] writes them as words.
 
+use crate::pixels::color::{Primaries, SignalColor, Transfer};
 use image::DynamicImage;
 use std::io::Cursor;
 
+/// What a PNG's cICP chunk says (ITU-T H.273 code points), where it says more than
+/// sRGB: the signal, and whether it is narrow ("video") range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Cicp {
+    pub color: SignalColor,
+    pub narrow: bool,
+}
+
+/// The signal of H.273 code points; `Err` for code points fxrun does not decode.
+fn cicp_signal(c: &png::CodingIndependentCodePoints) -> Result<Cicp, String> {
+    let primaries = match c.color_primaries {
+        1 | 2 => Primaries::Bt709,
+        9 => Primaries::Bt2020,
+        12 => Primaries::DisplayP3,
+        p => return Err(format!("cICP colour primaries {p}")),
+    };
+    let transfer = match c.transfer_function {
+        13 | 2 => Transfer::Srgb,
+        1 | 6 | 14 | 15 => Transfer::Bt1886,
+        8 => Transfer::Linear,
+        16 => Transfer::Pq,
+        18 => Transfer::Hlg,
+        t => return Err(format!("cICP transfer {t}")),
+    };
+    Ok(Cicp {
+        color: SignalColor {
+            transfer,
+            primaries,
+            ..SignalColor::default()
+        },
+        narrow: !c.is_video_full_range_image,
+    })
+}
+
 /// Decodes a PNG file's (first) image to 8 or 16 bits per sample, with the file's
-/// bit depth (8 for a palette).
-pub(super) fn decode_png(bytes: &[u8], max_alloc: u64) -> Result<(DynamicImage, u8), String> {
+/// bit depth (8 for a palette) and its cICP signal when it has one that is not
+/// sRGB (an unknown one is ignored with a warning: the image is read as sRGB).
+pub(super) fn decode_png(
+    bytes: &[u8],
+    max_alloc: u64,
+) -> Result<(DynamicImage, u8, Option<Cicp>), String> {
     let mut options = png::DecodeOptions::default();
     options.set_ignore_adler32(false);
     options.set_ignore_crc(false);
@@ -35,6 +74,17 @@ pub(super) fn decode_png(bytes: &[u8], max_alloc: u64) -> Result<(DynamicImage, 
     // Palettes to RGB(A), tRNS to alpha, 1/2/4-bit grey to 8 bits.
     decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder.read_info().map_err(png_error_text)?;
+    let cicp = match reader.info().coding_independent_code_points.as_ref() {
+        None => None,
+        Some(c) => match cicp_signal(c) {
+            Ok(s) if s.color.is_srgb() && !s.narrow => None,
+            Ok(s) => Some(s),
+            Err(what) => {
+                log::warn!("PNG with {what}, which fxrun does not decode: read as sRGB");
+                None
+            }
+        },
+    };
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| "the image is too large".to_string())?;
@@ -93,7 +143,7 @@ pub(super) fn decode_png(bytes: &[u8], max_alloc: u64) -> Result<(DynamicImage, 
             ))
         }
     };
-    Ok((img.ok_or_else(wrong_size)?, file_depth))
+    Ok((img.ok_or_else(wrong_size)?, file_depth, cicp))
 }
 
 fn color_words(c: png::ColorType) -> &'static str {
@@ -154,6 +204,39 @@ fn camel_to_words(s: &str) -> String {
             out.push(' ');
         }
         out.push(c.to_ascii_lowercase());
+    }
+    out
+}
+
+/// Pixels of a PNG whose cICP says another signal than sRGB: the stored samples
+/// (`img`, at `depth` bits) as that signal, decoded to linear working-space RGBA
+/// floats (alpha as stored).
+pub(super) fn decode_cicp(img: &DynamicImage, cicp: &Cicp) -> Vec<f32> {
+    let rgba = img.to_rgba32f().into_raw(); // samples / (2^n - 1), no curve
+    let depth_max = if matches!(
+        img,
+        DynamicImage::ImageLuma16(_)
+            | DynamicImage::ImageLumaA16(_)
+            | DynamicImage::ImageRgb16(_)
+            | DynamicImage::ImageRgba16(_)
+    ) {
+        65535.0
+    } else {
+        255.0
+    };
+    // Narrow range: code 16 · 2^(n-8) is 0, 235 · 2^(n-8) is 1.
+    let scale = (depth_max + 1.0) / 256.0;
+    let (off, span) = if cicp.narrow {
+        (16.0 * scale / depth_max, 219.0 * scale / depth_max)
+    } else {
+        (0.0, 1.0)
+    };
+    let to_working = cicp.color.to_working();
+    let mut out = Vec::with_capacity(rgba.len());
+    for px in rgba.chunks_exact(4) {
+        let s = [px[0], px[1], px[2]].map(|v| ((v - off) / span).clamp(0.0, 1.0));
+        let l = cicp.color.decode(s, &to_working);
+        out.extend_from_slice(&[l[0], l[1], l[2], px[3]]);
     }
     out
 }

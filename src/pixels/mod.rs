@@ -3,6 +3,7 @@
 //! sRGB codes and linear floats. No files, no GPU: decoding and encoding files is
 //! [`crate::io`]'s, uploading and reading textures [`crate::gpu`]'s.
 
+pub mod color;
 pub(crate) mod convert;
 pub mod srgb;
 

@@ -202,6 +202,7 @@ fn conv(matrix: Matrix, range: Range) -> YuvConversion {
         range,
         chroma_fields: ChromaFields::Auto,
         clip: true,
+        color: Default::default(),
     }
 }
 

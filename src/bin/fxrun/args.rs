@@ -165,6 +165,16 @@ pub(crate) struct Cli {
     /// Video output: the pixel format (default yuv420p, yuv420p10le above 8 bits).
     #[arg(help_heading = VIDEO, long, value_name = "NAME")]
     pub(crate) pix_fmt: Option<String>,
+    /// Streams: what the input's frames are, over its tags (y4m has none):
+    /// transfer=pq|hlg|bt1886|srgb|linear, primaries=bt709|bt2020|p3,
+    /// matrix=bt601|bt709|bt2020, range=limited|full, peak=CD/M2 (HLG display).
+    /// An HDR transfer alone implies BT.2020 primaries and matrix.
+    #[arg(help_heading = VIDEO, long, value_name = "KEY=VALUE,...")]
+    pub(crate) input_color: Option<String>,
+    /// Streams: write the output as hdr10 (PQ, BT.2020), hlg or sdr (BT.709,
+    /// BT.1886). Default: SDR after `tonemap`, else the input's colour.
+    #[arg(help_heading = VIDEO, long, value_name = "hdr10|hlg|sdr")]
+    pub(crate) output_color: Option<String>,
     /// Render a scene with the deferred renderer as the effect input:
     /// builtin:room, builtin:bench, or a .gltf/.glb file (size from --size).
     #[arg(help_heading = SCENES, long, value_parser = clap::builder::NonEmptyStringValueParser::new())]

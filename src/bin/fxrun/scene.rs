@@ -227,6 +227,8 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
                 fps,
                 emit: None,
                 deinterlaces: false,
+                display_referred: super::streams::has_tonemap(cli),
+                hdr: Default::default(),
             };
             let opened = super::streams::open_stream_output(cli, &output, &plan)?;
             (opened.sink, opened.texture_format)

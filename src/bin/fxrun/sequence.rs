@@ -19,6 +19,7 @@ pub(crate) fn run_sequence_cli(
     if cli.rate == 0 || cli.rate > 4 {
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
+    streams::check_color_options(cli, ispec.is_stream(), ospec.is_stream())?;
     // Ctrl-C stops the run from here on (the ffmpeg children started below are in
     // their own process group: fxrun ends them).
     let stop = stop_flag();
@@ -61,6 +62,7 @@ pub(crate) fn run_sequence_cli(
     // Source: files (with the context frames a slice needs) or a y4m or video stream.
     let mut y4m_template = None;
     let mut video_in = None;
+    let mut hdr_in = None;
     let mut emit = None;
     // `-o DIR` from files (one output per input frame): each frame's own file name.
     let mut named: Option<HashMap<u64, PathBuf>> = None;
@@ -74,6 +76,7 @@ pub(crate) fn run_sequence_cli(
             }
             y4m_template = Some((header, opened.conversion));
             video_in = opened.video.clone();
+            hdr_in = opened.is_hdr().then(|| opened.hdr_metadata());
             let (skip, last) = match range {
                 Some(r) => {
                     emit = Some((r.start, r.end));
@@ -172,6 +175,8 @@ pub(crate) fn run_sequence_cli(
                 fps,
                 emit,
                 deinterlaces: effect.graph.params.iter().any(|p| p.name == "field_order"),
+                display_referred: streams::has_tonemap(cli),
+                hdr: hdr_in.unwrap_or_default(),
             };
             let opened = open_stream_output(cli, &output, &plan)?;
             (opened.sink, opened.texture_format)
@@ -196,6 +201,20 @@ pub(crate) fn run_sequence_cli(
             files_sink(cli, fxgraph::app::OutputNames::Pattern(pattern), &probe)?
         }
     };
+    // An HDR input makes the BT.2390 EETF `tonemap`'s default, with the metadata's
+    // peak.
+    let mut base_set = cli.set.clone();
+    if let Some(h) = &hdr_in {
+        base_set = streams::hdr_tonemap_sets(cli, h.peak_nits());
+        if cli.verbose {
+            for s in &base_set[cli.set.len()..] {
+                eprintln!("fxrun: note: HDR input: --set {s}");
+            }
+        }
+        if base_set != cli.set {
+            effect = Effect::compile(&cli.effects, &base_set)?;
+        }
+    }
     // An interlaced y4m input sets the field order of effects that take one.
     if let Some((h, _)) = &y4m_template {
         use fxgraph::io::y4m::Interlace;
@@ -211,7 +230,7 @@ pub(crate) fn run_sequence_cli(
                 .is_some_and(|k| k.ends_with("field_order"))
         });
         if let (Some(order), true, false) = (order, has_param, user_set) {
-            let mut set = cli.set.clone();
+            let mut set = base_set.clone();
             set.push(format!("field_order={order}"));
             effect = Effect::compile(&cli.effects, &set)?;
         }

@@ -6,8 +6,11 @@ use super::*;
 use fxgraph::app::{
     open_output, OpenedInput, OpenedOutput, OutputSettings, StreamInput, StreamOutput,
 };
+use fxgraph::io::color_option::{ColorOverride, OutputColor};
+use fxgraph::io::video::HdrMetadata;
 use fxgraph::io::video::{MediaSource, VideoInfo};
 use fxgraph::io::y4m::{Chroma, Interlace, Y4mHeader, YuvConversion};
+use std::path::Path;
 
 /// The stream an `-i` argument names, if it is one.
 pub(crate) fn stream_input(spec: &SequenceSpec) -> Option<StreamInput> {
@@ -29,15 +32,100 @@ pub(crate) fn stream_output(spec: &SequenceSpec) -> Option<StreamOutput> {
     }
 }
 
-/// Open an input stream, printing the commands run with `-v`.
+/// Open an input stream, printing the commands run with `-v`; `--input-color`
+/// applied, and the doubts about its colour printed.
 pub(crate) fn open_input(cli: &Cli, input: &StreamInput) -> Result<OpenedInput, Fail> {
-    let opened = OpenedInput::open(input)?;
+    let mut opened = OpenedInput::open(input)?;
     if cli.verbose {
         for c in &opened.commands {
             eprintln!("fxrun: running: {c}");
         }
     }
+    let name = match input {
+        StreamInput::Stdin => "stdin".to_string(),
+        StreamInput::Y4mFile(p) | StreamInput::Video(p) => p.display().to_string(),
+    };
+    match &cli.input_color {
+        Some(spec) => {
+            let o: ColorOverride = spec
+                .parse()
+                .map_err(|e| rejected(format!("--input-color {spec}: {e}")))?;
+            o.apply(&mut opened.conversion);
+        }
+        None => {
+            for w in &opened.color_warnings {
+                eprintln!("fxrun: warning: {name}: {w}");
+            }
+            if opened.colour_is_ambiguous() {
+                eprintln!(
+                    "fxrun: warning: {name}: a {}-bit y4m stream says nothing of its colour: read as SDR (sRGB curve, BT.709); if it is HDR, say so with --input-color transfer=pq (or hlg),primaries=bt2020",
+                    opened.header.depth
+                );
+            }
+        }
+    }
+    if opened.is_hdr() && opened.hdr_metadata().is_empty() && cli.verbose {
+        eprintln!(
+            "fxrun: note: {name}: no mastering-display or content-light metadata: tonemap measures each frame's peak"
+        );
+    }
     Ok(opened)
+}
+
+/// `--input-color` and `--output-color` are for streams (y4m, video): refused for
+/// image inputs and outputs, where they would do nothing.
+pub(crate) fn check_color_options(
+    cli: &Cli,
+    input_stream: bool,
+    output_stream: bool,
+) -> Result<(), Fail> {
+    if cli.input_color.is_some() && !input_stream {
+        return Err(rejected(
+            "--input-color is for y4m and video inputs (image files say their own colour: EXR is linear, PNG sRGB or its cICP)",
+        ));
+    }
+    if cli.output_color.is_some() && !output_stream {
+        return Err(rejected(
+            "--output-color is for y4m and video outputs (EXR outputs are linear working space; 8/16-bit images are sRGB)",
+        ));
+    }
+    Ok(())
+}
+
+/// The HDR defaults of `tonemap` for an HDR input: the BT.2390 EETF unless an
+/// operator was set, and the source peak from the metadata (else measured per
+/// frame). Returns the `--set` list to compile the effects with.
+pub(crate) fn hdr_tonemap_sets(cli: &Cli, peak: Option<f32>) -> Vec<String> {
+    let mut set = cli.set.clone();
+    if !has_tonemap(cli) {
+        return set;
+    }
+    let given = |key: &str| {
+        cli.set.iter().any(|s| {
+            s.split('=')
+                .next()
+                .is_some_and(|k| k == key || k.ends_with(&format!(".{key}")))
+        })
+    };
+    if !given("operator") {
+        set.push("tonemap.operator=bt2390".into());
+    }
+    if let (false, Some(p)) = (given("source_peak"), peak) {
+        set.push(format!("tonemap.source_peak={p}"));
+    }
+    set
+}
+
+/// Whether the effect chain has `tonemap` (its output, and everything after it, is
+/// display-referred SDR).
+pub(crate) fn has_tonemap(cli: &Cli) -> bool {
+    cli.effects.iter().any(|e| {
+        let stem = Path::new(e)
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or(e);
+        stem == "tonemap"
+    })
 }
 
 /// A frame rate as a y4m ratio: 30 → 30:1; the NTSC rates n / 1.001, exact or as
@@ -105,6 +193,41 @@ pub(crate) struct StreamPlan<'a> {
     pub(crate) emit: Option<(u64, u64)>,
     /// The effect deinterlaces (its output is progressive).
     pub(crate) deinterlaces: bool,
+    /// The effect chain's output is display-referred (it has `tonemap`).
+    pub(crate) display_referred: bool,
+    /// The input's HDR metadata (video inputs).
+    pub(crate) hdr: HdrMetadata,
+}
+
+/// The output's signal: `--output-color`, else SDR for a display-referred chain
+/// from an HDR input, else the input's. Returns the conversion, the depth to write
+/// (`--bit-depth` over the signal's default over the input's) and whether the tags
+/// must be named after the signal (it is not the input's).
+fn output_signal(
+    cli: &Cli,
+    plan: &StreamPlan,
+    conversion: YuvConversion,
+    input_depth: u8,
+) -> Result<(YuvConversion, u8, bool), Fail> {
+    let forced = match &cli.output_color {
+        Some(s) => Some(
+            s.parse::<OutputColor>()
+                .map_err(|e| rejected(format!("--output-color {e}")))?,
+        ),
+        None => None,
+    };
+    let choice = forced.or_else(|| {
+        (plan.display_referred && conversion.color.transfer.is_hdr()).then_some(OutputColor::Sdr)
+    });
+    Ok(match choice {
+        Some(c) => {
+            let (conv, depth) = c.conversion(&conversion);
+            let same = conv.color == conversion.color && conv.matrix == conversion.matrix;
+            let depth = if same { input_depth.max(depth) } else { depth };
+            (conv, cli.bit_depth.unwrap_or(depth), !same)
+        }
+        None => (conversion, cli.bit_depth.unwrap_or(input_depth), false),
+    })
 }
 
 /// Open an output stream: the input's header (rate times `--rate`, interlacing,
@@ -144,7 +267,7 @@ pub(crate) fn open_stream_output(
     if cli.rate > 1 || plan.deinterlaces {
         header.interlace = Interlace::Progressive;
     }
-    let depth = cli.bit_depth.unwrap_or(header.depth);
+    let (conversion, depth, retag) = output_signal(cli, plan, conversion, header.depth)?;
     header
         .set_depth(depth)
         .map_err(|m| rejected(format!("--bit-depth {depth}: {m}")))?;
@@ -154,9 +277,18 @@ pub(crate) fn open_stream_output(
         settings.crf = cli.crf;
         settings.preset = cli.preset.clone();
         settings.pix_fmt = cli.pix_fmt.clone();
-        if let Some(v) = plan.video {
+        if conversion.color.transfer.is_hdr() && !retag {
+            settings.hdr = Some(plan.hdr).filter(|h| !h.is_empty());
+        }
+        // Tags say what the pixels are: named after the signal, except SDR video
+        // read with the sRGB curve, whose own tags are kept.
+        if retag || !conversion.color.is_srgb() {
+            settings.tag_signal();
+        } else if let Some(v) = plan.video {
             settings.primaries = v.color_primaries.clone();
             settings.transfer = v.color_transfer.clone();
+        }
+        if let Some(v) = plan.video {
             let fps = if v.fps.1 > 0 {
                 v.fps.0 as f64 / v.fps.1 as f64
             } else {

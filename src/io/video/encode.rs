@@ -4,6 +4,7 @@
 //! video copied (or converted where the container needs it) from that file.
 
 use super::audio::{per_stream, plan_audio, AudioStream};
+use super::color::HdrMetadata;
 use super::container::Container;
 use super::pix_fmt::{self, Layout};
 use super::probe::VideoInfo;
@@ -74,6 +75,52 @@ pub struct EncodeOptions {
     pub transfer: Option<String>,
     /// Audio and subtitles to copy.
     pub media: Option<MediaSource>,
+    /// HDR metadata (mastering display, content light level) to write, for PQ and
+    /// HLG outputs: as SEI by libx265 and libx264.
+    pub hdr: Option<HdrMetadata>,
+}
+
+impl EncodeOptions {
+    /// Whether the output is HDR (tagged PQ or HLG).
+    fn is_hdr(&self) -> bool {
+        matches!(self.transfer.as_deref(), Some("smpte2084" | "arib-std-b67"))
+    }
+}
+
+/// The encoders tried for an output with no `--codec`: the container's list, with
+/// libx265 first for HDR outputs (HEVC Main 10 is what HDR10 and HLG players expect,
+/// and ffprobe reads its mastering-display SEI back).
+fn default_codecs(container: &Container, opts: &EncodeOptions) -> Vec<&'static str> {
+    let list = if opts.depth > 8 {
+        container.codecs_high
+    } else {
+        container.codecs_8bit
+    };
+    let mut v: Vec<&'static str> = list.to_vec();
+    if opts.is_hdr() && v.contains(&"libx265") {
+        v.retain(|c| *c != "libx265");
+        v.insert(0, "libx265");
+    }
+    v
+}
+
+/// The `-x265-params` / `-x264-params` value: x265's log level, and the HDR
+/// metadata for HDR outputs.
+fn x26x_params(codec: &str, opts: &EncodeOptions) -> Option<String> {
+    let mut p: Vec<String> = Vec::new();
+    if codec == "libx265" {
+        // x265 logs its statistics itself, whatever ffmpeg's log level.
+        p.push("log-level=error".into());
+    }
+    if opts.is_hdr() {
+        if codec == "libx265" && opts.transfer.as_deref() == Some("smpte2084") {
+            p.push("hdr10=1".into());
+        }
+        if let Some(h) = &opts.hdr {
+            p.extend(h.encoder_params(codec));
+        }
+    }
+    (!p.is_empty()).then(|| p.join(":"))
 }
 
 /// An ffmpeg child encoding the y4m written to it ([`Write`]) into a video file.
@@ -140,13 +187,9 @@ impl Encoder {
                 (c.clone(), f)
             }
             None => {
-                let list = if opts.depth > 8 {
-                    container.codecs_high
-                } else {
-                    container.codecs_8bit
-                };
+                let list = default_codecs(container, opts);
                 let mut found = None;
-                for c in list {
+                for c in &list {
                     if let Some(f) = encoder_formats(&ffmpeg, c).map_err(io_err)? {
                         found = Some((c.to_string(), f));
                         break;
@@ -415,9 +458,13 @@ fn encode_args(
     if codec == "libvpx-vp9" {
         push(&["-row-mt", "1", "-cpu-used", "4"]);
     }
-    if codec == "libx265" {
-        // x265 logs its statistics itself, whatever ffmpeg's log level.
-        push(&["-x265-params", "log-level=error"]);
+    if let Some(p) = x26x_params(codec, opts) {
+        let opt = if codec == "libx265" {
+            "-x265-params"
+        } else {
+            "-x264-params"
+        };
+        push(&[opt, &p]);
     }
     if let Some(p) = &opts.preset {
         push(&["-preset", p]);

@@ -23,6 +23,7 @@
 //! `decode`, `encode`, `process` (finding, starting and reaping the programs).
 
 mod audio;
+pub mod color;
 mod container;
 mod decode;
 mod encode;
@@ -31,6 +32,7 @@ mod probe;
 mod process;
 
 pub use audio::{plan_audio, AudioAction, AudioStream};
+pub use color::{video_color, HdrMetadata, Mastering, VideoColor};
 pub use container::{is_video_path, Container, Subtitles, CONTAINERS};
 pub use decode::{decode_args, Decoder};
 pub use encode::{EncodeOptions, Encoder, MediaSource};

@@ -2,6 +2,7 @@
 //! -show_format`: the video stream's size, frame rate, pixel format, colour range and
 //! matrix, and the audio and subtitle streams that are carried over to an output.
 
+use super::color::{hdr_metadata, HdrMetadata, SideData};
 use super::pix_fmt::{self, Layout};
 use super::process::{file_arg, require, shell_line, Child};
 use super::VideoError;
@@ -52,6 +53,9 @@ pub struct VideoInfo {
     pub duration: Option<f64>,
     pub audio: Vec<OtherStream>,
     pub subtitles: Vec<OtherStream>,
+    /// Mastering display and content light level: the stream's side data, else its
+    /// first frame's (HEVC and AV1 carry them in the bitstream).
+    pub hdr: HdrMetadata,
 }
 
 #[derive(Deserialize)]
@@ -59,6 +63,16 @@ struct Probe {
     #[serde(default)]
     streams: Vec<Stream>,
     format: Option<Format>,
+    /// The first video frame (`-read_intervals %+#1 -show_frames`), for its side data.
+    #[serde(default)]
+    frames: Vec<Frame>,
+}
+
+#[derive(Deserialize)]
+struct Frame {
+    stream_index: Option<usize>,
+    #[serde(default)]
+    side_data_list: Vec<SideData>,
 }
 
 #[derive(Deserialize)]
@@ -92,6 +106,8 @@ struct Stream {
     bits_per_raw_sample: Option<String>,
     #[serde(default)]
     disposition: Disposition,
+    #[serde(default)]
+    side_data_list: Vec<SideData>,
 }
 
 /// The `ffprobe` command that [`probe`] runs for `path`.
@@ -103,6 +119,11 @@ pub fn probe_args(path: &Path) -> Vec<String> {
         "json",
         "-show_streams",
         "-show_format",
+        "-show_frames",
+        "-read_intervals",
+        "%+#1",
+        "-show_entries",
+        "frame=stream_index,side_data_list:stream:format",
         "-i",
     ]
     .iter()
@@ -249,7 +270,21 @@ pub fn parse(path: &Path, json: &[u8]) -> Result<VideoInfo, VideoError> {
         duration: seconds(&v.duration).or_else(|| seconds(&p.format.as_ref()?.duration)),
         audio: others("audio"),
         subtitles: others("subtitle"),
+        hdr: stream_hdr(v, &p.frames),
     })
+}
+
+/// The HDR metadata of the stream `v`: its own side data, else its first frame's.
+fn stream_hdr(v: &Stream, frames: &[Frame]) -> HdrMetadata {
+    let own = hdr_metadata(&v.side_data_list);
+    if !own.is_empty() {
+        return own;
+    }
+    frames
+        .iter()
+        .find(|f| f.stream_index == Some(v.index))
+        .map(|f| hdr_metadata(&f.side_data_list))
+        .unwrap_or_default()
 }
 
 /// `25/1` → (25, 1); `0/0` and malformed → `None`.

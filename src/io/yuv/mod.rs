@@ -3,12 +3,14 @@
 //!
 //! Files: `samples` (8- and 16-bit sample rows, the code scales of a depth),
 //! `to_rgb` and `from_rgb` (the two directions), `resample` (chroma siting filters),
-//! `curve` (the vectorised sRGB curve, rounding to codes).
+//! `curve` (the vectorised sRGB curve, rounding to codes), `signal` (the other
+//! transfers and primaries: PQ, HLG, BT.1886, linear; BT.2020, Display P3).
 
 mod curve;
 mod from_rgb;
 mod resample;
 mod samples;
+mod signal;
 mod to_rgb;
 
 pub(crate) use curve::*;
@@ -19,6 +21,7 @@ pub(crate) use to_rgb::yuv_to_rgba;
 
 use super::y4m::*;
 use super::{FileFormat, Image, Pixels, SourceInfo};
+pub use crate::pixels::color::{Primaries, SignalColor, Transfer};
 use std::sync::OnceLock;
 
 /// Y'CbCr matrix coefficients.
@@ -28,8 +31,8 @@ pub enum Matrix {
     Bt601,
     /// ITU-R BT.709 (Kr 0.2126, Kb 0.0722): HD.
     Bt709,
-    /// ITU-R BT.2020 non-constant luminance (Kr 0.2627, Kb 0.0593): UHD. Only the
-    /// matrix: the transfer curve stays sRGB (no PQ / HLG).
+    /// ITU-R BT.2020 non-constant luminance (Kr 0.2627, Kb 0.0593): UHD and HDR
+    /// (the transfer and primaries are [`YuvConversion::color`]'s).
     Bt2020,
 }
 
@@ -74,7 +77,7 @@ pub enum ChromaFields {
 }
 
 /// How Y'CbCr maps to RGB.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct YuvConversion {
     pub matrix: Matrix,
     pub range: Range,
@@ -84,6 +87,11 @@ pub struct YuvConversion {
     /// 0 or above 1 (the sRGB curve extended: linear below 0, power law above 1). The
     /// 8-bit outputs are always clipped.
     pub clip: bool,
+    /// What the R'G'B' values are: their transfer and primaries. The default (sRGB,
+    /// BT.709) is the fast path; any other is converted to and from the linear
+    /// working space (BT.709 primaries, 1.0 = 203 cd/m²) by [`crate::pixels::color`]'s
+    /// formulas. PQ and HLG signals are always clipped to their code range.
+    pub color: SignalColor,
 }
 
 impl YuvConversion {
@@ -95,6 +103,7 @@ impl YuvConversion {
             range: header.range_hint().unwrap_or(Range::Limited),
             chroma_fields: ChromaFields::Auto,
             clip: true,
+            color: SignalColor::default(),
         }
     }
 }
@@ -160,17 +169,14 @@ pub fn yuv_to_rgba_f32(
     out: &mut [f32],
 ) -> Result<(), String> {
     let clip = conv.clip;
+    let color = conv.color;
+    let plain = signal::is_plain_srgb(&color);
+    let to_working = color.to_working();
     yuv_to_rgba(frame, header, conv, out, 1.0, |row, r, g, b| {
-        for plane in [&mut *r, &mut *g, &mut *b] {
-            if clip {
-                for v in plane.iter_mut() {
-                    *v = srgb_decode_unit(v.clamp(0.0, 1.0));
-                }
-            } else {
-                for v in plane.iter_mut() {
-                    *v = srgb_decode(*v);
-                }
-            }
+        if plain {
+            decode_srgb_planes(clip, [&mut *r, &mut *g, &mut *b]);
+        } else {
+            signal::decode_row(&color, &to_working, clip, r, g, b);
         }
         for (((px, &r), &g), &b) in row.chunks_exact_mut(4).zip(&*r).zip(&*g).zip(&*b) {
             px.copy_from_slice(&[r, g, b, 1.0]);
@@ -178,16 +184,38 @@ pub fn yuv_to_rgba_f32(
     })
 }
 
+/// The vectorised sRGB decode of three planar rows, clipped to [0, 1] first or
+/// extended past it.
+fn decode_srgb_planes(clip: bool, planes: [&mut [f32]; 3]) {
+    for plane in planes {
+        if clip {
+            for v in plane.iter_mut() {
+                *v = srgb_decode_unit(v.clamp(0.0, 1.0));
+            }
+        } else {
+            for v in plane.iter_mut() {
+                *v = srgb_decode(*v);
+            }
+        }
+    }
+}
+
 /// Convert a frame to an [`Image`] of `kind`. The image's [`SourceInfo`] says the
 /// stream's depth, opaque, integer; its format is [`FileFormat::Pnm`] (the closest
 /// raw-samples format; there is no y4m file format). Above 8 bits, [`RgbKind::SrgbU8`]
-/// rounds to 8 bits: [`RgbKind::LinearF32`] keeps the precision.
+/// rounds to 8 bits: [`RgbKind::LinearF32`] keeps the precision. A signal other than
+/// sRGB / BT.709 ([`YuvConversion::color`]) always gives [`RgbKind::LinearF32`].
 pub fn yuv_to_image(
     frame: &YuvFrame,
     header: &Y4mHeader,
     conv: &YuvConversion,
     kind: RgbKind,
 ) -> Result<Image, String> {
+    let kind = if signal::is_plain_srgb(&conv.color) {
+        kind
+    } else {
+        RgbKind::LinearF32
+    };
     check_rgba(header, header.width as usize * header.height as usize * 4)?;
     let n = header.width as usize * header.height as usize * 4;
     let pixels = match kind {
@@ -215,8 +243,10 @@ pub fn yuv_to_image(
     })
 }
 
-/// Convert 8-bit RGBA (sRGB-encoded R'G'B' bytes; alpha ignored) into `frame`, resizing its
-/// planes to `header` and keeping its `params`.
+/// Convert 8-bit RGBA (sRGB-encoded bytes; alpha ignored) into `frame`, resizing its
+/// planes to `header` and keeping its `params`. With the default sRGB / BT.709
+/// [`YuvConversion::color`] the bytes are the R'G'B' values; with another, they are
+/// decoded to linear light and encoded to that signal.
 pub fn rgba_u8_to_yuv(
     rgba: &[u8],
     header: &Y4mHeader,
@@ -224,14 +254,27 @@ pub fn rgba_u8_to_yuv(
     frame: &mut YuvFrame,
 ) -> Result<(), String> {
     const INV: f32 = 1.0 / 255.0;
+    let color = conv.color;
+    let plain = signal::is_plain_srgb(&color);
+    let from_working = color.from_working();
+    let lut = crate::pixels::srgb::decode_lut_u8();
     rgba_to_yuv(rgba, header, conv, frame, |row, r, g, b| {
         for (px, (r, (g, b))) in row
             .chunks_exact(4)
             .zip(r.iter_mut().zip(g.iter_mut().zip(b.iter_mut())))
         {
-            *r = px[0] as f32 * INV;
-            *g = px[1] as f32 * INV;
-            *b = px[2] as f32 * INV;
+            if plain {
+                *r = px[0] as f32 * INV;
+                *g = px[1] as f32 * INV;
+                *b = px[2] as f32 * INV;
+            } else {
+                *r = lut[px[0] as usize];
+                *g = lut[px[1] as usize];
+                *b = lut[px[2] as usize];
+            }
+        }
+        if !plain {
+            signal::encode_row(&color, &from_working, conv.clip, r, g, b);
         }
     })
 }
@@ -246,12 +289,19 @@ pub fn rgba_f32_to_yuv(
     frame: &mut YuvFrame,
 ) -> Result<(), String> {
     let clip = conv.clip;
+    let color = conv.color;
+    let plain = signal::is_plain_srgb(&color);
+    let from_working = color.from_working();
     rgba_to_yuv(rgba, header, conv, frame, |row, r, g, b| {
         for (px, (r, (g, b))) in row
             .chunks_exact(4)
             .zip(r.iter_mut().zip(g.iter_mut().zip(b.iter_mut())))
         {
             (*r, *g, *b) = (px[0], px[1], px[2]);
+        }
+        if !plain {
+            signal::encode_row(&color, &from_working, clip, r, g, b);
+            return;
         }
         for plane in [r, g, b] {
             if clip {
