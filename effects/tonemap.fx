@@ -29,12 +29,12 @@
 //              display (black Lb) raised to 2.4, so that a 2.4-gamma (BT.1886)
 //              encoding writes the signal, as libplacebo's output does.
 //              The source peak is source_peak (set by fxrun from the video's
-//              MaxCLL, else its mastering display peak), or, when 0, measured per
-//              frame: passes p1 -> p2 -> p3 reduce the PQ code of every pixel's
-//              largest BT.2020 component to the frame's (peak, average), and
-//              `peak` smooths it over `smoothing` frames (an exponential average
-//              in PQ), restarting at scene cuts (the average jumps by more than
-//              scene_high % of the PQ range; in proportion above scene_low)
+//              MaxCLL, else its mastering display peak), or, when 0, measured on
+//              the frame: passes p1 -> p2 -> p3 reduce the PQ code of every
+//              pixel's largest BT.2020 component to its (peak, average). This
+//              effect keeps no state (images, batches, the viewer); for PQ and HLG
+//              video fxrun runs effects/tonemap_video.fx instead, the same effect
+//              with the measured peak smoothed over frames and reset at scene cuts
 //   gamut:     desaturate (default): out-of-gamut colours (a negative BT.709
 //              channel, e.g. from BT.2020 video) are moved towards their luminance
 //              before the curve, and BT.2390's results above 1 towards white
@@ -58,14 +58,14 @@
 //   source_black  bt2390: source black in cd/m² (default 0.005)
 //   contrast  bt2390: display contrast, black = target_peak / contrast (default
 //             1000; 0: black 0)
-//   smoothing bt2390: frames the measured peak is averaged over (default 20)
-//   scene_low, scene_high  bt2390: scene-cut thresholds (default 1 and 3 % PQ)
+//   smoothing, scene_low, scene_high  used by tonemap_video only (the same
+//             parameters, so that a --set works for both)
 //   gamut     desaturate | clip (default desaturate)
 //
-// Passes: p1 (1/8 size), p2 (32 x 32), p3 (1 x 1), peak (1 x 1, fed back:
-// PASS.peak[-1]), tonemap (SHADER.tonemap, input size).
+// Passes: p1 (1/8 size), p2 (32 x 32), p3 (1 x 1), tonemap (SHADER.tonemap,
+// input size).
 EFFECT.tonemap = {
-    DESCRIPTION = "Tone mapping of HDR images and video to [0, 1]: exposure, then Reinhard (extended), ACES (Narkowicz fit), Khronos PBR Neutral, AgX (base or punchy) or the ITU-R BT.2390 EETF (source peak from metadata or measured per frame); out-of-gamut colours desaturated."
+    DESCRIPTION = "Tone mapping of HDR images and video to [0, 1]: exposure, then Reinhard (extended), ACES (Narkowicz fit), Khronos PBR Neutral, AgX (base or punchy) or the ITU-R BT.2390 EETF (source peak from metadata or measured on the frame); out-of-gamut colours desaturated."
     PARAM = {
         exposure = FLOAT { DEFAULT = 0  RANGE = (-20, 20)  DESCRIPTION = "exposure in stops applied before the curve" }
         operator = ENUM { VALUES = (reinhard, aces, neutral, agx, bt2390)  DEFAULT = aces  DESCRIPTION = "tone curve: reinhard (x / (1 + x), extended with white), aces (Narkowicz fit), neutral (Khronos PBR Neutral), agx (AgX, Blender's) or bt2390 (ITU-R BT.2390 EETF, fxrun's default for PQ and HLG video)" }
@@ -76,9 +76,9 @@ EFFECT.tonemap = {
         knee = FLOAT { DEFAULT = 0.5  RANGE = (0.5, 2)  DESCRIPTION = "bt2390: knee offset (0.5 is BT.2390's, 1 libplacebo's default)" }
         source_black = FLOAT { DEFAULT = 0.005  RANGE = (0, 100)  DESCRIPTION = "bt2390: the source's black in cd/m² (0.005: a typical HDR black, libplacebo's)" }
         contrast = FLOAT { DEFAULT = 1000  RANGE = (0, 1000000)  DESCRIPTION = "bt2390: the display's contrast: black = target_peak / contrast (1000: SDR, libplacebo's; 0: black 0)" }
-        smoothing = FLOAT { DEFAULT = 20  RANGE = (1, 1000)  DESCRIPTION = "bt2390: frames the measured peak is averaged over (1: none)" }
-        scene_low = FLOAT { DEFAULT = 1  RANGE = (0, 100)  DESCRIPTION = "bt2390: average-brightness change (% PQ) where a scene cut starts to count" }
-        scene_high = FLOAT { DEFAULT = 3  RANGE = (0, 100)  DESCRIPTION = "bt2390: average-brightness change (% PQ) that restarts the peak measurement" }
+        smoothing = FLOAT { DEFAULT = 20  RANGE = (1, 1000)  DESCRIPTION = "bt2390, tonemap_video (fxrun's choice for HDR video) only: frames the measured peak is averaged over" }
+        scene_low = FLOAT { DEFAULT = 1  RANGE = (0, 100)  DESCRIPTION = "bt2390, tonemap_video only: average-brightness change (% PQ) where a scene cut starts to count" }
+        scene_high = FLOAT { DEFAULT = 3  RANGE = (0, 100)  DESCRIPTION = "bt2390, tonemap_video only: average-brightness change (% PQ) that restarts the peak measurement" }
         gamut = ENUM { VALUES = (clip, desaturate)  DEFAULT = desaturate  DESCRIPTION = "out-of-gamut colours: desaturated towards white (keeps hue) or clipped per channel" }
     }
     PASS = {
@@ -91,18 +91,9 @@ EFFECT.tonemap = {
         }
         p2 = SHADER.tonemap_peak { img = PASS.p1  OUT.SIZE = (32, 32)  OUT.FORMAT = rgba32f }
         p3 = SHADER.tonemap_peak { img = PASS.p2  OUT.SIZE = (1, 1)  OUT.FORMAT = rgba32f }
-        peak = SHADER.tonemap_peak_adapt {
-            meter = PASS.p3
-            last = PASS.peak[-1]
-            smoothing = PARAM.smoothing
-            scene_low = PARAM.scene_low
-            scene_high = PARAM.scene_high
-            OUT.SIZE = (1, 1)
-            OUT.FORMAT = rgba32f
-        }
         tonemap = SHADER.tonemap {
             img = IN
-            state = PASS.peak
+            state = PASS.p3
             exposure = PARAM.exposure
             white = PARAM.white
             source_peak = PARAM.source_peak
@@ -110,6 +101,9 @@ EFFECT.tonemap = {
             knee = PARAM.knee
             source_black = PARAM.source_black
             contrast = PARAM.contrast
+            smoothing = PARAM.smoothing
+            scene_low = PARAM.scene_low
+            scene_high = PARAM.scene_high
             DEFINE.OPERATOR = PARAM.operator
             DEFINE.LOOK = PARAM.look
             DEFINE.GAMUT = PARAM.gamut

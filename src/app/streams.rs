@@ -193,7 +193,7 @@ impl OpenedInput {
 
     /// Whether the stream's colour is ambiguous: a y4m stream above 8 bits (often
     /// HDR) whose colour nobody said.
-    pub fn colour_is_ambiguous(&self) -> bool {
+    pub fn color_is_ambiguous(&self) -> bool {
         self.video.is_none() && self.header.depth > 8
     }
 

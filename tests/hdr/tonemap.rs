@@ -230,6 +230,7 @@ fn the_measured_peak_follows_the_content_and_restarts_at_cuts() {
     let run = |a: Vec<String>| run_ok(d, &a.iter().map(|s| s.as_str()).collect::<Vec<_>>());
     let e = run(args("photo_pq.mkv", "measured.mkv", &["-v"]));
     assert!(e.contains("tonemap measures each frame's peak"), "{e}");
+    assert!(e.contains("tonemap runs as tonemap_video"), "{e}");
     let db = psnr(&d.join("measured.mkv"), &d.join("lp.mkv"));
     eprintln!("measured peak against libplacebo with the metadata's: PSNR {db:.2} dB");
     assert!(db >= 45.0, "{db}");

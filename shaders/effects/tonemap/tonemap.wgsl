@@ -48,9 +48,15 @@ struct Params {
     knee: f32,        // @default(0.5) @range(0.5, 2) BT.2390: knee offset (ks = (1 + knee) maxLum - knee; 0.5 is BT.2390's)
     source_black: f32, // @default(0.005) @range(0, 100) BT.2390: the source's black in cd/m²
     contrast: f32,    // @default(1000) @range(0, 1000000) BT.2390: the display's contrast (black = target_peak / contrast; 0: black 0)
+    // Taken so that `tonemap` and `tonemap_video` have the same parameters; used by
+    // tonemap_video's peak pass only.
+    smoothing: f32,   // @default(20) @range(1, 1000) tonemap_video: frames the measured peak is averaged over
+    scene_low: f32,   // @default(1) @range(0, 100) tonemap_video: average-brightness change (% PQ) where a scene cut starts to count
+    scene_high: f32,  // @default(3) @range(0, 100) tonemap_video: average-brightness change (% PQ) that restarts the measurement
 }
 @group(0) @binding(1) var<uniform> params: Params;
-// The measured peak (r: PQ code) of tonemap_peak_adapt.
+// The measured peak (r: PQ code): the last tonemap_peak level (tonemap), or
+// tonemap_peak_adapt (tonemap_video: smoothed over frames).
 @group(0) @binding(2) var state: texture_2d<f32>;
 
 // Khronos PBR Neutral (https://github.com/KhronosGroup/ToneMapping, PBR_Neutral):

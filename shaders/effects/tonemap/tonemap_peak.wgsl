@@ -34,7 +34,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         for (var x = a0.x; x < a1.x; x++) {
             let v = textureLoad(img, vec2<i32>(x, y), 0);
 #if FIRST == 1
-            let c = lib_bt709_to_bt2020(max(v.rgb, vec3<f32>(-1e30)) * exp2(params.exposure));
+            let c = lib_bt709_to_bt2020(v.rgb * exp2(params.exposure));
             // NaN and negative values count as black.
             let sig = max(max(c.r, max(c.g, c.b)), 0.0);
             let pq = lib_nits_to_pq(min(sig, 1e4) * 203.0);

@@ -204,15 +204,20 @@ pub(crate) fn run_sequence_cli(
     // An HDR input makes the BT.2390 EETF `tonemap`'s default, with the metadata's
     // peak.
     let mut base_set = cli.set.clone();
+    let mut effects = cli.effects.clone();
     if let Some(h) = &hdr_in {
         base_set = streams::hdr_tonemap_sets(cli, h.peak_nits());
+        effects = streams::video_tonemap(&cli.effects);
         if cli.verbose {
             for s in &base_set[cli.set.len()..] {
                 eprintln!("fxrun: note: HDR input: --set {s}");
             }
+            if effects != cli.effects {
+                eprintln!("fxrun: note: HDR input: tonemap runs as tonemap_video (its measured peak smoothed over frames)");
+            }
         }
-        if base_set != cli.set {
-            effect = Effect::compile(&cli.effects, &base_set)?;
+        if base_set != cli.set || effects != cli.effects {
+            effect = Effect::compile(&effects, &base_set)?;
         }
     }
     // An interlaced y4m input sets the field order of effects that take one.
@@ -232,7 +237,7 @@ pub(crate) fn run_sequence_cli(
         if let (Some(order), true, false) = (order, has_param, user_set) {
             let mut set = base_set.clone();
             set.push(format!("field_order={order}"));
-            effect = Effect::compile(&cli.effects, &set)?;
+            effect = Effect::compile(&effects, &set)?;
         }
     }
     let opts = SequenceOptions {

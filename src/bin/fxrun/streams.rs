@@ -56,7 +56,7 @@ pub(crate) fn open_input(cli: &Cli, input: &StreamInput) -> Result<OpenedInput, 
             for w in &opened.color_warnings {
                 eprintln!("fxrun: warning: {name}: {w}");
             }
-            if opened.colour_is_ambiguous() {
+            if opened.color_is_ambiguous() {
                 eprintln!(
                     "fxrun: warning: {name}: a {}-bit y4m stream says nothing of its colour: read as SDR (sRGB curve, BT.709); if it is HDR, say so with --input-color transfer=pq (or hlg),primaries=bt2020",
                     opened.header.depth
@@ -116,16 +116,31 @@ pub(crate) fn hdr_tonemap_sets(cli: &Cli, peak: Option<f32>) -> Vec<String> {
     set
 }
 
-/// Whether the effect chain has `tonemap` (its output, and everything after it, is
-/// display-referred SDR).
+/// Whether the effect chain has `tonemap` (or `tonemap_video`): its output, and
+/// everything after it, is display-referred SDR.
 pub(crate) fn has_tonemap(cli: &Cli) -> bool {
     cli.effects.iter().any(|e| {
         let stem = Path::new(e)
             .file_stem()
             .and_then(|s| s.to_str())
             .unwrap_or(e);
-        stem == "tonemap"
+        stem == "tonemap" || stem == "tonemap_video"
     })
+}
+
+/// The effects for an HDR video: the built-in `tonemap` as `tonemap_video` (the
+/// same effect, its measured peak smoothed over frames and reset at scene cuts).
+pub(crate) fn video_tonemap(effects: &[String]) -> Vec<String> {
+    effects
+        .iter()
+        .map(|e| {
+            if e == "tonemap" {
+                "tonemap_video".to_string()
+            } else {
+                e.clone()
+            }
+        })
+        .collect()
 }
 
 /// A frame rate as a y4m ratio: 30 → 30:1; the NTSC rates n / 1.001, exact or as

@@ -251,6 +251,14 @@ impl Encoder {
         })?;
         drop(file);
         let mut notes = Vec::new();
+        if let (true, Some(h)) = (opts.is_hdr(), &opts.hdr) {
+            if h.encoder_params(&codec).is_empty() {
+                notes.push(format!(
+                    "{}: the input's mastering-display / content-light metadata is not written by {codec} (libx265 and libx264 write it)",
+                    output.display()
+                ));
+            }
+        }
         let args = encode_args(
             &tmp,
             container,

@@ -43,7 +43,9 @@
 //! 10 bits) and `0..2^n - 1` in full range (chroma centred on 2^(n-1), scaled by
 //! 2^n - 1), as ffmpeg converts them. [`YuvConversion::for_header`] picks BT.601 for
 //! heights up to 576 and BT.709 above, and limited range unless the header says
-//! `XCOLORRANGE=FULL` (ffmpeg writes that extension when it knows the range). The R'G'B'
+//! `XCOLORRANGE=FULL` (ffmpeg writes that extension when it knows the range). By default
+//! ([`YuvConversion::color`]: sRGB, BT.709; PQ, HLG, BT.1886, BT.2020 and Display P3 are
+//! the other signals, converted to linear BT.709 at 1.0 = 203 cd/m²) the R'G'B'
 //! values are treated as sRGB-encoded, the same convention as 8-bit image files, so a
 //! y4m → PNG → y4m trip is consistent: [`RgbKind::SrgbU8`] gives the R'G'B' bytes and
 //! [`RgbKind::LinearF32`] their sRGB decode to linear light (what streams above 8 bits

@@ -84,11 +84,15 @@ impl Primaries {
         }
     }
 
-    /// The relative luminance of linear R, G, B (the middle row of RGB→XYZ): for
-    /// BT.2020 (0.2627, 0.6780, 0.0593).
+    /// The relative luminance of linear R, G, B: the middle row of RGB→XYZ
+    /// ([`rgb_to_xyz`], checked by the tests), as constants (the HLG OOTF needs
+    /// them per pixel).
     pub fn luminance_weights(self) -> [f32; 3] {
-        let m = rgb_to_xyz(self);
-        [m[1][0] as f32, m[1][1] as f32, m[1][2] as f32]
+        match self {
+            Primaries::Bt709 => [0.212_639, 0.715_169, 0.072_192],
+            Primaries::Bt2020 => [0.262_700, 0.677_998, 0.059_302],
+            Primaries::DisplayP3 => [0.228_975, 0.691_739, 0.079_287],
+        }
     }
 }
 
@@ -219,7 +223,14 @@ mod tests {
             p3,
             0.5e-4 + 1e-6,
         );
-        // BT.2020's and BT.709's luma coefficients are their luminance rows.
+        // The constant weights are rgb_to_xyz's middle rows; BT.2020's and
+        // BT.709's are their luma coefficients.
+        for p in [Primaries::Bt709, Primaries::Bt2020, Primaries::DisplayP3] {
+            let m = rgb_to_xyz(p);
+            for (a, b) in p.luminance_weights().iter().zip(m[1]) {
+                assert!((*a as f64 - b).abs() < 1e-6, "{p:?}: {a} vs {b}");
+            }
+        }
         let w = Primaries::Bt2020.luminance_weights();
         for (a, b) in w.iter().zip([0.2627, 0.6780, 0.0593]) {
             assert!((a - b).abs() < 1e-4, "{w:?}");
