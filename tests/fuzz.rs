@@ -285,7 +285,10 @@ fn material_target() -> Target {
 /// Material shaders (surface and lighting), with their `#include`s of the
 /// built-in library, checked as a user's file of that kind.
 fn material_wgsl_target() -> Target {
-    let seeds = repository_seeds(&["shaders/materials", "shaders/lib", "docs/examples"], "wgsl");
+    let seeds = repository_seeds(
+        &["shaders/materials", "shaders/lib", "docs/examples"],
+        "wgsl",
+    );
     // A file: its `#include`s are looked up from the file's canonical path.
     let input = Input::File("fuzz_material.wgsl");
     Target::new("material-wgsl", input, seeds, |bytes, path| {

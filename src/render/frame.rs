@@ -268,6 +268,11 @@ pub(crate) fn encode(
         if let Some(skinning) = &r.geometry.skinning {
             skinning.encode(&mut encoder, &mut names, timer);
         }
+        // The cluster lists, built on the GPU: the light passes and forward
+        // read them.
+        if fl.clustered {
+            r.clusters.encode(&mut encoder, &mut names, timer);
+        }
         // Shadow maps next: every technique's light passes read them.
         draws += r
             .shadow_maps

@@ -18,7 +18,8 @@
 //!   `motion.rs` (a frame of a sequence: transforms, poses, camera cuts, motion
 //!   vectors), `lights.rs` (per-frame light
 //!   lists, light volumes), `light_buffers.rs`, `clusters.rs` (clustered light
-//!   lists binned on the CPU), `pipelines.rs` (layouts, module and pipeline
+//!   lists: the grid and the CPU reference), `cluster_gpu.rs` (the lists built
+//!   on the GPU each frame), `pipelines.rs` (layouts, module and pipeline
 //!   caches), `frame.rs` (the passes of each technique), [`shadows`] (which lights
 //!   get shadow maps, cascades, light matrices) and `shadow_pass.rs` (the
 //!   shadow-map array and its depth pass), [`fog`] (fog in the lighting template),
@@ -50,6 +51,7 @@
 pub mod bench;
 mod camera_std;
 mod cli_names;
+mod cluster_gpu;
 mod clusters;
 pub mod environment;
 pub mod fog;

@@ -12,7 +12,7 @@
 //!    default ([`LightCulling::Clustered`], [`super::clusters`]) one full-screen
 //!    pass in which each pixel shades the directional lights and the point and
 //!    spot lights listed for its cluster (32-pixel tiles × 24 depth slices over
-//!    the geometry's depth range, binned on the CPU). [`LightCulling::Volumes`]
+//!    the geometry's depth range, binned on the GPU). [`LightCulling::Volumes`]
 //!    keeps seed 001's light volumes: directional lights as full-screen
 //!    triangles, point lights as icosphere volumes and spot lights as cone
 //!    volumes, culled against the view frustum on the CPU, all lights of a kind
@@ -34,6 +34,7 @@
 //! the surface shader and the lighting shader of the lights of the fragment's
 //! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
 
+use super::cluster_gpu::{ClusterError, ClusterFrame, GpuClusters};
 use super::frame;
 use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
@@ -155,6 +156,8 @@ pub struct Renderer {
     frame_buffer: wgpu::Buffer,
     material_info_buffer: wgpu::Buffer,
     light_buffers: LightBuffers,
+    /// The clustered light lists, built on the GPU each frame.
+    pub(super) clusters: GpuClusters,
     pub(crate) layouts: Layouts,
     pub(crate) g0: wgpu::BindGroup,
     pub(crate) pipelines: Pipelines,
@@ -283,6 +286,7 @@ impl Renderer {
         let volumes = LightVolumes::new(ctx)?;
         let light_buffers = LightBuffers::new(device);
         let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
+        let clusters = GpuClusters::new(ctx)?;
         let mut environment = super::environment::EnvironmentLighting::new(ctx, scene.background)?;
         if let Some(env) = &scene.environment {
             let map = env.load()?;
@@ -294,6 +298,7 @@ impl Renderer {
             &frame_buffer,
             &material_info_buffer,
             &geometry.instance_buffer,
+            &clusters,
             &shadow_maps,
             &environment,
         );
@@ -338,6 +343,7 @@ impl Renderer {
             frame_buffer,
             material_info_buffer,
             light_buffers,
+            clusters,
             layouts,
             g0,
             dummy_light,
@@ -379,6 +385,7 @@ impl Renderer {
             &self.frame_buffer,
             &self.material_info_buffer,
             &self.geometry.instance_buffer,
+            &self.clusters,
             &self.shadow_maps,
             &self.environment,
         );
@@ -537,29 +544,37 @@ impl Renderer {
         let visible_count = lists.forward.len() as u32;
         let (depth_near, depth_far) =
             super::clusters::depth_range(&bounds, &view, camera.near, camera.far);
-        let (fl, visible, clusters) = lists
-            .frame_lists(culling, &proj, width, height, depth_near, depth_far)
-            .map_err(|e| RenderError::Invalid(e.to_string()))?;
+        let (fl, visible, grid) = lists.frame_lists(culling, width, height, depth_near, depth_far);
         let loop_count = fl.forward_lights;
-        let (range_bytes, index_bytes) = clusters.as_ref().map_or((0, 0), |c| {
-            (c.ranges.len() as u64 * 8, c.indices.len() as u64 * 4)
-        });
-        let grown = self
-            .light_buffers
-            .upload(ctx, &lists.gpu, &visible, clusters.as_ref());
-        if grown || shadows_grown {
+        let (clusters_grown, cluster_bytes) = match grid {
+            Some(grid) => self
+                .clusters
+                .prepare(
+                    ctx,
+                    &ClusterFrame {
+                        grid,
+                        proj: &proj,
+                        width,
+                        height,
+                        globals: &lists.globals,
+                        locals: &lists.locals,
+                    },
+                )
+                .map_err(|e| match e {
+                    ClusterError::Gpu(e) => RenderError::Gpu(e),
+                    e => RenderError::Invalid(e.to_string()),
+                })?,
+            None => (false, 0),
+        };
+        let grown = self.light_buffers.upload(ctx, &lists.gpu, &visible);
+        if grown || shadows_grown || clusters_grown {
             self.rebuild_group0(ctx);
         }
-        let (cluster, cluster_z, global_lights) = match &clusters {
-            Some(c) => (
-                [
-                    c.grid.tiles_x,
-                    c.grid.tiles_y,
-                    c.grid.slices,
-                    c.grid.tile_px,
-                ],
-                [c.grid.log_scale, c.grid.near, 0.0, 0.0],
-                c.globals,
+        let (cluster, cluster_z, global_lights) = match grid {
+            Some(g) => (
+                [g.tiles_x, g.tiles_y, g.slices, g.tile_px],
+                [g.log_scale, g.near, 0.0, 0.0],
+                lists.globals.len() as u32,
             ),
             None => ([0; 4], [0.0; 4], 0),
         };
@@ -620,11 +635,7 @@ impl Renderer {
             volumes_inside: lists.sphere_in.len() + lists.cone_in.len(),
             lights_dark: lists.dark,
             light_culling: culling,
-            cluster_entries: clusters
-                .as_ref()
-                .map_or(0, |c| c.indices.len() - c.globals as usize),
-            cluster_max: clusters.as_ref().map_or(0, |c| c.max_per_cluster as usize),
-            cluster_bytes: range_bytes + index_bytes,
+            cluster_bytes,
             gbuffer_bytes_per_pixel: match technique {
                 Technique::Deferred => GBUFFER_BYTES_COMPRESSED,
                 Technique::LightPrepass => 13,
@@ -651,6 +662,11 @@ impl Renderer {
         stats.pipelines = self.pipelines.pipelines_created;
         stats.shader_modules = self.pipelines.modules_created;
         if let Some(timer) = timer {
+            if grid.is_some() {
+                let summary = self.clusters.summary(ctx)?;
+                stats.cluster_entries = summary.entries as usize;
+                stats.cluster_max = summary.max_per_cluster as usize;
+            }
             let ms = timer.read_ms(ctx, pass_names.len() as u32)?;
             stats.gpu_ms = Some(ms.iter().sum());
             stats.pass_ms = pass_names.into_iter().zip(ms).collect();

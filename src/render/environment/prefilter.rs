@@ -76,7 +76,9 @@ impl PrefilterPipelines {
         ctx.scoped("environment prefiltering pipelines", |device| {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("environment prefiltering shaders"),
-                source: wgpu::ShaderSource::Wgsl(include_str!("../../../shaders/render/environment_prefilter.wgsl").into()),
+                source: wgpu::ShaderSource::Wgsl(
+                    include_str!("../../../shaders/render/environment_prefilter.wgsl").into(),
+                ),
             });
             let pipeline = |fs: &str| {
                 fullscreen_pipeline(
