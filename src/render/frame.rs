@@ -1,6 +1,7 @@
 //! Encoding one frame: the passes of each technique (deferred, light pre-pass,
 //! forward), transparency and the AUX resolve, through one render-pass helper.
 
+use super::light_compute::{LightCompute, LightComputeGroups};
 use super::motion::MotionCameras;
 use super::pipelines::{GeoKey, GeoPass, LightPipe};
 use super::renderer::{RenderError, Renderer, Technique};
@@ -55,6 +56,23 @@ fn opaque_passes(technique: Technique) -> &'static [GeoPass] {
     }
 }
 
+/// Whether `technique` lights in a compute pass ([`super::light_compute`]):
+/// deferred and light pre-pass with cluster lists, unless the options ask for
+/// the fragment pass.
+fn computes_lights(r: &Renderer, technique: Technique) -> bool {
+    technique != Technique::Forward
+        && r.options().compute_lighting
+        && r.options().light_culling != super::clusters::LightCulling::Volumes
+}
+
+/// The compute light pass of `technique`.
+fn light_compute_of(technique: Technique) -> LightCompute {
+    match technique {
+        Technique::Deferred => LightCompute::Compose,
+        _ => LightCompute::Prepass,
+    }
+}
+
 /// Creates every pipeline the frame needs (shader generation errors are material
 /// errors: they name the material's shaders).
 pub(crate) fn ensure_pipelines(
@@ -95,7 +113,16 @@ pub(crate) fn ensure_pipelines(
         .map(|(n, f)| (n.clone(), crate::gpu::executor::wgpu_format(*f)))
         .collect();
     let mut light = vec![LightPipe::AuxA, LightPipe::AuxB];
-    if technique != Technique::Forward {
+    let compute = computes_lights(r, technique);
+    if compute {
+        r.light_compute.ensure(
+            ctx,
+            &mut r.pipelines,
+            &r.materials,
+            (&r.layouts, &r.material_gpu.params_layout),
+            light_compute_of(technique),
+        )?;
+    } else if technique != Technique::Forward {
         if r.options().light_culling == super::clusters::LightCulling::Volumes {
             light.extend([
                 LightPipe::Fullscreen,
@@ -107,7 +134,9 @@ pub(crate) fn ensure_pipelines(
         }
     }
     if technique == Technique::Deferred {
-        light.push(LightPipe::Compose);
+        if !compute {
+            light.push(LightPipe::Compose);
+        }
     } else if r.environment.background_pass() {
         light.push(LightPipe::Background);
     }
@@ -259,6 +288,7 @@ pub(crate) fn encode(
         .collect();
     blend.sort_by(|a, b| a.0.total_cmp(&b.0));
     let background = clear_to(r.environment.clear_color(r.frame_background));
+    let compute = computes_lights(r, technique) && fl.clustered;
     let zero = clear_to(Vec4::ZERO);
     let mut motion_result = Ok(0);
     ctx.scoped(label, |device| {
@@ -268,19 +298,39 @@ pub(crate) fn encode(
         if let Some(skinning) = &r.geometry.skinning {
             skinning.encode(&mut encoder, &mut names, timer);
         }
+        // Shadow maps next: every technique's light passes read them.
+        draws += r
+            .shadow_maps
+            .encode(&mut encoder, &r.geometry, &mut names, timer);
         // The cluster lists, built on the GPU: the light passes and forward
         // read them.
         if fl.clustered {
             r.clusters.encode(&mut encoder, &mut names, timer);
         }
-        // Shadow maps next: every technique's light passes read them.
-        draws += r
-            .shadow_maps
-            .encode(&mut encoder, &r.geometry, &mut names, timer);
         let light_pass = |encoder: &mut wgpu::CommandEncoder,
                           names: &mut Vec<String>,
                           specular_ops: wgpu::Operations<wgpu::Color>,
                           draws: &mut usize| {
+            if compute {
+                r.light_compute.encode(
+                    encoder,
+                    light_compute_of(technique),
+                    &LightComputeGroups {
+                        g0: &r.g0,
+                        gbuffer: &t.bg_light,
+                        outputs: match technique {
+                            Technique::Deferred => &t.bg_compute_deferred,
+                            _ => &t.bg_compute_prepass,
+                        },
+                        params: &r.material_gpu.params_group,
+                    },
+                    (t.width, t.height),
+                    "lights",
+                    names,
+                    timer,
+                );
+                return;
+            }
             let mut rp = begin(
                 encoder,
                 r,
@@ -377,12 +427,14 @@ pub(crate) fn encode(
         );
         match technique {
             Technique::Deferred => {
-                let colors = [
-                    albedo,
-                    normal,
-                    specular,
-                    attach(&t.light_specular.view, zero),
-                ];
+                // the compute light pass adds the lights to what this pass
+                // starts the specular light with
+                let start = if compute {
+                    &t.emission
+                } else {
+                    &t.light_specular
+                };
+                let colors = [albedo, normal, specular, attach(&start.view, zero)];
                 geometry(
                     &mut encoder,
                     &mut names,
@@ -393,15 +445,18 @@ pub(crate) fn encode(
                     &mut draws,
                 );
                 light_pass(&mut encoder, &mut names, LOAD, &mut draws);
-                let colors = [attach(&t.scene.view, zero)];
-                fullscreen(
-                    &mut encoder,
-                    &mut names,
-                    "composition",
-                    LightPipe::Compose,
-                    &colors,
-                    &mut draws,
-                );
+                // (the compute light pass composes in the same dispatch)
+                if !compute {
+                    let colors = [attach(&t.scene.view, zero)];
+                    fullscreen(
+                        &mut encoder,
+                        &mut names,
+                        "composition",
+                        LightPipe::Compose,
+                        &colors,
+                        &mut draws,
+                    );
+                }
             }
             Technique::LightPrepass => {
                 let colors = [albedo, normal, specular];

@@ -60,6 +60,7 @@ mod frame_motion;
 pub mod gbuffer;
 mod gpu_types;
 mod light_buffers;
+mod light_compute;
 mod lights;
 pub mod material;
 mod motion;

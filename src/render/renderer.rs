@@ -9,8 +9,10 @@
 //!    specular light buffer.
 //! 2. Light pass into two `Rgba16Float` light buffers: every light's lighting
 //!    shader (chosen per pixel by the lighting-model id in the G-buffer). By
-//!    default ([`LightCulling::Clustered`], [`super::clusters`]) one full-screen
-//!    pass in which each pixel shades the directional lights and the point and
+//!    default ([`LightCulling::Clustered`], [`super::clusters`]) one compute
+//!    pass (`light_compute.rs`; a full-screen fragment pass with
+//!    [`RendererOptions::compute_lighting`] off) in which each pixel shades the
+//!    directional lights and the point and
 //!    spot lights listed for its cluster (32-pixel tiles × 24 depth slices over
 //!    the geometry's depth range, binned on the GPU). [`LightCulling::Volumes`]
 //!    keeps seed 001's light volumes: directional lights as full-screen
@@ -24,6 +26,7 @@
 //! 3. Composition: `diffuse colour × diffuse light + specular light`, through the
 //!    fog when there is one ([`super::fog`]), into the HDR scene texture
 //!    (`Rgba16Float`, linear radiance); the background where nothing was drawn.
+//!    The compute light pass composes in its own dispatch.
 //! 4. Transparency: BLEND objects forward, sorted back to front, depth-tested (not
 //!    written) against the opaque depth, lit by every visible light.
 //! 5. Resolve: the G-buffer decoded into the `AUX.*` images.
@@ -38,6 +41,7 @@ use super::cluster_gpu::{ClusterError, ClusterFrame, GpuClusters};
 use super::frame;
 use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
+use super::light_compute::ComputeLighting;
 use super::lights::{LightLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
 use super::motion::{MotionCameras, MotionPass};
@@ -101,6 +105,10 @@ pub struct RendererOptions {
     /// Shadow-map layers per frame (a directional light takes 4, a point light
     /// 6, a spot light 1); lights past it are unshadowed, with a warning.
     pub shadow_budget: u32,
+    /// The clustered light pass of deferred shading and the light pre-pass as a
+    /// compute dispatch (default; `light_compute.rs`), or as the full-screen
+    /// fragment pass it replaces (the reference it is tested against).
+    pub compute_lighting: bool,
 }
 
 impl Default for RendererOptions {
@@ -113,6 +121,7 @@ impl Default for RendererOptions {
             shadows: ShadowMode::default(),
             shadow_size: DEFAULT_SHADOW_SIZE,
             shadow_budget: DEFAULT_SHADOW_LAYERS,
+            compute_lighting: true,
         }
     }
 }
@@ -158,6 +167,8 @@ pub struct Renderer {
     light_buffers: LightBuffers,
     /// The clustered light lists, built on the GPU each frame.
     pub(super) clusters: GpuClusters,
+    /// The compute light passes.
+    pub(super) light_compute: ComputeLighting,
     pub(crate) layouts: Layouts,
     pub(crate) g0: wgpu::BindGroup,
     pub(crate) pipelines: Pipelines,
@@ -344,6 +355,7 @@ impl Renderer {
             material_info_buffer,
             light_buffers,
             clusters,
+            light_compute: ComputeLighting::default(),
             layouts,
             g0,
             dummy_light,
@@ -445,6 +457,7 @@ impl Renderer {
                 gbuffer: &self.layouts.g1_gbuffer,
                 light_buffers: &self.layouts.g1_light_buffers,
                 dummy_light: &self.dummy_light,
+                light_compute: &self.layouts.g2_light_compute,
             },
         )?;
         self.targets = Some(targets);

@@ -38,7 +38,8 @@ const SHADER: &str = concat!(
 
 /// The group 0 layout entries of the shadow lookups.
 pub(crate) fn g0_layout_entries() -> [wgpu::BindGroupLayoutEntry; 3] {
-    let fragment = wgpu::ShaderStages::FRAGMENT;
+    // (the compute light pass reads them too)
+    let fragment = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
     [
         texture_entry(
             BINDING_MAPS,

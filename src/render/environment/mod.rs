@@ -226,7 +226,8 @@ impl EnvironmentLighting {
 
     /// The layout entries of bindings 11–15 in group 0.
     pub fn g0_layout_entries() -> [wgpu::BindGroupLayoutEntry; 5] {
-        let fragment = wgpu::ShaderStages::FRAGMENT;
+        // (the compute light pass reads them too)
+        let fragment = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
         let texture = |binding, dimension| texture_entry(binding, fragment, filterable, dimension);
         [

@@ -181,9 +181,10 @@ impl MaterialResources {
                         .copy_from_slice(&m.lighting_params);
                 }
             }
+            // (the compute light pass runs the lighting shaders too)
             p_entries.push(bindings::storage_entry(
                 k as u32,
-                wgpu::ShaderStages::FRAGMENT,
+                wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
             ));
             p_buffers.push((
                 k as u32,
