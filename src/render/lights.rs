@@ -4,7 +4,6 @@
 //! volume also crosses the far plane.
 
 use super::clusters::{self, ClusterGrid, LightCulling};
-use super::frame::FrameLists;
 use super::gpu_types::*;
 use crate::scene::{Camera, Light, LightKind};
 use glam::{Mat4, Vec3, Vec4};
@@ -69,6 +68,19 @@ impl LightVolumes {
             cone_poly_scale,
         })
     }
+}
+
+/// The frame's light ranges in the visible-index buffer.
+pub(crate) struct FrameLists {
+    pub fullscreen: Range<u32>,
+    pub sphere_out: Range<u32>,
+    pub sphere_in: Range<u32>,
+    pub cone_out: Range<u32>,
+    pub cone_in: Range<u32>,
+    /// The forward loop's (constant) light count.
+    pub forward_lights: u32,
+    /// Cluster lists are bound: one clustered full-screen light pass.
+    pub clustered: bool,
 }
 
 /// Per-frame light lists (indices into the GPU light array).

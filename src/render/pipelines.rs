@@ -8,6 +8,7 @@ use super::material::template::{self, Generated};
 use super::material::{MaterialSet, VariantKey, VariantMode};
 use super::targets::*;
 use super::upload::Cull;
+use super::wgsl_check::check;
 use crate::gpu::bindings;
 use crate::gpu::context::GpuContext;
 use std::collections::HashMap;
@@ -211,30 +212,6 @@ pub(crate) fn depth(
         stencil: wgpu::StencilState::default(),
         bias: wgpu::DepthBiasState::default(),
     })
-}
-
-/// Checks generated WGSL with naga first: a failure here is an engine bug (the
-/// material shaders were checked on their own), reported with the module text's
-/// line so it can be found in the log.
-pub(crate) fn check(label: &str, wgsl: &str) -> Result<(), String> {
-    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
-        format!(
-            "{label}: generated WGSL does not parse: {}",
-            e.emit_to_string(wgsl)
-        )
-    })?;
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .map_err(|e| {
-        format!(
-            "{label}: generated WGSL is invalid: {}",
-            e.emit_to_string(wgsl)
-        )
-    })?;
-    Ok(())
 }
 
 /// A module of generated WGSL, [checked](check) first.

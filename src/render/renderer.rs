@@ -38,14 +38,15 @@
 //! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
 
 use super::cluster_gpu::{ClusterError, ClusterFrame, GpuClusters};
-use super::frame;
+pub use super::error::RenderError;
+use super::frame::{self, FrameGpu, FramePipelines};
 use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
 use super::light_compute::ComputeLighting;
 use super::lights::{LightLists, LightVolumes};
-use super::material::{MaterialSet, VariantMode};
+use super::material::MaterialSet;
 use super::motion::{MotionCameras, MotionPass};
-use super::normal::NormalEncoding;
+pub use super::options::RendererOptions;
 use super::pipelines::{Layouts, Pipelines};
 use super::shadow_pass::ShadowMaps;
 use super::shadows::ShadowFrame;
@@ -55,7 +56,7 @@ pub use super::shadows::{
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
-use crate::scene::{Camera, Light, Scene, SceneError};
+use crate::scene::{Camera, Light, Scene};
 use glam::{Mat4, Vec3};
 use std::time::Instant;
 use wgpu::util::DeviceExt;
@@ -65,66 +66,6 @@ pub use super::frame_motion::{jittered, FrameMotion};
 pub use super::output::{GBufferTextures, RenderOutput, RenderStats};
 pub use super::targets::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
 pub use super::technique::Technique;
-
-/// Errors of rendering.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    #[error(transparent)]
-    Gpu(#[from] GpuError),
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    #[error(transparent)]
-    Io(#[from] crate::io::IoError),
-    /// Something about the request itself (size, texture too large, ...).
-    #[error("{0}")]
-    Invalid(String),
-    /// A material that cannot be used (unknown shader, bad parameter, ...).
-    #[error("{0}")]
-    Material(String),
-    /// The environment map could not be used (missing, not equirectangular, ...).
-    #[error(transparent)]
-    Environment(#[from] crate::scene::EnvironmentError),
-}
-
-/// Options fixed when a [`Renderer`] is created.
-#[derive(Debug, Clone)]
-pub struct RendererOptions {
-    /// How normals are stored in the G-buffer.
-    pub normal_encoding: NormalEncoding,
-    /// Generate mipmaps for scene textures (box filter).
-    pub mipmaps: bool,
-    /// How material features select shader code.
-    pub variants: VariantMode,
-    /// How the light passes pick the lights of a pixel.
-    pub light_culling: LightCulling,
-    /// Shadow maps for the scene's lights, and their filter (`shadows.rs`).
-    pub shadows: ShadowMode,
-    /// Side of each shadow map in texels ([`MIN_SHADOW_SIZE`]..=[`MAX_SHADOW_SIZE`]
-    /// and the device's limit).
-    pub shadow_size: u32,
-    /// Shadow-map layers per frame (a directional light takes 4, a point light
-    /// 6, a spot light 1); lights past it are unshadowed, with a warning.
-    pub shadow_budget: u32,
-    /// The clustered light pass of deferred shading and the light pre-pass as a
-    /// compute dispatch (default; `light_compute.rs`), or as the full-screen
-    /// fragment pass it replaces (the reference it is tested against).
-    pub compute_lighting: bool,
-}
-
-impl Default for RendererOptions {
-    fn default() -> Self {
-        RendererOptions {
-            normal_encoding: NormalEncoding::default(),
-            mipmaps: true,
-            variants: VariantMode::default(),
-            light_culling: LightCulling::default(),
-            shadows: ShadowMode::default(),
-            shadow_size: DEFAULT_SHADOW_SIZE,
-            shadow_budget: DEFAULT_SHADOW_LAYERS,
-            compute_lighting: true,
-        }
-    }
-}
 
 /// Renders `scene` once (creating a [`Renderer`] for it). Use a [`Renderer`] to
 /// render several frames without uploading the scene again.
@@ -184,6 +125,32 @@ pub struct Renderer {
     /// buffer holds other ones (a posed frame was rendered).
     pub(super) rest_transforms: Vec<Mat4>,
     pub(super) posed: bool,
+}
+
+/// The CPU time of a frame's steps ([`RenderStats::cpu_split`]).
+struct CpuSplit {
+    last: Instant,
+    parts: Vec<(String, f64)>,
+}
+
+impl CpuSplit {
+    fn new() -> CpuSplit {
+        CpuSplit {
+            last: Instant::now(),
+            parts: Vec::with_capacity(5),
+        }
+    }
+
+    /// Ends step `name` (its time is added when it ran before).
+    fn mark(&mut self, name: &str) {
+        let now = Instant::now();
+        let ms = (now - self.last).as_secs_f64() * 1e3;
+        self.last = now;
+        match self.parts.iter_mut().find(|(n, _)| n == name) {
+            Some(p) => p.1 += ms,
+            None => self.parts.push((name.to_string(), ms)),
+        }
+    }
 }
 
 /// A 1x1 texture view with one texel.
@@ -368,6 +335,17 @@ impl Renderer {
         })
     }
 
+    /// The vertices of the deformed (skinned, morphed) instances after the last
+    /// frame rendered, read back from the GPU (a blocking read; for tests and
+    /// inspection). Empty when the scene has none.
+    pub fn deformed_vertices(
+        &self,
+        ctx: &GpuContext,
+        scene: &Scene,
+    ) -> Result<Vec<super::DeformedVertices>, RenderError> {
+        super::upload::skinning::read_deformed(ctx, &self.geometry, scene)
+    }
+
     /// The lights rendered (the scene's, or those given to [`Renderer::set_lights`]).
     pub fn lights(&self) -> &[Light] {
         &self.lights
@@ -514,7 +492,9 @@ impl Renderer {
             )));
         }
         self.ensure_targets(ctx, width, height)?;
+        let mut split = CpuSplit::new();
         let (bounds, moving) = self.pose(ctx, motion)?;
+        split.mark("pose");
         let aspect = width as f32 / height as f32;
         let view = camera.view();
         let unjittered = camera.proj(aspect);
@@ -558,6 +538,7 @@ impl Renderer {
         let (depth_near, depth_far) =
             super::clusters::depth_range(&bounds, &view, camera.near, camera.far);
         let (fl, visible, grid) = lists.frame_lists(culling, width, height, depth_near, depth_far);
+        split.mark("lights");
         let loop_count = fl.forward_lights;
         let (clusters_grown, cluster_bytes) = match grid {
             Some(grid) => self
@@ -628,13 +609,31 @@ impl Renderer {
             (f.color, f.transmittance(camera.far))
         });
         self.environment.write_frame(ctx, &view, background_fog);
+        split.mark("upload");
         // Pipelines depend only on the technique and the forward loop bound: the
         // batches are fixed when the renderer is made.
+        let gpu = FrameGpu {
+            opts: &self.opts,
+            aux_formats: &self.aux_formats,
+            materials: &self.materials,
+            geometry: &self.geometry,
+            material_gpu: &self.material_gpu,
+            layouts: &self.layouts,
+            environment: &self.environment,
+            g0: &self.g0,
+            shadow_maps: &self.shadow_maps,
+            clusters: &self.clusters,
+            volumes: &self.volumes,
+            motion: &self.motion,
+            frame_background: self.frame_background,
+        };
         if !self.ensured.contains(&(technique, loop_count)) {
-            frame::ensure_pipelines(self, ctx, technique, loop_count)
+            let pipelines = (&mut self.pipelines, &mut self.light_compute);
+            frame::ensure_pipelines(&gpu, pipelines, ctx, technique, loop_count)
                 .map_err(RenderError::Material)?;
             self.ensured.insert((technique, loop_count));
         }
+        split.mark("pipelines");
 
         let mut stats = RenderStats {
             technique,
@@ -660,8 +659,13 @@ impl Renderer {
             ..Default::default()
         };
         let label = format!("deferred frame ({technique}, {width}x{height})");
+        let pipelines = FramePipelines {
+            pipelines: &self.pipelines,
+            light_compute: &self.light_compute,
+        };
+        let targets = self.targets.as_ref().expect("targets were just created");
         let (pass_names, draws) = frame::encode(
-            self,
+            (&gpu, &pipelines, targets),
             ctx,
             &label,
             technique,
@@ -670,8 +674,10 @@ impl Renderer {
             timer,
             (&motion_cams, &moving),
         )?;
+        split.mark("record");
         stats.draw_calls = draws;
         stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        stats.cpu_split = split.parts;
         stats.pipelines = self.pipelines.pipelines_created;
         stats.shader_modules = self.pipelines.modules_created;
         if let Some(timer) = timer {
