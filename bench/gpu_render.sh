@@ -53,7 +53,8 @@ run() {
     local json="$WORK/$name-$size.json"
     # shellcheck disable=SC2086
     "$FXRUN" $CHAIN --scene "$@" --camera orbit:period=8,elevation=20 --size "$size" \
-        --frames "0..$((FRAMES - 1))" -o "$WORK/timed.y4m" --timings-json "$json" 2>/dev/null
+        --frames "0..$((FRAMES - 1))" -o "$WORK/timed.y4m" --timings --timings-json "$json" \
+        >/dev/null 2>&1
     local t0 t1
     t0=$(date +%s%N)
     # shellcheck disable=SC2086
