@@ -1,4 +1,4 @@
-//! GPU skinning and morph targets (src/render/skinning.rs) against the CPU
+//! GPU skinning and morph targets (src/render/upload/skinning.rs) against the CPU
 //! reference `Pose::deformed_mesh` (src/scene/animation/skin.rs, itself tested
 //! against the glTF specification in tests/scene_skinning.rs): the vertices the
 //! compute pass wrote are read back after a frame and compared, now and one

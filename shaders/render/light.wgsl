@@ -81,17 +81,15 @@ fn fx_fs_light(in: FxLightVsOut) -> FxLightOut {
     return FxLightOut(vec4<f32>(lo.diffuse, 0.0), vec4<f32>(lo.specular, 0.0));
 }
 
-// The clustered light pass: one full-screen triangle; each pixel reads the
-// G-buffer once and shades the global lights and the lights of its cluster
-// (src/render/clusters.rs).
-@fragment
-fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
-    let c = vec2<i32>(pos.xy);
+// The lights of the pixel at `xy` (pixel centre) from the G-buffer: the global
+// lights and the lights of its cluster (src/render/clusters.rs), read once.
+fn fx_light_clustered(xy: vec2<f32>) -> FxLightOut {
+    let c = vec2<i32>(xy);
     let depth = textureLoad(fx_t_depth, c, 0);
     if depth >= 1.0 {
         return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
     }
-    let p = fx_view_position(pos.xy, depth);
+    let p = fx_view_position(xy, depth);
     let g = textureLoad(fx_t_normal, c, 0);
     if g.a < 0.5 {
         // a layered surface (clear coat, transmission), lit in its geometry pass
@@ -104,7 +102,7 @@ fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
     let v = fx_safe_normalize(-p);
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
-    let range = fx_cluster_range(pos.xy, -p.z);
+    let range = fx_cluster_range(xy, -p.z);
     let globals = fx_frame.global_lights;
     for (var i = 0u; i < globals + range.y; i++) {
         // (the unselected operand may wrap round: u32 arithmetic is modular)
@@ -117,6 +115,66 @@ fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
         }
     }
     return FxLightOut(vec4<f32>(diffuse, 0.0), vec4<f32>(specular, 0.0));
+}
+
+// The clustered light pass as a fragment shader: one full-screen triangle,
+// added to the light buffers by blending.
+@fragment
+fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
+    return fx_light_clustered(pos.xy);
+}
+
+// The clustered light pass in compute (src/render/light_compute.rs): one
+// invocation per pixel in 8 × 8 tiles, writing the light buffers once. The
+// specular buffer starts from what the geometry pass wrote (emission, ambient,
+// environment; zero in the light pre-pass), read from `fx_c_emission`.
+@group(2) @binding(0) var fx_c_diffuse: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(1) var fx_c_specular: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(2) var fx_c_scene: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(3) var fx_c_emission: texture_2d<f32>;
+
+// Lights one pixel; returns its light buffers (written) and its pixel position.
+fn fx_cs_light_pixel(id: vec2<u32>, emission: bool) -> FxLightOut {
+    let c = vec2<i32>(id);
+    var lit = fx_light_clustered(vec2<f32>(id) + 0.5);
+    if emission {
+        lit.specular += textureLoad(fx_c_emission, c, 0);
+    }
+    textureStore(fx_c_diffuse, c, lit.diffuse);
+    textureStore(fx_c_specular, c, lit.specular);
+    return lit;
+}
+
+fn fx_cs_inside(id: vec3<u32>) -> bool {
+    return f32(id.x) < fx_frame.viewport.x && f32(id.y) < fx_frame.viewport.y;
+}
+
+// Light pre-pass: the light buffers alone (the final geometry pass reads them).
+@compute @workgroup_size(8, 8)
+fn fx_cs_light(@builtin(global_invocation_id) id: vec3<u32>) {
+    if fx_cs_inside(id) {
+        fx_cs_light_pixel(id.xy, false);
+    }
+}
+
+// Deferred: the light buffers and the composition (fx_fs_compose's maths) in
+// one pass.
+@compute @workgroup_size(8, 8)
+fn fx_cs_light_compose(@builtin(global_invocation_id) id: vec3<u32>) {
+    if !fx_cs_inside(id) {
+        return;
+    }
+    let lit = fx_cs_light_pixel(id.xy, true);
+    let c = vec2<i32>(id.xy);
+    let xy = vec2<f32>(id.xy) + 0.5;
+    let depth = textureLoad(fx_t_depth, c, 0);
+    if depth >= 1.0 {
+        textureStore(fx_c_scene, c, fx_background(xy));
+        return;
+    }
+    let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
+    let p = fx_view_position(xy, depth);
+    textureStore(fx_c_scene, c, vec4<f32>(fx_fog(albedo * lit.diffuse.rgb + lit.specular.rgb, p), 1.0));
 }
 
 @vertex

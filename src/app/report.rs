@@ -120,11 +120,15 @@ pub struct SceneStats {
     pub shadows: String,
     pub load_ms: f64,
     pub render_cpu_ms: f64,
+    /// Where the render CPU time went (summed over the frames): pose, lights,
+    /// upload, pipelines, record (`RenderStats::cpu_split`).
+    pub render_cpu_split: Vec<(String, f64)>,
     pub render_gpu_ms: Option<f64>,
     pub render_passes: Vec<(String, f64)>,
     pub triangles: usize,
     pub lights_visible: usize,
-    /// Light × cluster entries and their upload bytes (clustered culling).
+    /// Light × cluster entries the GPU listed (timed frames) and the bytes
+    /// reserved for the lists (clustered culling).
     pub cluster_entries: usize,
     pub cluster_bytes: u64,
     /// Shadow-map layers rendered and the bytes of the shadow-map texture.

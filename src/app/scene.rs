@@ -337,6 +337,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         )
         .map_err(|e| render_error(&job.scene, e))?;
     stats.render_cpu_ms = rs.cpu_ms;
+    stats.render_cpu_split = rs.cpu_split.clone();
     stats.render_gpu_ms = rs.gpu_ms;
     stats.render_passes = rs.pass_ms.clone();
     stats.triangles = rs.triangles;

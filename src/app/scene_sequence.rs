@@ -213,6 +213,12 @@ pub fn run_scene_sequence(
             }
         }
         stats.render_cpu_ms += rs.cpu_ms;
+        for (name, ms) in &rs.cpu_split {
+            match stats.render_cpu_split.iter_mut().find(|(n, _)| n == name) {
+                Some(p) => p.1 += ms,
+                None => stats.render_cpu_split.push((name.clone(), *ms)),
+            }
+        }
         stats.render_gpu_ms = match (stats.render_gpu_ms, rs.gpu_ms) {
             (Some(a), Some(b)) => Some(a + b),
             (_, b) => b,

@@ -6,13 +6,15 @@
 //! or a fragment (forward) then shades only the lights of its cluster, plus the
 //! global lights (directional) that reach everything.
 //!
+//! This file holds the grid, the lights' footprints on it (the tiles and slices
+//! a sphere may touch) and the CPU reference of the binning (tests); the lists
+//! themselves are built on the GPU each frame (`cluster_gpu.rs`).
+//!
 //! Why clusters rather than stencil-marked light volumes: on lavapipe every
 //! light-volume draw costs a G-buffer read and a blend per covered pixel, and the
 //! volume's front faces also cover every surface behind it; a cluster pass reads
 //! the G-buffer once and writes once, whatever the light count, and its lists
-//! cull in depth as well as on screen. The binning runs on the CPU (a few
-//! milliseconds for thousands of lights), so no compute pass with shared memory
-//! is needed (slow on lavapipe).
+//! cull in depth as well as on screen.
 
 use super::cli_names::cli_names;
 use glam::{Mat4, Vec3};
@@ -162,6 +164,7 @@ pub(crate) struct LocalLight {
 /// The lists of one frame, laid out as the shaders read them: `indices` starts
 /// with the `globals` global lights, then each cluster's lights at
 /// `ranges[cluster] = (offset, count)`.
+#[cfg(test)]
 #[derive(Debug, Clone)]
 pub(crate) struct ClusterLists {
     pub grid: ClusterGrid,
@@ -173,6 +176,7 @@ pub(crate) struct ClusterLists {
 }
 
 /// Too many light × cluster entries for one frame.
+#[cfg(test)]
 #[derive(Debug, Clone, thiserror::Error)]
 #[error(
     "{entries} light-cluster entries exceed the limit of {MAX_ENTRIES}: fewer or smaller lights"
@@ -181,9 +185,126 @@ pub(crate) struct TooManyEntries {
     pub entries: usize,
 }
 
-/// Bins `locals` into `grid` for projection `proj` (a perspective projection
-/// without shear in z, as [`crate::scene::camera::perspective_rh`] makes; an off-centre
-/// frustum is handled through its x/y offsets).
+/// The slopes of the grid's planes for one projection: view x = `ax[t]` × depth
+/// on tile column edge t, view y = `ay[t]` × depth on tile row edge t (rows top to
+/// bottom), and the depth where each slice starts (`depth[slices]` = far). The
+/// GPU builder uploads them as they are, so both compute the same boxes.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct GridEdges {
+    pub ax: Vec<f32>,
+    pub ay: Vec<f32>,
+    pub depth: Vec<f32>,
+}
+
+/// The tiles and slices a light's sphere may touch (inclusive ranges).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Footprint {
+    pub tiles_x: (u32, u32),
+    pub tiles_y: (u32, u32),
+    pub slices: (u32, u32),
+}
+
+impl Footprint {
+    /// Clusters inside the footprint: a bound on the light's entries.
+    pub fn clusters(&self) -> usize {
+        let n = |(a, b): (u32, u32)| (b - a + 1) as usize;
+        n(self.tiles_x) * n(self.tiles_y) * n(self.slices)
+    }
+}
+
+impl ClusterGrid {
+    /// The edges of this grid seen through `proj` (a perspective projection
+    /// without shear in z, as [`crate::scene::camera::perspective_rh`] makes; an
+    /// off-centre frustum is handled through its x/y offsets).
+    pub fn edges(&self, proj: &Mat4, width: u32, height: u32) -> GridEdges {
+        let (p00, p02) = (proj.x_axis.x, proj.z_axis.x);
+        let (p11, p12) = (proj.y_axis.y, proj.z_axis.y);
+        let tile_ndc_x = |t: u32| ((t * self.tile_px).min(width) as f32 / width as f32) * 2.0 - 1.0;
+        let tile_ndc_y =
+            |t: u32| 1.0 - ((t * self.tile_px).min(height) as f32 / height as f32) * 2.0;
+        GridEdges {
+            ax: (0..=self.tiles_x)
+                .map(|t| (tile_ndc_x(t) + p02) / p00)
+                .collect(),
+            ay: (0..=self.tiles_y)
+                .map(|t| (tile_ndc_y(t) + p12) / p11)
+                .collect(),
+            depth: (0..=self.slices).map(|s| self.slice_depth(s)).collect(),
+        }
+    }
+
+    /// The tiles and slices light `l` may touch: its slices, and the tile
+    /// rectangle of its sphere's projected box (all tiles when the box reaches
+    /// behind the near plane); `None` when it misses the grid. A one-cluster grid
+    /// lists every light.
+    pub fn footprint(
+        &self,
+        proj: &Mat4,
+        width: u32,
+        height: u32,
+        l: &LocalLight,
+    ) -> Option<Footprint> {
+        if self.count() == 1 {
+            return Some(Footprint {
+                tiles_x: (0, 0),
+                tiles_y: (0, 0),
+                slices: (0, 0),
+            });
+        }
+        let (p00, p02) = (proj.x_axis.x, proj.z_axis.x);
+        let (p11, p12) = (proj.y_axis.y, proj.z_axis.y);
+        let (c, r) = (l.center, l.radius);
+        let (dmin, dmax) = (-c.z - r, -c.z + r);
+        if dmax < self.near || dmin > self.far {
+            return None;
+        }
+        let slices = (self.slice_of(dmin), self.slice_of(dmax));
+        let all = Footprint {
+            tiles_x: (0, self.tiles_x - 1),
+            tiles_y: (0, self.tiles_y - 1),
+            slices,
+        };
+        if dmin <= self.near * 0.5 {
+            return Some(all);
+        }
+        // The projected corners of the sphere's box bound its projection when
+        // the box is in front of the near plane.
+        let (mut x0, mut x1, mut y0, mut y1) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
+        for k in 0..8 {
+            let p = c + Vec3::new(
+                if k & 1 == 0 { -r } else { r },
+                if k & 2 == 0 { -r } else { r },
+                if k & 4 == 0 { -r } else { r },
+            );
+            let d = -p.z;
+            let (nx, ny) = (p.x * p00 / d - p02, p.y * p11 / d - p12);
+            x0 = x0.min(nx);
+            x1 = x1.max(nx);
+            y0 = y0.min(ny);
+            y1 = y1.max(ny);
+        }
+        if x1 < -1.0 || x0 > 1.0 || y1 < -1.0 || y0 > 1.0 {
+            return None;
+        }
+        let px = |n: f32| ((n.clamp(-1.0, 1.0) + 1.0) * 0.5 * width as f32) as u32;
+        let py = |n: f32| ((1.0 - n.clamp(-1.0, 1.0)) * 0.5 * height as f32) as u32;
+        Some(Footprint {
+            tiles_x: (
+                (px(x0) / self.tile_px).min(self.tiles_x - 1),
+                (px(x1) / self.tile_px).min(self.tiles_x - 1),
+            ),
+            tiles_y: (
+                (py(y1) / self.tile_px).min(self.tiles_y - 1),
+                (py(y0) / self.tile_px).min(self.tiles_y - 1),
+            ),
+            slices,
+        })
+    }
+}
+
+/// Bins `locals` into `grid` for projection `proj` on the CPU: the reference
+/// the GPU lists (`cluster_gpu.rs`) are tested against, test for test.
+#[cfg(test)]
 pub(crate) fn build(
     grid: ClusterGrid,
     proj: &Mat4,
@@ -192,20 +313,8 @@ pub(crate) fn build(
     globals: &[u32],
     locals: &[LocalLight],
 ) -> Result<ClusterLists, TooManyEntries> {
-    // view x at depth d for NDC x: (ndc + p02) d / p00 (and the same in y)
-    let (p00, p02) = (proj.x_axis.x, proj.z_axis.x);
-    let (p11, p12) = (proj.y_axis.y, proj.z_axis.y);
-    let tile_ndc_x = |t: u32| ((t * grid.tile_px).min(width) as f32 / width as f32) * 2.0 - 1.0;
-    let tile_ndc_y = |t: u32| 1.0 - ((t * grid.tile_px).min(height) as f32 / height as f32) * 2.0;
-    // a[t] = the x slope of tile edge t (view x = a × depth)
-    let ax: Vec<f32> = (0..=grid.tiles_x)
-        .map(|t| (tile_ndc_x(t) + p02) / p00)
-        .collect();
-    // tile rows run top to bottom: edge t is above edge t + 1
-    let ay: Vec<f32> = (0..=grid.tiles_y)
-        .map(|t| (tile_ndc_y(t) + p12) / p11)
-        .collect();
-    let depth: Vec<f32> = (0..=grid.slices).map(|s| grid.slice_depth(s)).collect();
+    let edges = grid.edges(proj, width, height);
+    let (ax, ay, depth) = (&edges.ax, &edges.ay, &edges.depth);
     let one = grid.count() == 1;
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     for l in locals {
@@ -214,41 +323,11 @@ pub(crate) fn build(
             pairs.push((0, l.index));
             continue;
         }
-        let (dmin, dmax) = (-c.z - r, -c.z + r);
-        if dmax < grid.near || dmin > grid.far {
+        let Some(f) = grid.footprint(proj, width, height, l) else {
             continue;
-        }
-        let (s0, s1) = (grid.slice_of(dmin), grid.slice_of(dmax));
-        // Screen rectangle: the projected corners of the sphere's box bound its
-        // projection when the box is in front of the near plane; else all tiles.
-        let (mut tx0, mut tx1, mut ty0, mut ty1) = (0, grid.tiles_x - 1, 0, grid.tiles_y - 1);
-        if dmin > grid.near * 0.5 {
-            let (mut x0, mut x1, mut y0, mut y1) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
-            for k in 0..8 {
-                let p = c + Vec3::new(
-                    if k & 1 == 0 { -r } else { r },
-                    if k & 2 == 0 { -r } else { r },
-                    if k & 4 == 0 { -r } else { r },
-                );
-                let d = -p.z;
-                let (nx, ny) = (p.x * p00 / d - p02, p.y * p11 / d - p12);
-                x0 = x0.min(nx);
-                x1 = x1.max(nx);
-                y0 = y0.min(ny);
-                y1 = y1.max(ny);
-            }
-            if x1 < -1.0 || x0 > 1.0 || y1 < -1.0 || y0 > 1.0 {
-                continue;
-            }
-            let px = |n: f32| ((n.clamp(-1.0, 1.0) + 1.0) * 0.5 * width as f32) as u32;
-            let py = |n: f32| ((1.0 - n.clamp(-1.0, 1.0)) * 0.5 * height as f32) as u32;
-            tx0 = (px(x0) / grid.tile_px).min(grid.tiles_x - 1);
-            tx1 = (px(x1) / grid.tile_px).min(grid.tiles_x - 1);
-            ty0 = (py(y1) / grid.tile_px).min(grid.tiles_y - 1);
-            ty1 = (py(y0) / grid.tile_px).min(grid.tiles_y - 1);
-        }
+        };
         let r2 = r * r;
-        for s in s0..=s1 {
+        for s in f.slices.0..=f.slices.1 {
             let (dn, df) = (depth[s as usize], depth[s as usize + 1]);
             // distance² along z from the centre to the slab
             let dz = (-c.z).clamp(dn, df) + c.z;
@@ -256,7 +335,7 @@ pub(crate) fn build(
             if dz2 > r2 {
                 continue;
             }
-            for ty in ty0..=ty1 {
+            for ty in f.tiles_y.0..=f.tiles_y.1 {
                 // the tile's view-space y extent over the slab
                 let (top, bottom) = (ay[ty as usize], ay[ty as usize + 1]);
                 let ymax = top * if top > 0.0 { df } else { dn };
@@ -266,7 +345,7 @@ pub(crate) fn build(
                 if dyz2 > r2 {
                     continue;
                 }
-                for tx in tx0..=tx1 {
+                for tx in f.tiles_x.0..=f.tiles_x.1 {
                     let (left, right) = (ax[tx as usize], ax[tx as usize + 1]);
                     let xmin = left * if left < 0.0 { df } else { dn };
                     let xmax = right * if right > 0.0 { df } else { dn };

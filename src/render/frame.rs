@@ -1,30 +1,57 @@
 //! Encoding one frame: the passes of each technique (deferred, light pre-pass,
 //! forward), transparency and the AUX resolve, through one render-pass helper.
 
-use super::motion::MotionCameras;
-use super::pipelines::{GeoKey, GeoPass, LightPipe};
-use super::renderer::{RenderError, Renderer, Technique};
-use super::upload::Batch;
+use super::cluster_gpu::GpuClusters;
+use super::environment::EnvironmentLighting;
+use super::error::RenderError;
+use super::light_compute::{ComputeLighting, LightCompute, LightComputeGroups};
+use super::lights::{FrameLists, LightVolumes};
+use super::material::{MaterialSet, VariantMode};
+use super::motion::{MotionCameras, MotionPass};
+use super::options::RendererOptions;
+use super::pipelines::{GeoKey, GeoPass, Layouts, LightPipe, Pipelines};
+use super::shadow_pass::ShadowMaps;
+use super::targets::Targets;
+use super::technique::Technique;
+use super::upload::{Batch, Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuTimer};
-use glam::{Mat4, Vec4};
-use std::ops::Range;
+use glam::{Mat4, Vec3, Vec4};
 
-/// The frame's light ranges in the visible-index buffer.
-pub(crate) struct FrameLists {
-    pub fullscreen: Range<u32>,
-    pub sphere_out: Range<u32>,
-    pub sphere_in: Range<u32>,
-    pub cone_out: Range<u32>,
-    pub cone_in: Range<u32>,
-    /// The forward loop's (constant) light count.
-    pub forward_lights: u32,
-    /// Cluster lists are bound: one clustered full-screen light pass.
-    pub clustered: bool,
+/// What a frame is encoded with: the renderer's scene resources, borrowed
+/// (the pipelines come separately: creating them needs them mutable).
+pub(crate) struct FrameGpu<'a> {
+    pub opts: &'a RendererOptions,
+    /// The AUX images and their formats.
+    pub aux_formats: &'a [(String, crate::script::types::Format)],
+    pub materials: &'a MaterialSet,
+    pub geometry: &'a Geometry,
+    pub material_gpu: &'a MaterialResources,
+    pub layouts: &'a Layouts,
+    pub environment: &'a EnvironmentLighting,
+    pub g0: &'a wgpu::BindGroup,
+    pub shadow_maps: &'a ShadowMaps,
+    pub clusters: &'a GpuClusters,
+    pub volumes: &'a LightVolumes,
+    pub motion: &'a MotionPass,
+    /// The frame's background colour (fogged).
+    pub frame_background: Vec3,
 }
 
-fn geo_key(r: &Renderer, pass: GeoPass, b: &Batch, lights: u32) -> GeoKey {
-    let m = &r.materials.materials[b.material];
-    let features = match r.pipelines.mode {
+/// The pipelines a frame draws with.
+pub(crate) struct FramePipelines<'a> {
+    pub pipelines: &'a Pipelines,
+    pub light_compute: &'a ComputeLighting,
+}
+
+fn geo_key(
+    materials: &MaterialSet,
+    mode: VariantMode,
+    pass: GeoPass,
+    b: &Batch,
+    lights: u32,
+) -> GeoKey {
+    let m = &materials.materials[b.material];
+    let features = match mode {
         super::material::VariantMode::Branch => 0,
         _ => b.features,
     };
@@ -37,7 +64,7 @@ fn geo_key(r: &Renderer, pass: GeoPass, b: &Batch, lights: u32) -> GeoKey {
         },
         cull: b.cull,
         lights: match pass {
-            GeoPass::Forward | GeoPass::ForwardBlend => match r.pipelines.mode {
+            GeoPass::Forward | GeoPass::ForwardBlend => match mode {
                 super::material::VariantMode::Branch => 0,
                 _ => lights,
             },
@@ -55,10 +82,28 @@ fn opaque_passes(technique: Technique) -> &'static [GeoPass] {
     }
 }
 
+/// Whether `technique` lights in a compute pass ([`super::light_compute`]):
+/// deferred and light pre-pass with cluster lists, unless the options ask for
+/// the fragment pass.
+fn computes_lights(opts: &RendererOptions, technique: Technique) -> bool {
+    technique != Technique::Forward
+        && opts.compute_lighting
+        && opts.light_culling != super::clusters::LightCulling::Volumes
+}
+
+/// The compute light pass of `technique`.
+fn light_compute_of(technique: Technique) -> LightCompute {
+    match technique {
+        Technique::Deferred => LightCompute::Compose,
+        _ => LightCompute::Prepass,
+    }
+}
+
 /// Creates every pipeline the frame needs (shader generation errors are material
 /// errors: they name the material's shaders).
 pub(crate) fn ensure_pipelines(
-    r: &mut Renderer,
+    r: &FrameGpu<'_>,
+    (pipelines, light_compute): (&mut Pipelines, &mut ComputeLighting),
     ctx: &GpuContext,
     technique: Technique,
     lights: u32,
@@ -67,7 +112,7 @@ pub(crate) fn ensure_pipelines(
     for b in &r.geometry.batches {
         for &pass in opaque_passes(technique) {
             keys.push((
-                geo_key(r, pass, b, lights),
+                geo_key(r.materials, pipelines.mode, pass, b, lights),
                 r.materials.materials[b.material].surface,
             ));
         }
@@ -75,28 +120,43 @@ pub(crate) fn ensure_pipelines(
     for item in &r.geometry.blend_items {
         let b = &item.batch;
         keys.push((
-            geo_key(r, GeoPass::ForwardBlend, b, lights),
+            geo_key(
+                r.materials,
+                pipelines.mode,
+                GeoPass::ForwardBlend,
+                b,
+                lights,
+            ),
             r.materials.materials[b.material].surface,
         ));
     }
     for (key, surface) in keys {
-        r.pipelines.geometry(
+        pipelines.geometry(
             ctx,
-            &r.materials,
-            &r.layouts,
+            r.materials,
+            r.layouts,
             &r.material_gpu.layouts[surface],
             &r.material_gpu.params_layout,
             key,
         )?;
     }
     let aux: Vec<(String, wgpu::TextureFormat)> = r
-        .aux_formats()
+        .aux_formats
         .iter()
         .map(|(n, f)| (n.clone(), crate::gpu::executor::wgpu_format(*f)))
         .collect();
     let mut light = vec![LightPipe::AuxA, LightPipe::AuxB];
-    if technique != Technique::Forward {
-        if r.options().light_culling == super::clusters::LightCulling::Volumes {
+    let compute = computes_lights(r.opts, technique);
+    if compute {
+        light_compute.ensure(
+            ctx,
+            pipelines,
+            r.materials,
+            (r.layouts, &r.material_gpu.params_layout),
+            light_compute_of(technique),
+        )?;
+    } else if technique != Technique::Forward {
+        if r.opts.light_culling == super::clusters::LightCulling::Volumes {
             light.extend([
                 LightPipe::Fullscreen,
                 LightPipe::VolumeFront,
@@ -107,15 +167,17 @@ pub(crate) fn ensure_pipelines(
         }
     }
     if technique == Technique::Deferred {
-        light.push(LightPipe::Compose);
+        if !compute {
+            light.push(LightPipe::Compose);
+        }
     } else if r.environment.background_pass() {
         light.push(LightPipe::Background);
     }
     for which in light {
-        r.pipelines.light(
+        pipelines.light(
             ctx,
-            &r.materials,
-            &r.layouts,
+            r.materials,
+            r.layouts,
             &r.material_gpu.params_layout,
             &aux,
             which,
@@ -167,14 +229,13 @@ enum Depth {
 /// pass's timestamp named `name`.
 fn begin<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
-    r: &'e Renderer,
+    t: &'e Targets,
     names: &mut Vec<String>,
     timer: Option<&'e GpuTimer>,
     name: &str,
     colors: &[Option<wgpu::RenderPassColorAttachment<'e>>],
     depth: Depth,
 ) -> wgpu::RenderPass<'e> {
-    let t = r.targets.as_ref().expect("targets exist");
     let i = names.len() as u32;
     names.push(name.to_string());
     let depth_stencil_attachment = match depth {
@@ -206,23 +267,23 @@ fn begin<'e>(
 /// Draws `batches` with the pipeline of each, switching pipelines and material
 /// bind groups only when they change.
 fn draw_batches<'a>(
-    r: &Renderer,
+    (r, p): (&FrameGpu<'_>, &FramePipelines<'_>),
     rp: &mut wgpu::RenderPass<'_>,
     batches: impl Iterator<Item = &'a Batch>,
     pass: GeoPass,
     lights: u32,
     draws: &mut usize,
 ) {
-    rp.set_bind_group(0, &r.g0, &[]);
+    rp.set_bind_group(0, r.g0, &[]);
     rp.set_bind_group(3, &r.material_gpu.params_group, &[]);
     rp.set_vertex_buffer(0, r.geometry.vertex_buffer.slice(..));
     rp.set_index_buffer(r.geometry.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
     let mut current_key: Option<GeoKey> = None;
     let mut current_material: Option<(usize, u64)> = None;
     for b in batches {
-        let key = geo_key(r, pass, b, lights);
+        let key = geo_key(r.materials, p.pipelines.mode, pass, b, lights);
         if current_key != Some(key) {
-            rp.set_pipeline(r.pipelines.geo_cached(&key));
+            rp.set_pipeline(p.pipelines.geo_cached(&key));
             current_key = Some(key);
         }
         if current_material != Some((b.material, b.features)) {
@@ -237,7 +298,7 @@ fn draw_batches<'a>(
 /// Encodes and submits the frame. Returns the timed pass names and the draw count.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn encode(
-    r: &Renderer,
+    (r, p, t): (&FrameGpu<'_>, &FramePipelines<'_>, &Targets),
     ctx: &GpuContext,
     label: &str,
     technique: Technique,
@@ -246,7 +307,6 @@ pub(crate) fn encode(
     timer: Option<&GpuTimer>,
     (motion, moving): (&MotionCameras, &[Batch]),
 ) -> Result<(Vec<String>, usize), RenderError> {
-    let t = r.targets.as_ref().expect("targets exist");
     let mut names: Vec<String> = Vec::new();
     let mut draws = 0usize;
     let lights = fl.forward_lights;
@@ -259,6 +319,7 @@ pub(crate) fn encode(
         .collect();
     blend.sort_by(|a, b| a.0.total_cmp(&b.0));
     let background = clear_to(r.environment.clear_color(r.frame_background));
+    let compute = computes_lights(r.opts, technique) && fl.clustered;
     let zero = clear_to(Vec4::ZERO);
     let mut motion_result = Ok(0);
     ctx.scoped(label, |device| {
@@ -271,14 +332,39 @@ pub(crate) fn encode(
         // Shadow maps next: every technique's light passes read them.
         draws += r
             .shadow_maps
-            .encode(&mut encoder, &r.geometry, &mut names, timer);
+            .encode(&mut encoder, r.geometry, &mut names, timer);
+        // The cluster lists, built on the GPU: the light passes and forward
+        // read them.
+        if fl.clustered {
+            r.clusters.encode(&mut encoder, &mut names, timer);
+        }
         let light_pass = |encoder: &mut wgpu::CommandEncoder,
                           names: &mut Vec<String>,
                           specular_ops: wgpu::Operations<wgpu::Color>,
                           draws: &mut usize| {
+            if compute {
+                p.light_compute.encode(
+                    encoder,
+                    light_compute_of(technique),
+                    &LightComputeGroups {
+                        g0: r.g0,
+                        gbuffer: &t.bg_light,
+                        outputs: match technique {
+                            Technique::Deferred => &t.bg_compute_deferred,
+                            _ => &t.bg_compute_prepass,
+                        },
+                        params: &r.material_gpu.params_group,
+                    },
+                    (t.width, t.height),
+                    "lights",
+                    names,
+                    timer,
+                );
+                return;
+            }
             let mut rp = begin(
                 encoder,
-                r,
+                t,
                 names,
                 timer,
                 "lights",
@@ -288,17 +374,17 @@ pub(crate) fn encode(
                 ],
                 Depth::Read,
             );
-            rp.set_bind_group(0, &r.g0, &[]);
+            rp.set_bind_group(0, r.g0, &[]);
             rp.set_bind_group(1, &t.bg_light, &[]);
             rp.set_bind_group(3, &r.material_gpu.params_group, &[]);
             if fl.clustered {
-                rp.set_pipeline(r.pipelines.light_cached(LightPipe::Clustered));
+                rp.set_pipeline(p.pipelines.light_cached(LightPipe::Clustered));
                 rp.draw(0..3, 0..1);
                 *draws += 1;
                 return;
             }
             if !fl.fullscreen.is_empty() {
-                rp.set_pipeline(r.pipelines.light_cached(LightPipe::Fullscreen));
+                rp.set_pipeline(p.pipelines.light_cached(LightPipe::Fullscreen));
                 rp.draw(0..3, fl.fullscreen.clone());
                 *draws += 1;
             }
@@ -311,7 +397,7 @@ pub(crate) fn encode(
                 if spheres.is_empty() && cones.is_empty() {
                     continue;
                 }
-                rp.set_pipeline(r.pipelines.light_cached(pipe));
+                rp.set_pipeline(p.pipelines.light_cached(pipe));
                 if !spheres.is_empty() {
                     rp.draw_indexed(r.volumes.sphere_indices.clone(), 0, spheres.clone());
                     *draws += 1;
@@ -332,9 +418,9 @@ pub(crate) fn encode(
                           pipe: LightPipe,
                           colors: &[Option<wgpu::RenderPassColorAttachment<'_>>],
                           draws: &mut usize| {
-            let mut rp = begin(encoder, r, names, timer, name, colors, Depth::None);
-            rp.set_pipeline(r.pipelines.light_cached(pipe));
-            rp.set_bind_group(0, &r.g0, &[]);
+            let mut rp = begin(encoder, t, names, timer, name, colors, Depth::None);
+            rp.set_pipeline(p.pipelines.light_cached(pipe));
+            rp.set_bind_group(0, r.g0, &[]);
             rp.set_bind_group(1, &t.bg_all, &[]);
             rp.set_bind_group(3, &r.material_gpu.params_group, &[]);
             rp.draw(0..3, 0..1);
@@ -348,13 +434,13 @@ pub(crate) fn encode(
                         depth: Depth,
                         pass: GeoPass,
                         draws: &mut usize| {
-            let mut rp = begin(encoder, r, names, timer, name, colors, depth);
+            let mut rp = begin(encoder, t, names, timer, name, colors, depth);
             if pass == GeoPass::LppFinal {
                 rp.set_bind_group(1, &t.bg_final, &[]);
             }
             if pass == GeoPass::ForwardBlend {
                 draw_batches(
-                    r,
+                    (r, p),
                     &mut rp,
                     blend.iter().map(|(_, b)| *b),
                     pass,
@@ -362,7 +448,14 @@ pub(crate) fn encode(
                     draws,
                 );
             } else {
-                draw_batches(r, &mut rp, r.geometry.batches.iter(), pass, lights, draws);
+                draw_batches(
+                    (r, p),
+                    &mut rp,
+                    r.geometry.batches.iter(),
+                    pass,
+                    lights,
+                    draws,
+                );
             }
         };
         let (albedo, normal, specular) = (
@@ -372,12 +465,14 @@ pub(crate) fn encode(
         );
         match technique {
             Technique::Deferred => {
-                let colors = [
-                    albedo,
-                    normal,
-                    specular,
-                    attach(&t.light_specular.view, zero),
-                ];
+                // the compute light pass adds the lights to what this pass
+                // starts the specular light with
+                let start = if compute {
+                    &t.emission
+                } else {
+                    &t.light_specular
+                };
+                let colors = [albedo, normal, specular, attach(&start.view, zero)];
                 geometry(
                     &mut encoder,
                     &mut names,
@@ -388,15 +483,18 @@ pub(crate) fn encode(
                     &mut draws,
                 );
                 light_pass(&mut encoder, &mut names, LOAD, &mut draws);
-                let colors = [attach(&t.scene.view, zero)];
-                fullscreen(
-                    &mut encoder,
-                    &mut names,
-                    "composition",
-                    LightPipe::Compose,
-                    &colors,
-                    &mut draws,
-                );
+                // (the compute light pass composes in the same dispatch)
+                if !compute {
+                    let colors = [attach(&t.scene.view, zero)];
+                    fullscreen(
+                        &mut encoder,
+                        &mut names,
+                        "composition",
+                        LightPipe::Compose,
+                        &colors,
+                        &mut draws,
+                    );
+                }
             }
             Technique::LightPrepass => {
                 let colors = [albedo, normal, specular];
@@ -495,7 +593,7 @@ pub(crate) fn encode(
         motion_result = r.motion.encode(
             ctx,
             &mut encoder,
-            &r.geometry,
+            r.geometry,
             motion,
             (t.width, t.height),
             &t.depth.view,

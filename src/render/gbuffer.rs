@@ -1,7 +1,8 @@
 //! Reading back and writing the G-buffer as viewable files (`fxrun --scene S
 //! --gbuffer DIR`).
 
-use super::renderer::{RenderError, RenderOutput};
+use super::error::RenderError;
+use super::output::RenderOutput;
 use crate::gpu::context::GpuContext;
 use crate::gpu::transfer::unpack_rgb10a2;
 use crate::io::{save_image, Pixels, SaveOptions};

@@ -1,8 +1,9 @@
-//! The per-frame light data on the GPU: the light array, the visible-index list
-//! (forward loop and light volumes) and the cluster lists, each grown to a power
-//! of two when a frame needs more, and group 0, which binds them.
+//! The per-frame light data on the GPU: the light array and the visible-index
+//! list (forward loop and light volumes), each grown to a power of two when a
+//! frame needs more, and group 0, which binds them with the cluster lists the
+//! GPU builds (`cluster_gpu.rs`).
 
-use super::clusters::ClusterLists;
+use super::cluster_gpu::GpuClusters;
 use super::gpu_types::GpuLight;
 use super::shadow_pass::ShadowMaps;
 use crate::gpu::context::GpuContext;
@@ -11,8 +12,6 @@ use crate::gpu::context::GpuContext;
 pub(crate) struct LightBuffers {
     pub lights: wgpu::Buffer,
     pub visible: wgpu::Buffer,
-    pub cluster_ranges: wgpu::Buffer,
-    pub cluster_lights: wgpu::Buffer,
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
@@ -26,30 +25,20 @@ fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
 
 const LIGHTS: &str = "deferred lights";
 const VISIBLE: &str = "deferred visible light indices";
-const RANGES: &str = "deferred cluster ranges";
-const CLUSTER_LIGHTS: &str = "deferred cluster lights";
 
 impl LightBuffers {
-    /// Room for 64 lights and 64 KiB of cluster lists.
+    /// Room for 64 lights.
     pub fn new(device: &wgpu::Device) -> LightBuffers {
         LightBuffers {
             lights: storage(device, LIGHTS, 64 * std::mem::size_of::<GpuLight>() as u64),
             visible: storage(device, VISIBLE, 64 * 6 * 4),
-            cluster_ranges: storage(device, RANGES, 1 << 16),
-            cluster_lights: storage(device, CLUSTER_LIGHTS, 1 << 16),
         }
     }
 
-    /// Writes the frame's lights, visible indices and cluster lists, replacing
-    /// buffers that are too small. Returns whether one was replaced (group 0
-    /// must then be rebuilt).
-    pub fn upload(
-        &mut self,
-        ctx: &GpuContext,
-        lights: &[GpuLight],
-        visible: &[u32],
-        clusters: Option<&ClusterLists>,
-    ) -> bool {
+    /// Writes the frame's lights and visible indices, replacing buffers that
+    /// are too small. Returns whether one was replaced (group 0 must then be
+    /// rebuilt).
+    pub fn upload(&mut self, ctx: &GpuContext, lights: &[GpuLight], visible: &[u32]) -> bool {
         let device = &ctx.device;
         let mut grown = false;
         let mut ensure = |buffer: &mut wgpu::Buffer, label: &str, bytes: u64| {
@@ -68,18 +57,6 @@ impl LightBuffers {
             VISIBLE,
             std::mem::size_of_val(visible) as u64,
         );
-        if let Some(c) = clusters {
-            ensure(
-                &mut self.cluster_ranges,
-                RANGES,
-                std::mem::size_of_val(c.ranges.as_slice()) as u64,
-            );
-            ensure(
-                &mut self.cluster_lights,
-                CLUSTER_LIGHTS,
-                std::mem::size_of_val(c.indices.as_slice()) as u64,
-            );
-        }
         let q = &ctx.queue;
         if !lights.is_empty() {
             q.write_buffer(&self.lights, 0, bytemuck::cast_slice(lights));
@@ -87,17 +64,11 @@ impl LightBuffers {
         if !visible.is_empty() {
             q.write_buffer(&self.visible, 0, bytemuck::cast_slice(visible));
         }
-        if let Some(c) = clusters {
-            q.write_buffer(&self.cluster_ranges, 0, bytemuck::cast_slice(&c.ranges));
-            if !c.indices.is_empty() {
-                q.write_buffer(&self.cluster_lights, 0, bytemuck::cast_slice(&c.indices));
-            }
-        }
         grown
     }
 
     /// Group 0: frame uniforms, material infos, instances, these buffers, the
-    /// shadow maps and the environment.
+    /// cluster lists, the shadow maps and the environment.
     #[allow(clippy::too_many_arguments)] // one argument per owner of a binding
     pub fn group0(
         &self,
@@ -106,17 +77,19 @@ impl LightBuffers {
         frame: &wgpu::Buffer,
         material_info: &wgpu::Buffer,
         instances: &wgpu::Buffer,
+        clusters: &GpuClusters,
         shadows: &ShadowMaps,
         environment: &super::environment::EnvironmentLighting,
     ) -> wgpu::BindGroup {
+        let (cluster_ranges, cluster_lights) = clusters.lists();
         let buffers = [
             frame,
             material_info,
             instances,
             &self.lights,
             &self.visible,
-            &self.cluster_ranges,
-            &self.cluster_lights,
+            cluster_ranges,
+            cluster_lights,
         ];
         let mut entries: Vec<_> = buffers
             .iter()

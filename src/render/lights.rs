@@ -3,8 +3,7 @@
 //! camera is outside the volume, back faces when inside, full screen when the
 //! volume also crosses the far plane.
 
-use super::clusters::{self, ClusterLists, LightCulling, TooManyEntries};
-use super::frame::FrameLists;
+use super::clusters::{self, ClusterGrid, LightCulling};
 use super::gpu_types::*;
 use crate::scene::{Camera, Light, LightKind};
 use glam::{Mat4, Vec3, Vec4};
@@ -69,6 +68,19 @@ impl LightVolumes {
             cone_poly_scale,
         })
     }
+}
+
+/// The frame's light ranges in the visible-index buffer.
+pub(crate) struct FrameLists {
+    pub fullscreen: Range<u32>,
+    pub sphere_out: Range<u32>,
+    pub sphere_in: Range<u32>,
+    pub cone_out: Range<u32>,
+    pub cone_in: Range<u32>,
+    /// The forward loop's (constant) light count.
+    pub forward_lights: u32,
+    /// Cluster lists are bound: one clustered full-screen light pass.
+    pub clustered: bool,
 }
 
 /// Per-frame light lists (indices into the GPU light array).
@@ -223,8 +235,9 @@ impl LightLists {
 impl LightLists {
     /// The frame's light lists as the passes read them: the visible-index
     /// buffer (the forward loop's lights first, then the volume lists), their
-    /// ranges, and the cluster lists unless `culling` is `Volumes`. The clusters'
-    /// slices span `depth_near..depth_far` (the geometry's depth range).
+    /// ranges, and the cluster grid unless `culling` is `Volumes` (the GPU bins
+    /// [`LightLists::locals`] into it: `cluster_gpu.rs`). The clusters' slices
+    /// span `depth_near..depth_far` (the geometry's depth range).
     ///
     /// The forward loop runs a constant number of lights in the preprocessor and
     /// override modes: the visible count rounded up to a power of two, padded
@@ -233,12 +246,11 @@ impl LightLists {
     pub(crate) fn frame_lists(
         &mut self,
         culling: LightCulling,
-        proj: &Mat4,
         width: u32,
         height: u32,
         depth_near: f32,
         depth_far: f32,
-    ) -> Result<(FrameLists, Vec<u32>, Option<ClusterLists>), TooManyEntries> {
+    ) -> (FrameLists, Vec<u32>, Option<ClusterGrid>) {
         let visible_count = self.forward.len() as u32;
         let loop_count = match culling {
             LightCulling::Volumes => visible_count.max(1).next_power_of_two(),
@@ -252,23 +264,16 @@ impl LightLists {
         });
         let mut forward = self.forward.clone();
         forward.resize((loop_count as usize).max(forward.len()), black);
-        let clusters = match culling {
+        let grid = match culling {
             LightCulling::Volumes => None,
             LightCulling::Clustered | LightCulling::None => {
                 let (tile, slices) = match culling {
                     LightCulling::Clustered => (clusters::TILE_PX, clusters::SLICES),
                     _ => (0, 1),
                 };
-                let grid =
-                    clusters::ClusterGrid::new(width, height, depth_near, depth_far, tile, slices);
-                Some(clusters::build(
-                    grid,
-                    proj,
-                    width,
-                    height,
-                    &self.globals,
-                    &self.locals,
-                )?)
+                Some(ClusterGrid::new(
+                    width, height, depth_near, depth_far, tile, slices,
+                ))
             }
         };
         let mut visible: Vec<u32> = Vec::new();
@@ -286,9 +291,9 @@ impl LightLists {
             cone_out: range(&self.cone_out),
             cone_in: range(&self.cone_in),
             forward_lights: loop_count,
-            clustered: clusters.is_some(),
+            clustered: grid.is_some(),
         };
-        Ok((fl, visible, clusters))
+        (fl, visible, grid)
     }
 }
 

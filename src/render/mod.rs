@@ -11,14 +11,18 @@
 //! - [`renderer`]: [`Renderer`] with three techniques ([`Technique`]): deferred
 //!   shading with the compressed G-buffer and light volumes (seed 001), light
 //!   pre-pass (seed 000) and forward shading, plus forward transparency. Its
-//!   parts: `targets.rs` (G-buffer, light buffers, AUX images), `upload/`
-//!   (the scene uploaded once: `geometry.rs`, `textures.rs`, `materials.rs` for the
-//!   material bind groups), `skinning.rs` (skinned and morphed vertices deformed
-//!   on the GPU per frame from joints and weights), `frame_motion.rs` and
+//!   parts (imported top-down, no circle: `tests/layers.rs`): `error.rs`
+//!   ([`RenderError`]), `options.rs` ([`RendererOptions`]), `targets.rs`
+//!   (G-buffer, light buffers, AUX images), `upload/` (the scene uploaded once:
+//!   `geometry.rs`, `textures.rs`, `materials.rs` for the material bind groups,
+//!   `skinning.rs`: skinned and morphed vertices deformed on the GPU per frame
+//!   from joints and weights), `frame_motion.rs`, `renderer_pose.rs` and
 //!   `motion.rs` (a frame of a sequence: transforms, poses, camera cuts, motion
-//!   vectors), `lights.rs` (per-frame light
+//!   vectors), `renderer_environment.rs` (the environment settings),
+//!   `light_compute.rs` (the light pass in compute), `lights.rs` (per-frame light
 //!   lists, light volumes), `light_buffers.rs`, `clusters.rs` (clustered light
-//!   lists binned on the CPU), `pipelines.rs` (layouts, module and pipeline
+//!   lists: the grid and the CPU reference), `cluster_gpu.rs` (the lists built
+//!   on the GPU each frame), `pipelines.rs` (layouts, module and pipeline
 //!   caches), `frame.rs` (the passes of each technique), [`shadows`] (which lights
 //!   get shadow maps, cascades, light matrices) and `shadow_pass.rs` (the
 //!   shadow-map array and its depth pass), [`fog`] (fog in the lighting template),
@@ -50,28 +54,34 @@
 pub mod bench;
 mod camera_std;
 mod cli_names;
+mod cluster_gpu;
 mod clusters;
 pub mod environment;
+mod error;
 pub mod fog;
 mod frame;
 mod frame_motion;
 pub mod gbuffer;
 mod gpu_types;
 mod light_buffers;
+mod light_compute;
 mod lights;
 pub mod material;
 mod motion;
 pub mod normal;
+mod options;
 mod output;
 mod pipelines;
 pub mod renderer;
+mod renderer_environment;
+mod renderer_pose;
 mod shadow_pass;
 pub mod shadows;
-mod skinning;
 pub mod targets;
 mod technique;
 mod upload;
 pub mod variant_bench;
+mod wgsl_check;
 
 pub use camera_std::camera_std;
 pub use gbuffer::write_gbuffer;
@@ -82,4 +92,4 @@ pub use renderer::{
     Renderer, RendererOptions, Technique,
 };
 pub use shadows::ShadowMode;
-pub use skinning::DeformedVertices;
+pub use upload::skinning::DeformedVertices;

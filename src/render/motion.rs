@@ -64,7 +64,7 @@ pub(crate) struct MotionPass {
 
 impl MotionPass {
     pub fn new(ctx: &GpuContext) -> Result<MotionPass, GpuError> {
-        super::pipelines::check("motion vectors", SHADER).map_err(|message| {
+        super::wgsl_check::check("motion vectors", SHADER).map_err(|message| {
             GpuError::Internal {
                 what: "motion vectors".into(),
                 message,

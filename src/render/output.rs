@@ -80,11 +80,15 @@ pub struct RenderStats {
     pub lights_dark: usize,
     /// How the light passes picked each pixel's lights.
     pub light_culling: super::clusters::LightCulling,
-    /// Light × cluster entries of the clustered lists (0 without them).
+    /// Light × cluster entries of the clustered lists, counted on the GPU: read
+    /// back for timed frames only (reading waits for the GPU); 0 otherwise and
+    /// without cluster lists.
     pub cluster_entries: usize,
-    /// The longest cluster list.
+    /// The longest cluster list (timed frames, as `cluster_entries`).
     pub cluster_max: usize,
-    /// Bytes of the cluster lists uploaded for the frame.
+    /// Bytes reserved on the GPU for the frame's cluster lists: the ranges and
+    /// the conservative bound of the entries (each light's tile rectangle ×
+    /// slices).
     pub cluster_bytes: u64,
     /// Pipelines and shader modules compiled so far by this renderer.
     pub pipelines: usize,
@@ -95,6 +99,12 @@ pub struct RenderStats {
     pub gpu_ms: Option<f64>,
     /// CPU milliseconds to prepare, encode and submit the frame.
     pub cpu_ms: f64,
+    /// Where `cpu_ms` went, in order: `pose` (transforms, joints, morph
+    /// weights), `lights` (culling, shadow planning, the lights' footprints on
+    /// the cluster grid), `upload` (light, cluster and frame data written to the
+    /// queue), `pipelines` (created on first use), `record` (the passes recorded
+    /// and submitted).
+    pub cpu_split: Vec<(String, f64)>,
     /// G-buffer bytes per pixel written by the technique's geometry pass(es):
     /// deferred 16 (diffuse+material id, normal+roughness, specular+model id,
     /// depth), light pre-pass 13 (normal+roughness, specular+model id, material

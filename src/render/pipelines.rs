@@ -8,6 +8,7 @@ use super::material::template::{self, Generated};
 use super::material::{MaterialSet, VariantKey, VariantMode};
 use super::targets::*;
 use super::upload::Cull;
+use super::wgsl_check::check;
 use crate::gpu::bindings;
 use crate::gpu::context::GpuContext;
 use std::collections::HashMap;
@@ -50,20 +51,43 @@ pub(crate) struct Layouts {
     pub g0: wgpu::BindGroupLayout,
     pub g1_gbuffer: wgpu::BindGroupLayout,
     pub g1_light_buffers: wgpu::BindGroupLayout,
+    /// Group 2 of the compute light pass: the light buffers and the scene
+    /// (written), the geometry pass's emission (read).
+    pub g2_light_compute: wgpu::BindGroupLayout,
 }
 
-/// A read-only storage buffer of group 0 (both stages).
+/// The stages of group 0 and of the G-buffer group: the render stages and the
+/// compute light pass.
+const ALL_STAGES: wgpu::ShaderStages =
+    wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+
+/// A read-only storage buffer of group 0 (every stage).
 pub(crate) fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    bindings::storage_entry(binding, wgpu::ShaderStages::VERTEX_FRAGMENT)
+    bindings::storage_entry(binding, ALL_STAGES)
 }
 
-/// A 2D texture read by the fragment stage.
+/// A 2D texture read by the fragment stage (and the compute light pass).
 pub(crate) fn texture_entry(
     binding: u32,
     sample_type: wgpu::TextureSampleType,
 ) -> wgpu::BindGroupLayoutEntry {
     let d2 = wgpu::TextureViewDimension::D2;
-    bindings::texture_entry(binding, wgpu::ShaderStages::FRAGMENT, sample_type, d2)
+    let stages = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+    bindings::texture_entry(binding, stages, sample_type, d2)
+}
+
+/// A write-only `Rgba16Float` storage texture of the compute light pass.
+fn storage_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format: LIGHT_FORMAT,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    }
 }
 
 impl Layouts {
@@ -75,7 +99,7 @@ impl Layouts {
         let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred group 0 (frame, materials, instances, lights)"),
             entries: &[
-                bindings::uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                bindings::uniform_entry(0, ALL_STAGES),
                 storage_entry(1),
                 storage_entry(2),
                 storage_entry(3),
@@ -113,10 +137,20 @@ impl Layouts {
                 texture_entry(1, unfilterable),
             ],
         });
+        let g2_light_compute = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred group 2 (compute light pass)"),
+            entries: &[
+                storage_texture_entry(0),
+                storage_texture_entry(1),
+                storage_texture_entry(2),
+                texture_entry(3, unfilterable),
+            ],
+        });
         Layouts {
             g0,
             g1_gbuffer,
             g1_light_buffers,
+            g2_light_compute,
         }
     }
 }
@@ -178,30 +212,6 @@ pub(crate) fn depth(
         stencil: wgpu::StencilState::default(),
         bias: wgpu::DepthBiasState::default(),
     })
-}
-
-/// Checks generated WGSL with naga first: a failure here is an engine bug (the
-/// material shaders were checked on their own), reported with the module text's
-/// line so it can be found in the log.
-pub(crate) fn check(label: &str, wgsl: &str) -> Result<(), String> {
-    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
-        format!(
-            "{label}: generated WGSL does not parse: {}",
-            e.emit_to_string(wgsl)
-        )
-    })?;
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .map_err(|e| {
-        format!(
-            "{label}: generated WGSL is invalid: {}",
-            crate::shader::wgsl_names::sanitize_in(&e.emit_to_string(wgsl), &module)
-        )
-    })?;
-    Ok(())
 }
 
 /// A module of generated WGSL, [checked](check) first.
@@ -403,6 +413,27 @@ impl Pipelines {
         Ok(&self.geo[&key])
     }
 
+    /// The light module (light passes, composition, resolve; the compute light
+    /// pass too), generated and compiled on first use.
+    pub fn light_module(
+        &mut self,
+        ctx: &GpuContext,
+        set: &MaterialSet,
+    ) -> Result<wgpu::ShaderModule, String> {
+        if let Some(module) = &self.light_module {
+            return Ok(module.clone());
+        }
+        let Generated { wgsl, .. } = template::light_module(set, self.normal_encoding)?;
+        let label = format!(
+            "deferred light shaders ({} lighting models)",
+            set.lightings.len()
+        );
+        let module = shader_module(ctx, &label, wgsl)?;
+        self.modules_created += 1;
+        self.light_module = Some(module.clone());
+        Ok(module)
+    }
+
     /// The light-module pipeline `which`, created if needed.
     pub fn light(
         &mut self,
@@ -414,17 +445,7 @@ impl Pipelines {
         which: LightPipe,
     ) -> Result<&wgpu::RenderPipeline, String> {
         if !self.light.contains_key(&which) {
-            if self.light_module.is_none() {
-                let Generated { wgsl, .. } = template::light_module(set, self.normal_encoding)?;
-                let label = format!(
-                    "deferred light shaders ({} lighting models)",
-                    set.lightings.len()
-                );
-                let module = shader_module(ctx, &label, wgsl)?;
-                self.modules_created += 1;
-                self.light_module = Some(module);
-            }
-            let module = self.light_module.clone().expect("created above");
+            let module = self.light_module(ctx, set)?;
             let volume_attrs = wgpu::vertex_attr_array![0 => Float32x3];
             let volume_vb = [Some(wgpu::VertexBufferLayout {
                 array_stride: 12,

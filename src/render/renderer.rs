@@ -9,10 +9,12 @@
 //!    specular light buffer.
 //! 2. Light pass into two `Rgba16Float` light buffers: every light's lighting
 //!    shader (chosen per pixel by the lighting-model id in the G-buffer). By
-//!    default ([`LightCulling::Clustered`], [`super::clusters`]) one full-screen
-//!    pass in which each pixel shades the directional lights and the point and
+//!    default ([`LightCulling::Clustered`], [`super::clusters`]) one compute
+//!    pass (`light_compute.rs`; a full-screen fragment pass with
+//!    [`RendererOptions::compute_lighting`] off) in which each pixel shades the
+//!    directional lights and the point and
 //!    spot lights listed for its cluster (32-pixel tiles × 24 depth slices over
-//!    the geometry's depth range, binned on the CPU). [`LightCulling::Volumes`]
+//!    the geometry's depth range, binned on the GPU). [`LightCulling::Volumes`]
 //!    keeps seed 001's light volumes: directional lights as full-screen
 //!    triangles, point lights as icosphere volumes and spot lights as cone
 //!    volumes, culled against the view frustum on the CPU, all lights of a kind
@@ -24,6 +26,7 @@
 //! 3. Composition: `diffuse colour × diffuse light + specular light`, through the
 //!    fog when there is one ([`super::fog`]), into the HDR scene texture
 //!    (`Rgba16Float`, linear radiance); the background where nothing was drawn.
+//!    The compute light pass composes in its own dispatch.
 //! 4. Transparency: BLEND objects forward, sorted back to front, depth-tested (not
 //!    written) against the opaque depth, lit by every visible light.
 //! 5. Resolve: the G-buffer decoded into the `AUX.*` images.
@@ -34,13 +37,16 @@
 //! the surface shader and the lighting shader of the lights of the fragment's
 //! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
 
-use super::frame;
+use super::cluster_gpu::{ClusterError, ClusterFrame, GpuClusters};
+pub use super::error::RenderError;
+use super::frame::{self, FrameGpu, FramePipelines};
 use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
+use super::light_compute::ComputeLighting;
 use super::lights::{LightLists, LightVolumes};
-use super::material::{MaterialSet, VariantMode};
+use super::material::MaterialSet;
 use super::motion::{MotionCameras, MotionPass};
-use super::normal::NormalEncoding;
+pub use super::options::RendererOptions;
 use super::pipelines::{Layouts, Pipelines};
 use super::shadow_pass::ShadowMaps;
 use super::shadows::ShadowFrame;
@@ -50,7 +56,7 @@ pub use super::shadows::{
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
-use crate::scene::{Camera, Light, Scene, SceneError};
+use crate::scene::{Camera, Light, Scene};
 use glam::{Mat4, Vec3};
 use std::time::Instant;
 use wgpu::util::DeviceExt;
@@ -60,61 +66,6 @@ pub use super::frame_motion::{jittered, FrameMotion};
 pub use super::output::{GBufferTextures, RenderOutput, RenderStats};
 pub use super::targets::{GBUFFER_BYTES_COMPRESSED, GBUFFER_BYTES_TRADITIONAL};
 pub use super::technique::Technique;
-
-/// Errors of rendering.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    #[error(transparent)]
-    Gpu(#[from] GpuError),
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    #[error(transparent)]
-    Io(#[from] crate::io::IoError),
-    /// Something about the request itself (size, texture too large, ...).
-    #[error("{0}")]
-    Invalid(String),
-    /// A material that cannot be used (unknown shader, bad parameter, ...).
-    #[error("{0}")]
-    Material(String),
-    /// The environment map could not be used (missing, not equirectangular, ...).
-    #[error(transparent)]
-    Environment(#[from] crate::scene::EnvironmentError),
-}
-
-/// Options fixed when a [`Renderer`] is created.
-#[derive(Debug, Clone)]
-pub struct RendererOptions {
-    /// How normals are stored in the G-buffer.
-    pub normal_encoding: NormalEncoding,
-    /// Generate mipmaps for scene textures (box filter).
-    pub mipmaps: bool,
-    /// How material features select shader code.
-    pub variants: VariantMode,
-    /// How the light passes pick the lights of a pixel.
-    pub light_culling: LightCulling,
-    /// Shadow maps for the scene's lights, and their filter (`shadows.rs`).
-    pub shadows: ShadowMode,
-    /// Side of each shadow map in texels ([`MIN_SHADOW_SIZE`]..=[`MAX_SHADOW_SIZE`]
-    /// and the device's limit).
-    pub shadow_size: u32,
-    /// Shadow-map layers per frame (a directional light takes 4, a point light
-    /// 6, a spot light 1); lights past it are unshadowed, with a warning.
-    pub shadow_budget: u32,
-}
-
-impl Default for RendererOptions {
-    fn default() -> Self {
-        RendererOptions {
-            normal_encoding: NormalEncoding::default(),
-            mipmaps: true,
-            variants: VariantMode::default(),
-            light_culling: LightCulling::default(),
-            shadows: ShadowMode::default(),
-            shadow_size: DEFAULT_SHADOW_SIZE,
-            shadow_budget: DEFAULT_SHADOW_LAYERS,
-        }
-    }
-}
 
 /// Renders `scene` once (creating a [`Renderer`] for it). Use a [`Renderer`] to
 /// render several frames without uploading the scene again.
@@ -155,6 +106,10 @@ pub struct Renderer {
     frame_buffer: wgpu::Buffer,
     material_info_buffer: wgpu::Buffer,
     light_buffers: LightBuffers,
+    /// The clustered light lists, built on the GPU each frame.
+    pub(super) clusters: GpuClusters,
+    /// The compute light passes.
+    pub(super) light_compute: ComputeLighting,
     pub(crate) layouts: Layouts,
     pub(crate) g0: wgpu::BindGroup,
     pub(crate) pipelines: Pipelines,
@@ -170,6 +125,32 @@ pub struct Renderer {
     /// buffer holds other ones (a posed frame was rendered).
     pub(super) rest_transforms: Vec<Mat4>,
     pub(super) posed: bool,
+}
+
+/// The CPU time of a frame's steps ([`RenderStats::cpu_split`]).
+struct CpuSplit {
+    last: Instant,
+    parts: Vec<(String, f64)>,
+}
+
+impl CpuSplit {
+    fn new() -> CpuSplit {
+        CpuSplit {
+            last: Instant::now(),
+            parts: Vec::with_capacity(5),
+        }
+    }
+
+    /// Ends step `name` (its time is added when it ran before).
+    fn mark(&mut self, name: &str) {
+        let now = Instant::now();
+        let ms = (now - self.last).as_secs_f64() * 1e3;
+        self.last = now;
+        match self.parts.iter_mut().find(|(n, _)| n == name) {
+            Some(p) => p.1 += ms,
+            None => self.parts.push((name.to_string(), ms)),
+        }
+    }
 }
 
 /// A 1x1 texture view with one texel.
@@ -283,6 +264,7 @@ impl Renderer {
         let volumes = LightVolumes::new(ctx)?;
         let light_buffers = LightBuffers::new(device);
         let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
+        let clusters = GpuClusters::new(ctx)?;
         let mut environment = super::environment::EnvironmentLighting::new(ctx, scene.background)?;
         if let Some(env) = &scene.environment {
             let map = env.load()?;
@@ -294,6 +276,7 @@ impl Renderer {
             &frame_buffer,
             &material_info_buffer,
             &geometry.instance_buffer,
+            &clusters,
             &shadow_maps,
             &environment,
         );
@@ -338,6 +321,8 @@ impl Renderer {
             frame_buffer,
             material_info_buffer,
             light_buffers,
+            clusters,
+            light_compute: ComputeLighting::default(),
             layouts,
             g0,
             dummy_light,
@@ -348,6 +333,17 @@ impl Renderer {
             rest_transforms: scene.instances.iter().map(|i| i.transform).collect(),
             posed: false,
         })
+    }
+
+    /// The vertices of the deformed (skinned, morphed) instances after the last
+    /// frame rendered, read back from the GPU (a blocking read; for tests and
+    /// inspection). Empty when the scene has none.
+    pub fn deformed_vertices(
+        &self,
+        ctx: &GpuContext,
+        scene: &Scene,
+    ) -> Result<Vec<super::DeformedVertices>, RenderError> {
+        super::upload::skinning::read_deformed(ctx, &self.geometry, scene)
     }
 
     /// The lights rendered (the scene's, or those given to [`Renderer::set_lights`]).
@@ -379,6 +375,7 @@ impl Renderer {
             &self.frame_buffer,
             &self.material_info_buffer,
             &self.geometry.instance_buffer,
+            &self.clusters,
             &self.shadow_maps,
             &self.environment,
         );
@@ -438,6 +435,7 @@ impl Renderer {
                 gbuffer: &self.layouts.g1_gbuffer,
                 light_buffers: &self.layouts.g1_light_buffers,
                 dummy_light: &self.dummy_light,
+                light_compute: &self.layouts.g2_light_compute,
             },
         )?;
         self.targets = Some(targets);
@@ -494,7 +492,9 @@ impl Renderer {
             )));
         }
         self.ensure_targets(ctx, width, height)?;
+        let mut split = CpuSplit::new();
         let (bounds, moving) = self.pose(ctx, motion)?;
+        split.mark("pose");
         let aspect = width as f32 / height as f32;
         let view = camera.view();
         let unjittered = camera.proj(aspect);
@@ -537,29 +537,38 @@ impl Renderer {
         let visible_count = lists.forward.len() as u32;
         let (depth_near, depth_far) =
             super::clusters::depth_range(&bounds, &view, camera.near, camera.far);
-        let (fl, visible, clusters) = lists
-            .frame_lists(culling, &proj, width, height, depth_near, depth_far)
-            .map_err(|e| RenderError::Invalid(e.to_string()))?;
+        let (fl, visible, grid) = lists.frame_lists(culling, width, height, depth_near, depth_far);
+        split.mark("lights");
         let loop_count = fl.forward_lights;
-        let (range_bytes, index_bytes) = clusters.as_ref().map_or((0, 0), |c| {
-            (c.ranges.len() as u64 * 8, c.indices.len() as u64 * 4)
-        });
-        let grown = self
-            .light_buffers
-            .upload(ctx, &lists.gpu, &visible, clusters.as_ref());
-        if grown || shadows_grown {
+        let (clusters_grown, cluster_bytes) = match grid {
+            Some(grid) => self
+                .clusters
+                .prepare(
+                    ctx,
+                    &ClusterFrame {
+                        grid,
+                        proj: &proj,
+                        width,
+                        height,
+                        globals: &lists.globals,
+                        locals: &lists.locals,
+                    },
+                )
+                .map_err(|e| match e {
+                    ClusterError::Gpu(e) => RenderError::Gpu(e),
+                    e => RenderError::Invalid(e.to_string()),
+                })?,
+            None => (false, 0),
+        };
+        let grown = self.light_buffers.upload(ctx, &lists.gpu, &visible);
+        if grown || shadows_grown || clusters_grown {
             self.rebuild_group0(ctx);
         }
-        let (cluster, cluster_z, global_lights) = match &clusters {
-            Some(c) => (
-                [
-                    c.grid.tiles_x,
-                    c.grid.tiles_y,
-                    c.grid.slices,
-                    c.grid.tile_px,
-                ],
-                [c.grid.log_scale, c.grid.near, 0.0, 0.0],
-                c.globals,
+        let (cluster, cluster_z, global_lights) = match grid {
+            Some(g) => (
+                [g.tiles_x, g.tiles_y, g.slices, g.tile_px],
+                [g.log_scale, g.near, 0.0, 0.0],
+                lists.globals.len() as u32,
             ),
             None => ([0; 4], [0.0; 4], 0),
         };
@@ -600,13 +609,31 @@ impl Renderer {
             (f.color, f.transmittance(camera.far))
         });
         self.environment.write_frame(ctx, &view, background_fog);
+        split.mark("upload");
         // Pipelines depend only on the technique and the forward loop bound: the
         // batches are fixed when the renderer is made.
+        let gpu = FrameGpu {
+            opts: &self.opts,
+            aux_formats: &self.aux_formats,
+            materials: &self.materials,
+            geometry: &self.geometry,
+            material_gpu: &self.material_gpu,
+            layouts: &self.layouts,
+            environment: &self.environment,
+            g0: &self.g0,
+            shadow_maps: &self.shadow_maps,
+            clusters: &self.clusters,
+            volumes: &self.volumes,
+            motion: &self.motion,
+            frame_background: self.frame_background,
+        };
         if !self.ensured.contains(&(technique, loop_count)) {
-            frame::ensure_pipelines(self, ctx, technique, loop_count)
+            let pipelines = (&mut self.pipelines, &mut self.light_compute);
+            frame::ensure_pipelines(&gpu, pipelines, ctx, technique, loop_count)
                 .map_err(RenderError::Material)?;
             self.ensured.insert((technique, loop_count));
         }
+        split.mark("pipelines");
 
         let mut stats = RenderStats {
             technique,
@@ -620,11 +647,7 @@ impl Renderer {
             volumes_inside: lists.sphere_in.len() + lists.cone_in.len(),
             lights_dark: lists.dark,
             light_culling: culling,
-            cluster_entries: clusters
-                .as_ref()
-                .map_or(0, |c| c.indices.len() - c.globals as usize),
-            cluster_max: clusters.as_ref().map_or(0, |c| c.max_per_cluster as usize),
-            cluster_bytes: range_bytes + index_bytes,
+            cluster_bytes,
             gbuffer_bytes_per_pixel: match technique {
                 Technique::Deferred => GBUFFER_BYTES_COMPRESSED,
                 Technique::LightPrepass => 13,
@@ -636,8 +659,13 @@ impl Renderer {
             ..Default::default()
         };
         let label = format!("deferred frame ({technique}, {width}x{height})");
+        let pipelines = FramePipelines {
+            pipelines: &self.pipelines,
+            light_compute: &self.light_compute,
+        };
+        let targets = self.targets.as_ref().expect("targets were just created");
         let (pass_names, draws) = frame::encode(
-            self,
+            (&gpu, &pipelines, targets),
             ctx,
             &label,
             technique,
@@ -646,11 +674,18 @@ impl Renderer {
             timer,
             (&motion_cams, &moving),
         )?;
+        split.mark("record");
         stats.draw_calls = draws;
         stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        stats.cpu_split = split.parts;
         stats.pipelines = self.pipelines.pipelines_created;
         stats.shader_modules = self.pipelines.modules_created;
         if let Some(timer) = timer {
+            if grid.is_some() {
+                let summary = self.clusters.summary(ctx)?;
+                stats.cluster_entries = summary.entries as usize;
+                stats.cluster_max = summary.max_per_cluster as usize;
+            }
             let ms = timer.read_ms(ctx, pass_names.len() as u32)?;
             stats.gpu_ms = Some(ms.iter().sum());
             stats.pass_ms = pass_names.into_iter().zip(ms).collect();

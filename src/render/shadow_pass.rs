@@ -8,8 +8,9 @@
 //! MASK materials cast as if opaque, and transparent (BLEND) ones cast nothing.
 //! Faces are not culled: open meshes (planes, leaves) cast from both sides.
 
+use super::error::RenderError;
 use super::gpu_types::{GpuLight, Vertex};
-use super::renderer::{RenderError, RendererOptions};
+use super::options::RendererOptions;
 use super::shadows::{GpuShadowLayer, ShadowFrame, ShadowMode, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
 use super::upload::Geometry;
 use crate::gpu::bindings::{sampler_entry, storage_entry, texture_entry};
@@ -38,7 +39,8 @@ const SHADER: &str = concat!(
 
 /// The group 0 layout entries of the shadow lookups.
 pub(crate) fn g0_layout_entries() -> [wgpu::BindGroupLayoutEntry; 3] {
-    let fragment = wgpu::ShaderStages::FRAGMENT;
+    // (the compute light pass reads them too)
+    let fragment = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
     [
         texture_entry(
             BINDING_MAPS,

@@ -45,6 +45,10 @@ pub(crate) struct Targets {
     pub specular: Target,
     pub light_diffuse: Target,
     pub light_specular: Target,
+    /// What the deferred geometry pass starts the specular light with
+    /// (emission, ambient, environment) when the compute light pass adds the
+    /// lights to it (it cannot read and write `light_specular` at once).
+    pub emission: Target,
     pub scene: Target,
     pub aux: Vec<(String, Target)>,
     /// group 1 of the light pass: no light buffers bound.
@@ -53,6 +57,10 @@ pub(crate) struct Targets {
     pub bg_all: wgpu::BindGroup,
     /// group 1 of the light pre-pass final geometry pass: the light buffers.
     pub bg_final: wgpu::BindGroup,
+    /// group 2 of the compute light pass: light buffers and scene written,
+    /// emission read (deferred), or nothing read (light pre-pass).
+    pub bg_compute_deferred: wgpu::BindGroup,
+    pub bg_compute_prepass: wgpu::BindGroup,
 }
 
 /// Layouts of the group-1 bind groups.
@@ -63,6 +71,8 @@ pub(crate) struct TargetLayouts<'a> {
     pub light_buffers: &'a wgpu::BindGroupLayout,
     /// 1x1 Rgba16Float stand-in for the light buffers while they are targets.
     pub dummy_light: &'a wgpu::TextureView,
+    /// The compute light pass's outputs and emission.
+    pub light_compute: &'a wgpu::BindGroupLayout,
 }
 
 impl Targets {
@@ -76,10 +86,11 @@ impl Targets {
     ) -> Result<Targets, crate::gpu::context::GpuError> {
         ctx.check_size(width, height, "deferred render target")?;
         ctx.scoped("deferred render targets", |device| {
-            let make = |label: &str, format: wgpu::TextureFormat| {
+            let make_with = |label: &str, format: wgpu::TextureFormat, extra| {
                 let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
                     | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC;
+                    | wgpu::TextureUsages::COPY_SRC
+                    | extra;
                 let texture =
                     device.create_texture(&texture_2d(label, (width, height), format, usage, &[]));
                 let view = texture.create_view(&wgpu::TextureViewDescriptor {
@@ -88,13 +99,18 @@ impl Targets {
                 });
                 Target { texture, view }
             };
+            let make = |label: &str, format| make_with(label, format, wgpu::TextureUsages::empty());
+            // written by the compute light pass as well
+            let storage =
+                |label: &str| make_with(label, LIGHT_FORMAT, wgpu::TextureUsages::STORAGE_BINDING);
             let depth = make("deferred depth", DEPTH_FORMAT);
             let albedo = make("deferred G-buffer diffuse+material", ALBEDO_FORMAT);
             let normal = make("deferred G-buffer normal+roughness", NORMAL_FORMAT);
             let specular = make("deferred G-buffer specular+model", SPECULAR_FORMAT);
-            let light_diffuse = make("deferred light buffer diffuse", LIGHT_FORMAT);
-            let light_specular = make("deferred light buffer specular", LIGHT_FORMAT);
-            let scene = make("deferred scene (HDR)", SCENE_FORMAT);
+            let light_diffuse = storage("deferred light buffer diffuse");
+            let light_specular = storage("deferred light buffer specular");
+            let emission = make("deferred emission, ambient and environment", LIGHT_FORMAT);
+            let scene = storage("deferred scene (HDR)");
             let aux = aux_formats
                 .iter()
                 .map(|(name, format)| {
@@ -145,6 +161,21 @@ impl Targets {
                 layouts.light_buffers,
                 &[&light_diffuse.view, &light_specular.view],
             );
+            let compute = |label: &str, read: &wgpu::TextureView| {
+                group(
+                    label,
+                    layouts.light_compute,
+                    &[&light_diffuse.view, &light_specular.view, &scene.view, read],
+                )
+            };
+            let bg_compute_deferred = compute(
+                "deferred group 2 (compute lights, deferred)",
+                &emission.view,
+            );
+            let bg_compute_prepass = compute(
+                "deferred group 2 (compute lights, light pre-pass)",
+                layouts.dummy_light,
+            );
             Targets {
                 width,
                 height,
@@ -154,11 +185,14 @@ impl Targets {
                 specular,
                 light_diffuse,
                 light_specular,
+                emission,
                 scene,
                 aux,
                 bg_light,
                 bg_all,
                 bg_final,
+                bg_compute_deferred,
+                bg_compute_prepass,
             }
         })
     }

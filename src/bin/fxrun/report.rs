@@ -132,6 +132,18 @@ fn timing_lines(r: &RunReport) -> Vec<String> {
             for (name, ms) in &s.render_passes {
                 out.push(format!("  render {name:<26} gpu {ms:>8.2} ms"));
             }
+            if !s.render_cpu_split.is_empty() {
+                let parts: Vec<String> = s
+                    .render_cpu_split
+                    .iter()
+                    .map(|(name, ms)| format!("{name} {ms:.2}"))
+                    .collect();
+                out.push(format!(
+                    "  render cpu {:.2} ms: {} ms",
+                    s.render_cpu_ms,
+                    parts.join(", ")
+                ));
+            }
             out.push(format!(
                 "  shadows {}: {} layers, {:.1} MiB of shadow maps",
                 s.shadows,

@@ -6,7 +6,7 @@
 //!   on the GPU, once per map: the result is cached by (map content, face size),
 //!   so a sequence or a renderer given the same map again prefilters once.
 //! - `dfg.rs`: the split-sum table; `small_cube.rs`: the map as a 16² cube on
-//!   the CPU for the exact convolutions; `api.rs`: the renderer's methods.
+//!   the CPU for the exact convolutions; the renderer's methods are in `../renderer_environment.rs`.
 //! - this file: [`EnvironmentLighting`], the state a [`super::Renderer`] keeps
 //!   (the current maps, the cache, the background), its group-0 bindings 11–15
 //!   and its per-frame uniform.
@@ -15,7 +15,6 @@
 //!   Fdez-Agüera's multiple-scattering compensation, specular occlusion) and the
 //!   background.
 
-mod api;
 mod dfg;
 mod prefilter;
 mod small_cube;
@@ -226,7 +225,8 @@ impl EnvironmentLighting {
 
     /// The layout entries of bindings 11–15 in group 0.
     pub fn g0_layout_entries() -> [wgpu::BindGroupLayoutEntry; 5] {
-        let fragment = wgpu::ShaderStages::FRAGMENT;
+        // (the compute light pass reads them too)
+        let fragment = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
         let texture = |binding, dimension| texture_entry(binding, fragment, filterable, dimension);
         [

@@ -3,11 +3,11 @@
 //! frame earlier), and the private vertex ranges of the deformed instances that
 //! the skinning pass (`crate::render::skinning`) rewrites per frame.
 
+use super::skinning::Skinning;
 use crate::gpu::context::GpuContext;
+use crate::render::error::RenderError;
 use crate::render::gpu_types::*;
 use crate::render::material::{variant, MaterialSet};
-use crate::render::renderer::RenderError;
-use crate::render::skinning::Skinning;
 use crate::scene::{AlphaMode, Scene};
 use glam::{Vec2, Vec3, Vec4};
 use std::ops::Range;

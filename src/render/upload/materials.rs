@@ -6,8 +6,13 @@ use crate::gpu::bindings;
 use crate::gpu::context::GpuContext;
 use crate::render::material::template::{feature_words, FEATURES_BINDING};
 use crate::render::material::MaterialSet;
-use crate::render::pipelines::texture_entry;
-use crate::render::renderer::RenderError;
+/// A 2D texture of a material's group (fragment stage; the compute light pass
+/// reads no material textures).
+fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    let d2 = wgpu::TextureViewDimension::D2;
+    bindings::texture_entry(binding, wgpu::ShaderStages::FRAGMENT, sample_type, d2)
+}
+use crate::render::error::RenderError;
 use crate::scene::Scene;
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
@@ -181,9 +186,10 @@ impl MaterialResources {
                         .copy_from_slice(&m.lighting_params);
                 }
             }
+            // (the compute light pass runs the lighting shaders too)
             p_entries.push(bindings::storage_entry(
                 k as u32,
-                wgpu::ShaderStages::FRAGMENT,
+                wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
             ));
             p_buffers.push((
                 k as u32,

@@ -1,9 +1,12 @@
 //! The renderer's environment settings: [`Renderer::set_environment`],
-//! [`Renderer::set_background`] and what the prefiltering did.
+//! [`Renderer::set_background`] and what the prefiltering did. (Methods of
+//! [`Renderer`]; the renderer itself does not import this file, nor does the
+//! environment module.)
 
-use super::EnvironmentTexture;
+use super::environment::EnvironmentTexture;
+use super::error::RenderError;
+use super::renderer::Renderer;
 use crate::gpu::context::GpuContext;
-use crate::render::{RenderError, Renderer};
 
 impl Renderer {
     /// Lights the scene with `env` from now on (`None`: punctual lights only),

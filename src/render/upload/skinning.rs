@@ -22,17 +22,17 @@
 //! about 1.8 M vertices per deformed instance), else the renderer refuses the
 //! scene.
 
-use super::gpu_types::Vertex;
-use super::renderer::RenderError;
-use super::upload::Deformed;
+use super::{Deformed, Geometry};
 use crate::gpu::bindings;
 use crate::gpu::context::{GpuContext, GpuTimer};
+use crate::render::error::RenderError;
+use crate::render::gpu_types::Vertex;
 use crate::scene::{InstancePose, Scene};
 use bytemuck::{Pod, Zeroable};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
-const SHADER: &str = include_str!("../../shaders/render/skinning.wgsl");
+const SHADER: &str = include_str!("../../../shaders/render/skinning.wgsl");
 const WORKGROUP: u32 = 64;
 const COMPUTE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
 /// `targets` entry of an attribute a morph target does not displace.
@@ -179,7 +179,7 @@ impl Skinning {
         if deformed.is_empty() {
             return Ok(None);
         }
-        super::pipelines::check("skinning", SHADER).map_err(|message| {
+        crate::render::wgsl_check::check("skinning", SHADER).map_err(|message| {
             RenderError::from(crate::gpu::context::GpuError::Internal {
                 what: "skinning".into(),
                 message,
@@ -446,46 +446,43 @@ pub struct DeformedVertices {
     pub prev_positions: Vec<glam::Vec3>,
 }
 
-impl super::renderer::Renderer {
-    /// The vertices of the deformed (skinned, morphed) instances after the last
-    /// frame rendered, read back from the GPU (a blocking read; for tests and
-    /// inspection). Empty when the scene has none.
-    pub fn deformed_vertices(
-        &self,
-        ctx: &GpuContext,
-        scene: &Scene,
-    ) -> Result<Vec<DeformedVertices>, RenderError> {
-        let g = &self.geometry;
-        let Some(prev_buffer) = &g.prev_vertex_buffer else {
-            return Ok(Vec::new());
-        };
-        let stride = std::mem::size_of::<Vertex>() as u64;
-        let read = |buffer: &wgpu::Buffer, d: &Deformed| -> Result<Vec<Vertex>, RenderError> {
-            let bytes = ctx.read_buffer(
-                buffer,
-                u64::from(d.base) * stride,
-                u64::from(d.vertices) * stride,
-            )?;
-            Ok(bytemuck::pod_collect_to_vec(&bytes))
-        };
-        let mut out = Vec::with_capacity(g.deformed.len());
-        for d in &g.deformed {
-            let now = read(&g.vertex_buffer, d)?;
-            let prev = read(prev_buffer, d)?;
-            let has_tangents = scene
-                .meshes
-                .get(d.mesh)
-                .is_some_and(|m| m.tangents.is_some());
-            out.push(DeformedVertices {
-                instance: d.instance,
-                now: crate::scene::PosedMesh {
-                    positions: now.iter().map(|v| v.position.into()).collect(),
-                    normals: now.iter().map(|v| v.normal.into()).collect(),
-                    tangents: has_tangents.then(|| now.iter().map(|v| v.tangent.into()).collect()),
-                },
-                prev_positions: prev.iter().map(|v| v.position.into()).collect(),
-            });
-        }
-        Ok(out)
+/// The vertices of the deformed (skinned, morphed) instances of `g` after the
+/// last frame rendered, read back from the GPU (a blocking read; for tests and
+/// inspection). Empty when the scene has none.
+pub(crate) fn read_deformed(
+    ctx: &GpuContext,
+    g: &Geometry,
+    scene: &Scene,
+) -> Result<Vec<DeformedVertices>, RenderError> {
+    let Some(prev_buffer) = &g.prev_vertex_buffer else {
+        return Ok(Vec::new());
+    };
+    let stride = std::mem::size_of::<Vertex>() as u64;
+    let read = |buffer: &wgpu::Buffer, d: &Deformed| -> Result<Vec<Vertex>, RenderError> {
+        let bytes = ctx.read_buffer(
+            buffer,
+            u64::from(d.base) * stride,
+            u64::from(d.vertices) * stride,
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    };
+    let mut out = Vec::with_capacity(g.deformed.len());
+    for d in &g.deformed {
+        let now = read(&g.vertex_buffer, d)?;
+        let prev = read(prev_buffer, d)?;
+        let has_tangents = scene
+            .meshes
+            .get(d.mesh)
+            .is_some_and(|m| m.tangents.is_some());
+        out.push(DeformedVertices {
+            instance: d.instance,
+            now: crate::scene::PosedMesh {
+                positions: now.iter().map(|v| v.position.into()).collect(),
+                normals: now.iter().map(|v| v.normal.into()).collect(),
+                tangents: has_tangents.then(|| now.iter().map(|v| v.tangent.into()).collect()),
+            },
+            prev_positions: prev.iter().map(|v| v.position.into()).collect(),
+        });
     }
+    Ok(out)
 }

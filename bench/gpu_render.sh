@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The renderer rows of bench/gpu.sh (issue 26), callable by itself: for the
+# built-in room with the default chain and the corpus Cornell box with 16,384
+# random lights, rendered as sequences under an orbit camera to y4m:
+#   - each render pass's GPU time (timestamp queries, last frame of a timed run);
+#   - the render CPU time per frame (`scene.render_cpu_ms` of --timings-json over
+#     the frames: posing, light culling, uploads and command recording);
+#   - the rendered sequence's frames per second to a y4m file (an untimed run,
+#     whole process, wall clock of this script).
+# Every figure comes from this run, on the machine it runs on; markdown rows on
+# stdout.
+#
+#   bash bench/gpu_render.sh [--quick]
+#
+# --quick: 160x90 and 320x180, 4 frames, 1,024 lights (lavapipe: seconds).
+# Environment (optional): FXRUN=path (default: cargo build --release),
+# FX_BENCH_SIZES="1920x1080 3840x2160", FX_BENCH_FRAMES=16, FX_BENCH_LIGHTS=16384,
+# FX_BENCH_CHAIN="ssao tonemap fxaa" (the effects after the renderer; default:
+# tonemap), WGPU_BACKEND=vulkan (recommended on GPU servers).
+set -euo pipefail
+. "$(dirname "$0")/lib.sh"
+QUICK=0
+[ "${1:-}" = "--quick" ] && QUICK=1
+if [ $QUICK = 1 ]; then
+    SIZES=${FX_BENCH_SIZES:-160x90 320x180}
+    FRAMES=${FX_BENCH_FRAMES:-4}
+    LIGHTS=${FX_BENCH_LIGHTS:-1024}
+else
+    SIZES=${FX_BENCH_SIZES:-1920x1080 3840x2160}
+    FRAMES=${FX_BENCH_FRAMES:-16}
+    LIGHTS=${FX_BENCH_LIGHTS:-16384}
+fi
+CHAIN=${FX_BENCH_CHAIN:-tonemap}
+CORNELL=../shared/corpus/gltf/CornellBox.glb
+need_files "$CORNELL"
+command -v python3 >/dev/null || { echo "install python3"; exit 1; }
+if [ -z "${FXRUN:-}" ]; then
+    cargo build --release --quiet --bin fxrun
+    FXRUN="$PWD/target/release/fxrun"
+fi
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/fxgraph-gpu-render.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+
+echo "machine: $(nproc) cores, $(load); adapter: $("$FXRUN" --adapters 2>/dev/null | head -1)"
+echo "sequences of $FRAMES frames, orbit camera, effects: $CHAIN, y4m to disk"
+echo
+
+# run NAME SIZE ARGS...: one timed run (--timings-json) and one untimed run.
+# Prints "cpu_ms_per_frame fps passes" (passes: name=ms;...).
+run() {
+    local name=$1 size=$2
+    shift 2
+    local json="$WORK/$name-$size.json"
+    # shellcheck disable=SC2086
+    "$FXRUN" $CHAIN --scene "$@" --camera orbit:period=8,elevation=20 --size "$size" \
+        --frames "0..$((FRAMES - 1))" -o "$WORK/timed.y4m" --timings --timings-json "$json" \
+        >/dev/null 2>&1
+    local t0 t1
+    t0=$(date +%s%N)
+    # shellcheck disable=SC2086
+    "$FXRUN" $CHAIN --scene "$@" --camera orbit:period=8,elevation=20 --size "$size" \
+        --frames "0..$((FRAMES - 1))" -o "$WORK/untimed.y4m" 2>/dev/null
+    t1=$(date +%s%N)
+    python3 - "$json" "$FRAMES" "$t0" "$t1" <<'EOF'
+import json, sys
+r = json.load(open(sys.argv[1]))
+frames = int(sys.argv[2])
+s = r["scene"]
+cpu = s["render_cpu_ms"] / max(r["frames_in"], 1)
+fps = frames / ((int(sys.argv[4]) - int(sys.argv[3])) / 1e9)
+passes = ";".join(f"{n}={ms:.3f}" for n, ms in s["render_passes"])
+print(f"{cpu:.2f} {fps:.2f} {passes}")
+EOF
+}
+
+echo "| scene | size | render CPU ms/frame | sequence fps (y4m, whole process) | render GPU ms per pass (last frame) |"
+echo "|---|---|---|---|---|"
+for size in $SIZES; do
+    for scene in room cornell; do
+        case $scene in
+            room) label="builtin:room"; args=(builtin:room) ;;
+            cornell) label="Cornell box, $LIGHTS lights"; args=("$CORNELL" --lights "$LIGHTS") ;;
+        esac
+        read -r cpu fps passes < <(run "$scene" "$size" "${args[@]}")
+        total=$(echo "$passes" | tr ';' '\n' | awk -F= '{s += $2} END {printf "%.2f", s}')
+        echo "| $label | $size | $cpu | $fps | ${passes//;/, } (sum $total) |"
+    done
+done
+echo
+echo "after: $(load)"

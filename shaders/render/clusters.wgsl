@@ -1,0 +1,248 @@
+// Clustered light lists built on the GPU (src/render/cluster_gpu.rs): five
+// dispatches per frame over data the host uploads as is (the frame's point and
+// spot lights as view-space spheres with the tiles and slices they may touch).
+//
+// 1. fx_cs_cluster_bounds: each cluster's view-space box; its counter zeroed.
+// 2. fx_cs_cluster_count: one invocation per (light, depth slice) tests the
+//    light's sphere against every cluster box of its tile rectangle in that
+//    slice and counts the hits per cluster.
+// 3. fx_cs_cluster_offsets: one workgroup turns the counts into (offset, count)
+//    ranges (an exclusive prefix sum after the global lights), the entry total,
+//    the longest list and the indirect arguments of step 5.
+// 4. fx_cs_cluster_fill: the same tests again, each hit appended to its
+//    cluster's range in arrival order (with the cluster it belongs to).
+// 5. fx_cs_cluster_sort: one invocation per entry places it at its rank among
+//    its cluster's lights, so every list runs in light order as the CPU
+//    reference (clusters.rs `build`) lists it: a pixel adds its lights in the
+//    same order whatever the culling, and a frame renders the same every time.
+//
+// The sphere/box test is the CPU reference's, term for term.
+
+struct Params {
+    // tiles x, tiles y, slices, clusters
+    grid: vec4<u32>,
+    // local lights, global lights, capacity of the index lists, 0
+    counts: vec4<u32>,
+}
+
+// A point or spot light's bounding sphere in view space, its index in the
+// light array, and the tiles (x0 | x1 << 16, y0 | y1 << 16) and slices
+// (s0 | s1 << 16) it may touch.
+struct ClusterLight {
+    center: vec3<f32>,
+    radius: f32,
+    index: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    slices: u32,
+}
+
+struct Bounds {
+    lo: vec4<f32>,
+    hi: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+// x slopes of the tile columns' edges (tiles x + 1), then the y slopes of the
+// rows' edges, top to bottom (tiles y + 1), then the slices' start depths
+// (slices + 1): view x = slope × depth
+@group(0) @binding(1) var<storage, read> edges: array<f32>;
+@group(0) @binding(2) var<storage, read> lights: array<ClusterLight>;
+@group(0) @binding(3) var<storage, read_write> bounds: array<Bounds>;
+@group(0) @binding(4) var<storage, read_write> counts: array<atomic<u32>>;
+// (offset, count) per cluster: the lighting passes' fx_cluster_ranges
+@group(0) @binding(5) var<storage, read_write> ranges: array<vec2<u32>>;
+// entries in arrival order (the global lights first, written by the host) and
+// the cluster of each
+@group(0) @binding(6) var<storage, read_write> unsorted: array<u32>;
+@group(0) @binding(7) var<storage, read_write> owner: array<u32>;
+// the lists in light order: the lighting passes' fx_cluster_lights
+@group(0) @binding(8) var<storage, read_write> sorted: array<u32>;
+// indirect arguments of the sort (x, y, z), cluster entries, longest list,
+// entries that did not fit
+@group(0) @binding(9) var<storage, read_write> summary: array<atomic<u32>, 8>;
+
+const WORKGROUP: u32 = 64u;
+const SCAN: u32 = 256u;
+// workgroups per row of a 2D dispatch
+const ROW: u32 = 32768u;
+
+fn tiles_x() -> u32 {
+    return params.grid.x;
+}
+
+fn tiles_y() -> u32 {
+    return params.grid.y;
+}
+
+fn slice_depth(s: u32) -> f32 {
+    return edges[tiles_x() + tiles_y() + 2u + s];
+}
+
+@compute @workgroup_size(64)
+fn fx_cs_cluster_bounds(@builtin(global_invocation_id) id: vec3<u32>) {
+    let c = id.x + id.y * ROW * WORKGROUP;
+    if c >= params.grid.w {
+        return;
+    }
+    let tx = c % tiles_x();
+    let ty = (c / tiles_x()) % tiles_y();
+    let s = c / (tiles_x() * tiles_y());
+    let dn = slice_depth(s);
+    let df = slice_depth(s + 1u);
+    let left = edges[tx];
+    let right = edges[tx + 1u];
+    // rows run top to bottom: edge ty is above edge ty + 1
+    let top = edges[tiles_x() + 1u + ty];
+    let bottom = edges[tiles_x() + 1u + ty + 1u];
+    let xmin = left * select(dn, df, left < 0.0);
+    let xmax = right * select(dn, df, right > 0.0);
+    let ymax = top * select(dn, df, top > 0.0);
+    let ymin = bottom * select(dn, df, bottom < 0.0);
+    // z is the positive view depth here (the view looks down -z)
+    bounds[c] = Bounds(vec4<f32>(xmin, ymin, dn, 0.0), vec4<f32>(xmax, ymax, df, 0.0));
+    atomicStore(&counts[c], 0u);
+}
+
+// Calls `hit` for every cluster of slice `s` whose box light `l`'s sphere
+// touches. (WGSL has no function pointers: `mode` 0 counts, 1 appends.)
+fn visit(l: ClusterLight, s: u32, mode: u32) {
+    let c = l.center;
+    let r2 = l.radius * l.radius;
+    let slab = (s * tiles_y()) * tiles_x();
+    let b0 = bounds[slab];
+    // distance² along z from the centre to the slab
+    let dz = clamp(-c.z, b0.lo.z, b0.hi.z) + c.z;
+    let dz2 = dz * dz;
+    if dz2 > r2 {
+        return;
+    }
+    let y0 = l.tiles_y & 0xffffu;
+    let y1 = l.tiles_y >> 16u;
+    let x0 = l.tiles_x & 0xffffu;
+    let x1 = l.tiles_x >> 16u;
+    for (var ty = y0; ty <= y1; ty++) {
+        let row = slab + ty * tiles_x();
+        let by = bounds[row];
+        let dy = clamp(c.y, by.lo.y, by.hi.y) - c.y;
+        let dyz2 = dz2 + dy * dy;
+        if dyz2 > r2 {
+            continue;
+        }
+        for (var tx = x0; tx <= x1; tx++) {
+            let b = bounds[row + tx];
+            let dx = clamp(c.x, b.lo.x, b.hi.x) - c.x;
+            if dyz2 + dx * dx <= r2 {
+                let cluster = row + tx;
+                if mode == 0u {
+                    atomicAdd(&counts[cluster], 1u);
+                } else {
+                    let slot = ranges[cluster].x + atomicAdd(&counts[cluster], 1u);
+                    if slot < params.counts.z {
+                        unsorted[slot] = l.index;
+                        owner[slot] = cluster;
+                    } else {
+                        atomicAdd(&summary[5], 1u);
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn light_slice(id: vec3<u32>, mode: u32) {
+    if id.x >= params.counts.x {
+        return;
+    }
+    let l = lights[id.x];
+    let s = id.y;
+    if s < (l.slices & 0xffffu) || s > (l.slices >> 16u) {
+        return;
+    }
+    visit(l, s, mode);
+}
+
+@compute @workgroup_size(64)
+fn fx_cs_cluster_count(@builtin(global_invocation_id) id: vec3<u32>) {
+    light_slice(id, 0u);
+}
+
+var<workgroup> sums: array<u32, SCAN>;
+var<workgroup> longest: array<u32, SCAN>;
+
+// One workgroup: each invocation sums a run of clusters, the workgroup scans
+// the sums (Hillis and Steele), then each invocation writes its run's ranges.
+@compute @workgroup_size(256)
+fn fx_cs_cluster_offsets(@builtin(local_invocation_index) i: u32) {
+    let n = params.grid.w;
+    let per = (n + SCAN - 1u) / SCAN;
+    let start = min(i * per, n);
+    let end = min(start + per, n);
+    var total = 0u;
+    var most = 0u;
+    for (var c = start; c < end; c++) {
+        let k = atomicLoad(&counts[c]);
+        total += k;
+        most = max(most, k);
+    }
+    sums[i] = total;
+    longest[i] = most;
+    workgroupBarrier();
+    for (var d = 1u; d < SCAN; d <<= 1u) {
+        var add = 0u;
+        var m = 0u;
+        if i >= d {
+            add = sums[i - d];
+            m = longest[i - d];
+        }
+        workgroupBarrier();
+        sums[i] += add;
+        longest[i] = max(longest[i], m);
+        workgroupBarrier();
+    }
+    var offset = params.counts.y + sums[i] - total;
+    for (var c = start; c < end; c++) {
+        let k = atomicLoad(&counts[c]);
+        ranges[c] = vec2<u32>(offset, k);
+        offset += k;
+        // the fill pass counts again from 0
+        atomicStore(&counts[c], 0u);
+    }
+    if i == SCAN - 1u {
+        let entries = params.counts.y + sums[i];
+        let groups = (min(entries, params.counts.z) + WORKGROUP - 1u) / WORKGROUP;
+        atomicStore(&summary[0], min(groups, ROW));
+        atomicStore(&summary[1], (groups + ROW - 1u) / ROW);
+        atomicStore(&summary[2], 1u);
+        atomicStore(&summary[3], sums[i]);
+        atomicStore(&summary[4], longest[i]);
+        atomicStore(&summary[5], 0u);
+    }
+}
+
+@compute @workgroup_size(64)
+fn fx_cs_cluster_fill(@builtin(global_invocation_id) id: vec3<u32>) {
+    light_slice(id, 1u);
+}
+
+@compute @workgroup_size(64)
+fn fx_cs_cluster_sort(@builtin(global_invocation_id) id: vec3<u32>) {
+    let e = id.x + id.y * ROW * WORKGROUP;
+    let entries = min(params.counts.y + atomicLoad(&summary[3]), params.counts.z);
+    if e >= entries {
+        return;
+    }
+    let light = unsorted[e];
+    if e < params.counts.y {
+        sorted[e] = light;
+        return;
+    }
+    let range = ranges[owner[e]];
+    // a light is listed at most once per cluster: its rank is the number of
+    // smaller indices in the list
+    var rank = 0u;
+    for (var k = range.x; k < range.x + range.y; k++) {
+        rank += select(0u, 1u, unsorted[k] < light);
+    }
+    sorted[range.x + rank] = light;
+}

@@ -1,0 +1,484 @@
+//! Clustered light lists built on the GPU each frame (`shaders/render/clusters.wgsl`).
+//!
+//! The host uploads the frame's data as it is: the grid's plane slopes and
+//! slice depths ([`GridEdges`], a few hundred floats) and one record per point or
+//! spot light (its view-space bounding sphere and the tiles and slices it may
+//! touch, [`ClusterGrid::footprint`]: O(lights), no binning). Five dispatches in
+//! one compute pass ("light clusters") then compute the clusters' view-space
+//! boxes, count each cluster's lights, turn the counts into ranges (one
+//! workgroup's prefix sum), append the lights, and sort each list into light
+//! order. The lists are those of the CPU reference ([`super::clusters::build`]),
+//! test for test, in the same order; `cluster_gpu_tests.rs` compares the two.
+//!
+//! Room for the lists is reserved from the footprints (the clusters a light's
+//! rectangle and slices hold bound its entries), so a frame never overflows its
+//! buffers; the bound is what [`MAX_ENTRIES`] limits. The entry count and the
+//! longest list stay on the GPU unless asked for ([`GpuClusters::summary`]: a
+//! blocking read, done for timed frames).
+
+#[cfg(test)]
+use super::clusters::ClusterLists;
+use super::clusters::{ClusterGrid, GridEdges, LocalLight, MAX_ENTRIES};
+use crate::gpu::bindings;
+use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
+use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
+
+const SHADER: &str = include_str!("../../shaders/render/clusters.wgsl");
+const COMPUTE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
+/// Invocations per workgroup of the per-cluster, per-light and per-entry
+/// dispatches, and workgroups per row of a 2D dispatch (as in the shader).
+const WORKGROUP: u32 = 64;
+const ROW: u32 = 32768;
+/// The most point and spot lights one frame can bin (one dispatch row).
+pub(crate) const MAX_CLUSTER_LIGHTS: usize = 65535 * WORKGROUP as usize;
+
+/// `Params` of clusters.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+struct GpuClusterParams {
+    grid: [u32; 4],
+    counts: [u32; 4],
+}
+
+/// `ClusterLight` of clusters.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+struct GpuClusterLight {
+    center: [f32; 3],
+    radius: f32,
+    index: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    slices: u32,
+}
+
+/// A frame's lists could not be built.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum ClusterError {
+    #[error(
+        "up to {entries} light-cluster entries exceed the limit of {MAX_ENTRIES}: fewer or smaller lights"
+    )]
+    TooManyEntries { entries: usize },
+    #[error("{0} point and spot lights in view exceed the limit of {MAX_CLUSTER_LIGHTS}")]
+    TooManyLights(usize),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+/// One frame's request: the grid, the projection it is cut from, the global
+/// lights (listed first, everywhere) and the point and spot lights.
+pub(crate) struct ClusterFrame<'a> {
+    pub grid: ClusterGrid,
+    pub proj: &'a Mat4,
+    pub width: u32,
+    pub height: u32,
+    pub globals: &'a [u32],
+    pub locals: &'a [LocalLight],
+}
+
+/// What the GPU built, read back ([`GpuClusters::summary`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct ClusterSummary {
+    /// Light × cluster entries (without the global lights).
+    pub entries: u32,
+    /// The longest cluster list.
+    pub max_per_cluster: u32,
+}
+
+/// The buffers the five dispatches share, grown to a power of two when a frame
+/// needs more.
+struct Buffers {
+    params: wgpu::Buffer,
+    edges: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    bounds: wgpu::Buffer,
+    counts: wgpu::Buffer,
+    ranges: wgpu::Buffer,
+    unsorted: wgpu::Buffer,
+    owner: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    summary: wgpu::Buffer,
+    /// The sort's dispatch size, copied from `summary` between the two passes
+    /// (a buffer cannot be written as storage and read as indirect arguments in
+    /// one dispatch).
+    indirect: wgpu::Buffer,
+}
+
+/// The dispatch sizes of the frame last prepared.
+#[derive(Debug, Clone, Copy, Default)]
+struct Plan {
+    clusters: u32,
+    locals: u32,
+    slices: u32,
+    /// (read back by the tests' [`GpuClusters::read_lists`])
+    #[cfg_attr(not(test), allow(dead_code))]
+    globals: u32,
+    #[cfg_attr(not(test), allow(dead_code))]
+    capacity: u32,
+}
+
+/// The GPU light clustering of a renderer.
+pub(crate) struct GpuClusters {
+    layout: wgpu::BindGroupLayout,
+    pipelines: [wgpu::ComputePipeline; 5],
+    buffers: Buffers,
+    group: wgpu::BindGroup,
+    plan: Option<Plan>,
+    /// Scratch of the light records (kept between frames: no allocation).
+    records: Vec<GpuClusterLight>,
+}
+
+const ENTRY_POINTS: [&str; 5] = [
+    "fx_cs_cluster_bounds",
+    "fx_cs_cluster_count",
+    "fx_cs_cluster_offsets",
+    "fx_cs_cluster_fill",
+    "fx_cs_cluster_sort",
+];
+
+fn storage(
+    device: &wgpu::Device,
+    label: &str,
+    bytes: u64,
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
+        mapped_at_creation: false,
+    })
+}
+
+const EDGES: &str = "light clusters plane slopes and slice depths";
+const LIGHTS: &str = "light clusters lights";
+const BOUNDS: &str = "light clusters boxes";
+const COUNTS: &str = "light clusters counters";
+const RANGES: &str = "deferred cluster ranges";
+const UNSORTED: &str = "light clusters entries (arrival order)";
+const OWNER: &str = "light clusters entry owners";
+const INDICES: &str = "deferred cluster lights";
+
+const COPY_SRC: wgpu::BufferUsages = wgpu::BufferUsages::COPY_SRC;
+const NONE: wgpu::BufferUsages = wgpu::BufferUsages::empty();
+
+impl Buffers {
+    fn new(device: &wgpu::Device) -> Buffers {
+        Buffers {
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("light clusters parameters"),
+                size: std::mem::size_of::<GpuClusterParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            edges: storage(device, EDGES, 1 << 10, NONE),
+            lights: storage(device, LIGHTS, 1 << 12, NONE),
+            bounds: storage(device, BOUNDS, 1 << 16, NONE),
+            counts: storage(device, COUNTS, 1 << 12, NONE),
+            ranges: storage(device, RANGES, 1 << 13, COPY_SRC),
+            unsorted: storage(device, UNSORTED, 1 << 12, NONE),
+            owner: storage(device, OWNER, 1 << 12, NONE),
+            indices: storage(device, INDICES, 1 << 12, COPY_SRC),
+            summary: storage(device, "light clusters summary", 32, COPY_SRC),
+            indirect: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("light clusters sort dispatch"),
+                size: 16,
+                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    /// Grows every buffer to hold `clusters` clusters, `locals` lights, `edges`
+    /// floats and `capacity` entries. Returns whether one was replaced.
+    fn ensure(
+        &mut self,
+        device: &wgpu::Device,
+        clusters: u64,
+        locals: u64,
+        edges: u64,
+        capacity: u64,
+    ) -> bool {
+        let mut grown = false;
+        let mut grow = |buffer: &mut wgpu::Buffer, label: &str, bytes: u64, extra| {
+            if bytes > buffer.size() {
+                *buffer = storage(device, label, bytes.next_power_of_two(), extra);
+                grown = true;
+            }
+        };
+        let light_bytes = std::mem::size_of::<GpuClusterLight>() as u64;
+        grow(&mut self.edges, EDGES, edges * 4, NONE);
+        grow(&mut self.lights, LIGHTS, locals * light_bytes, NONE);
+        grow(&mut self.bounds, BOUNDS, clusters * 32, NONE);
+        grow(&mut self.counts, COUNTS, clusters * 4, NONE);
+        grow(&mut self.ranges, RANGES, clusters * 8, COPY_SRC);
+        grow(&mut self.unsorted, UNSORTED, capacity * 4, NONE);
+        grow(&mut self.owner, OWNER, capacity * 4, NONE);
+        grow(&mut self.indices, INDICES, capacity * 4, COPY_SRC);
+        grown
+    }
+}
+
+fn group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, b: &Buffers) -> wgpu::BindGroup {
+    let all = [
+        &b.params,
+        &b.edges,
+        &b.lights,
+        &b.bounds,
+        &b.counts,
+        &b.ranges,
+        &b.unsorted,
+        &b.owner,
+        &b.indices,
+        &b.summary,
+    ];
+    let entries: Vec<_> = all
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("light clusters group 0"),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// A 2D dispatch of `n` invocations (rows of [`ROW`] workgroups).
+fn dispatch_2d(n: u32) -> (u32, u32) {
+    let groups = n.div_ceil(WORKGROUP);
+    (groups.min(ROW), groups.div_ceil(ROW).max(1))
+}
+
+impl GpuClusters {
+    pub fn new(ctx: &GpuContext) -> Result<GpuClusters, GpuError> {
+        ctx.scoped("light clusters", |device| {
+            let mut entries = vec![
+                bindings::uniform_entry(0, COMPUTE),
+                bindings::storage_entry(1, COMPUTE),
+                bindings::storage_entry(2, COMPUTE),
+            ];
+            entries.extend((3..10).map(|i| bindings::storage_rw_entry(i, COMPUTE)));
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("light clusters group 0"),
+                entries: &entries,
+            });
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("light clusters"),
+                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+            });
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("light clusters"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let pipelines = ENTRY_POINTS.map(|entry| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&format!("light clusters {entry}")),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            });
+            let buffers = Buffers::new(device);
+            let group = group(device, &layout, &buffers);
+            GpuClusters {
+                layout,
+                pipelines,
+                buffers,
+                group,
+                plan: None,
+                records: Vec::new(),
+            }
+        })
+    }
+
+    /// The lists the lighting passes read: (offset, count) per cluster, and the
+    /// global lights followed by every cluster's lights.
+    pub fn lists(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.buffers.ranges, &self.buffers.indices)
+    }
+
+    /// Uploads one frame's grid and lights. Returns whether the list buffers
+    /// were replaced (the lighting passes' bind group must then be rebuilt) and
+    /// the bytes reserved for the lists.
+    pub fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        frame: &ClusterFrame<'_>,
+    ) -> Result<(bool, u64), ClusterError> {
+        let ClusterFrame {
+            grid,
+            proj,
+            width,
+            height,
+            globals,
+            locals,
+        } = *frame;
+        if locals.len() > MAX_CLUSTER_LIGHTS {
+            return Err(ClusterError::TooManyLights(locals.len()));
+        }
+        let one = grid.count() == 1;
+        let mut bound = globals.len();
+        self.records.clear();
+        for l in locals {
+            let Some(f) = grid.footprint(proj, width, height, l) else {
+                continue;
+            };
+            bound += f.clusters();
+            let pack = |(a, b): (u32, u32)| a | (b << 16);
+            self.records.push(GpuClusterLight {
+                center: l.center.into(),
+                // one cluster lists every light: a sphere that touches everything
+                radius: if one { f32::INFINITY } else { l.radius },
+                index: l.index,
+                tiles_x: pack(f.tiles_x),
+                tiles_y: pack(f.tiles_y),
+                slices: pack(f.slices),
+            });
+        }
+        if bound > MAX_ENTRIES {
+            return Err(ClusterError::TooManyEntries { entries: bound });
+        }
+        let GridEdges { ax, ay, depth } = grid.edges(proj, width, height);
+        let mut edges = ax;
+        edges.extend_from_slice(&ay);
+        edges.extend_from_slice(&depth);
+        let clusters = grid.count() as u32;
+        let capacity = bound.max(1) as u32;
+        let grown = self.buffers.ensure(
+            &ctx.device,
+            u64::from(clusters),
+            self.records.len() as u64,
+            edges.len() as u64,
+            u64::from(capacity),
+        );
+        if grown {
+            self.group = group(&ctx.device, &self.layout, &self.buffers);
+        }
+        let params = GpuClusterParams {
+            grid: [grid.tiles_x, grid.tiles_y, grid.slices, clusters],
+            counts: [self.records.len() as u32, globals.len() as u32, capacity, 0],
+        };
+        let b = &self.buffers;
+        let q = &ctx.queue;
+        q.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
+        q.write_buffer(&b.edges, 0, bytemuck::cast_slice(&edges));
+        if !self.records.is_empty() {
+            q.write_buffer(&b.lights, 0, bytemuck::cast_slice(&self.records));
+        }
+        if !globals.is_empty() {
+            q.write_buffer(&b.unsorted, 0, bytemuck::cast_slice(globals));
+        }
+        self.plan = Some(Plan {
+            clusters,
+            locals: self.records.len() as u32,
+            slices: grid.slices,
+            globals: globals.len() as u32,
+            capacity,
+        });
+        let reserved = u64::from(clusters) * 8 + u64::from(capacity) * 4;
+        Ok((grown, reserved))
+    }
+
+    /// Encodes the five dispatches of the frame last prepared: two compute
+    /// passes, named "light clusters" and "light clusters sort" in `names` and
+    /// timed with `timer`, with the copy of the sort's dispatch size between.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        names: &mut Vec<String>,
+        timer: Option<&GpuTimer>,
+    ) {
+        let Some(plan) = self.plan else {
+            return;
+        };
+        self.encode_lists(encoder, names, timer, plan);
+        let b = &self.buffers;
+        encoder.copy_buffer_to_buffer(&b.summary, 0, &b.indirect, 0, 12);
+        let index = names.len() as u32;
+        names.push("light clusters sort".into());
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("light clusters sort"),
+            timestamp_writes: timer.and_then(|t| t.compute_pass_writes(index)),
+        });
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.set_pipeline(&self.pipelines[4]);
+        pass.dispatch_workgroups_indirect(&b.indirect, 0);
+    }
+
+    /// The boxes, the counts, the ranges and the unsorted lists.
+    fn encode_lists(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        names: &mut Vec<String>,
+        timer: Option<&GpuTimer>,
+        plan: Plan,
+    ) {
+        let index = names.len() as u32;
+        names.push("light clusters".into());
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("light clusters"),
+            timestamp_writes: timer.and_then(|t| t.compute_pass_writes(index)),
+        });
+        pass.set_bind_group(0, &self.group, &[]);
+        let [bounds, count, offsets, fill, _] = &self.pipelines;
+        let (x, y) = dispatch_2d(plan.clusters);
+        pass.set_pipeline(bounds);
+        pass.dispatch_workgroups(x, y, 1);
+        let light_groups = plan.locals.div_ceil(WORKGROUP);
+        if light_groups > 0 {
+            pass.set_pipeline(count);
+            pass.dispatch_workgroups(light_groups, plan.slices, 1);
+        }
+        pass.set_pipeline(offsets);
+        pass.dispatch_workgroups(1, 1, 1);
+        if light_groups > 0 {
+            pass.set_pipeline(fill);
+            pass.dispatch_workgroups(light_groups, plan.slices, 1);
+        }
+    }
+
+    /// The entry count and the longest list of the frame last rendered (waits
+    /// for the GPU).
+    pub fn summary(&self, ctx: &GpuContext) -> Result<ClusterSummary, GpuError> {
+        let bytes = ctx.read_buffer(&self.buffers.summary, 12, 8)?;
+        let words: &[u32] = bytemuck::cast_slice(&bytes);
+        Ok(ClusterSummary {
+            entries: words[0],
+            max_per_cluster: words[1],
+        })
+    }
+
+    /// The lists of the frame last rendered, read back as the CPU reference
+    /// lays them out (waits for the GPU; tests).
+    #[cfg(test)]
+    pub fn read_lists(
+        &self,
+        ctx: &GpuContext,
+        grid: ClusterGrid,
+    ) -> Result<ClusterLists, GpuError> {
+        let plan = self.plan.unwrap_or_default();
+        let summary = self.summary(ctx)?;
+        let ranges = ctx.read_buffer(&self.buffers.ranges, 0, u64::from(plan.clusters) * 8)?;
+        let entries = (plan.globals + summary.entries).min(plan.capacity);
+        let indices = ctx.read_buffer(&self.buffers.indices, 0, u64::from(entries) * 4)?;
+        Ok(ClusterLists {
+            grid,
+            globals: plan.globals,
+            ranges: bytemuck::cast_slice(&ranges).to_vec(),
+            indices: bytemuck::cast_slice(&indices).to_vec(),
+            max_per_cluster: summary.max_per_cluster,
+        })
+    }
+}
+
+#[cfg(test)]
+#[path = "cluster_gpu_tests.rs"]
+mod tests;
