@@ -23,8 +23,8 @@
 //    their Gaussian-weighted mean, weights exp(-|o + jitter|^2 / (2 filter_width^2)),
 //    estimates the scene at p's centre.
 // 3. History: the state of the previous frame at p - motion (motion of step 1),
-//    resampled with a Catmull-Rom bicubic (9 bilinear taps) for rgb and bilinearly
-//    for n. Each resampling at a fractional position softens the history a little,
+//    resampled with Keys' cubic, a = -1 (sharper than Catmull-Rom's -0.5; 9
+//    bilinear taps) for rgb and bilinearly for n. Each resampling at a fractional position softens the history a little,
 //    and the softening builds up with its length: with f the fraction of
 //    p - motion (from the texel centres) and s = fx (1 - fx) + fy (1 - fy) (0 for
 //    whole-pixel motion, at most 0.5), n_prev is capped at resample_limit / s.

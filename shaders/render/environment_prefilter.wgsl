@@ -10,8 +10,9 @@
 //    "Real-time shading with filtered importance sampling", EGSR 2008), the
 //    samples and their source levels computed once per level by prefilter.rs
 //    (`lobe_samples`). The GGX lobe is taken with n = v = r (the split sum's
-//    assumption): samples weighted by n.l, as the Khronos glTF Sample Viewer and
-//    Filament do.
+//    assumption), each sample weighted by the BRDF's f cos / pdf there, G1(l)
+//    (`smith_g1`; the Khronos glTF Sample Viewer and Filament weight by n.l,
+//    which narrows rough lobes: issue 29).
 // 3b. fs_convolve: the same lobes summed over every texel of the map made into
 //    a 16x16 cube on the CPU (1536 texels, each its direction, solid angle and
 //    mean radiance), normalised by the sum of the weights: no noise, for the
@@ -119,6 +120,16 @@ fn d_ggx(ndh: f32, alpha: f32) -> f32 {
     return a2 / (PI * d * d);
 }
 
+// Smith's masking G1 of GGX (height-correlated G2 at n = v, where Lambda(v) = 0)
+// for a direction at cosine `c` from the normal: with the split sum's n = v =
+// r, the glTF BRDF's f cos over a solid angle of l is D(h) G1(l) / 4, so this,
+// not n.l, is the weight of the lobe's radiance.
+fn smith_g1(c: f32, alpha: f32) -> f32 {
+    let c2 = max(c * c, 1e-8);
+    let a2 = alpha * alpha;
+    return 2.0 / (1.0 + sqrt(1.0 + a2 * (1.0 - c2) / c2));
+}
+
 // The GGX half vector of sample xi (local frame, z = normal).
 fn ggx_half(xi: vec2<f32>, alpha: f32) -> vec3<f32> {
     let a2 = alpha * alpha;
@@ -136,8 +147,9 @@ fn fs_filter(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let count = arrayLength(&lobe);
     for (var i = 0u; i < count; i++) {
         let s = lobe[i];
-        // GGX samples are weighted by n.l (cosine samples by 1, their z ignored)
-        let w = select(1.0, s.z, pf.distribution == 0u);
+        // GGX samples are weighted by f cos / pdf = G1(l) (cosine samples by 1,
+        // their z ignored)
+        let w = select(1.0, smith_g1(s.z, max(pf.roughness * pf.roughness, 1e-3)), pf.distribution == 0u);
         sum += textureSampleLevel(source, lin, tbn * s.xyz, s.w).rgb * w;
         weight += w;
     }
@@ -158,9 +170,11 @@ fn fs_convolve(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         if ndl <= 0.0 {
             continue;
         }
-        var w = ndl * t.dir_omega.w;
+        var w = t.dir_omega.w;
         if pf.distribution == 0u {
-            w *= d_ggx(dot(n, normalize(n + l)), alpha);
+            w *= d_ggx(dot(n, normalize(n + l)), alpha) * smith_g1(ndl, alpha);
+        } else {
+            w *= ndl;
         }
         sum += t.radiance.rgb * w;
         weight += w;

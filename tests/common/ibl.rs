@@ -48,11 +48,15 @@ pub fn irradiance(t: &[Texel], n: Vec3) -> Vec3 {
 }
 
 /// The GGX-weighted mean radiance about `n` that a prefiltered level of
-/// perceptual roughness `roughness` holds (the split sum's n = v = r):
-/// ∫ L(l) D(n·h) (n·l) dω / ∫ D(n·h) (n·l) dω, h = normalize(n + l).
+/// perceptual roughness `roughness` holds (the split sum's n = v = r): the
+/// glTF BRDF's f cos at n = v, D(n·h) G1(n·l) / 4 (height-correlated Smith
+/// with Λ(v) = 0), as the weight:
+/// ∫ L(l) D(n·h) G1(n·l) dω / ∫ D(n·h) G1(n·l) dω, h = normalize(n + l),
+/// G1(c) = 2 / (1 + √(1 + α² (1 − c²) / c²)).
 pub fn ggx_prefiltered(t: &[Texel], n: Vec3, roughness: f32) -> Vec3 {
     let a = (roughness * roughness).max(1e-3);
     let a2 = a * a;
+    let g1 = |c: f32| 2.0 / (1.0 + (1.0 + a2 * (1.0 - c * c) / (c * c)).sqrt());
     let mut sum = Vec3::ZERO;
     let mut w = 0.0f64;
     for (l, le, omega) in t {
@@ -63,7 +67,7 @@ pub fn ggx_prefiltered(t: &[Texel], n: Vec3, roughness: f32) -> Vec3 {
         let h = (n + *l).normalize();
         let ndh = n.dot(h);
         let dd = ndh * ndh * (a2 - 1.0) + 1.0;
-        let k = a2 / (PI * dd * dd) * ndl * omega;
+        let k = a2 / (PI * dd * dd) * g1(ndl) * omega;
         sum += *le * k;
         w += f64::from(k);
     }
