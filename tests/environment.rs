@@ -179,13 +179,13 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
 /// Limits of gold at roughness 0.3, 0.5, 0.7 and 0.9 against the BRDF
 /// integral. Issue 29 asks for 5 % at every roughness >= 0.3; measured (the
 /// prefiltered levels weighted by the BRDF's own f cos at n = v, D G1, since
-/// issue 29): 10.5 %, 7.4 %, 7.2 %, 4.5 % (before: 8.0 %, 9.2 %, 11.6 %,
-/// 9.1 % with D n.l). What is left is the split sum's own error, which
-/// the CPU shows apart from the GPU: the same model computed from the map's
-/// texels (`ibl::split_sum_radiance`) is within 2-6 % of the GPU but 5-8 % from
-/// the BRDF integral at roughness 0.3-0.7 (it assumes n = v; city.exr's bright
-/// overcast sky over a dark car park punishes that off the mirror direction).
-/// Roughness 0.3 reads halfway between the levels of roughness 0.2 and 0.4.
+/// issue 29): 9.7 %, 7.4 %, 7.2 %, 4.5 % (before: 8.0 %, 9.2 %, 11.6 %,
+/// 9.1 % with D n.l). The GPU is 2.3-5.7 % from the same model computed from
+/// the map's texels (`ibl::split_sum_radiance`) and 7.2-9.7 % from the BRDF
+/// integral at roughness 0.3-0.7: most of what is left is the split sum's own
+/// approximation (it assumes n = v; city.exr's bright overcast sky over a dark
+/// car park punishes that off the mirror direction). Roughness 0.3 reads
+/// halfway between the levels of roughness 0.2 and 0.4.
 const METAL_LIMIT: [f64; 4] = [0.115, 0.085, 0.085, 0.05];
 
 /// Every specular level and the irradiance against CPU convolutions of the
