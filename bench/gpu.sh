@@ -28,7 +28,9 @@
 # - process rows: a 1080p PNG through tonemap, and gaussian_blur sigma 8, whole
 #   process wall time (median of 5), with OpenCV and PyTorch doing the same blur
 #   (PNG in and out) where python3 has them;
-# - renderer rows from bench/gpu_render.sh when it exists.
+# - the renderer's rows (bench/gpu_render.sh): each render pass's GPU time, the
+#   render CPU per frame and rendered-sequence fps to y4m, the room and the
+#   Cornell box with 16,384 lights.
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 
@@ -170,8 +172,13 @@ if [ -n "$PY" ] && "$PY" -c "import torch, cv2" 2>/dev/null; then
 fi
 row "gaussian_blur σ8 PNG→PNG, whole process ms" "$PNG_SIZE" "${t[fragment]}" "${t[compute]}" "$(ratio "${t[fragment]}" "${t[compute]}")" "${peer:-no python3 cv2/torch}"
 
-if [ -x bench/gpu_render.sh ] || [ -f bench/gpu_render.sh ]; then
-    FXRUN="$FXRUN" QUICK="$QUICK" ROWS="$ROWS" bash bench/gpu_render.sh || echo "bench/gpu_render.sh failed"
+# The renderer rows (bench/gpu_render.sh): render passes, render CPU per frame,
+# rendered-sequence fps; printed after the table.
+if [ "$QUICK" = 1 ]; then
+    FXRUN="$FXRUN" FX_BENCH_SIZES=96x54 FX_BENCH_FRAMES=2 FX_BENCH_LIGHTS=64 \
+        bash bench/gpu_render.sh --quick > "$OUT/render.md" 2>&1 || echo "bench/gpu_render.sh failed" >> "$OUT/render.md"
+else
+    FXRUN="$FXRUN" bash bench/gpu_render.sh > "$OUT/render.md" 2>&1 || echo "bench/gpu_render.sh failed" >> "$OUT/render.md"
 fi
 
 echo
@@ -182,5 +189,8 @@ echo "|---|---|---|---|---|---|"
 while IFS=$'\t' read -r a b c d e f; do
     echo "| $a | $b | $c | $d | $e | $f |"
 done < "$ROWS"
+echo
+echo "Renderer (bench/gpu_render.sh):"
+cat "$OUT/render.md"
 echo
 echo "(per-pass detail: $OUT/passes.md. The ratio is always compute time / fragment time: below 1, compute is faster; for fps rows it is fragment fps / compute fps)"

@@ -16,6 +16,8 @@ pub(crate) fn run_scene_cli(cli: &Cli) -> Result<(), Fail> {
     if cli.time.is_some() || cli.frames.is_some() {
         return run_scene_sequence_cli(cli, &job);
     }
+    // A still scene writes an image: no stream colour options apply.
+    super::streams::check_color_options(cli, false, false)?;
     let mut engine = open_engine(cli)?;
     let report = run_scene_job(&job, &mut engine);
     fxgraph::app::pipeline_cache::save(&engine.ctx);
@@ -207,6 +209,11 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         return Ok(());
     };
     let ospec = SequenceSpec::parse_output(&output.to_string_lossy());
+    let stream = matches!(
+        ospec,
+        SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_)
+    );
+    super::streams::check_color_options(cli, false, stream)?;
     let save = fxgraph::io::SaveOptions {
         bit_depth: cli.bit_depth,
         assume_linear: false,

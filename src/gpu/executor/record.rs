@@ -470,6 +470,8 @@ impl Prepared {
         index: u32,
     ) -> Result<Execution, ExecError> {
         let gp = &self.passes[pass];
+        // Only a pass writing the caller's output writes a BGRA (window) texture.
+        let bgra = bgra && matches!(gp.target, Source::Caller(_));
         let storage = gp.runs_as_compute(
             &engine.pool,
             &self.slots,
