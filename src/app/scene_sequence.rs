@@ -225,6 +225,10 @@ pub fn run_scene_sequence(
         };
         stats.render_passes = rs.pass_ms.clone();
         stats.triangles = rs.triangles;
+        // (the last frame's)
+        stats.lights_visible = rs.lights_visible;
+        stats.cluster_entries = rs.cluster_entries;
+        stats.cluster_bytes = rs.cluster_bytes;
         stats.pipelines = rs.pipelines;
         stats.shader_modules = rs.shader_modules;
         let sent = match stream.as_mut() {

@@ -43,7 +43,7 @@ struct GpuClusterParams {
 
 /// `ClusterLight` of clusters.wgsl.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
 struct GpuClusterLight {
     center: [f32; 3],
     radius: f32,
@@ -125,8 +125,10 @@ pub(crate) struct GpuClusters {
     buffers: Buffers,
     group: wgpu::BindGroup,
     plan: Option<Plan>,
-    /// Scratch of the light records (kept between frames: no allocation).
+    /// Scratch of the light records (kept between frames: no allocation), and
+    /// the records the light buffer holds.
     records: Vec<GpuClusterLight>,
+    written: Vec<GpuClusterLight>,
 }
 
 const ENTRY_POINTS: [&str; 5] = [
@@ -295,6 +297,7 @@ impl GpuClusters {
                 group,
                 plan: None,
                 records: Vec::new(),
+                written: Vec::new(),
             }
         })
     }
@@ -370,8 +373,10 @@ impl GpuClusters {
         let q = &ctx.queue;
         q.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
         q.write_buffer(&b.edges, 0, bytemuck::cast_slice(&edges));
-        if !self.records.is_empty() {
+        // only what changed (a still camera over still lights writes nothing)
+        if !self.records.is_empty() && (grown || self.records != self.written) {
             q.write_buffer(&b.lights, 0, bytemuck::cast_slice(&self.records));
+            self.written.clone_from(&self.records);
         }
         if !globals.is_empty() {
             q.write_buffer(&b.unsorted, 0, bytemuck::cast_slice(globals));

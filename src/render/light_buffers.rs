@@ -12,6 +12,9 @@ use crate::gpu::context::GpuContext;
 pub(crate) struct LightBuffers {
     pub lights: wgpu::Buffer,
     pub visible: wgpu::Buffer,
+    /// What the buffers hold (the last frame's lists).
+    written_lights: Vec<GpuLight>,
+    written_visible: Vec<u32>,
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
@@ -32,6 +35,8 @@ impl LightBuffers {
         LightBuffers {
             lights: storage(device, LIGHTS, 64 * std::mem::size_of::<GpuLight>() as u64),
             visible: storage(device, VISIBLE, 64 * 6 * 4),
+            written_lights: Vec::new(),
+            written_visible: Vec::new(),
         }
     }
 
@@ -57,12 +62,19 @@ impl LightBuffers {
             VISIBLE,
             std::mem::size_of_val(visible) as u64,
         );
+        // Only what changed is written (a still camera over still lights
+        // writes nothing; the lights are in view space, so a moving camera
+        // writes them all).
         let q = &ctx.queue;
-        if !lights.is_empty() {
+        if !lights.is_empty() && (grown || self.written_lights.as_slice() != lights) {
             q.write_buffer(&self.lights, 0, bytemuck::cast_slice(lights));
+            self.written_lights.clear();
+            self.written_lights.extend_from_slice(lights);
         }
-        if !visible.is_empty() {
+        if !visible.is_empty() && (grown || self.written_visible.as_slice() != visible) {
             q.write_buffer(&self.visible, 0, bytemuck::cast_slice(visible));
+            self.written_visible.clear();
+            self.written_visible.extend_from_slice(visible);
         }
         grown
     }
