@@ -88,7 +88,11 @@ fn pass_shader_table(out: &mut String, root: &Path) {
          /// time: (file name, path under `shaders/`, contents)."
     )
     .unwrap();
-    writeln!(out, "pub static EMBEDDED_SHADERS: &[(&str, &str, &str)] = &[").unwrap();
+    writeln!(
+        out,
+        "pub static EMBEDDED_SHADERS: &[(&str, &str, &str)] = &["
+    )
+    .unwrap();
     for (name, rel, f) in &all {
         println!("cargo:rerun-if-changed={}", f.display());
         writeln!(

@@ -47,9 +47,8 @@ use lookup::BUILTIN_PREFIX;
 pub use lookup::{builtin_material_shaders, embedded_material_shader, find_material_shader};
 
 /// The engine's types every material shader sees (appended to it).
-pub const MATERIAL_INTERFACE: &str = include_str!(
-    "../../../shaders/materials/interface/material_interface.wgsl"
-);
+pub const MATERIAL_INTERFACE: &str =
+    include_str!("../../../shaders/materials/interface/material_interface.wgsl");
 /// How [`MATERIAL_INTERFACE`] is named in messages.
 pub const MATERIAL_INTERFACE_SHOWN: &str = "<builtin>/material_interface.wgsl";
 /// The names [`MATERIAL_INTERFACE`] declares (kept when renaming lighting shaders).

@@ -177,7 +177,9 @@ impl Presenter {
         let device = &ctx.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("viewer present"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../../shaders/view/present.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(
+                include_str!("../../../../shaders/view/present.wgsl").into(),
+            ),
         });
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
