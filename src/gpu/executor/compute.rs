@@ -8,8 +8,7 @@
 //! `STORAGE_BINDING` too) and is drawn as before otherwise, so a caller that
 //! passes a render-only output still gets a correct frame.
 
-use super::encode::{bound_views, create_bind_group, source_view, BindKey};
-use super::pool::{PooledTexture, TexturePool};
+use super::encode::{bound_views, create_bind_group, source_view, BindKey, FrameTextures};
 use super::record::{GpuPass, Source};
 use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
 use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
@@ -363,15 +362,9 @@ fn compute_layout_entries(
 /// The storage view of a pass's target this frame, when its texture allows one.
 fn storage_target<'v>(
     path: &ComputePath,
-    pool: &'v TexturePool,
-    slots: &[Option<usize>],
-    rings: &'v [Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &'v [wgpu::TextureView],
+    tex: FrameTextures<'v>,
 ) -> Option<(BindKey, &'v wgpu::TextureView)> {
-    let format = Some(path.storage);
-    let (key, view) =
-        source_view(&path.target, format, pool, slots, rings, ring_head, caller).ok()?;
+    let (key, view) = source_view(&path.target, Some(path.storage), tex).ok()?;
     view.texture()
         .usage()
         .contains(wgpu::TextureUsages::STORAGE_BINDING)
@@ -379,40 +372,28 @@ fn storage_target<'v>(
 }
 
 impl GpuPass {
-    /// Whether this frame runs the pass as compute: it has a compute path and its
-    /// target can be bound for storage.
-    pub(super) fn runs_as_compute(
-        &self,
-        pool: &TexturePool,
-        slots: &[Option<usize>],
-        rings: &[Vec<PooledTexture>],
-        ring_head: &[usize],
-        caller: &[wgpu::TextureView],
-    ) -> bool {
+    /// Whether this frame can run the pass as compute: it has a compute path and
+    /// its target can be bound for storage.
+    pub(super) fn runs_as_compute(&self, tex: FrameTextures) -> bool {
         self.compute
             .as_ref()
-            .is_some_and(|c| storage_target(c, pool, slots, rings, ring_head, caller).is_some())
+            .is_some_and(|c| storage_target(c, tex).is_some())
     }
 }
 
-/// Record one pass as a compute dispatch over its target (8 × 8 pixels per
-/// workgroup). Call only when [`GpuPass::runs_as_compute`] said so. Returns the
+/// Record one pass as a compute dispatch over its target (one invocation per
+/// pixel). Call only when [`GpuPass::runs_as_compute`] said so. Returns the
 /// number of bind groups created.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn encode_compute_pass(
     gp: &mut GpuPass,
     device: &wgpu::Device,
-    pool: &TexturePool,
-    slots: &[Option<usize>],
-    rings: &[Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &[wgpu::TextureView],
+    tex: FrameTextures,
     encoder: &mut wgpu::CommandEncoder,
     timestamps: Option<wgpu::ComputePassTimestampWrites>,
 ) -> Result<u64, ExecError> {
-    let mut views = bound_views(gp, pool, slots, rings, ring_head, caller)?;
+    let mut views = bound_views(gp, tex)?;
     let path = gp.compute.as_ref().expect("a compute path");
-    let target = storage_target(path, pool, slots, rings, ring_head, caller)
+    let target = storage_target(path, tex)
         .ok_or_else(|| ExecError::Input(format!("pass `{}`: no storage view", gp.path)))?;
     views.push(target.clone());
     let key: Vec<BindKey> = views.iter().map(|(k, _)| k.clone()).collect();

@@ -17,16 +17,30 @@ pub(super) enum BindKey {
     Caller(wgpu::TextureView),
 }
 
+/// Where a frame's textures are: the pool with the plan's slots, the feedback
+/// rings, and the caller's views.
+#[derive(Clone, Copy)]
+pub(super) struct FrameTextures<'v> {
+    pub pool: &'v TexturePool,
+    pub slots: &'v [Option<usize>],
+    pub rings: &'v [Vec<PooledTexture>],
+    pub ring_head: &'v [usize],
+    pub caller: &'v [wgpu::TextureView],
+}
+
 /// The view a source names this frame, with its bind-group key.
 pub(super) fn source_view<'v>(
     source: &Source,
     format: Option<wgpu::TextureFormat>,
-    pool: &'v TexturePool,
-    slots: &[Option<usize>],
-    rings: &'v [Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &'v [wgpu::TextureView],
+    tex: FrameTextures<'v>,
 ) -> Result<(BindKey, &'v wgpu::TextureView), ExecError> {
+    let FrameTextures {
+        pool,
+        slots,
+        rings,
+        ring_head,
+        caller,
+    } = tex;
     let pooled = |t: &'v PooledTexture| {
         t.view(format)
             .map(|v| (BindKey::Pooled(t.id), v))
@@ -51,17 +65,11 @@ pub(super) fn source_view<'v>(
 /// their bind-group keys.
 pub(super) fn bound_views<'v>(
     gp: &GpuPass,
-    pool: &'v TexturePool,
-    slots: &[Option<usize>],
-    rings: &'v [Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &'v [wgpu::TextureView],
+    tex: FrameTextures<'v>,
 ) -> Result<Vec<(BindKey, &'v wgpu::TextureView)>, ExecError> {
     gp.textures
         .iter()
-        .map(|(_, source, format)| {
-            source_view(source, *format, pool, slots, rings, ring_head, caller)
-        })
+        .map(|(_, source, format)| source_view(source, *format, tex))
         .collect()
 }
 
@@ -112,13 +120,9 @@ pub(super) fn create_bind_group(
 pub(super) fn bind_group(
     gp: &mut GpuPass,
     device: &wgpu::Device,
-    pool: &TexturePool,
-    slots: &[Option<usize>],
-    rings: &[Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &[wgpu::TextureView],
+    tex: FrameTextures,
 ) -> Result<(usize, u64), ExecError> {
-    let views = bound_views(gp, pool, slots, rings, ring_head, caller)?;
+    let views = bound_views(gp, tex)?;
     let key: Vec<BindKey> = views.iter().map(|(k, _)| k.clone()).collect();
     if let Some(i) = gp.bind_groups.iter().position(|(k, _)| *k == key) {
         return Ok((i, 0));
@@ -136,30 +140,17 @@ pub(super) fn bind_group(
 /// Record one pass with `pipeline` (the pass's, or its BGRA twin's): a render pass
 /// drawing the fullscreen triangle into its target.
 /// Returns the number of bind groups created.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn encode_pass(
     gp: &mut GpuPass,
     pipeline: &CachedPipeline,
     ctx: &GpuContext,
-    pool: &TexturePool,
-    slots: &[Option<usize>],
-    rings: &[Vec<PooledTexture>],
-    ring_head: &[usize],
-    caller: &[wgpu::TextureView],
+    tex: FrameTextures,
     encoder: &mut wgpu::CommandEncoder,
     timestamps: Option<wgpu::RenderPassTimestampWrites>,
 ) -> Result<u64, ExecError> {
-    let (bg, created) = bind_group(gp, &ctx.device, pool, slots, rings, ring_head, caller)?;
+    let (bg, created) = bind_group(gp, &ctx.device, tex)?;
     let gp = &*gp;
-    let (_, target) = source_view(
-        &gp.target,
-        gp.target_format,
-        pool,
-        slots,
-        rings,
-        ring_head,
-        caller,
-    )?;
+    let (_, target) = source_view(&gp.target, gp.target_format, tex)?;
     // SAFETY: the fullscreen triangle writes every pixel of the target.
     let load = wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() });
     let mut rp = begin_color_pass(encoder, &gp.path, target, load, timestamps);

@@ -13,7 +13,7 @@
 
 use super::bgra::{is_bgra, TwinPipeline};
 use super::compute::{encode_compute_pass, ComputePath};
-use super::encode::{bind_group, encode_pass, BindKey};
+use super::encode::{bind_group, encode_pass, BindKey, FrameTextures};
 use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
 use super::{
@@ -472,13 +472,7 @@ impl Prepared {
         let gp = &self.passes[pass];
         // Only a pass writing the caller's output writes a BGRA (window) texture.
         let bgra = bgra && matches!(gp.target, Source::Caller(_));
-        let storage = gp.runs_as_compute(
-            &engine.pool,
-            &self.slots,
-            &self.rings,
-            &self.ring_head,
-            caller,
-        );
+        let storage = gp.runs_as_compute(self.frame_textures(engine, caller));
         if gp.pipeline.is_none() && (!storage || bgra) {
             return Err(ExecError::Input(format!(
                 "pass `{}` is a compute pass and its output cannot be a storage texture here (an sRGB or BGRA output, or one made without STORAGE_BINDING)",
@@ -486,34 +480,30 @@ impl Prepared {
             )));
         }
         let compute = !bgra && storage;
-        let created = if compute {
-            self.stats.compute_passes += 1;
-            encode_compute_pass(
-                &mut self.passes[pass],
-                &engine.ctx.device,
-                &engine.pool,
-                &self.slots,
-                &self.rings,
-                &self.ring_head,
-                caller,
-                encoder,
-                timer.and_then(|t| t.compute_pass_writes(index)),
-            )?
-        } else {
-            self.stats.fragment_passes += 1;
-            let pipeline = self.passes[pass].pipeline_for(engine, bgra)?;
-            encode_pass(
-                &mut self.passes[pass],
-                &pipeline,
-                &engine.ctx,
-                &engine.pool,
-                &self.slots,
-                &self.rings,
-                &self.ring_head,
-                caller,
-                encoder,
-                timer.and_then(|t| t.pass_writes(index)),
-            )?
+        // The render pipeline first: it may be built now (a BGRA output's twin).
+        let pipeline = match compute {
+            true => None,
+            false => Some(self.passes[pass].pipeline_for(engine, bgra)?),
+        };
+        let tex = FrameTextures {
+            pool: &engine.pool,
+            slots: &self.slots,
+            rings: &self.rings,
+            ring_head: &self.ring_head,
+            caller,
+        };
+        let gp = &mut self.passes[pass];
+        let created = match pipeline {
+            None => {
+                self.stats.compute_passes += 1;
+                let timestamps = timer.and_then(|t| t.compute_pass_writes(index));
+                encode_compute_pass(gp, &engine.ctx.device, tex, encoder, timestamps)?
+            }
+            Some(pipeline) => {
+                self.stats.fragment_passes += 1;
+                let timestamps = timer.and_then(|t| t.pass_writes(index));
+                encode_pass(gp, &pipeline, &engine.ctx, tex, encoder, timestamps)?
+            }
         };
         self.copy_inspected(engine, encoder, pass, caller)?;
         engine.bind_groups_created += created;
@@ -523,6 +513,21 @@ impl Prepared {
         } else {
             Execution::Fragment
         })
+    }
+
+    /// The frame's textures as they stand (pool, slots, rings, caller views).
+    fn frame_textures<'v>(
+        &'v self,
+        engine: &'v Engine,
+        caller: &'v [wgpu::TextureView],
+    ) -> FrameTextures<'v> {
+        FrameTextures {
+            pool: &engine.pool,
+            slots: &self.slots,
+            rings: &self.rings,
+            ring_head: &self.ring_head,
+            caller,
+        }
     }
 
     /// Walk the plan's steps once against the pool and create the bind groups of
@@ -562,16 +567,15 @@ impl Prepared {
                     {
                         continue;
                     }
-                    let created = bind_group(
-                        gp,
-                        &engine.ctx.device,
-                        &engine.pool,
-                        &slots,
-                        &self.rings,
-                        &self.ring_head,
-                        &[],
-                    )
-                    .map_or(0, |(_, created)| created);
+                    let tex = FrameTextures {
+                        pool: &engine.pool,
+                        slots: &slots,
+                        rings: &self.rings,
+                        ring_head: &self.ring_head,
+                        caller: &[],
+                    };
+                    let created =
+                        bind_group(gp, &engine.ctx.device, tex).map_or(0, |(_, created)| created);
                     engine.bind_groups_created += created;
                     self.stats.bind_groups_created += created;
                 }
