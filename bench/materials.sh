@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Feature-selection benchmark (seed 003: "conditional compilation made rendering
+# Feature-selection benchmark (the materials-and-effects paper: "conditional compilation made rendering
 # 1.5-2x faster than shaders with branches"): builtin:bench with the standard
 # surface in nine map combinations (bench/materials_maps.fx) under random point
 # lights, rendered with preprocessor variants, override constants and run-time

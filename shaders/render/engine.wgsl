@@ -128,7 +128,7 @@ fn fx_safe_normalize(v: vec3<f32>) -> vec3<f32> {
 // Unit normal -> [0,1]^2 (src/render/normal.rs has the same maths on the CPU).
 fn fx_encode_normal(n: vec3<f32>) -> vec2<f32> {
     if NORMAL_ENCODING == 1u {
-        // seed 001, table 3 (spheremap / Lambert azimuthal equal-area)
+        // Tang et al., table 3 (spheremap / Lambert azimuthal equal-area)
         let d = sqrt(max(n.z * 8.0 + 8.0, 1e-12));
         return clamp(n.xy / d + 0.5, vec2<f32>(0.0), vec2<f32>(1.0));
     }

@@ -121,7 +121,7 @@ fn fx_unlit(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
 }
 
 struct FxGBufferOut {
-    // rgb diffuse colour, a = material id / 255 (seed 001 table 2)
+    // rgb diffuse colour, a = material id / 255 (Tang et al., table 2)
     @location(0) albedo: vec4<f32>,
     // rg = encoded normal, b = roughness, a = 0 where the pixel is already lit
     // (a layered surface: the light pass leaves it alone), else 1

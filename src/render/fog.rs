@@ -1,4 +1,4 @@
-//! Fog in the lighting template (seed 003: the template "supports several light
+//! Fog in the lighting template (the materials-and-effects paper: the template "supports several light
 //! sources, shadows and fog"): distance and height fog applied per fragment in
 //! forward shading and the light pre-pass final pass, and per pixel in deferred
 //! composition, with the parameters and maths of the `fog` effect

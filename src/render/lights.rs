@@ -1,5 +1,5 @@
 //! Lights for one frame: frustum culling, ambient sum, and the classification of
-//! point and spot lights into light-volume draws (seed 001): front faces when the
+//! point and spot lights into light-volume draws (Tang et al.): front faces when the
 //! camera is outside the volume, back faces when inside, full screen when the
 //! volume also crosses the far plane.
 

@@ -4,13 +4,13 @@
 //! The scene model (meshes, materials as data, lights, cameras, loaders) lives in
 //! `crate::scene`, without the GPU; this layer turns it into GPU work.
 //!
-//! - [`material`]: the material system (seed 003, section 2) on the renderer's
+//! - [`material`]: the material system (the materials-and-effects paper, section 2) on the renderer's
 //!   side: surface + lighting shaders per material, the generated shaders
 //!   (`shaders/` holds the templates) and the three variant modes
 //!   (`docs/materials.md`).
 //! - [`renderer`]: [`Renderer`] with three techniques ([`Technique`]): deferred
-//!   shading with the compressed G-buffer and light volumes (seed 001), light
-//!   pre-pass (seed 000) and forward shading, plus forward transparency. Its
+//!   shading with the compressed G-buffer and light volumes (Tang et al.), light
+//!   pre-pass (the deferred-rendering survey) and forward shading, plus forward transparency. Its
 //!   parts (imported top-down, no circle: `tests/layers.rs`): `error.rs`
 //!   ([`RenderError`]), `options.rs` ([`RendererOptions`]), `targets.rs`
 //!   (G-buffer, light buffers, AUX images), `upload/` (the scene uploaded once:

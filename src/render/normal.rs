@@ -15,7 +15,7 @@ pub enum NormalEncoding {
     /// octahedron and unfolded into the unit square. Uniform-ish error everywhere.
     #[default]
     Octahedral,
-    /// The spheremap transform of seed 001 (table 3), a Lambert azimuthal equal-area
+    /// The spheremap transform of Tang et al. (table 3), a Lambert azimuthal equal-area
     /// projection: `enc = n.xy / sqrt(8·n.z + 8) + 0.5`. Precise towards the viewer,
     /// singular at `n = (0, 0, −1)`.
     Spheremap,

@@ -15,7 +15,7 @@
 //!    directional lights and the point and
 //!    spot lights listed for its cluster (32-pixel tiles × 24 depth slices over
 //!    the geometry's depth range, binned on the GPU). [`LightCulling::Volumes`]
-//!    keeps seed 001's light volumes: directional lights as full-screen
+//!    keeps Tang et al.'s light volumes: directional lights as full-screen
 //!    triangles, point lights as icosphere volumes and spot lights as cone
 //!    volumes, culled against the view frustum on the CPU, all lights of a kind
 //!    in one instanced additive draw; volumes that hold the camera (or the near
@@ -31,7 +31,7 @@
 //!    written) against the opaque depth, lit by every visible light.
 //! 5. Resolve: the G-buffer decoded into the `AUX.*` images.
 //!
-//! [`Technique::LightPrepass`] (seed 000) replaces 1–3 with a depth + normal +
+//! [`Technique::LightPrepass`] (the deferred-rendering survey) replaces 1–3 with a depth + normal +
 //! specular pass, the same light pass, and a second geometry pass that runs the
 //! surface shader again and reads the light buffers; [`Technique::Forward`] runs
 //! the surface shader and the lighting shader of the lights of the fragment's

@@ -1,4 +1,4 @@
-//! The frame's render targets: the compressed G-buffer (seed 001, table 2, plus
+//! The frame's render targets: the compressed G-buffer (Tang et al., table 2, plus
 //! the Cook-Torrance inputs and the lighting-model id), the light buffers, the HDR
 //! scene and the AUX images, with the bind groups that read them.
 //!
@@ -10,7 +10,7 @@
 //! | depth | `Depth32Float` | hardware depth; positions come from the inverse projection |
 //!
 //! 16 bytes per pixel ([`GBUFFER_BYTES_COMPRESSED`]), against 28 for the
-//! traditional layout of seed 001 table 1 ([`GBUFFER_BYTES_TRADITIONAL`]).
+//! traditional layout of Tang et al., table 1 ([`GBUFFER_BYTES_TRADITIONAL`]).
 
 use crate::gpu::context::GpuContext;
 use crate::gpu::transfer::texture_2d;
@@ -18,7 +18,7 @@ use crate::gpu::transfer::texture_2d;
 /// Bytes per pixel of the compressed G-buffer: RGBA8 diffuse + material id (4),
 /// RGB10A2 normal + roughness (4), RGBA8 specular + model id (4), 32-bit depth (4).
 pub const GBUFFER_BYTES_COMPRESSED: u32 = 16;
-/// Bytes per pixel of the traditional layout of seed 001 table 1: RGBA16 colour +
+/// Bytes per pixel of the traditional layout of Tang et al., table 1: RGBA16 colour +
 /// specular (8) + RGBA16 normal (8) + RGBA16 position (8) + 32-bit depth (4; the
 /// paper's DEPTH24 occupies a 32-bit D24S8 texel).
 pub const GBUFFER_BYTES_TRADITIONAL: u32 = 28;

@@ -6,10 +6,10 @@ use std::str::FromStr;
 /// How a frame is shaded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Technique {
-    /// Deferred shading with the compressed G-buffer and light volumes (seed 001).
+    /// Deferred shading with the compressed G-buffer and light volumes (Tang et al.).
     #[default]
     Deferred,
-    /// Light pre-pass (seed 000): depth + normals, light buffer, final geometry pass.
+    /// Light pre-pass (the deferred-rendering survey): depth + normals, light buffer, final geometry pass.
     LightPrepass,
     /// Forward shading: every visible light per fragment.
     Forward,

@@ -1,4 +1,4 @@
-//! The feature-selection benchmark (seed 003 claims conditional compilation is
+//! The feature-selection benchmark (the materials-and-effects paper claims conditional compilation is
 //! 1.5–2× faster than run-time branching): the same scene rendered with
 //! preprocessor variants, override constants and run-time branches, per
 //! technique; run by `bench/materials.sh`.

@@ -5,7 +5,7 @@
 use glam::{Mat4, Vec3};
 
 /// Attenuation threshold ε: a point or spot light's volume ends where
-/// `intensity · max(colour) · f(d)` with `f(d) = 1 / (a + b·d + c·d²)` (seed 001,
+/// `intensity · max(colour) · f(d)` with `f(d) = 1 / (a + b·d + c·d²)` (Tang et al.,
 /// eq. 2) falls to `ε = 1/256` (one 8-bit step at white). Shading uses the same
 /// cut-off, so every technique lights exactly the same points.
 pub const ATTENUATION_THRESHOLD: f32 = 1.0 / 256.0;

@@ -17,7 +17,7 @@ pub enum AlphaMode {
     Blend,
 }
 
-/// A material (seed 003, section 2): a *surface shader* that computes the
+/// A material (the materials-and-effects paper, section 2): a *surface shader* that computes the
 /// surface's colours, normal, roughness, emission and coverage, and a *lighting
 /// shader* that turns one light into reflected diffuse and specular light. Both are
 /// WGSL files (`shaders/materials/*.wgsl` or the user's) with the parameter values

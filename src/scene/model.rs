@@ -457,7 +457,7 @@ impl Scene {
         }
     }
 
-    /// Adds `n` point lights (seed 004): a position uniformly inside the scene bounds,
+    /// Adds `n` point lights (the deferred-rendering course notes): a position uniformly inside the scene bounds,
     /// a radius between 4 % and 10 % of the bounds' diagonal, a saturated random hue
     /// and intensity 1, casting no shadows. Deterministic for a seed (own xorshift
     /// PRNG).

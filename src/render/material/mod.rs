@@ -1,4 +1,4 @@
-//! The material system (seed 003, section 2) on the renderer's side: the scene's
+//! The material system (the materials-and-effects paper, section 2) on the renderer's side: the scene's
 //! materials resolved to their surface and lighting shaders, parameter blocks
 //! packed, feature flags chosen, and the full shaders generated from templates.
 //!

@@ -1,5 +1,5 @@
 //! Generates the renderer's WGSL from templates (`shaders/render/`) and the
-//! materials' surface and lighting shaders (seed 003: "the vertex and pixel shader
+//! materials' surface and lighting shaders (the materials-and-effects paper: "the vertex and pixel shader
 //! code is generated from the high-level shaders by a template that supports
 //! several light sources").
 //!

@@ -1,4 +1,4 @@
-//! How material features select shader code (seed 003: "conditional compilation"),
+//! How material features select shader code (the materials-and-effects paper: "conditional compilation"),
 //! and the keys under which compiled variants are cached.
 //!
 //! Three modes, selected with `fxrun --variants MODE`, so the paper's claim (1.5–2×
