@@ -1,19 +1,22 @@
 //! fxgraph: a declarative filter-graph post-processing engine.
 //!
-//! Layers, each depending only on the ones above it:
+//! Layers, each depending only on the ones above it (docs/architecture.md has the
+//! table and `tests/layers.rs` checks it):
+//! - [`pixels`]: images in memory (plain values every layer may use) and sRGB
+//!   conversions.
+//! - [`unwind`]: catching a dependency's panic quietly (used by `io` and `scene`,
+//!   the layers that call decoders and parsers of files).
 //! - [`script`]: the EFFECT language (grammar, AST with spans, diagnostics). No GPU.
 //! - [`graph`]: lowering to a petgraph DAG, size/format resolution, schedule and the
 //!   texture lifetime plan, all plain data. No GPU.
-//! - [`shader`]: WGSL loading, `#ifdef` preprocessing and naga reflection. No GPU.
+//! - [`shader`]: WGSL loading, `#ifdef` preprocessing, naga reflection, and the
+//!   rewrite of a fragment shader into a compute shader. No GPU.
 //! - [`lookup`]: finding effect scripts on disk (search folders, `INCLUDE`
 //!   confinement), the policy `graph` takes as an [`graph::EffectSource`]. No GPU.
-//! - `gpu` (feature `gpu`): device, texture pool, pipeline cache and the executor
-//!   that interprets a [`graph::Plan`].
-//! - [`unwind`]: catching a dependency's panic quietly (any layer may use it).
-//! - [`pixels`]: images in memory (plain values every layer may use) and sRGB
-//!   conversions.
 //! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes,
-//!   sequences, y4m.
+//!   sequences, y4m, video files through ffmpeg.
+//! - `gpu` (feature `gpu`): device, texture pool, pipelines and the executor that
+//!   interprets a [`graph::Plan`] as fragment passes or compute dispatches.
 //! - `scene` (feature `gpu`): the scene model without the GPU (meshes, materials as
 //!   data, lights, cameras, the glTF and built-in loaders).
 //! - `render` (feature `gpu`): the deferred / light pre-pass / forward renderer that
