@@ -9,12 +9,13 @@ use super::pool::PooledTexture;
 use super::record::{CallerRef, GpuPass, PassUniform, Prepared, PreparedStats, Source, NO_CAMERA};
 use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
 use crate::gpu::context::GpuTimer;
-use crate::graph::plan::{Plan, Resource, View};
+use crate::graph::plan::{Plan, PlannedPass, Resource, View};
 use crate::graph::Graph;
 use crate::script::types::{Filter, Sampling};
 use crate::script::{Diagnostic, Diagnostics, SourceMap};
 use crate::shader::load_plan_shaders;
-use crate::shader::reflect::StdContext;
+use crate::shader::reflect::{StdContext, UniformBlock};
+use crate::shader::UniformLayout;
 use std::time::Instant;
 
 /// The source of a resource; caller images are added to `caller` once each.
@@ -56,7 +57,6 @@ impl Engine {
     ) -> Result<Prepared, ExecError> {
         let start = Instant::now();
         let mut diags = Diagnostics::default();
-        let max = self.ctx.device.limits().max_texture_dimension_2d;
         let adapter = self.ctx.info.name.clone();
         let (shaders, shader_diags) = load_plan_shaders(graph, &plan, sources, &self.shader_dirs);
         diags.extend(shader_diags);
@@ -69,31 +69,13 @@ impl Engine {
                 Some(s) => d.at(s, ""),
                 None => d,
             };
-            if p.desc.width > max || p.desc.height > max {
-                diags.push(at(Diagnostic::error(format!(
-                    "pass `{}` is {}x{} px; this adapter ({adapter}) allows at most {max} px on a side",
-                    p.path, p.desc.width, p.desc.height
-                ))));
-                continue;
-            }
-            let target =
-                view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format));
-            if p.target_view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
-                diags.push(at(Diagnostic::error(format!(
-                    "pass `{}` writes sRGB-encoded values to an sRGB target, which needs a texture view the GL backend cannot make",
-                    p.path
-                ))
-                .note("use the Vulkan backend (lavapipe) or write linear values")));
-                continue;
-            }
-            if !self.ctx.format_support(target).render {
-                diags.push(at(Diagnostic::error(format!(
-                    "pass `{}` renders to {}, which this adapter ({adapter}) cannot render to",
-                    p.path, p.desc.format
-                ))
-                .note("choose another OUT.FORMAT, e.g. rgba16f")));
-                continue;
-            }
+            let target = match self.check_target(p) {
+                Ok(target) => target,
+                Err(d) => {
+                    diags.push(at(d));
+                    continue;
+                }
+            };
             let Some(loaded) = shaders[pi].clone() else {
                 continue;
             };
@@ -192,41 +174,10 @@ impl Engine {
                     }
                 },
             };
-            let uniform = refl.uniform.as_ref().map(|u| {
-                let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(&format!("{} uniforms", p.path)),
-                    size: u64::from(layout.size.max(16)).next_multiple_of(16),
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                let std = StdContext {
-                    out_size: (p.desc.width, p.desc.height),
-                    input_sizes: p
-                        .inputs
-                        .iter()
-                        .map(|i| (i.desc.width, i.desc.height))
-                        .collect(),
-                    near: NO_CAMERA.near,
-                    far: NO_CAMERA.far,
-                    proj: NO_CAMERA.proj,
-                    inv_proj: NO_CAMERA.inv_proj,
-                    ..Default::default()
-                };
-                // Static values are written once, here.
-                let written = layout.write(&std);
-                self.ctx.queue.write_buffer(&buffer, 0, &written);
-                stats.uniform_writes += 1;
-                let per_frame = layout.is_dynamic();
-                PassUniform {
-                    binding: u.binding,
-                    layout: layout.clone(),
-                    members: u.members.clone(),
-                    buffer,
-                    std,
-                    per_frame,
-                    written,
-                }
-            });
+            let uniform = refl
+                .uniform
+                .as_ref()
+                .map(|u| self.pass_uniform(p, u, &layout, &mut stats));
             let compute = match self.execution {
                 _ if native.is_some() => native,
                 super::Execution::Compute => {
@@ -276,25 +227,7 @@ impl Engine {
             diags.sort();
             return Err(ExecError::Rejected(diags));
         }
-        let gl = self.is_gl();
-        let rings = plan
-            .rings
-            .iter()
-            .map(|r| {
-                (0..=r.depth)
-                    .map(|i| {
-                        PooledTexture::create(
-                            &self.ctx.device,
-                            gl,
-                            &format!("{} history {i}", r.pass),
-                            r.desc,
-                            self.ids.next(),
-                            self.pool.stores(r.desc.format),
-                        )
-                    })
-                    .collect::<Vec<_>>()
-            })
-            .collect::<Vec<_>>();
+        let rings = self.create_rings(&plan);
         let timer = GpuTimer::new(&self.ctx, plan.passes.len() as u32);
         let mut prepared = Prepared::new(
             plan,
@@ -308,5 +241,101 @@ impl Engine {
         );
         prepared.prebind(self);
         Ok(prepared)
+    }
+
+    /// Whether the adapter can run pass `p` at all: its size, and the format its
+    /// target is written in. Returns that format.
+    fn check_target(&self, p: &PlannedPass) -> Result<wgpu::TextureFormat, Diagnostic> {
+        let max = self.ctx.device.limits().max_texture_dimension_2d;
+        let adapter = &self.ctx.info.name;
+        if p.desc.width > max || p.desc.height > max {
+            return Err(Diagnostic::error(format!(
+                "pass `{}` is {}x{} px; this adapter ({adapter}) allows at most {max} px on a side",
+                p.path, p.desc.width, p.desc.height
+            )));
+        }
+        let target =
+            view_format(p.desc.format, p.target_view).unwrap_or(wgpu_format(p.desc.format));
+        if p.target_view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
+            return Err(Diagnostic::error(format!(
+                "pass `{}` writes sRGB-encoded values to an sRGB target, which needs a texture view the GL backend cannot make",
+                p.path
+            ))
+            .note("use the Vulkan backend (lavapipe) or write linear values"));
+        }
+        if !self.ctx.format_support(target).render {
+            return Err(Diagnostic::error(format!(
+                "pass `{}` renders to {}, which this adapter ({adapter}) cannot render to",
+                p.path, p.desc.format
+            ))
+            .note("choose another OUT.FORMAT, e.g. rgba16f"));
+        }
+        Ok(target)
+    }
+
+    /// The uniform buffer of pass `p`, with its static values (sizes, the
+    /// default camera) written once, here.
+    fn pass_uniform(
+        &self,
+        p: &PlannedPass,
+        u: &UniformBlock,
+        layout: &UniformLayout,
+        stats: &mut PreparedStats,
+    ) -> PassUniform {
+        let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(&format!("{} uniforms", p.path)),
+            size: u64::from(layout.size.max(16)).next_multiple_of(16),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let std = StdContext {
+            out_size: (p.desc.width, p.desc.height),
+            input_sizes: p
+                .inputs
+                .iter()
+                .map(|i| (i.desc.width, i.desc.height))
+                .collect(),
+            near: NO_CAMERA.near,
+            far: NO_CAMERA.far,
+            proj: NO_CAMERA.proj,
+            inv_proj: NO_CAMERA.inv_proj,
+            ..Default::default()
+        };
+        // Static values are written once, here.
+        let written = layout.write(&std);
+        self.ctx.queue.write_buffer(&buffer, 0, &written);
+        stats.uniform_writes += 1;
+        let per_frame = layout.is_dynamic();
+        PassUniform {
+            binding: u.binding,
+            layout: layout.clone(),
+            members: u.members.clone(),
+            buffer,
+            std,
+            per_frame,
+            written,
+        }
+    }
+
+    /// The textures of the plan's feedback rings, each `depth + 1` deep.
+    fn create_rings(&mut self, plan: &Plan) -> Vec<Vec<PooledTexture>> {
+        let gl = self.is_gl();
+        plan.rings
+            .iter()
+            .map(|r| {
+                (0..=r.depth)
+                    .map(|i| {
+                        PooledTexture::create(
+                            &self.ctx.device,
+                            gl,
+                            &format!("{} history {i}", r.pass),
+                            r.desc,
+                            self.ids.next(),
+                            self.pool.stores(r.desc.format),
+                        )
+                    })
+                    .collect()
+            })
+            .collect()
     }
 }
