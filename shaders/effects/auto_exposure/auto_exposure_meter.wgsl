@@ -8,6 +8,8 @@
 //   FIRST = 0: the input is the previous level's (mean, count): their weighted
 //              mean and total count, so the last 1x1 level is the exact mean of e
 //              over every pixel.
+#include "lib/reduce.wgsl"
+
 @group(0) @binding(0) var img: texture_2d<f32>;
 
 struct Params {
@@ -23,9 +25,9 @@ struct Params {
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let o = vec2<i32>(pos.xy);
     let n = vec2<i32>(textureDimensions(img));
-    let w = vec2<i32>(params.out_size);
-    let a0 = (o * n + w - vec2<i32>(1)) / w;
-    let a1 = min(((o + vec2<i32>(1)) * n + w - vec2<i32>(1)) / w, n);
+    let area = lib_reduce_footprint(o, n, vec2<i32>(params.out_size));
+    let a0 = area.lo;
+    let a1 = area.hi;
     var sum = 0.0;
     var count = 0.0;
     for (var y = a0.y; y < a1.y; y++) {

@@ -10,6 +10,8 @@
 //              frame's peak and average PQ brightness.
 #include "lib/transfer.wgsl"
 
+#include "lib/reduce.wgsl"
+
 @group(0) @binding(0) var img: texture_2d<f32>;
 
 struct Params {
@@ -24,9 +26,9 @@ struct Params {
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let o = vec2<i32>(pos.xy);
     let n = vec2<i32>(textureDimensions(img));
-    let w = vec2<i32>(params.out_size);
-    let a0 = (o * n + w - vec2<i32>(1)) / w;
-    let a1 = min(((o + vec2<i32>(1)) * n + w - vec2<i32>(1)) / w, n);
+    let area = lib_reduce_footprint(o, n, vec2<i32>(params.out_size));
+    let a0 = area.lo;
+    let a1 = area.hi;
     var peak = 0.0;
     var sum = 0.0;
     var count = 0.0;
