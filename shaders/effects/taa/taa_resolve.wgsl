@@ -6,7 +6,9 @@
 // accumulated colour, a = n, the number of frames it stands for; zero before the
 // first frame), `geo` / `geo_prev` the reprojection data of this frame and the
 // previous one (shaders/effects/taa/taa_geometry.wgsl: nearest depth, its motion, own depth).
-// Output: the new state, rgb = colour, a = n.
+// Output: the new state at HISTORY_SCALE times the input's size (a texel covers
+// 1/3 x 1/3 of an input pixel): rgb = colour, a = w, the sum of the sample
+// weights it stands for.
 @group(0) @binding(0) var cur: texture_2d<f32>;
 @group(0) @binding(1) var hist: texture_2d<f32>;
 @group(0) @binding(2) var hist_sampler: sampler;
@@ -16,10 +18,10 @@
 struct Params {
     frames: f32,           // @default(10) @range(1, 64) most frames the history stands for: the current frame's weight is at least 1 / frames
     clip_gamma: f32,       // @default(1.25) @range(0.25, 8) half-width of the history clipping box, in standard deviations of the 3x3 neighbourhood (YCoCg)
-    filter_width: f32,     // @default(0.33) @range(0.1, 2) standard deviation in pixels of the Gaussian that rebuilds the unjittered current pixel from its 3x3 jittered samples
+    filter_width: f32,     // @default(0.13) @range(0.05, 2) standard deviation in input pixels of the Gaussian that weighs each jittered sample into the history texels around it
     depth_tolerance: f32,  // @default(0.1) @range(0, 10) relative depth change beyond which the reprojected history is a disocclusion
     motion_tolerance: f32, // @default(2) @range(0, 1000) change of the motion vector, in pixels, beyond which the reprojected history is a disocclusion
-    resample_limit: f32,   // @default(0.5) @range(0.01, 1000) caps the history length in sub-pixel motion at resample_limit / s frames, s = fx (1 - fx) + fy (1 - fy) of the reprojected position's fraction
+    resample_limit: f32,   // @default(1) @range(0.01, 1000) caps the history length in sub-texel motion at resample_limit / s frames, s = fx (1 - fx) + fy (1 - fy) of the reprojected position's fraction (history texels)
     jitter: vec2<f32>,
     out_size: vec2<f32>,
     // 1 on the first frame after a camera cut (the standard value `cut`): the
@@ -47,16 +49,15 @@ fn sane(c: vec3<f32>) -> vec3<f32> {
     return clamp(finite, vec3<f32>(-65504.0), vec3<f32>(65504.0));
 }
 
-// Cubic interpolation of the history at `p` (pixel coordinates) with 9 bilinear
-// taps: Keys' cubic convolution kernel with a = -1 (Catmull-Rom is a = -0.5),
-// per axis the two middle weights merged into one bilinear fetch between the two
-// middle texels (exact for the cubic; the sampler clamps at the border). The
-// history is resampled at every frame of sub-pixel motion, and each resampling
-// loses some of its finest detail: a = -1 keeps more of it (at a half-pixel
-// shift a detail 2.7 px across keeps 71 % of its amplitude, 55 % with
-// Catmull-Rom). On tests/taa_scene.rs's moving bars the error against the
-// supersampled render is 0.796 of the un-anti-aliased one, 0.837 with
-// Catmull-Rom (-1.5: 0.81, -2: 0.85).
+// Cubic interpolation of the history at `p` (history texels) with 9 bilinear
+// taps: Keys' cubic convolution kernel with a = -0.75, per axis the two middle
+// weights merged into one bilinear fetch between the two middle texels (exact
+// for the cubic, whose middle weights are positive; the sampler clamps at the
+// border). Measured on tests/taa_scene.rs with the 3x history (error over the
+// un-anti-aliased one): with the sample sigma at 0.15 px, a = -0.75 gives 0.588,
+// -1 0.603, -0.5 (Catmull-Rom) more; at the defaults a = -0.75 gives 0.583 and a
+// 6x6 Lanczos-3 0.587: at a third of a pixel the kernel matters less than the
+// history's resolution.
 fn keys_near(x: vec2<f32>) -> vec2<f32> {
     return (KEYS_A + 2.0) * x * x * x - (KEYS_A + 3.0) * x * x + 1.0;
 }
@@ -65,7 +66,7 @@ fn keys_far(x: vec2<f32>) -> vec2<f32> {
     return KEYS_A * (((x - 5.0) * x + 8.0) * x - 4.0);
 }
 
-const KEYS_A: f32 = -1.0;
+const KEYS_A: f32 = -0.75;
 
 fn history_cubic(p: vec2<f32>) -> vec3<f32> {
     let t1 = floor(p - 0.5) + 0.5;
@@ -104,27 +105,45 @@ fn clip_box(lo: vec3<f32>, hi: vec3<f32>, q: vec3<f32>) -> vec3<f32> {
     return q;
 }
 
+// The state's size over the input's, per axis (effects/taa.fx: OUT.SCALE = 3).
+// Each resampling of the history in sub-pixel motion softens it a little, and
+// the softening builds up over the frames the history stands for: at a third of
+// an input pixel it is a ninth of what it is at the input's resolution. Measured
+// on tests/taa_scene.rs (error against the 4x4 supersampled render over the
+// un-anti-aliased one): 1x 0.795, 2x 0.62, 3x 0.583, 4x 0.56.
+const HISTORY_SCALE: f32 = 3.0;
+
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = vec2<i32>(pos.xy);
-    let hi = vec2<i32>(params.out_size) - vec2<i32>(1);
-    // 1. The current pixel without its jitter, and the neighbourhood's moments.
-    // Sample q = p + o was taken at (q + 0.5 + jitter): at o + jitter from p's centre.
+    // This texel's centre in input pixels.
+    let x = pos.xy / HISTORY_SCALE;
+    let in_size = params.out_size / HISTORY_SCALE;
+    let p = vec2<i32>(floor(x));
+    let hi = vec2<i32>(in_size) - vec2<i32>(1);
+    // 1. The current samples near x, each weighed by a Gaussian of its distance
+    // from x (sample q was taken at q + 0.5 + jitter, input pixels); `fallback`,
+    // a wider Gaussian (sigma 1/3 px), stands in where no sample is near and the
+    // history is gone.
     let inv2s2 = 0.5 / (params.filter_width * params.filter_width);
     var sum = vec3<f32>(0.0);
     var wsum = 0.0;
+    var wide = vec3<f32>(0.0);
+    var wide_w = 0.0;
     var m1 = vec3<f32>(0.0);
     var m2 = vec3<f32>(0.0);
     var mn = vec3<f32>(1e30);
     var mx = vec3<f32>(-1e30);
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
-            let o = vec2<i32>(dx, dy);
-            let c = sane(textureLoad(cur, clamp(p + o, vec2<i32>(0), hi), 0).rgb);
-            let d = vec2<f32>(o) + params.jitter;
+            let q = p + vec2<i32>(dx, dy);
+            let c = sane(textureLoad(cur, clamp(q, vec2<i32>(0), hi), 0).rgb);
+            let d = vec2<f32>(q) + 0.5 + params.jitter - x;
             let w = exp(-dot(d, d) * inv2s2);
             sum += c * w;
             wsum += w;
+            let ww = exp(-dot(d, d) * 4.5);
+            wide += c * ww;
+            wide_w += ww;
             let y = to_ycocg(c);
             m1 += y;
             m2 += y * y;
@@ -132,40 +151,48 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             mx = max(mx, y);
         }
     }
-    let current = sum / wsum;
-    // 2. Where this pixel was one frame earlier.
+    let fallback = wide / wide_w;
+    // 2. Where this texel was one frame earlier (the motion of its input pixel's
+    // nearest surface), and 3. whether the surface seen there was the same one.
     let g = textureLoad(geo, p, 0);
-    let prev = pos.xy - g.yz;
-    var valid = params.cut < 0.5 && all(prev >= vec2<f32>(0.0)) && all(prev <= params.out_size);
-    // 3. Disocclusion: the surface seen there one frame earlier is another one
-    // (its nearest depth or its motion differ).
+    let prev = x - g.yz;
+    var valid = params.cut < 0.5 && all(prev >= vec2<f32>(0.0)) && all(prev <= in_size);
     if (valid) {
         let gp = textureLoad(geo_prev, clamp(vec2<i32>(prev), vec2<i32>(0), hi), 0);
         let depth_off = abs(gp.x - g.x) > params.depth_tolerance * max(g.x, 1e-6);
         let motion_off = length(gp.yz - g.yz) > params.motion_tolerance;
         valid = !(depth_off || motion_off);
     }
-    var n_prev = 0.0;
-    var history = current;
+    // The weight a texel gets from one frame on average over the jitter: the
+    // Gaussian's integral (one sample per pixel^2).
+    let per_frame = 6.2831853 * params.filter_width * params.filter_width;
+    var w_prev = 0.0;
+    var history = fallback;
     if (valid) {
-        n_prev = textureSampleLevel(hist, hist_sampler, prev / params.out_size, 0.0).a;
-        history = sane(history_cubic(prev));
-        // Each resampling at a fractional position softens the history a little
-        // (s: the blur a bilinear one would add, px^2; 0 for whole-pixel motion):
-        // in sub-pixel motion it may stand for fewer frames.
-        let f = fract(prev - 0.5);
+        let ph = prev * HISTORY_SCALE;
+        w_prev = textureSampleLevel(hist, hist_sampler, ph / params.out_size, 0.0).a;
+        history = sane(history_cubic(ph));
+        // Each resampling at a fractional position softens the history a
+        // little (s: the blur a bilinear one would add, texels^2; 0 for
+        // whole-texel motion): in sub-texel motion it stands for fewer frames.
+        let f = fract(ph - 0.5);
         let s = dot(f, vec2<f32>(1.0) - f);
-        n_prev = min(n_prev, params.resample_limit / max(s, 1e-6));
+        w_prev = min(w_prev, per_frame * params.resample_limit / max(s, 1e-6));
     }
     // 4. Variance clipping in YCoCg: the box mean +- gamma sigma of the 3x3
-    // samples, within their min/max, always holding the current pixel.
+    // samples around the texel, within their min/max, always holding the
+    // current estimate.
     let mean = m1 / 9.0;
     let sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3<f32>(0.0)));
-    let cy = to_ycocg(current);
+    let cy = to_ycocg(select(fallback, sum / wsum, wsum > 1e-4));
     let lo = min(max(mean - params.clip_gamma * sigma, mn), cy);
     let hi_box = max(min(mean + params.clip_gamma * sigma, mx), cy);
     let clipped = from_ycocg(clip_box(lo, hi_box, to_ycocg(history)));
-    // 5. Blend: the state stands for n frames, the current one weighs 1 / n.
-    let n = min(max(n_prev, 0.0), params.frames - 1.0) + 1.0;
-    return vec4<f32>(mix(clipped, current, 1.0 / n), n);
+    // 5. Accumulate: the history's weight (at most `frames` frames' worth), this
+    // frame's samples, and a little of the wide estimate where there is nothing else.
+    let wh = min(max(w_prev, 0.0), per_frame * (params.frames - 1.0));
+    let eps = 0.01 * per_frame;
+    let w_new = wh + wsum + eps;
+    let c = (clipped * wh + sum + fallback * eps) / w_new;
+    return vec4<f32>(c, w_new);
 }
