@@ -393,3 +393,90 @@ fn grazing_light_has_no_acne_and_a_long_shadow() {
         }
     }
 }
+
+/// The shadow cache (src/render/shadow_cache.rs): a renderer kept over a
+/// sequence renders a layer again only when its light or a caster in its
+/// volume changed, and every frame equals the frame a fresh renderer (which
+/// renders every layer) gives for the same state, bit for bit.
+#[test]
+fn cached_shadow_layers_give_the_frames_of_a_fresh_render() {
+    let Some(engine) = gpu() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let mut s = scene(spot());
+    s.lights.push(point());
+    let opts = options(ShadowMode::Pcf);
+    let rest: Vec<glam::Mat4> = s.instances.iter().map(|i| i.transform).collect();
+    let moved = |dx: f32| {
+        let mut t = rest.clone();
+        t[1] = glam::Mat4::from_translation(Vec3::new(dx, 0.0, 0.0)) * t[1];
+        t
+    };
+    let mut far_camera = camera();
+    far_camera.eye += Vec3::new(0.5, 0.5, 0.0);
+    // (what, transforms, camera, layers rendered: Some(n) exactly, None: 1..7)
+    let frames = [
+        ("first frame", rest.clone(), camera(), Some(7)),
+        ("nothing changed", rest.clone(), camera(), Some(0)),
+        ("the box moved", moved(0.3), camera(), None),
+        ("nothing changed again", moved(0.3), camera(), Some(0)),
+        ("the camera moved", moved(0.3), far_camera, Some(0)),
+        ("the box moved back", rest.clone(), far_camera, None),
+    ];
+    let mut kept = Renderer::new(ctx, &s, &opts).unwrap();
+    let mut prev = rest.clone();
+    for (what, transforms, cam, expect) in frames {
+        let motion = fxgraph::render::FrameMotion {
+            transforms: transforms.clone(),
+            prev_transforms: prev.clone(),
+            ..Default::default()
+        };
+        let (out, stats) = kept
+            .render_frame(ctx, &cam, &motion, W, H, Technique::Deferred, None)
+            .unwrap();
+        let cached = read_rgba_f32(ctx, &out.scene).unwrap();
+        let mut fresh = Renderer::new(ctx, &s, &opts).unwrap();
+        let (out, fresh_stats) = fresh
+            .render_frame(ctx, &cam, &motion, W, H, Technique::Deferred, None)
+            .unwrap();
+        let reference = read_rgba_f32(ctx, &out.scene).unwrap();
+        let worst = cached
+            .iter()
+            .zip(&reference)
+            .flat_map(|(a, b)| (0..4).map(move |c| (a[c] - b[c]).abs()))
+            .fold(0.0f32, f32::max);
+        eprintln!(
+            "{what}: {} of {} layers rendered, largest difference from a fresh render {worst}",
+            stats.shadow_layers_rendered, stats.shadow_layers
+        );
+        assert_eq!(stats.shadow_layers, 7, "{what}");
+        assert_eq!(fresh_stats.shadow_layers_rendered, 7, "{what}");
+        match expect {
+            Some(n) => assert_eq!(stats.shadow_layers_rendered, n, "{what}"),
+            None => assert!(
+                (1..7).contains(&stats.shadow_layers_rendered),
+                "{what}: {}",
+                stats.shadow_layers_rendered
+            ),
+        }
+        assert_eq!(worst, 0.0, "{what}");
+        prev = transforms;
+    }
+    // without the cache every frame renders every layer
+    let mut uncached = Renderer::new(
+        ctx,
+        &s,
+        &RendererOptions {
+            shadow_cache: false,
+            ..opts.clone()
+        },
+    )
+    .unwrap();
+    for _ in 0..2 {
+        let (_, stats) = uncached
+            .render(ctx, &camera(), W, H, Technique::Deferred, None)
+            .unwrap();
+        assert_eq!(stats.shadow_layers_rendered, 7);
+    }
+}

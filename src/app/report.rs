@@ -131,8 +131,11 @@ pub struct SceneStats {
     /// reserved for the lists (clustered culling).
     pub cluster_entries: usize,
     pub cluster_bytes: u64,
-    /// Shadow-map layers rendered and the bytes of the shadow-map texture.
+    /// Shadow-map layers a frame uses and the bytes of the shadow-map texture.
     pub shadow_layers: usize,
+    /// Layers rendered, over all frames (the shadow cache keeps a layer while
+    /// nothing in its light's view changes).
+    pub shadow_layers_rendered: usize,
     pub shadow_map_bytes: u64,
     /// One line per material (with `describe_materials`).
     pub materials: Vec<String>,

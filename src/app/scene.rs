@@ -345,6 +345,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     stats.cluster_entries = rs.cluster_entries;
     stats.cluster_bytes = rs.cluster_bytes;
     stats.shadow_layers = rs.shadow_layers;
+    stats.shadow_layers_rendered = rs.shadow_layers_rendered;
     stats.shadow_map_bytes = rs.shadow_map_bytes;
     stats.pipelines = rs.pipelines;
     stats.shader_modules = rs.shader_modules;

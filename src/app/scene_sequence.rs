@@ -229,6 +229,9 @@ pub fn run_scene_sequence(
         stats.lights_visible = rs.lights_visible;
         stats.cluster_entries = rs.cluster_entries;
         stats.cluster_bytes = rs.cluster_bytes;
+        stats.shadow_layers = rs.shadow_layers;
+        stats.shadow_map_bytes = rs.shadow_map_bytes;
+        stats.shadow_layers_rendered += rs.shadow_layers_rendered;
         stats.pipelines = rs.pipelines;
         stats.shader_modules = rs.shader_modules;
         let sent = match stream.as_mut() {

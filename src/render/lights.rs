@@ -87,6 +87,11 @@ pub(crate) struct FrameLists {
 #[derive(Debug, Default)]
 pub(crate) struct LightLists {
     pub gpu: Vec<GpuLight>,
+    /// World position and unit direction of each light of `gpu` (as
+    /// classified; not the padding): the shadow maps are planned from these, so
+    /// a light's layers are bit-stable while it stays put, whatever the camera
+    /// does (`shadow_cache.rs`).
+    pub world: Vec<(Vec3, Vec3)>,
     /// Sum of the ambient lights (colour × intensity).
     pub ambient: Vec3,
     pub forward: Vec<u32>,
@@ -154,6 +159,9 @@ impl LightLists {
                 }
                 LightKind::Directional => {
                     lists.gpu.push(g);
+                    lists
+                        .world
+                        .push((l.position, l.direction.normalize_or(Vec3::NEG_Y)));
                     lists.forward.push(index);
                     lists.fullscreen.push(index);
                     lists.globals.push(index);
@@ -211,6 +219,9 @@ impl LightLists {
                     let inside = proxy_center.length() < proxy_radius + near_margin;
                     let crosses_far = -proxy_center.z + proxy_radius > camera.far * 0.999;
                     lists.gpu.push(g);
+                    lists
+                        .world
+                        .push((l.position, l.direction.normalize_or(Vec3::NEG_Y)));
                     lists.forward.push(index);
                     lists.locals.push(super::clusters::LocalLight {
                         index,

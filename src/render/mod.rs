@@ -75,6 +75,7 @@ mod pipelines;
 pub mod renderer;
 mod renderer_environment;
 mod renderer_pose;
+mod shadow_cache;
 mod shadow_pass;
 pub mod shadows;
 pub mod targets;

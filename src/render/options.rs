@@ -26,6 +26,10 @@ pub struct RendererOptions {
     /// Shadow-map layers per frame (a directional light takes 4, a point light
     /// 6, a spot light 1); lights past it are unshadowed, with a warning.
     pub shadow_budget: u32,
+    /// Keep shadow-map layers between frames and render a layer again only
+    /// when its light or a caster in its volume changed (default;
+    /// `shadow_cache.rs` has the rule). Off: every layer every frame.
+    pub shadow_cache: bool,
     /// The clustered light pass of deferred shading and the light pre-pass as a
     /// compute dispatch (default; `light_compute.rs`), or as the full-screen
     /// fragment pass it replaces (the reference it is tested against).
@@ -42,6 +46,7 @@ impl Default for RendererOptions {
             shadows: ShadowMode::default(),
             shadow_size: DEFAULT_SHADOW_SIZE,
             shadow_budget: DEFAULT_SHADOW_LAYERS,
+            shadow_cache: true,
             compute_lighting: true,
         }
     }

@@ -111,9 +111,12 @@ pub struct RenderStats {
     /// id, depth), forward 16 (it shades with depth alone, 4, and fills the
     /// three colour targets for the AUX images).
     pub gbuffer_bytes_per_pixel: u32,
-    /// Shadow-map layers rendered this frame (`RendererOptions::shadow_budget`
+    /// Shadow-map layers this frame uses (`RendererOptions::shadow_budget`
     /// bounds them).
     pub shadow_layers: usize,
+    /// Of those, the layers this frame rendered (the others kept their depths
+    /// from an earlier frame: nothing in their light's view changed).
+    pub shadow_layers_rendered: usize,
     /// Bytes of the shadow-map array texture (it grows to the most layers a
     /// frame has needed).
     pub shadow_map_bytes: u64,

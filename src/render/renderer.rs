@@ -494,6 +494,7 @@ impl Renderer {
         self.ensure_targets(ctx, width, height)?;
         let mut split = CpuSplit::new();
         let (bounds, moving) = self.pose(ctx, motion)?;
+        let casters = self.caster_change(motion);
         split.mark("pose");
         let aspect = width as f32 / height as f32;
         let view = camera.view();
@@ -523,15 +524,19 @@ impl Renderer {
             ctx,
             &self.name,
             &mut lists.gpu,
-            &ShadowFrame {
-                camera,
-                view,
-                aspect,
-                bounds,
-                mode: self.opts.shadows,
-                size: self.opts.shadow_size,
-                budget: self.opts.shadow_budget,
-            },
+            (
+                &ShadowFrame {
+                    camera,
+                    world: &lists.world,
+                    view,
+                    aspect,
+                    bounds,
+                    mode: self.opts.shadows,
+                    size: self.opts.shadow_size,
+                    budget: self.opts.shadow_budget,
+                },
+                &casters,
+            ),
         )?;
         let culling = self.opts.light_culling;
         let visible_count = lists.forward.len() as u32;
@@ -655,6 +660,7 @@ impl Renderer {
                 Technique::Forward => GBUFFER_BYTES_COMPRESSED,
             },
             shadow_layers: self.shadow_maps.used as usize,
+            shadow_layers_rendered: self.shadow_maps.rendered() as usize,
             shadow_map_bytes: self.shadow_maps.bytes(),
             ..Default::default()
         };

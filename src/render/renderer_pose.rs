@@ -6,6 +6,7 @@
 use super::error::RenderError;
 use super::frame_motion::FrameMotion;
 use super::renderer::Renderer;
+use super::shadow_cache::CasterChange;
 use crate::gpu::context::GpuContext;
 
 impl Renderer {
@@ -49,6 +50,18 @@ impl Renderer {
         self.posed = !(motion.transforms.is_empty() && motion.prev_transforms.is_empty());
         self.motion.prepare(ctx, &moving)?;
         Ok((bounds, moving))
+    }
+
+    /// What changed among the shadow casters since the previous frame
+    /// (`shadow_cache.rs`).
+    pub(super) fn caster_change(&mut self, motion: &FrameMotion) -> CasterChange {
+        let now = if motion.transforms.is_empty() {
+            &self.rest_transforms
+        } else {
+            &motion.transforms
+        };
+        self.shadow_maps
+            .casters_changed(&self.geometry, now, &motion.deformed)
     }
 
     /// Writes the poses of the deformed instances for the skinning pass (or

@@ -11,6 +11,7 @@
 use super::error::RenderError;
 use super::gpu_types::{GpuLight, Vertex};
 use super::options::RendererOptions;
+use super::shadow_cache::{CasterChange, ShadowCache};
 use super::shadows::{GpuShadowLayer, ShadowFrame, ShadowMode, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
 use super::upload::Geometry;
 use crate::gpu::bindings::{sampler_entry, storage_entry, texture_entry};
@@ -98,8 +99,14 @@ pub(crate) struct ShadowMaps {
     pass_buffer: wgpu::Buffer,
     pass_group: wgpu::BindGroup,
     pipeline: Option<wgpu::RenderPipeline>,
-    /// Layers rendered by the current frame.
+    /// Layers the current frame uses.
     pub used: u32,
+    /// Which of them the frame renders (the others still hold their depths:
+    /// `shadow_cache.rs` has the rule).
+    stale: Vec<bool>,
+    cache: ShadowCache,
+    /// Keep layers between frames (`RendererOptions::shadow_cache`).
+    caching: bool,
     /// Lights that lost their shadows last frame (warn when it changes).
     last_lost: usize,
 }
@@ -226,6 +233,9 @@ impl ShadowMaps {
                 pass_group,
                 pipeline,
                 used: 0,
+                stale: Vec::new(),
+                cache: ShadowCache::default(),
+                caching: opts.shadow_cache,
                 last_lost: 0,
             }
         })?)
@@ -255,15 +265,16 @@ impl ShadowMaps {
     }
 
     /// Plans the frame's shadows ([`super::shadows::plan`]: assigns layers to
-    /// `lights`), warns when lights lose their shadows to the budget, and uploads
-    /// the layers, growing the texture if they do not fit. Returns whether the
-    /// texture was replaced (group 0 must be rebuilt).
+    /// `lights`), warns when lights lose their shadows to the budget, uploads
+    /// the layers, growing the texture if they do not fit, and decides which
+    /// layers to render (`changed`: what moved among the casters). Returns
+    /// whether the texture was replaced (group 0 must be rebuilt).
     pub fn prepare(
         &mut self,
         ctx: &GpuContext,
         scene: &str,
         lights: &mut [GpuLight],
-        frame: &ShadowFrame,
+        (frame, changed): (&ShadowFrame, &CasterChange),
     ) -> Result<bool, RenderError> {
         let plan = super::shadows::plan(lights, frame);
         // once, and again only when the count changes (not every frame)
@@ -299,6 +310,14 @@ impl ShadowMaps {
             self.layer_views = layer_views;
             grown = true;
         }
+        let changed = if self.caching {
+            changed
+        } else {
+            &CasterChange::Everywhere
+        };
+        self.stale = self
+            .cache
+            .stale_layers(&plan.clip_from_world, changed, grown);
         if needed > 0 {
             ctx.queue
                 .write_buffer(&self.layer_buffer, 0, bytemuck::cast_slice(&plan.layers));
@@ -312,8 +331,24 @@ impl ShadowMaps {
         Ok(grown)
     }
 
-    /// Renders the frame's layers (one pass each; one timed entry, "shadow
-    /// maps", spans them all). Returns the draw calls.
+    /// What changed among the casters since the previous frame (this frame's
+    /// world transforms and deformed poses; remembered for the next).
+    pub fn casters_changed(
+        &mut self,
+        geometry: &Geometry,
+        transforms: &[glam::Mat4],
+        poses: &[crate::scene::InstancePose],
+    ) -> CasterChange {
+        self.cache.casters_changed(geometry, transforms, poses)
+    }
+
+    /// Layers the current frame renders (of [`ShadowMaps::used`]).
+    pub fn rendered(&self) -> u32 {
+        self.stale.iter().filter(|&&s| s).count() as u32
+    }
+
+    /// Renders the frame's stale layers (one pass each; one timed entry,
+    /// "shadow maps", spans them all). Returns the draw calls.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -324,23 +359,26 @@ impl ShadowMaps {
         let Some(pipeline) = &self.pipeline else {
             return 0;
         };
-        if self.used == 0 {
+        let todo: Vec<u32> = (0..self.used).filter(|&i| self.stale[i as usize]).collect();
+        if todo.is_empty() {
             return 0;
         }
         let timed = names.len() as u32;
+        // the name stays the same whichever layers a frame renders (per-pass
+        // medians over a sequence go by name); `RenderStats` has the count
         names.push(format!("shadow maps ({} layers)", self.used));
         let mut draws = 0;
-        for i in 0..self.used {
-            let last = i + 1 == self.used;
+        for (k, &i) in todo.iter().enumerate() {
+            let (first, last) = (k == 0, k + 1 == todo.len());
             // the first pass writes the start, the last the end (wgpu refuses a
             // pass with neither)
             let timestamp_writes = timer
                 .and_then(|t| t.pass_writes(timed))
-                .filter(|_| i == 0 || last)
+                .filter(|_| first || last)
                 .map(|w| wgpu::RenderPassTimestampWrites {
                     beginning_of_pass_write_index: w
                         .beginning_of_pass_write_index
-                        .filter(|_| i == 0),
+                        .filter(|_| first),
                     end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| last),
                     ..w
                 });

@@ -103,6 +103,8 @@ pub(crate) struct GpuShadowLayer {
 /// What the planner needs to know about the frame.
 pub(crate) struct ShadowFrame<'a> {
     pub camera: &'a Camera,
+    /// World position and unit direction of each light (`LightLists::world`).
+    pub world: &'a [(Vec3, Vec3)],
     pub view: Mat4,
     pub aspect: f32,
     /// World bounds of every shadow caster.
@@ -158,10 +160,11 @@ pub(crate) fn plan(lights: &mut [GpuLight], f: &ShadowFrame) -> ShadowPlan {
             continue;
         }
         let first = out.layers.len() as u32;
+        let place = f.world[i];
         let built = match l.kind {
-            KIND_DIRECTIONAL => directional(l, f, &view_inv),
-            KIND_SPOT => vec![spot(l, f, &view_inv)],
-            _ => point(l, f, &view_inv),
+            KIND_DIRECTIONAL => directional(place.1, f, &view_inv),
+            KIND_SPOT => vec![spot(l, place, f, &view_inv)],
+            _ => point(l, place.0, f, &view_inv),
         };
         for (clip_from_world, layer) in built {
             out.clip_from_world.push(clip_from_world);
@@ -231,11 +234,8 @@ pub(crate) fn slice_sphere(d0: f32, d1: f32, k: f32) -> (f32, f32) {
 }
 
 /// The cascades of a directional light.
-fn directional(l: &GpuLight, f: &ShadowFrame, view_inv: &Mat4) -> Vec<(Mat4, GpuShadowLayer)> {
+fn directional(dir: Vec3, f: &ShadowFrame, view_inv: &Mat4) -> Vec<(Mat4, GpuShadowLayer)> {
     let cam = f.camera;
-    let dir = view_inv
-        .transform_vector3(Vec3::from(l.direction))
-        .normalize_or(Vec3::NEG_Y);
     let light_view = look_to_rh(Vec3::ZERO, dir, up_for(dir));
     // The cascades end where the scene does: no resolution for empty space.
     let corners = corners(&f.bounds);
@@ -282,7 +282,14 @@ fn directional(l: &GpuLight, f: &ShadowFrame, view_inv: &Mat4) -> Vec<(Mat4, Gpu
 }
 
 /// Right-handed orthographic projection to depth 0 (`-near`) .. 1 (`-far`).
-fn orthographic_rh(left: f32, right: f32, bottom: f32, top: f32, near: f32, far: f32) -> Mat4 {
+pub(crate) fn orthographic_rh(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Mat4 {
     let (w, h, d) = (right - left, top - bottom, near - far);
     Mat4::from_cols(
         Vec4::new(2.0 / w, 0.0, 0.0, 0.0),
@@ -298,11 +305,12 @@ fn near_of(radius: f32) -> f32 {
     (radius * 2e-3).max(1e-4)
 }
 
-fn spot(l: &GpuLight, f: &ShadowFrame, view_inv: &Mat4) -> (Mat4, GpuShadowLayer) {
-    let pos = view_inv.transform_point3(Vec3::from(l.position));
-    let dir = view_inv
-        .transform_vector3(Vec3::from(l.direction))
-        .normalize_or(Vec3::NEG_Y);
+fn spot(
+    l: &GpuLight,
+    (pos, dir): (Vec3, Vec3),
+    f: &ShadowFrame,
+    view_inv: &Mat4,
+) -> (Mat4, GpuShadowLayer) {
     let outer = l.cos_outer.clamp(-1.0, 1.0).acos();
     let size = f.size as f32;
     // a border of a few texels round the cone for the filter taps
@@ -328,8 +336,7 @@ pub(crate) const CUBE_FACES: [Vec3; 6] = [
     Vec3::NEG_Z,
 ];
 
-fn point(l: &GpuLight, f: &ShadowFrame, view_inv: &Mat4) -> Vec<(Mat4, GpuShadowLayer)> {
-    let pos = view_inv.transform_point3(Vec3::from(l.position));
+fn point(l: &GpuLight, pos: Vec3, f: &ShadowFrame, view_inv: &Mat4) -> Vec<(Mat4, GpuShadowLayer)> {
     let size = f.size as f32;
     // 90° plus a border: lookups near a face's edge filter inside that face
     let tan_half = size / (size - 2.0 * BORDER_TEXELS);

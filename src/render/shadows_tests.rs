@@ -34,9 +34,34 @@ fn light(kind: u32, position: Vec3, direction: Vec3, intensity: f32) -> GpuLight
     }
 }
 
+/// [`super::plan`] with the lights' world places taken from their view-space
+/// `GpuLight`s (the renderer gives them from the scene's lights).
+fn plan(lights: &mut [GpuLight], f: &ShadowFrame) -> ShadowPlan {
+    let view_inv = f.view.inverse();
+    let world: Vec<(Vec3, Vec3)> = lights
+        .iter()
+        .map(|l| {
+            (
+                view_inv.transform_point3(Vec3::from(l.position)),
+                view_inv
+                    .transform_vector3(Vec3::from(l.direction))
+                    .normalize_or(Vec3::NEG_Y),
+            )
+        })
+        .collect();
+    super::plan(
+        lights,
+        &ShadowFrame {
+            world: &world,
+            ..*f
+        },
+    )
+}
+
 fn frame(cam: &Camera, budget: u32) -> ShadowFrame<'_> {
     ShadowFrame {
         camera: cam,
+        world: &[],
         view: cam.view(),
         aspect: 1.5,
         bounds: Aabb {

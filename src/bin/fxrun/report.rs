@@ -145,9 +145,10 @@ fn timing_lines(r: &RunReport) -> Vec<String> {
                 ));
             }
             out.push(format!(
-                "  shadows {}: {} layers, {:.1} MiB of shadow maps",
+                "  shadows {}: {} layers ({} rendered over the run, the others kept), {:.1} MiB of shadow maps",
                 s.shadows,
                 s.shadow_layers,
+                s.shadow_layers_rendered,
                 s.shadow_map_bytes as f64 / (1u64 << 20) as f64
             ));
         }

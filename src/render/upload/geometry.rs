@@ -409,6 +409,25 @@ impl Geometry {
 }
 
 impl Geometry {
+    /// World bounds of instance `instance` at `transform` (empty when it has
+    /// no drawn primitive).
+    pub fn instance_bounds(&self, instance: usize, transform: &glam::Mat4) -> crate::scene::Aabb {
+        let mut out = crate::scene::Aabb::EMPTY;
+        for (slot, _) in self
+            .slots
+            .iter()
+            .enumerate()
+            .filter(|(_, &i)| i == instance)
+        {
+            let b = self.slot_bounds[slot].transformed(transform);
+            if !b.is_empty() {
+                out.add(b.min);
+                out.add(b.max);
+            }
+        }
+        out
+    }
+
     /// The opaque draws, one instance each, of the instances whose transform
     /// differs between `transforms` and `prev` (scene order), and of the deformed
     /// ones: what the motion pass draws again.
