@@ -59,7 +59,10 @@
 //    frame's alpha.
 //
 // Cost: the state is 9 times a frame (rgba16f; at 1920x1080 two of 5760x3240,
-// 149 MB each), and the resolve runs once per texel.
+// 149 MB each), and the resolve runs once per texel: on lavapipe (a CPU) at
+// 960x540 the resolve took 860-1190 ms a frame against 80-107 ms with the
+// history at the frame's size (the room under the orbit camera, same run); on a
+// GPU the pass is bound by its loads and stays small against a frame.
 //
 // Everything is linear light (no tone mapping inside): run it before tonemap.
 //
