@@ -419,6 +419,58 @@ fn y4m_target() -> Target {
     })
 }
 
+/// ffprobe's JSON for a video: the stream tags and the HDR side data (mastering
+/// display, content light level) that `--input-color` and the encoder read.
+/// Seeds: an SDR BT.709 stream with audio, a PQ stream with its metadata on the
+/// stream, an HLG one with it on the first frame.
+fn video_probe_target() -> Target {
+    let stream = |extra: &str| {
+        format!(
+            r#"{{"streams":[{{"index":0,"codec_name":"hevc","codec_type":"video","width":3840,"height":2160,"pix_fmt":"yuv420p10le","bits_per_raw_sample":"10","r_frame_rate":"24000/1001","avg_frame_rate":"24000/1001","field_order":"progressive","nb_frames":"48","duration":"2.002000","disposition":{{"attached_pic":0}}{extra}}},{{"index":1,"codec_name":"flac","codec_type":"audio","disposition":{{"attached_pic":0}}}}],"format":{{"duration":"2.002000"}}"#
+        )
+    };
+    let mastering = r#"{"side_data_type":"Mastering display metadata","red_x":"34000/50000","red_y":"16000/50000","green_x":"13250/50000","green_y":"34500/50000","blue_x":"7500/50000","blue_y":"3000/50000","white_point_x":"15635/50000","white_point_y":"16450/50000","min_luminance":"50/10000","max_luminance":"10000000/10000"}"#;
+    let light =
+        r#"{"side_data_type":"Content light level metadata","max_content":1000,"max_average":400}"#;
+    let seeds: Vec<Vec<u8>> = [
+        stream(r#","color_range":"tv","color_space":"bt709","color_transfer":"bt709","color_primaries":"bt709""#) + "}",
+        stream(&format!(
+            r#","color_range":"tv","color_space":"bt2020nc","color_transfer":"smpte2084","color_primaries":"bt2020","side_data_list":[{mastering},{light}]"#
+        )) + "}",
+        stream(r#","color_range":"pc","color_space":"bt2020nc","color_transfer":"arib-std-b67","color_primaries":"bt2020""#)
+            + &format!(r#","frames":[{{"side_data_list":[{mastering},{light}]}}]}}"#),
+    ]
+    .into_iter()
+    .map(String::into_bytes)
+    .collect();
+    Target::new(
+        "video-probe",
+        Input::Bytes("fuzz.json"),
+        seeds,
+        |bytes, _| {
+            use fxgraph::io::video::{parse_probe, video_color};
+            let info = match parse_probe(Path::new("fuzz.mkv"), bytes) {
+                Ok(info) => info,
+                Err(e) => return rejected_with(&e.to_string()),
+            };
+            if info.width == 0 || info.height == 0 {
+                return Err(format!("accepted a {}x{} stream", info.width, info.height));
+            }
+            let _ = info.hdr.peak_nits();
+            let _ = info.hdr.encoder_params("libx265");
+            match video_color(&info) {
+                Ok(c) => {
+                    for w in &c.warnings {
+                        rejected_with(w)?;
+                    }
+                    Ok(true)
+                }
+                Err(e) => rejected_with(&e),
+            }
+        },
+    )
+}
+
 fn gltf_target() -> Target {
     let mut paths = vec![corpus().join("gltf/CornellBox.glb")];
     for dir in [
@@ -548,6 +600,7 @@ fn parsers_survive_mutated_inputs() {
         wgsl_target(),
         material_wgsl_target(),
         y4m_target(),
+        video_probe_target(),
     ];
     let dir = tempfile::tempdir().unwrap();
     // Images: the README's photo, the corpus's small damaged EXRs, and a pattern in

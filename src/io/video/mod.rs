@@ -36,7 +36,7 @@ pub use color::{video_color, HdrMetadata, Mastering, VideoColor};
 pub use container::{is_video_path, Container, Subtitles, CONTAINERS};
 pub use decode::{decode_args, Decoder};
 pub use encode::{EncodeOptions, Encoder, MediaSource};
-pub use probe::{probe, probe_args, OtherStream, VideoInfo};
+pub use probe::{parse as parse_probe, probe, probe_args, OtherStream, VideoInfo};
 pub use process::{find_program, shell_line};
 
 use super::IoError;
