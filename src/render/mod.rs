@@ -61,6 +61,7 @@ mod error;
 pub mod fog;
 mod frame;
 mod frame_motion;
+mod frame_record;
 pub mod gbuffer;
 mod gpu_types;
 mod light_buffers;
