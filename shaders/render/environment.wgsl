@@ -30,8 +30,8 @@ struct FxEnvironment {
 // The spread of the prefiltered lobe of perceptual roughness `roughness` (the
 // glTF BRDF's f cos at n = v, D(n.h) G1(n.l), normalised): 1 - its mean cosine
 // about its centre. A rational fit in alpha = roughness^2 of that integral
-// (tabulated by quadrature; largest relative error 3 % over roughness
-// 0.03..1; src/render/environment/mod.rs `lobe_spread` checks it).
+// (tabulated by quadrature; relative error below 1 % from roughness 0.05 on;
+// src/render/environment/spread.rs checks it against the integral).
 fn fx_env_lobe_spread(roughness: f32) -> f32 {
     let a = max(roughness * roughness, 1e-3);
     let sa = sqrt(a);
