@@ -104,40 +104,81 @@ fn sphere_error(
     (sum / count as f64, m(signed[0]), m(signed[1]))
 }
 
-/// Spheres of gold and of red paint at roughness 0.2, 0.5 and 0.9 under a
-/// corpus map, each pixel against (1) the glTF BRDF integrated over the map's
-/// texels (with the renderer's multiple-scattering lobe, see
-/// `ibl::reference_radiance`), and (2) the renderer's own model (the split sum)
-/// computed on the CPU, which checks the implementation apart from the
-/// approximation.
+/// A sphere case: (base colour, metallic, roughness, limit against the BRDF
+/// integral, limit against the split sum on the CPU).
+type SphereCase = (Vec3, f32, f32, f64, f64);
+
+const GOLD: Vec3 = Vec3::new(1.0, 0.766, 0.336);
+const PAINT: Vec3 = Vec3::new(0.8, 0.25, 0.15);
+
+/// Spheres of gold and of red paint under corpus maps, each pixel against (1)
+/// the glTF BRDF integrated over the map's texels (with the renderer's
+/// multiple-scattering lobe, see `ibl::reference_radiance`), and (2) the
+/// renderer's own model (the split sum) computed on the CPU, which checks the
+/// implementation apart from the approximation.
 #[test]
 fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
     let Some(gpu) = common::gpu_context() else {
         return;
     };
     let ctx = &*gpu;
-    let path = common::ibl::corpus("hdri/city.exr");
-    let env = Environment::new(EnvironmentSource::File(path));
+    let mut failures = spheres_under(ctx, "city.exr", &CITY);
+    failures.extend(spheres_under(ctx, "forest.exr", &FOREST));
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+/// Gold at roughness 0.2, 0.3, 0.5, 0.7, 0.9 and red paint at 0.2, 0.5, 0.9
+/// under city.exr (a bright overcast sky over a dark car park). Issue 29 asks
+/// for metals within 5 % of the integral from roughness 0.3 on and 10 % below.
+/// Measured for gold at 0.2 / 0.3 / 0.5 / 0.7 / 0.9: 5.9 / 8.0 / 7.6 / 7.3 /
+/// 4.3 % from the integral, 2.0 / 5.2 / 3.8 / 2.1 / 1.3 % from the model
+/// (before issue 29's level fraction, `fx_env_specular_level`: 5.9 / 9.7 /
+/// 7.4 / 7.2 / 4.5 % and 2.0 / 5.7 / 3.8 / 2.3 / 1.2 %). Not met from 0.3 to
+/// 0.7: the split sum itself, computed exactly on the CPU, is 7.1 / 8.0 / 8.1
+/// / 4.9 % from the integral at 0.3 / 0.5 / 0.7 / 0.9 (its lobe is the one at
+/// n = v; docs/environment.md, "Accuracy").
+const CITY: [SphereCase; 8] = [
+    (GOLD, 1.0, 0.2, 0.07, 0.03),
+    (GOLD, 1.0, 0.3, 0.085, 0.06),
+    (GOLD, 1.0, 0.5, 0.08, 0.045),
+    (GOLD, 1.0, 0.7, 0.08, 0.03),
+    (GOLD, 1.0, 0.9, 0.05, 0.02),
+    (PAINT, 0.0, 0.2, 0.05, 0.03),
+    (PAINT, 0.0, 0.5, 0.03, 0.025),
+    (PAINT, 0.0, 0.9, 0.035, 0.02),
+];
+
+/// Gold under forest.exr (a second map: sky through foliage, fine detail).
+/// Measured at 0.2 / 0.3 / 0.5 / 0.7 / 0.9: 8.2 / 8.8 / 7.2 / 7.8 / 4.7 % from
+/// the integral, 3.0 / 8.1 / 3.7 / 1.2 / 0.6 % from the model (before: 8.2 /
+/// 12.0 / 7.2 / 8.1 / 5.0 % and 3.0 / 8.8 / 3.7 / 1.5 / 0.7 %). At 0.3 the
+/// GPU mixes the levels of 0.2 and 0.4, which is not the lobe of 0.3 over
+/// foliage; the split sum itself is 7.7 / 8.2 / 8.0 / 4.4 % from the integral
+/// at 0.3 / 0.5 / 0.7 / 0.9.
+const FOREST: [SphereCase; 5] = [
+    (GOLD, 1.0, 0.2, 0.09, 0.04),
+    (GOLD, 1.0, 0.3, 0.095, 0.09),
+    (GOLD, 1.0, 0.5, 0.08, 0.045),
+    (GOLD, 1.0, 0.7, 0.085, 0.02),
+    (GOLD, 1.0, 0.9, 0.05, 0.01),
+];
+
+/// [`SphereCase`]s under corpus map `name`: the failures.
+fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<String> {
+    let env = Environment::new(EnvironmentSource::File(common::ibl::corpus(&format!(
+        "hdri/{name}"
+    ))));
     let map = env.load().unwrap();
-    // The references integrate over a 256x128 box-filtered copy of the map
-    // (1.4° texels; the narrowest lobe here, roughness 0.2, spans several).
-    let t = ibl::texels(&ibl::downsampled(&map.map, 256));
+    // The references integrate over a box-filtered copy of the map: 256x128
+    // (1.4° texels), 512x256 below roughness 0.3, where the lobe (α = 0.04 at
+    // roughness 0.2) spans only a few 1.4° texels.
+    let coarse = ibl::texels(&ibl::downsampled(&map.map, 256));
+    let fine = ibl::texels(&ibl::downsampled(&map.map, 512));
     let (_, o) = sphere_camera();
     let pixels = interior_pixels(&o, 6);
-    let gold = Vec3::new(1.0, 0.766, 0.336);
-    let paint = Vec3::new(0.8, 0.25, 0.15);
     let mut failures = Vec::new();
-    // (base, metallic, roughness, limit against the BRDF integral)
-    for (base, metallic, roughness, limit) in [
-        (gold, 1.0, 0.2, 0.10),
-        (gold, 1.0, 0.3, METAL_LIMIT[0]),
-        (gold, 1.0, 0.5, METAL_LIMIT[1]),
-        (gold, 1.0, 0.7, METAL_LIMIT[2]),
-        (gold, 1.0, 0.9, METAL_LIMIT[3]),
-        (paint, 0.0, 0.2, 0.10),
-        (paint, 0.0, 0.5, 0.05),
-        (paint, 0.0, 0.9, 0.05),
-    ] {
+    for &(base, metallic, roughness, limit, model_limit) in cases {
+        let t = if roughness < 0.3 { &fine } else { &coarse };
         let scene = env_sphere(base, metallic, roughness, env.clone());
         let (_, px) = render(ctx, &scene, Technique::Deferred);
         let surface = ibl::MetalRough {
@@ -146,47 +187,29 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
             roughness,
         };
         let (brdf, facing, grazing) = sphere_error(&px, &pixels, |n, v| {
-            ibl::reference_radiance(&t, surface, n, v)
+            ibl::reference_radiance(t, surface, n, v)
         });
         let (model, _, _) = sphere_error(&px, &pixels, |n, v| {
-            ibl::split_sum_radiance(&t, surface, n, v)
+            ibl::split_sum_radiance(t, surface, n, v)
         });
         eprintln!(
-            "city.exr, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.1} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the split sum on the CPU, {} pixels",
+            "{name}, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.1} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the split sum on the CPU (limit {:.1} %), {} pixels",
             brdf * 100.0,
             limit * 100.0,
             facing * 100.0,
             grazing * 100.0,
             model * 100.0,
+            model_limit * 100.0,
             pixels.len()
         );
-        // against its own model: 5 % from roughness 0.4; 6 % at 0.3, read
-        // halfway between the levels of roughness 0.2 and 0.4 (trilinear)
-        let model_limit = match roughness {
-            r if r >= 0.4 => 0.05,
-            r if r >= 0.3 => 0.06,
-            _ => 0.10,
-        };
         if brdf > limit || model > model_limit {
             failures.push(format!(
-                "metallic {metallic} roughness {roughness}: {brdf:.4} against the integral, {model:.4} against the model"
+                "{name} metallic {metallic} roughness {roughness}: {brdf:.4} against the integral, {model:.4} against the model"
             ));
         }
     }
-    assert!(failures.is_empty(), "{failures:?}");
+    failures
 }
-
-/// Limits of gold at roughness 0.3, 0.5, 0.7 and 0.9 against the BRDF
-/// integral. Issue 29 asks for 5 % at every roughness >= 0.3; measured (the
-/// prefiltered levels weighted by the BRDF's own f cos at n = v, D G1, since
-/// issue 29): 9.7 %, 7.4 %, 7.2 %, 4.5 % (before: 8.0 %, 9.2 %, 11.6 %,
-/// 9.1 % with D n.l). The GPU is 2.3-5.7 % from the same model computed from
-/// the map's texels (`ibl::split_sum_radiance`) and 7.2-9.7 % from the BRDF
-/// integral at roughness 0.3-0.7: most of what is left is the split sum's own
-/// approximation (it assumes n = v; city.exr's bright overcast sky over a dark
-/// car park punishes that off the mirror direction). Roughness 0.3 reads
-/// halfway between the levels of roughness 0.2 and 0.4.
-const METAL_LIMIT: [f64; 4] = [0.115, 0.085, 0.085, 0.05];
 
 /// Every specular level and the irradiance against CPU convolutions of the
 /// map's texels (24 random texels per level, 36 of the irradiance), for an

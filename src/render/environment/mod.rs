@@ -18,6 +18,7 @@
 mod dfg;
 mod prefilter;
 mod small_cube;
+mod spread;
 
 pub use prefilter::{
     face_size, specular_levels, CONVOLVED_ROUGHNESS, CONVOLVED_SIDE, DFG_SAMPLES, DFG_SIZE,

@@ -9,8 +9,9 @@
 //! 2. the specular cube map: side `S`, `L = log2(S) − 2` levels (down to 8×8);
 //!    level `m` holds the radiance prefiltered with the GGX lobe of perceptual
 //!    roughness `m / (L − 1)` (level 0, roughness 0, is a copy of the source);
-//!    shading reads it at `lod = roughness × (L − 1)` (trilinear between
-//!    levels). Narrow lobes (roughness below [`CONVOLVED_ROUGHNESS`]) are
+//!    shading reads it trilinearly between the two levels that bracket the
+//!    surface's roughness, at the fraction linear in the lobes' spread
+//!    (environment.wgsl `fx_env_specular_level`). Narrow lobes (roughness below [`CONVOLVED_ROUGHNESS`]) are
 //!    importance-sampled ([`SPECULAR_SAMPLES`] per texel, filtered importance
 //!    sampling); wide ones are summed exactly over every texel of the map made
 //!    into a [`CONVOLVED_SIDE`]² cube on the CPU ([`cube_texels`](super::small_cube::cube_texels): no noise; its
