@@ -20,7 +20,7 @@
 //! - `scene` (feature `gpu`): the scene model without the GPU (meshes, materials as
 //!   data, lights, cameras, the glTF and built-in loaders).
 //! - `render` (feature `gpu`): the deferred / light pre-pass / forward renderer that
-//!   consumes a scene.
+//!   consumes a loaded scene and returns images (no file I/O: nothing from `io`).
 //! - `app` (feature `gpu`): jobs joining sources, the effect on the GPU and sinks;
 //!   one report type. `fxrun` is a command line over it.
 pub mod graph;

@@ -11,8 +11,6 @@ pub enum RenderError {
     Gpu(#[from] GpuError),
     #[error(transparent)]
     Scene(#[from] SceneError),
-    #[error(transparent)]
-    Io(#[from] crate::io::IoError),
     /// Something about the request itself (size, texture too large, ...).
     #[error("{0}")]
     Invalid(String),
