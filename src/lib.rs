@@ -23,6 +23,10 @@
 //!   consumes a loaded scene and returns images (no file I/O: nothing from `io`).
 //! - `app` (feature `gpu`): jobs joining sources, the effect on the GPU and sinks;
 //!   one report type. `fxrun` is a command line over it.
+// No printing from the library: messages go through `log` (Cargo.toml's
+// `[lints]` has the rules held on every target).
+#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+
 pub mod graph;
 pub mod lookup;
 pub mod pixels;

@@ -556,7 +556,7 @@ fn gltf_scenes_render() {
 #[test]
 #[ignore]
 fn renderer_benchmark() {
-    use fxgraph::render::bench::{run_benchmark, BenchConfig};
+    use common::render_bench::{run_benchmark, BenchConfig};
     let Some(ctx) = gpu() else { return };
     let mut cfg = BenchConfig::default();
     if let Some((w, h)) = bench::size() {

@@ -6,6 +6,7 @@ use crate::scene::SceneError;
 
 /// Errors of rendering.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RenderError {
     #[error(transparent)]
     Gpu(#[from] GpuError),

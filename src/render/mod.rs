@@ -34,8 +34,6 @@
 //! - [`normal`]: the two-channel normal encodings (octahedral, spheremap) on the CPU.
 //! - [`gbuffer`]: [`gbuffer_images`], every G-buffer image as a viewable image
 //!   (`crate::app` writes them as files for `--gbuffer`).
-//! - [`bench`]: the technique benchmark (frame times vs light count);
-//!   [`variant_bench`]: the material variant-mode benchmark.
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -52,7 +50,6 @@
 //! # let _ = (out, stats); Ok(()) }
 //! ```
 
-pub mod bench;
 mod camera_std;
 mod cli_names;
 mod cluster_gpu;
@@ -81,7 +78,6 @@ pub mod shadows;
 pub mod targets;
 mod technique;
 mod upload;
-pub mod variant_bench;
 mod wgsl_check;
 
 pub use camera_std::camera_std;

@@ -7,6 +7,7 @@ pub const MAX_MATERIALS: usize = 256;
 
 /// Errors of building, loading or querying a scene.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// A glTF file could not be loaded; the message says why.
     #[error("{path}: {message}")]

@@ -59,6 +59,7 @@ use std::sync::Arc;
 
 /// Errors of preparing or running an effect.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ExecError {
     /// The script or a shader was rejected: render the diagnostics with the sources.
     #[error("{} error(s) in the effect or its shaders", .0.error_count())]

@@ -10,6 +10,7 @@ use crate::shader::{check_member_value, ValueMismatch};
 
 /// Why [`Prepared::set_param`] refused a value. Nothing is changed on an error.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ParamError {
     /// No pass of the effect has this parameter.
     #[error("no pass parameter `{name}`{}", .suggestion.as_ref().map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default())]
