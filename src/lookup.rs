@@ -35,7 +35,7 @@ impl DiskEffects {
             effects: effects.to_vec(),
             overrides: overrides
                 .iter()
-                .map(|a| crate::graph::Override { arg: a.clone() })
+                .map(|a| crate::graph::Override::parse(a))
                 .collect(),
             source: Some(Arc::new(DiskEffects::default())),
         }

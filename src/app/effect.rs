@@ -1,41 +1,71 @@
 //! A compiled effect chain ([`Effect`]): the library API for Rust programs and
 //! tests (running it on an image in memory: [`super::apply_in_memory`]).
 //!
-//! - [`Effect::compile`]: compile effects (files or built-in names; no device needed).
+//! - [`Effect::compile`]: compile effects (files or built-in names; no device needed)
+//!   with `--set` overrides, parsed once ([`Override`]).
+//! - [`Effect::set`]: change a parameter (`effect_params.rs`: the one rule for
+//!   the CLI, `--watch`, the viewer and embedders).
 //! - [`Effect::prepare`]: plan it for an input size/format and build its pipelines on
 //!   an [`Engine`] (which may wrap the caller's own device:
 //!   [`crate::gpu::context::GpuContext::from_existing`]).
 
+use super::effect_settings::Settings;
 use super::error::RunError;
 use crate::gpu::executor::{Engine, ExecError, Prepared};
 use crate::graph::plan::{plan, InputDesc, PlanOptions};
-use crate::graph::Graph;
+use crate::graph::{Graph, Override};
 use crate::script::types::Format;
 use crate::script::{Diagnostics, SourceMap};
 
-/// A compiled effect chain.
+/// A compiled effect chain, with the settings it was compiled with (kept for
+/// [`Effect::set`]).
 pub struct Effect {
     pub graph: Graph,
     pub sources: SourceMap,
     /// Warnings and notes from compiling.
     pub warnings: Diagnostics,
+    pub(super) settings: Settings,
 }
 
 impl Effect {
-    /// Compile a chain of effects (paths or built-in names) with `NAME=VALUE` overrides.
+    /// Compile a chain of effects (paths or built-in names) with `NAME=VALUE`
+    /// overrides (each parsed once, [`Override::parse`]).
     pub fn compile(effects: &[String], overrides: &[String]) -> Result<Effect, RunError> {
-        let req = crate::lookup::DiskEffects::request(effects, overrides);
+        Effect::compile_overrides(effects, Override::parse_all(overrides))
+    }
+
+    /// [`Effect::compile`] with overrides parsed already.
+    pub fn compile_overrides(
+        effects: &[String],
+        overrides: Vec<Override>,
+    ) -> Result<Effect, RunError> {
+        let mut req = crate::lookup::DiskEffects::request(effects, &[]);
+        req.overrides = overrides;
         let (graph, diags, sources) = crate::shader::compile_all(&req);
         match graph {
             Some(graph) if !diags.has_errors() => Ok(Effect {
                 graph,
                 sources,
                 warnings: diags,
+                settings: Settings::new(req.effects, req.overrides),
             }),
             _ => Err(RunError::Rejected {
                 rendered: diags.render(&sources),
             }),
         }
+    }
+
+    /// Compile the chain again with the same settings (its files changed).
+    pub fn recompile(&self) -> Result<Effect, RunError> {
+        let mut new =
+            Effect::compile_overrides(&self.settings.chain, self.settings.overrides.clone())?;
+        new.settings.keep_pass_settings(&self.settings);
+        Ok(new)
+    }
+
+    /// The effects of the chain (paths or built-in names), in order.
+    pub fn chain(&self) -> &[String] {
+        &self.settings.chain
     }
 
     /// The sub-pixel jitter the chain asks its input frames to be rendered with
@@ -61,7 +91,8 @@ impl Effect {
     }
 
     /// [`Effect::prepare`] with explicit plan options (e.g. `ReusePolicy::Pool` for
-    /// streams, which keep their textures across frames).
+    /// streams, which keep their textures across frames). The pass parameters
+    /// set with [`Effect::set`] are applied to the prepared effect.
     pub fn prepare_with(
         &mut self,
         engine: &mut Engine,
@@ -72,14 +103,17 @@ impl Effect {
             rendered: d.render(&self.sources),
         })?;
         self.warnings.extend(notes);
-        engine
-            .prepare(&self.graph, p, &mut self.sources)
-            .map_err(|e| match e {
-                ExecError::Rejected(d) => RunError::Rejected {
-                    rendered: d.render(&self.sources),
-                },
-                ExecError::Gpu(g) => RunError::Gpu(g),
-                ExecError::Input(s) => RunError::Other(s),
-            })
+        let mut prepared =
+            engine
+                .prepare(&self.graph, p, &mut self.sources)
+                .map_err(|e| match e {
+                    ExecError::Rejected(d) => RunError::Rejected {
+                        rendered: d.render(&self.sources),
+                    },
+                    ExecError::Gpu(g) => RunError::Gpu(g),
+                    ExecError::Input(s) => RunError::Other(s),
+                })?;
+        self.settings.apply(&mut prepared);
+        Ok(prepared)
     }
 }

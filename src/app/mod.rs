@@ -5,7 +5,8 @@
 //! line over this module; Rust programs may use it or go one layer down to
 //! [`crate::gpu`] (device, transfers, executor) and record frames themselves.
 //!
-//! - [`effect`]: [`Effect`] (compile, prepare); [`in_memory`]: [`apply_in_memory`].
+//! - [`effect`]: [`Effect`] (compile, prepare); [`effect_params`]: [`Effect::set`]
+//!   and [`Change`]; [`in_memory`]: [`apply_in_memory`].
 //! - [`still`]: one image file to one output file ([`apply_to_image`]).
 //! - [`batch`]: independent stills of any size through one process ([`run_batch`]).
 //! - [`sequence`]: frames of one size in order, temporal effects ([`run_sequence`]).
@@ -22,6 +23,8 @@
 
 pub mod batch;
 pub mod effect;
+pub mod effect_params;
+mod effect_settings;
 pub mod error;
 pub mod frames;
 pub mod gbuffer;
@@ -42,6 +45,7 @@ pub mod streams;
 
 pub use batch::{run_batch, BatchItem, BatchOptions};
 pub use effect::Effect;
+pub use effect_params::Change;
 pub use error::RunError;
 pub use gbuffer::write_gbuffer;
 pub use in_memory::apply_in_memory;

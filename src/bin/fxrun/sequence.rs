@@ -2,7 +2,7 @@
 //! `-i in.mkv`), the progress line.
 
 use super::*;
-use fxgraph::app::BatchItem;
+use fxgraph::app::{BatchItem, Change};
 use std::collections::HashMap;
 use streams::{
     check_interrupted, open_input, open_stream_output, skip_whole_file, stream_input,
@@ -203,11 +203,9 @@ pub(crate) fn run_sequence_cli(
     };
     // An HDR input makes the BT.2390 EETF `tonemap`'s default, with the metadata's
     // peak.
-    let mut base_set = cli.set.clone();
-    let mut effects = cli.effects.clone();
     if let Some(h) = &hdr_in {
-        base_set = streams::hdr_tonemap_sets(cli, h.peak_nits());
-        effects = streams::video_tonemap(&cli.effects);
+        let base_set = streams::hdr_tonemap_sets(cli, h.peak_nits());
+        let effects = streams::video_tonemap(&cli.effects);
         if cli.verbose {
             for s in &base_set[cli.set.len()..] {
                 eprintln!("fxrun: note: HDR input: --set {s}");
@@ -228,16 +226,12 @@ pub(crate) fn run_sequence_cli(
             Interlace::BottomFieldFirst => Some("bff"),
             _ => None,
         };
-        let has_param = effect.graph.params.iter().any(|p| p.name == "field_order");
-        let user_set = cli.set.iter().any(|s| {
-            s.split('=')
-                .next()
-                .is_some_and(|k| k.ends_with("field_order"))
-        });
+        let has_param = effect.is_effect_param("field_order");
+        let user_set = effect.overrides().iter().any(|o| o.name() == "field_order");
         if let (Some(order), true, false) = (order, has_param, user_set) {
-            let mut set = base_set.clone();
-            set.push(format!("field_order={order}"));
-            effect = Effect::compile(&effects, &set)?;
+            if let Change::Replan(new) = effect.set(None, "field_order", order)? {
+                effect = *new;
+            }
         }
     }
     let opts = SequenceOptions {

@@ -41,7 +41,7 @@ mod record;
 pub use super::formats::wgpu_format;
 pub use bgra::bgra_twin;
 pub use execution::{default_execution, set_default_execution, Execution};
-pub use params::{ParamError, ParamInfo};
+pub use params::{param_matches, ParamError, ParamInfo};
 pub use pool::PoolStats;
 pub use record::{Prepared, PreparedStats};
 

@@ -63,6 +63,19 @@ fn path_matches(path: &str, wanted: Option<&str>) -> bool {
     }
 }
 
+/// Does `key` (`PASS.NAME`, `glow/blurX.NAME` or a bare `NAME`, as
+/// [`Prepared::set_param`] takes it) name the pass parameter `full`
+/// (`PASS_PATH.NAME`, [`ParamInfo::name`])? The one rule of the library.
+pub fn param_matches(full: &str, key: &str) -> bool {
+    let Some((path, name)) = full.rsplit_once('.') else {
+        return false;
+    };
+    match key.rsplit_once('.') {
+        Some((wanted, n)) => n == name && path_matches(path, Some(wanted)),
+        None => key == name,
+    }
+}
+
 impl Prepared {
     /// The parameters of every pass, with their current values.
     pub fn params(&self) -> Vec<ParamInfo> {

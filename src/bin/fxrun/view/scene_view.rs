@@ -13,7 +13,6 @@
 //! frame per frame shown. Dragging the camera leaves the run's camera (H goes back
 //! to it). Temporal effects (`IN[-1]`, feedback) see each frame as a still.
 
-use super::camera_control::CameraControl;
 use super::fx::Fx;
 use fxgraph::app::scene::{load_scene, render_error, scene_renderer, SceneJob};
 use fxgraph::app::RunError;
@@ -22,6 +21,7 @@ use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::render::renderer::Renderer;
 use fxgraph::render::{FrameMotion, RenderOutput};
 use fxgraph::scene::{Camera, CameraPath, Playback, Pose, Scene};
+use super::camera_control::CameraControl;
 use std::time::{Duration, Instant};
 
 /// The scene's clock.
@@ -240,10 +240,6 @@ impl SceneView {
             output_format: Some(self.output_format),
         };
         let mut prepared = fx.effect_mut()?.prepare_with(engine, &desc, &opts)?;
-        let dropped = fx.after_prepare(&mut prepared);
-        if !dropped.is_empty() {
-            log::info!("parameters no longer in the effect: {}", dropped.join(", "));
-        }
         let inspect = self.prepared.as_ref().and_then(|p| p.inspected_pass());
         if inspect.is_some_and(|i| i < prepared.plan.passes.len()) {
             let _ = prepared.inspect(inspect);
