@@ -39,6 +39,15 @@ const LAYERS: &[(&str, &[&str], bool)] = &[
         ],
         true,
     ),
+    // The reusable parts of the viewer (feature `view`): no files, no window
+    // system, the library's public API.
+    (
+        "view",
+        &[
+            "pixels", "script", "graph", "shader", "lookup", "gpu", "scene", "render", "app",
+        ],
+        false,
+    ),
 ];
 
 fn rust_files(p: &Path, out: &mut Vec<std::path::PathBuf>) {

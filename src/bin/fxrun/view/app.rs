@@ -5,14 +5,14 @@
 use super::commands::{key_command, Command};
 use super::content::Content;
 use super::fx::Fx;
-use super::inspect::Inspect;
-use super::panel_cache::PanelCache;
-use super::present::Presenter;
 use super::reload::Reloader;
 use super::script::Script;
 use super::UserEvent;
 use crate::{Cli, Fail};
 use fxgraph::gpu::executor::Engine;
+use fxgraph::view::inspect::Inspect;
+use fxgraph::view::panel_cache::PanelCache;
+use fxgraph::view::present::Presenter;
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::{Duration, Instant};

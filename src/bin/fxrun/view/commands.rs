@@ -11,7 +11,7 @@ use fxgraph::app::Change;
 use fxgraph::app::Effect;
 use fxgraph::io::SaveOptions;
 use fxgraph::script::types::Format;
-use super::inspect::{aux_range, Target};
+use fxgraph::view::inspect::{aux_range, Target};
 use std::io::BufRead as _;
 use std::path::PathBuf;
 use std::time::Instant;

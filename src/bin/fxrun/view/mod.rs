@@ -20,16 +20,12 @@
 //! Without a display the option fails with a clear message (exit 1).
 
 mod app;
-mod camera_control;
 mod commands;
 mod content;
 mod frame;
 mod fx;
-mod inspect;
 mod panel;
-mod panel_cache;
 mod playback;
-mod present;
 mod reload;
 mod scene_view;
 mod screenshot;

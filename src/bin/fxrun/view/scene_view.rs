@@ -1,5 +1,5 @@
 //! A rendered scene in the viewer: the scene options of a normal run, rendered
-//! with the camera under the mouse ([`super::camera_control`]) at `--size`, or at
+//! with the camera under the mouse ([`fxgraph::view::camera_control`]) at `--size`, or at
 //! the size of the window's image area (resizing renders and plans again). The
 //! effects read the render and its G-buffer (`AUX.*`), which the pass list shows
 //! too.
@@ -21,7 +21,7 @@ use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::render::renderer::Renderer;
 use fxgraph::render::{FrameMotion, RenderOutput};
 use fxgraph::scene::{Camera, CameraPath, Playback, Pose, Scene};
-use super::camera_control::CameraControl;
+use fxgraph::view::camera_control::CameraControl;
 use std::time::{Duration, Instant};
 
 /// The scene's clock.
@@ -246,7 +246,7 @@ impl SceneView {
         }
         prepared.set_gpu_timings(engine, true);
         let o = prepared.plan.output;
-        self.output = Some(super::present::window_output(
+        self.output = Some(fxgraph::view::present::window_output(
             &engine.ctx,
             o.width,
             o.height,
