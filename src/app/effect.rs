@@ -39,8 +39,7 @@ impl Effect {
         effects: &[String],
         overrides: Vec<Override>,
     ) -> Result<Effect, RunError> {
-        let mut req = crate::lookup::DiskEffects::request(effects, &[]);
-        req.overrides = overrides;
+        let req = crate::lookup::DiskEffects::request_with(effects, overrides);
         let (graph, diags, sources) = crate::shader::compile_all(&req);
         match graph {
             Some(graph) if !diags.has_errors() => Ok(Effect {

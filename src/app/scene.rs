@@ -58,7 +58,7 @@ pub struct SceneJob {
     pub technique: Technique,
     /// Effects to run (empty: write the rendered scene itself).
     pub effects: Vec<String>,
-    pub overrides: Vec<String>,
+    pub overrides: Vec<crate::graph::Override>,
     /// `effects` is the default chain: its settings are scaled to the scene
     /// ([`default_chain_settings`]) before `overrides`.
     pub default_chain: bool,
@@ -145,14 +145,17 @@ pub(super) fn prepare(
     let mut effect = if job.effects.is_empty() || job.default_chain {
         None
     } else {
-        Some(Effect::compile(&job.effects, &job.overrides)?)
+        Some(Effect::compile_overrides(
+            &job.effects,
+            job.overrides.clone(),
+        )?)
     };
     let t = Instant::now();
     let (scene, _) = load_scene(job)?;
     if job.default_chain && !job.effects.is_empty() {
-        let mut overrides = default_chain_settings(&scene);
+        let mut overrides = crate::graph::Override::parse_all(&default_chain_settings(&scene));
         overrides.extend(job.overrides.iter().cloned());
-        effect = Some(Effect::compile(&job.effects, &overrides)?);
+        effect = Some(Effect::compile_overrides(&job.effects, overrides)?);
     }
     stats.load_ms = ms(t.elapsed());
     let renderer = scene_renderer(job, &engine.ctx, &scene)?;

@@ -23,7 +23,7 @@ pub(crate) fn run_sequence_cli(
     // Ctrl-C stops the run from here on (the ffmpeg children started below are in
     // their own process group: fxrun ends them).
     let stop = stop_flag();
-    let mut effect = Effect::compile(&cli.effects, &cli.set)?;
+    let mut effect = Effect::compile_overrides(&cli.effects, cli.set.clone())?;
     print_diagnostics(cli, &effect);
     let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
     let range = match &cli.frames {
@@ -214,8 +214,8 @@ pub(crate) fn run_sequence_cli(
                 eprintln!("fxrun: note: HDR input: tonemap runs as tonemap_video (its measured peak smoothed over frames)");
             }
         }
-        if base_set != cli.set || effects != cli.effects {
-            effect = Effect::compile(&effects, &base_set)?;
+        if base_set.len() != cli.set.len() || effects != cli.effects {
+            effect = Effect::compile_overrides(&effects, base_set)?;
         }
     }
     // An interlaced y4m input sets the field order of effects that take one.

@@ -6,7 +6,7 @@
 
 use fxgraph::app::{Change, Effect, RunError};
 use fxgraph::gpu::executor::{ParamInfo, Prepared};
-use fxgraph::graph::{EffectParam, Graph};
+use fxgraph::graph::{EffectParam, Graph, Override};
 use fxgraph::script::types::{format_value, ParamType};
 
 /// The effect being viewed.
@@ -21,12 +21,13 @@ pub(super) struct Fx {
 impl Fx {
     /// Compile `names` with `base` and the command line's `sets` exactly as a
     /// normal run does (its diagnostics are the same).
-    pub fn new(names: &[String], base: &[String], sets: &[String]) -> Result<Fx, RunError> {
+    pub fn new(names: &[String], base: &[String], sets: &[Override]) -> Result<Fx, RunError> {
         let effect = if names.is_empty() {
             None
         } else {
-            let all: Vec<String> = base.iter().chain(sets).cloned().collect();
-            Some(Effect::compile(names, &all)?)
+            let mut all = Override::parse_all(base);
+            all.extend(sets.iter().cloned());
+            Some(Effect::compile_overrides(names, all)?)
         };
         Ok(Fx {
             names: names.to_vec(),
