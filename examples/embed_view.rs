@@ -23,6 +23,9 @@ use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::window::{Window, WindowId};
 
+#[path = "shared/scene.rs"]
+mod scene;
+
 const SIZE: (u32, u32) = (640, 360);
 const PANEL_WIDTH: f32 = 280.0;
 
@@ -59,18 +62,7 @@ fn scene_texture(ctx: &GpuContext) -> wgpu::Texture {
         wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         &[],
     ));
-    let mut texels = Vec::with_capacity((width * height * 4) as usize);
-    for y in 0..height {
-        for x in 0..width {
-            let spot = ((x % 160) as f32 - 80.0).hypot((y % 120) as f32 - 60.0) < 6.0;
-            let v = if spot {
-                8.0
-            } else {
-                0.2 * x as f32 / width as f32
-            };
-            texels.extend([v, v * 0.8, 0.1, 1.0].map(|c| half::f16::from_f32(c).to_bits()));
-        }
-    }
+    let texels = scene::gradient_with_spots(width, height);
     ctx.queue.write_texture(
         texture.as_image_copy(),
         bytemuck::cast_slice(&texels),
