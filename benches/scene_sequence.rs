@@ -158,6 +158,10 @@ fn main() {
         Technique::Deferred => "geometry",
         Technique::LightPrepass => "depth+normals",
         Technique::Forward => "forward",
+        other => {
+            println!("no G-buffer pass known for {other:?}: no motion/skinning ratio");
+            return;
+        }
     };
     if let (Some(g), Some(m)) = (pass(gbuffer), pass("motion (objects)")) {
         println!(

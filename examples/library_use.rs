@@ -16,6 +16,9 @@ use fxgraph::graph::plan::InputDesc;
 use fxgraph::script::types::Format;
 use std::time::Instant;
 
+#[path = "shared/scene.rs"]
+mod scene;
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         // Silences a harmless warning of the Vulkan loader on headless machines.
@@ -49,18 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         &[],
     ));
-    let mut texels = Vec::with_capacity((width * height * 4) as usize);
-    for y in 0..height {
-        for x in 0..width {
-            let spot = ((x % 160) as f32 - 80.0).hypot((y % 120) as f32 - 60.0) < 6.0;
-            let v = if spot {
-                8.0
-            } else {
-                0.2 * x as f32 / width as f32
-            };
-            texels.extend([v, v * 0.8, 0.1, 1.0].map(|c| half::f16::from_f32(c).to_bits()));
-        }
-    }
+    let texels = scene::gradient_with_spots(width, height);
     queue.write_texture(
         input.as_image_copy(),
         bytemuck::cast_slice(&texels),

@@ -20,9 +20,15 @@
 //! - `scene` (feature `gpu`): the scene model without the GPU (meshes, materials as
 //!   data, lights, cameras, the glTF and built-in loaders).
 //! - `render` (feature `gpu`): the deferred / light pre-pass / forward renderer that
-//!   consumes a scene.
+//!   consumes a loaded scene and returns images (no file I/O: nothing from `io`).
 //! - `app` (feature `gpu`): jobs joining sources, the effect on the GPU and sinks;
 //!   one report type. `fxrun` is a command line over it.
+//! - `view` (feature `view`): the reusable parts of `fxrun --view` (the image
+//!   pass, the pass inspector, camera control, the cached egui panel).
+// No printing from the library: messages go through `log` (Cargo.toml's
+// `[lints]` has the rules held on every target).
+#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+
 pub mod graph;
 pub mod lookup;
 pub mod pixels;
@@ -40,3 +46,5 @@ pub mod io;
 pub mod render;
 #[cfg(feature = "gpu")]
 pub mod scene;
+#[cfg(feature = "view")]
+pub mod view;

@@ -31,12 +31,17 @@ pub struct DiskEffects {
 impl DiskEffects {
     /// A compilation of `effects` (paths or names) that reads them from disk.
     pub fn request(effects: &[String], overrides: &[String]) -> CompileRequest {
+        DiskEffects::request_with(effects, crate::graph::Override::parse_all(overrides))
+    }
+
+    /// [`DiskEffects::request`] with overrides parsed already.
+    pub fn request_with(
+        effects: &[String],
+        overrides: Vec<crate::graph::Override>,
+    ) -> CompileRequest {
         CompileRequest {
             effects: effects.to_vec(),
-            overrides: overrides
-                .iter()
-                .map(|a| crate::graph::Override { arg: a.clone() })
-                .collect(),
+            overrides,
             source: Some(Arc::new(DiskEffects::default())),
         }
     }

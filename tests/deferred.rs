@@ -482,7 +482,7 @@ fn gbuffer_files_are_written() {
     let Some(ctx) = gpu() else { return };
     let (_scene, out) = room_deferred(&ctx);
     let dir = tempfile::tempdir().unwrap();
-    let files = fxgraph::render::write_gbuffer(dir.path(), &out, &ctx).unwrap();
+    let files = fxgraph::app::write_gbuffer(dir.path(), &out, &ctx, "builtin:room").unwrap();
     for name in [
         "depth.png",
         "depth.exr",
@@ -556,7 +556,7 @@ fn gltf_scenes_render() {
 #[test]
 #[ignore]
 fn renderer_benchmark() {
-    use fxgraph::render::bench::{run_benchmark, BenchConfig};
+    use common::render_bench::{run_benchmark, BenchConfig};
     let Some(ctx) = gpu() else { return };
     let mut cfg = BenchConfig::default();
     if let Some((w, h)) = bench::size() {

@@ -500,7 +500,7 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
 #[test]
 #[ignore]
 fn variant_benchmark() {
-    use fxgraph::render::variant_bench::run_variant_benchmark;
+    use common::variant_bench::run_variant_benchmark;
     let Some(gpu) = gpu_context() else { return };
     let ctx = &*gpu;
     let (w, h) = bench::size().unwrap_or((1920, 1080));

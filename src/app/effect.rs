@@ -1,47 +1,70 @@
-//! A compiled effect chain ([`Effect`]) and running it on an image in memory
-//! ([`apply_in_memory`]): the library API for Rust programs and tests.
+//! A compiled effect chain ([`Effect`]): the library API for Rust programs and
+//! tests (running it on an image in memory: [`super::apply_in_memory`]).
 //!
-//! - [`Effect::compile`]: compile effects (files or built-in names; no device needed).
+//! - [`Effect::compile`]: compile effects (files or built-in names; no device needed)
+//!   with `--set` overrides, parsed once ([`Override`]).
+//! - [`Effect::set`]: change a parameter (`effect_params.rs`: the one rule for
+//!   the CLI, `--watch`, the viewer and embedders).
 //! - [`Effect::prepare`]: plan it for an input size/format and build its pipelines on
 //!   an [`Engine`] (which may wrap the caller's own device:
 //!   [`crate::gpu::context::GpuContext::from_existing`]).
 
+use super::effect_settings::Settings;
 use super::error::RunError;
-use super::pipeline::{run_frames, Device, Mode, PipelineOptions};
-use super::report::JobKind;
-use super::sources::{MemorySink, MemorySource};
 use crate::gpu::executor::{Engine, ExecError, Prepared};
 use crate::graph::plan::{plan, InputDesc, PlanOptions};
-use crate::graph::Graph;
-use crate::pixels::{Image, Pixels};
+use crate::graph::{Graph, Override};
 use crate::script::types::Format;
 use crate::script::{Diagnostics, SourceMap};
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
 
-/// A compiled effect chain.
+/// A compiled effect chain, with the settings it was compiled with (kept for
+/// [`Effect::set`]).
 pub struct Effect {
     pub graph: Graph,
     pub sources: SourceMap,
     /// Warnings and notes from compiling.
     pub warnings: Diagnostics,
+    pub(super) settings: Settings,
 }
 
 impl Effect {
-    /// Compile a chain of effects (paths or built-in names) with `NAME=VALUE` overrides.
+    /// Compile a chain of effects (paths or built-in names) with `NAME=VALUE`
+    /// overrides (each parsed once, [`Override::parse`]).
     pub fn compile(effects: &[String], overrides: &[String]) -> Result<Effect, RunError> {
-        let req = crate::lookup::DiskEffects::request(effects, overrides);
+        Effect::compile_overrides(effects, Override::parse_all(overrides))
+    }
+
+    /// [`Effect::compile`] with overrides parsed already.
+    pub fn compile_overrides(
+        effects: &[String],
+        overrides: Vec<Override>,
+    ) -> Result<Effect, RunError> {
+        let req = crate::lookup::DiskEffects::request_with(effects, overrides);
         let (graph, diags, sources) = crate::shader::compile_all(&req);
         match graph {
             Some(graph) if !diags.has_errors() => Ok(Effect {
                 graph,
                 sources,
                 warnings: diags,
+                settings: Settings::new(req.effects, req.overrides),
             }),
             _ => Err(RunError::Rejected {
                 rendered: diags.render(&sources),
             }),
         }
+    }
+
+    /// Compile the chain again with the same settings (its files changed).
+    pub fn recompile(&self) -> Result<Effect, RunError> {
+        let mut new =
+            Effect::compile_overrides(&self.settings.chain, self.settings.overrides.clone())?;
+        new.settings.keep_pass_settings(&self.settings);
+        Ok(new)
+    }
+
+    /// The effects of the chain (paths or built-in names), in order.
+    pub fn chain(&self) -> &[String] {
+        &self.settings.chain
     }
 
     /// The sub-pixel jitter the chain asks its input frames to be rendered with
@@ -67,7 +90,8 @@ impl Effect {
     }
 
     /// [`Effect::prepare`] with explicit plan options (e.g. `ReusePolicy::Pool` for
-    /// streams, which keep their textures across frames).
+    /// streams, which keep their textures across frames). The pass parameters
+    /// set with [`Effect::set`] are applied to the prepared effect.
     pub fn prepare_with(
         &mut self,
         engine: &mut Engine,
@@ -78,60 +102,17 @@ impl Effect {
             rendered: d.render(&self.sources),
         })?;
         self.warnings.extend(notes);
-        engine
-            .prepare(&self.graph, p, &mut self.sources)
-            .map_err(|e| match e {
-                ExecError::Rejected(d) => RunError::Rejected {
-                    rendered: d.render(&self.sources),
-                },
-                ExecError::Gpu(g) => RunError::Gpu(g),
-                ExecError::Input(s) => RunError::Other(s),
-            })
+        let mut prepared =
+            engine
+                .prepare(&self.graph, p, &mut self.sources)
+                .map_err(|e| match e {
+                    ExecError::Rejected(d) => RunError::Rejected {
+                        rendered: d.render(&self.sources),
+                    },
+                    ExecError::Gpu(g) => RunError::Gpu(g),
+                    ExecError::Input(s) => RunError::Other(s),
+                })?;
+        self.settings.apply(&mut prepared);
+        Ok(prepared)
     }
-}
-
-/// Apply an effect chain to an in-memory image on `engine`; returns the output
-/// size and pixels read back in `out_format` (rgba8-srgb gives sRGB-encoded U8,
-/// rgba16f/rgba32f give linear F32). A one-frame run of the pipeline
-/// ([`super::pipeline::run_frames`]) from and to memory, exactly as a one-image
-/// `fxrun` run. Used by tests and Rust programs.
-pub fn apply_in_memory(
-    engine: &mut Engine,
-    effects: &[String],
-    overrides: &[String],
-    img: &Image,
-    aux: &[(String, &Image)],
-    out_format: Format,
-    assume_linear: bool,
-) -> Result<(u32, u32, Pixels), RunError> {
-    let mut effect = Effect::compile(effects, overrides)?;
-    let source = MemorySource::new(vec![img.clone()])
-        .with_aux(aux.iter().map(|(n, a)| (n.clone(), (*a).clone())).collect());
-    let sink = MemorySink::default();
-    let frames = sink.frames();
-    let opts = PipelineOptions {
-        mode: Mode::Stills,
-        job: JobKind::Image,
-        output_format: out_format,
-        assume_linear,
-        queue: 1,
-        ..Default::default()
-    };
-    let mut report = run_frames(
-        Device::Engine(engine),
-        &mut effect,
-        Box::new(source),
-        Box::new(sink),
-        &opts,
-        Arc::new(AtomicBool::new(false)),
-        |_| {},
-    )?;
-    if let Some(f) = report.failed.drain(..).next() {
-        return Err(f.error);
-    }
-    let mut frames = frames.lock().unwrap_or_else(|e| e.into_inner());
-    let (_, width, height, pixels) = frames
-        .pop()
-        .ok_or_else(|| RunError::Other("the run wrote no frame".into()))?;
-    Ok((width, height, pixels))
 }

@@ -8,6 +8,7 @@ use crate::io::IoError;
 /// effect, a file, an argument) from a fault of the system (I/O, GPU, internal);
 /// what that means for an exit status is the application's business.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RunError {
     /// The effect, its shaders or a `--set` were rejected (diagnostics rendered).
     #[error("{rendered}")]

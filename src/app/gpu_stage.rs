@@ -4,8 +4,9 @@
 
 use super::effect::Effect;
 use super::error::RunError;
-use super::pipeline::{Decoded, Encoded, Mode, PipelineOptions};
+use super::pipeline_options::{Mode, PipelineOptions};
 use super::report::{ms, FrameFailure, MemoryReport, Progress, RunReport};
+use super::stage_messages::{Decoded, Encoded};
 use crate::gpu::context::PendingReadback;
 use crate::gpu::executor::{wgpu_format, Engine, FrameInputs, Prepared};
 use crate::gpu::stream::Stream;

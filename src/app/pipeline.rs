@@ -28,12 +28,13 @@ use super::effect::Effect;
 use super::error::RunError;
 pub use super::frames::{FrameSink, FrameSource, OutputFrame, SideLimit, SourceFrame};
 use super::gpu_stage::GpuStage;
-use super::report::{ms, FrameDone, FrameFailure, JobKind, Progress, RunReport};
-use crate::gpu::context::{AdapterChoice, GpuContext, PendingReadback};
-use crate::gpu::executor::{CameraStd, Engine};
+pub use super::pipeline_options::{Mode, PipelineOptions};
+use super::report::{ms, FrameDone, FrameFailure, Progress, RunReport};
+use super::stage_messages::{Decoded, Encoded};
+use crate::gpu::context::{AdapterChoice, GpuContext};
+use crate::gpu::executor::Engine;
 use crate::gpu::transfer::pixels_from_bytes;
-use crate::io::{Image, IoError};
-use crate::script::types::Format;
+use crate::io::IoError;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::sync_channel;
 use std::sync::Arc;
@@ -45,88 +46,6 @@ pub enum Device<'a> {
     Engine(&'a mut Engine),
     /// Create one (on a thread, while the first frames are decoded).
     Create(&'a AdapterChoice),
-}
-
-/// How frames relate (see the module documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    Stills,
-    Sequence,
-}
-
-/// Options of [`run_frames`].
-#[derive(Debug, Clone)]
-pub struct PipelineOptions {
-    pub mode: Mode,
-    /// The kind of job, for the report.
-    pub job: JobKind,
-    /// Texture format of the outputs (rgba8-srgb for 8-bit files, rgba16f/32f for EXR).
-    pub output_format: Format,
-    /// Per frame number, when outputs differ in file type (a batch to several
-    /// formats); frames past its end use `output_format`.
-    pub output_formats: Vec<Format>,
-    pub assume_linear: bool,
-    /// Outputs per input frame (2: field-rate deinterlacing). Sequences only.
-    pub rate: u32,
-    pub fps: f64,
-    /// Input frame numbers whose outputs are written (a shard); frames outside it are
-    /// read only as context. `None`: all. Sequences only.
-    pub emit: Option<(u64, u64)>,
-    /// Standard camera values for the effect (a rendered input).
-    pub camera: Option<CameraStd>,
-    /// Stills: go on after a failed frame (the default is to stop at the first one).
-    pub keep_going: bool,
-    /// Depth of each queue between stages.
-    pub queue: usize,
-    pub timings: bool,
-}
-
-impl Default for PipelineOptions {
-    fn default() -> Self {
-        PipelineOptions {
-            mode: Mode::Sequence,
-            job: JobKind::Sequence,
-            output_format: Format::Rgba8Srgb,
-            output_formats: Vec::new(),
-            assume_linear: false,
-            rate: 1,
-            fps: 25.0,
-            emit: None,
-            camera: None,
-            keep_going: false,
-            queue: 3,
-            timings: false,
-        }
-    }
-}
-
-impl PipelineOptions {
-    pub(super) fn format_for(&self, number: u64) -> Format {
-        usize::try_from(number)
-            .ok()
-            .and_then(|i| self.output_formats.get(i).copied())
-            .unwrap_or(self.output_format)
-    }
-}
-
-/// A decoded frame on its way to the GPU: position, number, name, frame, decode time.
-pub(super) type Decoded = (
-    usize,
-    u64,
-    String,
-    Result<(Image, Vec<(String, Image)>), IoError>,
-    Duration,
-);
-
-/// A read-back on its way to the encoder.
-pub(super) struct Encoded {
-    pub(super) index: usize,
-    pub(super) number: u64,
-    pub(super) name: String,
-    pub(super) pending: PendingReadback,
-    pub(super) format: Format,
-    pub(super) gpu: Option<Duration>,
-    pub(super) decode: Option<Duration>,
 }
 
 /// What the encode thread hands back: busy and wait times, the frames written, the

@@ -9,6 +9,7 @@ use std::time::Duration;
 /// The kind of job a [`RunReport`] describes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
+#[non_exhaustive]
 pub enum JobKind {
     /// One image file to one output file.
     #[default]

@@ -5,13 +5,15 @@
 use super::effect::Effect;
 use super::error::RunError;
 use super::report::{ms, FrameDone, JobKind, MemoryReport, RunReport, SceneStats};
+pub use super::scene_errors::render_error;
+pub(super) use super::scene_errors::{environment_error, scene_error};
 use super::still::output_format_for;
 use crate::gpu::executor::{Engine, FrameInputs};
 use crate::gpu::transfer::{create_output, read_pixels};
 use crate::graph::plan::InputDesc;
 use crate::io::{self, IoError, SaveOptions};
-use crate::render::renderer::{RenderError, RenderStats, Renderer, RendererOptions, Technique};
-use crate::scene::{Camera, Scene, SceneError};
+use crate::render::renderer::{RenderStats, Renderer, RendererOptions, Technique};
+use crate::scene::{Camera, Scene};
 use crate::script::types::{ColorSpace, Format};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -56,7 +58,7 @@ pub struct SceneJob {
     pub technique: Technique,
     /// Effects to run (empty: write the rendered scene itself).
     pub effects: Vec<String>,
-    pub overrides: Vec<String>,
+    pub overrides: Vec<crate::graph::Override>,
     /// `effects` is the default chain: its settings are scaled to the scene
     /// ([`default_chain_settings`]) before `overrides`.
     pub default_chain: bool,
@@ -90,54 +92,6 @@ pub struct SceneJob {
     pub environment: Option<crate::scene::Environment>,
     /// What pixels without geometry show (`None`: the scene's colour).
     pub background: Option<crate::scene::Background>,
-}
-
-/// A scene error as an input error naming the file (the glTF file, or the `--scene`
-/// argument where there is none).
-pub(super) fn scene_error(scene: &str, e: SceneError) -> RunError {
-    let (path, message) = match e {
-        SceneError::Gltf { path, message } => (path, message),
-        SceneError::Empty(name) => (name, "the scene has no triangles to draw".to_string()),
-        SceneError::TooManyMaterials { name, count } => (
-            name,
-            format!(
-                "{count} materials, at most {} are supported (8-bit material id)",
-                crate::scene::MAX_MATERIALS
-            ),
-        ),
-        other => (scene.to_string(), other.to_string()),
-    };
-    RunError::BadInput(IoError::Decode {
-        path: PathBuf::from(path),
-        message,
-    })
-}
-
-/// A renderer error as a run error (a scene or material problem is an input error).
-pub fn render_error(scene: &str, e: RenderError) -> RunError {
-    match e {
-        RenderError::Gpu(g) => RunError::Gpu(g),
-        RenderError::Scene(s) => scene_error(scene, s),
-        RenderError::Io(i) => RunError::from(i),
-        RenderError::Invalid(m) => RunError::BadInput(IoError::Unsupported {
-            path: PathBuf::from(scene),
-            message: m,
-        }),
-        RenderError::Material(rendered) => RunError::Rejected { rendered },
-        RenderError::Environment(e) => environment_error(e),
-    }
-}
-
-fn environment_error(e: crate::scene::EnvironmentError) -> RunError {
-    use crate::scene::EnvironmentError as E;
-    match e {
-        E::Io(io) => RunError::from(io),
-        E::Invalid { path, message } => RunError::BadInput(IoError::Decode {
-            path: PathBuf::from(path),
-            message,
-        }),
-        E::Spec(message) => RunError::Rejected { rendered: message },
-    }
 }
 
 impl SceneJob {
@@ -191,14 +145,17 @@ pub(super) fn prepare(
     let mut effect = if job.effects.is_empty() || job.default_chain {
         None
     } else {
-        Some(Effect::compile(&job.effects, &job.overrides)?)
+        Some(Effect::compile_overrides(
+            &job.effects,
+            job.overrides.clone(),
+        )?)
     };
     let t = Instant::now();
     let (scene, _) = load_scene(job)?;
     if job.default_chain && !job.effects.is_empty() {
-        let mut overrides = default_chain_settings(&scene);
+        let mut overrides = crate::graph::Override::parse_all(&default_chain_settings(&scene));
         overrides.extend(job.overrides.iter().cloned());
-        effect = Some(Effect::compile(&job.effects, &overrides)?);
+        effect = Some(Effect::compile_overrides(&job.effects, overrides)?);
     }
     stats.load_ms = ms(t.elapsed());
     let renderer = scene_renderer(job, &engine.ctx, &scene)?;
@@ -356,7 +313,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     report.stages.decode_busy_ms = stats.load_ms + stats.render_cpu_ms;
     report.scene = Some(stats);
     if let Some(dir) = &job.gbuffer {
-        crate::render::write_gbuffer(dir, &out, &ctx).map_err(|e| render_error(&job.scene, e))?;
+        super::gbuffer::write_gbuffer(dir, &out, &ctx, &job.scene)?;
     }
     let Some(path) = &job.output else {
         report.wall_ms = ms(t_all.elapsed());

@@ -14,9 +14,10 @@
 use super::effect::Effect;
 use super::error::RunError;
 use super::frames::FrameSink;
-use super::pipeline::{spawn_encoder, Encoded};
+use super::pipeline::spawn_encoder;
 use super::report::{ms, JobKind, MemoryReport, Progress, RunReport};
 use super::scene::{prepare, SceneJob};
+use super::stage_messages::Encoded;
 use crate::gpu::executor::Engine;
 use crate::gpu::stream::{FrameExtras, Stream};
 use crate::graph::plan::{PlanOptions, ReusePolicy};
@@ -207,8 +208,8 @@ pub fn run_scene_sequence(
         // `--time` with `--gbuffer`: the one output frame's G-buffer, its motion
         // vectors those of the previous frame time
         if let (Some(dir), true) = (&job.gbuffer, n == first && first == last) {
-            if let Err(e) = crate::render::write_gbuffer(dir, &out, &engine.ctx) {
-                fatal = Some(super::scene::render_error(&job.scene, e));
+            if let Err(e) = super::gbuffer::write_gbuffer(dir, &out, &engine.ctx, &job.scene) {
+                fatal = Some(e);
                 break;
             }
         }

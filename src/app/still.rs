@@ -54,7 +54,7 @@ pub fn output_format_for(
 #[derive(Debug, Clone, Default)]
 pub struct ImageJob {
     pub effects: Vec<String>,
-    pub overrides: Vec<String>,
+    pub overrides: Vec<crate::graph::Override>,
     pub input: PathBuf,
     pub output: PathBuf,
     pub bit_depth: Option<u8>,
@@ -117,7 +117,7 @@ pub fn apply_to_image(
     adapter: &AdapterChoice,
 ) -> Result<RunReport, RunError> {
     let t = Instant::now();
-    let mut effect = Effect::compile(&job.effects, &job.overrides)?;
+    let mut effect = Effect::compile_overrides(&job.effects, job.overrides.clone())?;
     let compile_ms = ms(t.elapsed());
     // Fail on the output path before doing the work.
     let out_format = output_format_for(&job.output, job.bit_depth, job.assume_linear)?;

@@ -309,7 +309,7 @@ fn run(cli: Cli) -> Result<(), Fail> {
             "no effect given (try `fxrun --list`, or `fxrun --help`)",
         ));
     }
-    let req = fxgraph::lookup::DiskEffects::request(&cli.effects, &cli.set);
+    let req = fxgraph::lookup::DiskEffects::request_with(&cli.effects, cli.set.clone());
     let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
     if analysis {
         let (graph, diags, mut sources) = fxgraph::shader::compile_all(&req);

@@ -5,6 +5,7 @@
 pub mod bindings;
 pub mod context;
 pub mod executor;
+pub mod formats;
 pub mod fullscreen;
 pub mod stream;
 pub mod transfer;

@@ -3,7 +3,7 @@
 //! pixels out; files are the application's (`crate::app`).
 
 use super::context::{GpuContext, GpuError};
-use super::executor::wgpu_format;
+use super::formats::wgpu_format;
 use crate::pixels::{Image, Pixels};
 use crate::script::types::{ColorSpace, Format};
 use std::borrow::Cow;

@@ -4,11 +4,13 @@
 pub mod dot;
 pub mod library;
 mod lower;
+mod overrides;
 pub mod plan;
 mod salvage;
 pub mod source;
 
-pub use lower::{compile, compile_report, CompileReport, CompileRequest, Override};
+pub use lower::{compile, compile_report, CompileReport, CompileRequest};
+pub use overrides::{Override, SetValue};
 pub use plan::{InputDesc, Plan, PlanOptions, ReusePolicy, Step};
 pub use salvage::ShaderReference;
 pub use source::{Builtins, EffectSource};

@@ -40,6 +40,7 @@ impl Found {
 
 /// Why an `INCLUDE` was not served.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum IncludeError {
     /// Refused by the confinement rules; the file was not read. The message
     /// completes "cannot include `TARGET`: ...".

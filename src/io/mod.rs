@@ -95,6 +95,7 @@ pub struct SaveOptions {
 
 /// Errors of the image file layer. Every message names the path.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum IoError {
     /// File missing / unreadable / unwritable (exit code 2 in the CLI).
     #[error("{}: {source}", shown(path))]

@@ -6,13 +6,12 @@ use crate::scene::SceneError;
 
 /// Errors of rendering.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RenderError {
     #[error(transparent)]
     Gpu(#[from] GpuError),
     #[error(transparent)]
     Scene(#[from] SceneError),
-    #[error(transparent)]
-    Io(#[from] crate::io::IoError),
     /// Something about the request itself (size, texture too large, ...).
     #[error("{0}")]
     Invalid(String),

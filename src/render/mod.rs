@@ -32,9 +32,8 @@
 //!   prefiltered on the GPU (GGX specular levels, irradiance, DFG table), the
 //!   environment term of every material and the background.
 //! - [`normal`]: the two-channel normal encodings (octahedral, spheremap) on the CPU.
-//! - [`gbuffer`]: [`write_gbuffer`], every G-buffer image as viewable files.
-//! - [`bench`]: the technique benchmark (frame times vs light count);
-//!   [`variant_bench`]: the material variant-mode benchmark.
+//! - [`gbuffer`]: [`gbuffer_images`], every G-buffer image as a viewable image
+//!   (`crate::app` writes them as files for `--gbuffer`).
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -51,7 +50,6 @@
 //! # let _ = (out, stats); Ok(()) }
 //! ```
 
-pub mod bench;
 mod camera_std;
 mod cli_names;
 mod cluster_gpu;
@@ -82,11 +80,10 @@ pub mod shadows;
 pub mod targets;
 mod technique;
 mod upload;
-pub mod variant_bench;
 mod wgsl_check;
 
 pub use camera_std::camera_std;
-pub use gbuffer::write_gbuffer;
+pub use gbuffer::{gbuffer_images, GbufferImage};
 pub use normal::NormalEncoding;
 pub use output::published_aux;
 pub use renderer::{

@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 
 /// How a unit normal is stored in two unorm channels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub enum NormalEncoding {
     /// Octahedral mapping (Meyer et al. 2010): the sphere folded onto the
     /// octahedron and unfolded into the unit square. Uniform-ish error everywhere.

@@ -7,7 +7,7 @@ use crate::script::types::Format;
 use std::collections::HashMap;
 
 /// The G-buffer and light buffers of the last frame (for inspection and
-/// [`super::write_gbuffer`]).
+/// [`super::gbuffer_images`]).
 #[derive(Debug, Clone)]
 pub struct GBufferTextures {
     /// `Depth32Float` (0 near .. 1 far; 1 = no geometry).

@@ -24,6 +24,7 @@ use glam::{Mat4, Vec3, Vec4};
 
 /// How shadows are filtered (or whether there are any).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum ShadowMode {
     /// No shadow maps: every light reaches every point (the renderer before
     /// shadows).

@@ -5,6 +5,7 @@ use std::str::FromStr;
 
 /// How a frame is shaded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum Technique {
     /// Deferred shading with the compressed G-buffer and light volumes (Tang et al.).
     #[default]

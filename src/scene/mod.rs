@@ -5,7 +5,8 @@
 //! material files in the EFFECT language). Everything here is plain data tested on
 //! the CPU like `script` and `graph`; the renderer (`crate::render`) consumes it.
 //!
-//! - [`model`]: [`Scene`], [`Mesh`], [`Instance`], [`TextureImage`], bounds.
+//! - [`model`]: [`Scene`], [`Mesh`], [`Instance`], [`TextureImage`], bounds;
+//!   [`Scene::load`] (`load.rs`) picks the loader; [`error`]: [`SceneError`].
 //! - [`camera`]: [`Camera`] and the `--camera` specs; [`light`]: [`Light`];
 //!   [`material`]: [`Material`] (a surface + a lighting shader binding).
 //! - [`environment`]: the light of the world around a scene ([`Environment`]: an
@@ -23,8 +24,10 @@ pub mod builtin;
 pub mod camera;
 pub mod camera_path;
 pub mod environment;
+pub mod error;
 pub mod gltf;
 pub mod light;
+mod load;
 pub mod material;
 pub mod material_file;
 pub mod model;

@@ -9,41 +9,11 @@
 
 pub use super::animation::{Animation, Skin};
 pub use super::camera::{look_to_rh, perspective_rh, Camera, NamedCamera};
+pub use super::error::{SceneError, MAX_MATERIALS};
 pub use super::light::{Light, LightKind, ATTENUATION_THRESHOLD};
 pub use super::material::{roughness_from_shininess, AlphaMode, Material, ShaderBinding};
 pub use super::node::Node;
 use glam::{Mat4, Vec2, Vec3, Vec4};
-
-/// Most materials a scene may have: the material id is stored in 8 bits.
-pub const MAX_MATERIALS: usize = 256;
-
-/// Errors of building, loading or querying a scene.
-#[derive(Debug, thiserror::Error)]
-pub enum SceneError {
-    /// A glTF file could not be loaded; the message says why.
-    #[error("{path}: {message}")]
-    Gltf { path: String, message: String },
-    /// `builtin:NAME` with an unknown NAME.
-    #[error("unknown built-in scene `{0}` (available: builtin:room, builtin:bench)")]
-    UnknownBuiltin(String),
-    /// A `--camera` spec that does not parse or names no camera.
-    #[error("camera `{spec}`: {message}")]
-    Camera { spec: String, message: String },
-    /// The scene has nothing to draw.
-    #[error("{0}: the scene has no triangles to draw")]
-    Empty(String),
-    /// More than [`MAX_MATERIALS`] materials.
-    #[error(
-        "{name}: {count} materials, at most {MAX_MATERIALS} are supported (8-bit material id)"
-    )]
-    TooManyMaterials { name: String, count: usize },
-    /// An `--animation` choice that names no animation of the scene.
-    #[error("animation `{spec}`: {message}")]
-    Playback { spec: String, message: String },
-    /// Nodes, skins, morph targets or animations that do not fit together.
-    #[error("{name}: {message}")]
-    Animation { name: String, message: String },
-}
 
 /// Axis-aligned bounding box.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -357,20 +327,6 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Loads `builtin:room`, `builtin:bench`, or a `.gltf` / `.glb` file.
-    ///
-    /// A scene without lights gets [`Scene::default_lights`].
-    pub fn load(source: &str) -> Result<Scene, SceneError> {
-        let mut scene = if let Some(name) = source.strip_prefix("builtin:") {
-            super::builtin::builtin(name)?
-        } else {
-            super::gltf::load_gltf(std::path::Path::new(source))?
-        };
-        scene.ensure_lights();
-        scene.validate()?;
-        Ok(scene)
-    }
-
     /// Whether instance `i` changes shape over time (a skin, or morph targets):
     /// the renderer gives it vertices of its own, rewritten per frame from
     /// [`crate::scene::Pose::deformed_mesh`].

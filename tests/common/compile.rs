@@ -12,10 +12,7 @@ pub fn compile_chain(effects: &[String], sets: &[&str]) -> (Option<Graph>, Diagn
     compile(&CompileRequest {
         source: Some(std::sync::Arc::new(fxgraph::lookup::DiskEffects::default())),
         effects: effects.to_vec(),
-        overrides: sets
-            .iter()
-            .map(|a| Override { arg: a.to_string() })
-            .collect(),
+        overrides: sets.iter().map(|a| Override::parse(a)).collect(),
     })
 }
 

@@ -11,6 +11,7 @@ pub mod gltf_gen;
 pub mod ibl;
 pub mod layers;
 pub mod raster;
+pub mod render_bench;
 pub mod renders;
 pub mod rng;
 pub mod samples;
@@ -18,6 +19,7 @@ pub mod scenes;
 pub mod skinned_scene;
 pub mod stream;
 pub mod tools;
+pub mod variant_bench;
 pub mod video;
 pub mod viewer;
 

@@ -74,7 +74,7 @@ pub(crate) struct Cli {
     pub(crate) verbose: bool,
     /// Set a parameter: NAME=VALUE (effect), EFFECT.NAME=VALUE, or PASS.NAME=VALUE.
     #[arg(help_heading = COMMON, long = "set", value_name = "NAME=VALUE")]
-    pub(crate) set: Vec<String>,
+    pub(crate) set: Vec<fxgraph::graph::Override>,
     /// An auxiliary input image: NAME=FILE (read by AUX.NAME).
     #[arg(help_heading = IMAGES, long = "aux", value_name = "NAME=FILE")]
     pub(crate) aux: Vec<String>,

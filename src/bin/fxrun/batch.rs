@@ -63,7 +63,7 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
     }
     // A batch reads and writes image files: no stream colour options apply.
     super::streams::check_color_options(cli, false, false)?;
-    let mut effect = Effect::compile(&cli.effects, &cli.set)?;
+    let mut effect = Effect::compile_overrides(&cli.effects, cli.set.clone())?;
     let g = &effect.graph;
     if g.history > 0 || g.latency > 0 || g.has_feedback() {
         if specs.len() == 1 {

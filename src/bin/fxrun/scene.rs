@@ -128,8 +128,7 @@ pub(crate) fn scene_job(
     } else {
         cli.effects.clone()
     };
-    let mut overrides: Vec<String> = Vec::new();
-    overrides.extend(cli.set.iter().cloned());
+    let overrides = cli.set.clone();
     let job = SceneJob {
         scene: cli.scene.clone().unwrap_or_else(|| "builtin:room".into()),
         width,

@@ -2,7 +2,7 @@
 //! `-i in.mkv`), the progress line.
 
 use super::*;
-use fxgraph::app::BatchItem;
+use fxgraph::app::{BatchItem, Change};
 use std::collections::HashMap;
 use streams::{
     check_interrupted, open_input, open_stream_output, skip_whole_file, stream_input,
@@ -23,7 +23,7 @@ pub(crate) fn run_sequence_cli(
     // Ctrl-C stops the run from here on (the ffmpeg children started below are in
     // their own process group: fxrun ends them).
     let stop = stop_flag();
-    let mut effect = Effect::compile(&cli.effects, &cli.set)?;
+    let mut effect = Effect::compile_overrides(&cli.effects, cli.set.clone())?;
     print_diagnostics(cli, &effect);
     let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
     let range = match &cli.frames {
@@ -203,11 +203,9 @@ pub(crate) fn run_sequence_cli(
     };
     // An HDR input makes the BT.2390 EETF `tonemap`'s default, with the metadata's
     // peak.
-    let mut base_set = cli.set.clone();
-    let mut effects = cli.effects.clone();
     if let Some(h) = &hdr_in {
-        base_set = streams::hdr_tonemap_sets(cli, h.peak_nits());
-        effects = streams::video_tonemap(&cli.effects);
+        let base_set = streams::hdr_tonemap_sets(cli, h.peak_nits());
+        let effects = streams::video_tonemap(&cli.effects);
         if cli.verbose {
             for s in &base_set[cli.set.len()..] {
                 eprintln!("fxrun: note: HDR input: --set {s}");
@@ -216,8 +214,8 @@ pub(crate) fn run_sequence_cli(
                 eprintln!("fxrun: note: HDR input: tonemap runs as tonemap_video (its measured peak smoothed over frames)");
             }
         }
-        if base_set != cli.set || effects != cli.effects {
-            effect = Effect::compile(&effects, &base_set)?;
+        if base_set.len() != cli.set.len() || effects != cli.effects {
+            effect = Effect::compile_overrides(&effects, base_set)?;
         }
     }
     // An interlaced y4m input sets the field order of effects that take one.
@@ -228,16 +226,12 @@ pub(crate) fn run_sequence_cli(
             Interlace::BottomFieldFirst => Some("bff"),
             _ => None,
         };
-        let has_param = effect.graph.params.iter().any(|p| p.name == "field_order");
-        let user_set = cli.set.iter().any(|s| {
-            s.split('=')
-                .next()
-                .is_some_and(|k| k.ends_with("field_order"))
-        });
+        let has_param = effect.is_effect_param("field_order");
+        let user_set = effect.overrides().iter().any(|o| o.name() == "field_order");
         if let (Some(order), true, false) = (order, has_param, user_set) {
-            let mut set = base_set.clone();
-            set.push(format!("field_order={order}"));
-            effect = Effect::compile(&effects, &set)?;
+            if let Change::Replan(new) = effect.set(None, "field_order", order)? {
+                effect = *new;
+            }
         }
     }
     let opts = SequenceOptions {

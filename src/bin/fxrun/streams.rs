@@ -6,6 +6,7 @@ use super::*;
 use fxgraph::app::{
     open_output, OpenedInput, OpenedOutput, OutputSettings, StreamInput, StreamOutput,
 };
+use fxgraph::graph::Override;
 use fxgraph::io::color_option::{ColorOverride, OutputColor};
 use fxgraph::io::video::HdrMetadata;
 use fxgraph::io::video::{MediaSource, VideoInfo};
@@ -95,23 +96,17 @@ pub(crate) fn check_color_options(
 /// The HDR defaults of `tonemap` for an HDR input: the BT.2390 EETF unless an
 /// operator was set, and the source peak from the metadata (else measured per
 /// frame). Returns the `--set` list to compile the effects with.
-pub(crate) fn hdr_tonemap_sets(cli: &Cli, peak: Option<f32>) -> Vec<String> {
+pub(crate) fn hdr_tonemap_sets(cli: &Cli, peak: Option<f32>) -> Vec<Override> {
     let mut set = cli.set.clone();
     if !has_tonemap(cli) {
         return set;
     }
-    let given = |key: &str| {
-        cli.set.iter().any(|s| {
-            s.split('=')
-                .next()
-                .is_some_and(|k| k == key || k.ends_with(&format!(".{key}")))
-        })
-    };
+    let given = |key: &str| cli.set.iter().any(|o| o.name() == key);
     if !given("operator") {
-        set.push("tonemap.operator=bt2390".into());
+        set.push(Override::parse("tonemap.operator=bt2390"));
     }
     if let (false, Some(p)) = (given("source_peak"), peak) {
-        set.push(format!("tonemap.source_peak={p}"));
+        set.push(Override::parse(&format!("tonemap.source_peak={p}")));
     }
     set
 }

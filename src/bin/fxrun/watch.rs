@@ -298,7 +298,7 @@ pub(crate) fn wait_for_change(
 /// The files a run reads that a change should re-run it for, as absolute paths with
 /// canonical folders (as the events name them). The output is never among them.
 pub(crate) fn watched_files(cli: &Cli) -> Vec<PathBuf> {
-    let req = fxgraph::lookup::DiskEffects::request(&cli.effects, &cli.set);
+    let req = fxgraph::lookup::DiskEffects::request_with(&cli.effects, cli.set.clone());
     let (graph, _, mut sources) = compile(&req);
     if let Some(graph) = graph {
         // The shaders the plan's passes use (no GPU needed), at the input's size.

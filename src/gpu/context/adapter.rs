@@ -6,6 +6,7 @@ use std::str::FromStr;
 
 /// Which adapter [`GpuContext::new`] uses.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum AdapterChoice {
     /// A real discrete/integrated GPU first, then Vulkan on the CPU (lavapipe), then GL.
     #[default]

@@ -29,6 +29,7 @@ const MAP_TIMEOUT: Duration = Duration::from_secs(120);
 
 /// Errors of the device layer.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum GpuError {
     /// No adapter at all on the enabled backends.
     #[error("no GPU adapter found (backends tried: {tried}); set WGPU_BACKEND to choose others")]

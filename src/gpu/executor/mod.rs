@@ -38,9 +38,10 @@ pub struct LibraryDoc;
 mod prepare;
 mod record;
 
+pub use super::formats::wgpu_format;
 pub use bgra::bgra_twin;
 pub use execution::{default_execution, set_default_execution, Execution};
-pub use params::{ParamError, ParamInfo};
+pub use params::{param_matches, ParamError, ParamInfo};
 pub use pool::PoolStats;
 pub use record::{Prepared, PreparedStats};
 
@@ -58,6 +59,7 @@ use std::sync::Arc;
 
 /// Errors of preparing or running an effect.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ExecError {
     /// The script or a shader was rejected: render the diagnostics with the sources.
     #[error("{} error(s) in the effect or its shaders", .0.error_count())]
@@ -68,23 +70,6 @@ pub enum ExecError {
     /// wrong output format, a view where a texture is needed).
     #[error("{0}")]
     Input(String),
-}
-
-/// The wgpu format of a script format.
-pub fn wgpu_format(f: Format) -> wgpu::TextureFormat {
-    use wgpu::TextureFormat as T;
-    match f {
-        Format::Rgba8 => T::Rgba8Unorm,
-        Format::Rgba8Srgb => T::Rgba8UnormSrgb,
-        Format::Rgba16f => T::Rgba16Float,
-        Format::Rgba32f => T::Rgba32Float,
-        Format::Rgb10a2 => T::Rgb10a2Unorm,
-        Format::R8 => T::R8Unorm,
-        Format::R16f => T::R16Float,
-        Format::R32f => T::R32Float,
-        Format::Rg16f => T::Rg16Float,
-        Format::Rg32f => T::Rg32Float,
-    }
 }
 
 /// The format a texture of `f` is viewed in for `view` (`None`: its own).

@@ -10,6 +10,7 @@ use crate::shader::{check_member_value, ValueMismatch};
 
 /// Why [`Prepared::set_param`] refused a value. Nothing is changed on an error.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ParamError {
     /// No pass of the effect has this parameter.
     #[error("no pass parameter `{name}`{}", .suggestion.as_ref().map(|s| format!(" (did you mean `{s}`?)")).unwrap_or_default())]
@@ -59,6 +60,19 @@ fn path_matches(path: &str, wanted: Option<&str>) -> bool {
     match wanted {
         None => true,
         Some(w) => path == w || path.rsplit('/').next() == Some(w),
+    }
+}
+
+/// Does `key` (`PASS.NAME`, `glow/blurX.NAME` or a bare `NAME`, as
+/// [`Prepared::set_param`] takes it) name the pass parameter `full`
+/// (`PASS_PATH.NAME`, [`ParamInfo::name`])? The one rule of the library.
+pub fn param_matches(full: &str, key: &str) -> bool {
+    let Some((path, name)) = full.rsplit_once('.') else {
+        return false;
+    };
+    match key.rsplit_once('.') {
+        Some((wanted, n)) => n == name && path_matches(path, Some(wanted)),
+        None => key == name,
     }
 }
 

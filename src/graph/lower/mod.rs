@@ -3,12 +3,12 @@
 //! cycles reported, unused passes culled and the passes scheduled.
 
 use super::library::Loader;
+use super::overrides::{Override, SetValue};
 use super::*;
 use crate::script::ast::{
     self, convert_arg, DefineArg, EffectDef, OutRef, ParamArg, PassKind, Source,
 };
 use crate::script::jitter::JitterPattern;
-use crate::script::parse::{parse_value, RawValue};
 use crate::script::types::{ColorSpace, Format, ParamType, Value};
 use crate::script::{Diagnostic, Diagnostics, Span, Spanned};
 use petgraph::visit::EdgeRef;
@@ -35,14 +35,6 @@ pub struct CompileRequest {
     pub source: Option<std::sync::Arc<dyn super::EffectSource>>,
 }
 
-/// `--set TARGET=VALUE`: TARGET is an effect parameter (`sigma`, `glow.strength`)
-/// or a pass parameter (`blurX.radius`, `glow/blurX.radius`).
-#[derive(Debug, Clone)]
-pub struct Override {
-    /// The whole argument, `TARGET=VALUE` (shown in diagnostics).
-    pub arg: String,
-}
-
 /// A reference to an image during lowering.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum SourceRef {
@@ -56,7 +48,7 @@ pub(super) struct ParsedOverride {
     /// Node path (`glow/blurX`, `glow`) or empty for a bare name.
     pub(super) path: String,
     pub(super) name: String,
-    value: Spanned<RawValue>,
+    value: Spanned<Option<SetValue>>,
     pub(super) key_span: Span,
     used: bool,
     /// Matched an effect parameter: not a pass parameter too (an effect `fog` may
@@ -243,69 +235,38 @@ fn parse_overrides(
 ) -> Vec<ParsedOverride> {
     let mut out = Vec::new();
     for o in list {
-        let file = loader.sources.add("--set", o.arg.clone());
-        let Some(eq) = o.arg.find('=') else {
-            diags.push(
-                Diagnostic::error(format!("`--set {}` needs a value", o.arg))
-                    .at(Span::new(file, 0, o.arg.len()), "expected NAME=VALUE"),
-            );
-            continue;
-        };
-        let target = &o.arg[..eq];
-        let (path, name) = match target.rfind('.') {
-            Some(dot) => (target[..dot].to_string(), target[dot + 1..].to_string()),
-            None => (String::new(), target.to_string()),
-        };
-        let key_span = Span::new(file, 0, eq);
-        if name.is_empty() {
-            diags.push(
-                Diagnostic::error("`--set` needs a parameter name").at(key_span, "empty name"),
-            );
-            continue;
-        }
-        if let Some(value) = parse_value(file, &o.arg, eq + 1, diags) {
-            out.push(ParsedOverride {
-                path,
-                name,
-                value,
-                key_span,
+        let file = loader.sources.add("--set", o.arg().to_string());
+        match o.in_file(file) {
+            Ok(p) => out.push(ParsedOverride {
+                path: p.path,
+                name: p.name,
+                value: p.value,
+                key_span: p.key_span,
                 used: false,
                 effect_param: false,
-            });
+            }),
+            Err(found) => {
+                for d in found {
+                    diags.push(d);
+                }
+            }
         }
     }
     out
 }
 
-/// A `--set` value as a parameter argument.
-fn raw_to_arg(v: &Spanned<RawValue>) -> Option<Spanned<ParamArg>> {
-    let arg = match &v.node {
-        RawValue::Number(n) => ParamArg::Literal {
-            value: vec![*n],
+/// A `--set` value as a parameter argument (`None`: no parameter takes it).
+fn raw_to_arg(v: &Spanned<Option<SetValue>>) -> Option<Spanned<ParamArg>> {
+    let arg = match v.node.as_ref()? {
+        SetValue::Numbers(value) => ParamArg::Literal {
+            value: value.clone(),
             is_bool: false,
         },
-        RawValue::Tuple(items) => ParamArg::Literal {
-            value: items
-                .iter()
-                .map(|i| match i.node {
-                    RawValue::Number(n) => Some(n),
-                    _ => None,
-                })
-                .collect::<Option<Vec<f64>>>()?,
-            is_bool: false,
-        },
-        RawValue::Ref { key, frame: None } if key.is(&["true"]) => ParamArg::Literal {
-            value: vec![1.0],
+        SetValue::Bool(b) => ParamArg::Literal {
+            value: vec![f64::from(u8::from(*b))],
             is_bool: true,
         },
-        RawValue::Ref { key, frame: None } if key.is(&["false"]) => ParamArg::Literal {
-            value: vec![0.0],
-            is_bool: true,
-        },
-        RawValue::Ref { key, frame: None } if key.parts.len() == 1 => {
-            ParamArg::Word(key.first().to_string())
-        }
-        _ => return None,
+        SetValue::Word(w) => ParamArg::Word(w.clone()),
     };
     Some(Spanned::new(arg, v.span))
 }

@@ -48,6 +48,7 @@ pub const INSTALL_HINT: &str = "install it (Debian/Ubuntu: apt-get install ffmpe
 /// Errors of reading and writing video files through ffmpeg. Every message starts with
 /// the video file's path.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum VideoError {
     /// `ffmpeg` or `ffprobe` is not on `PATH` (input rejected: exit 1 in fxrun).
     #[error("{}: {program} was not found on PATH (fxrun reads and writes video files with ffmpeg and ffprobe): {INSTALL_HINT}", path.display())]

@@ -122,6 +122,7 @@ const READ_CHUNK: usize = 16 << 20;
 /// Errors of the YUV4MPEG2 reader and writer. Every message starts with the stream's name
 /// (`stdin`, a file name); frame numbers count from 0.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Y4mError {
     /// The header line is missing, malformed, out of limits or unsupported.
     #[error("{name}: y4m header: {message}")]

@@ -113,7 +113,7 @@ fn mip_chain(
     levels: u32,
     srgb: bool,
 ) -> Vec<(u32, u32, Vec<u8>)> {
-    let lut = crate::io::srgb::decode_lut_u8();
+    let lut = crate::pixels::srgb::decode_lut_u8();
     let mut out = vec![(width, height, data.to_vec())];
     for _ in 1..levels {
         let (pw, ph, prev) = out.last().expect("level 0 exists");
@@ -130,7 +130,7 @@ fn mip_chain(
                     let quad = [texel(0, 0), texel(1, 0), texel(0, 1), texel(1, 1)];
                     next[((y * w + x) * 4 + c) as usize] = if srgb && c < 3 {
                         let mean = quad.iter().map(|&v| lut[v as usize]).sum::<f32>() / 4.0;
-                        crate::io::srgb::encode_u8(mean)
+                        crate::pixels::srgb::encode_u8(mean)
                     } else {
                         ((quad.iter().map(|&v| u32::from(v)).sum::<u32>() + 2) / 4) as u8
                     };

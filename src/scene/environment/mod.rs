@@ -125,6 +125,7 @@ impl Background {
 
 /// Errors of describing or loading an environment.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum EnvironmentError {
     /// The file could not be read or decoded (its own message names it).
     #[error(transparent)]

@@ -5,14 +5,14 @@
 use super::commands::{key_command, Command};
 use super::content::Content;
 use super::fx::Fx;
-use super::inspect::Inspect;
-use super::panel_cache::PanelCache;
-use super::present::Presenter;
 use super::reload::Reloader;
 use super::script::Script;
 use super::UserEvent;
 use crate::{Cli, Fail};
 use fxgraph::gpu::executor::Engine;
+use fxgraph::view::inspect::Inspect;
+use fxgraph::view::panel_cache::PanelCache;
+use fxgraph::view::present::Presenter;
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -273,40 +273,9 @@ impl Viewer {
                 ctx.info.name
             )));
         }
-        let caps = surface.get_capabilities(&ctx.adapter);
-        // A unorm surface shows 8-bit outputs' codes exactly.
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(|f| {
-                matches!(
-                    f,
-                    wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
-                )
-            })
-            .or(caps.formats.first().copied())
-            .ok_or_else(|| gpu_fail("the window offers no surface format".into()))?;
+        let config = self.surface_config(&surface, window.inner_size())?;
+        let format = config.format;
         let size = window.inner_size();
-        // COPY_DST: a 1:1 image is copied into the surface (present.rs).
-        let usage =
-            wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
-        let config = wgpu::SurfaceConfiguration {
-            usage,
-            format,
-            width: size.width.max(1),
-            height: size.height.max(1),
-            // Scripted runs (tests, benchmarks) are not held to the display's rate.
-            present_mode: if self.script.is_some() {
-                wgpu::PresentMode::AutoNoVsync
-            } else {
-                wgpu::PresentMode::AutoVsync
-            },
-            desired_maximum_frame_latency: 2,
-            alpha_mode: caps.alpha_modes[0],
-            view_formats: vec![],
-            color_space: wgpu::SurfaceColorSpace::Auto,
-        };
         ctx.scoped("viewer surface", |device| {
             surface.configure(device, &config)
         })
@@ -336,6 +305,54 @@ impl Viewer {
             panel_cache: PanelCache::default(),
         });
         Ok(())
+    }
+
+    /// The surface's configuration: a unorm format where the window offers one
+    /// (8-bit outputs' codes shown exactly), the window's size, no vsync in
+    /// scripted runs.
+    fn surface_config(
+        &self,
+        surface: &wgpu::Surface<'static>,
+        size: winit::dpi::PhysicalSize<u32>,
+    ) -> Result<wgpu::SurfaceConfiguration, Fail> {
+        let ctx = &self.engine.ctx;
+        let gpu_fail = |m: String| Fail {
+            code: 2,
+            message: format!("--view: {m}"),
+        };
+        let caps = surface.get_capabilities(&ctx.adapter);
+        // A unorm surface shows 8-bit outputs' codes exactly.
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| {
+                matches!(
+                    f,
+                    wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
+                )
+            })
+            .or(caps.formats.first().copied())
+            .ok_or_else(|| gpu_fail("the window offers no surface format".into()))?;
+        // COPY_DST: a 1:1 image is copied into the surface (`fxgraph::view::present`).
+        let usage =
+            wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
+        Ok(wgpu::SurfaceConfiguration {
+            usage,
+            format,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            // Scripted runs (tests, benchmarks) are not held to the display's rate.
+            present_mode: if self.script.is_some() {
+                wgpu::PresentMode::AutoNoVsync
+            } else {
+                wgpu::PresentMode::AutoVsync
+            },
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps.alpha_modes[0],
+            view_formats: vec![],
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        })
     }
 
     /// The window's title: the effects, what is shown, and whether an error is.

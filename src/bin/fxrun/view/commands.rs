@@ -4,14 +4,14 @@
 
 use super::app::Viewer;
 use super::content::Content;
-use super::fx::Applied;
-use super::inspect::{aux_range, Target};
 use super::screenshot;
 use super::script::Action;
 use crate::{stdout_result, Fail};
+use fxgraph::app::Change;
 use fxgraph::app::Effect;
 use fxgraph::io::SaveOptions;
 use fxgraph::script::types::Format;
+use fxgraph::view::inspect::{aux_range, Target};
 use std::io::BufRead as _;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -261,28 +261,21 @@ impl Viewer {
 
     /// Set a parameter: the panel's controls and `--view-do set` come here.
     pub fn set_param(&mut self, key: &str, value: &str) -> Result<(), String> {
-        let snapshot = self.fx.snapshot();
-        let applied = self.fx.set(self.content.prepared(), key, value)?;
-        self.applied(applied, snapshot)
+        let change = self.fx.set(self.content.prepared(), key, value)?;
+        self.applied(change)
     }
 
     /// Reset a parameter to the effect's value.
     pub fn reset_param(&mut self, key: &str) -> Result<(), String> {
-        let snapshot = self.fx.snapshot();
-        let applied = self.fx.reset(self.content.prepared(), key)?;
-        self.applied(applied, snapshot)
+        let change = self.fx.reset(self.content.prepared(), key)?;
+        self.applied(change)
     }
 
-    fn applied(&mut self, applied: Applied, snapshot: Vec<(String, String)>) -> Result<(), String> {
+    /// Show a change; a new effect that cannot be planned leaves the old one.
+    fn applied(&mut self, change: Change) -> Result<(), String> {
         self.stats.change_at = Some(Instant::now());
-        match applied {
-            Applied::Uniforms => {}
-            Applied::Replan(effect) => {
-                if let Err(e) = self.replan_with(*effect) {
-                    self.fx.restore(snapshot);
-                    return Err(e);
-                }
-            }
+        if let Change::Replan(effect) = change {
+            self.replan_with(*effect)?;
         }
         self.rerun();
         Ok(())

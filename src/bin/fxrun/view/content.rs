@@ -20,15 +20,7 @@ impl Content {
     /// change of the passes, a new image size, a new scene size).
     pub fn prepare(&mut self, engine: &mut Engine, fx: &mut Fx) -> Result<(), RunError> {
         match self {
-            Content::Stills(s) => {
-                s.prepare(engine, fx.effect_mut()?)?;
-                let p = s.prepared().expect("prepared above");
-                let dropped = fx.after_prepare(p);
-                if !dropped.is_empty() {
-                    log::info!("parameters no longer in the effect: {}", dropped.join(", "));
-                }
-                Ok(())
-            }
+            Content::Stills(s) => s.prepare(engine, fx.effect_mut()?),
             Content::Playback(p) => {
                 let at = p.shown().unwrap_or(0);
                 p.seek(engine, fx, at)

@@ -6,12 +6,12 @@
 
 use super::app::{Figures, FrameStats, UiState, Viewer};
 use super::content::Content;
-use super::inspect::{pass_rows, shade_of};
 use super::panel::{self, ImageInput, Model, UiEvent};
-use super::panel_cache::PanelPaint;
-use super::present::{Placement, Shown};
 use crate::Fail;
 use fxgraph::gpu::fullscreen::begin_color_pass;
+use fxgraph::view::inspect::{pass_rows, shade_of};
+use fxgraph::view::panel_cache::PanelPaint;
+use fxgraph::view::present::{Placement, Shown};
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
 
@@ -495,7 +495,7 @@ impl Viewer {
                 let ctx = self.engine.ctx.clone();
                 match self.shown_texture() {
                     Some((t, f)) => {
-                        if let Some(r) = super::inspect::value_range(&ctx, &t, f) {
+                        if let Some(r) = fxgraph::view::inspect::value_range(&ctx, &t, f) {
                             self.ui.inspect.range = r;
                         }
                         Ok(())

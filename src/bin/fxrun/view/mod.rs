@@ -20,16 +20,12 @@
 //! Without a display the option fails with a clear message (exit 1).
 
 mod app;
-mod camera_control;
 mod commands;
 mod content;
 mod frame;
 mod fx;
-mod inspect;
 mod panel;
-mod panel_cache;
 mod playback;
-mod present;
 mod reload;
 mod scene_view;
 mod screenshot;
@@ -89,6 +85,78 @@ fn output_format(cli: &Cli) -> Result<Option<fxgraph::script::types::Format>, Fa
     }
 }
 
+/// A scene as viewer content (`--scene`, or nothing given: the default
+/// scene), with its effect (the default chain when no effect is given).
+fn scene_content(
+    cli: &Cli,
+    engine: &Engine,
+    out: Option<fxgraph::script::types::Format>,
+) -> Result<(Content, fx::Fx), Fail> {
+    if !cli.input.is_empty() {
+        return Err(rejected("--scene renders the input: give no -i"));
+    }
+    // As a normal run: no effect given means the default chain.
+    let mut job = scene::scene_job(cli, cli.effects.is_empty())?;
+    let fixed = cli.size.is_some();
+    let format = out.unwrap_or(fxgraph::script::types::Format::Rgba8Srgb);
+    job.output = None;
+    let fps = cli.fps.unwrap_or(30.0);
+    if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+        return Err(rejected(format!(
+            "--fps {fps}: expected a number above 0, at most 1000"
+        )));
+    }
+    let time = cli.time.unwrap_or(0.0);
+    if !(time.is_finite() && time >= 0.0) {
+        return Err(rejected(format!(
+            "--time {time}: must be 0 or more seconds"
+        )));
+    }
+    let view = scene_view::SceneView::new(job, engine, fixed, format, (fps, time))?;
+    let job = view.job();
+    let fx = fx::Fx::new(&job.effects, &view.base, &cli.set)?;
+    Ok((Content::Scene(Box::new(view)), fx))
+}
+
+/// The inputs as a sequence to play (a stream, a pattern, or a folder for a
+/// temporal effect), or `None` for stills; a stream's header may set `fps`.
+fn sequence_input(
+    cli: &Cli,
+    specs: &[SequenceSpec],
+    temporal: bool,
+    fps: &mut f64,
+) -> Result<Option<playback::SeqInput>, Fail> {
+    let seq = match specs {
+        [SequenceSpec::Stdin] => Some(playback::SeqInput::Stdin),
+        [SequenceSpec::Y4m(p) | SequenceSpec::Video(p)] => {
+            let input = match &specs[0] {
+                SequenceSpec::Y4m(_) => fxgraph::app::StreamInput::Y4mFile(p.clone()),
+                _ => fxgraph::app::StreamInput::Video(p.clone()),
+            };
+            // The frame rate from the file's header (a video: ffmpeg's).
+            let opened = fxgraph::app::OpenedInput::open(&input)?;
+            let (n, d) = opened.header.fps;
+            if cli.fps.is_none() && d > 0 && n > 0 {
+                *fps = n as f64 / d as f64;
+            }
+            Some(playback::SeqInput::Stream(input))
+        }
+        [s @ SequenceSpec::Pattern { .. }] => Some(playback::SeqInput::Files(
+            fxgraph::io::sequence::InputSequence::open(s)
+                .map_err(RunError::from)?
+                .frames,
+        )),
+        [SequenceSpec::Dir(_) | SequenceSpec::Glob(_)] if temporal => {
+            Some(playback::SeqInput::Files(collect_inputs(cli, specs)?))
+        }
+        _ if temporal => return Err(rejected(
+            "this effect reads other frames: give its frames as one -i pattern, folder or stream",
+        )),
+        _ => None,
+    };
+    Ok(seq)
+}
+
 /// What `-i` (or `--scene`) names, as viewer content, with the effect.
 fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
     let out = output_format(cli)?;
@@ -96,30 +164,7 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
         assume_linear: cli.assume_linear,
     };
     if cli.scene.is_some() || (cli.input.is_empty() && cli.effects.is_empty()) {
-        if !cli.input.is_empty() {
-            return Err(rejected("--scene renders the input: give no -i"));
-        }
-        // As a normal run: no effect given means the default chain.
-        let mut job = scene::scene_job(cli, cli.effects.is_empty())?;
-        let fixed = cli.size.is_some();
-        let format = out.unwrap_or(fxgraph::script::types::Format::Rgba8Srgb);
-        job.output = None;
-        let fps = cli.fps.unwrap_or(30.0);
-        if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
-            return Err(rejected(format!(
-                "--fps {fps}: expected a number above 0, at most 1000"
-            )));
-        }
-        let time = cli.time.unwrap_or(0.0);
-        if !(time.is_finite() && time >= 0.0) {
-            return Err(rejected(format!(
-                "--time {time}: must be 0 or more seconds"
-            )));
-        }
-        let view = scene_view::SceneView::new(job, engine, fixed, format, (fps, time))?;
-        let job = view.job();
-        let fx = fx::Fx::new(&job.effects, &view.base, &cli.set)?;
-        return Ok((Content::Scene(Box::new(view)), fx));
+        return scene_content(cli, engine, out);
     }
     if cli.effects.is_empty() {
         return Err(rejected(
@@ -147,34 +192,7 @@ fn content_for(cli: &Cli, engine: &Engine) -> Result<(Content, fx::Fx), Fail> {
     if cli.rate == 0 || cli.rate > 4 {
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
     }
-    let seq = match specs.as_slice() {
-        [SequenceSpec::Stdin] => Some(playback::SeqInput::Stdin),
-        [SequenceSpec::Y4m(p) | SequenceSpec::Video(p)] => {
-            let input = match &specs[0] {
-                SequenceSpec::Y4m(_) => fxgraph::app::StreamInput::Y4mFile(p.clone()),
-                _ => fxgraph::app::StreamInput::Video(p.clone()),
-            };
-            // The frame rate from the file's header (a video: ffmpeg's).
-            let opened = fxgraph::app::OpenedInput::open(&input)?;
-            let (n, d) = opened.header.fps;
-            if cli.fps.is_none() && d > 0 && n > 0 {
-                fps = n as f64 / d as f64;
-            }
-            Some(playback::SeqInput::Stream(input))
-        }
-        [s @ SequenceSpec::Pattern { .. }] => Some(playback::SeqInput::Files(
-            fxgraph::io::sequence::InputSequence::open(s)
-                .map_err(RunError::from)?
-                .frames,
-        )),
-        [SequenceSpec::Dir(_) | SequenceSpec::Glob(_)] if temporal => {
-            Some(playback::SeqInput::Files(collect_inputs(cli, &specs)?))
-        }
-        _ if temporal => return Err(rejected(
-            "this effect reads other frames: give its frames as one -i pattern, folder or stream",
-        )),
-        _ => None,
-    };
+    let seq = sequence_input(cli, &specs, temporal, &mut fps)?;
     if let Some(input) = seq {
         if !cli.aux.is_empty() {
             return Err(rejected("--view takes --aux with a single image only"));

@@ -14,12 +14,12 @@
 
 use super::app::{UiState, PANEL_WIDTH};
 use super::commands::Command;
-use super::inspect::{PassRow, Target};
-use super::present::Shade;
 use egui::{Color32, RichText};
 use fxgraph::gpu::executor::ParamInfo;
 use fxgraph::graph::EffectParam;
 use fxgraph::script::types::{format_value, Format, ParamType};
+use fxgraph::view::inspect::{PassRow, Target};
+use fxgraph::view::present::Shade;
 
 /// A change asked for in the panel.
 #[derive(Debug, Clone, PartialEq)]

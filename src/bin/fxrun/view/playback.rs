@@ -228,10 +228,6 @@ impl Playback {
             output_format: Some(self.output_format()),
         };
         let mut prepared = fx.effect_mut()?.prepare_with(engine, &desc, &opts)?;
-        let dropped = fx.after_prepare(&mut prepared);
-        if !dropped.is_empty() {
-            log::info!("parameters no longer in the effect: {}", dropped.join(", "));
-        }
         if let Some(old) = self.prepared_ref() {
             let inspect = old.inspected_pass();
             if inspect.is_some_and(|i| i < prepared.plan.passes.len()) {

@@ -1,5 +1,5 @@
 //! A rendered scene in the viewer: the scene options of a normal run, rendered
-//! with the camera under the mouse ([`super::camera_control`]) at `--size`, or at
+//! with the camera under the mouse ([`fxgraph::view::camera_control`]) at `--size`, or at
 //! the size of the window's image area (resizing renders and plans again). The
 //! effects read the render and its G-buffer (`AUX.*`), which the pass list shows
 //! too.
@@ -13,7 +13,6 @@
 //! frame per frame shown. Dragging the camera leaves the run's camera (H goes back
 //! to it). Temporal effects (`IN[-1]`, feedback) see each frame as a still.
 
-use super::camera_control::CameraControl;
 use super::fx::Fx;
 use fxgraph::app::scene::{load_scene, render_error, scene_renderer, SceneJob};
 use fxgraph::app::RunError;
@@ -22,6 +21,7 @@ use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::render::renderer::Renderer;
 use fxgraph::render::{FrameMotion, RenderOutput};
 use fxgraph::scene::{Camera, CameraPath, Playback, Pose, Scene};
+use fxgraph::view::camera_control::CameraControl;
 use std::time::{Duration, Instant};
 
 /// The scene's clock.
@@ -240,17 +240,13 @@ impl SceneView {
             output_format: Some(self.output_format),
         };
         let mut prepared = fx.effect_mut()?.prepare_with(engine, &desc, &opts)?;
-        let dropped = fx.after_prepare(&mut prepared);
-        if !dropped.is_empty() {
-            log::info!("parameters no longer in the effect: {}", dropped.join(", "));
-        }
         let inspect = self.prepared.as_ref().and_then(|p| p.inspected_pass());
         if inspect.is_some_and(|i| i < prepared.plan.passes.len()) {
             let _ = prepared.inspect(inspect);
         }
         prepared.set_gpu_timings(engine, true);
         let o = prepared.plan.output;
-        self.output = Some(super::present::window_output(
+        self.output = Some(fxgraph::view::present::window_output(
             &engine.ctx,
             o.width,
             o.height,

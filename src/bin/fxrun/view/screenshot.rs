@@ -4,13 +4,13 @@
 //! run of the same frame writes to that file. Textures other than RGBA are written
 //! as RGBA: one channel as grey, two as red and green.
 
-use super::inspect::texel_values;
 use fxgraph::app::RunError;
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::gpu::transfer::read_pixels;
 use fxgraph::io::{self, SaveOptions};
 use fxgraph::pixels::Pixels;
 use fxgraph::script::types::Format;
+use fxgraph::view::inspect::texel_values;
 use std::path::{Path, PathBuf};
 
 /// Read `texture` (in `format`) back and write it to `path`.

@@ -4,13 +4,13 @@
 //! format changes), recorded as frame 0 into the viewer's encoder with
 //! `Prepared::record`.
 
-use super::present::{window_output, window_output_format};
 use fxgraph::app::{Effect, RunError};
 use fxgraph::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
 use fxgraph::gpu::transfer::{input_format, upload_image};
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::io::{self, Image, IoError, LoadOptions};
 use fxgraph::script::types::Format;
+use fxgraph::view::present::{window_output, window_output_format};
 use std::path::PathBuf;
 
 /// An image on the GPU with its auxiliary images.

@@ -1,4 +1,5 @@
-//! The renderer benchmark: frame time of each technique against the number of
+//! The renderer benchmark (a test helper over the public API, moved out of the
+//! library): frame time of each technique against the number of
 //! random point lights on `builtin:bench` (run by `bench/renderer.sh`).
 //!
 //! Each configuration renders `warmup` frames (pipelines are created then), then
@@ -6,12 +7,12 @@
 //! has timestamp queries, else the CPU wall time from encoding to the device being
 //! idle. The median is reported.
 
-use super::renderer::{
+use fxgraph::gpu::context::{GpuContext, GpuTimer};
+use fxgraph::render::renderer::{
     RenderError, Renderer, RendererOptions, Technique, GBUFFER_BYTES_COMPRESSED,
     GBUFFER_BYTES_TRADITIONAL,
 };
-use crate::gpu::context::{GpuContext, GpuTimer};
-use crate::scene::Scene;
+use fxgraph::scene::Scene;
 use std::fmt;
 use std::time::Instant;
 
@@ -73,7 +74,7 @@ pub struct BenchReport {
 }
 
 /// The upper median of `v` (sorted in place); NaN when it is empty.
-pub(crate) fn median(v: &mut [f64]) -> f64 {
+pub fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     if v.is_empty() {
         f64::NAN

@@ -3,18 +3,18 @@
 //! (8-bit codes as stored, linear light with an exposure, data over a range) and
 //! the mark on clipped pixels.
 
-use fxgraph::gpu::bindings::{texture_entry, uniform_entry};
-use fxgraph::gpu::context::GpuContext;
-use fxgraph::gpu::executor::{bgra_twin, wgpu_format};
-use fxgraph::gpu::fullscreen::{begin_color_pass, fullscreen_pipeline};
-use fxgraph::gpu::transfer::{create_output, texture_2d};
-use fxgraph::script::types::Format;
+use crate::gpu::bindings::{texture_entry, uniform_entry};
+use crate::gpu::context::GpuContext;
+use crate::gpu::executor::{bgra_twin, wgpu_format};
+use crate::gpu::fullscreen::{begin_color_pass, fullscreen_pipeline};
+use crate::gpu::transfer::{create_output, texture_2d};
+use crate::script::types::Format;
 
 /// The texture format the window's copy of an output of `format` is in: the BGRA
 /// twin of an 8-bit format (what window surfaces offer: at 1:1 the output is copied
 /// to the screen, not drawn), the plan's own otherwise (and on GL, which cannot
 /// view a texture in another format).
-pub(super) fn window_output_format(ctx: &GpuContext, format: Format) -> wgpu::TextureFormat {
+pub fn window_output_format(ctx: &GpuContext, format: Format) -> wgpu::TextureFormat {
     let plain = wgpu_format(format);
     match bgra_twin(plain) {
         Some(t) if ctx.info.backend != wgpu::Backend::Gl => t,
@@ -23,12 +23,7 @@ pub(super) fn window_output_format(ctx: &GpuContext, format: Format) -> wgpu::Te
 }
 
 /// The texture the effect's output is recorded into (see [`window_output_format`]).
-pub(super) fn window_output(
-    ctx: &GpuContext,
-    width: u32,
-    height: u32,
-    format: Format,
-) -> wgpu::Texture {
+pub fn window_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
     let tf = window_output_format(ctx, format);
     if tf == wgpu_format(format) {
         return create_output(ctx, width, height, format);
@@ -50,7 +45,7 @@ pub(super) fn window_output(
 
 /// How values are shown (the shader's `mode`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Shade {
+pub enum Shade {
     /// 8-bit codes as stored (raw view).
     Codes,
     /// Linear light: exposure, clamp, sRGB encoding.
@@ -61,7 +56,7 @@ pub(super) enum Shade {
 
 /// A texture to show and the format its values are in.
 #[derive(Clone, Copy)]
-pub(super) struct Shown<'a> {
+pub struct Shown<'a> {
     pub texture: &'a wgpu::Texture,
     pub format: Format,
     /// `None`: as the format suggests ([`auto_shade`]).
@@ -69,7 +64,7 @@ pub(super) struct Shown<'a> {
 }
 
 /// How a texture of `format` is shown by default.
-pub(super) fn auto_shade(format: Format) -> Shade {
+pub fn auto_shade(format: Format) -> Shade {
     match format {
         Format::Rgba8 | Format::Rgba8Srgb | Format::Rgb10a2 => Shade::Codes,
         Format::Rgba16f | Format::Rgba32f => Shade::Colour,
@@ -87,7 +82,7 @@ fn channels(format: Format) -> u32 {
 
 /// Where and how the image is drawn this frame.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Placement {
+pub struct Placement {
     /// The image's rectangle in surface pixels: x, y, width, height.
     pub rect: [f32; 4],
     /// The area it may cover (the window minus the panel): x, y, width, height.
@@ -128,7 +123,7 @@ struct Cached {
 }
 
 /// The pipeline and what it binds.
-pub(super) struct Presenter {
+pub struct Presenter {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     uniform: wgpu::Buffer,
@@ -178,7 +173,7 @@ impl Presenter {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("viewer present"),
             source: wgpu::ShaderSource::Wgsl(
-                include_str!("../../../../shaders/view/present.wgsl").into(),
+                include_str!("../../shaders/view/present.wgsl").into(),
             ),
         });
         let fragment = wgpu::ShaderStages::FRAGMENT;

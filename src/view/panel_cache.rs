@@ -6,11 +6,11 @@
 //! nothing. Anything egui paints outside the panel (a tooltip or a menu over the
 //! image) is drawn on the surface directly, every frame, as before.
 
+use crate::gpu::transfer::texture_2d;
 use egui::epaint::{ClippedPrimitive, Mesh, Primitive};
-use fxgraph::gpu::transfer::texture_2d;
 
 /// How the panel gets onto this frame.
-pub(super) enum PanelPaint {
+pub enum PanelPaint {
     /// Nothing to paint (the panel is hidden).
     Nothing,
     /// Copy this rectangle (x, y, width, height in pixels) of the cache; it was
@@ -22,7 +22,7 @@ pub(super) enum PanelPaint {
 
 /// The last panel drawn.
 #[derive(Default)]
-pub(super) struct PanelCache {
+pub struct PanelCache {
     texture: Option<wgpu::Texture>,
     drawn: Vec<(egui::Rect, Mesh)>,
 }

@@ -9,11 +9,11 @@
 //! shaders (deferred: `geometry`, forward: `forward`) and of the whole frame are
 //! reported (GPU timestamps; CPU wall time to idle where the device has none).
 
-use super::bench::median;
-use super::material::VariantMode;
-use super::renderer::{RenderError, Renderer, RendererOptions, Technique};
-use crate::gpu::context::{GpuContext, GpuTimer};
-use crate::scene::{Camera, Scene};
+use super::render_bench::median;
+use fxgraph::gpu::context::{GpuContext, GpuTimer};
+use fxgraph::render::material::VariantMode;
+use fxgraph::render::renderer::{RenderError, Renderer, RendererOptions, Technique};
+use fxgraph::scene::{Camera, Scene};
 use std::fmt;
 use std::time::Instant;
 
@@ -74,6 +74,11 @@ pub fn run_variant_benchmark(
             Technique::Deferred => "geometry",
             Technique::LightPrepass => "final geometry",
             Technique::Forward => "forward",
+            other => {
+                return Err(RenderError::Invalid(format!(
+                    "no surface pass known for {other:?}"
+                )))
+            }
         };
         let mut surface = vec![Vec::new(); modes.len()];
         let mut frame = vec![Vec::new(); modes.len()];

@@ -2,7 +2,7 @@
 //! drag), pan (right or middle drag), dolly (wheel), fly (W/A/S/D forward, left,
 //! back, right; E/Q up, down; Shift faster). Speeds scale with the scene's size.
 
-use fxgraph::scene::Camera;
+use crate::scene::Camera;
 use glam::Vec3;
 
 /// Radians of orbit per pixel dragged.
@@ -14,7 +14,7 @@ const FLY_RADII_PER_SECOND: f32 = 0.6;
 
 /// Keys held for flying.
 #[derive(Debug, Default, Clone, Copy)]
-pub(super) struct FlyKeys {
+pub struct FlyKeys {
     pub forward: bool,
     pub back: bool,
     pub left: bool,
@@ -31,7 +31,7 @@ impl FlyKeys {
 }
 
 /// Moves a [`Camera`]; `radius` is half the scene's bounding-box diagonal.
-pub(super) struct CameraControl {
+pub struct CameraControl {
     pub radius: f32,
     pub keys: FlyKeys,
 }

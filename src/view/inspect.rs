@@ -10,14 +10,14 @@
 //! smallest and largest finite value.
 
 use super::present::{auto_shade, Shade};
-use fxgraph::gpu::context::GpuContext;
-use fxgraph::gpu::executor::Prepared;
-use fxgraph::gpu::transfer::unpack_rgb10a2;
-use fxgraph::script::types::Format;
+use crate::gpu::context::GpuContext;
+use crate::gpu::executor::Prepared;
+use crate::gpu::transfer::unpack_rgb10a2;
+use crate::script::types::Format;
 
 /// What is shown.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(super) enum Target {
+pub enum Target {
     /// The effect's output (a file's content).
     Output,
     /// The output of pass `i` of the plan (`plan.passes[i]`).
@@ -29,7 +29,7 @@ pub(super) enum Target {
 }
 
 /// The inspection settings of the panel.
-pub(super) struct Inspect {
+pub struct Inspect {
     pub target: Target,
     /// `None`: as the format suggests.
     pub shade: Option<Shade>,
@@ -47,7 +47,7 @@ impl Default for Inspect {
 }
 
 /// One row of the pass list.
-pub(super) struct PassRow {
+pub struct PassRow {
     pub index: usize,
     pub path: String,
     pub width: u32,
@@ -58,7 +58,7 @@ pub(super) struct PassRow {
 }
 
 /// The plan's passes in execution order, with the last GPU times read.
-pub(super) fn pass_rows(p: &Prepared) -> Vec<PassRow> {
+pub fn pass_rows(p: &Prepared) -> Vec<PassRow> {
     let times = p.gpu_timings();
     p.plan
         .passes
@@ -79,7 +79,7 @@ pub(super) fn pass_rows(p: &Prepared) -> Vec<PassRow> {
 }
 
 /// The default range of an auxiliary image (see the module's documentation).
-pub(super) fn aux_range(name: &str, depth: (f32, f32), size: f32) -> (f32, f32) {
+pub fn aux_range(name: &str, depth: (f32, f32), size: f32) -> (f32, f32) {
     match name {
         "depth" => depth,
         "normal" => (-1.0, 1.0),
@@ -89,13 +89,13 @@ pub(super) fn aux_range(name: &str, depth: (f32, f32), size: f32) -> (f32, f32) 
 }
 
 /// The shade an inspected texture is shown in: the panel's, else the format's.
-pub(super) fn shade_of(inspect: &Inspect, format: Format) -> Shade {
+pub fn shade_of(inspect: &Inspect, format: Format) -> Shade {
     inspect.shade.unwrap_or(auto_shade(format))
 }
 
 /// Channels and linear float values of a texture's texels (RGBA formats as 4
 /// channels, R as 1, RG as 2; 8-bit codes as code / 255).
-pub(super) fn texel_values(raw: &[u8], format: Format) -> (usize, Vec<f32>) {
+pub fn texel_values(raw: &[u8], format: Format) -> (usize, Vec<f32>) {
     let half = |c: &[u8]| half::f16::from_le_bytes([c[0], c[1]]).to_f32();
     let single = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
     match format {
@@ -112,11 +112,7 @@ pub(super) fn texel_values(raw: &[u8], format: Format) -> (usize, Vec<f32>) {
 }
 
 /// The smallest and largest finite value of the colour channels of a texture.
-pub(super) fn value_range(
-    ctx: &GpuContext,
-    t: &wgpu::Texture,
-    format: Format,
-) -> Option<(f32, f32)> {
+pub fn value_range(ctx: &GpuContext, t: &wgpu::Texture, format: Format) -> Option<(f32, f32)> {
     let raw = ctx.read_texture(t).ok()?;
     let (ch, values) = texel_values(&raw, format);
     let colour = ch.min(3);
