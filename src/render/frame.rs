@@ -1,78 +1,19 @@
-//! Encoding one frame: the passes of each technique (deferred, light pre-pass,
-//! forward), transparency and the AUX resolve, through one render-pass helper.
+//! Encoding one frame: the pipelines it needs, and its passes in order (the
+//! recording itself is `frame_record.rs`).
 
-use super::cluster_gpu::GpuClusters;
-use super::environment::EnvironmentLighting;
 use super::error::RenderError;
-use super::frame_record::Recorder;
-use super::light_compute::{ComputeLighting, LightCompute};
-use super::lights::{FrameLists, LightVolumes};
-use super::material::{MaterialSet, VariantMode};
-use super::motion::{MotionCameras, MotionPass};
+use super::frame_record::{geo_key, light_compute_of, Recorder};
+pub(crate) use super::frame_record::{FrameGpu, FramePipelines};
+use super::light_compute::ComputeLighting;
+use super::lights::FrameLists;
+use super::motion::MotionCameras;
 use super::options::RendererOptions;
-use super::pipelines::{GeoKey, GeoPass, Layouts, LightPipe, Pipelines};
-use super::shadow_pass::ShadowMaps;
+use super::pipelines::{GeoKey, GeoPass, LightPipe, Pipelines};
 use super::targets::Targets;
 use super::technique::Technique;
-use super::upload::{Batch, Geometry, MaterialResources};
+use super::upload::Batch;
 use crate::gpu::context::{GpuContext, GpuTimer};
-use glam::{Mat4, Vec3};
-
-/// What a frame is encoded with: the renderer's scene resources, borrowed
-/// (the pipelines come separately: creating them needs them mutable).
-pub(crate) struct FrameGpu<'a> {
-    pub opts: &'a RendererOptions,
-    /// The AUX images and their formats.
-    pub aux_formats: &'a [(String, crate::script::types::Format)],
-    pub materials: &'a MaterialSet,
-    pub geometry: &'a Geometry,
-    pub material_gpu: &'a MaterialResources,
-    pub layouts: &'a Layouts,
-    pub environment: &'a EnvironmentLighting,
-    pub g0: &'a wgpu::BindGroup,
-    pub shadow_maps: &'a ShadowMaps,
-    pub clusters: &'a GpuClusters,
-    pub volumes: &'a LightVolumes,
-    pub motion: &'a MotionPass,
-    /// The frame's background colour (fogged).
-    pub frame_background: Vec3,
-}
-
-/// The pipelines a frame draws with.
-pub(crate) struct FramePipelines<'a> {
-    pub pipelines: &'a Pipelines,
-    pub light_compute: &'a ComputeLighting,
-}
-
-pub(super) fn geo_key(
-    materials: &MaterialSet,
-    mode: VariantMode,
-    pass: GeoPass,
-    b: &Batch,
-    lights: u32,
-) -> GeoKey {
-    let m = &materials.materials[b.material];
-    let features = match mode {
-        super::material::VariantMode::Branch => 0,
-        _ => b.features,
-    };
-    GeoKey {
-        pass,
-        variant: super::material::VariantKey {
-            surface: m.surface,
-            lighting: m.lighting,
-            features,
-        },
-        cull: b.cull,
-        lights: match pass {
-            GeoPass::Forward | GeoPass::ForwardBlend => match mode {
-                super::material::VariantMode::Branch => 0,
-                _ => lights,
-            },
-            _ => 0,
-        },
-    }
-}
+use glam::Mat4;
 
 /// The geometry passes a technique draws opaque batches with.
 fn opaque_passes(technique: Technique) -> &'static [GeoPass] {
@@ -90,14 +31,6 @@ fn computes_lights(opts: &RendererOptions, technique: Technique) -> bool {
     technique != Technique::Forward
         && opts.compute_lighting
         && opts.light_culling != super::clusters::LightCulling::Volumes
-}
-
-/// The compute light pass of `technique`.
-pub(super) fn light_compute_of(technique: Technique) -> LightCompute {
-    match technique {
-        Technique::Deferred => LightCompute::Compose,
-        _ => LightCompute::Prepass,
-    }
 }
 
 /// Creates every pipeline the frame needs (shader generation errors are material

@@ -3,16 +3,84 @@
 //! the AUX resolve and the object motion vectors, through one render-pass
 //! helper that names and times every pass.
 
-use super::frame::{geo_key, light_compute_of, FrameGpu, FramePipelines};
-use super::light_compute::LightComputeGroups;
-use super::lights::FrameLists;
-use super::motion::MotionCameras;
-use super::pipelines::{GeoKey, GeoPass, LightPipe};
+use super::cluster_gpu::GpuClusters;
+use super::environment::EnvironmentLighting;
+use super::light_compute::{ComputeLighting, LightCompute, LightComputeGroups};
+use super::lights::{FrameLists, LightVolumes};
+use super::material::{MaterialSet, VariantMode};
+use super::motion::{MotionCameras, MotionPass};
+use super::options::RendererOptions;
+use super::pipelines::{GeoKey, GeoPass, Layouts, LightPipe, Pipelines};
+use super::shadow_pass::ShadowMaps;
 use super::targets::Targets;
 use super::technique::Technique;
-use super::upload::Batch;
+use super::upload::{Batch, Geometry, MaterialResources};
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec3, Vec4};
+
+/// What a frame is encoded with: the renderer's scene resources, borrowed
+/// (the pipelines come separately: creating them needs them mutable).
+pub(crate) struct FrameGpu<'a> {
+    pub opts: &'a RendererOptions,
+    /// The AUX images and their formats.
+    pub aux_formats: &'a [(String, crate::script::types::Format)],
+    pub materials: &'a MaterialSet,
+    pub geometry: &'a Geometry,
+    pub material_gpu: &'a MaterialResources,
+    pub layouts: &'a Layouts,
+    pub environment: &'a EnvironmentLighting,
+    pub g0: &'a wgpu::BindGroup,
+    pub shadow_maps: &'a ShadowMaps,
+    pub clusters: &'a GpuClusters,
+    pub volumes: &'a LightVolumes,
+    pub motion: &'a MotionPass,
+    /// The frame's background colour (fogged).
+    pub frame_background: Vec3,
+}
+
+/// The pipelines a frame draws with.
+pub(crate) struct FramePipelines<'a> {
+    pub pipelines: &'a Pipelines,
+    pub light_compute: &'a ComputeLighting,
+}
+
+pub(super) fn geo_key(
+    materials: &MaterialSet,
+    mode: VariantMode,
+    pass: GeoPass,
+    b: &Batch,
+    lights: u32,
+) -> GeoKey {
+    let m = &materials.materials[b.material];
+    let features = match mode {
+        super::material::VariantMode::Branch => 0,
+        _ => b.features,
+    };
+    GeoKey {
+        pass,
+        variant: super::material::VariantKey {
+            surface: m.surface,
+            lighting: m.lighting,
+            features,
+        },
+        cull: b.cull,
+        lights: match pass {
+            GeoPass::Forward | GeoPass::ForwardBlend => match mode {
+                super::material::VariantMode::Branch => 0,
+                _ => lights,
+            },
+            _ => 0,
+        },
+    }
+}
+
+/// The compute light pass of `technique`.
+pub(super) fn light_compute_of(technique: Technique) -> LightCompute {
+    match technique {
+        Technique::Deferred => LightCompute::Compose,
+        _ => LightCompute::Prepass,
+    }
+}
 
 fn attach(
     view: &wgpu::TextureView,
