@@ -24,6 +24,7 @@ pub mod frames;
 mod gpu_stage;
 pub mod pipeline;
 pub mod pipeline_cache;
+pub mod planes;
 pub mod report;
 pub mod scene;
 pub mod scene_sequence;

@@ -8,3 +8,4 @@ pub mod executor;
 pub mod fullscreen;
 pub mod stream;
 pub mod transfer;
+pub mod yuv;
