@@ -307,3 +307,109 @@ fn unclipped_conversion_keeps_colours_outside_the_cube_like_the_cpu() {
     };
     every_space(&gpu, (37, 23), false);
 }
+
+/// A y4m file of `frames` random frames.
+fn write_y4m(path: &std::path::Path, hd: &Y4mHeader, frames: usize, rng: &mut Rng) {
+    let file = std::fs::File::create(path).unwrap();
+    let mut w = fxgraph::io::y4m::Y4mWriter::new(file, hd.clone(), "test").unwrap();
+    for _ in 0..frames {
+        w.write_frame(&random_frame(hd, rng)).unwrap();
+    }
+    w.into_inner().unwrap();
+}
+
+/// Run `vignette` with strength 0 (an identity) over a y4m file into another,
+/// converting Y'CbCr where `ycbcr` says; the output's bytes and where it converted.
+fn identity_run(
+    engine: &mut fxgraph::gpu::executor::Engine,
+    input: &std::path::Path,
+    output: &std::path::Path,
+    ycbcr: fxgraph::app::planes::PlaneConversion,
+) -> (Vec<u8>, [bool; 2]) {
+    use fxgraph::app::*;
+    let opened = OpenedInput::open(&StreamInput::Y4mFile(input.into())).unwrap();
+    let settings = OutputSettings::new(opened.header.clone(), opened.conversion);
+    let out = open_output(&StreamOutput::Y4mFile(output.into()), &settings).unwrap();
+    let fx = format!("{}/effects/vignette.fx", env!("CARGO_MANIFEST_DIR"));
+    let mut effect = Effect::compile(&[fx], &["strength=0".into()]).unwrap();
+    let opts = SequenceOptions {
+        output_format: out.texture_format,
+        ycbcr,
+        ..Default::default()
+    };
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let source = opened.into_source(0, None);
+    let report = run_sequence(
+        Device::Engine(engine),
+        &mut effect,
+        source,
+        out.sink,
+        &opts,
+        None,
+        stop,
+        |_| {},
+    )
+    .unwrap();
+    (std::fs::read(output).unwrap(), report.ycbcr_on_gpu)
+}
+
+#[test]
+fn a_y4m_file_through_an_identity_effect_is_written_alike_by_both_conversions() {
+    use fxgraph::app::planes::PlaneConversion;
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut rng = Rng(7);
+    for (tag, interlace, extra) in [
+        ("420jpeg", 'p', ""),
+        ("420p10", 't', ""),
+        ("444p16", 'p', "COLORRANGE=FULL"),
+        ("mono", 'p', ""),
+    ] {
+        let hd = header(tag, interlace, extra, 45, 31);
+        let input = dir.path().join(format!("in_{tag}.y4m"));
+        write_y4m(&input, &hd, 3, &mut rng);
+        let gpu_out = dir.path().join(format!("gpu_{tag}.y4m"));
+        let cpu_out = dir.path().join(format!("cpu_{tag}.y4m"));
+        let (gpu, on_gpu) = identity_run(&mut engine, &input, &gpu_out, PlaneConversion::Gpu);
+        let (cpu, on_cpu) = identity_run(&mut engine, &input, &cpu_out, PlaneConversion::Cpu);
+        assert_eq!(
+            on_gpu,
+            [true, true],
+            "C{tag}: converted on the GPU both ways"
+        );
+        assert_eq!(
+            on_cpu,
+            [false, false],
+            "C{tag}: converted on the CPU both ways"
+        );
+        assert_eq!(gpu.len(), cpu.len(), "C{tag}: file sizes");
+        // The same header and FRAME lines: the files differ only in plane samples.
+        let header_len = cpu.iter().position(|&b| b == b'\n').unwrap() + 1;
+        assert_eq!(gpu[..header_len], cpu[..header_len], "C{tag}: header");
+        let frame_len = hd.frame_bytes() + 6; // "FRAME\n"
+        let mut worst = 0u32;
+        for (g, c) in gpu[header_len..]
+            .chunks(frame_len)
+            .zip(cpu[header_len..].chunks(frame_len))
+        {
+            assert_eq!(g[..6], c[..6], "C{tag}: FRAME line");
+            let (g, c) = (&g[6..], &c[6..]);
+            let d = if hd.depth == 8 {
+                g.iter().zip(c).map(|(&a, &b)| a.abs_diff(b) as u32).max()
+            } else {
+                let word = |x: &[u8]| u16::from_le_bytes([x[0], x[1]]);
+                g.chunks(2)
+                    .zip(c.chunks(2))
+                    .map(|(a, b)| word(a).abs_diff(word(b)) as u32)
+                    .max()
+            };
+            worst = worst.max(d.unwrap_or(0));
+        }
+        eprintln!(
+            "C{tag} I{interlace}: GPU and CPU conversions' files differ by at most {worst} code(s)"
+        );
+        assert!(worst <= 1, "C{tag}: {worst} codes apart");
+    }
+}

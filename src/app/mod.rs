@@ -21,6 +21,7 @@ pub mod batch;
 pub mod effect;
 pub mod error;
 pub mod frames;
+mod gpu_planes;
 mod gpu_stage;
 pub mod pipeline;
 pub mod pipeline_cache;

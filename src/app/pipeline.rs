@@ -26,12 +26,14 @@
 
 use super::effect::Effect;
 use super::error::RunError;
-pub use super::frames::{FrameSink, FrameSource, OutputFrame, SideLimit, SourceFrame};
+pub use super::frames::{FrameSink, FrameSource, OutputFrame, Picture, SideLimit, SourceFrame};
 use super::gpu_stage::GpuStage;
+use super::planes::{PlaneConversion, PlaneRoute};
 use super::report::{ms, FrameDone, FrameFailure, JobKind, Progress, RunReport};
 use crate::gpu::context::{AdapterChoice, GpuContext, PendingReadback};
 use crate::gpu::executor::{CameraStd, Engine};
 use crate::gpu::transfer::pixels_from_bytes;
+use crate::gpu::yuv::PendingPlanes;
 use crate::io::{Image, IoError};
 use crate::script::types::Format;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -79,6 +81,8 @@ pub struct PipelineOptions {
     /// Depth of each queue between stages.
     pub queue: usize,
     pub timings: bool,
+    /// Where the Y'CbCr frames of y4m and video streams are converted (sequences).
+    pub ycbcr: PlaneConversion,
 }
 
 impl Default for PipelineOptions {
@@ -96,6 +100,7 @@ impl Default for PipelineOptions {
             keep_going: false,
             queue: 3,
             timings: false,
+            ycbcr: PlaneConversion::Auto,
         }
     }
 }
@@ -114,16 +119,32 @@ pub(super) type Decoded = (
     usize,
     u64,
     String,
-    Result<(Image, Vec<(String, Image)>), IoError>,
+    Result<(Picture, Vec<(String, Image)>), IoError>,
     Duration,
 );
+
+/// An output being read back: a texture's texels, or the Y'CbCr planes the GPU made
+/// of it (with the frame's width and height).
+pub(super) enum Readback {
+    Texture(PendingReadback),
+    Planes(PendingPlanes, u32, u32),
+}
+
+impl Readback {
+    fn size(&self) -> (u32, u32) {
+        match self {
+            Readback::Texture(p) => (p.width(), p.height()),
+            Readback::Planes(_, w, h) => (*w, *h),
+        }
+    }
+}
 
 /// A read-back on its way to the encoder.
 pub(super) struct Encoded {
     pub(super) index: usize,
     pub(super) number: u64,
     pub(super) name: String,
-    pub(super) pending: PendingReadback,
+    pub(super) pending: Readback,
     pub(super) format: Format,
     pub(super) gpu: Option<Duration>,
     pub(super) decode: Option<Duration>,
@@ -165,22 +186,10 @@ pub(super) fn spawn_encoder(
                 if !r.failed.is_empty() && !keep_going {
                     continue; // stopped: frames after the failure are not written
                 }
-                let t = Instant::now();
-                let (w, h) = (e.pending.width(), e.pending.height());
-                let raw = e.pending.finish().map_err(RunError::from);
-                r.last_wait = t.elapsed();
-                r.wait += r.last_wait;
-                let t = Instant::now();
-                let result = raw.and_then(|raw| {
-                    let pixels = pixels_from_bytes(raw, e.format)?;
-                    sink.write(OutputFrame {
-                        number: e.number,
-                        width: w,
-                        height: h,
-                        pixels,
-                    })
-                    .map_err(RunError::from)
-                });
+                let (w, h) = e.pending.size();
+                let (result, wait, t) = write_one(&mut *sink, e.pending, e.number, e.format);
+                r.last_wait = wait;
+                r.wait += wait;
                 let spent = t.elapsed();
                 r.busy += spent;
                 match result {
@@ -218,6 +227,40 @@ pub(super) fn spawn_encoder(
         .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))
 }
 
+/// Finish a read-back and write it to `sink`: the result, the time waited for the
+/// read-back, and when the writing started.
+fn write_one(
+    sink: &mut dyn FrameSink,
+    pending: Readback,
+    number: u64,
+    format: Format,
+) -> (Result<String, RunError>, Duration, Instant) {
+    let t = Instant::now();
+    let (width, height) = pending.size();
+    let raw = match pending {
+        Readback::Texture(p) => p.finish().map(|raw| (raw, false)),
+        Readback::Planes(p, ..) => p.finish().map(|raw| (raw, true)),
+    };
+    let wait = t.elapsed();
+    let t = Instant::now();
+    let result = raw.map_err(RunError::from).and_then(|(raw, planes)| {
+        if planes {
+            return sink
+                .write_planes(number, width, height, raw)
+                .map_err(RunError::from);
+        }
+        let pixels = pixels_from_bytes(raw, format)?;
+        sink.write(OutputFrame {
+            number,
+            width,
+            height,
+            pixels,
+        })
+        .map_err(RunError::from)
+    });
+    (result, wait, t)
+}
+
 /// Run `effect` over every frame of `source`, writing to `sink`. `stop` ends the run
 /// early (Ctrl-C): frames already written stay, frames in flight are finished.
 ///
@@ -235,14 +278,18 @@ pub fn run_frames(
 ) -> Result<RunReport, RunError> {
     let start = Instant::now();
     let limit = SideLimit::default();
+    // Y'CbCr planes go to the GPU for sequences, as `opts.ycbcr` says for the device.
+    let route = PlaneRoute::default();
+    let (ycbcr, sequence) = (opts.ycbcr, opts.mode == Mode::Sequence);
     let device_thread = match &device {
         Device::Engine(e) => {
             limit.set(e.ctx.device.limits().max_texture_dimension_2d);
+            route.set(sequence && ycbcr.wants_gpu(e.ctx.info.device_type));
             None
         }
         Device::Create(adapter) => {
             let adapter = (*adapter).clone();
-            let l = limit.clone();
+            let (l, route) = (limit.clone(), route.clone());
             Some(
                 std::thread::Builder::new()
                     .name("fxgraph device".into())
@@ -257,6 +304,10 @@ pub fn run_frames(
                             Ok(e) => e.ctx.device.limits().max_texture_dimension_2d,
                             Err(_) => 0,
                         });
+                        route
+                            .set(r.as_ref().is_ok_and(|e| {
+                                sequence && ycbcr.wants_gpu(e.ctx.info.device_type)
+                            }));
                         r.map(|e| (e, t.elapsed()))
                     })
                     .map_err(|e| RunError::Other(format!("cannot start the device thread: {e}")))?,
@@ -264,6 +315,7 @@ pub fn run_frames(
         }
     };
     source.set_limit(limit.clone());
+    source.set_plane_route(route.clone());
     let total = source.frame_count();
     let queue = opts.queue.max(1);
     let stills = opts.mode == Mode::Stills;
@@ -301,6 +353,8 @@ pub fn run_frames(
     // end of its queue): whether the run completed, so the sink can make its output
     // final (`finish`) or discard it (`abort`).
     let complete = Arc::new(AtomicBool::new(false));
+    // What a y4m sink writes, for planes made on the GPU (used if the route says so).
+    let plane_output = sink.plane_output();
     let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone(), complete.clone())?;
 
     let mut report = RunReport {
@@ -321,6 +375,7 @@ pub fn run_frames(
                 .join()
                 .map_err(|_| {
                     limit.set(0);
+                    route.set(false);
                     RunError::Other("the device thread panicked".into())
                 })
                 .and_then(|r| r.map_err(RunError::from));
@@ -346,6 +401,9 @@ pub fn run_frames(
             report.adapter = engine.ctx.info.name.clone();
             report.backend = format!("{:?}", engine.ctx.info.backend);
             let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
+            if route.to_gpu() {
+                gpu.offer_planes(plane_output);
+            }
             fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);
             gpu_busy = gpu.busy;
             // A stop seen by the decoder alone (between two frames) ended the input

@@ -6,6 +6,7 @@
 use crate::gpu::yuv::{ChromaSiting, PlaneLayout, UpTap, YuvCoefficients};
 use crate::io::y4m::{Siting, Y4mHeader, YuvConversion};
 use crate::io::yuv::{vertical_down_taps, vertical_up_taps, Coeffs};
+use std::sync::{Arc, Condvar, Mutex};
 
 /// Where the Y'CbCr frames of y4m and video streams are converted to and from RGB.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -28,6 +29,50 @@ impl PlaneConversion {
             PlaneConversion::Cpu => false,
             PlaneConversion::Gpu => true,
         }
+    }
+}
+
+impl std::str::FromStr for PlaneConversion {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "auto" => Ok(PlaneConversion::Auto),
+            "cpu" => Ok(PlaneConversion::Cpu),
+            "gpu" => Ok(PlaneConversion::Gpu),
+            _ => Err(format!("`{s}` is not one of auto, cpu, gpu")),
+        }
+    }
+}
+
+/// Whether a run's sources send Y'CbCr planes to the GPU: decided once the device
+/// exists ([`PlaneRoute::set`]); a source waits for it before its first frame
+/// ([`PlaneRoute::to_gpu`]).
+#[derive(Clone, Default)]
+pub struct PlaneRoute(Arc<(Mutex<Option<bool>>, Condvar)>);
+
+impl PlaneRoute {
+    /// A route decided already.
+    pub fn known(to_gpu: bool) -> Self {
+        let r = PlaneRoute::default();
+        r.set(to_gpu);
+        r
+    }
+
+    /// Decide (once the device exists, or failed: then `false`).
+    pub fn set(&self, to_gpu: bool) {
+        let (m, cv) = &*self.0;
+        *m.lock().unwrap_or_else(|e| e.into_inner()) = Some(to_gpu);
+        cv.notify_all();
+    }
+
+    /// Whether planes go to the GPU; waits until it is decided.
+    pub fn to_gpu(&self) -> bool {
+        let (m, cv) = &*self.0;
+        let mut v = m.lock().unwrap_or_else(|e| e.into_inner());
+        while v.is_none() {
+            v = cv.wait(v).unwrap_or_else(|e| e.into_inner());
+        }
+        v.unwrap_or(false)
     }
 }
 

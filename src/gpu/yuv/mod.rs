@@ -85,7 +85,9 @@ fn buffer(
 /// Check that a storage buffer of `size` bytes fits the device.
 fn check_storage(ctx: &GpuContext, what: &str, size: u64) -> Result<(), YuvGpuError> {
     let limits = ctx.device.limits();
-    let max = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    let max = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
     if size > max {
         return Err(YuvGpuError::Unavailable(format!(
             "{what} needs a storage buffer of {size} bytes, the device binds at most {max}"
