@@ -221,6 +221,18 @@ impl RgbToPlanes {
     }
 }
 
+impl Drop for PendingPlanes {
+    /// A read-back dropped unread (an output not written) gives its buffer back.
+    fn drop(&mut self) {
+        if let Some(buffer) = self.buffer.take() {
+            self.pool
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(buffer);
+        }
+    }
+}
+
 impl PendingPlanes {
     /// Wait for the copy and return the frame's planes (Y, Cb, Cr as a y4m frame
     /// stores them); the read-back buffer goes back to the pool. Call it only
@@ -229,7 +241,7 @@ impl PendingPlanes {
         let buffer = self
             .buffer
             .take()
-            .expect("a pending read-back has its buffer");
+            .ok_or_else(|| GpuError::Map("the planes were read already".into()))?;
         map_read(&self.device, &buffer)?;
         let out = buffer
             .get_mapped_range(..)

@@ -9,12 +9,14 @@
 //! from the stream's header with the CPU conversion's own tables, so both paths
 //! resample chroma with the same filter at the same siting.
 //!
-//! Files: `layout` (the description and its uniform block), `to_rgb`, `from_rgb`;
+//! Files: `layout` (the description and its uniform block), `to_rgb` with `upload`
+//! (its ring of upload buffers), `from_rgb`;
 //! the shaders are `shaders/yuv/`.
 
 mod from_rgb;
 mod layout;
 mod to_rgb;
+mod upload;
 
 pub use from_rgb::{PendingPlanes, RgbToPlanes};
 pub use layout::{ChromaSiting, DownTap, PlaneLayout, UpTap, YuvCoefficients};

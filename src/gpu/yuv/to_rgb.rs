@@ -1,8 +1,10 @@
-//! Y'CbCr planes to an RGBA texture: the frame's planes written into one reused
-//! storage buffer, `shaders/yuv/yuv_to_rgb.wgsl` making the texels into another, and
-//! a copy into the target texture; one submission per frame.
+//! Y'CbCr planes to an RGBA texture: the frame's planes written into a buffer of the
+//! upload ring and copied into the conversion's storage buffer,
+//! `shaders/yuv/yuv_to_rgb.wgsl` making the texels into another, and a copy into
+//! the target texture; one submission per frame.
 
 use super::layout::{rgb_mode, Params, PlaneLayout};
+use super::upload::UploadRing;
 use super::{buffer, check_storage, compute_pipeline, YuvGpuError};
 use crate::gpu::context::{GpuContext, GpuError};
 use crate::gpu::executor::wgpu_format;
@@ -21,6 +23,7 @@ pub struct PlanesToRgb {
     bind_group: wgpu::BindGroup,
     params: wgpu::Buffer,
     planes: wgpu::Buffer,
+    upload: UploadRing,
     texels: wgpu::Buffer,
     /// Whether the parameters last written were those of per-field chroma.
     fields_written: Option<bool>,
@@ -50,7 +53,7 @@ impl PlanesToRgb {
             include_str!("../../../shaders/yuv/yuv_to_rgb.wgsl"),
         )?;
         let up = layout.up_table();
-        let (params, planes, texels, bind_group) = ctx.scoped(LABEL, |device| {
+        let (params, planes, upload, texels, bind_group) = ctx.scoped(LABEL, |device| {
             use wgpu::BufferUsages as U;
             let params = buffer(
                 device,
@@ -76,6 +79,7 @@ impl PlanesToRgb {
                 texel_bytes,
                 U::STORAGE | U::COPY_SRC,
             );
+            let upload = UploadRing::new(device, planes.size());
             ctx.queue.write_buffer(&taps, 0, &up);
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(LABEL),
@@ -87,7 +91,7 @@ impl PlanesToRgb {
                     entry(3, &texels),
                 ],
             });
-            (params, planes, texels, bind_group)
+            (params, planes, upload, texels, bind_group)
         })?;
         Ok(PlanesToRgb {
             layout: layout.clone(),
@@ -98,6 +102,7 @@ impl PlanesToRgb {
             bind_group,
             params,
             planes,
+            upload,
             texels,
             fields_written: None,
         })
@@ -137,13 +142,15 @@ impl PlanesToRgb {
     ) -> Result<(), GpuError> {
         self.check_planes(planes)?;
         ctx.scoped(LABEL, |device| {
-            self.write_planes(ctx, planes);
-            self.write_params(ctx, fields);
             let mut enc = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(LABEL) });
+            let slot = self.upload.write(device, planes, &mut enc, &self.planes)?;
+            self.write_params(ctx, fields);
             self.encode(&mut enc, target);
             ctx.queue.submit([enc.finish()]);
-        })
+            self.upload.remap(slot);
+            Ok(())
+        })?
     }
 
     fn check_planes(&self, planes: [&[u8]; 3]) -> Result<(), GpuError> {
@@ -163,27 +170,6 @@ impl PlanesToRgb {
             });
         }
         Ok(())
-    }
-
-    /// The planes, one after the other, into the upload buffer (through the
-    /// queue's staging memory: one copy of the bytes).
-    fn write_planes(&self, ctx: &GpuContext, planes: [&[u8]; 3]) {
-        let size = self.planes.size();
-        let Some(size) = wgpu::BufferSize::new(size) else {
-            return;
-        };
-        let Some(mut view) = ctx.queue.write_buffer_with(&self.planes, 0, size) else {
-            return; // a validation error, reported by the scope
-        };
-        let mut at = 0;
-        for p in planes {
-            view.slice(at..at + p.len()).copy_from_slice(p);
-            at += p.len();
-        }
-        if at < view.len() {
-            let pad = view.len() - at;
-            view.slice(at..).copy_from_slice(&vec![0; pad]);
-        }
     }
 
     fn write_params(&mut self, ctx: &GpuContext, fields: bool) {
