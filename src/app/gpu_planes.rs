@@ -18,6 +18,9 @@ pub(super) struct PlaneStage {
     /// What the sink writes, when the GPU may make its planes.
     offer: Option<(Y4mHeader, YuvConversion)>,
     input: Option<PlanesToRgb>,
+    /// The stream's input format, once it exists; whether `input` was tried.
+    input_format: Option<Format>,
+    input_tried: bool,
     output: Option<RgbToPlanes>,
     /// A frame's planes were converted on the CPU here (logged once).
     warned: bool,
@@ -53,19 +56,10 @@ impl PlaneStage {
         self.offer = offer;
     }
 
-    /// Make the conversions of a stream whose first frame is `first`, its input
-    /// textures in `input`.
-    pub(super) fn prepare(
-        &mut self,
-        engine: &Engine,
-        stream: &Stream,
-        first: &Picture,
-        input: Format,
-    ) {
-        if let Picture::Planes(p) = first {
-            let layout = plane_layout(&p.header, &p.conversion);
-            self.input = served(PlanesToRgb::new(&engine.ctx, &layout, input), "input");
-        }
+    /// Make the output's conversion of a new stream whose input textures are in
+    /// `input` (the input's is made with its first frame of planes).
+    pub(super) fn prepare(&mut self, engine: &Engine, stream: &Stream, input: Format) {
+        self.input_format = Some(input);
         let Some((template, conv)) = self.offer.take() else {
             return;
         };
@@ -91,6 +85,13 @@ impl PlaneStage {
         pic: Picture,
         name: &str,
     ) -> Result<(), super::error::RunError> {
+        if let (Picture::Planes(p), false, Some(format)) =
+            (&pic, self.input_tried, self.input_format)
+        {
+            self.input_tried = true;
+            let layout = plane_layout(&p.header, &p.conversion);
+            self.input = served(PlanesToRgb::new(&engine.ctx, &layout, format), "input");
+        }
         match (pic, self.input.as_mut()) {
             (Picture::Planes(p), Some(conv)) => {
                 let PlaneFrame {

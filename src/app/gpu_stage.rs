@@ -361,8 +361,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             s.camera = self.opts.camera;
             s.want_timings = self.opts.timings;
             self.report.frames_held_max = 2 * self.opts.queue.max(1) + s.ring_len();
-            self.planes.prepare(self.engine, &s, &img, fmt);
-            self.report.ycbcr_on_gpu = self.planes.on_gpu();
+            self.planes.prepare(self.engine, &s, fmt);
             self.stream = Some(s);
         }
         let s = self.stream.as_mut().expect("stream created");
@@ -380,6 +379,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             }));
         }
         self.planes.push(self.engine, s, img, &name)?;
+        self.report.ycbcr_on_gpu = self.planes.on_gpu();
         self.numbers.push_back((number, name));
         self.busy += t.elapsed();
         Ok(())

@@ -401,7 +401,7 @@ pub fn run_frames(
             report.adapter = engine.ctx.info.name.clone();
             report.backend = format!("{:?}", engine.ctx.info.backend);
             let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
-            if route.to_gpu() {
+            if route.decided() == Some(true) {
                 gpu.offer_planes(plane_output);
             }
             fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);

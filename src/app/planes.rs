@@ -6,7 +6,7 @@
 use crate::gpu::yuv::{ChromaSiting, PlaneLayout, UpTap, YuvCoefficients};
 use crate::io::y4m::{Siting, Y4mHeader, YuvConversion};
 use crate::io::yuv::{vertical_down_taps, vertical_up_taps, Coeffs};
-use std::sync::{Arc, Condvar, Mutex};
+use std::sync::{Arc, Mutex};
 
 /// Where the Y'CbCr frames of y4m and video streams are converted to and from RGB.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -45,10 +45,11 @@ impl std::str::FromStr for PlaneConversion {
 }
 
 /// Whether a run's sources send Y'CbCr planes to the GPU: decided once the device
-/// exists ([`PlaneRoute::set`]); a source waits for it before its first frame
-/// ([`PlaneRoute::to_gpu`]).
+/// exists ([`PlaneRoute::set`]). A source does not wait for it: the frames it reads
+/// before ([`PlaneRoute::decided`] is `None`) are converted on the CPU, as the
+/// device is being made.
 #[derive(Clone, Default)]
-pub struct PlaneRoute(Arc<(Mutex<Option<bool>>, Condvar)>);
+pub struct PlaneRoute(Arc<Mutex<Option<bool>>>);
 
 impl PlaneRoute {
     /// A route decided already.
@@ -60,19 +61,12 @@ impl PlaneRoute {
 
     /// Decide (once the device exists, or failed: then `false`).
     pub fn set(&self, to_gpu: bool) {
-        let (m, cv) = &*self.0;
-        *m.lock().unwrap_or_else(|e| e.into_inner()) = Some(to_gpu);
-        cv.notify_all();
+        *self.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(to_gpu);
     }
 
-    /// Whether planes go to the GPU; waits until it is decided.
-    pub fn to_gpu(&self) -> bool {
-        let (m, cv) = &*self.0;
-        let mut v = m.lock().unwrap_or_else(|e| e.into_inner());
-        while v.is_none() {
-            v = cv.wait(v).unwrap_or_else(|e| e.into_inner());
-        }
-        v.unwrap_or(false)
+    /// Whether planes go to the GPU, once decided.
+    pub fn decided(&self) -> Option<bool> {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 

@@ -143,21 +143,24 @@ impl<R: std::io::Read + Send> Y4mSource<R> {
     }
 
     /// The header the frames share, and whether they go to the GPU as planes (else
-    /// they are converted here): the run's device decides, and signals other than
-    /// sRGB are converted on the CPU (logged once).
+    /// they are converted here): the run's device decides (frames read before it
+    /// exists are converted here), and signals other than sRGB are converted on the
+    /// CPU (logged once).
     fn shared(&mut self) -> (Arc<io::y4m::Y4mHeader>, bool) {
-        let (header, planes) = self.shared.get_or_insert_with(|| {
-            let mut planes = self.route.to_gpu();
-            if let (true, Some(why)) = (planes, gpu_refusal(&self.conversion)) {
-                log::info!(
-                    "{}: Y'CbCr conversion on the CPU: {why}",
-                    self.reader.name()
-                );
-                planes = false;
+        if self.shared.is_none() {
+            if let Some(mut planes) = self.route.decided() {
+                if let (true, Some(why)) = (planes, gpu_refusal(&self.conversion)) {
+                    let name = self.reader.name();
+                    log::info!("{name}: Y'CbCr conversion on the CPU: {why}");
+                    planes = false;
+                }
+                self.shared = Some((Arc::new(self.reader.header().clone()), planes));
             }
-            (Arc::new(self.reader.header().clone()), planes)
-        });
-        (header.clone(), *planes)
+        }
+        match &self.shared {
+            Some((header, planes)) => (header.clone(), *planes),
+            None => (Arc::new(self.reader.header().clone()), false),
+        }
     }
 
     /// Whether the frames up to [`Y4mSource::last`] have all been read (the stream may
