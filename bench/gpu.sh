@@ -24,7 +24,8 @@
 #   room rendered once to y4m; effects reading AUX.* run on the rendered room;
 #   their per-pass detail goes to $OUT/passes.md;
 # - video rows: whole-pipeline fps, y4m in and out (stdout), for
-#   temporal_denoise, deinterlace and glow;
+#   temporal_denoise, deinterlace and glow; and with compute execution, the
+#   Y'CbCr conversion on the CPU (--ycbcr cpu) against the GPU (--ycbcr gpu);
 # - process rows: a 1080p PNG through tonemap, and gaussian_blur sigma 8, whole
 #   process wall time (median of 5), with OpenCV and PyTorch doing the same blur
 #   (PNG in and out) where python3 has them;
@@ -148,6 +149,13 @@ for effect in $VIDEO_EFFECTS; do
         fps[$exec]=$([ -n "$PY" ] && "$PY" -c "print('%.1f' % ($VIDEO_FRAMES / ($t / 1000)))" || echo "${t}ms")
     done
     row "$effect y4m→y4m fps ($VIDEO_FRAMES frames)" "$VSIZE" "${fps[fragment]}" "${fps[compute]}" "$(ratio "${fps[compute]}" "${fps[fragment]}")" ""
+    # Where Y'CbCr is converted (compute execution): the CPU (io/yuv) or the GPU (gpu/yuv).
+    declare -A yfps=()
+    for side in cpu gpu; do
+        t=$(median_wall 1 $FX "$effect" -i "$VIDEO" -o - --execution compute --ycbcr "$side")
+        yfps[$side]=$([ -n "$PY" ] && "$PY" -c "print('%.1f' % ($VIDEO_FRAMES / ($t / 1000)))" || echo "${t}ms")
+    done
+    row "$effect y4m→y4m fps, compute, --ycbcr cpu | gpu" "$VSIZE" "${yfps[cpu]}" "${yfps[gpu]}" "$(ratio "${yfps[cpu]}" "${yfps[gpu]}")" "columns: Y'CbCr converted on the CPU, on the GPU"
 done
 
 # Whole process on a PNG.

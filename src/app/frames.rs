@@ -2,16 +2,75 @@
 //! (decode thread), outputs to a [`FrameSink`] (encode thread), and the device's size
 //! limit the sources check headers against ([`SideLimit`]).
 
+use super::planes::PlaneRoute;
+use crate::io::y4m::{yuv_to_image, RgbKind, Y4mHeader, YuvConversion, YuvFrame};
 use crate::io::{Image, IoError, Pixels};
 use std::sync::{Arc, Condvar, Mutex};
 
 /// A frame from a source: its number, a name for messages (a file name, `stdin frame
-/// N`), the decoded image or why it could not be, and auxiliary images (`AUX.NAME`).
+/// N`), the decoded picture or why it could not be, and auxiliary images (`AUX.NAME`).
 pub struct SourceFrame {
     pub number: u64,
     pub name: String,
-    pub image: Result<Image, IoError>,
+    pub image: Result<Picture, IoError>,
     pub aux: Vec<(String, Image)>,
+}
+
+/// A frame's pixels on their way to the GPU: RGBA, or the Y'CbCr planes of a y4m
+/// or video stream, converted on the GPU ([`super::planes`]).
+pub enum Picture {
+    Rgba(Image),
+    Planes(PlaneFrame),
+}
+
+/// A y4m frame as it was read, with what says how to convert it.
+pub struct PlaneFrame {
+    pub frame: YuvFrame,
+    pub header: Arc<Y4mHeader>,
+    pub conversion: YuvConversion,
+}
+
+impl From<Image> for Picture {
+    fn from(img: Image) -> Picture {
+        Picture::Rgba(img)
+    }
+}
+
+impl PlaneFrame {
+    /// The RGBA image the CPU conversion makes of the frame (what a y4m source
+    /// sends when the GPU does not convert): 8-bit sRGB for 8-bit sRGB streams,
+    /// linear floats otherwise.
+    pub fn to_image(&self) -> Result<Image, String> {
+        let h = &*self.header;
+        let kind = if h.depth > 8 || !self.conversion.color.is_srgb() {
+            RgbKind::LinearF32
+        } else {
+            RgbKind::SrgbU8
+        };
+        yuv_to_image(&self.frame, h, &self.conversion, kind)
+    }
+}
+
+impl Picture {
+    /// The picture as RGBA, converted on the CPU if it is planes (`name` names the
+    /// frame in an error).
+    pub fn into_image(self, name: &str) -> Result<Image, IoError> {
+        match self {
+            Picture::Rgba(img) => Ok(img),
+            Picture::Planes(p) => p.to_image().map_err(|message| IoError::Decode {
+                path: name.into(),
+                message,
+            }),
+        }
+    }
+
+    /// Width and height.
+    pub fn size(&self) -> (u32, u32) {
+        match self {
+            Picture::Rgba(img) => (img.width, img.height),
+            Picture::Planes(p) => (p.header.width, p.header.height),
+        }
+    }
 }
 
 /// Where frames come from (runs on the decode thread).
@@ -23,6 +82,9 @@ pub trait FrameSource: Send {
     fn next_frame(&mut self) -> Option<SourceFrame>;
     /// The device's size limit, for sources that read sizes from headers.
     fn set_limit(&mut self, _limit: SideLimit) {}
+    /// Whether the GPU converts Y'CbCr frames, for sources that read them: such a
+    /// source sends [`Picture::Planes`] when the route says so.
+    fn set_plane_route(&mut self, _route: PlaneRoute) {}
 }
 
 /// An output frame handed to a [`FrameSink`]: its number, size and pixels.
@@ -47,6 +109,26 @@ pub trait FrameSink: Send {
     /// no partial output is left and an existing one is kept. Sinks of one file per
     /// frame keep the frames written (the default does nothing).
     fn abort(&mut self) {}
+    /// A sink of y4m frames that takes their planes as the stream stores them
+    /// ([`FrameSink::write_planes`]): the header of its frames (the size is set to
+    /// the output's) and their conversion. `None` (the default): RGBA only.
+    fn plane_output(&self) -> Option<(Y4mHeader, YuvConversion)> {
+        None
+    }
+    /// Write an output frame given as the planes of [`FrameSink::plane_output`]'s
+    /// layout (Y, Cb, Cr); only called on sinks that offer it.
+    fn write_planes(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        _planes: Vec<u8>,
+    ) -> Result<String, IoError> {
+        Err(IoError::Unsupported {
+            path: format!("frame {number}").into(),
+            message: format!("this output takes RGBA frames, not {width}x{height} Y'CbCr planes"),
+        })
+    }
 }
 
 /// The largest width or height the device takes, known once the device exists.

@@ -4,9 +4,11 @@
 
 use super::effect::Effect;
 use super::error::RunError;
+use super::frames::Picture;
+use super::gpu_planes::{picture_format, PlaneStage};
 use super::pipeline_options::{Mode, PipelineOptions};
 use super::report::{ms, FrameFailure, MemoryReport, Progress, RunReport};
-use super::stage_messages::{Decoded, Encoded};
+use super::stage_messages::{Decoded, Encoded, Readback};
 use crate::gpu::context::PendingReadback;
 use crate::gpu::executor::{wgpu_format, Engine, FrameInputs, Prepared};
 use crate::gpu::stream::Stream;
@@ -53,6 +55,8 @@ pub(super) struct GpuStage<'a, 'r> {
     stream: Option<Stream>,
     numbers: VecDeque<(u64, String)>,
     first_number: Option<u64>,
+    /// Sequences: the Y'CbCr conversions on the device.
+    planes: PlaneStage,
 }
 
 impl<'a, 'r> GpuStage<'a, 'r> {
@@ -74,7 +78,17 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             stream: None,
             numbers: VecDeque::new(),
             first_number: None,
+            planes: PlaneStage::default(),
         }
+    }
+
+    /// A y4m sink's header and conversion: its planes are made on the GPU where it
+    /// can.
+    pub(super) fn offer_planes(
+        &mut self,
+        offer: Option<(crate::io::y4m::Y4mHeader, crate::io::y4m::YuvConversion)>,
+    ) {
+        self.planes.offer(offer);
     }
 
     /// Whether every frame so far went through: no failure recorded, not interrupted.
@@ -121,8 +135,13 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             };
             let t = Instant::now();
             let sent = if stills {
-                match self.still(&img, &aux, number) {
+                let still = img
+                    .into_image(&name)
+                    .map_err(RunError::from)
+                    .and_then(|img| self.still(&img, &aux, number));
+                match still {
                     Ok(pending) => {
+                        let pending = Readback::Texture(pending);
                         let spent = t.elapsed();
                         self.busy += spent;
                         self.enc_tx
@@ -155,7 +174,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
                     }
                 }
             } else {
-                match self.push(&img, number, name).and_then(|()| self.drain()) {
+                match self.push(img, number, name).and_then(|()| self.drain()) {
                     Ok(open) => open,
                     Err(e) => return Some(e),
                 }
@@ -318,14 +337,15 @@ impl<'a, 'r> GpuStage<'a, 'r> {
     }
 
     /// Push a frame of a sequence into the stream (created for the first frame).
-    fn push(&mut self, img: &Image, number: u64, name: String) -> Result<(), RunError> {
+    fn push(&mut self, img: Picture, number: u64, name: String) -> Result<(), RunError> {
         let t = Instant::now();
+        let (width, height) = img.size();
         if self.stream.is_none() {
             self.first_number = Some(number);
-            let (fmt, cs) = input_format(img, self.opts.assume_linear);
+            let (fmt, cs) = picture_format(&img, self.opts.assume_linear);
             let desc = InputDesc {
-                width: img.width,
-                height: img.height,
+                width,
+                height,
                 format: fmt,
                 colorspace: cs,
                 aux: Vec::new(),
@@ -342,24 +362,26 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             s.camera = self.opts.camera;
             s.want_timings = self.opts.timings;
             self.report.frames_held_max = 2 * self.opts.queue.max(1) + s.ring_len();
+            self.planes.prepare(self.engine, &s, fmt);
             self.stream = Some(s);
         }
         let s = self.stream.as_mut().expect("stream created");
         let (w, h) = (s.prepared.plan.input.width, s.prepared.plan.input.height);
-        if (img.width, img.height) != (w, h) {
+        if (width, height) != (w, h) {
             // An input error, not a GPU one: the frames of a sequence have one size.
             return Err(RunError::BadInput(IoError::Decode {
                 path: name.into(),
                 message: format!(
                     "the frame is {}x{}, the sequence started at {w}x{h} (frame {}): the frames of a sequence must have one size",
-                    img.width,
-                    img.height,
+                    width,
+                    height,
                     self.first_number.unwrap_or(0)
                 ),
             }));
         }
+        self.planes.push(self.engine, s, img, &name)?;
+        self.report.ycbcr_on_gpu = self.planes.on_gpu();
         self.numbers.push_back((number, name));
-        s.push_image(self.engine, img)?;
         self.busy += t.elapsed();
         Ok(())
     }
@@ -373,7 +395,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
         loop {
             let t = Instant::now();
             // The frame's passes and the copy of its output: one submission.
-            let Some((out, pending)) = stream.next_read_back(self.engine)? else {
+            let Some((out, pending)) = self.planes.next(self.engine, stream)? else {
                 self.busy += t.elapsed();
                 return Ok(true);
             };

@@ -26,15 +26,17 @@
 
 use super::effect::Effect;
 use super::error::RunError;
-pub use super::frames::{FrameSink, FrameSource, OutputFrame, SideLimit, SourceFrame};
+pub use super::frames::{FrameSink, FrameSource, OutputFrame, Picture, SideLimit, SourceFrame};
 use super::gpu_stage::GpuStage;
 pub use super::pipeline_options::{Mode, PipelineOptions};
+use super::planes::PlaneRoute;
 use super::report::{ms, FrameDone, FrameFailure, Progress, RunReport};
-use super::stage_messages::{Decoded, Encoded};
+use super::stage_messages::{Decoded, Encoded, Readback};
 use crate::gpu::context::{AdapterChoice, GpuContext};
 use crate::gpu::executor::Engine;
 use crate::gpu::transfer::pixels_from_bytes;
 use crate::io::IoError;
+use crate::script::types::Format;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::sync_channel;
 use std::sync::Arc;
@@ -84,22 +86,10 @@ pub(super) fn spawn_encoder(
                 if !r.failed.is_empty() && !keep_going {
                     continue; // stopped: frames after the failure are not written
                 }
-                let t = Instant::now();
-                let (w, h) = (e.pending.width(), e.pending.height());
-                let raw = e.pending.finish().map_err(RunError::from);
-                r.last_wait = t.elapsed();
-                r.wait += r.last_wait;
-                let t = Instant::now();
-                let result = raw.and_then(|raw| {
-                    let pixels = pixels_from_bytes(raw, e.format)?;
-                    sink.write(OutputFrame {
-                        number: e.number,
-                        width: w,
-                        height: h,
-                        pixels,
-                    })
-                    .map_err(RunError::from)
-                });
+                let (w, h) = e.pending.size();
+                let (result, wait, t) = write_one(&mut *sink, e.pending, e.number, e.format);
+                r.last_wait = wait;
+                r.wait += wait;
                 let spent = t.elapsed();
                 r.busy += spent;
                 match result {
@@ -137,6 +127,40 @@ pub(super) fn spawn_encoder(
         .map_err(|e| RunError::Other(format!("cannot start the encode thread: {e}")))
 }
 
+/// Finish a read-back and write it to `sink`: the result, the time waited for the
+/// read-back, and when the writing started.
+fn write_one(
+    sink: &mut dyn FrameSink,
+    pending: Readback,
+    number: u64,
+    format: Format,
+) -> (Result<String, RunError>, Duration, Instant) {
+    let t = Instant::now();
+    let (width, height) = pending.size();
+    let raw = match pending {
+        Readback::Texture(p) => p.finish().map(|raw| (raw, false)),
+        Readback::Planes(p, ..) => p.finish().map(|raw| (raw, true)),
+    };
+    let wait = t.elapsed();
+    let t = Instant::now();
+    let result = raw.map_err(RunError::from).and_then(|(raw, planes)| {
+        if planes {
+            return sink
+                .write_planes(number, width, height, raw)
+                .map_err(RunError::from);
+        }
+        let pixels = pixels_from_bytes(raw, format)?;
+        sink.write(OutputFrame {
+            number,
+            width,
+            height,
+            pixels,
+        })
+        .map_err(RunError::from)
+    });
+    (result, wait, t)
+}
+
 /// Run `effect` over every frame of `source`, writing to `sink`. `stop` ends the run
 /// early (Ctrl-C): frames already written stay, frames in flight are finished.
 ///
@@ -154,14 +178,18 @@ pub fn run_frames(
 ) -> Result<RunReport, RunError> {
     let start = Instant::now();
     let limit = SideLimit::default();
+    // Y'CbCr planes go to the GPU for sequences, as `opts.ycbcr` says for the device.
+    let route = PlaneRoute::default();
+    let (ycbcr, sequence) = (opts.ycbcr, opts.mode == Mode::Sequence);
     let device_thread = match &device {
         Device::Engine(e) => {
             limit.set(e.ctx.device.limits().max_texture_dimension_2d);
+            route.set(sequence && ycbcr.wants_gpu(e.ctx.info.device_type));
             None
         }
         Device::Create(adapter) => {
             let adapter = (*adapter).clone();
-            let l = limit.clone();
+            let (l, route) = (limit.clone(), route.clone());
             Some(
                 std::thread::Builder::new()
                     .name("fxgraph device".into())
@@ -176,6 +204,10 @@ pub fn run_frames(
                             Ok(e) => e.ctx.device.limits().max_texture_dimension_2d,
                             Err(_) => 0,
                         });
+                        route
+                            .set(r.as_ref().is_ok_and(|e| {
+                                sequence && ycbcr.wants_gpu(e.ctx.info.device_type)
+                            }));
                         r.map(|e| (e, t.elapsed()))
                     })
                     .map_err(|e| RunError::Other(format!("cannot start the device thread: {e}")))?,
@@ -183,6 +215,7 @@ pub fn run_frames(
         }
     };
     source.set_limit(limit.clone());
+    source.set_plane_route(route.clone());
     let total = source.frame_count();
     let queue = opts.queue.max(1);
     let stills = opts.mode == Mode::Stills;
@@ -220,6 +253,8 @@ pub fn run_frames(
     // end of its queue): whether the run completed, so the sink can make its output
     // final (`finish`) or discard it (`abort`).
     let complete = Arc::new(AtomicBool::new(false));
+    // What a y4m sink writes, for planes made on the GPU (used if the route says so).
+    let plane_output = sink.plane_output();
     let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone(), complete.clone())?;
 
     let mut report = RunReport {
@@ -240,6 +275,7 @@ pub fn run_frames(
                 .join()
                 .map_err(|_| {
                     limit.set(0);
+                    route.set(false);
                     RunError::Other("the device thread panicked".into())
                 })
                 .and_then(|r| r.map_err(RunError::from));
@@ -265,6 +301,9 @@ pub fn run_frames(
             report.adapter = engine.ctx.info.name.clone();
             report.backend = format!("{:?}", engine.ctx.info.backend);
             let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
+            if route.decided() == Some(true) {
+                gpu.offer_planes(plane_output);
+            }
             fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);
             gpu_busy = gpu.busy;
             // A stop seen by the decoder alone (between two frames) ended the input

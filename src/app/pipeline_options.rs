@@ -2,6 +2,7 @@
 //! ([`Mode`]) and [`PipelineOptions`]. Their own home, so the pipeline's stages
 //! read them without importing the pipeline.
 
+use super::planes::PlaneConversion;
 use super::report::JobKind;
 use crate::gpu::executor::CameraStd;
 use crate::script::types::Format;
@@ -38,6 +39,8 @@ pub struct PipelineOptions {
     /// Depth of each queue between stages.
     pub queue: usize,
     pub timings: bool,
+    /// Where the Y'CbCr frames of y4m and video streams are converted (sequences).
+    pub ycbcr: PlaneConversion,
 }
 
 impl Default for PipelineOptions {
@@ -55,6 +58,7 @@ impl Default for PipelineOptions {
             keep_going: false,
             queue: 3,
             timings: false,
+            ycbcr: PlaneConversion::Auto,
         }
     }
 }

@@ -150,6 +150,9 @@ pub struct RunReport {
     pub job: JobKind,
     pub adapter: String,
     pub backend: String,
+    /// Sequences of y4m or video frames: whether the GPU converted the input's
+    /// Y'CbCr planes and made the output's (else the CPU did).
+    pub ycbcr_on_gpu: [bool; 2],
     /// Frames in the job when known before it starts (an image: 1, a batch: its
     /// images, numbered files: their count; a pipe: unknown).
     pub frames_total: Option<u64>,

@@ -10,6 +10,7 @@
 use super::effect::Effect;
 use super::error::RunError;
 use super::pipeline::{run_frames, Device, FrameSink, FrameSource, Mode, PipelineOptions};
+use super::planes::PlaneConversion;
 use super::report::{JobKind, Progress, RunReport};
 use crate::gpu::executor::CameraStd;
 use crate::script::types::Format;
@@ -31,6 +32,8 @@ pub struct SequenceOptions {
     /// Depth of each queue between stages.
     pub queue: usize,
     pub timings: bool,
+    /// Where the Y'CbCr frames of y4m and video streams are converted.
+    pub ycbcr: PlaneConversion,
 }
 
 impl Default for SequenceOptions {
@@ -43,6 +46,7 @@ impl Default for SequenceOptions {
             emit: None,
             queue: 3,
             timings: false,
+            ycbcr: PlaneConversion::Auto,
         }
     }
 }
@@ -75,6 +79,7 @@ pub fn run_sequence(
         keep_going: false,
         queue: opts.queue,
         timings: opts.timings,
+        ycbcr: opts.ycbcr,
     };
     run_frames(device, effect, source, sink, &p, stop, progress)
 }

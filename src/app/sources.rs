@@ -2,8 +2,12 @@
 //! (files, pipes, ffmpeg's: see [`super::streams`]). `fxrun` adds its own (e.g. named
 //! outputs for `-o DIR`).
 
-use super::frames::{FrameSink, FrameSource, OutputFrame, SideLimit, SourceFrame};
+use super::frames::{
+    FrameSink, FrameSource, OutputFrame, Picture, PlaneFrame, SideLimit, SourceFrame,
+};
+use super::planes::{gpu_refusal, PlaneRoute};
 use crate::io::{self, Image, IoError, Pixels};
+use std::sync::Arc;
 
 /// Image files read in order (numbered frames, or the images of a batch), each
 /// checked against the device's size limit from its header before it is decoded.
@@ -54,7 +58,7 @@ impl FrameSource for FilesSource {
         Some(SourceFrame {
             number: *n,
             name: path.display().to_string(),
-            image: load_checked(path, &self.limit, &self.load),
+            image: load_checked(path, &self.limit, &self.load).map(Picture::from),
             aux: Vec::new(),
         })
     }
@@ -101,9 +105,10 @@ fn y4m_error(e: io::y4m::Y4mError) -> IoError {
     IoError::from(e)
 }
 
-/// A YUV4MPEG2 stream (stdin, a file, ffmpeg's output) decoded to RGBA frames: 8-bit
-/// streams to 8-bit sRGB pixels (decoded by the GPU), deeper ones to linear floats
-/// (no precision lost before the GPU).
+/// A YUV4MPEG2 stream (stdin, a file, ffmpeg's output): its frames' planes as they
+/// are read when the GPU converts them ([`Y4mSource::set_plane_route`]), else
+/// decoded to RGBA frames here: 8-bit streams to 8-bit sRGB pixels (decoded by the
+/// GPU), deeper ones to linear floats (no precision lost before the GPU).
 pub struct Y4mSource<R: std::io::Read + Send> {
     pub reader: io::y4m::Y4mReader<R>,
     pub conversion: io::y4m::YuvConversion,
@@ -115,6 +120,11 @@ pub struct Y4mSource<R: std::io::Read + Send> {
     pub failed: bool,
     /// Frames in the stream, when known (for the progress bar and the report).
     pub frames: Option<u64>,
+    /// Whether the frames go to the GPU as planes (decided by the run's device).
+    route: PlaneRoute,
+    /// The header shared by the planes sent, and whether planes are sent (known
+    /// from the first frame on).
+    shared: Option<(Arc<io::y4m::Y4mHeader>, bool)>,
 }
 
 impl<R: std::io::Read + Send> Y4mSource<R> {
@@ -127,6 +137,29 @@ impl<R: std::io::Read + Send> Y4mSource<R> {
             last: None,
             failed: false,
             frames: None,
+            route: PlaneRoute::known(false),
+            shared: None,
+        }
+    }
+
+    /// The header the frames share, and whether they go to the GPU as planes (else
+    /// they are converted here): the run's device decides (frames read before it
+    /// exists are converted here), and signals other than sRGB are converted on the
+    /// CPU (logged once).
+    fn shared(&mut self) -> (Arc<io::y4m::Y4mHeader>, bool) {
+        if self.shared.is_none() {
+            if let Some(mut planes) = self.route.decided() {
+                if let (true, Some(why)) = (planes, gpu_refusal(&self.conversion)) {
+                    let name = self.reader.name();
+                    log::info!("{name}: Y'CbCr conversion on the CPU: {why}");
+                    planes = false;
+                }
+                self.shared = Some((Arc::new(self.reader.header().clone()), planes));
+            }
+        }
+        match &self.shared {
+            Some((header, planes)) => (header.clone(), *planes),
+            None => (Arc::new(self.reader.header().clone()), false),
         }
     }
 
@@ -136,8 +169,7 @@ impl<R: std::io::Read + Send> Y4mSource<R> {
         self.last.is_some_and(|l| self.reader.frames_read() > l)
     }
 
-    fn read(&mut self) -> Result<Option<(u64, Image)>, IoError> {
-        use io::y4m::{yuv_to_image, RgbKind};
+    fn read(&mut self) -> Result<Option<(u64, Picture)>, IoError> {
         loop {
             let n = self.reader.frames_read();
             if self.past_last() {
@@ -149,20 +181,20 @@ impl<R: std::io::Read + Send> Y4mSource<R> {
             if n < self.skip {
                 continue;
             }
-            let header = self.reader.header();
-            // Above 8 bits, and any signal other than sRGB (PQ, HLG...): linear floats.
-            let kind = if header.depth > 8 || !self.conversion.color.is_srgb() {
-                RgbKind::LinearF32
-            } else {
-                RgbKind::SrgbU8
+            let (header, to_gpu) = self.shared();
+            let planes = PlaneFrame {
+                frame,
+                header,
+                conversion: self.conversion,
             };
-            let img = yuv_to_image(&frame, header, &self.conversion, kind).map_err(|m| {
-                IoError::Decode {
-                    path: self.reader.name().into(),
-                    message: format!("y4m frame {n}: {m}"),
-                }
+            if to_gpu {
+                return Ok(Some((n, Picture::Planes(planes))));
+            }
+            let img = planes.to_image().map_err(|m| IoError::Decode {
+                path: self.reader.name().into(),
+                message: format!("y4m frame {n}: {m}"),
             })?;
-            return Ok(Some((n, img)));
+            return Ok(Some((n, img.into())));
         }
     }
 }
@@ -192,6 +224,9 @@ impl<R: std::io::Read + Send> FrameSource for Y4mSource<R> {
             image,
             aux: Vec::new(),
         })
+    }
+    fn set_plane_route(&mut self, route: PlaneRoute) {
+        self.route = route;
     }
 }
 
@@ -255,20 +290,32 @@ impl<W: io::OutputTarget> Y4mSink<W> {
     }
 }
 
-impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
-    fn write(&mut self, frame: OutputFrame) -> Result<String, IoError> {
-        use io::y4m::{image_to_yuv, Y4mWriter};
+impl<W: io::OutputTarget> Y4mSink<W> {
+    /// The writer, made with the first frame (its size is the output's).
+    fn writer_for(
+        &mut self,
+        width: u32,
+        height: u32,
+    ) -> Result<&mut io::y4m::Y4mWriter<W>, IoError> {
         if self.writer.is_none() {
             let mut header = self.template.clone();
-            header.width = frame.width;
-            header.height = frame.height;
+            header.width = width;
+            header.height = height;
             let inner = self.inner.take().ok_or_else(|| IoError::Io {
                 path: self.name.clone().into(),
                 source: std::io::Error::other("the stream is already finished"),
             })?;
-            self.writer =
-                Some(Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?);
+            let w = io::y4m::Y4mWriter::new(inner, header, self.name.clone()).map_err(y4m_error)?;
+            self.writer = Some(w);
         }
+        Ok(self.writer.as_mut().expect("writer created"))
+    }
+}
+
+impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
+    fn write(&mut self, frame: OutputFrame) -> Result<String, IoError> {
+        use io::y4m::image_to_yuv;
+        self.writer_for(frame.width, frame.height)?;
         self.check_non_finite(frame.number, &frame.pixels);
         let w = self.writer.as_mut().expect("writer created");
         let header = w.header().clone();
@@ -289,6 +336,20 @@ impl<W: io::OutputTarget> FrameSink for Y4mSink<W> {
         })?;
         w.write_frame(&yuv).map_err(y4m_error)?;
         Ok(format!("{} frame {}", self.name, frame.number))
+    }
+    fn plane_output(&self) -> Option<(io::y4m::Y4mHeader, io::y4m::YuvConversion)> {
+        Some((self.template.clone(), self.conversion))
+    }
+    fn write_planes(
+        &mut self,
+        number: u64,
+        width: u32,
+        height: u32,
+        planes: Vec<u8>,
+    ) -> Result<String, IoError> {
+        let w = self.writer_for(width, height)?;
+        w.write_planes(&planes).map_err(y4m_error)?;
+        Ok(format!("{} frame {number}", self.name))
     }
     fn finish(&mut self) -> Result<(), IoError> {
         let wrote = self.writer.is_some();
@@ -352,7 +413,7 @@ impl FrameSource for MemorySource {
         Some(SourceFrame {
             number,
             name: format!("frame {number}"),
-            image: Ok(img),
+            image: Ok(img.into()),
             aux: self.aux.clone(),
         })
     }

@@ -93,7 +93,7 @@ impl FrameSource for StillSource {
             return None;
         }
         let (image, aux) = match self.load() {
-            Ok((img, aux)) => (Ok(img), aux),
+            Ok((img, aux)) => (Ok(img.into()), aux),
             Err(e) => (Err(e), Vec::new()),
         };
         Some(SourceFrame {

@@ -279,6 +279,9 @@ impl FrameSource for VideoSource {
     fn set_limit(&mut self, limit: SideLimit) {
         self.inner.set_limit(limit);
     }
+    fn set_plane_route(&mut self, route: super::planes::PlaneRoute) {
+        self.inner.set_plane_route(route);
+    }
 }
 
 /// What an output stream is written with.

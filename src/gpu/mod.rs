@@ -9,3 +9,4 @@ pub mod formats;
 pub mod fullscreen;
 pub mod stream;
 pub mod transfer;
+pub mod yuv;

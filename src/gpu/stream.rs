@@ -23,6 +23,7 @@ use super::executor::{
     wgpu_format, CameraStd, Engine, ExecError, FrameInputs, PassTiming, Prepared,
 };
 use super::transfer::{create_output, image_bytes};
+use super::yuv::PlanesToRgb;
 use crate::graph::plan::Resource;
 use crate::pixels::Image;
 use crate::script::types::Format;
@@ -243,6 +244,26 @@ impl Stream {
         }
     }
 
+    /// Convert a Y'CbCr frame's planes on the device into a recycled input texture
+    /// (see [`PlanesToRgb::convert`]) and queue it; `conversion` makes textures of
+    /// the stream's input format.
+    pub fn push_planes(
+        &mut self,
+        engine: &Engine,
+        conversion: &mut PlanesToRgb,
+        planes: [&[u8]; 3],
+        fields: bool,
+    ) -> Result<(), GpuError> {
+        let input = match self.spare.pop() {
+            Some(t) => t,
+            None => conversion
+                .create_texture(&engine.ctx, &format!("sequence input {}", self.pushed))?,
+        };
+        conversion.convert(&engine.ctx, planes, fields, &input)?;
+        self.push_texture(input);
+        Ok(())
+    }
+
     /// Queue the next input frame (uploaded once). Outputs become ready as the
     /// graph's latency allows: run them with [`Stream::next`].
     pub fn push_texture(&mut self, input: wgpu::Texture) {
@@ -279,7 +300,9 @@ impl Stream {
         self.next_then(engine, |enc, output| ctx.encode_readback(enc, output))
     }
 
-    fn next_then<T>(
+    /// [`Stream::next`], then `then(encoder, output)` in the same command encoder
+    /// as the frame's passes (a copy of the output, a conversion of it).
+    pub fn next_then<T>(
         &mut self,
         engine: &mut Engine,
         then: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Texture) -> Result<T, GpuError>,

@@ -128,6 +128,11 @@ pub(crate) struct Cli {
     /// adapters (lavapipe) and GL, compute on other GPUs.
     #[arg(help_heading = COMMON, long, value_name = "auto|fragment|compute", default_value = "auto")]
     pub(crate) execution: String,
+    /// Where y4m and video frames are converted between Y'CbCr and RGB: `gpu`
+    /// (compute passes on the device), `cpu`, or `auto`: the GPU except on CPU
+    /// adapters (lavapipe), where the CPU conversion costs less.
+    #[arg(help_heading = SEQUENCES, long, value_name = "auto|cpu|gpu", default_value = "auto")]
+    pub(crate) ycbcr: String,
     /// Sequences: only write the outputs of input frames A to B (inclusive);
     /// history/future frames outside the range are still read.
     #[arg(help_heading = SEQUENCES, long, value_name = "A..B")]

@@ -242,6 +242,10 @@ pub(crate) fn run_sequence_cli(
         emit,
         queue: cli.queue.max(1),
         timings: cli.timings || cli.timings_json.is_some(),
+        ycbcr: cli
+            .ycbcr
+            .parse()
+            .map_err(|e: String| rejected(format!("--ycbcr: {e}")))?,
     };
     let adapter = adapter_choice(&cli.adapter);
     let progress = ProgressLine::new("frames");

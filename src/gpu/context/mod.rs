@@ -92,6 +92,7 @@ use adapter::{
     auto_instance, backend_names, by_preference, create_instance, enumerate, request_device,
 };
 pub use adapter::{list_adapters, AdapterChoice, AdapterSummary};
+pub(crate) use readback::map_read;
 use readback::map_slice_read;
 #[cfg(test)]
 use readback::unpad_rows;
@@ -639,7 +640,7 @@ impl GpuContext {
 
     /// The sRGB/linear twin of `format` for `view_formats`, if it has one and the
     /// device can create views in another format.
-    fn srgb_twin(&self, format: wgpu::TextureFormat) -> Option<wgpu::TextureFormat> {
+    pub(crate) fn srgb_twin(&self, format: wgpu::TextureFormat) -> Option<wgpu::TextureFormat> {
         let twin = if format.is_srgb() {
             format.remove_srgb_suffix()
         } else {

@@ -48,7 +48,7 @@ impl PendingReadback {
         Ok(out)
     }
 }
-pub(super) fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), GpuError> {
+pub(crate) fn map_read(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<(), GpuError> {
     map_slice_read(device, &buffer.slice(..))
 }
 

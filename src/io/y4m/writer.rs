@@ -62,34 +62,52 @@ impl<W: Write> Y4mWriter<W> {
     /// The planes must match the header ([`YuvFrame::check_size`]) and the parameters be
     /// non-empty without spaces or newlines.
     pub fn write_frame(&mut self, frame: &YuvFrame) -> Result<(), Y4mError> {
-        let index = self.frames;
-        let frame_err = |message: String| Y4mError::Frame {
+        frame
+            .check_size(&self.header)
+            .map_err(|m| self.frame_error(m))?;
+        self.write_parts(&frame.params, [&frame.y, &frame.u, &frame.v])
+    }
+
+    /// Write one frame from its planes as one block of bytes (Y, Cb, Cr, as the
+    /// stream stores them: [`Y4mHeader::frame_bytes`] of them), without `FRAME`
+    /// parameters.
+    pub fn write_planes(&mut self, planes: &[u8]) -> Result<(), Y4mError> {
+        let want = self.header.frame_bytes();
+        if planes.len() != want {
+            let m = format!("{} bytes of planes, the header needs {want}", planes.len());
+            return Err(self.frame_error(m));
+        }
+        self.write_parts(&[], [planes, &[], &[]])
+    }
+
+    fn frame_error(&self, message: String) -> Y4mError {
+        Y4mError::Frame {
             name: self.name.clone(),
-            frame: index,
+            frame: self.frames,
             message,
-        };
-        frame.check_size(&self.header).map_err(frame_err)?;
+        }
+    }
+
+    /// `FRAME`, its parameters, `\n`, the planes' bytes.
+    fn write_parts(&mut self, params: &[String], parts: [&[u8]; 3]) -> Result<(), Y4mError> {
+        let index = self.frames;
         let mut line = Vec::with_capacity(16);
         line.extend_from_slice(FRAME_MAGIC);
-        for p in &frame.params {
+        for p in params {
             if p.is_empty() || p.contains([' ', '\n', '\r']) {
-                return Err(frame_err(format!("invalid FRAME parameter `{p}`")));
+                return Err(self.frame_error(format!("invalid FRAME parameter `{p}`")));
             }
             line.push(b' ');
             line.extend_from_slice(p.as_bytes());
         }
         line.push(b'\n');
-        let mut write = |b: &[u8]| {
+        for b in [&line[..], parts[0], parts[1], parts[2]] {
             self.inner.write_all(b).map_err(|source| Y4mError::Io {
                 name: self.name.clone(),
                 context: format!("writing y4m frame {index} (0-based)"),
                 source,
-            })
-        };
-        write(&line)?;
-        write(&frame.y)?;
-        write(&frame.u)?;
-        write(&frame.v)?;
+            })?;
+        }
         self.frames += 1;
         Ok(())
     }

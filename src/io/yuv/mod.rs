@@ -15,8 +15,8 @@ mod to_rgb;
 
 pub(crate) use curve::*;
 pub(crate) use from_rgb::rgba_to_yuv;
-#[cfg(test)]
 pub(crate) use resample::{vertical_down_taps, vertical_up_taps};
+pub(crate) use samples::Coeffs;
 pub(crate) use to_rgb::yuv_to_rgba;
 
 use super::y4m::*;

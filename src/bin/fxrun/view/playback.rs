@@ -82,7 +82,12 @@ impl Decoder {
         let f = self.rx.recv().ok()?;
         let n = self.next;
         self.next += 1;
-        Some(f.image.map(|img| (n, img)))
+        let name = f.name;
+        Some(
+            f.image
+                .and_then(|p| p.into_image(&name))
+                .map(|img| (n, img)),
+        )
     }
 }
 
