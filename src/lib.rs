@@ -28,6 +28,8 @@ pub mod lookup;
 pub mod pixels;
 pub mod script;
 pub mod shader;
+#[cfg(feature = "slang")]
+pub mod slang;
 pub mod unwind;
 
 #[cfg(feature = "gpu")]
