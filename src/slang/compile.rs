@@ -150,8 +150,21 @@ fn compile_error(path: &Path, e: ShaderCompileError) -> SlangError {
                 None => glsl_error(path, text.trim()),
             }
         }
-        other => translate_error(path, &other.to_string()),
+        other => translate_error(path, &with_causes(&other)),
     }
+}
+
+/// An error and its causes, `: `-separated (naga's validation errors say the
+/// function first and what is wrong in it last).
+fn with_causes(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        text.push_str(": ");
+        text.push_str(&c.to_string());
+        cause = c.source();
+    }
+    text
 }
 
 fn reflect_error(path: &Path, e: ShaderReflectError) -> SlangError {
@@ -162,7 +175,7 @@ fn reflect_error(path: &Path, e: ShaderReflectError) -> SlangError {
             path: path.to_path_buf(),
             name,
         },
-        other => translate_error(path, &other.to_string()),
+        other => translate_error(path, &with_causes(&other)),
     }
 }
 

@@ -76,7 +76,9 @@ impl FailureClass {
             FailureClass::SpecialType
         } else if m.contains("f16") || m.contains("float16") || m.contains("width: 2") {
             FailureClass::Float16
-        } else if m.contains("mat") && (m.contains("location") || m.contains("varying")) {
+        } else if m.contains("user-defined entry point inputs or outputs")
+            || (m.contains("mat") && (m.contains("location") || m.contains("varying")))
+        {
             FailureClass::MatrixVarying
         } else {
             FailureClass::Other

@@ -92,6 +92,7 @@ fn lower_uncached(path: &Path) -> Result<Lowered, SlangError> {
         let shader = format!("{effect}_pass{i}");
         let wgsl = combine(fragment, vertex, &src.path)?;
         let (written_textures, written_fields) = written_names(&wgsl, &src.path)?;
+        let wgsl = follow_renamed_textures(wgsl, &textures, &written_textures);
         let params = fields
             .names
             .iter()
@@ -150,6 +151,40 @@ fn written_names(wgsl: &str, path: &Path) -> Result<(Vec<String>, Vec<String>), 
         }
     }
     Ok((textures, fields))
+}
+
+/// The writer renames a texture whose name a local or argument also has
+/// (`Source` → `Source_1`): its sampler and size field follow it.
+fn follow_renamed_textures(mut wgsl: String, ir: &[String], written: &[String]) -> String {
+    for (a, b) in ir.iter().zip(written) {
+        let a = super::rewrite::wgsl_name(a);
+        if a != *b {
+            for suffix in ["_sampler", "_size_texel"] {
+                wgsl = replace_word(&wgsl, &format!("{a}{suffix}"), &format!("{b}{suffix}"));
+            }
+        }
+    }
+    wgsl
+}
+
+/// `text` with every whole identifier `from` replaced by `to`.
+fn replace_word(text: &str, from: &str, to: &str) -> String {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find(from) {
+        let before = rest[..at].chars().next_back();
+        let after = rest[at + from.len()..].chars().next();
+        out.push_str(&rest[..at]);
+        if before.is_some_and(ident) || after.is_some_and(ident) {
+            out.push_str(from);
+        } else {
+            out.push_str(to);
+        }
+        rest = &rest[at + from.len()..];
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The preset's own values (`parameters = "a;b"`, `a = 0.5`) replace the
