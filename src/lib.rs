@@ -11,6 +11,8 @@
 //!   texture lifetime plan, all plain data. No GPU.
 //! - [`shader`]: WGSL loading, `#ifdef` preprocessing, naga reflection, and the
 //!   rewrite of a fragment shader into a compute shader. No GPU.
+//! - `slang` (feature `slang`): RetroArch slang presets lowered to an EFFECT
+//!   script and WGSL passes through the librashader crates (docs/slang.md).
 //! - [`lookup`]: finding effect scripts on disk (search folders, `INCLUDE`
 //!   confinement), the policy `graph` takes as an [`graph::EffectSource`]. No GPU.
 //! - `io` (feature `gpu`): image files (PNG, JPEG, EXR, ...) with atomic writes,
@@ -34,6 +36,8 @@ pub mod lookup;
 pub mod pixels;
 pub mod script;
 pub mod shader;
+#[cfg(feature = "slang")]
+pub mod slang;
 pub mod unwind;
 
 #[cfg(feature = "gpu")]

@@ -64,6 +64,12 @@ impl DiskEffects {
 impl EffectSource for DiskEffects {
     fn entry(&self, arg: &str) -> Result<Option<Found>, String> {
         let path = Path::new(arg);
+        // A RetroArch preset, lowered to an effect file (docs/slang.md).
+        #[cfg(feature = "slang")]
+        if crate::slang::is_preset(arg) {
+            let lowered = crate::slang::lower_preset(path).map_err(|e| e.to_string())?;
+            return DiskEffects::found_on_disk(&lowered.fx, arg.to_string()).map(Some);
+        }
         let as_file = path.extension().is_some_and(|e| e == "fx") || path.components().count() > 1;
         if as_file || path.is_file() {
             return DiskEffects::found_on_disk(path, arg.to_string()).map(Some);

@@ -14,7 +14,9 @@ const LAYERS: &[(&str, &[&str], bool)] = &[
     ("script", &[], false),
     ("graph", &["script"], false),
     ("shader", &["script", "graph"], true),
-    ("lookup", &["script", "graph", "shader"], true),
+    // RetroArch slang presets lowered to effects (reads presets and shaders).
+    ("slang", &["unwind", "shader"], true),
+    ("lookup", &["script", "graph", "shader", "slang"], true),
     ("io", &["pixels", "unwind"], true),
     ("gpu", &["pixels", "script", "graph", "shader"], false),
     // The scene model: plain data and loaders, no GPU (no `gpu`, no wgpu).
@@ -35,7 +37,8 @@ const LAYERS: &[(&str, &[&str], bool)] = &[
     (
         "app",
         &[
-            "pixels", "script", "graph", "shader", "lookup", "gpu", "io", "scene", "render",
+            "pixels", "script", "graph", "shader", "slang", "lookup", "gpu", "io", "scene",
+            "render",
         ],
         true,
     ),

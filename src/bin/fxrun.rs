@@ -240,7 +240,9 @@ fn adapter_choice(a: &Option<String>) -> AdapterChoice {
     }
 }
 
-fn run(cli: Cli) -> Result<(), Fail> {
+fn run(mut cli: Cli) -> Result<(), Fail> {
+    #[cfg(feature = "slang")]
+    add_preset_luts(&mut cli)?;
     let execution: fxgraph::gpu::executor::Execution = cli
         .execution
         .parse()
@@ -409,6 +411,37 @@ fn run(cli: Cli) -> Result<(), Fail> {
         return Ok(());
     }
     run_job(&cli)
+}
+
+/// Lowers the slang presets among the effects (so a preset that cannot run is
+/// reported before anything else) and adds their LUT textures to the auxiliary
+/// images, unless `--aux` gives one of the same name.
+#[cfg(feature = "slang")]
+fn add_preset_luts(cli: &mut Cli) -> Result<(), Fail> {
+    for e in cli.effects.clone() {
+        if !fxgraph::slang::is_preset(&e) {
+            continue;
+        }
+        let lowered =
+            fxgraph::slang::lower_preset(std::path::Path::new(&e)).map_err(|err| Fail {
+                code: if matches!(err, fxgraph::slang::SlangError::Cache { .. }) {
+                    2
+                } else {
+                    1
+                },
+                message: err.to_string(),
+            })?;
+        for (name, path) in lowered.luts {
+            let given = cli
+                .aux
+                .iter()
+                .any(|a| a.split_once('=').map(|(n, _)| n) == Some(name.as_str()));
+            if !given {
+                cli.aux.push(format!("{name}={}", path.display()));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The auxiliary images of `--aux NAME=FILE`.

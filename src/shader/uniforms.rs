@@ -36,6 +36,27 @@ pub enum StdValue {
     /// `cut`: 1 on the first frame of a new shot (the camera cut since the
     /// previous frame: history from before it shows another view), else 0.
     Cut,
+    /// `out_size_texel`: `(w, h, 1/w, 1/h)` of the output (the layout of slang's
+    /// `OutputSize`).
+    OutSize4,
+    /// `<input>_size_texel`: `(w, h, 1/w, 1/h)` of an input.
+    InputSize4(usize),
+    /// `final_size_texel`: `(w, h, 1/w, 1/h)` of the effect's output image.
+    FinalSize4,
+    /// `frame_mod_N_count`: `frame % N`.
+    FrameMod(u32),
+    /// `frame_direction`: 1 (frames run forward).
+    FrameDirection,
+    /// `rotation`: 0 (images are never rotated).
+    Rotation,
+    /// `total_subframes`: 1, `current_subframe`: 1 (one output per frame).
+    TotalSubframes,
+    CurrentSubframe,
+    /// `in_aspect`: width / height of the effect input.
+    InAspect,
+    /// `mvp`: the orthographic projection of the unit square onto clip space
+    /// (slang's `MVP`).
+    Mvp,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -73,7 +94,21 @@ pub struct StdContext {
     pub inv_proj: [f32; 16],
     pub jitter: [f32; 2],
     pub cut: bool,
+    /// Size of the effect's input and output images.
+    pub in_size: (u32, u32),
+    pub final_size: (u32, u32),
 }
+
+/// `(w, h, 1/w, 1/h)`.
+fn size4(s: (u32, u32)) -> Vec<f64> {
+    let (w, h) = (f64::from(s.0.max(1)), f64::from(s.1.max(1)));
+    vec![w, h, 1.0 / w, 1.0 / h]
+}
+
+/// Column-major orthographic projection of (0..1, 0..1) onto clip space.
+const MVP: [f64; 16] = [
+    2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, -1.0, 0.0, 1.0,
+];
 
 impl UniformLayout {
     /// The uniform buffer bytes for one run of the pass.
@@ -104,6 +139,7 @@ impl UniformLayout {
                     StdValue::InvProj => ctx.inv_proj.iter().map(|&x| x as f64).collect(),
                     StdValue::Jitter => vec![ctx.jitter[0] as f64, ctx.jitter[1] as f64],
                     StdValue::Cut => vec![if ctx.cut { 1.0 } else { 0.0 }],
+                    other => slang_value(other, ctx),
                 },
             };
             for (i, &x) in values.iter().take(f.ty.components()).enumerate() {
@@ -130,15 +166,36 @@ impl UniformLayout {
                         | StdValue::Subframe
                         | StdValue::Jitter
                         | StdValue::Cut
+                        | StdValue::FrameMod(_)
                 )
             )
         })
     }
 }
 
+/// The values slang presets read (docs/slang.md).
+fn slang_value(v: StdValue, ctx: &StdContext) -> Vec<f64> {
+    match v {
+        StdValue::OutSize4 => size4(ctx.out_size),
+        StdValue::InputSize4(i) => size4(ctx.input_sizes.get(i).copied().unwrap_or((1, 1))),
+        StdValue::FinalSize4 => size4(ctx.final_size),
+        StdValue::FrameMod(n) => vec![(ctx.frame % u64::from(n.max(1))) as f64],
+        StdValue::FrameDirection | StdValue::TotalSubframes | StdValue::CurrentSubframe => {
+            vec![1.0]
+        }
+        StdValue::Rotation => vec![0.0],
+        StdValue::InAspect => {
+            vec![f64::from(ctx.in_size.0.max(1)) / f64::from(ctx.in_size.1.max(1))]
+        }
+        StdValue::Mvp => MVP.to_vec(),
+        _ => Vec::new(),
+    }
+}
+
 /// The standard value a reserved uniform name stands for, given the pass inputs.
 pub(crate) fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'static [FieldType])> {
     const V2: &[FieldType] = &[FieldType::F32(2)];
+    const V4: &[FieldType] = &[FieldType::F32(4)];
     const SCALAR: &[FieldType] = &[FieldType::F32(1), FieldType::U32(1), FieldType::I32(1)];
     const F1: &[FieldType] = &[FieldType::F32(1)];
     const M4: &[FieldType] = &[FieldType::Mat4];
@@ -154,13 +211,31 @@ pub(crate) fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'st
         "inv_proj" => (StdValue::InvProj, M4),
         "jitter" => (StdValue::Jitter, V2),
         "cut" => (StdValue::Cut, SCALAR),
+        "out_size_texel" => (StdValue::OutSize4, V4),
+        "final_size_texel" => (StdValue::FinalSize4, V4),
+        "frame_direction" => (StdValue::FrameDirection, SCALAR),
+        "rotation" => (StdValue::Rotation, SCALAR),
+        "total_subframes" => (StdValue::TotalSubframes, SCALAR),
+        "current_subframe" => (StdValue::CurrentSubframe, SCALAR),
+        "in_aspect" => (StdValue::InAspect, F1),
+        "mvp" => (StdValue::Mvp, M4),
         _ => {
+            if let Some(n) = name
+                .strip_prefix("frame_mod_")
+                .and_then(|n| n.strip_suffix("_count"))
+                .and_then(|n| n.parse().ok())
+            {
+                return Some((StdValue::FrameMod(n), SCALAR));
+            }
             for (i, inp) in inputs.iter().enumerate() {
                 if name.strip_prefix(inp.as_str()) == Some("_size") {
                     return Some((StdValue::InputSize(i), V2));
                 }
                 if name.strip_prefix(inp.as_str()) == Some("_texel") {
                     return Some((StdValue::InputTexel(i), V2));
+                }
+                if name.strip_prefix(inp.as_str()) == Some("_size_texel") {
+                    return Some((StdValue::InputSize4(i), V4));
                 }
             }
             return None;

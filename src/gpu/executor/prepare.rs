@@ -177,7 +177,7 @@ impl Engine {
             let uniform = refl
                 .uniform
                 .as_ref()
-                .map(|u| self.pass_uniform(p, u, &layout, &mut stats));
+                .map(|u| self.pass_uniform(p, u, &layout, image_sizes(&plan), &mut stats));
             let compute = match self.execution {
                 _ if native.is_some() => native,
                 super::Execution::Compute => {
@@ -280,6 +280,7 @@ impl Engine {
         p: &PlannedPass,
         u: &UniformBlock,
         layout: &UniformLayout,
+        (in_size, final_size): ((u32, u32), (u32, u32)),
         stats: &mut PreparedStats,
     ) -> PassUniform {
         let buffer = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -299,6 +300,8 @@ impl Engine {
             far: NO_CAMERA.far,
             proj: NO_CAMERA.proj,
             inv_proj: NO_CAMERA.inv_proj,
+            in_size,
+            final_size,
             ..Default::default()
         };
         // Static values are written once, here.
@@ -338,4 +341,15 @@ impl Engine {
             })
             .collect()
     }
+}
+
+/// The sizes of the effect's input and output images.
+fn image_sizes(plan: &Plan) -> ((u32, u32), (u32, u32)) {
+    let input = (plan.input.width, plan.input.height);
+    let output = plan
+        .passes
+        .iter()
+        .find(|p| p.output == Resource::Output)
+        .map_or(input, |p| (p.desc.width, p.desc.height));
+    (input, output)
 }

@@ -1,0 +1,296 @@
+//! The EFFECT script of a lowered preset: one pass per preset pass, its inputs
+//! (the slang texture semantics as graph sources), size, format and colour
+//! space, sampler modes, and the preset's parameters as effect parameters.
+
+use super::error::SlangError;
+use librashader_common::{FilterMode, ImageFormat, WrapMode};
+use librashader_preprocess::ShaderParameter;
+use librashader_presets::{PassMeta, ScaleFactor, ScaleType, Scaling, TextureMeta};
+use std::fmt::Write;
+use std::path::Path;
+
+/// One pass of the preset, after translation.
+pub struct PassPlan<'a> {
+    pub meta: &'a PassMeta,
+    /// `#pragma format` of its shader.
+    pub format: ImageFormat,
+    /// The textures its shader binds: (slang semantic, WGSL name).
+    pub textures: Vec<(String, String)>,
+    /// The parameters its shader reads: (`#pragma parameter` id, WGSL field).
+    pub params: Vec<(String, String)>,
+    /// The name of its WGSL file, without `.wgsl`.
+    pub shader: String,
+}
+
+/// The preset as a whole.
+pub struct ScriptInput<'a> {
+    pub path: &'a Path,
+    pub effect: &'a str,
+    pub passes: &'a [PassPlan<'a>],
+    pub luts: &'a [TextureMeta],
+    pub parameters: &'a [ShaderParameter],
+}
+
+/// The script text.
+pub fn script(s: &ScriptInput) -> Result<String, SlangError> {
+    let mut out = String::new();
+    let _ = writeln!(out, "// Lowered by fxgraph from {}", s.path.display());
+    let _ = writeln!(out, "EFFECT.{} = {{", s.effect);
+    let _ = writeln!(
+        out,
+        "    DESCRIPTION = \"RetroArch slang preset {}\"",
+        s.path.display().to_string().replace(['"', '\\'], "/")
+    );
+    write_params(&mut out, s.parameters);
+    out.push_str("    PASS = {\n");
+    for i in 0..s.passes.len() {
+        write_pass(&mut out, s, i)?;
+    }
+    out.push_str("    }\n");
+    let _ = writeln!(out, "    OUT = {}", pass_name(s.passes, s.passes.len() - 1));
+    out.push_str("}\n");
+    Ok(out)
+}
+
+fn write_params(out: &mut String, params: &[ShaderParameter]) {
+    if params.is_empty() {
+        return;
+    }
+    out.push_str("    PARAM = {\n");
+    for p in params {
+        let (lo, hi) = (p.minimum.min(p.initial), p.maximum.max(p.initial));
+        let description = p.description.replace(['"', '\\'], "'");
+        let _ = writeln!(
+            out,
+            "        {} = FLOAT {{ DEFAULT = {}  RANGE = ({}, {})  DESCRIPTION = \"{} (step {})\" }}",
+            p.id, p.initial, lo, hi, description.trim(), p.step
+        );
+    }
+    out.push_str("    }\n");
+}
+
+/// The graph name of pass `i`: `pass{i}`.
+pub fn pass_name(_passes: &[PassPlan], i: usize) -> String {
+    format!("pass{i}")
+}
+
+fn write_pass(out: &mut String, s: &ScriptInput, i: usize) -> Result<(), SlangError> {
+    let p = &s.passes[i];
+    let _ = writeln!(
+        out,
+        "        {} = SHADER.{} {{",
+        pass_name(s.passes, i),
+        p.shader
+    );
+    for (semantic, t) in &p.textures {
+        let b = bind(s, i, semantic)?;
+        let _ = writeln!(out, "            {t} = {}", b.source);
+        let _ = writeln!(out, "            {t}.FILTER = {}", filter(b.filter));
+        let _ = writeln!(out, "            {t}.WRAP = {}", wrap(b.wrap));
+        let _ = writeln!(out, "            {t}.COLORSPACE = {}", b.colorspace);
+    }
+    for (id, field) in &p.params {
+        let _ = writeln!(out, "            {field} = PARAM.{id}");
+    }
+    if i + 1 < s.passes.len() {
+        write_size(out, s.path, p, i)?;
+    }
+    let (format, colorspace) = format_of(p);
+    let _ = writeln!(out, "            OUT.FORMAT = {format}");
+    let _ = writeln!(out, "            OUT.COLORSPACE = {colorspace}");
+    out.push_str("        }\n");
+    Ok(())
+}
+
+/// Where a texture semantic comes from, and how it is sampled.
+struct Binding {
+    source: String,
+    filter: FilterMode,
+    wrap: WrapMode,
+    colorspace: &'static str,
+}
+
+fn bind(s: &ScriptInput, i: usize, texture: &str) -> Result<Binding, SlangError> {
+    let first = s.passes[0].meta;
+    let own = s.passes[i].meta;
+    let pass = |k: usize, back: &str| -> Result<Binding, SlangError> {
+        if k >= s.passes.len() || (back.is_empty() && k >= i) {
+            return Err(SlangError::Unsupported {
+                path: s.path.to_path_buf(),
+                feature: format!("`{texture}` in pass {i}"),
+                why: format!("pass {k} does not run before pass {i}"),
+            });
+        }
+        let meta = s.passes[k].meta;
+        Ok(Binding {
+            source: format!("PASS.{}{back}", pass_name(s.passes, k)),
+            filter: meta.filter,
+            wrap: meta.wrap_mode,
+            colorspace: colorspace_of(&s.passes[k]),
+        })
+    };
+    let input = |source: String, meta: &PassMeta| Binding {
+        source,
+        filter: meta.filter,
+        wrap: meta.wrap_mode,
+        colorspace: "srgb",
+    };
+    if texture == "Source" {
+        return match i {
+            0 => Ok(input("IN".into(), own)),
+            _ => pass(i - 1, "").map(|b| Binding {
+                filter: own.filter,
+                wrap: own.wrap_mode,
+                ..b
+            }),
+        };
+    }
+    if texture == "Original" || texture == "OriginalHistory0" {
+        return Ok(input("IN".into(), first));
+    }
+    if let Some(n) = number_after(texture, "OriginalHistory") {
+        return Ok(input(format!("IN[-{n}]"), first));
+    }
+    if let Some(k) = number_after(texture, "PassOutput") {
+        return pass(k, "");
+    }
+    if let Some(k) = number_after(texture, "PassFeedback") {
+        return pass(k, "[-1]");
+    }
+    if let Some(k) = alias_index(s.passes, texture) {
+        return pass(k, "");
+    }
+    if let Some(k) = texture
+        .strip_suffix("Feedback")
+        .and_then(|a| alias_index(s.passes, a))
+    {
+        return pass(k, "[-1]");
+    }
+    if let Some(lut) = s.luts.iter().find(|l| l.name.as_str() == texture) {
+        return Ok(Binding {
+            source: format!("AUX.{texture}"),
+            filter: lut.filter_mode,
+            wrap: lut.wrap_mode,
+            colorspace: "srgb",
+        });
+    }
+    Err(SlangError::Semantic {
+        path: s.path.to_path_buf(),
+        name: texture.to_string(),
+    })
+}
+
+fn number_after(name: &str, prefix: &str) -> Option<usize> {
+    name.strip_prefix(prefix)?.parse().ok()
+}
+
+fn alias_index(passes: &[PassPlan], alias: &str) -> Option<usize> {
+    passes
+        .iter()
+        .position(|p| p.meta.alias.as_ref().is_some_and(|a| a.as_str() == alias))
+}
+
+fn filter(f: FilterMode) -> &'static str {
+    match f {
+        FilterMode::Linear => "linear",
+        FilterMode::Nearest => "nearest",
+    }
+}
+
+fn wrap(w: WrapMode) -> &'static str {
+    match w {
+        WrapMode::ClampToEdge => "clamp",
+        WrapMode::Repeat => "repeat",
+        WrapMode::MirroredRepeat => "mirror",
+        // fxgraph has no border colour: black borders read as the edge texel.
+        WrapMode::ClampToBorder => "clamp",
+    }
+}
+
+/// A pass's output size (all but the last pass, which has the viewport's).
+fn write_size(out: &mut String, path: &Path, p: &PassPlan, i: usize) -> Result<(), SlangError> {
+    let sc = &p.meta.scaling;
+    if !sc.valid {
+        if i > 0 {
+            out.push_str("            OUT.SCALE = 1\n            OUT.RELATIVE_TO = Source\n");
+        }
+        return Ok(());
+    }
+    let (x, y) = (&sc.x, &sc.y);
+    let absolute = |s: &Scaling| matches!(s.scale_type, ScaleType::Absolute);
+    let relative_to_in =
+        |s: &Scaling| matches!(s.scale_type, ScaleType::Viewport | ScaleType::Original);
+    let f = |s: &Scaling| match s.factor {
+        ScaleFactor::Float(v) => v as f64,
+        ScaleFactor::Absolute(v) => v as f64,
+    };
+    if absolute(x) && absolute(y) {
+        let _ = writeln!(out, "            OUT.SIZE = ({}, {})", f(x), f(y));
+    } else if relative_to_in(x) && relative_to_in(y) {
+        let _ = writeln!(out, "            OUT.SCALE = ({}, {})", f(x), f(y));
+    } else if matches!(x.scale_type, ScaleType::Input) && matches!(y.scale_type, ScaleType::Input) {
+        let _ = writeln!(out, "            OUT.SCALE = ({}, {})", f(x), f(y));
+        if i > 0 {
+            out.push_str("            OUT.RELATIVE_TO = Source\n");
+        }
+    } else {
+        return Err(SlangError::Unsupported {
+            path: path.to_path_buf(),
+            feature: format!(
+                "pass {i}'s scale_type_x = {:?} with scale_type_y = {:?}",
+                x.scale_type, y.scale_type
+            ),
+            why: "a pass size is relative to one image on both axes, or absolute on both".into(),
+        });
+    }
+    Ok(())
+}
+
+/// True when pass `i` needs its `Source` bound to size itself.
+pub fn needs_source(meta: &PassMeta, i: usize, last: bool) -> bool {
+    if i == 0 || last {
+        return false;
+    }
+    let sc = &meta.scaling;
+    !sc.valid
+        || (matches!(sc.x.scale_type, ScaleType::Input)
+            && matches!(sc.y.scale_type, ScaleType::Input))
+}
+
+/// The colour space a pass's values are in: sRGB-encoded codes, as RetroArch
+/// stores them, except in an sRGB framebuffer (linear values the hardware encodes).
+fn colorspace_of(p: &PassPlan) -> &'static str {
+    if format_of(p).0 == "rgba8-srgb" {
+        "linear"
+    } else {
+        "srgb"
+    }
+}
+
+/// `OUT.FORMAT` and `OUT.COLORSPACE` of a pass.
+fn format_of(p: &PassPlan) -> (&'static str, &'static str) {
+    let format = if p.meta.srgb_framebuffer {
+        "rgba8-srgb"
+    } else if p.meta.float_framebuffer {
+        "rgba16f"
+    } else {
+        match p.format {
+            ImageFormat::R8G8B8A8Srgb => "rgba8-srgb",
+            ImageFormat::R16G16B16A16Sfloat => "rgba16f",
+            ImageFormat::R32G32B32A32Sfloat => "rgba32f",
+            ImageFormat::A2B10G10R10UnormPack32 => "rgb10a2",
+            ImageFormat::R8Unorm => "r8",
+            ImageFormat::R16Sfloat => "r16f",
+            ImageFormat::R32Sfloat => "r32f",
+            ImageFormat::R16G16Sfloat => "rg16f",
+            ImageFormat::R32G32Sfloat => "rg32f",
+            _ => "rgba8",
+        }
+    };
+    let colorspace = if format == "rgba8-srgb" {
+        "linear"
+    } else {
+        "srgb"
+    };
+    (format, colorspace)
+}

@@ -1,0 +1,256 @@
+//! A pass's vertex stage, evaluated per pixel. fxgraph draws every pass with its
+//! own full-screen triangle, whose only output is `uv`; a slang vertex stage
+//! often computes more (about one shader in five passes extra values to its
+//! fragment stage). Both stages become plain functions of one WGSL module, and a
+//! new `@fragment` entry point calls the vertex function at the pixel's `uv` (the
+//! quad's `Position` and `TexCoord` there) and hands its outputs to the fragment
+//! function. A vertex output that is affine in the quad's corners (texture
+//! coordinates, constants: what presets compute) interpolates to exactly this
+//! value; anything else is approximated by its value at the pixel.
+
+use super::error::SlangError;
+use crate::shader::rename::prefix_module_names;
+use naga::{Binding, BuiltIn, Module, TypeInner};
+use std::path::Path;
+
+/// The WGSL of a pass: its fragment and vertex modules (already rewritten to
+/// share `params`) joined under one `@fragment fn fs_main`.
+pub fn combine(
+    mut fragment: Module,
+    mut vertex: Module,
+    path: &Path,
+) -> Result<String, SlangError> {
+    let fs = detach(&mut fragment, "fs_stage", path)?;
+    let vs = detach(&mut vertex, "stage", path)?;
+    let vs_call = vertex_call(&vertex, &vs, path)?;
+    let fragment_text = write(&fragment, path)?;
+    let vertex_text = write(&vertex, path)?;
+    // Struct members are named as the WGSL writer named them: read them back.
+    let (vm, fm) = (
+        parse_back(&vertex_text, path)?,
+        parse_back(&fragment_text, path)?,
+    );
+    let outputs = vertex_outputs(function_result(&vm, "stage"));
+    let fs_args = fragment_args(&outputs, &fs, path)?;
+    let color = fragment_color(function_result(&fm, "fs_stage"), path)?;
+    let vertex_text = shared_params_removed(
+        &prefix_module_names(&vertex_text, "vs_", &["Params", "params"])
+            .map_err(|e| unsupported(path, "the vertex stage's WGSL", &e))?,
+    );
+    Ok(format!(
+        "{fragment_text}\n// The vertex stage, evaluated per pixel.\n{vertex_text}\n\
+         @fragment\nfn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {{\n    \
+         let v = {vs_call};\n    return fs_stage({fs_args}){color};\n}}\n"
+    ))
+}
+
+fn parse_back(text: &str, path: &Path) -> Result<Module, SlangError> {
+    naga::front::wgsl::parse_str(text)
+        .map_err(|e| unsupported(path, "the translated WGSL", &e.emit_to_string(text)))
+}
+
+/// The result of function `name` of `m`.
+fn function_result<'m>(m: &'m Module, name: &str) -> Option<(&'m Module, naga::FunctionResult)> {
+    m.functions
+        .iter()
+        .find(|(_, f)| f.name.as_deref() == Some(name))
+        .and_then(|(_, f)| f.result.clone())
+        .map(|r| (m, r))
+}
+
+/// An entry point turned into a function: its arguments and result as they were.
+struct Detached {
+    args: Vec<(Option<Binding>, naga::Handle<naga::Type>)>,
+}
+
+/// Moves the entry point of `m` into its functions as `name`.
+fn detach(m: &mut Module, name: &str, path: &Path) -> Result<Detached, SlangError> {
+    if m.entry_points.len() != 1 {
+        return Err(unsupported(
+            path,
+            "a stage with several entry points",
+            "one per stage",
+        ));
+    }
+    let mut ep = m.entry_points.remove(0);
+    let args = ep
+        .function
+        .arguments
+        .iter_mut()
+        .map(|a| (a.binding.take(), a.ty))
+        .collect();
+    if let Some(r) = &mut ep.function.result {
+        r.binding = None;
+    }
+    ep.function.name = Some(name.to_string());
+    m.functions.append(ep.function, naga::Span::UNDEFINED);
+    Ok(Detached { args })
+}
+
+/// `vs_stage(Position, TexCoord)` at the pixel: the quad's corners are
+/// `Position = (u, v, 0, 1)` and `TexCoord = (u, v)`.
+fn vertex_call(m: &Module, vs: &Detached, path: &Path) -> Result<String, SlangError> {
+    let mut args = Vec::new();
+    for (binding, ty) in &vs.args {
+        let vec4 = matches!(
+            m.types[*ty].inner,
+            TypeInner::Vector {
+                size: naga::VectorSize::Quad,
+                ..
+            }
+        );
+        let arg = match binding {
+            Some(Binding::Location { location: 0, .. }) if vec4 => "vec4<f32>(uv, 0.0, 1.0)",
+            Some(Binding::Location {
+                location: 0 | 1, ..
+            }) => "uv",
+            other => {
+                return Err(unsupported(
+                    path,
+                    &format!("the vertex input {other:?}"),
+                    "the quad provides Position (location 0) and TexCoord (location 1)",
+                ))
+            }
+        };
+        args.push(arg);
+    }
+    Ok(format!("vs_stage({})", args.join(", ")))
+}
+
+/// The fragment function's arguments: vertex outputs by location, `pos`.
+fn fragment_args(
+    outputs: &[(u32, String)],
+    fs: &Detached,
+    path: &Path,
+) -> Result<String, SlangError> {
+    let mut args = Vec::new();
+    for (binding, _) in &fs.args {
+        let arg = match binding {
+            Some(Binding::BuiltIn(BuiltIn::Position { .. })) => "pos".to_string(),
+            Some(Binding::BuiltIn(BuiltIn::FrontFacing)) => "true".to_string(),
+            Some(Binding::Location { location, .. }) => outputs
+                .iter()
+                .find(|(l, _)| l == location)
+                .map(|(_, access)| access.clone())
+                .ok_or_else(|| {
+                    unsupported(
+                        path,
+                        &format!("fragment input at location {location}"),
+                        "the vertex stage does not write it",
+                    )
+                })?,
+            other => {
+                return Err(unsupported(
+                    path,
+                    &format!("the fragment input {other:?}"),
+                    "fxgraph provides the position",
+                ))
+            }
+        };
+        args.push(arg);
+    }
+    Ok(args.join(", "))
+}
+
+/// `(location, WGSL access on v)` of each vertex output.
+fn vertex_outputs(result: Option<(&Module, naga::FunctionResult)>) -> Vec<(u32, String)> {
+    let Some((m, r)) = result else {
+        return Vec::new();
+    };
+    match &m.types[r.ty].inner {
+        TypeInner::Struct { members, .. } => members
+            .iter()
+            .filter_map(|mem| match &mem.binding {
+                Some(Binding::Location { location, .. }) => Some((
+                    *location,
+                    format!("v.{}", mem.name.clone().unwrap_or_default()),
+                )),
+                _ => None,
+            })
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// How the colour at location 0 is read from the fragment function's result: a
+/// `vec4` itself, or its member at location 0.
+fn fragment_color(
+    result: Option<(&Module, naga::FunctionResult)>,
+    path: &Path,
+) -> Result<String, SlangError> {
+    let none = || {
+        unsupported(
+            path,
+            "a fragment stage without a colour at location 0",
+            "a pass writes one colour",
+        )
+    };
+    let (m, r) = result.ok_or_else(none)?;
+    match &m.types[r.ty].inner {
+        TypeInner::Struct { members, .. } => members
+            .iter()
+            .find(|mem| matches!(mem.binding, Some(Binding::Location { location: 0, .. })))
+            .map(|mem| format!(".{}", mem.name.clone().unwrap_or_default()))
+            .ok_or_else(none),
+        _ => Ok(String::new()),
+    }
+}
+
+fn write(m: &Module, path: &Path) -> Result<String, SlangError> {
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(m)
+    .map_err(|e| {
+        let message = e.emit_to_string("");
+        SlangError::Translate {
+            path: path.to_path_buf(),
+            class: super::FailureClass::of(&message),
+            message,
+        }
+    })?;
+    naga::back::wgsl::write_string(m, &info, naga::back::wgsl::WriterFlags::empty())
+        .map_err(|e| unsupported(path, "writing WGSL", &e.to_string()))
+}
+
+/// The vertex text without its copy of `struct Params` and `var<uniform>
+/// params` (the fragment text declares both, identically).
+fn shared_params_removed(text: &str) -> String {
+    let mut out = String::new();
+    let mut in_struct = false;
+    let mut pending_attr: Option<&str> = None;
+    for line in text.lines() {
+        if in_struct {
+            in_struct = line.trim() != "}";
+            continue;
+        }
+        if line.trim_start().starts_with("struct Params {") {
+            in_struct = !line.contains('}');
+            continue;
+        }
+        if line.contains("var<uniform> params: Params;") {
+            pending_attr = None;
+            continue;
+        }
+        if let Some(a) = pending_attr.take() {
+            out.push_str(a);
+            out.push('\n');
+        }
+        if line.trim_start().starts_with("@group(") && !line.contains("var") {
+            pending_attr = Some(line);
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
+fn unsupported(path: &Path, feature: &str, why: &str) -> SlangError {
+    SlangError::Unsupported {
+        path: path.to_path_buf(),
+        feature: feature.to_string(),
+        why: why.to_string(),
+    }
+}

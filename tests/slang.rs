@@ -1,0 +1,287 @@
+//! RetroArch slang presets (docs/slang.md):
+//! - the corpus presets (`../shared/corpus/slang`, used by path, never copied)
+//!   against librashader's own Vulkan runtime: `tests/slang/refs/*.png`, rendered
+//!   once by `tests/slang/make_refs.sh` from `tests/slang/input.png`; at least
+//!   40 dB PSNR (8-bit RGB) for each preset fxgraph runs;
+//! - history (`OriginalHistory1`) and feedback (`PassFeedback0`) on a sequence,
+//!   `--set` of a `#pragma parameter`, against the formulas of small presets
+//!   written here (in stored 8-bit codes, as RetroArch's UNORM framebuffers hold
+//!   them; ±1 code for the rounding of the 8-bit stores);
+//! - every error class: its message names the file (and line) and the cause, exit
+//!   status 1, no panic.
+
+mod common;
+
+use common::cli::{arg, code, fxrun, save, stderr};
+use common::{image_u8, psnr};
+use fxgraph::io::{load_image, Pixels};
+use std::path::{Path, PathBuf};
+
+/// The least PSNR (dB) of a corpus preset's output against librashader's.
+const MIN_PSNR: f64 = 40.0;
+
+/// Corpus presets fxgraph runs and matches (docs/slang.md lists the others and
+/// why).
+const RUNS: &[&str] = &[
+    "blurs/smart-blur",
+    "crt/crt-hyllian-fast",
+    "crt/crt-hyllian-3d",
+    "crt/crt-lottes-fast",
+    "crt/shaders/guest/pre-scaler-presets/xbr-lv2",
+    "crt/shaders/guest/pre-scaler-presets/xbr-lv3",
+    "deinterlacing/bob-deinterlacing",
+    "deinterlacing/interpolation-deinterlacer",
+    "deinterlacing/motion-adaptive-deinterlacing",
+    "deinterlacing/reinterlacing",
+    "dithering/cbod_v1",
+    "edge-smoothing/ddt/cut",
+    "edge-smoothing/ddt/ddt-extended",
+    "edge-smoothing/ddt/ddt-xbr-lv1",
+    "edge-smoothing/fsr/fsr-easu",
+    "edge-smoothing/omniscale/omniscale",
+    "edge-smoothing/xbr/other presets/xbr-lv1-standalone",
+    "handheld/color-mod/gbc-gambatte-color",
+    "handheld/dot",
+    "handheld/lcd3x",
+    "handheld/retro-tiles",
+    "interpolation/b-spline-4-taps",
+    "interpolation/catmull-rom",
+    "misc/bead",
+    "misc/color-mangler",
+    "misc/relief",
+    "pixel-art-scaling/sharp-bilinear-scanlines",
+    "pixel-art-scaling/sharp-bilinear-simple",
+    "pixel-art-scaling/sharp-bilinear",
+    "scanlines/res-independent-scanlines",
+    "scanlines/scanline-fract",
+    "scanlines/scanlines-sine-abs",
+    "sharpen/adaptive-sharpen",
+    "sharpen/adaptive-sharpen-multipass",
+    "sharpen/rca_sharpen",
+    "subframe-bfi/bfi-simple",
+    "subframe-bfi/crt-beam-simulator",
+];
+
+fn corpus() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/slang");
+    if dir.join("presets.json").is_file() {
+        Some(dir)
+    } else {
+        eprintln!("skipped: {} is absent (the slang corpus)", dir.display());
+        None
+    }
+}
+
+fn here() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/slang")
+}
+
+/// 8-bit RGB values of a PNG, as f32 codes.
+fn rgb(path: &Path) -> (u32, u32, Vec<f32>) {
+    let img =
+        load_image(path, &Default::default()).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let Pixels::U8(p) = &img.pixels else {
+        panic!("{}: not 8-bit", path.display())
+    };
+    let v = p
+        .chunks(4)
+        .flat_map(|c| c[..3].iter().map(|&x| f32::from(x)))
+        .collect();
+    (img.width, img.height, v)
+}
+
+#[test]
+fn corpus_presets_match_librashader() {
+    let Some(corpus) = corpus() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let mut report = Vec::new();
+    for name in RUNS {
+        let file = name.replace('/', "__").replace(' ', "_");
+        let preset = corpus.join(format!("{name}.slangp"));
+        let dst = out.path().join(format!("{file}.png"));
+        let input = here().join("input.png");
+        let o = fxrun(&[arg(&preset), "-i", arg(&input), "-o", arg(&dst)]);
+        assert_eq!(code(&o), 0, "{name}: {}", stderr(&o));
+        let (w, h, ours) = rgb(&dst);
+        let (rw, rh, theirs) = rgb(&here().join(format!("refs/{file}.png")));
+        assert_eq!((w, h), (rw, rh), "{name}: size");
+        let db = psnr(&ours, &theirs, 255.0);
+        report.push(format!("{name}: {db:.1} dB"));
+        if db < MIN_PSNR {
+            panic!(
+                "{name}: {db:.1} dB against librashader (< {MIN_PSNR})\n{}",
+                report.join("\n")
+            );
+        }
+    }
+    eprintln!("{}", report.join("\n"));
+}
+
+/// A one-pass preset of `glsl` (the fragment body, `FragColor = ...`) in `dir`,
+/// with the default vertex stage; returns the preset's path.
+fn preset(dir: &Path, name: &str, decls: &str, body: &str, extra: &str) -> PathBuf {
+    let shader = format!(
+        "#version 450\n\
+         layout(push_constant) uniform Push {{ vec4 SourceSize; uint FrameCount; {decls} }} params;\n\
+         layout(std140, set = 0, binding = 0) uniform UBO {{ mat4 MVP; }} global;\n\
+         {extra}\n\
+         #pragma stage vertex\n\
+         layout(location = 0) in vec4 Position;\nlayout(location = 1) in vec2 TexCoord;\n\
+         layout(location = 0) out vec2 vTexCoord;\n\
+         void main() {{ gl_Position = global.MVP * Position; vTexCoord = TexCoord; }}\n\
+         #pragma stage fragment\n\
+         layout(location = 0) in vec2 vTexCoord;\nlayout(location = 0) out vec4 FragColor;\n\
+         layout(set = 0, binding = 2) uniform sampler2D Source;\n\
+         layout(set = 0, binding = 3) uniform sampler2D OriginalHistory1;\n\
+         layout(set = 0, binding = 4) uniform sampler2D PassFeedback0;\n\
+         void main() {{ {body} }}\n"
+    );
+    std::fs::write(dir.join(format!("{name}.slang")), shader).unwrap();
+    let p = dir.join(format!("{name}.slangp"));
+    std::fs::write(
+        &p,
+        format!("shaders = 1\nshader0 = {name}.slang\nfilter_linear0 = false\n"),
+    )
+    .unwrap();
+    p
+}
+
+/// Frames `in/0000.png`... of flat grey levels `levels`.
+fn grey_sequence(dir: &Path, levels: &[u8]) -> String {
+    std::fs::create_dir_all(dir.join("in")).unwrap();
+    for (i, &l) in levels.iter().enumerate() {
+        save(
+            &dir.join(format!("in/{i:04}.png")),
+            &image_u8(8, 8, |_, _| [l, l, l, 255]),
+        );
+    }
+    dir.join("in/%04d.png").display().to_string()
+}
+
+/// The red code of output frame `i`'s centre.
+fn red(dir: &Path, i: usize) -> f32 {
+    rgb(&dir.join(format!("out/{i:04}.png"))).2[3 * (4 * 8 + 4)]
+}
+
+#[test]
+fn history_and_feedback_carry_earlier_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let levels = [20u8, 200, 80, 140];
+    let input = grey_sequence(d, &levels);
+    // out[n] = (in[n] + in[n-1]) / 2 + (out[n-1]) / 4, out[-1] = 0, in[-1] = in[0]
+    let p = preset(
+        d,
+        "temporal",
+        "",
+        "FragColor = 0.5 * (texture(Source, vTexCoord) + texture(OriginalHistory1, vTexCoord)) \
+         + 0.25 * texture(PassFeedback0, vTexCoord);",
+        "",
+    );
+    std::fs::create_dir_all(d.join("out")).unwrap();
+    let out = d.join("out/%04d.png").display().to_string();
+    let o = fxrun(&[arg(&p), "-i", &input, "-o", &out]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let mut previous_out = 0.0f64;
+    for n in 0..levels.len() {
+        let cur = f64::from(levels[n]);
+        let prev = f64::from(levels[n.saturating_sub(1)]);
+        let expected = ((cur + prev) / 2.0 + previous_out / 4.0).min(255.0);
+        let got = f64::from(red(d, n));
+        assert!(
+            (got - expected).abs() <= 1.5,
+            "frame {n}: {got}, expected {expected:.1}"
+        );
+        previous_out = got;
+    }
+}
+
+#[test]
+fn set_changes_a_parameter_as_the_shader_says() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let p = preset(
+        d,
+        "gain",
+        "float gain;",
+        "FragColor = texture(Source, vTexCoord) * params.gain;",
+        "#pragma parameter gain \"Gain\" 1.0 0.0 2.0 0.05",
+    );
+    let input = grey_sequence(d, &[180]);
+    std::fs::create_dir_all(d.join("out")).unwrap();
+    let out = d.join("out/%04d.png").display().to_string();
+    for (gain, expected) in [("1", 180.0), ("0.25", 45.0)] {
+        let set = format!("gain={gain}");
+        let o = fxrun(&[arg(&p), "--set", &set, "-i", &input, "-o", &out]);
+        assert_eq!(code(&o), 0, "{}", stderr(&o));
+        let got = red(d, 0);
+        assert!(
+            (got - expected).abs() <= 1.0,
+            "gain {gain}: {got}, expected {expected}"
+        );
+    }
+    let o = fxrun(&[arg(&p), "--describe"]);
+    let text = common::cli::stdout(&o);
+    assert!(
+        text.contains("gain") && text.contains("range [0, 2]"),
+        "{text}"
+    );
+}
+
+/// Runs `--check` on `p` and returns its message, which must give status 1
+/// and contain each of `needles`, without a panic or a wgpu error chain.
+fn rejected(p: &Path, needles: &[&str]) -> String {
+    let o = fxrun(&[arg(p), "--check"]);
+    let msg = stderr(&o);
+    assert_eq!(code(&o), 1, "{msg}");
+    for n in needles {
+        assert!(msg.contains(n), "`{n}` not in:\n{msg}");
+    }
+    assert!(!msg.contains("panicked") && !msg.contains("wgpu"), "{msg}");
+    msg
+}
+
+#[test]
+fn every_error_class_names_its_file_and_cause() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // the preset itself
+    let bad = d.join("bad.slangp");
+    std::fs::write(&bad, "shaders = 2\nshader0 = nothere.slang\n").unwrap();
+    rejected(&bad, &["bad.slangp", "cannot parse the preset"]);
+    // a missing include
+    let p = preset(
+        d,
+        "inc",
+        "",
+        "FragColor = vec4(1.0);",
+        "#include \"missing.inc\"",
+    );
+    rejected(
+        &p,
+        &["inc.slang", "cannot preprocess the shader", "missing.inc"],
+    );
+    // a GLSL error at glslang's line: it counts the lines of the stage's text,
+    // which lacks the other stage and the `#pragma stage` lines (docs/slang.md,
+    // "Errors"): the body on line 16 of the file is line 15 of the fragment stage.
+    let p = preset(d, "glsl", "", "FragColor = undefined_thing;", "");
+    rejected(&p, &["glsl.slang:15: GLSL error", "undefined_thing"]);
+    // an unknown uniform semantic (no `#pragma parameter` declares it)
+    let p = preset(
+        d,
+        "sem",
+        "float mystery;",
+        "FragColor = vec4(params.mystery);",
+        "",
+    );
+    rejected(&p, &["sem.slang", "unknown semantic `mystery`"]);
+    // a semantic fxgraph has no value for
+    let p = preset(
+        d,
+        "fps",
+        "float OriginalFPS;",
+        "FragColor = vec4(params.OriginalFPS);",
+        "",
+    );
+    rejected(&p, &["fps.slang", "`OriginalFPS` is not supported"]);
+}
