@@ -52,6 +52,8 @@ const SCENE_EFFECTS: &[&str] = &[
 ];
 
 /// Passes written as compute passes (`@compute` shaders): compute on both paths.
+/// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2, are
+/// compute passes drawn as fragment passes under fragment execution.)
 const NATIVE: &[&str] = &[
     "gaussian_blur/horizontal",
     "sharpen/blur",
@@ -539,13 +541,14 @@ fn worst_relative(a: &[f32], b: &[f32], channels: &[usize]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// The built-in shaders with both entry points (glow's blurs) give the same
-/// image from either: each pass runs once at its
-/// storage format (the compute entry point) and once at another (rgba32f: the
-/// fragment one), copied to a 32-bit EXR. Measured on lavapipe: blurs 4.9e-4
+/// The built-in shaders with both entry points (glow's blurs, the metering and
+/// peak reductions) give the same image from either: under compute execution each pass runs
+/// once at its storage format (the compute entry point) and once at another
+/// (the fragment one), copied to a 32-bit EXR. Measured on lavapipe: blurs 4.9e-4
 /// relative (the rgba16f rounding of the compute run, 2^-11 = 4.9e-4, and at
-/// the same size the bilinear pairs of the fragment blur against exact taps);
-/// the bound is 1e-3.
+/// the same size the bilinear pairs of the fragment blur against exact taps),
+/// reductions 5.7e-7 (the order of the f32 sums); the bounds are 1e-3 and
+/// 1e-5.
 #[test]
 fn compute_passes_agree_with_their_fragment_entry_points() {
     if !gpu() {
@@ -559,7 +562,7 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
     let cases = [
         (
             "blurX",
-            "OUT.SCALE = 0.5  sigma = 3",
+            "img = IN  OUT.SCALE = 0.5  sigma = 3",
             "rgba16f",
             "rgba32f",
             &[0usize, 1, 2, 3][..],
@@ -567,7 +570,7 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
         ),
         (
             "blurY",
-            "sigma = 2.5",
+            "img = IN  sigma = 2.5",
             "rgba16f",
             "rgba32f",
             &[0, 1, 2, 3],
@@ -575,17 +578,41 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
         ),
         (
             "blurY",
-            "OUT.SCALE = 0.5  sigma = 1.5",
+            "img = IN  OUT.SCALE = 0.5  sigma = 1.5",
             "rgba16f",
             "rgba32f",
             &[0, 1, 2, 3],
             1e-3,
         ),
+        (
+            "auto_exposure_meter",
+            "img = IN  DEFINE.FIRST = 1  OUT.SCALE = 0.125",
+            "rg32f",
+            "rgba32f",
+            &[0, 1],
+            1e-5,
+        ),
+        (
+            "tonemap_peak",
+            "img = IN  DEFINE.FIRST = 1  exposure = 2  OUT.SCALE = 0.125",
+            "rgba32f",
+            "rg32f",
+            &[0, 1],
+            1e-5,
+        ),
+        (
+            "tonemap_peak",
+            "img = IN  exposure = 2  OUT.SIZE = (1, 1)",
+            "rgba32f",
+            "rg32f",
+            &[0, 1],
+            1e-5,
+        ),
     ];
     for (shader, settings, storage, other, channels, bound) in cases {
         let mut images = Vec::new();
         for (format, runs_as) in [(storage, "compute"), (other, "fragment")] {
-            let fx = format!("EFFECT.agree = {{\n    PASS = {{\n        p = SHADER.{shader} {{ img = IN  {settings}  OUT.FORMAT = {format} }}\n        q = SHADER.copy {{ img = PASS.p  OUT.FORMAT = rgba32f }}\n    }}\n    OUT = q\n}}\n");
+            let fx = format!("EFFECT.agree = {{\n    PASS = {{\n        p = SHADER.{shader} {{ {settings}  OUT.FORMAT = {format} }}\n        q = SHADER.copy {{ img = PASS.p  OUT.FORMAT = rgba32f }}\n    }}\n    OUT = q\n}}\n");
             std::fs::write(dir.path().join("agree.fx"), fx).unwrap();
             let args = [
                 "agree.fx",
@@ -596,9 +623,10 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
                 "-o",
                 "agree-EXEC.exr",
             ];
-            let r = run(dir.path(), "agree", &args, &["agree-EXEC.exr"], "fragment");
+            let r = run(dir.path(), "agree", &args, &["agree-EXEC.exr"], "compute");
             let want = ("agree/p".to_string(), runs_as.to_string());
-            assert_eq!(r.executions[0], want, "{shader} {settings} {format}");
+            let got = r.executions.iter().find(|(p, _)| p == "agree/p");
+            assert_eq!(got, Some(&want), "{shader} {settings} {format}");
             images.push(r.images.into_iter().next().unwrap());
         }
         let d = worst_relative(&images[0], &images[1], channels);

@@ -33,6 +33,14 @@ pub struct ComputeNative {
     pub fragment: Option<String>,
 }
 
+impl ComputeNative {
+    /// Whether each workgroup computes one output texel (`@workgroup_size(1, 1,
+    /// Z)`: a reduction whose invocations share the work of one texel).
+    pub fn per_texel(&self) -> bool {
+        self.workgroup[0] * self.workgroup[1] == 1
+    }
+}
+
 /// A `texture_2d<f32>` the script binds an input to, by name.
 #[derive(Debug, Clone)]
 pub struct TextureBinding {

@@ -65,7 +65,10 @@ impl Engine {
     /// pipeline of that entry where the compute path cannot be made on this
     /// adapter or for this format, or where the pass writes the caller's output
     /// (which may be an sRGB or BGRA texture); the frame then draws it where the
-    /// target cannot be stored to. Returns the render pipeline's key too.
+    /// target cannot be stored to. Under fragment execution a reduction (one
+    /// workgroup per output texel) is drawn: on lavapipe such dispatches cost
+    /// more than the fragment pass over the same footprints. Returns the render
+    /// pipeline's key too.
     fn pass_pipelines(
         &mut self,
         p: &PlannedPass,
@@ -83,15 +86,21 @@ impl Engine {
         let Some(native) = &refl.compute else {
             return Ok((Some(render(self, &key)?), None, key));
         };
+        let Some(entry) = &native.fragment else {
+            let target = source_of(&p.output, None, plan, caller);
+            let path = self.prepare_native(p, &key, refl, samplers, native, target)?;
+            return Ok((None, Some(path), key));
+        };
+        let fragment_key = PipelineKey {
+            entry: entry.clone(),
+            ..key.clone()
+        };
+        if self.execution == super::Execution::Fragment && native.per_texel() {
+            return Ok((Some(render(self, &fragment_key)?), None, fragment_key));
+        }
         let target = source_of(&p.output, None, plan, caller);
         let path = self.prepare_native(p, &key, refl, samplers, native, target);
-        let Some(entry) = &native.fragment else {
-            return Ok((None, Some(path?), key));
-        };
-        let key = PipelineKey {
-            entry: entry.clone(),
-            ..key
-        };
+        let key = fragment_key;
         match path {
             Ok(path) if !matches!(p.output, Resource::Output) => Ok((None, Some(path), key)),
             Ok(path) => Ok((Some(render(self, &key)?), Some(path), key)),
