@@ -59,6 +59,8 @@ const NATIVE: &[&str] = &[
     "sharpen/blur",
     "glow/blurX",
     "glow/blurY",
+    "dof/nearmax_h",
+    "dof/nearmax_v",
 ];
 
 /// Float outputs agree within this (absolute, per channel).
@@ -542,13 +544,15 @@ fn worst_relative(a: &[f32], b: &[f32], channels: &[usize]) -> f32 {
 }
 
 /// The built-in shaders with both entry points (glow's blurs, the metering and
-/// peak reductions) give the same image from either: under compute execution each pass runs
+/// peak reductions, dof's near-field maximum filter) give the same image from
+/// either: under compute execution each pass runs
 /// once at its storage format (the compute entry point) and once at another
 /// (the fragment one), copied to a 32-bit EXR. Measured on lavapipe: blurs 4.9e-4
 /// relative (the rgba16f rounding of the compute run, 2^-11 = 4.9e-4, and at
 /// the same size the bilinear pairs of the fragment blur against exact taps),
-/// reductions 5.7e-7 (the order of the f32 sums); the bounds are 1e-3 and
-/// 1e-5.
+/// reductions 5.7e-7 (the order of the f32 sums), dof's near-field maximum
+/// filter 0 (comparisons only; r16f and rgba16f round the same); the bounds are
+/// 1e-3, 1e-5 and 0.
 #[test]
 fn compute_passes_agree_with_their_fragment_entry_points() {
     if !gpu() {
@@ -558,6 +562,9 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
     save(&dir.path().join("in.exr"), &picture(3));
     let copy = "@group(0) @binding(0) var img: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    return textureLoad(img, vec2<i32>(pos.xy), 0);\n}\n";
     std::fs::write(dir.path().join("copy.wgsl"), copy).unwrap();
+    // Values of both signs (dof's near field is the negative CoC).
+    let signs = copy.replace("return textureLoad", "return vec4<f32>(0.5) - textureLoad");
+    std::fs::write(dir.path().join("signs.wgsl"), signs).unwrap();
     // (shader, settings, the storage format, another format, channels compared, bound)
     let cases = [
         (
@@ -608,11 +615,27 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
             &[0, 1],
             1e-5,
         ),
+        (
+            "dof_nearmax",
+            "src = PASS.n  max_radius = 5.5",
+            "r16f",
+            "rgba16f",
+            &[0],
+            0.0,
+        ),
+        (
+            "dof_nearmax",
+            "src = IN  max_radius = 40  DEFINE.VERTICAL = 1",
+            "r16f",
+            "rgba16f",
+            &[0],
+            0.0,
+        ),
     ];
     for (shader, settings, storage, other, channels, bound) in cases {
         let mut images = Vec::new();
         for (format, runs_as) in [(storage, "compute"), (other, "fragment")] {
-            let fx = format!("EFFECT.agree = {{\n    PASS = {{\n        p = SHADER.{shader} {{ {settings}  OUT.FORMAT = {format} }}\n        q = SHADER.copy {{ img = PASS.p  OUT.FORMAT = rgba32f }}\n    }}\n    OUT = q\n}}\n");
+            let fx = format!("EFFECT.agree = {{\n    PASS = {{\n        n = SHADER.signs {{ img = IN  OUT.FORMAT = rgba32f }}\n        p = SHADER.{shader} {{ {settings}  OUT.FORMAT = {format} }}\n        q = SHADER.copy {{ img = PASS.p  OUT.FORMAT = rgba32f }}\n    }}\n    OUT = q\n}}\n");
             std::fs::write(dir.path().join("agree.fx"), fx).unwrap();
             let args = [
                 "agree.fx",
