@@ -544,12 +544,13 @@ fn worst_relative(a: &[f32], b: &[f32], channels: &[usize]) -> f32 {
 }
 
 /// The built-in shaders with both entry points (glow's blurs, the metering and
-/// peak reductions, dof's near-field maximum filter) give the same image from
-/// either: under compute execution each pass runs
+/// peak reductions, dof's near-field maximum filter, gaussian_blur's rows) give
+/// the same image from either: under compute execution each pass runs
 /// once at its storage format (the compute entry point) and once at another
 /// (the fragment one), copied to a 32-bit EXR. Measured on lavapipe: blurs 4.9e-4
 /// relative (the rgba16f rounding of the compute run, 2^-11 = 4.9e-4, and at
-/// the same size the bilinear pairs of the fragment blur against exact taps),
+/// the same size the bilinear pairs of the fragment blur against exact taps;
+/// gaussian_blur's rows: the rgba16f rounding alone),
 /// reductions 5.7e-7 (the order of the f32 sums), dof's near-field maximum
 /// filter 0 (comparisons only; r16f and rgba16f round the same); the bounds are
 /// 1e-3, 1e-5 and 0.
@@ -630,6 +631,14 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
             "rgba16f",
             &[0],
             0.0,
+        ),
+        (
+            "gaussian_blur_rows",
+            "img = IN  sigma = 3.5",
+            "rgba16f",
+            "rgba32f",
+            &[0, 1, 2, 3],
+            1e-3,
         ),
     ];
     for (shader, settings, storage, other, channels, bound) in cases {
