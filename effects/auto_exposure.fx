@@ -9,13 +9,16 @@
 // 0.18 * 2^compensation, unless its EV is beyond min_ev / max_ev, which clamp it.
 //
 // Method:
-// 1. Metering (m1 -> m2 -> m3, shaders/effects/auto_exposure/auto_exposure_meter.wgsl), the log-average: per pixel
+// 1. Metering (m1 -> m2, shaders/effects/auto_exposure/auto_exposure_meter.wgsl), the log-average: per pixel
 //    e = clamp(log2(Y / 0.18), min_ev, max_ev) with Y the Rec. 709 luminance of the
 //    linear input (at least 1e-10: black counts as min_ev, so letterbox bars or a
 //    black frame cannot drive the exposure to infinity; a few very bright pixels
-//    count as max_ev). Three reduction passes of fixed small size, each texel the
-//    exact (mean, count) of the texels it covers: m1 at 1/8 of the input (8 x 8
-//    pixel blocks), m2 32 x 32, m3 1 x 1: the mean of e over every pixel.
+//    count as max_ev). Two reduction passes, each texel the exact (mean, count)
+//    of the texels it covers: m1 at 1/8 of the input (8 x 8 pixel blocks), m2
+//    1 x 1: the mean of e over every pixel. Under compute execution both are
+//    compute passes, 64 invocations per output texel summing in a tree in
+//    workgroup memory; under fragment execution (lavapipe), fragment passes
+//    (m1 keeps many output tiles, which lavapipe shades on all its threads).
 // 2. Adaptation (adapt, 1 x 1, shaders/effects/auto_exposure/auto_exposure_adapt.wgsl, fed back: PASS.adapt[-1]):
 //    target = clamp(metered mean, min_ev, max_ev); dt = this frame's time minus the
 //    last one's (the standard value `time`, frame / fps). The EV moves towards the
@@ -32,7 +35,7 @@
 //   min_ev        lowest EV (default -10): darker scenes are brightened less
 //   max_ev        highest EV (default 10): brighter scenes are darkened less
 //
-// Passes: m1 (1/8 size), m2 (32 x 32), m3 (1 x 1), adapt (1 x 1), out (input
+// Passes: m1 (1/8 size), m2 (1 x 1), adapt (1 x 1), out (input
 // size, rgba16f). Temporal behaviour: feedback of one 1 x 1 texel; no latency.
 EFFECT.auto_exposure = {
     DESCRIPTION = "Automatic exposure: log-average metering by reduction passes, adaptation over time in EV/s, compensation and EV limits.\nOutput: the exposed linear image, for tonemap (fxrun auto_exposure tonemap ...)."
@@ -52,10 +55,9 @@ EFFECT.auto_exposure = {
             OUT.SCALE = 0.125
             OUT.FORMAT = rg32f
         }
-        m2 = SHADER.auto_exposure_meter { img = PASS.m1  OUT.SIZE = (32, 32)  OUT.FORMAT = rg32f }
-        m3 = SHADER.auto_exposure_meter { img = PASS.m2  OUT.SIZE = (1, 1)  OUT.FORMAT = rg32f }
+        m2 = SHADER.auto_exposure_meter { img = PASS.m1  OUT.SIZE = (1, 1)  OUT.FORMAT = rg32f }
         adapt = SHADER.auto_exposure_adapt {
-            meter = PASS.m3
+            meter = PASS.m2
             last = PASS.adapt[-1]
             speed_up = PARAM.speed_up
             speed_down = PARAM.speed_down

@@ -30,7 +30,8 @@
 //              encoding writes the signal, as libplacebo's output does.
 //              The source peak is source_peak (set by fxrun from the video's
 //              MaxCLL, else its mastering display peak), or, when 0, measured on
-//              the frame: passes p1 -> p2 -> p3 reduce the PQ code of every
+//              the frame: passes p1 (1/8 size) -> p2 (1 x 1)
+//              reduce the PQ code of every
 //              pixel's largest BT.2020 component to its (peak, average). This
 //              effect keeps no state (images, batches, the viewer); for PQ and HLG
 //              video fxrun runs effects/tonemap_video.fx instead, the same effect
@@ -62,7 +63,8 @@
 //             parameters, so that a --set works for both)
 //   gamut     desaturate | clip (default desaturate)
 //
-// Passes: p1 (1/8 size), p2 (32 x 32), p3 (1 x 1), tonemap (SHADER.tonemap,
+// Passes: p1 (1/8 size), p2 (1 x 1) (under compute execution compute
+// passes with a tree in workgroup memory), tonemap (SHADER.tonemap,
 // input size).
 EFFECT.tonemap = {
     DESCRIPTION = "Tone mapping of HDR images and video to [0, 1]: exposure, then Reinhard (extended), ACES (Narkowicz fit), Khronos PBR Neutral, AgX (base or punchy) or the ITU-R BT.2390 EETF (source peak from metadata or measured on the frame); out-of-gamut colours desaturated."
@@ -89,11 +91,10 @@ EFFECT.tonemap = {
             OUT.SCALE = 0.125
             OUT.FORMAT = rgba32f
         }
-        p2 = SHADER.tonemap_peak { img = PASS.p1  OUT.SIZE = (32, 32)  OUT.FORMAT = rgba32f }
-        p3 = SHADER.tonemap_peak { img = PASS.p2  OUT.SIZE = (1, 1)  OUT.FORMAT = rgba32f }
+        p2 = SHADER.tonemap_peak { img = PASS.p1  OUT.SIZE = (1, 1)  OUT.FORMAT = rgba32f }
         tonemap = SHADER.tonemap {
             img = IN
-            state = PASS.p3
+            state = PASS.p2
             exposure = PARAM.exposure
             white = PARAM.white
             source_peak = PARAM.source_peak

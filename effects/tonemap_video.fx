@@ -36,7 +36,8 @@
 //              encoding writes the signal, as libplacebo's output does.
 //              The source peak is source_peak (set by fxrun from the video's
 //              MaxCLL, else its mastering display peak), or, when 0, measured per
-//              frame: passes p1 -> p2 -> p3 reduce the PQ code of every pixel's
+//              frame: passes p1 (1/8 size) -> p2 (1 x 1)
+//              reduce the PQ code of every pixel's
 //              largest BT.2020 component to the frame's (peak, average), and
 //              `peak` smooths it over `smoothing` frames (an exponential average
 //              in PQ), restarting at scene cuts (the average jumps by more than
@@ -68,7 +69,8 @@
 //   scene_low, scene_high  bt2390: scene-cut thresholds (default 1 and 3 % PQ)
 //   gamut     desaturate | clip (default desaturate)
 //
-// Passes: p1 (1/8 size), p2 (32 x 32), p3 (1 x 1), peak (1 x 1, fed back:
+// Passes: p1 (1/8 size), p2 (1 x 1) (under compute execution compute
+// passes with a tree in workgroup memory), peak (1 x 1, fed back:
 // PASS.peak[-1]), tonemap (SHADER.tonemap, input size).
 EFFECT.tonemap = {
     DESCRIPTION = "tonemap for video (fxrun's choice for PQ and HLG video): the measured BT.2390 source peak smoothed over frames and reset at scene cuts. Tone mapping of HDR images and video to [0, 1]: exposure, then Reinhard (extended), ACES (Narkowicz fit), Khronos PBR Neutral, AgX (base or punchy) or the ITU-R BT.2390 EETF (source peak from metadata or measured per frame); out-of-gamut colours desaturated."
@@ -95,10 +97,9 @@ EFFECT.tonemap = {
             OUT.SCALE = 0.125
             OUT.FORMAT = rgba32f
         }
-        p2 = SHADER.tonemap_peak { img = PASS.p1  OUT.SIZE = (32, 32)  OUT.FORMAT = rgba32f }
-        p3 = SHADER.tonemap_peak { img = PASS.p2  OUT.SIZE = (1, 1)  OUT.FORMAT = rgba32f }
+        p2 = SHADER.tonemap_peak { img = PASS.p1  OUT.SIZE = (1, 1)  OUT.FORMAT = rgba32f }
         peak = SHADER.tonemap_peak_adapt {
-            meter = PASS.p3
+            meter = PASS.p2
             last = PASS.peak[-1]
             smoothing = PARAM.smoothing
             scene_low = PARAM.scene_low

@@ -52,7 +52,16 @@ const SCENE_EFFECTS: &[&str] = &[
 ];
 
 /// Passes written as compute passes (`@compute` shaders): compute on both paths.
-const NATIVE: &[&str] = &["gaussian_blur/horizontal", "sharpen/blur"];
+/// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2, are
+/// compute passes drawn as fragment passes under fragment execution.)
+const NATIVE: &[&str] = &[
+    "gaussian_blur/horizontal",
+    "sharpen/blur",
+    "glow/blurX",
+    "glow/blurY",
+    "dof/nearmax_h",
+    "dof/nearmax_v",
+];
 
 /// Float outputs agree within this (absolute, per channel).
 const FLOAT_TOLERANCE: f32 = 1e-3;
@@ -340,7 +349,7 @@ fn gbuffer_effects_of_a_rendered_scene_agree() {
 }
 
 /// The rule `auto` applies, as the run reports it: fragment on this machine's
-/// CPU adapter (lavapipe), compute on hardware GPUs.
+/// CPU adapter (lavapipe), compute on hardware GPUs; compute passes are compute.
 #[test]
 fn auto_is_fragment_on_a_cpu_adapter() {
     let Ok(ctx) = GpuContext::new(&AdapterChoice::Auto) else {
@@ -361,8 +370,15 @@ fn auto_is_fragment_on_a_cpu_adapter() {
         &["auto-auto.exr"],
         "auto",
     );
+    // Compute passes (glow's blurs) are compute on either path.
     assert!(
-        r.executions.iter().all(|(_, e)| e == want),
+        r.executions
+            .iter()
+            .all(|(p, e)| if NATIVE.iter().any(|n| p.ends_with(n)) {
+                e == "compute"
+            } else {
+                e == want
+            }),
         "{:?}",
         r.executions
     );
@@ -454,6 +470,201 @@ fn twice(@builtin(global_invocation_id) id: vec3<u32>) {{
         "{err}"
     );
     assert!(!dir.path().join("bad.exr").exists());
+}
+
+/// A shader with a `@compute` and a `@fragment` entry point: the compute one
+/// runs where the pass's output can be a storage texture (rgba16f), on both
+/// execution paths; the fragment one is drawn where it cannot (an `rgba8-srgb`
+/// pass). Two passes of it give 2 min(2 x, 1).
+#[test]
+fn a_compute_pass_with_a_fragment_entry_point_draws_it_where_compute_cannot_run() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    let input = picture(2);
+    save(&dir.path().join("in.exr"), &input);
+    let wgsl = r#"
+@group(0) @binding(0) var img: texture_2d<f32>;
+@group(0) @binding(1) var out: texture_storage_2d<rgba16float, write>;
+@compute @workgroup_size(8, 4, 1)
+fn twice(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(img);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    textureStore(out, id.xy, 2.0 * textureLoad(img, id.xy, 0));
+}
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return 2.0 * textureLoad(img, vec2<i32>(pos.xy), 0);
+}
+"#;
+    let fx = "EFFECT.both = {\n    PASS = {\n        p = SHADER.both { img = IN  OUT.FORMAT = rgba8-srgb }\n        q = SHADER.both { img = PASS.p  OUT.FORMAT = rgba16f }\n    }\n    OUT = q\n}\n";
+    let effect = common::cli::write_effect(dir.path(), "both", fx, ("both", wgsl));
+    let want: Vec<f32> = to_f32(&input)
+        .iter()
+        .map(|v| 2.0 * (2.0 * v).min(1.0))
+        .collect();
+    for execution in ["fragment", "compute"] {
+        let args = [effect.as_str(), "-i", "in.exr", "-o", "both-EXEC.exr"];
+        let r = run(dir.path(), "both", &args, &["both-EXEC.exr"], execution);
+        let runs = |p: &str, e: &str| (p.to_string(), e.to_string());
+        assert_eq!(
+            r.executions,
+            [runs("both/p", "fragment"), runs("both/q", "compute")]
+        );
+        // p stores 8-bit sRGB levels: within one level (the encode need not
+        // round to nearest; 0.0111 measured on lavapipe), 2.4 / 1.055 / 255 =
+        // 0.0089 in linear light near 1, doubled by q; q's rgba16f keeps 11
+        // significant bits (2^-11 of at most 2): 0.0178 + 0.001.
+        let worst = r.images[0]
+            .iter()
+            .zip(&want)
+            .map(|(g, w)| (g - w).abs())
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst <= 0.019,
+            "{execution}: error {worst} from 2 min(2 x, 1)"
+        );
+    }
+}
+
+/// The largest difference of `a` from `b`, relative to max(|b|, 1), over the
+/// channels `c` of each pixel.
+fn worst_relative(a: &[f32], b: &[f32], channels: &[usize]) -> f32 {
+    a.chunks(4)
+        .zip(b.chunks(4))
+        .flat_map(|(x, y)| {
+            channels
+                .iter()
+                .map(move |&c| (x[c] - y[c]).abs() / y[c].abs().max(1.0))
+        })
+        .fold(0.0, f32::max)
+}
+
+/// The built-in shaders with both entry points (glow's blurs, the metering and
+/// peak reductions, dof's near-field maximum filter, gaussian_blur's rows) give
+/// the same image from either: under compute execution each pass runs
+/// once at its storage format (the compute entry point) and once at another
+/// (the fragment one), copied to a 32-bit EXR. Measured on lavapipe: blurs 4.9e-4
+/// relative (the rgba16f rounding of the compute run, 2^-11 = 4.9e-4, and at
+/// the same size the bilinear pairs of the fragment blur against exact taps;
+/// gaussian_blur's rows: the rgba16f rounding alone),
+/// reductions 5.7e-7 (the order of the f32 sums), dof's near-field maximum
+/// filter 0 (comparisons only; r16f and rgba16f round the same); the bounds are
+/// 1e-3, 1e-5 and 0.
+#[test]
+fn compute_passes_agree_with_their_fragment_entry_points() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    save(&dir.path().join("in.exr"), &picture(3));
+    let copy = "@group(0) @binding(0) var img: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    return textureLoad(img, vec2<i32>(pos.xy), 0);\n}\n";
+    std::fs::write(dir.path().join("copy.wgsl"), copy).unwrap();
+    // Values of both signs (dof's near field is the negative CoC).
+    let signs = copy.replace("return textureLoad", "return vec4<f32>(0.5) - textureLoad");
+    std::fs::write(dir.path().join("signs.wgsl"), signs).unwrap();
+    // (shader, settings, the storage format, another format, channels compared, bound)
+    let cases = [
+        (
+            "blurX",
+            "img = IN  OUT.SCALE = 0.5  sigma = 3",
+            "rgba16f",
+            "rgba32f",
+            &[0usize, 1, 2, 3][..],
+            1e-3,
+        ),
+        (
+            "blurY",
+            "img = IN  sigma = 2.5",
+            "rgba16f",
+            "rgba32f",
+            &[0, 1, 2, 3],
+            1e-3,
+        ),
+        (
+            "blurY",
+            "img = IN  OUT.SCALE = 0.5  sigma = 1.5",
+            "rgba16f",
+            "rgba32f",
+            &[0, 1, 2, 3],
+            1e-3,
+        ),
+        (
+            "auto_exposure_meter",
+            "img = IN  DEFINE.FIRST = 1  OUT.SCALE = 0.125",
+            "rg32f",
+            "rgba32f",
+            &[0, 1],
+            1e-5,
+        ),
+        (
+            "tonemap_peak",
+            "img = IN  DEFINE.FIRST = 1  exposure = 2  OUT.SCALE = 0.125",
+            "rgba32f",
+            "rg32f",
+            &[0, 1],
+            1e-5,
+        ),
+        (
+            "tonemap_peak",
+            "img = IN  exposure = 2  OUT.SIZE = (1, 1)",
+            "rgba32f",
+            "rg32f",
+            &[0, 1],
+            1e-5,
+        ),
+        (
+            "dof_nearmax",
+            "src = PASS.n  max_radius = 5.5",
+            "r16f",
+            "rgba16f",
+            &[0],
+            0.0,
+        ),
+        (
+            "dof_nearmax",
+            "src = IN  max_radius = 40  DEFINE.VERTICAL = 1",
+            "r16f",
+            "rgba16f",
+            &[0],
+            0.0,
+        ),
+        (
+            "gaussian_blur_rows",
+            "img = IN  sigma = 3.5",
+            "rgba16f",
+            "rgba32f",
+            &[0, 1, 2, 3],
+            1e-3,
+        ),
+    ];
+    for (shader, settings, storage, other, channels, bound) in cases {
+        let mut images = Vec::new();
+        for (format, runs_as) in [(storage, "compute"), (other, "fragment")] {
+            let fx = format!("EFFECT.agree = {{\n    PASS = {{\n        n = SHADER.signs {{ img = IN  OUT.FORMAT = rgba32f }}\n        p = SHADER.{shader} {{ {settings}  OUT.FORMAT = {format} }}\n        q = SHADER.copy {{ img = PASS.p  OUT.FORMAT = rgba32f }}\n    }}\n    OUT = q\n}}\n");
+            std::fs::write(dir.path().join("agree.fx"), fx).unwrap();
+            let args = [
+                "agree.fx",
+                "-i",
+                "in.exr",
+                "--bit-depth",
+                "32",
+                "-o",
+                "agree-EXEC.exr",
+            ];
+            let r = run(dir.path(), "agree", &args, &["agree-EXEC.exr"], "compute");
+            let want = ("agree/p".to_string(), runs_as.to_string());
+            let got = r.executions.iter().find(|(p, _)| p == "agree/p");
+            assert_eq!(got, Some(&want), "{shader} {settings} {format}");
+            images.push(r.images.into_iter().next().unwrap());
+        }
+        let d = worst_relative(&images[0], &images[1], channels);
+        eprintln!("{shader} {settings}: compute against fragment entry point {d:.2e}");
+        assert!(d <= bound, "{shader} {settings}: {d} (bound {bound})");
+    }
 }
 
 /// The pipeline cache is kept on disk where the backend has one (Vulkan), named

@@ -12,6 +12,19 @@
 // [-r, r], edge columns (rows) repeated (lib/prefilter.wgsl). Taking the
 // bilinear-pair taps at output spacing there would skip input columns (rows) and
 // leave stripes in the halo.
+//
+// Two entry points (docs/shaders.md, "Compute passes"): `cs_main`, the compute
+// pass that runs wherever the output can be a storage texture, and `fs_main`,
+// the same blur as a fragment pass, drawn where it cannot (an adapter without
+// compute or without rgba16float storage, or a pass of another format).
+// cs_main stages each line's values once in workgroup memory (for a
+// downsampling blur: the box-prefiltered values, one fetch each at ratio 2;
+// otherwise the input texels) and sums the exact weights there: a workgroup
+// fetches ALONG + 2r values per line for ALONG outputs instead of r + 1 (same
+// size) or 2r + 1 (downsampling) per output. The downsampling result is
+// fs_main's (same values, weights and order); at the same size the exact
+// weights replace the bilinear pairs (equal within the sampler's weight
+// precision).
 @group(0) @binding(0) var img: texture_2d<f32>;
 @group(0) @binding(1) var img_sampler: sampler;
 
@@ -22,6 +35,7 @@ struct Params {
     img_size: vec2<f32>,
 }
 @group(0) @binding(2) var<uniform> params: Params;
+@group(0) @binding(3) var out: texture_storage_2d<rgba16float, write>;
 
 #include "prefilter.wgsl"
 #include "gauss_pairs.wgsl"
@@ -55,4 +69,110 @@ fn fs_main(@builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32>) -> @lo
         total += 2.0 * pair;
     }
     return sum / total;
+}
+
+// cs_main's workgroup: ALONG outputs along the blur's axis on each of ACROSS
+// lines; workgroup memory holds WINDOW values per line, so one round of staging
+// covers TAPS taps (a radius up to (TAPS - 1) / 2: sigma 128 across rows, 16
+// down columns); larger radii take more rounds.
+#if VERTICAL
+const ALONG: i32 = 32;
+const ACROSS: i32 = 8;
+#else
+const ALONG: i32 = 256;
+const ACROSS: i32 = 1;
+#endif
+const WINDOW: i32 = 1024 / ACROSS;
+const TAPS: i32 = WINDOW - ALONG + 1;
+
+// 1024 values: 16 KiB, the WebGPU default limit.
+var<workgroup> lib_blur_window: array<vec4<f32>, 1024>;
+
+// The value the blur weights at output pixel `along` of output line `line`: the
+// box-prefiltered input under it (downsampling), the input texel (same size) or
+// the bilinear sample at its centre (upsampling).
+fn lib_blur_staged(along: i32, line: i32) -> vec4<f32> {
+#if VERTICAL
+    let p = vec2<f32>(f32(line), f32(along)) + 0.5;
+#else
+    let p = vec2<f32>(f32(along), f32(line)) + 0.5;
+#endif
+    let uv = p * params.out_texel;
+    let ratio = params.img_size / params.out_size;
+    if (any(ratio > vec2<f32>(1.0))) {
+        let m = max(vec2<i32>(ceil(ratio * 0.5 - 1e-4)), vec2<i32>(1));
+        if (all(m == vec2<i32>(1))) {
+            return textureSampleLevel(img, img_sampler, uv, 0.0);
+        }
+        return lib_box_prefilter(img, img_sampler, uv, 2.0 / params.img_size, m);
+    }
+    if (all(ratio == vec2<f32>(1.0))) {
+        return textureLoad(img, vec2<i32>(p), 0);
+    }
+    return textureSampleLevel(img, img_sampler, uv, 0.0);
+}
+
+#if VERTICAL
+@compute @workgroup_size(8, 32, 1)
+#else
+@compute @workgroup_size(256, 1, 1)
+#endif
+fn cs_main(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(local_invocation_index) index: u32,
+) {
+    let size = vec2<i32>(params.out_size);
+#if VERTICAL
+    let k = i32(local.x);
+    let l = i32(local.y);
+    let line0 = i32(group.x) * ACROSS;
+    let a0 = i32(group.y) * ALONG;
+    let lines = size.x;
+    let last = size.y - 1;
+#else
+    let k = 0;
+    let l = i32(local.x);
+    let line0 = i32(group.y);
+    let a0 = i32(group.x) * ALONG;
+    let lines = size.y;
+    let last = size.x - 1;
+#endif
+    let r = i32(ceil(3.0 * params.sigma));
+    // w(i) = q^(i*i) for i = -r..r by products, as lib_downsampling_blur.
+    let q = exp(-0.5 / (params.sigma * params.sigma));
+    var w = pow(q, f32(r * r));
+    var step = pow(q, f32(1 - 2 * r));
+    let q2 = q * q;
+    var sum = vec4<f32>(0.0);
+    var total = 0.0;
+    for (var lo = -r; lo <= r; lo += TAPS) {
+        let n = min(TAPS, r + 1 - lo);
+        let span = ALONG + n - 1;
+        // The previous round's reads are done before the window is refilled.
+        workgroupBarrier();
+        for (var i = i32(index); i < ACROSS * span; i += 256) {
+            let kk = i % ACROSS;
+            let t = i / ACROSS;
+            let line = min(line0 + kk, lines - 1);
+            lib_blur_window[kk * WINDOW + t] = lib_blur_staged(clamp(a0 + lo + t, 0, last), line);
+        }
+        workgroupBarrier();
+        for (var j = 0; j < n; j++) {
+            sum += w * lib_blur_window[k * WINDOW + l + j];
+            total += w;
+            w *= step;
+            step *= q2;
+        }
+    }
+    let along = a0 + l;
+    let line = line0 + k;
+    if (along > last || line >= lines) {
+        return;
+    }
+#if VERTICAL
+    textureStore(out, vec2<i32>(line, along), sum / total);
+#else
+    textureStore(out, vec2<i32>(along, line), sum / total);
+#endif
 }

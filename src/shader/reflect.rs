@@ -21,11 +21,24 @@ pub struct StorageOutput {
 }
 
 /// A pass written as a `@compute` entry point (docs/shaders.md, "Compute
-/// passes"): one invocation per output pixel, `workgroup` invocations a group.
+/// passes"): one invocation per output pixel (`workgroup[2]` per pixel when the
+/// third size is above 1), `workgroup` invocations a group.
 #[derive(Debug, Clone)]
 pub struct ComputeNative {
     pub workgroup: [u32; 3],
     pub output: StorageOutput,
+    /// The shader's `@fragment` entry point, where it has one too: the same
+    /// pass drawn where the compute one cannot run (an sRGB or BGRA output, an
+    /// adapter without that storage format).
+    pub fragment: Option<String>,
+}
+
+impl ComputeNative {
+    /// Whether each workgroup computes one output texel (`@workgroup_size(1, 1,
+    /// Z)`: a reduction whose invocations share the work of one texel).
+    pub fn per_texel(&self) -> bool {
+        self.workgroup[0] * self.workgroup[1] == 1
+    }
 }
 
 /// A `texture_2d<f32>` the script binds an input to, by name.
@@ -214,12 +227,12 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         .filter(|e| e.stage == naga::ShaderStage::Compute)
         .collect();
     let native = match (fragments.as_slice(), computes.as_slice()) {
-        ([], [one]) => Some(one),
+        ([] | [_], [one]) => Some(one),
         (_, []) => None,
         _ => {
             diags.push(
                 Diagnostic::error(
-                    "a pass shader has one entry point: one `@fragment` or one `@compute`",
+                    "a pass shader has one `@fragment` entry point, one `@compute`, or one of each (the fragment one drawn where the compute one cannot run)",
                 )
                 .at(Span::new(file, 0, 0), ""),
             );
@@ -246,16 +259,17 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             String::new()
         }
     };
-    if !entry_point.is_empty() && native.is_none() {
+    // The fragment entry point: the pass's, or a compute pass's fallback.
+    let fragment = match (native, fragments.as_slice()) {
+        (Some(_), [one]) => Some(one.name.clone()),
+        (Some(_), _) => None,
+        (None, _) => Some(entry_point.clone()).filter(|e| !e.is_empty()),
+    };
+    if let Some(fragment) = &fragment {
         let vs = crate::shader::interface::fullscreen_outputs();
         let stage = "the pass's vertex stage";
         diags.extend(crate::shader::interface::check_fragment_inputs(
-            &module,
-            wgsl,
-            file,
-            &entry_point,
-            vs,
-            stage,
+            &module, wgsl, file, fragment, vs, stage,
         ));
     }
     let mut textures = Vec::new();
@@ -321,7 +335,11 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         }
     }
     let compute = native.and_then(|ep| match outputs.as_slice() {
-        [one] => Some(ComputeNative { workgroup: ep.workgroup_size, output: one.clone() }),
+        [one] => Some(ComputeNative {
+            workgroup: ep.workgroup_size,
+            output: one.clone(),
+            fragment: fragment.clone(),
+        }),
         _ => {
             diags.push(
                 Diagnostic::error(format!(

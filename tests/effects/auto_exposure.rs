@@ -41,8 +41,8 @@ fn evs(outs: &[Vec<f32>], inputs: &[f32], compensation: f64) -> Vec<f64> {
 #[test]
 fn metering_is_the_log_average_and_the_result_averages_middle_grey() {
     let Some(mut engine) = engine() else { return };
-    // A size the reductions do not divide evenly (67 x 41: 9 x 5 blocks of 8 x 8,
-    // partial at the edges, then 32 x 32 and 1 x 1), columns 0..33 at 0.5 and the
+    // A size the reductions do not divide evenly (67 x 41: 8 x 5 blocks of 8 or
+    // 9 x 8 or 9 pixels at 1/8, then 1 x 1), columns 0..33 at 0.5 and the
     // rest at 8: the log-average is 2^((33 log2 0.5 + 34 log2 8) / 67).
     let two = crate::common::image_f32(67, 41, |x, _| {
         let l = if x < 33 { 0.5 } else { 8.0 };

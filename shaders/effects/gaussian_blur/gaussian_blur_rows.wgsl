@@ -11,6 +11,11 @@
 // ksize = round(6 sigma + 1) | 1 (OpenCV's rule for 8-bit images), weights
 // w(i) = exp(-i^2 / (2 sigma^2)) by products, normalised; the weighted
 // differences from the centre are summed, so a flat area stays exactly flat.
+//
+// `fs_main` is the same blur as a fragment pass (one textureLoad per tap), drawn
+// where the compute pass cannot run (docs/shaders.md, "Compute passes": an
+// adapter that cannot store to rgba16float, a pass of another format). Same
+// texels, weights and order: the two agree to f32 rounding.
 
 const TILE: i32 = 256;
 // sigma <= 128 (the effects' range): r <= (round(6 * 128 + 1) | 1 - 1) / 2 = 384.
@@ -32,6 +37,29 @@ fn radius(sigma: f32) -> i32 {
     // WGSL round() rounds half to even, like OpenCV's cvRound.
     let ksize = i32(round(sigma * 6.0 + 1.0)) | 1;
     return min((ksize - 1) / 2, MAX_R);
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let size = vec2<i32>(params.img_size);
+    let r = radius(params.sigma);
+    let p = vec2<i32>(pos.xy);
+    let c = textureLoad(img, p, 0);
+    let q = exp(-0.5 / (params.sigma * params.sigma));
+    let q2 = q * q;
+    var w = q;
+    var step = q * q2;
+    var sum = vec4<f32>(0.0);
+    var total = 1.0;
+    for (var i = 1; i <= r; i++) {
+        let a = textureLoad(img, vec2<i32>(max(p.x - i, 0), p.y), 0);
+        let b = textureLoad(img, vec2<i32>(min(p.x + i, size.x - 1), p.y), 0);
+        sum += w * (a + b - 2.0 * c);
+        total += 2.0 * w;
+        w *= step;
+        step *= q2;
+    }
+    return c + sum / total;
 }
 
 @compute @workgroup_size(256, 1, 1)

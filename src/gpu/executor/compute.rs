@@ -381,6 +381,52 @@ impl GpuPass {
     }
 }
 
+/// The compute bind group of `gp` for this frame's textures, made now where it
+/// is not cached (`Prepared::prebind`, for a compute-native pass whose target
+/// is a pooled texture that allows storage). Returns the number created.
+pub(super) fn prebind_compute(gp: &mut GpuPass, device: &wgpu::Device, tex: FrameTextures) -> u64 {
+    let Some(path) = gp.compute.as_ref() else {
+        return 0;
+    };
+    let Some(target) = storage_target(path, tex) else {
+        return 0;
+    };
+    let Ok(mut views) = bound_views(gp, tex) else {
+        return 0;
+    };
+    views.push(target);
+    compute_bind_group(gp, device, &views).1
+}
+
+/// The compute bind group of `gp` for `views` (its inputs, then the storage
+/// target last): its index in the pass's cache and the number created (0 or 1).
+fn compute_bind_group(
+    gp: &mut GpuPass,
+    device: &wgpu::Device,
+    views: &[(BindKey, &wgpu::TextureView)],
+) -> (usize, u64) {
+    let path = gp.compute.as_ref().expect("a compute path");
+    let key: Vec<BindKey> = views.iter().map(|(k, _)| k.clone()).collect();
+    if let Some(i) = path.bind_groups.iter().position(|(k, _)| *k == key) {
+        return (i, 0);
+    }
+    let (bound, target) = views.split_at(views.len() - 1);
+    let bg = create_bind_group(
+        device,
+        &format!("{} compute bind group", gp.path),
+        &path.pipeline.layout,
+        gp,
+        bound,
+        Some((path.binding, target[0].1)),
+    );
+    let path = gp.compute.as_mut().expect("a compute path");
+    if path.bind_groups.len() == BIND_GROUPS_PER_PASS {
+        path.bind_groups.remove(0);
+    }
+    path.bind_groups.push((key, bg));
+    (path.bind_groups.len() - 1, 1)
+}
+
 /// Record one pass as a compute dispatch over its target (one invocation per
 /// pixel). Call only when [`GpuPass::runs_as_compute`] said so. Returns the
 /// number of bind groups created.
@@ -395,29 +441,8 @@ pub(super) fn encode_compute_pass(
     let path = gp.compute.as_ref().expect("a compute path");
     let target = storage_target(path, tex)
         .ok_or_else(|| ExecError::Input(format!("pass `{}`: no storage view", gp.path)))?;
-    views.push(target.clone());
-    let key: Vec<BindKey> = views.iter().map(|(k, _)| k.clone()).collect();
-    let cached = path.bind_groups.iter().position(|(k, _)| *k == key);
-    let (bg, created) = match cached {
-        Some(i) => (i, 0),
-        None => {
-            let bound = &views[..views.len() - 1];
-            let bg = create_bind_group(
-                device,
-                &format!("{} compute bind group", gp.path),
-                &path.pipeline.layout,
-                gp,
-                bound,
-                Some((path.binding, target.1)),
-            );
-            let path = gp.compute.as_mut().expect("a compute path");
-            if path.bind_groups.len() == BIND_GROUPS_PER_PASS {
-                path.bind_groups.remove(0);
-            }
-            path.bind_groups.push((key, bg));
-            (path.bind_groups.len() - 1, 1)
-        }
-    };
+    views.push(target);
+    let (bg, created) = compute_bind_group(gp, device, &views);
     let path = gp.compute.as_ref().expect("a compute path");
     let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
         label: Some(&gp.path),

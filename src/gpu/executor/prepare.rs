@@ -15,8 +15,17 @@ use crate::script::types::{Filter, Sampling};
 use crate::script::{Diagnostic, Diagnostics, SourceMap};
 use crate::shader::load_plan_shaders;
 use crate::shader::reflect::{StdContext, UniformBlock};
+use crate::shader::Reflection;
 use crate::shader::UniformLayout;
+use std::sync::Arc;
 use std::time::Instant;
+
+/// A pass's render pipeline, compute path and the render pipeline's key.
+type PassPipelines = (
+    Option<Arc<super::CachedPipeline>>,
+    Option<super::compute::ComputePath>,
+    PipelineKey,
+);
 
 /// The source of a resource; caller images are added to `caller` once each.
 fn source_of(
@@ -49,6 +58,63 @@ fn source_of(
 }
 
 impl Engine {
+    /// The pipelines of pass `p`: a fragment pass has its render pipeline (and a
+    /// compute one under compute execution, made by the caller); a compute-native
+    /// pass its compute path. A compute-native shader with a `@fragment` entry
+    /// point too (docs/shaders.md, "Compute passes") also gets the render
+    /// pipeline of that entry where the compute path cannot be made on this
+    /// adapter or for this format, or where the pass writes the caller's output
+    /// (which may be an sRGB or BGRA texture); the frame then draws it where the
+    /// target cannot be stored to. Under fragment execution a reduction (one
+    /// workgroup per output texel) is drawn: on lavapipe such dispatches cost
+    /// more than the fragment pass over the same footprints. Returns the render
+    /// pipeline's key too.
+    fn pass_pipelines(
+        &mut self,
+        p: &PlannedPass,
+        key: PipelineKey,
+        refl: &Reflection,
+        samplers: &[(u32, Sampling, bool)],
+        plan: &Plan,
+        caller: &mut Vec<CallerRef>,
+    ) -> Result<PassPipelines, Diagnostic> {
+        let render = |engine: &mut Engine, key: &PipelineKey| {
+            engine
+                .pipeline(key, refl, samplers, &p.path)
+                .map_err(|e| Diagnostic::error(format!("pass `{}`: {e}", p.path)))
+        };
+        let Some(native) = &refl.compute else {
+            return Ok((Some(render(self, &key)?), None, key));
+        };
+        let Some(entry) = &native.fragment else {
+            let target = source_of(&p.output, None, plan, caller);
+            let path = self.prepare_native(p, &key, refl, samplers, native, target)?;
+            return Ok((None, Some(path), key));
+        };
+        let fragment_key = PipelineKey {
+            entry: entry.clone(),
+            ..key.clone()
+        };
+        if self.execution == super::Execution::Fragment && native.per_texel() {
+            return Ok((Some(render(self, &fragment_key)?), None, fragment_key));
+        }
+        let target = source_of(&p.output, None, plan, caller);
+        let path = self.prepare_native(p, &key, refl, samplers, native, target);
+        let key = fragment_key;
+        match path {
+            Ok(path) if !matches!(p.output, Resource::Output) => Ok((None, Some(path), key)),
+            Ok(path) => Ok((Some(render(self, &key)?), Some(path), key)),
+            Err(d) => {
+                log::info!(
+                    "pass `{}` runs its @fragment entry point: {}",
+                    p.path,
+                    d.message
+                );
+                Ok((Some(render(self, &key)?), None, key))
+            }
+        }
+    }
+
     pub fn prepare(
         &mut self,
         graph: &Graph,
@@ -153,34 +219,22 @@ impl Engine {
                 target,
                 filterable: filterable.clone(),
             };
-            // A compute-native pass has its compute pipeline only; a fragment
-            // pass its render pipeline, and a compute one under compute execution.
-            let (pipeline, native) = match &refl.compute {
-                Some(native) => {
-                    let target = source_of(&p.output, None, &plan, &mut caller);
-                    match self.prepare_native(p, &key, &refl, &samplers, native, target) {
-                        Ok(path) => (None, Some(path)),
-                        Err(d) => {
-                            diags.push(at(d));
-                            continue;
-                        }
-                    }
-                }
-                None => match self.pipeline(&key, &refl, &samplers, &p.path) {
-                    Ok(pl) => (Some(pl), None),
-                    Err(e) => {
-                        diags.push(at(Diagnostic::error(format!("pass `{}`: {e}", p.path))));
+            let (pipeline, native, key) =
+                match self.pass_pipelines(p, key, &refl, &samplers, &plan, &mut caller) {
+                    Ok(built) => built,
+                    Err(d) => {
+                        diags.push(at(d));
                         continue;
                     }
-                },
-            };
+                };
             let uniform = refl
                 .uniform
                 .as_ref()
                 .map(|u| self.pass_uniform(p, u, &layout, image_sizes(&plan), &mut stats));
             let compute = match self.execution {
                 _ if native.is_some() => native,
-                super::Execution::Compute => {
+                // A compute-native pass drawn instead: its compute path failed.
+                super::Execution::Compute if refl.compute.is_none() => {
                     let storage_target = source_of(&p.output, None, &plan, &mut caller);
                     self.prepare_compute(p, &key, &refl, &samplers, storage_target)
                 }

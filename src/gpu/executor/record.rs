@@ -12,7 +12,7 @@
 //! - rotates the feedback rings after the frame.
 
 use super::bgra::{is_bgra, TwinPipeline};
-use super::compute::{encode_compute_pass, ComputePath};
+use super::compute::{encode_compute_pass, prebind_compute, ComputePath};
 use super::encode::{bind_group, encode_pass, BindKey, FrameTextures};
 use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
@@ -559,11 +559,10 @@ impl Prepared {
                 }
                 Step::Run { pass } => {
                     let gp = &mut self.passes[pass];
-                    if gp.pipeline.is_none()
-                        || gp
-                            .textures
-                            .iter()
-                            .any(|(_, s, _)| matches!(s, Source::Caller(_)))
+                    if gp
+                        .textures
+                        .iter()
+                        .any(|(_, s, _)| matches!(s, Source::Caller(_)))
                     {
                         continue;
                     }
@@ -574,8 +573,11 @@ impl Prepared {
                         ring_head: &self.ring_head,
                         caller: &[],
                     };
-                    let created =
-                        bind_group(gp, &engine.ctx.device, tex).map_or(0, |(_, created)| created);
+                    // A compute pass's own bind group (it has no render pipeline).
+                    let created = match gp.pipeline {
+                        Some(_) => bind_group(gp, &engine.ctx.device, tex).map_or(0, |(_, c)| c),
+                        None => prebind_compute(gp, &engine.ctx.device, tex),
+                    };
                     engine.bind_groups_created += created;
                     self.stats.bind_groups_created += created;
                 }
