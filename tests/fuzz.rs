@@ -433,12 +433,13 @@ fn video_probe_target() -> Target {
     let light =
         r#"{"side_data_type":"Content light level metadata","max_content":1000,"max_average":400}"#;
     let seeds: Vec<Vec<u8>> = [
-        stream(r#","color_range":"tv","color_space":"bt709","color_transfer":"bt709","color_primaries":"bt709""#) + "}",
+        stream(r#","color_range":"tv","color_space":"bt709","color_transfer":"bt709","color_primaries":"bt709""#)
+            + "}",
         stream(&format!(
             r#","color_range":"tv","color_space":"bt2020nc","color_transfer":"smpte2084","color_primaries":"bt2020","side_data_list":[{mastering},{light}]"#
         )) + "}",
         stream(r#","color_range":"pc","color_space":"bt2020nc","color_transfer":"arib-std-b67","color_primaries":"bt2020""#)
-            + &format!(r#","frames":[{{"side_data_list":[{mastering},{light}]}}]}}"#),
+            + format!(r#","frames":[{{"side_data_list":[{mastering},{light}]}}]}}"#).as_str(),
     ]
     .into_iter()
     .map(String::into_bytes)
