@@ -123,16 +123,15 @@ fn touches(clip_from_world: &Mat4, change: &CasterChange) -> bool {
 /// [0, w]) of `m`: false only when all 8 corners lie outside one of its planes
 /// (conservative: a box across a corner of the volume counts as inside).
 pub(crate) fn overlaps(m: &Mat4, b: &Aabb) -> bool {
-    let corners: Vec<Vec4> = (0..8)
-        .map(|i| {
-            let p = glam::Vec3::new(
-                if i & 1 == 0 { b.min.x } else { b.max.x },
-                if i & 2 == 0 { b.min.y } else { b.max.y },
-                if i & 4 == 0 { b.min.z } else { b.max.z },
-            );
-            *m * p.extend(1.0)
-        })
-        .collect();
+    // on the frame's path (every changed instance against every layer): no allocation
+    let corners: [Vec4; 8] = std::array::from_fn(|i| {
+        let p = glam::Vec3::new(
+            if i & 1 == 0 { b.min.x } else { b.max.x },
+            if i & 2 == 0 { b.min.y } else { b.max.y },
+            if i & 4 == 0 { b.min.z } else { b.max.z },
+        );
+        *m * p.extend(1.0)
+    });
     let planes: [fn(&Vec4) -> f32; 6] = [
         |c| c.w + c.x,
         |c| c.w - c.x,
