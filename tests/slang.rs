@@ -20,44 +20,69 @@ use std::path::{Path, PathBuf};
 /// The least PSNR (dB) of a corpus preset's output against librashader's.
 const MIN_PSNR: f64 = 40.0;
 
+/// Corpus presets held to a lower figure than [`MIN_PSNR`], and why.
+/// `crt-blurPi-sharp` samples `Source` with nearest filtering 1.5 texels off each
+/// pixel centre (`blurRadius` 1.5 at scale 1): every tap lies on a texel
+/// boundary, where which texel wins is the rasteriser's rounding of the
+/// interpolated coordinate against fxgraph's per-pixel one (678 of 6,144 pixels
+/// differ; 36.4 dB measured).
+///
+/// `crt-1tap`: 95 of 96 columns are bit-exact; in column 0 the shader takes
+/// `pow` of `2 * (o - s * fract)`, where `fract` is a rounding residue of the
+/// interpolated coordinate: slightly negative in the rasteriser (NaN, black) and
+/// exactly 0 in fxgraph's per-pixel one (the edge texel); 24.6 dB measured.
+const LOWER: &[(&str, f64)] = &[("crt/crt-blurPi-sharp", 36.0), ("crt/crt-1tap", 24.0)];
+
 /// Corpus presets fxgraph runs and matches (docs/slang.md lists the others and
 /// why).
 const RUNS: &[&str] = &[
     "blurs/smart-blur",
-    "crt/crt-hyllian-fast",
     "crt/crt-hyllian-3d",
+    "crt/crt-hyllian-fast",
     "crt/crt-lottes-fast",
+    "crt/monoCRT",
+    "crt/newpixie-mini",
     "crt/shaders/guest/pre-scaler-presets/xbr-lv2",
     "crt/shaders/guest/pre-scaler-presets/xbr-lv3",
     "deinterlacing/bob-deinterlacing",
     "deinterlacing/interpolation-deinterlacer",
     "deinterlacing/motion-adaptive-deinterlacing",
     "deinterlacing/reinterlacing",
+    "denoisers/median_3x3",
+    "denoisers/median_5x5",
     "dithering/cbod_v1",
     "edge-smoothing/ddt/cut",
     "edge-smoothing/ddt/ddt-extended",
     "edge-smoothing/ddt/ddt-xbr-lv1",
+    "edge-smoothing/fsr/fsr",
     "edge-smoothing/fsr/fsr-easu",
     "edge-smoothing/omniscale/omniscale",
     "edge-smoothing/xbr/other presets/xbr-lv1-standalone",
+    "edge-smoothing/xbr/other presets/xbr-lv2-hd",
+    "handheld/color-mod/NSO-gba-color",
     "handheld/color-mod/gbc-gambatte-color",
+    "handheld/color-mod/palm-color",
     "handheld/dot",
     "handheld/lcd3x",
     "handheld/retro-tiles",
+    "handheld/sameboy-lcd",
     "interpolation/b-spline-4-taps",
     "interpolation/catmull-rom",
     "misc/bead",
     "misc/color-mangler",
     "misc/relief",
+    "pixel-art-scaling/sharp-bilinear",
     "pixel-art-scaling/sharp-bilinear-scanlines",
     "pixel-art-scaling/sharp-bilinear-simple",
-    "pixel-art-scaling/sharp-bilinear",
+    "presets/blurs/smartblur-bspline-4taps-fsr",
     "scanlines/res-independent-scanlines",
     "scanlines/scanline-fract",
     "scanlines/scanlines-sine-abs",
     "sharpen/adaptive-sharpen",
     "sharpen/adaptive-sharpen-multipass",
     "sharpen/rca_sharpen",
+    "stereoscopic-3d/anaglyph-to-side-by-side",
+    "stereoscopic-3d/side-by-side-simple",
     "subframe-bfi/bfi-simple",
     "subframe-bfi/crt-beam-simulator",
 ];
@@ -95,7 +120,12 @@ fn corpus_presets_match_librashader() {
     let Some(corpus) = corpus() else { return };
     let out = tempfile::tempdir().unwrap();
     let mut report = Vec::new();
-    for name in RUNS {
+    let held: Vec<(&str, f64)> = RUNS
+        .iter()
+        .map(|&n| (n, MIN_PSNR))
+        .chain(LOWER.iter().copied())
+        .collect();
+    for (name, min_db) in held {
         let file = name.replace('/', "__").replace(' ', "_");
         let preset = corpus.join(format!("{name}.slangp"));
         let dst = out.path().join(format!("{file}.png"));
@@ -107,9 +137,9 @@ fn corpus_presets_match_librashader() {
         assert_eq!((w, h), (rw, rh), "{name}: size");
         let db = psnr(&ours, &theirs, 255.0);
         report.push(format!("{name}: {db:.1} dB"));
-        if db < MIN_PSNR {
+        if db < min_db {
             panic!(
-                "{name}: {db:.1} dB against librashader (< {MIN_PSNR})\n{}",
+                "{name}: {db:.1} dB against librashader (< {min_db})\n{}",
                 report.join("\n")
             );
         }

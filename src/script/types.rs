@@ -178,6 +178,8 @@ pub enum Wrap {
     Clamp,
     Repeat,
     Mirror,
+    /// Transparent black outside `[0, 1]` (RetroArch's `clamp_to_border`).
+    Border,
 }
 
 impl Wrap {
@@ -186,6 +188,7 @@ impl Wrap {
             "clamp" => Some(Wrap::Clamp),
             "repeat" => Some(Wrap::Repeat),
             "mirror" => Some(Wrap::Mirror),
+            "border" => Some(Wrap::Border),
             _ => None,
         }
     }
@@ -194,6 +197,7 @@ impl Wrap {
             Wrap::Clamp => "clamp",
             Wrap::Repeat => "repeat",
             Wrap::Mirror => "mirror",
+            Wrap::Border => "border",
         }
     }
 }

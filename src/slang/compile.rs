@@ -39,10 +39,14 @@ pub fn load_source(path: &Path) -> Result<Source, SlangError> {
                 message: format!("the preprocessor failed: {panic}"),
             }
         })?;
-    let source = loaded.map_err(|e| SlangError::Preprocess {
+    let mut source = loaded.map_err(|e| SlangError::Preprocess {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
+    (source.vertex, source.fragment) =
+        super::varyings::split_matrix_varyings(&source.vertex, &source.fragment);
+    source.vertex = super::builtins::with_replaced_builtins(std::mem::take(&mut source.vertex));
+    source.fragment = super::builtins::with_replaced_builtins(std::mem::take(&mut source.fragment));
     Ok(Source {
         path: path.to_path_buf(),
         source,

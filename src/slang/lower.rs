@@ -90,7 +90,7 @@ fn lower_uncached(path: &Path) -> Result<Lowered, SlangError> {
         let textures = rewrite_fragment(&mut fragment, &src.path, &fields, fm, &is_param, ensure)?;
         rewrite_vertex(&mut vertex, &src.path, &fields, fm, &is_param)?;
         let shader = format!("{effect}_pass{i}");
-        let wgsl = combine(fragment, vertex, &src.path)?;
+        let wgsl = combine(fragment, vertex, &src.source.vertex, &src.path)?;
         let (written_textures, written_fields) = written_names(&wgsl, &src.path)?;
         let wgsl = follow_renamed_textures(wgsl, &textures, &written_textures);
         let params = fields
@@ -162,6 +162,18 @@ fn follow_renamed_textures(mut wgsl: String, ir: &[String], written: &[String]) 
             for suffix in ["_sampler", "_size_texel"] {
                 wgsl = replace_word(&wgsl, &format!("{a}{suffix}"), &format!("{b}{suffix}"));
             }
+        }
+    }
+    // The writer also folds `__` into `_`, so the sampler and size field of
+    // `PassOutput1_` come out as `PassOutput1_sampler`: without this their input
+    // would not be found, and the sampler would lose the preset's filter and wrap.
+    for b in written.iter().filter(|b| b.ends_with('_')) {
+        for suffix in ["_sampler", "_size_texel"] {
+            wgsl = replace_word(
+                &wgsl,
+                &format!("{b}{}", &suffix[1..]),
+                &format!("{b}{suffix}"),
+            );
         }
     }
     wgsl

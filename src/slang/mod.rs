@@ -7,11 +7,13 @@
 //! execution, `--describe`, `--set` and timings are those of any effect
 //! (docs/slang.md).
 
+mod builtins;
 mod compile;
 mod error;
 mod lower;
 mod rewrite;
 mod script;
+mod varyings;
 mod vertex;
 
 pub use error::{FailureClass, SlangError};

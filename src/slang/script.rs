@@ -202,8 +202,7 @@ fn wrap(w: WrapMode) -> &'static str {
         WrapMode::ClampToEdge => "clamp",
         WrapMode::Repeat => "repeat",
         WrapMode::MirroredRepeat => "mirror",
-        // fxgraph has no border colour: black borders read as the edge texel.
-        WrapMode::ClampToBorder => "clamp",
+        WrapMode::ClampToBorder => "border",
     }
 }
 

@@ -7,6 +7,12 @@
 //! function. A vertex output that is affine in the quad's corners (texture
 //! coordinates, constants: what presets compute) interpolates to exactly this
 //! value; anything else is approximated by its value at the pixel.
+//!
+//! A vertex stage that moves the quad (`gl_Position` other than `MVP *
+//! Position`: a flip, a zoom) puts the quad's point `q` at another pixel. Then
+//! the entry point first evaluates `gl_Position` at three corners, inverts that
+//! affine map at the pixel, and evaluates the stage at `q`: what a rasteriser
+//! interpolates, for any stage whose position is affine in `Position`.
 
 use super::error::SlangError;
 use crate::shader::rename::prefix_module_names;
@@ -15,14 +21,18 @@ use std::path::Path;
 
 /// The WGSL of a pass: its fragment and vertex modules (already rewritten to
 /// share `params`) joined under one `@fragment fn fs_main`.
+///
+/// `vertex_glsl` is the stage's GLSL text: it tells whether the stage moves the
+/// quad.
 pub fn combine(
     mut fragment: Module,
     mut vertex: Module,
+    vertex_glsl: &str,
     path: &Path,
 ) -> Result<String, SlangError> {
     let fs = detach(&mut fragment, "fs_stage", path)?;
     let vs = detach(&mut vertex, "stage", path)?;
-    let vs_call = vertex_call(&vertex, &vs, path)?;
+    let vs_call = |at: &str| vertex_call(&vertex, &vs, at, path);
     let fragment_text = write(&fragment, path)?;
     let vertex_text = write(&vertex, path)?;
     // Struct members are named as the WGSL writer named them: read them back.
@@ -37,11 +47,85 @@ pub fn combine(
         &prefix_module_names(&vertex_text, "vs_", &["Params", "params"])
             .map_err(|e| unsupported(path, "the vertex stage's WGSL", &e))?,
     );
+    let (quad_point, at) = if moves_the_quad(vertex_glsl) {
+        let position = vertex_position(function_result(&vm, "stage")).ok_or_else(|| {
+            unsupported(
+                path,
+                "a vertex stage that moves the quad without a position output",
+                "the quad's point at a pixel is found from gl_Position",
+            )
+        })?;
+        (quad_point_fn(&vs_call, &position)?, "fx_quad_point(uv)")
+    } else {
+        (String::new(), "uv")
+    };
+    let v_at = vs_call(at)?;
     Ok(format!(
-        "{fragment_text}\n// The vertex stage, evaluated per pixel.\n{vertex_text}\n\
+        "{fragment_text}\n// The vertex stage, evaluated per pixel.\n{vertex_text}\n{quad_point}\
          @fragment\nfn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {{\n    \
-         let v = {vs_call};\n    return fs_stage({fs_args}){color};\n}}\n"
+         let v = {v_at};\n    return fs_stage({fs_args}){color};\n}}\n"
     ))
+}
+
+/// Whether the stage places the quad other than where `MVP * Position` puts it
+/// (the GLSL text without whitespace has one `gl_Position =`, and that is not
+/// `MVP * Position` under any block name).
+fn moves_the_quad(glsl: &str) -> bool {
+    let text: String = glsl.chars().filter(|c| !c.is_whitespace()).collect();
+    let stores: Vec<&str> = text
+        .match_indices("gl_Position=")
+        .map(|(at, m)| &text[at + m.len()..])
+        .collect();
+    let plain = |rhs: &str| {
+        let rhs = rhs.split(';').next().unwrap_or("");
+        let rhs = rhs.rsplit_once('.').map_or(rhs, |(_, field)| field);
+        rhs == "MVP*Position"
+    };
+    !(stores.len() == 1 && plain(stores[0]))
+}
+
+/// `fn fx_quad_point(uv)`: the quad point `q` (its `Position.xy` and
+/// `TexCoord`) that the stage puts at pixel `uv`. `gl_Position` at the corners
+/// (0,0), (1,0) and (0,1), in pixel `uv` (the inverse of fxgraph's `MVP`; the
+/// translated stage has already turned clip space's y upwards, as WGSL's), gives
+/// the affine map `q -> uv`; a degenerate map leaves `q = uv`.
+fn quad_point_fn(
+    vs_call: &dyn Fn(&str) -> Result<String, SlangError>,
+    position: &str,
+) -> Result<String, SlangError> {
+    let corner = |at: &str| -> Result<String, SlangError> {
+        let call = vs_call(at)?;
+        Ok(format!("fx_clip_uv({call}.{position})"))
+    };
+    Ok(format!(
+        "fn fx_clip_uv(c: vec4<f32>) -> vec2<f32> {{\n    return vec2<f32>(c.x / c.w + 1.0, 1.0 - c.y / c.w) * 0.5;\n}}\n\
+         fn fx_quad_point(uv: vec2<f32>) -> vec2<f32> {{\n    \
+         let s0 = {};\n    let a = {} - s0;\n    let b = {} - s0;\n    \
+         let det = a.x * b.y - a.y * b.x;\n    \
+         if abs(det) < 1e-12 {{\n        return uv;\n    }}\n    \
+         let d = uv - s0;\n    \
+         return vec2<f32>(d.x * b.y - d.y * b.x, a.x * d.y - a.y * d.x) / det;\n}}\n",
+        corner("vec2<f32>(0.0, 0.0)")?,
+        corner("vec2<f32>(1.0, 0.0)")?,
+        corner("vec2<f32>(0.0, 1.0)")?,
+    ))
+}
+
+/// The member of the vertex function's result that holds `gl_Position`.
+fn vertex_position(result: Option<(&Module, naga::FunctionResult)>) -> Option<String> {
+    let (m, r) = result?;
+    match &m.types[r.ty].inner {
+        TypeInner::Struct { members, .. } => members
+            .iter()
+            .find(|mem| {
+                matches!(
+                    mem.binding,
+                    Some(Binding::BuiltIn(BuiltIn::Position { .. }))
+                )
+            })
+            .and_then(|mem| mem.name.clone()),
+        _ => None,
+    }
 }
 
 fn parse_back(text: &str, path: &Path) -> Result<Module, SlangError> {
@@ -87,9 +171,9 @@ fn detach(m: &mut Module, name: &str, path: &Path) -> Result<Detached, SlangErro
     Ok(Detached { args })
 }
 
-/// `vs_stage(Position, TexCoord)` at the pixel: the quad's corners are
-/// `Position = (u, v, 0, 1)` and `TexCoord = (u, v)`.
-fn vertex_call(m: &Module, vs: &Detached, path: &Path) -> Result<String, SlangError> {
+/// `vs_stage(Position, TexCoord)` at the quad point `at` (a WGSL `vec2<f32>`):
+/// the quad's corners are `Position = (u, v, 0, 1)` and `TexCoord = (u, v)`.
+fn vertex_call(m: &Module, vs: &Detached, at: &str, path: &Path) -> Result<String, SlangError> {
     let mut args = Vec::new();
     for (binding, ty) in &vs.args {
         let vec4 = matches!(
@@ -100,10 +184,12 @@ fn vertex_call(m: &Module, vs: &Detached, path: &Path) -> Result<String, SlangEr
             }
         );
         let arg = match binding {
-            Some(Binding::Location { location: 0, .. }) if vec4 => "vec4<f32>(uv, 0.0, 1.0)",
+            Some(Binding::Location { location: 0, .. }) if vec4 => {
+                format!("vec4<f32>({at}, 0.0, 1.0)")
+            }
             Some(Binding::Location {
                 location: 0 | 1, ..
-            }) => "uv",
+            }) => at.to_string(),
             other => {
                 return Err(unsupported(
                     path,

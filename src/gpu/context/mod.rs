@@ -19,7 +19,8 @@ const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
     .union(wgpu::Features::PIPELINE_CACHE)
     .union(wgpu::Features::FLOAT32_FILTERABLE)
-    .union(wgpu::Features::FLOAT32_BLENDABLE);
+    .union(wgpu::Features::FLOAT32_BLENDABLE)
+    .union(wgpu::Features::ADDRESS_MODE_CLAMP_TO_BORDER);
 
 /// How many uncaptured errors [`GpuContext`] keeps for [`GpuContext::take_uncaptured_errors`].
 const MAX_RECORDED_ERRORS: usize = 64;

@@ -382,11 +382,27 @@ impl Engine {
         self.samplers
             .entry((s, filtering))
             .or_insert_with(|| {
+                let border = self
+                    .ctx
+                    .device
+                    .features()
+                    .contains(wgpu::Features::ADDRESS_MODE_CLAMP_TO_BORDER);
+                if !border && (s.wrap_u == Wrap::Border || s.wrap_v == Wrap::Border) {
+                    log::warn!(
+                        "the adapter cannot sample with a border colour: `border` inputs \
+                         clamp to the edge texel"
+                    );
+                }
                 let mode = |w: Wrap| match w {
                     Wrap::Clamp => wgpu::AddressMode::ClampToEdge,
                     Wrap::Repeat => wgpu::AddressMode::Repeat,
                     Wrap::Mirror => wgpu::AddressMode::MirrorRepeat,
+                    Wrap::Border if border => wgpu::AddressMode::ClampToBorder,
+                    Wrap::Border => wgpu::AddressMode::ClampToEdge,
                 };
+                let border_color = (border
+                    && (s.wrap_u == Wrap::Border || s.wrap_v == Wrap::Border))
+                    .then_some(wgpu::SamplerBorderColor::TransparentBlack);
                 let filter = if filtering && s.filter == Filter::Linear {
                     wgpu::FilterMode::Linear
                 } else {
@@ -404,6 +420,7 @@ impl Engine {
                     address_mode_w: wgpu::AddressMode::ClampToEdge,
                     mag_filter: filter,
                     min_filter: filter,
+                    border_color,
                     ..Default::default()
                 })
             })
