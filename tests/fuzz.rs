@@ -2,8 +2,9 @@
 //! the loader, lowering and planning), WGSL pass shaders (preprocessing and
 //! reflection), MATERIAL files (parsing, shader lookup, settings, textures) and
 //! material WGSL (surface and lighting shaders: preprocessing, naga, interface
-//! checks), image files (header probe, then decode, as the CLI does), y4m streams
-//! and glTF scenes. Seeds are the repository's own files and the shared
+//! checks), image files (header probe, then decode, as the CLI does), y4m streams,
+//! ffprobe's JSON, glTF scenes, and RetroArch slang presets (the `.slangp` file,
+//! and a `.slang` shader through the whole lowering to WGSL). Seeds are the repository's own files and the shared
 //! corpus (by path, never copied); each execution applies 1–4 mutations (bit flips,
 //! interesting bytes, deleted, duplicated or spliced ranges, truncation, numbers
 //! replaced by boundary values) and checks that the parser returns (no panic
@@ -472,6 +473,104 @@ fn video_probe_target() -> Target {
     )
 }
 
+/// The corpus's `.slangp` presets (librashader-presets' parser: keys, quoting,
+/// `#reference`, wildcards), parsed as fxrun parses a preset argument.
+fn slangp_target() -> Target {
+    let mut paths = Vec::new();
+    for dir in [
+        "crt",
+        "deinterlacing",
+        "edge-smoothing/xbr/other presets",
+        "handheld",
+        "subframe-bfi",
+        "presets/blurs",
+        "stereoscopic-3d",
+    ] {
+        paths.extend(files(
+            &corpus().join("slang").join(dir),
+            &["slangp"],
+            16 << 10,
+        ));
+    }
+    // Paths made absolute, so that the mutated copy, parsed from the work
+    // folder, still finds its shaders and LUTs.
+    let seeds = paths
+        .iter()
+        .map(|p| absolute_preset_paths(&std::fs::read_to_string(p).unwrap(), p.parent().unwrap()))
+        .collect();
+    Target::new("slangp", Input::File("fuzz.slangp"), seeds, |_, path| {
+        match fxgraph::slang::parse_preset(path) {
+            Ok(_) => Ok(true),
+            Err(e) => rejected_with(&e.to_string()),
+        }
+    })
+}
+
+/// A preset's text with each relative file value (`shader0 = x.slang`, LUTs,
+/// `#reference`) made absolute against `dir`.
+fn absolute_preset_paths(text: &str, dir: &Path) -> Vec<u8> {
+    let file = |v: &str| [".slang", ".slangp", ".png"].iter().any(|e| v.ends_with(e));
+    let mut out = String::new();
+    for line in text.lines() {
+        let (head, value) = match line.split_once('=') {
+            Some((k, v)) => (format!("{k}= "), v.trim().trim_matches('"')),
+            None => match line.strip_prefix("#reference") {
+                Some(v) => ("#reference ".to_string(), v.trim().trim_matches('"')),
+                None => (String::new(), ""),
+            },
+        };
+        if file(value) && !Path::new(value).is_absolute() {
+            out.push_str(&format!("{head}\"{}\"\n", dir.join(value).display()));
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out.into_bytes()
+}
+
+/// A one-pass preset's `.slang` shader through the whole lowering: the
+/// preprocessor (`#pragma`s; includes), glslang, librashader's reflection and
+/// naga translation, fxgraph's rewrites (matrix varyings, built-ins, uniforms,
+/// vertex stage) and the generated WGSL. Seeds: small single-file shaders of the
+/// corpus. An accepted shader's generated folder is removed again.
+fn slang_shader_target() -> Target {
+    let mut paths = Vec::new();
+    for dir in [
+        "crt/shaders",
+        "pixel-art-scaling/shaders",
+        "scanlines/shaders",
+        "handheld/shaders",
+        "handheld/shaders/color",
+        "subframe-bfi/shaders",
+    ] {
+        paths.extend(files(
+            &corpus().join("slang").join(dir),
+            &["slang"],
+            8 << 10,
+        ));
+    }
+    let seeds = read_all(&paths);
+    Target::new(
+        "slang-shader",
+        Input::File("fuzz.slang"),
+        seeds,
+        |_, path| {
+            let preset = path.with_file_name("fuzz.slangp");
+            std::fs::write(&preset, "shaders = 1\nshader0 = fuzz.slang\n").unwrap();
+            match fxgraph::slang::lower_preset(&preset) {
+                Ok(lowered) => {
+                    if let Some(dir) = lowered.fx.parent() {
+                        let _ = std::fs::remove_dir_all(dir);
+                    }
+                    Ok(true)
+                }
+                Err(e) => rejected_with(&e.to_string()),
+            }
+        },
+    )
+}
+
 fn gltf_target() -> Target {
     let mut paths = vec![corpus().join("gltf/CornellBox.glb")];
     for dir in [
@@ -600,8 +699,10 @@ fn parsers_survive_mutated_inputs() {
         script_target(),
         wgsl_target(),
         material_wgsl_target(),
+        slang_shader_target(),
         y4m_target(),
         video_probe_target(),
+        slangp_target(),
     ];
     let dir = tempfile::tempdir().unwrap();
     // Images: the README's photo, the corpus's small damaged EXRs, and a pattern in
