@@ -3,7 +3,8 @@
 //!   against librashader's own Vulkan runtime: `tests/slang/refs/*.png`, rendered
 //!   once by `tests/slang/make_refs.sh` from `tests/slang/input.png`; at least
 //!   40 dB PSNR (8-bit RGB) for each preset fxgraph runs;
-//! - history (`OriginalHistory1`) and feedback (`PassFeedback0`) on a sequence,
+//! - history (`OriginalHistory1`) and feedback (`PassFeedback0`) on a sequence
+//!   of images and on a y4m video,
 //!   `--set` of a `#pragma parameter`, against the formulas of small presets
 //!   written here (in stored 8-bit codes, as RetroArch's UNORM framebuffers hold
 //!   them; ±1 code for the rounding of the 8-bit stores);
@@ -223,6 +224,73 @@ fn history_and_feedback_carry_earlier_frames() {
             "frame {n}: {got}, expected {expected:.1}"
         );
         previous_out = got;
+    }
+}
+
+/// A y4m stream (8x8, 4:4:4, full range) of flat grey levels `levels`.
+fn grey_y4m(path: &Path, levels: &[u8]) {
+    let mut bytes = b"YUV4MPEG2 W8 H8 F25:1 Ip A1:1 C444 XCOLORRANGE=FULL\n".to_vec();
+    for &l in levels {
+        bytes.extend_from_slice(b"FRAME\n");
+        bytes.extend(std::iter::repeat_n(l, 64));
+        bytes.extend(std::iter::repeat_n(128u8, 128));
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// The luma of the centre pixel of each frame of an 8x8 4:4:4 8-bit y4m stream.
+fn y4m_centre_luma(path: &Path) -> Vec<f64> {
+    let bytes = std::fs::read(path).unwrap();
+    let header_end = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
+    let header = String::from_utf8_lossy(&bytes[..header_end]).to_string();
+    assert!(
+        header.contains("W8 H8") && header.contains("C444"),
+        "{header}"
+    );
+    let mut out = Vec::new();
+    let mut at = header_end;
+    while at < bytes.len() {
+        let line_end = at + bytes[at..].iter().position(|&b| b == b'\n').unwrap() + 1;
+        assert!(bytes[at..].starts_with(b"FRAME"), "frame {}", out.len());
+        out.push(f64::from(bytes[line_end + 4 * 8 + 4]));
+        at = line_end + 3 * 64;
+    }
+    out
+}
+
+/// The same history-and-feedback preset on a y4m video, in and out as Y'CbCr:
+/// grey in full range is its own luma, so the formula holds on the Y plane.
+#[test]
+fn history_and_feedback_carry_earlier_frames_of_a_video() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let levels = [20u8, 200, 80, 140, 40];
+    let input = d.join("in.y4m");
+    grey_y4m(&input, &levels);
+    let p = preset(
+        d,
+        "temporal",
+        "",
+        "FragColor = 0.5 * (texture(Source, vTexCoord) + texture(OriginalHistory1, vTexCoord)) \
+         + 0.25 * texture(PassFeedback0, vTexCoord);",
+        "",
+    );
+    let out = d.join("out.y4m");
+    let o = fxrun(&[arg(&p), "-i", arg(&input), "-o", arg(&out)]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let got = y4m_centre_luma(&out);
+    assert_eq!(got.len(), levels.len(), "frames out");
+    let mut previous_out = 0.0f64;
+    for (n, &g) in got.iter().enumerate() {
+        let cur = f64::from(levels[n]);
+        let prev = f64::from(levels[n.saturating_sub(1)]);
+        let expected = ((cur + prev) / 2.0 + previous_out / 4.0).min(255.0);
+        // ±1.5 codes for the 8-bit stores, as above, and 1 for the Y'CbCr round trip.
+        assert!(
+            (g - expected).abs() <= 2.5,
+            "frame {n}: {g}, expected {expected:.1} (frames {got:?})"
+        );
+        previous_out = g;
     }
 }
 
