@@ -359,11 +359,34 @@ fn every_error_class_names_its_file_and_cause() {
         &p,
         &["inc.slang", "cannot preprocess the shader", "missing.inc"],
     );
-    // a GLSL error at glslang's line: it counts the lines of the stage's text,
-    // which lacks the other stage and the `#pragma stage` lines (docs/slang.md,
-    // "Errors"): the body on line 16 of the file is line 15 of the fragment stage.
+    // a GLSL error at its line in the file: the body is on line 16, after the
+    // `#pragma stage` lines (librashader's `#line` markers are one short there,
+    // and fxgraph corrects them: docs/slang.md, "Errors")
     let p = preset(d, "glsl", "", "FragColor = undefined_thing;", "");
-    rejected(&p, &["glsl.slang:15: GLSL error", "undefined_thing"]);
+    rejected(&p, &["glsl.slang:16: GLSL error", "undefined_thing"]);
+    // ... and in an included file, and in the shader after the include
+    std::fs::write(
+        d.join("part.inc"),
+        "// 1\n// 2\nfloat f() { return missing_in_include; }\n",
+    )
+    .unwrap();
+    let p = preset(
+        d,
+        "inc_err",
+        "",
+        "FragColor = vec4(1.0);",
+        "#include \"part.inc\"",
+    );
+    rejected(&p, &["part.inc:3: GLSL error", "missing_in_include"]);
+    std::fs::write(d.join("part.inc"), "// 1\n").unwrap();
+    let p = preset(
+        d,
+        "after_inc",
+        "",
+        "FragColor = after_include;",
+        "#include \"part.inc\"",
+    );
+    rejected(&p, &["after_inc.slang:16: GLSL error", "after_include"]);
     // an unknown uniform semantic (no `#pragma parameter` declares it)
     let p = preset(
         d,

@@ -45,6 +45,9 @@ pub fn load_source(path: &Path) -> Result<Source, SlangError> {
     })?;
     (source.vertex, source.fragment) =
         super::varyings::split_matrix_varyings(&source.vertex, &source.fragment);
+    let shader = path.file_name().and_then(|f| f.to_str()).unwrap_or("");
+    source.vertex = super::line_markers::corrected_line_markers(&source.vertex, shader);
+    source.fragment = super::line_markers::corrected_line_markers(&source.fragment, shader);
     source.vertex = super::builtins::with_replaced_builtins(std::mem::take(&mut source.vertex));
     source.fragment = super::builtins::with_replaced_builtins(std::mem::take(&mut source.fragment));
     Ok(Source {

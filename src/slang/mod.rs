@@ -10,6 +10,7 @@
 mod builtins;
 mod compile;
 mod error;
+mod line_markers;
 mod lower;
 mod rewrite;
 mod script;
