@@ -131,6 +131,18 @@ pub struct GpuContext {
     /// [`GpuContext::from_existing`]): GL only when no native adapter exists.
     pub enumerated: wgpu::Backends,
     uncaptured: Arc<Mutex<Vec<String>>>,
+    /// The engine's fixed compute pipelines (Y'CbCr conversion), made once per
+    /// device ([`GpuContext::compute_pipeline`]).
+    compute_pipelines: Arc<Mutex<Vec<(String, CachedCompute)>>>,
+}
+
+/// A fixed compute pipeline and the layout of its bind group 0.
+pub type CachedCompute = (wgpu::ComputePipeline, wgpu::BindGroupLayout);
+
+/// The guarded value, also after a panic elsewhere poisoned the lock (the data
+/// is a cache: never half written).
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 impl GpuContext {
@@ -245,7 +257,40 @@ impl GpuContext {
             enumerated: wgpu::Backends::empty(),
             pipeline_cache: None,
             uncaptured: Arc::default(),
+            compute_pipelines: Arc::default(),
         }
+    }
+
+    /// The compute pipeline `label` (entry point `main`, layout from the shader)
+    /// of WGSL `source`, made on first use and kept for the device's life: the
+    /// engine's fixed passes are compiled once however many converters are made
+    /// (a JIT compile costs 50-100 ms on lavapipe).
+    pub fn compute_pipeline(&self, label: &str, source: &str) -> Result<CachedCompute, GpuError> {
+        let key = format!("{label}\n{source}");
+        if let Some((_, hit)) = lock(&self.compute_pipelines)
+            .iter()
+            .find(|(k, _)| *k == key)
+        {
+            return Ok(hit.clone());
+        }
+        let made = self.scoped(label, |device| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: None,
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: self.pipeline_cache.as_ref(),
+            });
+            let layout = pipeline.get_bind_group_layout(0);
+            (pipeline, layout)
+        })?;
+        lock(&self.compute_pipelines).push((key, made.clone()));
+        Ok(made)
     }
 
     /// Whether the device has wgpu's `PIPELINE_CACHE` feature (Vulkan).

@@ -43,30 +43,14 @@ fn shader_source(pass: &str) -> String {
     )
 }
 
-/// A compute pipeline (entry point `main`, layout from the shader) and its bind
-/// group layout.
+/// The compute pipeline of pass `pass` (entry point `main`, layout from the
+/// shader) and its bind group layout, made once per device.
 fn compute_pipeline(
     ctx: &GpuContext,
     label: &str,
     pass: &str,
 ) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
-    let source = shader_source(pass);
-    ctx.scoped(label, |device| {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: ctx.pipeline_cache.as_ref(),
-        });
-        let layout = pipeline.get_bind_group_layout(0);
-        (pipeline, layout)
-    })
+    ctx.compute_pipeline(label, &shader_source(pass))
 }
 
 /// A buffer of `size` bytes (at least 4, rounded up to a multiple of 4).
