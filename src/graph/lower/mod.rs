@@ -16,6 +16,7 @@ use petgraph::Direction;
 use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
 
 mod expand;
+mod instance;
 mod order;
 
 use expand::Lowerer;
