@@ -42,104 +42,28 @@ pub fn preprocess(
     source: &str,
     defines: &[(String, i64)],
 ) -> Result<(String, Vec<(String, i64)>), PreprocessError> {
-    let mut defs: Vec<(String, i64)> = defines.to_vec();
-    let script_defined: Vec<String> = defines.iter().map(|(n, _)| n.clone()).collect();
+    let mut pp = Preprocessor {
+        defs: defines.to_vec(),
+        script_defined: defines.iter().map(|(n, _)| n.clone()).collect(),
+        stack: Vec::new(),
+    };
     let mut out = String::with_capacity(source.len() + 64);
-    let mut stack: Vec<Frame> = Vec::new();
     for (start, line) in lines_with_offsets(source) {
-        let trimmed = line.trim();
-        let active = stack.last().map(|f| f.active).unwrap_or(true);
         let err = |msg: String| PreprocessError {
             start,
             end: start + line.trim_end().len(),
             message: msg,
         };
-        if let Some(rest) = trimmed.strip_prefix('#') {
-            let mut words = rest.split_whitespace();
-            let directive = words.next().unwrap_or("");
-            let args: Vec<&str> = words.collect();
-            let lookup = |defs: &Vec<(String, i64)>, n: &str| {
-                defs.iter().find(|(d, _)| d == n).map(|(_, v)| *v)
-            };
-            match directive {
-                "ifdef" | "ifndef" | "if" => {
-                    let cond = match directive {
-                        "ifdef" | "ifndef" => {
-                            let [name] = args.as_slice() else {
-                                return Err(err(format!("`#{directive}` takes one name")));
-                            };
-                            lookup(&defs, name).is_some() == (directive == "ifdef")
-                        }
-                        _ => eval(&args, &defs).map_err(err)?,
-                    };
-                    stack.push(Frame {
-                        active: active && cond,
-                        taken: cond,
-                        parent: active,
-                        else_seen: false,
-                        start,
-                    });
-                }
-                "elif" => {
-                    let cond = eval(&args, &defs).map_err(err)?;
-                    let Some(f) = stack.last_mut() else {
-                        return Err(err("`#elif` without `#if`".into()));
-                    };
-                    if f.else_seen {
-                        return Err(err("`#elif` after `#else`".into()));
-                    }
-                    f.active = f.parent && !f.taken && cond;
-                    f.taken |= cond;
-                }
-                "else" => {
-                    let Some(f) = stack.last_mut() else {
-                        return Err(err("`#else` without `#if`".into()));
-                    };
-                    if f.else_seen {
-                        return Err(err("a second `#else`".into()));
-                    }
-                    f.else_seen = true;
-                    f.active = f.parent && !f.taken;
-                    f.taken = true;
-                }
-                "endif" => {
-                    if stack.pop().is_none() {
-                        return Err(err("`#endif` without `#if`".into()));
-                    }
-                }
-                "define" if active => {
-                    let (name, value) = match args.as_slice() {
-                        [name] => (*name, 1),
-                        [name, value] => (
-                            *name,
-                            value.parse::<i64>().map_err(|_| {
-                                err(format!(
-                                    "`#define {name}` takes an integer value, found `{value}`"
-                                ))
-                            })?,
-                        ),
-                        _ => return Err(err("expected `#define NAME [integer]`".into())),
-                    };
-                    if !is_ident(name) {
-                        return Err(err(format!("`{name}` is not a valid name")));
-                    }
-                    // Script values win: a shader `#define` is a default.
-                    if !script_defined.iter().any(|d| d == name) {
-                        defs.retain(|(d, _)| d != name);
-                        defs.push((name.to_string(), value));
-                    }
-                }
-                "define" => {}
-                other => return Err(err(format!("unknown directive `#{other}`"))),
-            }
+        if let Some(rest) = line.trim().strip_prefix('#') {
+            pp.directive(rest, start, &err)?;
             out.push_str(if line.ends_with('\n') { "\n" } else { "" });
-        } else if active {
+        } else if pp.active() {
             out.push_str(line);
         } else {
             out.push_str(if line.ends_with('\n') { "\n" } else { "" });
         }
     }
-    if let Some(f) = stack.last() {
+    if let Some(f) = pp.stack.last() {
         let end = source[f.start..]
             .find('\n')
             .map(|i| f.start + i)
@@ -150,6 +74,7 @@ pub fn preprocess(
             message: "`#if` without `#endif`".into(),
         });
     }
+    let mut defs = pp.defs;
     defs.sort();
     if !out.ends_with('\n') {
         out.push('\n');
@@ -161,6 +86,127 @@ pub fn preprocess(
         }
     }
     Ok((out, defs))
+}
+
+/// The state of [`preprocess`] between lines.
+struct Preprocessor {
+    /// The defines so far: the script's, then the shader's `#define`s.
+    defs: Vec<(String, i64)>,
+    /// Names the script defines (a shader `#define` does not change them).
+    script_defined: Vec<String>,
+    /// The open `#if` chains, innermost last.
+    stack: Vec<Frame>,
+}
+
+/// Builds the error of the current line from a message.
+type LineError<'a> = dyn Fn(String) -> PreprocessError + 'a;
+
+impl Preprocessor {
+    /// Whether the current line is emitted.
+    fn active(&self) -> bool {
+        self.stack.last().map(|f| f.active).unwrap_or(true)
+    }
+
+    /// The directive line `#rest` starting at byte `start`.
+    fn directive(
+        &mut self,
+        rest: &str,
+        start: usize,
+        err: &LineError,
+    ) -> Result<(), PreprocessError> {
+        let mut words = rest.split_whitespace();
+        let directive = words.next().unwrap_or("");
+        let args: Vec<&str> = words.collect();
+        match directive {
+            "ifdef" | "ifndef" | "if" => self.open_if(directive, &args, start, err)?,
+            "elif" => {
+                let cond = eval(&args, &self.defs).map_err(err)?;
+                let Some(f) = self.stack.last_mut() else {
+                    return Err(err("`#elif` without `#if`".into()));
+                };
+                if f.else_seen {
+                    return Err(err("`#elif` after `#else`".into()));
+                }
+                f.active = f.parent && !f.taken && cond;
+                f.taken |= cond;
+            }
+            "else" => {
+                let Some(f) = self.stack.last_mut() else {
+                    return Err(err("`#else` without `#if`".into()));
+                };
+                if f.else_seen {
+                    return Err(err("a second `#else`".into()));
+                }
+                f.else_seen = true;
+                f.active = f.parent && !f.taken;
+                f.taken = true;
+            }
+            "endif" => {
+                if self.stack.pop().is_none() {
+                    return Err(err("`#endif` without `#if`".into()));
+                }
+            }
+            "define" if self.active() => self.define(&args, err)?,
+            "define" => {}
+            other => return Err(err(format!("unknown directive `#{other}`"))),
+        }
+        Ok(())
+    }
+
+    /// `#ifdef NAME`, `#ifndef NAME` or `#if EXPR`: a new chain.
+    fn open_if(
+        &mut self,
+        directive: &str,
+        args: &[&str],
+        start: usize,
+        err: &LineError,
+    ) -> Result<(), PreprocessError> {
+        let active = self.active();
+        let cond = match directive {
+            "ifdef" | "ifndef" => {
+                let [name] = args else {
+                    return Err(err(format!("`#{directive}` takes one name")));
+                };
+                let defined = self.defs.iter().any(|(d, _)| d == name);
+                defined == (directive == "ifdef")
+            }
+            _ => eval(args, &self.defs).map_err(err)?,
+        };
+        self.stack.push(Frame {
+            active: active && cond,
+            taken: cond,
+            parent: active,
+            else_seen: false,
+            start,
+        });
+        Ok(())
+    }
+
+    /// `#define NAME [integer]` in an emitted branch: a default, unless the
+    /// script defines the name.
+    fn define(&mut self, args: &[&str], err: &LineError) -> Result<(), PreprocessError> {
+        let (name, value) = match args {
+            [name] => (*name, 1),
+            [name, value] => (
+                *name,
+                value.parse::<i64>().map_err(|_| {
+                    err(format!(
+                        "`#define {name}` takes an integer value, found `{value}`"
+                    ))
+                })?,
+            ),
+            _ => return Err(err("expected `#define NAME [integer]`".into())),
+        };
+        if !is_ident(name) {
+            return Err(err(format!("`{name}` is not a valid name")));
+        }
+        // Script values win: a shader `#define` is a default.
+        if !self.script_defined.iter().any(|d| d == name) {
+            self.defs.retain(|(d, _)| d != name);
+            self.defs.push((name.to_string(), value));
+        }
+        Ok(())
+    }
 }
 
 fn is_ident(s: &str) -> bool {

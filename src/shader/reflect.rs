@@ -1,13 +1,15 @@
 //! naga reflection of a pass shader and the checks of the script against it.
 
-use crate::graph::PassNode;
 use crate::script::types::{format_value, Value};
 use crate::script::{Diagnostic, FileId, Span};
 use crate::shader::wgsl_names::validation_diagnostic;
 use naga::{ImageClass, ImageDimension, ScalarKind, TypeInner};
 
+mod bind;
+
 pub(crate) use super::uniforms::std_value;
 pub use super::uniforms::{StdContext, StdValue, UniformField, UniformLayout, UniformSource};
+pub use bind::bind_pass;
 
 /// The output of a compute-native pass: its one write-only
 /// `texture_storage_2d<FORMAT, write>`.
@@ -189,6 +191,47 @@ fn span(file: FileId, s: naga::Span) -> Span {
 /// Parse, validate and reflect preprocessed WGSL (`file` is its id in the source
 /// map, so error spans point into it).
 pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> {
+    let module = parse_and_validate(wgsl, file)?;
+    let mut diags = Vec::new();
+    let entries = entry_points(&module, file, &mut diags)?;
+    if let Some(fragment) = &entries.fragment {
+        let vs = crate::shader::interface::fullscreen_outputs();
+        let stage = "the pass's vertex stage";
+        diags.extend(crate::shader::interface::check_fragment_inputs(
+            &module, wgsl, file, fragment, vs, stage,
+        ));
+    }
+    let source = ShaderSource {
+        module: &module,
+        wgsl,
+        file,
+    };
+    let resources = source.resources(entries.native.is_some(), &mut diags);
+    check_group_zero(&resources, &mut diags);
+    let compute = entries.native.and_then(|ep| {
+        compute_native(
+            ep,
+            &resources.outputs,
+            entries.fragment.clone(),
+            file,
+            &mut diags,
+        )
+    });
+    if diags.is_empty() {
+        Ok(Reflection {
+            entry_point: entries.entry_point,
+            compute,
+            textures: resources.textures,
+            samplers: resources.samplers,
+            uniform: resources.uniform,
+        })
+    } else {
+        Err(diags)
+    }
+}
+
+/// The naga module of `wgsl`, or its parse or validation error.
+fn parse_and_validate(wgsl: &str, file: FileId) -> Result<naga::Module, Vec<Diagnostic>> {
     let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
         let mut d = Diagnostic::error(format!("WGSL: {}", e.message()));
         let mut first = true;
@@ -215,7 +258,26 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             Span::new(file, 0, 0),
         )]);
     }
-    let mut diags = Vec::new();
+    Ok(module)
+}
+
+/// The entry points a pass shader runs.
+struct EntryPoints<'m> {
+    /// The `@compute` entry point of a compute-native pass.
+    native: Option<&'m naga::EntryPoint>,
+    /// The pass's entry point (the compute one for a compute-native pass).
+    entry_point: String,
+    /// The fragment entry point: the pass's, or a compute pass's fallback.
+    fragment: Option<String>,
+}
+
+/// The entry points of `module`: one `@fragment`, one `@compute`, or one of
+/// each. Errors that leave nothing to check return at once.
+fn entry_points<'m>(
+    module: &'m naga::Module,
+    file: FileId,
+    diags: &mut Vec<Diagnostic>,
+) -> Result<EntryPoints<'m>, Vec<Diagnostic>> {
     let fragments: Vec<_> = module
         .entry_points
         .iter()
@@ -227,7 +289,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         .filter(|e| e.stage == naga::ShaderStage::Compute)
         .collect();
     let native = match (fragments.as_slice(), computes.as_slice()) {
-        ([] | [_], [one]) => Some(one),
+        ([] | [_], [one]) => Some(*one),
         (_, []) => None,
         _ => {
             diags.push(
@@ -236,7 +298,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
                 )
                 .at(Span::new(file, 0, 0), ""),
             );
-            return Err(diags);
+            return Err(std::mem::take(diags));
         }
     };
     let entry_point = match fragments.as_slice() {
@@ -259,73 +321,129 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             String::new()
         }
     };
-    // The fragment entry point: the pass's, or a compute pass's fallback.
     let fragment = match (native, fragments.as_slice()) {
         (Some(_), [one]) => Some(one.name.clone()),
         (Some(_), _) => None,
         (None, _) => Some(entry_point.clone()).filter(|e| !e.is_empty()),
     };
-    if let Some(fragment) = &fragment {
-        let vs = crate::shader::interface::fullscreen_outputs();
-        let stage = "the pass's vertex stage";
-        diags.extend(crate::shader::interface::check_fragment_inputs(
-            &module, wgsl, file, fragment, vs, stage,
-        ));
-    }
-    let mut textures = Vec::new();
-    let mut samplers = Vec::new();
-    let mut uniform = None;
-    let mut outputs: Vec<StorageOutput> = Vec::new();
-    for (h, gv) in module.global_variables.iter() {
-        let gspan = span(file, module.global_variables.get_span(h));
-        let name = gv.name.clone().unwrap_or_default();
-        let Some(rb) = &gv.binding else { continue };
-        match &module.types[gv.ty].inner {
-            TypeInner::Image {
-                dim: ImageDimension::D2,
-                arrayed: false,
-                class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
-            } => textures.push(TextureBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
-            TypeInner::Image {
-                dim: ImageDimension::D2,
-                arrayed: false,
-                class: ImageClass::Storage { format, access },
-            } if native.is_some() && *access == naga::StorageAccess::STORE => {
-                outputs.push(StorageOutput { name, binding: rb.binding, format: *format, span: gspan })
-            }
-            TypeInner::Sampler { comparison: false } => samplers.push(SamplerBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
-            TypeInner::Struct { members, span: size } if gv.space == naga::AddressSpace::Uniform => {
-                if uniform.is_some() {
-                    diags.push(Diagnostic::error("a pass shader has at most one uniform buffer").at(gspan, "second uniform"));
-                    continue;
+    Ok(EntryPoints {
+        native,
+        entry_point,
+        fragment,
+    })
+}
+
+/// The resources a pass shader declares.
+struct Resources {
+    textures: Vec<TextureBinding>,
+    samplers: Vec<SamplerBinding>,
+    uniform: Option<UniformBlock>,
+    /// Storage textures written by a compute-native pass.
+    outputs: Vec<StorageOutput>,
+}
+
+/// A validated pass shader: the module, its text and its file.
+struct ShaderSource<'a> {
+    module: &'a naga::Module,
+    wgsl: &'a str,
+    file: FileId,
+}
+
+impl ShaderSource<'_> {
+    /// Every bound global variable, by its type (storage outputs only in a
+    /// compute-native pass).
+    fn resources(&self, native: bool, diags: &mut Vec<Diagnostic>) -> Resources {
+        let (module, file) = (self.module, self.file);
+        let mut r = Resources {
+            textures: Vec::new(),
+            samplers: Vec::new(),
+            uniform: None,
+            outputs: Vec::new(),
+        };
+        for (h, gv) in module.global_variables.iter() {
+            let gspan = span(file, module.global_variables.get_span(h));
+            let name = gv.name.clone().unwrap_or_default();
+            let Some(rb) = &gv.binding else { continue };
+            match &module.types[gv.ty].inner {
+                TypeInner::Image {
+                    dim: ImageDimension::D2,
+                    arrayed: false,
+                    class: ImageClass::Sampled { kind: ScalarKind::Float, multi: false },
+                } => r.textures.push(TextureBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
+                TypeInner::Image {
+                    dim: ImageDimension::D2,
+                    arrayed: false,
+                    class: ImageClass::Storage { format, access },
+                } if native && *access == naga::StorageAccess::STORE => {
+                    r.outputs.push(StorageOutput { name, binding: rb.binding, format: *format, span: gspan })
                 }
-                let decl_span = module.types.get_span(gv.ty);
-                let decl_text = decl_span.to_range().map(|r| &wgsl[r]).unwrap_or("");
-                let decl_start = decl_span.to_range().map(|r| r.start).unwrap_or(0);
-                let mut out = Vec::new();
-                for m in members {
-                    let mname = m.name.clone().unwrap_or_default();
-                    let ty = field_type(&module, m.ty);
-                    let (mspan, default, range, description) = member_annotations(decl_text, decl_start, &mname, file);
-                    match ty {
-                        Some(ty) => out.push(UniformMember { name: mname, offset: m.offset, ty, span: mspan.unwrap_or(gspan), default, range, description }),
-                        None => diags.push(Diagnostic::error(format!("uniform field `{mname}` has an unsupported type")).at(mspan.unwrap_or(gspan), "use f32, i32, u32, their vectors, or mat4x4<f32>")),
+                TypeInner::Sampler { comparison: false } => r.samplers.push(SamplerBinding { name, group: rb.group, binding: rb.binding, span: gspan }),
+                TypeInner::Struct { members, span: size } if gv.space == naga::AddressSpace::Uniform => {
+                    if r.uniform.is_some() {
+                        diags.push(Diagnostic::error("a pass shader has at most one uniform buffer").at(gspan, "second uniform"));
+                        continue;
                     }
+                    let members = self.uniform_members(gv.ty, members, gspan, diags);
+                    r.uniform = Some(UniformBlock { name, group: rb.group, binding: rb.binding, size: *size, members, span: gspan });
                 }
-                uniform = Some(UniformBlock { name, group: rb.group, binding: rb.binding, size: *size, members: out, span: gspan });
+                _ => diags.push(
+                    Diagnostic::error(format!("unsupported resource `{name}` in a pass shader"))
+                        .at(gspan, "a pass shader may declare texture_2d<f32>, sampler and one var<uniform> struct"),
+                ),
             }
-            _ => diags.push(
-                Diagnostic::error(format!("unsupported resource `{name}` in a pass shader"))
-                    .at(gspan, "a pass shader may declare texture_2d<f32>, sampler and one var<uniform> struct"),
-            ),
         }
+        r
     }
-    // One bind group keeps the layout simple: every resource in group 0.
-    for (g, s) in textures
+
+    /// The members of the uniform struct `ty` (declared by the variable at
+    /// `gspan`), with their annotations; unsupported types are errors.
+    fn uniform_members(
+        &self,
+        ty: naga::Handle<naga::Type>,
+        members: &[naga::StructMember],
+        gspan: Span,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Vec<UniformMember> {
+        let decl_span = self.module.types.get_span(ty);
+        let decl_text = decl_span.to_range().map(|r| &self.wgsl[r]).unwrap_or("");
+        let decl_start = decl_span.to_range().map(|r| r.start).unwrap_or(0);
+        let mut out = Vec::new();
+        for m in members {
+            let mname = m.name.clone().unwrap_or_default();
+            let ty = field_type(self.module, m.ty);
+            let (mspan, default, range, description) =
+                member_annotations(decl_text, decl_start, &mname, self.file);
+            match ty {
+                Some(ty) => out.push(UniformMember {
+                    name: mname,
+                    offset: m.offset,
+                    ty,
+                    span: mspan.unwrap_or(gspan),
+                    default,
+                    range,
+                    description,
+                }),
+                None => diags.push(
+                    Diagnostic::error(format!("uniform field `{mname}` has an unsupported type"))
+                        .at(
+                            mspan.unwrap_or(gspan),
+                            "use f32, i32, u32, their vectors, or mat4x4<f32>",
+                        ),
+                ),
+            }
+        }
+        out
+    }
+}
+
+/// One bind group keeps the layout simple: every resource in group 0.
+fn check_group_zero(r: &Resources, diags: &mut Vec<Diagnostic>) {
+    for (g, s) in r
+        .textures
         .iter()
         .map(|t| (t.group, t.span))
-        .chain(samplers.iter().map(|t| (t.group, t.span)))
-        .chain(uniform.iter().map(|u| (u.group, u.span)))
+        .chain(r.samplers.iter().map(|t| (t.group, t.span)))
+        .chain(r.uniform.iter().map(|u| (u.group, u.span)))
     {
         if g != 0 {
             diags.push(
@@ -334,11 +452,22 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             );
         }
     }
-    let compute = native.and_then(|ep| match outputs.as_slice() {
+}
+
+/// The compute-native pass of entry point `ep`: it writes exactly one storage
+/// texture.
+fn compute_native(
+    ep: &naga::EntryPoint,
+    outputs: &[StorageOutput],
+    fragment: Option<String>,
+    file: FileId,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<ComputeNative> {
+    match outputs {
         [one] => Some(ComputeNative {
             workgroup: ep.workgroup_size,
             output: one.clone(),
-            fragment: fragment.clone(),
+            fragment,
         }),
         _ => {
             diags.push(
@@ -350,17 +479,6 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             );
             None
         }
-    });
-    if diags.is_empty() {
-        Ok(Reflection {
-            entry_point,
-            compute,
-            textures,
-            samplers,
-            uniform,
-        })
-    } else {
-        Err(diags)
     }
 }
 
@@ -448,169 +566,4 @@ pub(crate) fn member_annotations(
         }
     }
     (None, None, None, String::new())
-}
-
-/// Check a pass's inputs and parameters against its shader; build its uniform layout.
-/// `shader_name` is how the shader is named in messages.
-pub fn bind_pass(
-    pass: &PassNode,
-    refl: &Reflection,
-    shader_name: &str,
-) -> Result<UniformLayout, Vec<Diagnostic>> {
-    let mut diags = Vec::new();
-    let input_names: Vec<String> = pass.inputs.iter().map(|i| i.name.clone()).collect();
-    for inp in &pass.inputs {
-        if !refl.textures.iter().any(|t| t.name == inp.name) {
-            let mut d = Diagnostic::error(format!(
-                "shader `{shader_name}` has no texture input `{}`",
-                inp.name
-            ))
-            .at(inp.span, "not declared by the shader");
-            let names: Vec<&str> = refl.textures.iter().map(|t| t.name.as_str()).collect();
-            d = match crate::script::ast::suggest(&inp.name, names.iter().copied()) {
-                Some(s) => d.note(format!("did you mean `{s}`?")),
-                None if names.is_empty() => d.note("the shader declares no `texture_2d<f32>`"),
-                None => d.note(format!("its textures: {}", names.join(", "))),
-            };
-            diags.push(d);
-        }
-    }
-    for t in &refl.textures {
-        if !pass.inputs.iter().any(|i| i.name == t.name) {
-            diags.push(
-                Diagnostic::error(format!(
-                    "pass `{}` does not bind the shader's texture `{}`",
-                    pass.path, t.name
-                ))
-                .at(
-                    pass.name_span,
-                    format!("add `{} = IN` (or PASS.name, AUX.name)", t.name),
-                )
-                .also(t.span, "declared here"),
-            );
-        }
-    }
-    let mut layout = UniformLayout::default();
-    let members: &[UniformMember] = refl
-        .uniform
-        .as_ref()
-        .map(|u| u.members.as_slice())
-        .unwrap_or(&[]);
-    if let Some(u) = &refl.uniform {
-        layout.size = u.size.max(16);
-    }
-    for p in &pass.params {
-        let Some(m) = members.iter().find(|m| m.name == p.name) else {
-            let mut d = Diagnostic::error(format!(
-                "shader `{shader_name}` has no parameter `{}`",
-                p.name
-            ))
-            .at(p.span, "not a field of the shader's uniform struct");
-            let names: Vec<&str> = members
-                .iter()
-                .filter(|m| std_value(&m.name, &input_names).is_none())
-                .map(|m| m.name.as_str())
-                .collect();
-            d = match crate::script::ast::suggest(&p.name, names.iter().copied()) {
-                Some(s) => d.note(format!("did you mean `{s}`?")),
-                None if names.is_empty() => d.note("the shader takes no parameters"),
-                None => d.note(format!("its parameters: {}", names.join(", "))),
-            };
-            diags.push(d);
-            continue;
-        };
-        if std_value(&m.name, &input_names).is_some() {
-            diags.push(
-                Diagnostic::error(format!(
-                    "`{}` is a standard value set by the runtime",
-                    p.name
-                ))
-                .at(p.span, "cannot be set")
-                .also(m.span, "declared here"),
-            );
-            continue;
-        }
-        match check_member_value(m, &p.value) {
-            Ok(()) => {}
-            Err(ValueMismatch::WrongType { expected, found }) => {
-                diags.push(
-                    Diagnostic::error(format!(
-                        "wrong type for `{}`: the shader declares {expected}, found {found}",
-                        p.name,
-                    ))
-                    .at(p.span, format!("expected {expected}"))
-                    .also(m.span, "declared here"),
-                );
-                continue;
-            }
-            Err(ValueMismatch::OutOfRange { value, lo, hi }) => {
-                diags.push(
-                    Diagnostic::error(format!(
-                        "value {value} of `{}` is out of range [{}, {}]",
-                        p.name,
-                        format_value(&[lo]),
-                        format_value(&[hi])
-                    ))
-                    .at(p.span, "out of range")
-                    .also(m.span, "range declared here"),
-                );
-                continue;
-            }
-        }
-        layout
-            .fields
-            .push(m.field(UniformSource::Param(p.value.clone())));
-    }
-    for m in members {
-        if layout.fields.iter().any(|f| f.name == m.name)
-            || pass.params.iter().any(|p| p.name == m.name)
-        {
-            continue;
-        }
-        if let Some((sv, types)) = std_value(&m.name, &input_names) {
-            if !types.contains(&m.ty) {
-                let want: Vec<String> = types.iter().map(|t| t.wgsl()).collect();
-                diags.push(
-                    Diagnostic::error(format!(
-                        "standard value `{}` must be declared as {}",
-                        m.name,
-                        want.join(" or ")
-                    ))
-                    .at(m.span, "wrong type"),
-                );
-                continue;
-            }
-            layout.fields.push(m.field(UniformSource::Std(sv)));
-        } else if let Some(def) = &m.default {
-            if def.len() != m.ty.components() {
-                diags.push(
-                    Diagnostic::error(format!(
-                        "`@default` of `{}` has {} values, the field has {}",
-                        m.name,
-                        def.len(),
-                        m.ty.components()
-                    ))
-                    .at(m.span, "wrong default"),
-                );
-                continue;
-            }
-            layout
-                .fields
-                .push(m.field(UniformSource::Param(def.clone())));
-        } else {
-            diags.push(
-                Diagnostic::error(format!(
-                    "pass `{}` does not set the shader parameter `{}`",
-                    pass.path, m.name
-                ))
-                .at(pass.name_span, format!("add `{} = ...`", m.name))
-                .also(m.span, "declared here without a `// @default(...)`"),
-            );
-        }
-    }
-    if diags.is_empty() {
-        Ok(layout)
-    } else {
-        Err(diags)
-    }
 }

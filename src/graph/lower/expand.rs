@@ -99,7 +99,39 @@ impl Lowerer<'_> {
         }
         args
     }
+}
 
+/// One effect instance being expanded: its definition, namespace, input and
+/// parameter values.
+pub(super) struct Instance<'d> {
+    pub(super) def: &'d EffectDef,
+    pub(super) ns: &'d str,
+    pub(super) in_src: SourceRef,
+    /// Parameter values of this instance: value, type, and where it was set.
+    pub(super) values: HashMap<String, (Value, ParamType, Span)>,
+    /// The node the effect's `IN` is.
+    effect_in: NodeIndex,
+    /// The colour space of the effect's passes and inputs where they name none.
+    colorspace: ColorSpace,
+}
+
+/// Parameter values of an instance of `def`: `args` where given, else the defaults.
+fn instance_values(
+    def: &EffectDef,
+    args: &HashMap<String, (Value, Span)>,
+) -> HashMap<String, (Value, ParamType, Span)> {
+    let mut values = HashMap::new();
+    for decl in &def.params {
+        let (v, span) = args
+            .get(&decl.name.node)
+            .cloned()
+            .unwrap_or((decl.default.clone(), decl.span));
+        values.insert(decl.name.node.clone(), (v, decl.ty.clone(), span));
+    }
+    values
+}
+
+impl Lowerer<'_> {
     /// Expand one effect instance; returns what its `OUT` refers to.
     pub(super) fn expand(
         &mut self,
@@ -113,34 +145,56 @@ impl Lowerer<'_> {
         if let Some(j) = &def.jitter {
             self.jitter.push((ns.to_string(), j.node));
         }
-        // Parameter values of this instance.
-        let mut values: HashMap<String, (Value, ParamType, Span)> = HashMap::new();
-        for decl in &def.params {
-            let (v, span) = args
-                .get(&decl.name.node)
-                .cloned()
-                .unwrap_or((decl.default.clone(), decl.span));
-            values.insert(decl.name.node.clone(), (v, decl.ty.clone(), span));
-        }
-        let effect_in = self.node_of(in_src);
-        let effect_colorspace = def
-            .colorspace
-            .as_ref()
-            .map(|c| c.node)
-            .unwrap_or(ColorSpace::Linear);
-        // Phase 1: a node for every shader pass.
-        let mut handles: HashMap<String, SourceRef> = HashMap::new();
+        let values = instance_values(&def, &args);
+        let inst = Instance {
+            def: &def,
+            ns,
+            in_src,
+            values,
+            effect_in: self.node_of(in_src),
+            colorspace: def
+                .colorspace
+                .as_ref()
+                .map(|c| c.node)
+                .unwrap_or(ColorSpace::Linear),
+        };
+        let mut handles = self.add_shader_pass_nodes(&inst, shader_dir);
+        // Effect passes, in declaration order, dependencies first.
+        let mut in_progress = Vec::new();
         for p in &def.passes {
+            if matches!(p.kind, PassKind::Effect(_)) {
+                self.effect_pass(&inst, &p.name.node, &mut handles, &mut in_progress);
+            }
+        }
+        for p in &def.passes {
+            self.complete_shader_pass(&inst, p, &handles);
+        }
+        match &def.out {
+            Some(OutRef::In(_)) => Some(in_src),
+            Some(OutRef::Pass(name)) => handles.get(&name.node).copied(),
+            None => None,
+        }
+    }
+
+    /// A node for every shader pass of the instance (inputs, size, parameters
+    /// and defines come later); the handles of the passes by name.
+    fn add_shader_pass_nodes(
+        &mut self,
+        inst: &Instance,
+        shader_dir: Option<std::path::PathBuf>,
+    ) -> HashMap<String, SourceRef> {
+        let mut handles = HashMap::new();
+        for p in &inst.def.passes {
             if let PassKind::Shader(shader) = &p.kind {
                 let format = p
                     .out
                     .format
                     .as_ref()
-                    .or(def.format.as_ref())
-                    .map(|f| FormatRule::from_spec(f.node, effect_in))
+                    .or(inst.def.format.as_ref())
+                    .map(|f| FormatRule::from_spec(f.node, inst.effect_in))
                     .unwrap_or(FormatRule::Fixed(DEFAULT_FORMAT));
                 let node = PassNode {
-                    path: format!("{ns}/{}", p.name.node),
+                    path: format!("{}/{}", inst.ns, p.name.node),
                     shader: shader.node.clone(),
                     shader_span: shader.span,
                     shader_dir: shader_dir.clone(),
@@ -150,7 +204,7 @@ impl Lowerer<'_> {
                     size: SizeRule::Scale {
                         sx: 1.0,
                         sy: 1.0,
-                        of: effect_in,
+                        of: inst.effect_in,
                     },
                     format,
                     colorspace: p
@@ -158,7 +212,7 @@ impl Lowerer<'_> {
                         .colorspace
                         .as_ref()
                         .map(|c| c.node)
-                        .unwrap_or(effect_colorspace),
+                        .unwrap_or(inst.colorspace),
                     span: p.span,
                     name_span: p.name.span,
                 };
@@ -166,357 +220,198 @@ impl Lowerer<'_> {
                 handles.insert(p.name.node.clone(), SourceRef::Pass(n, 0));
             }
         }
-        // Phase 2: expand effect passes (in declaration order, dependencies first).
-        let mut in_progress = Vec::new();
-        for p in &def.passes {
-            if matches!(p.kind, PassKind::Effect(_)) {
-                self.effect_pass(
-                    &def,
-                    &p.name.node,
-                    ns,
-                    in_src,
-                    &values,
-                    &mut handles,
-                    &mut in_progress,
-                );
+        handles
+    }
+
+    /// Inputs, size, parameters and defines of shader pass `p`, once every pass
+    /// of the instance has a handle.
+    fn complete_shader_pass(
+        &mut self,
+        inst: &Instance,
+        p: &ast::PassDef,
+        handles: &HashMap<String, SourceRef>,
+    ) {
+        let PassKind::Shader(_) = &p.kind else {
+            return;
+        };
+        let Some(SourceRef::Pass(node, 0)) = handles.get(&p.name.node).copied() else {
+            return;
+        };
+        let (inputs, input_refs) = self.shader_pass_inputs(inst, p, node, handles);
+        let size = self.shader_pass_size(inst, p, &input_refs);
+        let mut params = self.shader_pass_params(inst, p);
+        self.apply_pass_overrides(&format!("{}/{}", inst.ns, p.name.node), p, &mut params);
+        let defines = self.shader_pass_defines(inst, p);
+        if let Node::Pass(pn) = &mut self.g[node] {
+            pn.inputs = inputs;
+            pn.size = size;
+            pn.params = params;
+            pn.defines = defines;
+        }
+    }
+
+    /// The inputs of shader pass `p` (node `node`), each with an edge from its
+    /// source, and the source each input name refers to.
+    fn shader_pass_inputs(
+        &mut self,
+        inst: &Instance,
+        p: &ast::PassDef,
+        node: NodeIndex,
+        handles: &HashMap<String, SourceRef>,
+    ) -> (Vec<PassInput>, HashMap<String, SourceRef>) {
+        let mut inputs = Vec::new();
+        let mut input_refs = HashMap::new();
+        for (i, inp) in p.inputs.iter().enumerate() {
+            let Some(r) = self.resolve_source(&inp.source, inst.in_src, handles, inst.def) else {
+                continue;
+            };
+            input_refs.insert(inp.name.node.clone(), r);
+            self.edges.push((r, node, i, inp.source.span));
+            inputs.push(PassInput {
+                name: inp.name.node.clone(),
+                sampling: inp.sampling(),
+                colorspace: inp
+                    .colorspace
+                    .as_ref()
+                    .map(|c| c.node)
+                    .unwrap_or(inst.colorspace),
+                span: inp.name.span.to(inp.source.span),
+            });
+        }
+        (inputs, input_refs)
+    }
+
+    /// The size of shader pass `p`: absolute, or scaled from the input named by
+    /// `OUT.RELATIVE_TO` (the effect's input by default).
+    fn shader_pass_size(
+        &mut self,
+        inst: &Instance,
+        p: &ast::PassDef,
+        input_refs: &HashMap<String, SourceRef>,
+    ) -> SizeRule {
+        match (&p.out.size, &p.out.scale) {
+            (Some(s), _) => SizeRule::Absolute(s.node.0, s.node.1),
+            (None, scale) => {
+                let (sx, sy) = scale.as_ref().map(|s| s.node).unwrap_or((1.0, 1.0));
+                let of = match &p.out.relative_to {
+                    Some(rel) => match input_refs.get(&rel.node) {
+                        Some(r) => self.node_of(*r),
+                        None => inst.effect_in,
+                    },
+                    None => inst.effect_in,
+                };
+                SizeRule::Scale { sx, sy, of }
             }
         }
-        // Phase 3: inputs, sizes, parameters and defines of the shader passes.
-        for p in &def.passes {
-            let PassKind::Shader(_) = &p.kind else {
-                continue;
-            };
-            let Some(SourceRef::Pass(node, 0)) = handles.get(&p.name.node).copied() else {
-                continue;
-            };
-            let mut inputs = Vec::new();
-            let mut input_refs = HashMap::new();
-            for (i, inp) in p.inputs.iter().enumerate() {
-                let Some(r) = self.resolve_source(&inp.source, in_src, &handles, &def) else {
+    }
+
+    /// The parameters shader pass `p` sets: literals, or the instance's values.
+    fn shader_pass_params(&mut self, inst: &Instance, p: &ast::PassDef) -> Vec<PassParam> {
+        let mut params = Vec::new();
+        for s in &p.params {
+            let (value, is_bool) = match &s.value.node {
+                ParamArg::Literal { value, is_bool } => (value.clone(), *is_bool),
+                ParamArg::Param(name) => match inst.values.get(&name.node) {
+                    Some((v, ty, _)) => (v.clone(), *ty == ParamType::Bool),
+                    None => continue,
+                },
+                ParamArg::Word(w) => {
+                    self.diags.push(
+                        Diagnostic::error(format!("`{w}` is not an input or a value"))
+                            .at(s.value.span, "a shader parameter takes a number, a tuple, true/false or PARAM.name")
+                            .note("inputs are written IN, PASS.name or AUX.name"),
+                    );
                     continue;
-                };
-                input_refs.insert(inp.name.node.clone(), r);
-                self.edges.push((r, node, i, inp.source.span));
-                inputs.push(PassInput {
-                    name: inp.name.node.clone(),
-                    sampling: inp.sampling(),
-                    colorspace: inp
-                        .colorspace
-                        .as_ref()
-                        .map(|c| c.node)
-                        .unwrap_or(effect_colorspace),
-                    span: inp.name.span.to(inp.source.span),
-                });
-            }
-            let size = match (&p.out.size, &p.out.scale) {
-                (Some(s), _) => SizeRule::Absolute(s.node.0, s.node.1),
-                (None, scale) => {
-                    let (sx, sy) = scale.as_ref().map(|s| s.node).unwrap_or((1.0, 1.0));
-                    let of = match &p.out.relative_to {
-                        Some(rel) => match input_refs.get(&rel.node) {
-                            Some(r) => self.node_of(*r),
-                            None => effect_in,
-                        },
-                        None => effect_in,
-                    };
-                    SizeRule::Scale { sx, sy, of }
                 }
             };
-            let path = format!("{ns}/{}", p.name.node);
-            let mut params = Vec::new();
-            for s in &p.params {
-                let (value, is_bool) = match &s.value.node {
-                    ParamArg::Literal { value, is_bool } => (value.clone(), *is_bool),
-                    ParamArg::Param(name) => match values.get(&name.node) {
-                        Some((v, ty, _)) => (v.clone(), *ty == ParamType::Bool),
-                        None => continue,
-                    },
-                    ParamArg::Word(w) => {
+            params.push(PassParam {
+                name: s.name.node.clone(),
+                value,
+                is_bool,
+                span: s.value.span,
+            });
+        }
+        params
+    }
+
+    /// `--set pass.name=value` for shader pass `p` at `path`: replaces or adds
+    /// to `params`.
+    fn apply_pass_overrides(&mut self, path: &str, p: &ast::PassDef, params: &mut Vec<PassParam>) {
+        for o in self.overrides.iter_mut() {
+            let matches_path =
+                !o.effect_param && !o.path.is_empty() && (o.path == path || o.path == p.name.node);
+            if !matches_path {
+                continue;
+            }
+            o.used = true;
+            let Some(arg) = raw_to_arg(&o.value) else {
+                self.diags.push(
+                    Diagnostic::error("not a parameter value")
+                        .at(o.value.span, "expected a number, tuple or true/false"),
+                );
+                continue;
+            };
+            let ParamArg::Literal { value, is_bool } = arg.node else {
+                self.diags.push(
+                    Diagnostic::error("a shader parameter takes numbers")
+                        .at(o.value.span, "expected a number, tuple or true/false"),
+                );
+                continue;
+            };
+            match params.iter_mut().find(|q| q.name == o.name) {
+                Some(q) => {
+                    q.value = value;
+                    q.is_bool = is_bool;
+                    q.span = o.value.span;
+                }
+                None => params.push(PassParam {
+                    name: o.name.clone(),
+                    value,
+                    is_bool,
+                    span: o.value.span,
+                }),
+            }
+        }
+    }
+
+    /// The `DEFINE`s of shader pass `p`, sorted: whole numbers, or the
+    /// instance's whole-number parameters.
+    fn shader_pass_defines(&mut self, inst: &Instance, p: &ast::PassDef) -> Vec<(String, i64)> {
+        let mut defines = Vec::new();
+        for d in &p.defines {
+            let v = match &d.value.node {
+                DefineArg::Int(i) => *i,
+                DefineArg::Param(name) => match inst.values.get(&name.node) {
+                    Some((v, ty, _))
+                        if v.len() == 1
+                            && v[0].fract() == 0.0
+                            && !matches!(ty, ParamType::Float) =>
+                    {
+                        v[0] as i64
+                    }
+                    Some((_, ty, _)) => {
                         self.diags.push(
-                            Diagnostic::error(format!("`{w}` is not an input or a value"))
-                                .at(s.value.span, "a shader parameter takes a number, a tuple, true/false or PARAM.name")
-                                .note("inputs are written IN, PASS.name or AUX.name"),
+                            Diagnostic::error(format!(
+                                "`DEFINE.{}` needs a whole number, but `{}` is {}",
+                                d.name.node,
+                                name.node,
+                                ty.name()
+                            ))
+                            .at(d.value.span, "use an INT, BOOL or ENUM parameter"),
                         );
                         continue;
                     }
-                };
-                params.push(PassParam {
-                    name: s.name.node.clone(),
-                    value,
-                    is_bool,
-                    span: s.value.span,
-                });
-            }
-            // `--set pass.name=value`
-            for o in self.overrides.iter_mut() {
-                let matches_path = !o.effect_param
-                    && !o.path.is_empty()
-                    && (o.path == path || o.path == p.name.node);
-                if !matches_path {
-                    continue;
-                }
-                o.used = true;
-                let Some(arg) = raw_to_arg(&o.value) else {
-                    self.diags.push(
-                        Diagnostic::error("not a parameter value")
-                            .at(o.value.span, "expected a number, tuple or true/false"),
-                    );
-                    continue;
-                };
-                let ParamArg::Literal { value, is_bool } = arg.node else {
-                    self.diags.push(
-                        Diagnostic::error("a shader parameter takes numbers")
-                            .at(o.value.span, "expected a number, tuple or true/false"),
-                    );
-                    continue;
-                };
-                match params.iter_mut().find(|q| q.name == o.name) {
-                    Some(q) => {
-                        q.value = value;
-                        q.is_bool = is_bool;
-                        q.span = o.value.span;
-                    }
-                    None => params.push(PassParam {
-                        name: o.name.clone(),
-                        value,
-                        is_bool,
-                        span: o.value.span,
-                    }),
-                }
-            }
-            let mut defines = Vec::new();
-            for d in &p.defines {
-                let v = match &d.value.node {
-                    DefineArg::Int(i) => *i,
-                    DefineArg::Param(name) => match values.get(&name.node) {
-                        Some((v, ty, _))
-                            if v.len() == 1
-                                && v[0].fract() == 0.0
-                                && !matches!(ty, ParamType::Float) =>
-                        {
-                            v[0] as i64
-                        }
-                        Some((_, ty, _)) => {
-                            self.diags.push(
-                                Diagnostic::error(format!(
-                                    "`DEFINE.{}` needs a whole number, but `{}` is {}",
-                                    d.name.node,
-                                    name.node,
-                                    ty.name()
-                                ))
-                                .at(d.value.span, "use an INT, BOOL or ENUM parameter"),
-                            );
-                            continue;
-                        }
-                        None => continue,
-                    },
-                };
-                defines.push((d.name.node.clone(), v));
-            }
-            defines.sort();
-            if let Node::Pass(pn) = &mut self.g[node] {
-                pn.inputs = inputs;
-                pn.size = size;
-                pn.params = params;
-                pn.defines = defines;
-            }
+                    None => continue,
+                },
+            };
+            defines.push((d.name.node.clone(), v));
         }
-        match &def.out {
-            Some(OutRef::In(_)) => Some(in_src),
-            Some(OutRef::Pass(name)) => handles.get(&name.node).copied(),
-            None => None,
-        }
+        defines.sort();
+        defines
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn effect_pass(
-        &mut self,
-        def: &EffectDef,
-        pass_name: &str,
-        ns: &str,
-        in_src: SourceRef,
-        values: &HashMap<String, (Value, ParamType, Span)>,
-        handles: &mut HashMap<String, SourceRef>,
-        in_progress: &mut Vec<String>,
-    ) -> Option<SourceRef> {
-        if let Some(h) = handles.get(pass_name) {
-            return Some(*h);
-        }
-        let p = def.pass(pass_name)?;
-        let PassKind::Effect(effect_name) = &p.kind else {
-            return None;
-        };
-        if in_progress.iter().any(|n| n == pass_name) {
-            let mut chain = in_progress.clone();
-            chain.push(pass_name.to_string());
-            let mut d = Diagnostic::error(format!(
-                "dependency cycle between effect instances: {}",
-                chain.join(" → ")
-            ));
-            for n in &chain[..chain.len() - 1] {
-                if let Some(q) = def.pass(n) {
-                    d = d.also(q.name.span, format!("`{n}` is part of the cycle"));
-                }
-            }
-            if let Some(l) = d.labels.first_mut() {
-                l.primary = true;
-            }
-            self.diags.push(d);
-            return None;
-        }
-        if self.depth >= MAX_INSTANCE_DEPTH {
-            if !self.too_deep {
-                self.too_deep = true;
-                let mut chain: Vec<&str> = self.stack.iter().map(String::as_str).collect();
-                if chain.len() > 8 {
-                    chain.splice(4..chain.len() - 3, ["…"]);
-                }
-                chain.push(&effect_name.node);
-                self.diags.push(
-                    Diagnostic::error(format!(
-                        "effect instances are nested more than {MAX_INSTANCE_DEPTH} deep"
-                    ))
-                    .at(effect_name.span, format!("level {}", self.depth + 1))
-                    .note(format!(
-                        "{}; an instance inside an effect, or whose `IN` is an instance declared after it, is one level deeper",
-                        chain.join(" → ")
-                    )),
-                );
-            }
-            return None;
-        }
-        self.depth += 1;
-        in_progress.push(pass_name.to_string());
-        let result = (|| {
-            let mut in_binding = None;
-            for inp in &p.inputs {
-                if inp.name.node == "IN" {
-                    in_binding = Some(inp);
-                } else {
-                    self.diags.push(
-                        Diagnostic::error(format!(
-                            "an effect instance has one input, `IN`; `{}` is not one",
-                            inp.name.node
-                        ))
-                        .at(inp.name.span, "write `IN = ...`"),
-                    );
-                }
-            }
-            let Some(in_binding) = in_binding else {
-                self.diags.push(
-                    Diagnostic::error(format!("effect instance `{pass_name}` has no `IN`"))
-                        .at(p.name.span, "add e.g. `IN = PASS.previous`"),
-                );
-                return None;
-            };
-            // Resolve the IN source, expanding the effect pass it names first.
-            if let Source::Pass { name, .. } = &in_binding.source.node {
-                if matches!(
-                    def.pass(&name.node).map(|q| &q.kind),
-                    Some(PassKind::Effect(_))
-                ) {
-                    self.effect_pass(def, &name.node, ns, in_src, values, handles, in_progress)?;
-                }
-            }
-            let nested_in = self.resolve_source(&in_binding.source, in_src, handles, def)?;
-            if self.stack.contains(&effect_name.node) {
-                let mut chain = self.stack.clone();
-                chain.push(effect_name.node.clone());
-                self.diags.push(
-                    Diagnostic::error(format!(
-                        "effect `{}` instantiates itself: {}",
-                        effect_name.node,
-                        chain.join(" → ")
-                    ))
-                    .at(effect_name.span, "recursive instance"),
-                );
-                return None;
-            }
-            let Some(at) = self.loader.effect(&effect_name.node, self.diags) else {
-                let known: Vec<String> = self
-                    .loader
-                    .modules
-                    .iter()
-                    .flat_map(|(_, m)| m.effects.iter().map(|e| e.name.node.clone()))
-                    .chain(
-                        super::library::builtin_effects()
-                            .into_iter()
-                            .map(|(n, _)| n),
-                    )
-                    .collect();
-                let mut d = Diagnostic::error(format!("unknown effect `{}`", effect_name.node)).at(
-                    effect_name.span,
-                    "no effect of this name in this file, its includes or the built-in library",
-                );
-                if let Some(s) = ast::suggest(&effect_name.node, known.iter().map(|s| s.as_str())) {
-                    d = d.note(format!("did you mean `{s}`?"));
-                }
-                self.diags.push(d);
-                return None;
-            };
-            let nested = self.loader.effect_def(at).clone();
-            let mut args = HashMap::new();
-            for s in &p.params {
-                let Some(decl) = nested.param(&s.name.node) else {
-                    let mut d = Diagnostic::error(format!(
-                        "effect `{}` has no parameter `{}`",
-                        nested.name.node, s.name.node
-                    ))
-                    .at(s.name.span, "unknown parameter");
-                    if let Some(sug) = ast::suggest(
-                        &s.name.node,
-                        nested.params.iter().map(|q| q.name.node.as_str()),
-                    ) {
-                        d = d.note(format!("did you mean `{sug}`?"));
-                    }
-                    self.diags.push(d);
-                    continue;
-                };
-                let v = match &s.value.node {
-                    ParamArg::Param(outer) => match values.get(&outer.node) {
-                        Some((v, ty, _)) if *ty == decl.ty => Some(v.clone()),
-                        Some((_, ty, _)) => {
-                            self.diags.push(
-                                Diagnostic::error(format!(
-                                    "`{}` is {} but `{}` of effect `{}` is {}",
-                                    outer.node,
-                                    ty.name(),
-                                    decl.name.node,
-                                    nested.name.node,
-                                    decl.ty.name()
-                                ))
-                                .at(s.value.span, "type mismatch"),
-                            );
-                            None
-                        }
-                        None => None,
-                    },
-                    _ => convert_arg(&s.value, &decl.ty, decl.range, &decl.name.node, self.diags),
-                };
-                if let Some(v) = v {
-                    args.insert(s.name.node.clone(), (v, s.value.span));
-                }
-            }
-            if !p.defines.is_empty() {
-                self.diags.push(
-                    Diagnostic::error("`DEFINE` is set on shader passes, not on effect instances")
-                        .at(p.defines[0].name.span, "not allowed here"),
-                );
-            }
-            self.stack.push(effect_name.node.clone());
-            let out = self.expand(at, &format!("{ns}/{pass_name}"), nested_in, args);
-            self.stack.pop();
-            out
-        })();
-        in_progress.pop();
-        self.depth -= 1;
-        if let Some(r) = result {
-            handles.insert(pass_name.to_string(), r);
-        }
-        result
-    }
-
-    fn resolve_source(
+    /// What `source` refers to in an instance whose `IN` is `in_src`.
+    pub(super) fn resolve_source(
         &mut self,
         source: &Spanned<Source>,
         in_src: SourceRef,

@@ -16,6 +16,7 @@ use petgraph::Direction;
 use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
 
 mod expand;
+mod instance;
 mod order;
 
 use expand::Lowerer;
@@ -99,24 +100,13 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         .unwrap_or_else(|| std::sync::Arc::new(super::Builtins));
     let mut loader = Loader::new(source);
     let mut diags = Diagnostics::default();
-    let mut entries = Vec::new();
-    for e in &req.effects {
-        if let Some(x) = loader.load_entry(e, &mut diags) {
-            entries.push(x);
-        }
-    }
+    let entries: Vec<(usize, String)> = req
+        .effects
+        .iter()
+        .filter_map(|e| loader.load_entry(e, &mut diags))
+        .collect();
     if diags.has_errors() || entries.is_empty() {
-        if entries.is_empty() && !diags.has_errors() {
-            diags.push(Diagnostic::error("no effect given"));
-        }
-        // The `--set` arguments are still checked against what did load.
-        let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
-        if !entries.is_empty() {
-            super::salvage::check_overrides(&loader, &overrides, &mut diags);
-        }
-        diags.sort();
-        let sources = loader.sources.clone();
-        return (None, diags, sources, Some(loader));
+        return not_loaded(req, loader, diags, !entries.is_empty());
     }
     let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
     let mut lw = Lowerer {
@@ -134,59 +124,9 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         params: Vec::new(),
         jitter: Vec::new(),
     };
-    let mut current = SourceRef::Input(0);
-    let mut namespaces: HashMap<String, usize> = HashMap::new();
-    let mut descriptions = Vec::new();
-    // IN exists even when no pass reads it (`OUT = IN`, or scales relative to it).
-    lw.input_node(0);
-    for (_, name) in &entries {
-        let at = lw
-            .loader
-            .effect(name, &mut Diagnostics::default())
-            .expect("entry effect is loaded");
-        let count = namespaces.entry(name.clone()).or_insert(0);
-        *count += 1;
-        let ns = if *count == 1 {
-            name.clone()
-        } else {
-            format!("{name}#{count}")
-        };
-        let def = lw.loader.effect_def(at).clone();
-        descriptions.push((ns.clone(), def.description.clone().unwrap_or_default()));
-        let args = lw.top_level_args(&def, &ns);
-        lw.stack.push(def.name.node.clone());
-        if let Some(out) = lw.expand(at, &ns, current, args) {
-            current = out;
-        }
-        lw.stack.pop();
-    }
-    for o in &lw.overrides {
-        if !o.used {
-            let what = if o.path.is_empty() {
-                o.name.clone()
-            } else {
-                format!("{}.{}", o.path, o.name)
-            };
-            let names: Vec<String> = lw.params.iter().map(|p| p.name.clone()).collect();
-            let mut d = Diagnostic::error(format!(
-                "`--set {what}`: no effect or pass parameter of that name"
-            ))
-            .at(o.key_span, "unknown parameter");
-            if let Some(s) = ast::suggest(&o.name, names.iter().map(|s| s.as_str())) {
-                d = d.note(format!("did you mean `{s}`?"));
-            } else if !names.is_empty() {
-                d = d.note(format!("effect parameters: {}", names.join(", ")));
-            }
-            lw.diags.push(d);
-        }
-    }
-    let output = lw.g.add_node(Node::Output);
-    let out_node = lw.node_of(current);
-    lw.g.add_edge(out_node, output, Edge { input: 0 });
-    for (src, dst, input, _span) in std::mem::take(&mut lw.edges) {
-        let s = lw.node_of(src);
-        lw.g.add_edge(s, dst, Edge { input });
-    }
+    let (current, descriptions) = lw.expand_entries(&entries);
+    lw.report_unused_overrides();
+    let output = lw.connect(current);
     let params = std::mem::take(&mut lw.params);
     let jitter_requests = std::mem::take(&mut lw.jitter);
     let g = std::mem::take(&mut lw.g);
@@ -212,8 +152,35 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         return (None, diags, loader.sources, None);
     }
     schedule(&mut graph, &mut diags);
-    // An effect's `JITTER` counts when one of its passes runs (not culled).
-    graph.jitter = jitter_requests
+    graph.jitter = scheduled_jitter(&graph, &jitter_requests);
+    diags.sort();
+    graph.sources = loader.sources.clone();
+    (Some(graph), diags, loader.sources, None)
+}
+
+/// The result when an effect did not load (or none was given): the `--set`
+/// arguments are still checked against what did load.
+fn not_loaded(
+    req: &CompileRequest,
+    mut loader: Loader,
+    mut diags: Diagnostics,
+    some_loaded: bool,
+) -> Compiled {
+    if !some_loaded && !diags.has_errors() {
+        diags.push(Diagnostic::error("no effect given"));
+    }
+    let overrides = parse_overrides(&req.overrides, &mut loader, &mut diags);
+    if some_loaded {
+        super::salvage::check_overrides(&loader, &overrides, &mut diags);
+    }
+    diags.sort();
+    let sources = loader.sources.clone();
+    (None, diags, sources, Some(loader))
+}
+
+/// An effect's `JITTER` counts when one of its passes runs (not culled).
+fn scheduled_jitter(graph: &Graph, requests: &[(String, JitterPattern)]) -> Option<JitterPattern> {
+    requests
         .iter()
         .find(|(ns, _)| {
             let prefix = format!("{ns}/");
@@ -222,10 +189,81 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
                 .iter()
                 .any(|&n| graph.pass(n).path.starts_with(&prefix))
         })
-        .map(|(_, j)| *j);
-    diags.sort();
-    graph.sources = loader.sources.clone();
-    (Some(graph), diags, loader.sources, None)
+        .map(|(_, j)| *j)
+}
+
+impl Lowerer<'_> {
+    /// The effects of the chain expanded in order, each reading the previous
+    /// one's output under its own namespace (`name`, `name#2`, ...). Returns
+    /// the last output and each instance's description.
+    fn expand_entries(
+        &mut self,
+        entries: &[(usize, String)],
+    ) -> (SourceRef, Vec<(String, String)>) {
+        let mut current = SourceRef::Input(0);
+        let mut namespaces: HashMap<String, usize> = HashMap::new();
+        let mut descriptions = Vec::new();
+        // IN exists even when no pass reads it (`OUT = IN`, or scales relative to it).
+        self.input_node(0);
+        for (_, name) in entries {
+            let at = self
+                .loader
+                .effect(name, &mut Diagnostics::default())
+                .expect("entry effect is loaded");
+            let count = namespaces.entry(name.clone()).or_insert(0);
+            *count += 1;
+            let ns = if *count == 1 {
+                name.clone()
+            } else {
+                format!("{name}#{count}")
+            };
+            let def = self.loader.effect_def(at).clone();
+            descriptions.push((ns.clone(), def.description.clone().unwrap_or_default()));
+            let args = self.top_level_args(&def, &ns);
+            self.stack.push(def.name.node.clone());
+            if let Some(out) = self.expand(at, &ns, current, args) {
+                current = out;
+            }
+            self.stack.pop();
+        }
+        (current, descriptions)
+    }
+
+    /// A `--set` that matched no effect or pass parameter.
+    fn report_unused_overrides(&mut self) {
+        for o in &self.overrides {
+            if !o.used {
+                let what = if o.path.is_empty() {
+                    o.name.clone()
+                } else {
+                    format!("{}.{}", o.path, o.name)
+                };
+                let names: Vec<String> = self.params.iter().map(|p| p.name.clone()).collect();
+                let mut d = Diagnostic::error(format!(
+                    "`--set {what}`: no effect or pass parameter of that name"
+                ))
+                .at(o.key_span, "unknown parameter");
+                if let Some(s) = ast::suggest(&o.name, names.iter().map(|s| s.as_str())) {
+                    d = d.note(format!("did you mean `{s}`?"));
+                } else if !names.is_empty() {
+                    d = d.note(format!("effect parameters: {}", names.join(", ")));
+                }
+                self.diags.push(d);
+            }
+        }
+    }
+
+    /// The output node, reading `current`, and the edges of every pass input.
+    fn connect(&mut self, current: SourceRef) -> NodeIndex {
+        let output = self.g.add_node(Node::Output);
+        let out_node = self.node_of(current);
+        self.g.add_edge(out_node, output, Edge { input: 0 });
+        for (src, dst, input, _span) in std::mem::take(&mut self.edges) {
+            let s = self.node_of(src);
+            self.g.add_edge(s, dst, Edge { input });
+        }
+        output
+    }
 }
 
 fn parse_overrides(

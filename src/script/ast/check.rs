@@ -98,52 +98,13 @@ fn check_effect(
             continue;
         }
         match k.as_str() {
-            "PASS" => match &stmt.value.node {
-                RawValue::Block(passes) => {
-                    for p in passes {
-                        if let Some(pass) = check_pass(p, diags) {
-                            if is_new_name(e.passes.iter().map(|q| &q.name), &pass.name, "pass", "defined", diags) {
-                                e.passes.push(pass);
-                            }
-                        }
-                    }
+            "PASS" => add_passes(&mut e, stmt, diags),
+            "PARAM" => add_params(&mut e, stmt, diags),
+            "OUT" => {
+                if let Some(out) = effect_out(stmt, diags) {
+                    e.out = Some(out);
                 }
-                other => diags.push(type_error(stmt, "a block of passes `{ name = SHADER.x { ... } }`", other)),
-            },
-            "PARAM" => match &stmt.value.node {
-                RawValue::Block(params) => {
-                    for p in params {
-                        if let Some(decl) = check_param_decl(p, diags) {
-                            if is_new_name(e.params.iter().map(|q| &q.name), &decl.name, "parameter", "declared", diags) {
-                                e.params.push(decl);
-                            }
-                        }
-                    }
-                }
-                other => diags.push(type_error(stmt, "a block of parameter declarations", other)),
-            },
-            "OUT" => match &stmt.value.node {
-                RawValue::Ref { key, frame } => {
-                    if let Some(f) = frame {
-                        diags.push(
-                            Diagnostic::error("the effect output cannot be an earlier or later frame")
-                                .at(f.span, "remove the frame offset"),
-                        );
-                    } else if key.is(&["IN"]) {
-                        e.out = Some(OutRef::In(key.span));
-                    } else if key.parts.len() == 1 {
-                        e.out = Some(OutRef::Pass(key.parts[0].clone()));
-                    } else if key.parts.len() == 2 && key.first() == "PASS" {
-                        e.out = Some(OutRef::Pass(key.parts[1].clone()));
-                    } else {
-                        diags.push(
-                            Diagnostic::error(format!("`OUT` must name a pass, found `{}`", key.dotted()))
-                                .at(key.span, "expected a pass name such as `final` or `PASS.final`"),
-                        );
-                    }
-                }
-                other => diags.push(type_error(stmt, "a pass name", other)),
-            },
+            }
             "DESCRIPTION" => match &stmt.value.node {
                 RawValue::Str(s) => e.description = Some(s.clone()),
                 other => diags.push(type_error(stmt, "a string", other)),
@@ -171,6 +132,88 @@ fn check_effect(
         );
     }
     e
+}
+
+/// The passes of a `PASS { ... }` block, each name once.
+fn add_passes(e: &mut EffectDef, stmt: &Stmt, diags: &mut Diagnostics) {
+    match &stmt.value.node {
+        RawValue::Block(passes) => {
+            for p in passes {
+                if let Some(pass) = check_pass(p, diags) {
+                    if is_new_name(
+                        e.passes.iter().map(|q| &q.name),
+                        &pass.name,
+                        "pass",
+                        "defined",
+                        diags,
+                    ) {
+                        e.passes.push(pass);
+                    }
+                }
+            }
+        }
+        other => diags.push(type_error(
+            stmt,
+            "a block of passes `{ name = SHADER.x { ... } }`",
+            other,
+        )),
+    }
+}
+
+/// The parameters of a `PARAM { ... }` block, each name once.
+fn add_params(e: &mut EffectDef, stmt: &Stmt, diags: &mut Diagnostics) {
+    match &stmt.value.node {
+        RawValue::Block(params) => {
+            for p in params {
+                if let Some(decl) = check_param_decl(p, diags) {
+                    if is_new_name(
+                        e.params.iter().map(|q| &q.name),
+                        &decl.name,
+                        "parameter",
+                        "declared",
+                        diags,
+                    ) {
+                        e.params.push(decl);
+                    }
+                }
+            }
+        }
+        other => diags.push(type_error(stmt, "a block of parameter declarations", other)),
+    }
+}
+
+/// What `OUT = ...` names: `IN`, or a pass (`final`, `PASS.final`).
+fn effect_out(stmt: &Stmt, diags: &mut Diagnostics) -> Option<OutRef> {
+    match &stmt.value.node {
+        RawValue::Ref { key, frame } => {
+            if let Some(f) = frame {
+                diags.push(
+                    Diagnostic::error("the effect output cannot be an earlier or later frame")
+                        .at(f.span, "remove the frame offset"),
+                );
+                None
+            } else if key.is(&["IN"]) {
+                Some(OutRef::In(key.span))
+            } else if key.parts.len() == 1 {
+                Some(OutRef::Pass(key.parts[0].clone()))
+            } else if key.parts.len() == 2 && key.first() == "PASS" {
+                Some(OutRef::Pass(key.parts[1].clone()))
+            } else {
+                diags.push(
+                    Diagnostic::error(format!("`OUT` must name a pass, found `{}`", key.dotted()))
+                        .at(
+                            key.span,
+                            "expected a pass name such as `final` or `PASS.final`",
+                        ),
+                );
+                None
+            }
+        }
+        other => {
+            diags.push(type_error(stmt, "a pass name", other));
+            None
+        }
+    }
 }
 
 fn check_references(e: &EffectDef, diags: &mut Diagnostics) {

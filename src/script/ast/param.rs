@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::script::diag::{Diagnostic, Diagnostics, Spanned};
-use crate::script::parse::{RawValue, Stmt};
+use crate::script::parse::{Key, RawValue, Stmt};
 
 pub(super) fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<ParamDecl> {
     let name = key_name(
@@ -25,7 +25,44 @@ pub(super) fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<P
         );
         return None;
     };
-    let mut ty = match kind.dotted().as_str() {
+    let mut ty = param_type(kind, diags)?;
+    // VALUES first, so that an ENUM default can be resolved whatever the order.
+    let values_ok = read_enum_values(&mut ty, body, diags);
+    if let ParamType::Enum(v) = &ty {
+        if v.is_empty() {
+            diags.push(
+                Diagnostic::error(format!("ENUM parameter `{}` has no `VALUES`", name.node))
+                    .at(kind.span, "add `VALUES = (a, b)`"),
+            );
+            return None;
+        }
+    }
+    let attrs = read_param_attrs(body, diags);
+    let Some(def) = attrs.default else {
+        diags.push(
+            Diagnostic::error(format!("parameter `{}` has no `DEFAULT`", name.node))
+                .at(name.span, "every parameter needs a default value"),
+        );
+        return None;
+    };
+    let arg = default_arg(def, diags)?;
+    let default = convert_arg(&arg, &ty, attrs.range, &name.node, diags)?;
+    if !(values_ok && attrs.ok) {
+        return None;
+    }
+    Some(ParamDecl {
+        name,
+        ty,
+        default,
+        range: attrs.range,
+        description: attrs.description,
+        span: stmt.span,
+    })
+}
+
+/// The parameter type a declaration names (`FLOAT`, ..., `ENUM`).
+fn param_type(kind: &Key, diags: &mut Diagnostics) -> Option<ParamType> {
+    Some(match kind.dotted().as_str() {
         "FLOAT" => ParamType::Float,
         "INT" => ParamType::Int,
         "BOOL" => ParamType::Bool,
@@ -42,75 +79,88 @@ pub(super) fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<P
             );
             return None;
         }
-    };
-    let mut default_raw: Option<&Stmt> = None;
-    let mut range = None;
-    let mut description = String::new();
+    })
+}
+
+/// The `VALUES` of an ENUM parameter, added to `ty`; false after an error
+/// (`VALUES` on another type, values that are not words).
+fn read_enum_values(ty: &mut ParamType, body: &[Stmt], diags: &mut Diagnostics) -> bool {
     let mut ok = true;
-    // VALUES first, so that an ENUM default can be resolved whatever the order.
     for s in body {
-        if s.key.is(&["VALUES"]) {
-            match (&mut ty, &s.value.node) {
-                (ParamType::Enum(values), RawValue::Tuple(items)) => {
-                    for it in items {
-                        match word(it) {
-                            Some(w) => values.push(w.to_string()),
-                            None => {
-                                diags.push(
-                                    Diagnostic::error("enum values are words")
-                                        .at(it.span, "expected a word"),
-                                );
-                                ok = false;
-                            }
+        if !s.key.is(&["VALUES"]) {
+            continue;
+        }
+        match (&mut *ty, &s.value.node) {
+            (ParamType::Enum(values), RawValue::Tuple(items)) => {
+                for it in items {
+                    match word(it) {
+                        Some(w) => values.push(w.to_string()),
+                        None => {
+                            diags.push(
+                                Diagnostic::error("enum values are words")
+                                    .at(it.span, "expected a word"),
+                            );
+                            ok = false;
                         }
                     }
                 }
-                (ParamType::Enum(_), other) => {
-                    diags.push(type_error(s, "a tuple of words `(a, b, c)`", other));
-                    ok = false;
-                }
-                _ => {
-                    diags.push(
-                        Diagnostic::error("`VALUES` is only for ENUM parameters")
-                            .at(s.key.span, "not an ENUM"),
-                    );
-                    ok = false;
-                }
+            }
+            (ParamType::Enum(_), other) => {
+                diags.push(type_error(s, "a tuple of words `(a, b, c)`", other));
+                ok = false;
+            }
+            _ => {
+                diags.push(
+                    Diagnostic::error("`VALUES` is only for ENUM parameters")
+                        .at(s.key.span, "not an ENUM"),
+                );
+                ok = false;
             }
         }
     }
-    if let ParamType::Enum(v) = &ty {
-        if v.is_empty() {
-            diags.push(
-                Diagnostic::error(format!("ENUM parameter `{}` has no `VALUES`", name.node))
-                    .at(kind.span, "add `VALUES = (a, b)`"),
-            );
-            return None;
-        }
-    }
+    ok
+}
+
+/// The attributes of a parameter declaration other than `VALUES`.
+struct ParamAttrs<'s> {
+    default: Option<&'s Stmt>,
+    range: Option<(f64, f64)>,
+    description: String,
+    /// False after an error in one of them.
+    ok: bool,
+}
+
+/// `DEFAULT` (kept as written), `RANGE` and `DESCRIPTION`; others are errors.
+fn read_param_attrs<'s>(body: &'s [Stmt], diags: &mut Diagnostics) -> ParamAttrs<'s> {
+    let mut attrs = ParamAttrs {
+        default: None,
+        range: None,
+        description: String::new(),
+        ok: true,
+    };
     for s in body {
         match s.key.dotted().as_str() {
             "VALUES" => {}
-            "DEFAULT" => default_raw = Some(s),
+            "DEFAULT" => attrs.default = Some(s),
             "RANGE" => match numbers(&s.value) {
-                Some(v) if v.len() == 2 && v[0] <= v[1] => range = Some((v[0], v[1])),
+                Some(v) if v.len() == 2 && v[0] <= v[1] => attrs.range = Some((v[0], v[1])),
                 Some(v) if v.len() == 2 => {
                     diags.push(
                         Diagnostic::error("an empty range: the minimum is above the maximum")
                             .at(s.value.span, "expected `(min, max)` with min <= max"),
                     );
-                    ok = false;
+                    attrs.ok = false;
                 }
                 _ => {
                     diags.push(type_error(s, "a range `(min, max)`", &s.value.node));
-                    ok = false;
+                    attrs.ok = false;
                 }
             },
             "DESCRIPTION" => match &s.value.node {
-                RawValue::Str(d) => description = d.clone(),
+                RawValue::Str(d) => attrs.description = d.clone(),
                 other => {
                     diags.push(type_error(s, "a string", other));
-                    ok = false;
+                    attrs.ok = false;
                 }
             },
             other => {
@@ -120,39 +170,25 @@ pub(super) fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<P
                         "expected DEFAULT, RANGE, DESCRIPTION or (for ENUM) VALUES",
                     ),
                 );
-                ok = false;
+                attrs.ok = false;
             }
         }
     }
-    let Some(def) = default_raw else {
-        diags.push(
-            Diagnostic::error(format!("parameter `{}` has no `DEFAULT`", name.node))
-                .at(name.span, "every parameter needs a default value"),
-        );
-        return None;
-    };
-    let arg = match classify_binding(def, diags)? {
-        Binding::Param(a) => a,
+    attrs
+}
+
+/// The `DEFAULT` entry's value: a value, not an input.
+fn default_arg(def: &Stmt, diags: &mut Diagnostics) -> Option<Spanned<ParamArg>> {
+    match classify_binding(def, diags)? {
+        Binding::Param(a) => Some(a),
         Binding::Input(_) => {
             diags.push(Diagnostic::error("a parameter default must be a value").at(
                 def.value.span,
                 "expected a number, tuple, true/false or word",
             ));
-            return None;
+            None
         }
-    };
-    let default = convert_arg(&arg, &ty, range, &name.node, diags)?;
-    if !ok {
-        return None;
     }
-    Some(ParamDecl {
-        name,
-        ty,
-        default,
-        range,
-        description,
-        span: stmt.span,
-    })
 }
 
 /// Check a literal against a parameter's type and range; returns the numeric value.

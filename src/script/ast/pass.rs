@@ -2,9 +2,44 @@
 
 use super::*;
 use crate::script::diag::{Diagnostic, Diagnostics, Spanned};
-use crate::script::parse::{RawValue, Stmt};
+use crate::script::parse::{Key, RawValue, Stmt};
 
 pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef> {
+    let name = pass_name(stmt, diags)?;
+    let (kind, body) = pass_kind(stmt, &name, diags)?;
+    let is_effect = matches!(kind, PassKind::Effect(_));
+    let mut pass = PassDef {
+        name,
+        kind,
+        inputs: Vec::new(),
+        params: Vec::new(),
+        defines: Vec::new(),
+        out: OutSpec::default(),
+        span: stmt.span,
+    };
+    let mut seen = SeenKeys::new(format!("pass `{}`", pass.name.node));
+    // Sampling attributes refer to inputs that may be bound later in the block.
+    let mut sampling: Vec<&Stmt> = Vec::new();
+    for s in body {
+        if !seen.first(&s.key.dotted(), s.key.span, diags) {
+            continue;
+        }
+        let parts: Vec<&str> = s.key.parts.iter().map(|p| p.node.as_str()).collect();
+        match parts.as_slice() {
+            ["OUT", _] => check_pass_attr(&mut pass, is_effect, s, diags),
+            ["DEFINE", _] if !is_effect => check_pass_attr(&mut pass, is_effect, s, diags),
+            [_input, "FILTER" | "WRAP" | "COLORSPACE"] => sampling.push(s),
+            _ => check_pass_attr(&mut pass, is_effect, s, diags),
+        }
+    }
+    for s in sampling {
+        check_sampling_attr(&mut pass, s, diags);
+    }
+    Some(pass)
+}
+
+/// The pass's name: one word, not a reserved one.
+fn pass_name(stmt: &Stmt, diags: &mut Diagnostics) -> Option<Spanned<String>> {
     let name = key_name(
         stmt,
         1,
@@ -22,12 +57,21 @@ pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef
         );
         return None;
     }
-    let (kind, body) = match &stmt.value.node {
+    Some(name)
+}
+
+/// What the pass runs (`SHADER.name` or `EFFECT.name`) and its body.
+fn pass_kind<'s>(
+    stmt: &'s Stmt,
+    name: &Spanned<String>,
+    diags: &mut Diagnostics,
+) -> Option<(PassKind, &'s [Stmt])> {
+    match &stmt.value.node {
         RawValue::Ctor { kind, body } if kind.parts.len() == 2 && kind.first() == "SHADER" => {
-            (PassKind::Shader(kind.parts[1].clone()), body)
+            Some((PassKind::Shader(kind.parts[1].clone()), body))
         }
         RawValue::Ctor { kind, body } if kind.parts.len() == 2 && kind.first() == "EFFECT" => {
-            (PassKind::Effect(kind.parts[1].clone()), body)
+            Some((PassKind::Effect(kind.parts[1].clone()), body))
         }
         RawValue::Ctor { kind, .. } => {
             diags.push(
@@ -37,7 +81,7 @@ pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef
                 ))
                 .at(kind.span, "expected SHADER.<name> or EFFECT.<name>"),
             );
-            return None;
+            None
         }
         other => {
             diags.push(
@@ -48,132 +92,123 @@ pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef
                 ))
                 .at(stmt.value.span, "expected a shader or effect instance"),
             );
-            return None;
-        }
-    };
-    let is_effect = matches!(kind, PassKind::Effect(_));
-    let mut pass = PassDef {
-        name,
-        kind,
-        inputs: Vec::new(),
-        params: Vec::new(),
-        defines: Vec::new(),
-        out: OutSpec::default(),
-        span: stmt.span,
-    };
-    let mut seen = SeenKeys::new(format!("pass `{}`", pass.name.node));
-    // Sampling attributes refer to inputs that may be bound later in the block.
-    let mut sampling: Vec<&Stmt> = Vec::new();
-    for s in body {
-        let k = s.key.dotted();
-        if !seen.first(&k, s.key.span, diags) {
-            continue;
-        }
-        let parts: Vec<&str> = s.key.parts.iter().map(|p| p.node.as_str()).collect();
-        match parts.as_slice() {
-            ["OUT", attr] if !is_effect => check_out_attr(&mut pass.out, attr, s, diags),
-            ["OUT", _] => diags.push(
-                Diagnostic::error("an effect instance takes its output size and format from the effect itself")
-                    .at(s.key.span, "`OUT.*` is not allowed on `EFFECT.` passes"),
-            ),
-            ["DEFINE", def] if !is_effect => {
-                let value = match &s.value.node {
-                    RawValue::Number(n) if n.fract() == 0.0 && n.abs() < 1e15 => Some(DefineArg::Int(*n as i64)),
-                    RawValue::Ref { key, frame: None } if key.is(&["true"]) => Some(DefineArg::Int(1)),
-                    RawValue::Ref { key, frame: None } if key.is(&["false"]) => Some(DefineArg::Int(0)),
-                    RawValue::Ref { key, frame: None } if key.parts.len() == 2 && key.first() == "PARAM" => {
-                        Some(DefineArg::Param(key.parts[1].clone()))
-                    }
-                    _ => None,
-                };
-                match value {
-                    Some(v) => pass.defines.push(DefineSet {
-                        name: s.key.parts[1].clone(),
-                        value: Spanned::new(v, s.value.span),
-                    }),
-                    None => diags.push(type_error(s, "an integer, `true`, `false` or `PARAM.name`", &s.value.node)),
-                }
-                let _ = def;
-            }
-            [_input, "FILTER" | "WRAP" | "COLORSPACE"] => sampling.push(s),
-            [single] => {
-                let name = s.key.parts[0].clone();
-                if *single == "IN" && !is_effect {
-                    diags.push(
-                        Diagnostic::error("`IN` names the effect input; a shader input needs its own name")
-                            .at(s.key.span, "write e.g. `img = IN`"),
-                    );
-                    continue;
-                }
-                match classify_binding(s, diags) {
-                    Some(Binding::Input(source)) => pass.inputs.push(InputDef {
-                        name,
-                        source,
-                        filter: None,
-                        wrap: None,
-                        colorspace: None,
-                    }),
-                    Some(Binding::Param(value)) => pass.params.push(ParamSet { name, value }),
-                    None => {}
-                }
-            }
-            _ => diags.push(
-                Diagnostic::error(format!("unknown pass attribute `{k}`"))
-                    .at(s.key.span, "not a pass attribute")
-                    .note("a pass contains inputs (`img = IN`), parameters (`threshold = 0.8`), `img.FILTER`, `img.WRAP`, `img.COLORSPACE`, `OUT.SIZE`, `OUT.SCALE`, `OUT.RELATIVE_TO`, `OUT.FORMAT`, `OUT.COLORSPACE` and `DEFINE.NAME`"),
-            ),
+            None
         }
     }
-    for s in sampling {
-        let input_name = &s.key.parts[0];
-        let attr = s.key.parts[1].node.as_str();
-        let Some(input) = pass
-            .inputs
-            .iter_mut()
-            .find(|i| i.name.node == input_name.node)
-        else {
-            diags.push(
-                Diagnostic::error(format!(
-                    "`{}` is not an input of pass `{}`",
-                    input_name.node, pass.name.node
-                ))
-                .at(input_name.span, "bind it first, e.g. `img = IN`"),
-            );
-            continue;
-        };
-        match attr {
-            "FILTER" => match word(&s.value).and_then(Filter::from_name) {
-                Some(f) => input.filter = Some(Spanned::new(f, s.value.span)),
-                None => diags.push(
-                    Diagnostic::error("unknown filter")
-                        .at(s.value.span, "expected `linear` or `nearest`"),
-                ),
-            },
-            "WRAP" => {
-                let w = match &s.value.node {
-                    RawValue::Tuple(items) if items.len() == 2 => {
-                        match (
-                            word(&items[0]).and_then(Wrap::from_name),
-                            word(&items[1]).and_then(Wrap::from_name),
-                        ) {
-                            (Some(u), Some(v)) => Some((u, v)),
-                            _ => None,
-                        }
-                    }
-                    _ => word(&s.value).and_then(Wrap::from_name).map(|w| (w, w)),
-                };
-                match w {
-                    Some(w) => input.wrap = Some(Spanned::new(w, s.value.span)),
-                    None => diags.push(Diagnostic::error("unknown wrap mode").at(
-                        s.value.span,
-                        "expected `clamp`, `repeat`, `mirror` or a pair `(u, v)` of them",
-                    )),
-                }
+}
+
+/// One entry of the pass's body other than a sampling attribute: `OUT.*`,
+/// `DEFINE.*`, or an input or parameter binding.
+fn check_pass_attr(pass: &mut PassDef, is_effect: bool, s: &Stmt, diags: &mut Diagnostics) {
+    let parts: Vec<&str> = s.key.parts.iter().map(|p| p.node.as_str()).collect();
+    match parts.as_slice() {
+        ["OUT", attr] if !is_effect => check_out_attr(&mut pass.out, attr, s, diags),
+        ["OUT", _] => diags.push(
+            Diagnostic::error("an effect instance takes its output size and format from the effect itself")
+                .at(s.key.span, "`OUT.*` is not allowed on `EFFECT.` passes"),
+        ),
+        ["DEFINE", _] if !is_effect => match define_arg(&s.value.node) {
+            Some(v) => pass.defines.push(DefineSet {
+                name: s.key.parts[1].clone(),
+                value: Spanned::new(v, s.value.span),
+            }),
+            None => diags.push(type_error(s, "an integer, `true`, `false` or `PARAM.name`", &s.value.node)),
+        },
+        [single] => {
+            let name = s.key.parts[0].clone();
+            if *single == "IN" && !is_effect {
+                diags.push(
+                    Diagnostic::error("`IN` names the effect input; a shader input needs its own name")
+                        .at(s.key.span, "write e.g. `img = IN`"),
+                );
+                return;
             }
-            _ => input.colorspace = colorspace_value(s, diags),
+            match classify_binding(s, diags) {
+                Some(Binding::Input(source)) => pass.inputs.push(InputDef {
+                    name,
+                    source,
+                    filter: None,
+                    wrap: None,
+                    colorspace: None,
+                }),
+                Some(Binding::Param(value)) => pass.params.push(ParamSet { name, value }),
+                None => {}
+            }
         }
+        _ => diags.push(
+            Diagnostic::error(format!("unknown pass attribute `{}`", s.key.dotted()))
+                .at(s.key.span, "not a pass attribute")
+                .note("a pass contains inputs (`img = IN`), parameters (`threshold = 0.8`), `img.FILTER`, `img.WRAP`, `img.COLORSPACE`, `OUT.SIZE`, `OUT.SCALE`, `OUT.RELATIVE_TO`, `OUT.FORMAT`, `OUT.COLORSPACE` and `DEFINE.NAME`"),
+        ),
     }
-    Some(pass)
+}
+
+/// The value of a `DEFINE.NAME`: an integer, `true`, `false` or `PARAM.name`.
+fn define_arg(value: &RawValue) -> Option<DefineArg> {
+    match value {
+        RawValue::Number(n) if n.fract() == 0.0 && n.abs() < 1e15 => {
+            Some(DefineArg::Int(*n as i64))
+        }
+        RawValue::Ref { key, frame: None } if key.is(&["true"]) => Some(DefineArg::Int(1)),
+        RawValue::Ref { key, frame: None } if key.is(&["false"]) => Some(DefineArg::Int(0)),
+        RawValue::Ref { key, frame: None } if key.parts.len() == 2 && key.first() == "PARAM" => {
+            Some(DefineArg::Param(key.parts[1].clone()))
+        }
+        _ => None,
+    }
+}
+
+/// `img.FILTER`, `img.WRAP` or `img.COLORSPACE` of an input bound in the pass.
+fn check_sampling_attr(pass: &mut PassDef, s: &Stmt, diags: &mut Diagnostics) {
+    let input_name = &s.key.parts[0];
+    let attr = s.key.parts[1].node.as_str();
+    let Some(input) = pass
+        .inputs
+        .iter_mut()
+        .find(|i| i.name.node == input_name.node)
+    else {
+        diags.push(
+            Diagnostic::error(format!(
+                "`{}` is not an input of pass `{}`",
+                input_name.node, pass.name.node
+            ))
+            .at(input_name.span, "bind it first, e.g. `img = IN`"),
+        );
+        return;
+    };
+    match attr {
+        "FILTER" => match word(&s.value).and_then(Filter::from_name) {
+            Some(f) => input.filter = Some(Spanned::new(f, s.value.span)),
+            None => diags.push(
+                Diagnostic::error("unknown filter")
+                    .at(s.value.span, "expected `linear` or `nearest`"),
+            ),
+        },
+        "WRAP" => match wrap_modes(&s.value) {
+            Some(w) => input.wrap = Some(Spanned::new(w, s.value.span)),
+            None => diags.push(Diagnostic::error("unknown wrap mode").at(
+                s.value.span,
+                "expected `clamp`, `repeat`, `mirror` or a pair `(u, v)` of them",
+            )),
+        },
+        _ => input.colorspace = colorspace_value(s, diags),
+    }
+}
+
+/// The wrap modes of `img.WRAP`: one for both axes, or a pair `(u, v)`.
+fn wrap_modes(value: &Spanned<RawValue>) -> Option<(Wrap, Wrap)> {
+    match &value.node {
+        RawValue::Tuple(items) if items.len() == 2 => {
+            match (
+                word(&items[0]).and_then(Wrap::from_name),
+                word(&items[1]).and_then(Wrap::from_name),
+            ) {
+                (Some(u), Some(v)) => Some((u, v)),
+                _ => None,
+            }
+        }
+        _ => word(value).and_then(Wrap::from_name).map(|w| (w, w)),
+    }
 }
 
 pub(super) enum Binding {
@@ -184,85 +219,7 @@ pub(super) enum Binding {
 pub(super) fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Binding> {
     let span = s.value.span;
     match &s.value.node {
-        RawValue::Ref { key, frame } => {
-            let frame_n = frame.as_ref().map(|f| f.node).unwrap_or(0);
-            if let Some(f) = frame {
-                if f.node.unsigned_abs() > MAX_FRAME_OFFSET.unsigned_abs() {
-                    diags.push(
-                        Diagnostic::error(format!(
-                            "frame offset {} is too far (at most ±{MAX_FRAME_OFFSET})",
-                            f.node
-                        ))
-                        .at(f.span, "too far"),
-                    );
-                    return None;
-                }
-            }
-            let parts: Vec<&str> = key.parts.iter().map(|p| p.node.as_str()).collect();
-            let src = match parts.as_slice() {
-                ["IN"] => Source::In { frame: frame_n },
-                ["PASS", _] => {
-                    if frame_n > 0 {
-                        diags.push(
-                            Diagnostic::error("a pass output of a later frame is not available")
-                                .at(
-                                    frame.as_ref().map(|f| f.span).unwrap_or(span),
-                                    "only earlier frames (`[-1]`) of a pass output can be read",
-                                )
-                                .note("later frames can be read from `IN[+n]`"),
-                        );
-                        return None;
-                    }
-                    Source::Pass {
-                        name: key.parts[1].clone(),
-                        frame: frame_n,
-                    }
-                }
-                ["AUX", _] => {
-                    if let Some(f) = frame {
-                        diags.push(
-                            Diagnostic::error(
-                                "auxiliary scene inputs have no earlier or later frames",
-                            )
-                            .at(f.span, "remove the frame offset"),
-                        );
-                        return None;
-                    }
-                    Source::Aux {
-                        name: key.parts[1].clone(),
-                    }
-                }
-                ["PARAM", _] if frame.is_none() => {
-                    return Some(Binding::Param(Spanned::new(
-                        ParamArg::Param(key.parts[1].clone()),
-                        span,
-                    )))
-                }
-                ["true"] | ["false"] if frame.is_none() => {
-                    return Some(Binding::Param(Spanned::new(
-                        ParamArg::Literal {
-                            value: vec![if parts[0] == "true" { 1.0 } else { 0.0 }],
-                            is_bool: true,
-                        },
-                        span,
-                    )))
-                }
-                [w] if frame.is_none() => {
-                    return Some(Binding::Param(Spanned::new(
-                        ParamArg::Word(w.to_string()),
-                        span,
-                    )))
-                }
-                _ => {
-                    diags.push(
-                        Diagnostic::error(format!("`{}` is not an input or a parameter value", key.dotted()))
-                            .at(span, "expected IN, PASS.name, AUX.name, PARAM.name, a number, a tuple or true/false"),
-                    );
-                    return None;
-                }
-            };
-            Some(Binding::Input(Spanned::new(src, span)))
-        }
+        RawValue::Ref { key, frame } => classify_ref(key, frame.as_ref(), span, diags),
         RawValue::Number(_) | RawValue::Tuple(_) => match numbers(&s.value) {
             Some(v) if !v.is_empty() && v.len() <= 4 => Some(Binding::Param(Spanned::new(
                 ParamArg::Literal {
@@ -289,6 +246,85 @@ pub(super) fn classify_binding(s: &Stmt, diags: &mut Diagnostics) -> Option<Bind
             None
         }
     }
+}
+
+/// A binding written as a name (`IN[-1]`, `PASS.x`, `AUX.x`, `PARAM.x`,
+/// `true`, a word), with its frame offset if any.
+fn classify_ref(
+    key: &Key,
+    frame: Option<&Spanned<i32>>,
+    span: Span,
+    diags: &mut Diagnostics,
+) -> Option<Binding> {
+    let frame_n = frame.map(|f| f.node).unwrap_or(0);
+    if let Some(f) = frame {
+        if f.node.unsigned_abs() > MAX_FRAME_OFFSET.unsigned_abs() {
+            diags.push(
+                Diagnostic::error(format!(
+                    "frame offset {} is too far (at most ±{MAX_FRAME_OFFSET})",
+                    f.node
+                ))
+                .at(f.span, "too far"),
+            );
+            return None;
+        }
+    }
+    let parts: Vec<&str> = key.parts.iter().map(|p| p.node.as_str()).collect();
+    let param = |arg: ParamArg| Some(Binding::Param(Spanned::new(arg, span)));
+    let src = match parts.as_slice() {
+        ["IN"] => Source::In { frame: frame_n },
+        ["PASS", _] => {
+            if frame_n > 0 {
+                diags.push(
+                    Diagnostic::error("a pass output of a later frame is not available")
+                        .at(
+                            frame.map(|f| f.span).unwrap_or(span),
+                            "only earlier frames (`[-1]`) of a pass output can be read",
+                        )
+                        .note("later frames can be read from `IN[+n]`"),
+                );
+                return None;
+            }
+            Source::Pass {
+                name: key.parts[1].clone(),
+                frame: frame_n,
+            }
+        }
+        ["AUX", _] => {
+            if let Some(f) = frame {
+                diags.push(
+                    Diagnostic::error("auxiliary scene inputs have no earlier or later frames")
+                        .at(f.span, "remove the frame offset"),
+                );
+                return None;
+            }
+            Source::Aux {
+                name: key.parts[1].clone(),
+            }
+        }
+        ["PARAM", _] if frame.is_none() => return param(ParamArg::Param(key.parts[1].clone())),
+        ["true"] | ["false"] if frame.is_none() => {
+            return param(ParamArg::Literal {
+                value: vec![if parts[0] == "true" { 1.0 } else { 0.0 }],
+                is_bool: true,
+            })
+        }
+        [w] if frame.is_none() => return param(ParamArg::Word(w.to_string())),
+        _ => {
+            diags.push(
+                Diagnostic::error(format!(
+                    "`{}` is not an input or a parameter value",
+                    key.dotted()
+                ))
+                .at(
+                    span,
+                    "expected IN, PASS.name, AUX.name, PARAM.name, a number, a tuple or true/false",
+                ),
+            );
+            return None;
+        }
+    };
+    Some(Binding::Input(Spanned::new(src, span)))
 }
 
 fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnostics) {

@@ -123,32 +123,7 @@ impl Checker<'_> {
         let module = match naga::front::wgsl::parse_str(&full) {
             Ok(m) => m,
             Err(e) => {
-                let mut d = Diagnostic::error(format!("WGSL: {}", sanitize(e.message())));
-                let mut first = true;
-                let mut labels: Vec<(Span, &str)> = e
-                    .labels()
-                    .map(|(s, l)| (map(s).unwrap_or(fallback), l))
-                    .collect();
-                // A clash with the interface (`redefinition of SurfaceInput`) is
-                // the user's mistake: point at the user's text first.
-                if let Some(i) = labels.iter().position(|(s, _)| s.file != iface) {
-                    let user = labels.remove(i);
-                    labels.insert(0, user);
-                }
-                for (sp, label) in labels {
-                    d = if first {
-                        d.at(sp, sanitize(label))
-                    } else {
-                        d.also(sp, sanitize(label))
-                    };
-                    first = false;
-                }
-                if first {
-                    d = d.at(fallback, "");
-                }
-                for n in e.notes() {
-                    d = d.note(sanitize(n));
-                }
+                let d = parse_error(&e, &map, fallback, iface);
                 self.diags.push(note(d));
                 return None;
             }
@@ -174,9 +149,32 @@ impl Checker<'_> {
 
     pub(super) fn check(&mut self, name: &str, shown: &str) -> Option<MaterialShader> {
         let text = self.asm.text.clone();
-        // Reserved names.
-        // (A tokenizer error is left for naga to report.)
-        if let Ok(decls) = module_declarations(&text) {
+        self.check_reserved_names(&text);
+        self.check_no_entry_points(&text);
+        if !self.diags.is_empty() {
+            return None;
+        }
+        let used = features::feature_flags_used(&text);
+        let compiled = self.compile_with_flags_defined(&text, &used)?;
+        let mut shader = self.reflect(name, shown, &compiled)?;
+        if self.kind == MaterialShaderKind::Surface {
+            self.check_feature_flags(&text, &used, &mut shader);
+        }
+        if !self.diags.is_empty() {
+            return None;
+        }
+        if self.kind == MaterialShaderKind::Lighting || shader.features.is_empty() {
+            return Some(shader);
+        }
+        self.check_resources_without_flags(&text, &compiled)?;
+        self.check_feature_modes(&text, &shader)?;
+        Some(shader)
+    }
+
+    /// Names starting with `fx_` or `FX_` are the engine's. (A tokenizer error
+    /// is left for naga to report.)
+    fn check_reserved_names(&mut self, text: &str) {
+        if let Ok(decls) = module_declarations(text) {
             for (n, s, e) in decls {
                 if n.starts_with("fx_") || n.starts_with("FX_") {
                     let sp = self.asm_span(s, e);
@@ -189,9 +187,12 @@ impl Checker<'_> {
                 }
             }
         }
-        // Entry points: naga would complain about the interface's missing
-        // `@location`s first.
-        if let Ok(attrs) = find_attributes(&text, &["vertex", "fragment", "compute"]) {
+    }
+
+    /// Entry points: naga would complain about the interface's missing
+    /// `@location`s first.
+    fn check_no_entry_points(&mut self, text: &str) {
+        if let Ok(attrs) = find_attributes(text, &["vertex", "fragment", "compute"]) {
             for (a, s, e) in attrs {
                 let sp = self.asm_span(s, e);
                 self.diags.push(
@@ -203,16 +204,16 @@ impl Checker<'_> {
                 );
             }
         }
-        if !self.diags.is_empty() {
-            return None;
-        }
-        let used = features::feature_flags_used(&text);
+    }
+
+    /// Step 1: the text preprocessed with every flag it tests defined (a
+    /// surface shader's; a lighting shader has none), compiled.
+    fn compile_with_flags_defined(&mut self, text: &str, used: &[String]) -> Option<Compiled> {
         let used_refs: Vec<(String, i64)> = match self.kind {
             MaterialShaderKind::Surface => used.iter().map(|f| (f.clone(), 1)).collect(),
             MaterialShaderKind::Lighting => Vec::new(),
         };
-        // 1. Preprocessed with every flag the text tests defined.
-        let all = match preprocess(&text, &used_refs) {
+        let all = match preprocess(text, &used_refs) {
             Ok((t, _)) => t,
             Err(e) => {
                 let d = self.preprocess_error(e);
@@ -231,41 +232,40 @@ impl Checker<'_> {
                     .join(", ")
             )
         };
-        let compiled = self.compile(&Variant {
+        self.compile(&Variant {
             what: what_all,
             derived: all,
             extra: "",
-        })?;
-        let mut shader = self.reflect(name, shown, &compiled)?;
-        // Feature flags: known ones only.
-        if self.kind == MaterialShaderKind::Surface {
-            let flags = &shader.flags;
-            for f in &used {
-                if !flags.contains(f) && !defines(&text, f) {
-                    let sp = directive_span(&text, f)
-                        .map(|(s, e)| self.asm_span(s, e))
-                        .unwrap_or_else(|| self.file_start());
-                    let mut d =
-                        Diagnostic::error(format!("`{f}` is not a feature flag of this shader"))
-                            .at(sp, "never defined");
-                    let names: Vec<&str> = flags.iter().map(String::as_str).collect();
-                    d = match crate::script::ast::suggest(f, names.iter().copied()) {
-                        Some(s) => d.note(format!("did you mean `{s}`?")),
-                        None => d.note(format!("its flags: {}", names.join(", "))),
-                    };
-                    self.diags.push(d);
-                }
+        })
+    }
+
+    /// Feature flags: known ones only; the shader's features are the known
+    /// flags its text tests.
+    fn check_feature_flags(&mut self, text: &str, used: &[String], shader: &mut MaterialShader) {
+        let flags = &shader.flags;
+        for f in used {
+            if !flags.contains(f) && !defines(text, f) {
+                let sp = directive_span(text, f)
+                    .map(|(s, e)| self.asm_span(s, e))
+                    .unwrap_or_else(|| self.file_start());
+                let mut d =
+                    Diagnostic::error(format!("`{f}` is not a feature flag of this shader"))
+                        .at(sp, "never defined");
+                let names: Vec<&str> = flags.iter().map(String::as_str).collect();
+                d = match crate::script::ast::suggest(f, names.iter().copied()) {
+                    Some(s) => d.note(format!("did you mean `{s}`?")),
+                    None => d.note(format!("its flags: {}", names.join(", "))),
+                };
+                self.diags.push(d);
             }
-            shader.features = used.iter().filter(|f| flags.contains(f)).cloned().collect();
         }
-        if !self.diags.is_empty() {
-            return None;
-        }
-        if self.kind == MaterialShaderKind::Lighting || shader.features.is_empty() {
-            return Some(shader);
-        }
-        // 2. With no flag defined: the same resources must be declared.
-        let none = match preprocess(&text, &[]) {
+        shader.features = used.iter().filter(|f| flags.contains(f)).cloned().collect();
+    }
+
+    /// Step 2: with no flag defined, the same resources must be declared as
+    /// in `compiled` (every flag defined).
+    fn check_resources_without_flags(&mut self, text: &str, compiled: &Compiled) -> Option<()> {
+        let none = match preprocess(text, &[]) {
             Ok((t, _)) => t,
             Err(e) => {
                 let d = self.preprocess_error(e);
@@ -297,9 +297,14 @@ impl Checker<'_> {
             );
             return None;
         }
-        // 3. and 4. Override and branch modes: feature blocks as `if` statements.
+        Some(())
+    }
+
+    /// Steps 3 and 4: override and branch modes, feature blocks as `if`
+    /// statements.
+    fn check_feature_modes(&mut self, text: &str, shader: &MaterialShader) -> Option<()> {
         let flags: Vec<&str> = shader.flags.iter().map(String::as_str).collect();
-        let mut override_text = self.features_as_ifs(&text, &flags, &|f: &str| f.to_string())?;
+        let mut override_text = self.features_as_ifs(text, &flags, &|f: &str| f.to_string())?;
         override_text.push_str(&features::override_declarations(&flags));
         self.compile(&Variant {
             what: "in override mode, where each feature `#ifdef` block becomes an `if` statement on an `override` constant: a block must hold whole statements and declare nothing used after it".into(),
@@ -311,13 +316,13 @@ impl Checker<'_> {
             let lane = ["x", "y", "z", "w"][(i / 32).min(3)];
             format!("((fx_features.{lane} & {}u) != 0u)", 1u32 << (i % 32))
         };
-        let branch_text = self.features_as_ifs(&text, &flags, &bit)?;
+        let branch_text = self.features_as_ifs(text, &flags, &bit)?;
         self.compile(&Variant {
             what: "in branch mode, where each feature `#ifdef` block becomes an `if` statement on a run-time flag: a block must hold whole statements and declare nothing used after it".into(),
             derived: branch_text,
             extra: BRANCH_FEATURES_DECL,
         })?;
-        Some(shader)
+        Some(())
     }
 
     /// A span of the validated text, in its file.
@@ -360,4 +365,40 @@ fn directive_span(text: &str, name: &str) -> Option<(usize, usize)> {
         }
     }
     None
+}
+
+/// naga's parse error `e` in the user's files (`map` maps its spans, `fallback`
+/// where it maps none): a clash with the interface (`redefinition of
+/// SurfaceInput`) is the user's mistake, so the user's text is pointed at first.
+fn parse_error(
+    e: &naga::front::wgsl::ParseError,
+    map: &dyn Fn(naga::Span) -> Option<Span>,
+    fallback: Span,
+    iface: FileId,
+) -> Diagnostic {
+    let mut d = Diagnostic::error(format!("WGSL: {}", sanitize(e.message())));
+    let mut first = true;
+    let mut labels: Vec<(Span, &str)> = e
+        .labels()
+        .map(|(s, l)| (map(s).unwrap_or(fallback), l))
+        .collect();
+    if let Some(i) = labels.iter().position(|(s, _)| s.file != iface) {
+        let user = labels.remove(i);
+        labels.insert(0, user);
+    }
+    for (sp, label) in labels {
+        d = if first {
+            d.at(sp, sanitize(label))
+        } else {
+            d.also(sp, sanitize(label))
+        };
+        first = false;
+    }
+    if first {
+        d = d.at(fallback, "");
+    }
+    for n in e.notes() {
+        d = d.note(sanitize(n));
+    }
+    d
 }

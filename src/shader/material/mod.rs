@@ -22,8 +22,10 @@
 //! - `lookup.rs`: finding a shader (the user's folder, then the built-in tree);
 //! - `check.rs`: the checks of the text, and compiling and validating it in every
 //!   way the renderer compiles it, with naga's errors mapped to the user's files;
-//! - `reflect.rs`: its function signature, resources and params, read from the
-//!   validated module;
+//! - `reflect.rs`: its function signature and params, read from the validated
+//!   module;
+//! - `resources.rs`: its resources (textures, samplers, the params uniform), their
+//!   bindings and feature flags;
 //! - `tests.rs`: the unit tests.
 
 use super::features::{self, convert_features, FeatureMode};
@@ -37,6 +39,7 @@ use crate::script::{Diagnostic, FileId, SourceMap, Span};
 mod check;
 mod lookup;
 mod reflect;
+mod resources;
 
 #[cfg(test)]
 mod tests;
