@@ -327,7 +327,8 @@ pub fn room() -> Scene {
     let cube = b.mesh(box_mesh(Vec3::ONE));
     let sphere = b.mesh(uv_sphere(48, 24));
     let mats = b.materials_from(ROOM_MATERIALS, "<builtin>/materials/room.fx");
-    place_room_objects(&mut b, (cube, sphere), |name| mats[name]);
+    place_room_shell(&mut b, cube, |name| mats[name]);
+    place_room_props(&mut b, (cube, sphere), |name| mats[name]);
     add_room_lights(&mut b);
     b.camera(
         "room",
@@ -341,40 +342,33 @@ pub fn room() -> Scene {
     b.scene
 }
 
-/// The room's floor and walls, boxes and spheres (`material` names a material
-/// of `materials/room.fx`).
-fn place_room_objects(
+/// The room's floor and three walls (`material` names a material of
+/// `materials/room.fx`).
+fn place_room_shell(b: &mut Builder, cube: usize, material: impl Fn(&str) -> usize) {
+    let s = |x: f32, y: f32, z: f32| Mat4::from_scale(Vec3::new(x, y, z));
+    let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
+    let objects = [
+        ("floor", "floor", t(0.0, -0.1, 0.0) * s(12.0, 0.2, 12.0)),
+        ("back wall", "wall", t(0.0, 2.5, -6.1) * s(12.0, 5.0, 0.2)),
+        ("left wall", "wall", t(-6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0)),
+        ("right wall", "wall", t(6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0)),
+    ];
+    for (name, m, transform) in objects {
+        b.place(name, cube, material(m), transform);
+    }
+}
+
+/// The room's boxes and spheres (`material` names a material of
+/// `materials/room.fx`).
+fn place_room_props(
     b: &mut Builder,
     (cube, sphere): (usize, usize),
     material: impl Fn(&str) -> usize,
 ) {
     let s = |x: f32, y: f32, z: f32| Mat4::from_scale(Vec3::new(x, y, z));
     let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
+    let turned = |angle: f32| Mat4::from_rotation_y(angle);
     let objects = [
-        (
-            "floor",
-            cube,
-            "floor",
-            t(0.0, -0.1, 0.0) * s(12.0, 0.2, 12.0),
-        ),
-        (
-            "back wall",
-            cube,
-            "wall",
-            t(0.0, 2.5, -6.1) * s(12.0, 5.0, 0.2),
-        ),
-        (
-            "left wall",
-            cube,
-            "wall",
-            t(-6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0),
-        ),
-        (
-            "right wall",
-            cube,
-            "wall",
-            t(6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0),
-        ),
         (
             "red box",
             cube,
@@ -385,13 +379,13 @@ fn place_room_objects(
             "tall box",
             cube,
             "white",
-            t(3.2, 1.5, -3.0) * Mat4::from_rotation_y(0.5) * s(1.4, 3.0, 1.4),
+            t(3.2, 1.5, -3.0) * turned(0.5) * s(1.4, 3.0, 1.4),
         ),
         (
             "green box",
             cube,
             "green",
-            t(0.5, 0.4, 2.0) * Mat4::from_rotation_y(-0.3) * s(2.0, 0.8, 1.0),
+            t(0.5, 0.4, 2.0) * turned(-0.3) * s(2.0, 0.8, 1.0),
         ),
         (
             "blue sphere",
