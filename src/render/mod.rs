@@ -71,6 +71,7 @@ mod motion;
 pub mod normal;
 mod options;
 mod output;
+mod pass_states;
 mod pipelines;
 pub mod renderer;
 mod renderer_environment;
