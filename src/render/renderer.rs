@@ -140,6 +140,24 @@ fn one_texel(
         }))
 }
 
+/// The 1x1 stand-ins: white for a material without a texture, and a zero
+/// `Rgba16Float` for the light buffers while they are render targets.
+fn stand_in_textures(ctx: &GpuContext) -> Result<(wgpu::TextureView, wgpu::TextureView), GpuError> {
+    let white = one_texel(
+        ctx,
+        "deferred default white texture",
+        wgpu::TextureFormat::Rgba8Unorm,
+        &[255, 255, 255, 255],
+    )?;
+    let dummy_light = one_texel(
+        ctx,
+        "deferred dummy rgba16f",
+        wgpu::TextureFormat::Rgba16Float,
+        &[0; 8],
+    )?;
+    Ok((white, dummy_light))
+}
+
 /// The renderer's shaders read the depth buffer with textureLoad, which naga
 /// cannot translate to GLSL: the GL backend is refused.
 fn check_backend(ctx: &GpuContext) -> Result<(), RenderError> {
@@ -278,18 +296,7 @@ impl Renderer {
         let device = &ctx.device;
         let name = scene.name.clone();
         let geometry = Geometry::upload(ctx, scene, &materials)?;
-        let white = one_texel(
-            ctx,
-            "deferred default white texture",
-            wgpu::TextureFormat::Rgba8Unorm,
-            &[255, 255, 255, 255],
-        )?;
-        let dummy_light = one_texel(
-            ctx,
-            "deferred dummy rgba16f",
-            wgpu::TextureFormat::Rgba16Float,
-            &[0; 8],
-        )?;
+        let (white, dummy_light) = stand_in_textures(ctx)?;
         let material_gpu =
             MaterialResources::upload(ctx, scene, &materials, &geometry, opts.mipmaps, &white)?;
         let (material_info_buffer, frame_buffer, layouts) = create_frame_buffers(ctx, &materials)?;
