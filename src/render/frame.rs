@@ -33,20 +33,20 @@ fn computes_lights(opts: &RendererOptions, technique: Technique) -> bool {
         && opts.light_culling != super::clusters::LightCulling::Volumes
 }
 
-/// Creates every pipeline the frame needs (shader generation errors are material
-/// errors: they name the material's shaders).
-pub(crate) fn ensure_pipelines(
+/// The geometry pipelines of `technique` (with a forward loop of `lights`):
+/// one per opaque batch and pass, one per transparent instance; each with its
+/// material's surface shader.
+fn geometry_keys(
     r: &FrameGpu<'_>,
-    (pipelines, light_compute): (&mut Pipelines, &mut ComputeLighting),
-    ctx: &GpuContext,
+    mode: super::material::VariantMode,
     technique: Technique,
     lights: u32,
-) -> Result<(), String> {
+) -> Vec<(GeoKey, usize)> {
     let mut keys: Vec<(GeoKey, usize)> = Vec::new();
     for b in &r.geometry.batches {
         for &pass in opaque_passes(technique) {
             keys.push((
-                geo_key(r.materials, pipelines.mode, pass, b, lights),
+                geo_key(r.materials, mode, pass, b, lights),
                 r.materials.materials[b.material].surface,
             ));
         }
@@ -54,42 +54,20 @@ pub(crate) fn ensure_pipelines(
     for item in &r.geometry.blend_items {
         let b = &item.batch;
         keys.push((
-            geo_key(
-                r.materials,
-                pipelines.mode,
-                GeoPass::ForwardBlend,
-                b,
-                lights,
-            ),
+            geo_key(r.materials, mode, GeoPass::ForwardBlend, b, lights),
             r.materials.materials[b.material].surface,
         ));
     }
-    for (key, surface) in keys {
-        pipelines.geometry(
-            ctx,
-            r.materials,
-            r.layouts,
-            &r.material_gpu.layouts[surface],
-            &r.material_gpu.params_layout,
-            key,
-        )?;
-    }
-    let aux: Vec<(String, wgpu::TextureFormat)> = r
-        .aux_formats
-        .iter()
-        .map(|(n, f)| (n.clone(), crate::gpu::executor::wgpu_format(*f)))
-        .collect();
+    keys
+}
+
+/// The light-module pipelines of `technique`: the AUX resolve; the light
+/// pass's unless it runs in compute (`compute`) or forward; composition
+/// (deferred in fragments) or the background (the other techniques, when the
+/// environment draws one).
+fn light_pipes(r: &FrameGpu<'_>, technique: Technique, compute: bool) -> Vec<LightPipe> {
     let mut light = vec![LightPipe::AuxA, LightPipe::AuxB];
-    let compute = computes_lights(r.opts, technique);
-    if compute {
-        light_compute.ensure(
-            ctx,
-            pipelines,
-            r.materials,
-            (r.layouts, &r.material_gpu.params_layout),
-            light_compute_of(technique),
-        )?;
-    } else if technique != Technique::Forward {
+    if !compute && technique != Technique::Forward {
         if r.opts.light_culling == super::clusters::LightCulling::Volumes {
             light.extend([
                 LightPipe::Fullscreen,
@@ -107,7 +85,44 @@ pub(crate) fn ensure_pipelines(
     } else if r.environment.background_pass() {
         light.push(LightPipe::Background);
     }
-    for which in light {
+    light
+}
+
+/// Creates every pipeline the frame needs (shader generation errors are material
+/// errors: they name the material's shaders).
+pub(crate) fn ensure_pipelines(
+    r: &FrameGpu<'_>,
+    (pipelines, light_compute): (&mut Pipelines, &mut ComputeLighting),
+    ctx: &GpuContext,
+    technique: Technique,
+    lights: u32,
+) -> Result<(), String> {
+    for (key, surface) in geometry_keys(r, pipelines.mode, technique, lights) {
+        pipelines.geometry(
+            ctx,
+            r.materials,
+            r.layouts,
+            &r.material_gpu.layouts[surface],
+            &r.material_gpu.params_layout,
+            key,
+        )?;
+    }
+    let aux: Vec<(String, wgpu::TextureFormat)> = r
+        .aux_formats
+        .iter()
+        .map(|(n, f)| (n.clone(), crate::gpu::executor::wgpu_format(*f)))
+        .collect();
+    let compute = computes_lights(r.opts, technique);
+    if compute {
+        light_compute.ensure(
+            ctx,
+            pipelines,
+            r.materials,
+            (r.layouts, &r.material_gpu.params_layout),
+            light_compute_of(technique),
+        )?;
+    }
+    for which in light_pipes(r, technique, compute) {
         pipelines.light(
             ctx,
             r.materials,

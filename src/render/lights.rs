@@ -121,11 +121,16 @@ impl LightLists {
         aspect: f32,
     ) -> LightLists {
         let mut lists = LightLists::default();
-        let planes = frustum_planes(proj);
         let half_fov = (camera.fov_y * 0.5).tan();
-        // distance from the eye to a corner of the near plane rectangle
-        let near_margin =
-            camera.near * (1.0 + half_fov * half_fov * (1.0 + aspect * aspect)).sqrt();
+        let c = Classifier {
+            planes: frustum_planes(proj),
+            // distance from the eye to a corner of the near plane rectangle
+            near_margin: camera.near * (1.0 + half_fov * half_fov * (1.0 + aspect * aspect)).sqrt(),
+            far: camera.far,
+            view: *view,
+            sphere_scale,
+            cone_poly_scale,
+        };
         for l in lights {
             let color = l.color * l.intensity;
             if color.max_element() <= 0.0 || !color.is_finite() {
@@ -135,111 +140,158 @@ impl LightLists {
             let dir_view = view
                 .transform_vector3(l.direction)
                 .normalize_or(Vec3::NEG_Z);
-            let mut g = GpuLight {
-                position: [0.0; 3],
-                radius: 0.0,
-                color: color.into(),
-                kind: KIND_DIRECTIONAL,
-                direction: dir_view.into(),
-                volume_scale: 1.0,
-                atten: l.attenuation,
-                cos_outer: -1.0,
-                cos_inner: 1.0,
-                cone_radius: 0.0,
-                volume: VOLUME_FULLSCREEN,
-                range: l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
-                // shadow maps are assigned afterwards (shadows::plan)
-                casts_shadows: u32::from(l.casts_shadows),
-                ..bytemuck::Zeroable::zeroed()
-            };
+            let g = directional_light(l, color, dir_view);
             let index = lists.gpu.len() as u32;
             match l.kind {
                 LightKind::Ambient => {
                     lists.ambient += color;
                 }
                 LightKind::Directional => {
-                    lists.gpu.push(g);
-                    lists
-                        .world
-                        .push((l.position, l.direction.normalize_or(Vec3::NEG_Y)));
-                    lists.forward.push(index);
+                    lists.push(l, g);
                     lists.fullscreen.push(index);
                     lists.globals.push(index);
                 }
                 LightKind::Point | LightKind::Spot { .. } => {
-                    let radius = l.radius();
-                    if radius.is_nan() || radius <= 0.0 {
-                        continue;
-                    }
-                    let radius = radius.min(1e7);
-                    let pos = view.transform_point3(l.position);
-                    g.position = pos.into();
-                    g.radius = radius;
-                    // bounding sphere of the lit region (for culling) and of the proxy
-                    let (mut cull_center, mut cull_radius) = (pos, radius);
-                    let (proxy_center, proxy_radius);
-                    if let LightKind::Spot { inner, outer } = l.kind {
-                        let outer = outer.clamp(1e-3, std::f32::consts::FRAC_PI_2);
-                        let inner = inner.clamp(0.0, outer);
-                        g.kind = KIND_SPOT;
-                        g.cos_outer = outer.cos();
-                        g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
-                        if outer <= MAX_CONE_ANGLE {
-                            g.volume = VOLUME_CONE;
-                            g.cone_radius = radius * outer.tan() * cone_poly_scale;
-                            let (c, r) =
-                                cone_bounding_sphere(pos, dir_view, radius, radius * outer.tan());
-                            if r < cull_radius {
-                                cull_center = c;
-                                cull_radius = r;
-                            }
-                            let (pc, pr) =
-                                cone_bounding_sphere(pos, dir_view, radius, g.cone_radius);
-                            proxy_center = pc;
-                            proxy_radius = pr;
-                        } else {
-                            g.volume = VOLUME_SPHERE;
-                            g.volume_scale = sphere_scale;
-                            proxy_center = pos;
-                            proxy_radius = radius * sphere_scale;
-                        }
-                    } else {
-                        g.kind = KIND_POINT;
-                        g.volume = VOLUME_SPHERE;
-                        g.volume_scale = sphere_scale;
-                        proxy_center = pos;
-                        proxy_radius = radius * sphere_scale;
-                    }
-                    let outside = planes
-                        .iter()
-                        .any(|p| p.truncate().dot(cull_center) + p.w < -cull_radius);
-                    if outside {
-                        continue;
-                    }
-                    let inside = proxy_center.length() < proxy_radius + near_margin;
-                    let crosses_far = -proxy_center.z + proxy_radius > camera.far * 0.999;
-                    lists.gpu.push(g);
-                    lists
-                        .world
-                        .push((l.position, l.direction.normalize_or(Vec3::NEG_Y)));
-                    lists.forward.push(index);
-                    lists.locals.push(super::clusters::LocalLight {
-                        index,
-                        center: cull_center,
-                        radius: cull_radius,
-                    });
-                    let list = match (inside, crosses_far, g.volume) {
-                        (true, true, _) => &mut lists.fullscreen,
-                        (true, false, VOLUME_CONE) => &mut lists.cone_in,
-                        (true, false, _) => &mut lists.sphere_in,
-                        (false, _, VOLUME_CONE) => &mut lists.cone_out,
-                        (false, _, _) => &mut lists.sphere_out,
-                    };
-                    list.push(index);
+                    c.add_local(&mut lists, l, g, dir_view);
                 }
             }
         }
         lists
+    }
+
+    /// Adds a visible light to the GPU lights, the world directions and the
+    /// forward list.
+    fn push(&mut self, l: &Light, g: GpuLight) {
+        let index = self.gpu.len() as u32;
+        self.gpu.push(g);
+        self.world
+            .push((l.position, l.direction.normalize_or(Vec3::NEG_Y)));
+        self.forward.push(index);
+    }
+}
+
+/// A light as a directional light (colour `color`, view-space direction
+/// `dir_view`): what the other kinds start from.
+fn directional_light(l: &Light, color: Vec3, dir_view: Vec3) -> GpuLight {
+    GpuLight {
+        position: [0.0; 3],
+        radius: 0.0,
+        color: color.into(),
+        kind: KIND_DIRECTIONAL,
+        direction: dir_view.into(),
+        volume_scale: 1.0,
+        atten: l.attenuation,
+        cos_outer: -1.0,
+        cos_inner: 1.0,
+        cone_radius: 0.0,
+        volume: VOLUME_FULLSCREEN,
+        range: l.range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
+        // shadow maps are assigned afterwards (shadows::plan)
+        casts_shadows: u32::from(l.casts_shadows),
+        ..bytemuck::Zeroable::zeroed()
+    }
+}
+
+/// The bounding spheres (view space) of a point or spot light: of the region
+/// it lights (for culling) and of its proxy volume.
+struct LightSpheres {
+    cull: (Vec3, f32),
+    proxy: (Vec3, f32),
+}
+
+/// What one frame's point and spot lights are classified against.
+struct Classifier {
+    planes: [Vec4; 6],
+    /// Distance from the eye to a corner of the near plane rectangle.
+    near_margin: f32,
+    far: f32,
+    view: Mat4,
+    sphere_scale: f32,
+    cone_poly_scale: f32,
+}
+
+impl Classifier {
+    /// A point or spot light: culled against the frustum, else added to the
+    /// forward and cluster lists and to the volume list its proxy needs
+    /// (inside: it holds the camera or the near plane; full-screen when it
+    /// also crosses the far plane).
+    fn add_local(&self, lists: &mut LightLists, l: &Light, mut g: GpuLight, dir_view: Vec3) {
+        let radius = l.radius();
+        if radius.is_nan() || radius <= 0.0 {
+            return;
+        }
+        let radius = radius.min(1e7);
+        let pos = self.view.transform_point3(l.position);
+        g.position = pos.into();
+        g.radius = radius;
+        let LightSpheres {
+            cull: (cull_center, cull_radius),
+            proxy: (proxy_center, proxy_radius),
+        } = self.shape_volume(l, &mut g, pos, dir_view);
+        let outside = self
+            .planes
+            .iter()
+            .any(|p| p.truncate().dot(cull_center) + p.w < -cull_radius);
+        if outside {
+            return;
+        }
+        let inside = proxy_center.length() < proxy_radius + self.near_margin;
+        let crosses_far = -proxy_center.z + proxy_radius > self.far * 0.999;
+        let index = lists.gpu.len() as u32;
+        lists.push(l, g);
+        lists.locals.push(super::clusters::LocalLight {
+            index,
+            center: cull_center,
+            radius: cull_radius,
+        });
+        let list = match (inside, crosses_far, g.volume) {
+            (true, true, _) => &mut lists.fullscreen,
+            (true, false, VOLUME_CONE) => &mut lists.cone_in,
+            (true, false, _) => &mut lists.sphere_in,
+            (false, _, VOLUME_CONE) => &mut lists.cone_out,
+            (false, _, _) => &mut lists.sphere_out,
+        };
+        list.push(index);
+    }
+
+    /// Sets the kind, cone and proxy volume of a point or spot light at view
+    /// position `pos` (radius in `g`): a cone for spots up to
+    /// [`MAX_CONE_ANGLE`], else a sphere. Returns its bounding spheres.
+    fn shape_volume(&self, l: &Light, g: &mut GpuLight, pos: Vec3, dir_view: Vec3) -> LightSpheres {
+        let radius = g.radius;
+        // bounding sphere of the lit region (for culling) and of the proxy
+        let mut cull = (pos, radius);
+        let sphere = (pos, radius * self.sphere_scale);
+        let LightKind::Spot { inner, outer } = l.kind else {
+            g.kind = KIND_POINT;
+            g.volume = VOLUME_SPHERE;
+            g.volume_scale = self.sphere_scale;
+            return LightSpheres {
+                cull,
+                proxy: sphere,
+            };
+        };
+        let outer = outer.clamp(1e-3, std::f32::consts::FRAC_PI_2);
+        let inner = inner.clamp(0.0, outer);
+        g.kind = KIND_SPOT;
+        g.cos_outer = outer.cos();
+        g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
+        if outer <= MAX_CONE_ANGLE {
+            g.volume = VOLUME_CONE;
+            g.cone_radius = radius * outer.tan() * self.cone_poly_scale;
+            let (c, r) = cone_bounding_sphere(pos, dir_view, radius, radius * outer.tan());
+            if r < cull.1 {
+                cull = (c, r);
+            }
+            let proxy = cone_bounding_sphere(pos, dir_view, radius, g.cone_radius);
+            return LightSpheres { cull, proxy };
+        }
+        g.volume = VOLUME_SPHERE;
+        g.volume_scale = self.sphere_scale;
+        LightSpheres {
+            cull,
+            proxy: sphere,
+        }
     }
 }
 

@@ -18,7 +18,8 @@
 //!   `skinning.rs`: skinned and morphed vertices deformed on the GPU per frame
 //!   from joints and weights), `frame_motion.rs`, `renderer_pose.rs` and
 //!   `motion.rs` (a frame of a sequence: transforms, poses, camera cuts, motion
-//!   vectors), `renderer_environment.rs` (the environment settings),
+//!   vectors), `renderer_environment.rs` (the environment settings), `renderer_frame.rs`
+//!   (the steps of a frame, from the cameras to the images handed back),
 //!   `light_compute.rs` (the light pass in compute), `lights.rs` (per-frame light
 //!   lists, light volumes), `light_buffers.rs`, `clusters.rs` (clustered light
 //!   lists: the grid and the CPU reference), `cluster_gpu.rs` (the lists built
@@ -70,9 +71,11 @@ mod motion;
 pub mod normal;
 mod options;
 mod output;
+mod pass_states;
 mod pipelines;
 pub mod renderer;
 mod renderer_environment;
+mod renderer_frame;
 mod renderer_pose;
 mod shadow_cache;
 mod shadow_pass;

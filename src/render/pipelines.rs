@@ -6,36 +6,14 @@
 use super::gpu_types::Vertex;
 use super::material::template::{self, Generated};
 use super::material::{MaterialSet, VariantKey, VariantMode};
+pub(crate) use super::pass_states::{depth, target, GeoPass, LightPipe};
+use super::pass_states::{geo_outputs, light_stages};
 use super::targets::*;
 use super::upload::Cull;
 use super::wgsl_check::check;
 use crate::gpu::bindings;
 use crate::gpu::context::GpuContext;
 use std::collections::HashMap;
-
-/// A geometry pass.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub(crate) enum GeoPass {
-    GBuffer,
-    Prepass,
-    LppFinal,
-    Forward,
-    ForwardBlend,
-}
-
-/// A light-module pipeline.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub(crate) enum LightPipe {
-    Clustered,
-    Fullscreen,
-    VolumeFront,
-    VolumeBack,
-    Compose,
-    /// The environment behind the geometry (light pre-pass and forward).
-    Background,
-    AuxA,
-    AuxB,
-}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) struct GeoKey {
@@ -167,53 +145,6 @@ pub(crate) struct Pipelines {
     pub modules_created: usize,
 }
 
-/// The stages, vertex buffers, targets and depth test of a light-module pipeline.
-struct LightStages<'a> {
-    vs: &'static str,
-    fs: &'static str,
-    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-    targets: Vec<Option<wgpu::ColorTargetState>>,
-    depth_state: Option<wgpu::DepthStencilState>,
-    primitive: wgpu::PrimitiveState,
-}
-
-pub(crate) fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
-    Some(wgpu::ColorTargetState {
-        format,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    })
-}
-
-fn additive(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
-    let add = wgpu::BlendComponent {
-        src_factor: wgpu::BlendFactor::One,
-        dst_factor: wgpu::BlendFactor::One,
-        operation: wgpu::BlendOperation::Add,
-    };
-    Some(wgpu::ColorTargetState {
-        format,
-        blend: Some(wgpu::BlendState {
-            color: add,
-            alpha: add,
-        }),
-        write_mask: wgpu::ColorWrites::ALL,
-    })
-}
-
-pub(crate) fn depth(
-    write: bool,
-    compare: wgpu::CompareFunction,
-) -> Option<wgpu::DepthStencilState> {
-    Some(wgpu::DepthStencilState {
-        format: DEPTH_FORMAT,
-        depth_write_enabled: Some(write),
-        depth_compare: Some(compare),
-        stencil: wgpu::StencilState::default(),
-        bias: wgpu::DepthBiasState::default(),
-    })
-}
-
 /// A module of generated WGSL, [checked](check) first.
 fn shader_module(
     ctx: &GpuContext,
@@ -323,64 +254,7 @@ impl Pipelines {
     ) -> Result<&wgpu::RenderPipeline, String> {
         if !self.geo.contains_key(&key) {
             let (module, constants) = self.module(ctx, set, key.variant, key.lights)?;
-            let (fs, targets, depth_state) = match key.pass {
-                GeoPass::GBuffer => (
-                    "fx_fs_gbuffer",
-                    vec![
-                        target(ALBEDO_FORMAT),
-                        target(NORMAL_FORMAT),
-                        target(SPECULAR_FORMAT),
-                        target(LIGHT_FORMAT),
-                    ],
-                    depth(true, wgpu::CompareFunction::Less),
-                ),
-                GeoPass::Prepass => (
-                    "fx_fs_prepass",
-                    vec![
-                        Some(wgpu::ColorTargetState {
-                            format: ALBEDO_FORMAT,
-                            blend: None,
-                            write_mask: wgpu::ColorWrites::ALPHA,
-                        }),
-                        target(NORMAL_FORMAT),
-                        target(SPECULAR_FORMAT),
-                    ],
-                    depth(true, wgpu::CompareFunction::Less),
-                ),
-                GeoPass::LppFinal => (
-                    "fx_fs_lpp_final",
-                    vec![target(SCENE_FORMAT), target(ALBEDO_FORMAT)],
-                    depth(false, wgpu::CompareFunction::LessEqual),
-                ),
-                GeoPass::Forward => (
-                    "fx_fs_forward",
-                    vec![
-                        target(SCENE_FORMAT),
-                        target(ALBEDO_FORMAT),
-                        target(NORMAL_FORMAT),
-                        target(SPECULAR_FORMAT),
-                    ],
-                    depth(true, wgpu::CompareFunction::Less),
-                ),
-                GeoPass::ForwardBlend => (
-                    "fx_fs_forward_blend",
-                    vec![Some(wgpu::ColorTargetState {
-                        format: SCENE_FORMAT,
-                        // colour: over; alpha: coverage accumulates (a + (1 - a)
-                        // dst), so a transparent background keeps the glass's
-                        blend: Some(wgpu::BlendState {
-                            color: wgpu::BlendState::ALPHA_BLENDING.color,
-                            alpha: wgpu::BlendComponent {
-                                src_factor: wgpu::BlendFactor::One,
-                                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-                                operation: wgpu::BlendOperation::Add,
-                            },
-                        }),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                    depth(false, wgpu::CompareFunction::Less),
-                ),
-            };
+            let (fs, targets, depth_state) = geo_outputs(key.pass);
             let g1 = (key.pass == GeoPass::LppFinal).then_some(&layouts.g1_light_buffers);
             let groups = [
                 Some(&layouts.g0),
@@ -452,69 +326,7 @@ impl Pipelines {
                 step_mode: wgpu::VertexStepMode::Vertex,
                 attributes: &volume_attrs,
             })];
-            let aux = |i: usize| target(aux_formats[i].1);
-            let lights_targets = vec![additive(LIGHT_FORMAT), additive(LIGHT_FORMAT)];
-            use wgpu::CompareFunction as C;
-            // A full-screen triangle (no vertex buffer, no culling) and a light
-            // volume (its vertex buffer, faces culled as `primitive` says).
-            let fullscreen = |vs, fs, targets, depth_state| LightStages {
-                vs,
-                fs,
-                buffers: &[],
-                targets,
-                depth_state,
-                primitive: wgpu::PrimitiveState::default(),
-            };
-            let volume = |depth_state, primitive| LightStages {
-                vs: "fx_vs_volume",
-                fs: "fx_fs_light",
-                buffers: &volume_vb,
-                targets: lights_targets.clone(),
-                depth_state,
-                primitive,
-            };
-            let always = depth(false, C::Always);
-            let scene = || vec![target(SCENE_FORMAT)];
-            let stages = match which {
-                LightPipe::Clustered => fullscreen(
-                    "fx_vs_fullscreen",
-                    "fx_fs_light_clustered",
-                    lights_targets.clone(),
-                    always,
-                ),
-                LightPipe::Fullscreen => fullscreen(
-                    "fx_vs_light_fullscreen",
-                    "fx_fs_light",
-                    lights_targets.clone(),
-                    always,
-                ),
-                LightPipe::VolumeFront => volume(depth(false, C::Less), Cull::BackCcw.primitive()),
-                LightPipe::VolumeBack => volume(
-                    depth(false, C::GreaterEqual),
-                    wgpu::PrimitiveState {
-                        cull_mode: Some(wgpu::Face::Front),
-                        ..Default::default()
-                    },
-                ),
-                LightPipe::Compose => {
-                    fullscreen("fx_vs_fullscreen", "fx_fs_compose", scene(), None)
-                }
-                LightPipe::Background => {
-                    fullscreen("fx_vs_fullscreen", "fx_fs_background", scene(), None)
-                }
-                LightPipe::AuxA => fullscreen(
-                    "fx_vs_fullscreen",
-                    "fx_fs_aux_a",
-                    vec![aux(0), aux(1), aux(2), aux(6)],
-                    None,
-                ),
-                LightPipe::AuxB => fullscreen(
-                    "fx_vs_fullscreen",
-                    "fx_fs_aux_b",
-                    vec![aux(3), aux(4), aux(5)],
-                    None,
-                ),
-            };
+            let stages = light_stages(which, aux_formats, &volume_vb);
             let groups = [
                 Some(&layouts.g0),
                 Some(&layouts.g1_gbuffer),

@@ -37,19 +37,17 @@
 //! the surface shader and the lighting shader of the lights of the fragment's
 //! cluster (every visible light with [`LightCulling::Volumes`]) per fragment.
 
-use super::cluster_gpu::{ClusterError, ClusterFrame, GpuClusters};
+use super::cluster_gpu::GpuClusters;
 pub use super::error::RenderError;
-use super::frame::{self, FrameGpu, FramePipelines};
 use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
 use super::light_compute::ComputeLighting;
-use super::lights::{LightLists, LightVolumes};
+use super::lights::LightVolumes;
 use super::material::MaterialSet;
-use super::motion::{MotionCameras, MotionPass};
+use super::motion::MotionPass;
 pub use super::options::RendererOptions;
 use super::pipelines::{Layouts, Pipelines};
 use super::shadow_pass::ShadowMaps;
-use super::shadows::ShadowFrame;
 pub use super::shadows::{
     ShadowMode, DEFAULT_SHADOW_LAYERS, DEFAULT_SHADOW_SIZE, MAX_SHADOW_SIZE, MIN_SHADOW_SIZE,
 };
@@ -84,28 +82,28 @@ pub fn render(
 
 /// GPU resources of one scene; renders frames of any size, camera and technique.
 pub struct Renderer {
-    opts: RendererOptions,
+    pub(super) opts: RendererOptions,
     /// The auxiliary images and formats: [`super::published_aux`] (depth is
     /// R16Float where R32Float cannot be rendered: GL on llvmpipe).
-    aux_formats: Vec<(String, crate::script::types::Format)>,
+    pub(super) aux_formats: Vec<(String, crate::script::types::Format)>,
     pub(super) name: String,
-    lights: Vec<Light>,
+    pub(super) lights: Vec<Light>,
     pub(crate) background: Vec3,
     /// The fog of the template (none by default).
-    fog: Option<super::fog::Fog>,
+    pub(super) fog: Option<super::fog::Fog>,
     /// The background of the last frame (fogged).
     pub(crate) frame_background: Vec3,
     /// World-space bounds of the geometry: the cluster slices span its depth.
     pub(super) bounds: crate::scene::Aabb,
     pub(crate) shadow_maps: ShadowMaps,
-    triangles: usize,
+    pub(super) triangles: usize,
     pub(crate) materials: MaterialSet,
     pub(crate) geometry: Geometry,
     pub(crate) material_gpu: MaterialResources,
     pub(crate) volumes: LightVolumes,
-    frame_buffer: wgpu::Buffer,
+    pub(super) frame_buffer: wgpu::Buffer,
     material_info_buffer: wgpu::Buffer,
-    light_buffers: LightBuffers,
+    pub(super) light_buffers: LightBuffers,
     /// The clustered light lists, built on the GPU each frame.
     pub(super) clusters: GpuClusters,
     /// The compute light passes.
@@ -118,39 +116,13 @@ pub struct Renderer {
     /// Image-based lighting and the background (`super::environment`).
     pub(crate) environment: super::environment::EnvironmentLighting,
     /// (technique, forward light count) whose pipelines all exist.
-    ensured: std::collections::HashSet<(Technique, u32)>,
+    pub(super) ensured: std::collections::HashSet<(Technique, u32)>,
     /// The motion-vector passes (`AUX.motion`).
     pub(crate) motion: MotionPass,
     /// The instances' rest transforms (scene order), and whether the instance
     /// buffer holds other ones (a posed frame was rendered).
     pub(super) rest_transforms: Vec<Mat4>,
     pub(super) posed: bool,
-}
-
-/// The CPU time of a frame's steps ([`RenderStats::cpu_split`]).
-struct CpuSplit {
-    last: Instant,
-    parts: Vec<(String, f64)>,
-}
-
-impl CpuSplit {
-    fn new() -> CpuSplit {
-        CpuSplit {
-            last: Instant::now(),
-            parts: Vec::with_capacity(5),
-        }
-    }
-
-    /// Ends step `name` (its time is added when it ran before).
-    fn mark(&mut self, name: &str) {
-        let now = Instant::now();
-        let ms = (now - self.last).as_secs_f64() * 1e3;
-        self.last = now;
-        match self.parts.iter_mut().find(|(n, _)| n == name) {
-            Some(p) => p.1 += ms,
-            None => self.parts.push((name.to_string(), ms)),
-        }
-    }
 }
 
 /// A 1x1 texture view with one texel.
@@ -166,6 +138,127 @@ fn one_texel(
             label: Some(&format!("{label} view")),
             ..Default::default()
         }))
+}
+
+/// The 1x1 stand-ins: white for a material without a texture, and a zero
+/// `Rgba16Float` for the light buffers while they are render targets.
+fn stand_in_textures(ctx: &GpuContext) -> Result<(wgpu::TextureView, wgpu::TextureView), GpuError> {
+    let white = one_texel(
+        ctx,
+        "deferred default white texture",
+        wgpu::TextureFormat::Rgba8Unorm,
+        &[255, 255, 255, 255],
+    )?;
+    let dummy_light = one_texel(
+        ctx,
+        "deferred dummy rgba16f",
+        wgpu::TextureFormat::Rgba16Float,
+        &[0; 8],
+    )?;
+    Ok((white, dummy_light))
+}
+
+/// The renderer's shaders read the depth buffer with textureLoad, which naga
+/// cannot translate to GLSL: the GL backend is refused.
+fn check_backend(ctx: &GpuContext) -> Result<(), RenderError> {
+    if ctx.info.backend == wgpu::Backend::Gl {
+        return Err(RenderError::Gpu(GpuError::UnsupportedFormat {
+            what: "the deferred renderer".into(),
+            format: "Depth32Float read in shaders".into(),
+            adapter: ctx.info.name.clone(),
+            reason: "the GL backend cannot read depth textures in shaders; use Vulkan (software: apt-get install mesa-vulkan-drivers)".into(),
+        }));
+    }
+    Ok(())
+}
+
+/// The material-info buffer (lighting model and alpha cutoff of each
+/// material), the frame-uniform buffer and the bind-group layouts.
+fn create_frame_buffers(
+    ctx: &GpuContext,
+    materials: &MaterialSet,
+) -> Result<(wgpu::Buffer, wgpu::Buffer, Layouts), GpuError> {
+    let mut infos: Vec<GpuMaterialInfo> = materials
+        .materials
+        .iter()
+        .map(|m| GpuMaterialInfo {
+            model: m.lighting as u32,
+            alpha_cutoff: m.alpha_cutoff,
+            _pad: [0; 2],
+        })
+        .collect();
+    if infos.is_empty() {
+        infos.push(bytemuck::Zeroable::zeroed());
+    }
+    ctx.scoped("deferred renderer: scene upload", |device| {
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let material_info_buffer = init(
+            "deferred material info",
+            bytemuck::cast_slice(&infos),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("deferred frame uniforms"),
+            size: std::mem::size_of::<GpuFrame>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        (material_info_buffer, frame_buffer, Layouts::new(device))
+    })
+}
+
+/// Image-based lighting for the scene's background, with its environment map
+/// when it has one.
+fn load_environment(
+    ctx: &GpuContext,
+    scene: &Scene,
+) -> Result<super::environment::EnvironmentLighting, RenderError> {
+    let mut environment = super::environment::EnvironmentLighting::new(ctx, scene.background)?;
+    if let Some(env) = &scene.environment {
+        let map = env.load()?;
+        environment.set(ctx, Some((env, &map)))?;
+    }
+    Ok(environment)
+}
+
+/// The AUX images and their formats; AUX.depth is R16Float (with a warning)
+/// where the adapter cannot render R32Float.
+fn aux_formats(ctx: &GpuContext) -> Vec<(String, crate::script::types::Format)> {
+    let depth_renderable = ctx.format_support(wgpu::TextureFormat::R32Float).render;
+    if !depth_renderable {
+        log::warn!(
+            "this adapter cannot render to R32Float: AUX.depth is R16Float (half precision)"
+        );
+    }
+    super::output::published_aux(depth_renderable)
+}
+
+/// The info line of a renderer made: the time it took and what it uploaded.
+fn log_ready(
+    name: &str,
+    start: Instant,
+    (geometry, triangles): (&Geometry, usize),
+    materials: &MaterialSet,
+    material_gpu: &MaterialResources,
+) {
+    log::info!(
+        "{name}: renderer ready in {:.1} ms: {} vertices, {} triangles, {} opaque batches, {} transparent instances, {} materials ({} surface, {} lighting shaders), {} textures",
+        start.elapsed().as_secs_f64() * 1e3,
+        geometry.vertices,
+        triangles,
+        geometry.batches.len(),
+        geometry.blend_items.len(),
+        materials.materials.len(),
+        materials.surfaces.len(),
+        materials.lightings.len(),
+        material_gpu.textures
+    );
 }
 
 /// Lights of zero, negative or non-finite intensity are ignored, not an error
@@ -197,79 +290,21 @@ impl Renderer {
         opts: &RendererOptions,
     ) -> Result<Renderer, RenderError> {
         let start = Instant::now();
-        if ctx.info.backend == wgpu::Backend::Gl {
-            // Its shaders read the depth buffer with textureLoad, which naga cannot
-            // translate to GLSL.
-            return Err(RenderError::Gpu(GpuError::UnsupportedFormat {
-                what: "the deferred renderer".into(),
-                format: "Depth32Float read in shaders".into(),
-                adapter: ctx.info.name.clone(),
-                reason: "the GL backend cannot read depth textures in shaders; use Vulkan (software: apt-get install mesa-vulkan-drivers)".into(),
-            }));
-        }
+        check_backend(ctx)?;
         scene.validate()?;
         let materials = MaterialSet::build(scene).map_err(|e| RenderError::Material(e.0))?;
         let device = &ctx.device;
         let name = scene.name.clone();
         let geometry = Geometry::upload(ctx, scene, &materials)?;
-        let white = one_texel(
-            ctx,
-            "deferred default white texture",
-            wgpu::TextureFormat::Rgba8Unorm,
-            &[255, 255, 255, 255],
-        )?;
-        let dummy_light = one_texel(
-            ctx,
-            "deferred dummy rgba16f",
-            wgpu::TextureFormat::Rgba16Float,
-            &[0; 8],
-        )?;
+        let (white, dummy_light) = stand_in_textures(ctx)?;
         let material_gpu =
             MaterialResources::upload(ctx, scene, &materials, &geometry, opts.mipmaps, &white)?;
-
-        let mut infos: Vec<GpuMaterialInfo> = materials
-            .materials
-            .iter()
-            .map(|m| GpuMaterialInfo {
-                model: m.lighting as u32,
-                alpha_cutoff: m.alpha_cutoff,
-                _pad: [0; 2],
-            })
-            .collect();
-        if infos.is_empty() {
-            infos.push(bytemuck::Zeroable::zeroed());
-        }
-        let built = ctx.scoped("deferred renderer: scene upload", |device| {
-            let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents,
-                    usage,
-                })
-            };
-            let material_info_buffer = init(
-                "deferred material info",
-                bytemuck::cast_slice(&infos),
-                wgpu::BufferUsages::STORAGE,
-            );
-            let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("deferred frame uniforms"),
-                size: std::mem::size_of::<GpuFrame>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            (material_info_buffer, frame_buffer, Layouts::new(device))
-        })?;
-        let (material_info_buffer, frame_buffer, layouts) = built;
+        let (material_info_buffer, frame_buffer, layouts) = create_frame_buffers(ctx, &materials)?;
         let volumes = LightVolumes::new(ctx)?;
         let light_buffers = LightBuffers::new(device);
         let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
         let clusters = GpuClusters::new(ctx)?;
-        let mut environment = super::environment::EnvironmentLighting::new(ctx, scene.background)?;
-        if let Some(env) = &scene.environment {
-            let map = env.load()?;
-            environment.set(ctx, Some((env, &map)))?;
-        }
+        let environment = load_environment(ctx, scene)?;
         let g0 = light_buffers.group0(
             device,
             &layouts.g0,
@@ -281,25 +316,14 @@ impl Renderer {
             &environment,
         );
         let triangles = scene.triangle_count();
-        log::info!(
-            "{name}: renderer ready in {:.1} ms: {} vertices, {} triangles, {} opaque batches, {} transparent instances, {} materials ({} surface, {} lighting shaders), {} textures",
-            start.elapsed().as_secs_f64() * 1e3,
-            geometry.vertices,
-            triangles,
-            geometry.batches.len(),
-            geometry.blend_items.len(),
-            materials.materials.len(),
-            materials.surfaces.len(),
-            materials.lightings.len(),
-            material_gpu.textures
+        log_ready(
+            &name,
+            start,
+            (&geometry, triangles),
+            &materials,
+            &material_gpu,
         );
-        let depth_renderable = ctx.format_support(wgpu::TextureFormat::R32Float).render;
-        if !depth_renderable {
-            log::warn!(
-                "this adapter cannot render to R32Float: AUX.depth is R16Float (half precision)"
-            );
-        }
-        let aux_formats = super::output::published_aux(depth_renderable);
+        let aux_formats = aux_formats(ctx);
         warn_dark_lights(&name, &scene.lights);
         let motion = MotionPass::new(ctx)?;
         Ok(Renderer {
@@ -408,7 +432,7 @@ impl Renderer {
     }
 
     /// Creates the frame targets for `width`×`height` if the size changed.
-    fn ensure_targets(
+    pub(super) fn ensure_targets(
         &mut self,
         ctx: &GpuContext,
         width: u32,
@@ -462,275 +486,5 @@ impl Renderer {
             technique,
             timer,
         )
-    }
-
-    /// Renders one frame of a sequence: the instances where `motion` puts them,
-    /// `AUX.motion` from where they and the camera were one frame earlier, the
-    /// projection jittered by `motion.jitter`.
-    ///
-    /// With a `timer` (see [`GpuTimer::new`]; 16 passes are enough) the GPU time of
-    /// every pass is measured and returned in [`RenderStats::pass_ms`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn render_frame(
-        &mut self,
-        ctx: &GpuContext,
-        camera: &Camera,
-        motion: &FrameMotion,
-        width: u32,
-        height: u32,
-        technique: Technique,
-        timer: Option<&GpuTimer>,
-    ) -> Result<(RenderOutput, RenderStats), RenderError> {
-        let start = Instant::now();
-        if !(camera.near > 0.0
-            && camera.far > camera.near
-            && camera.fov_y > 0.0
-            && camera.fov_y < std::f32::consts::PI)
-        {
-            return Err(RenderError::Invalid(format!(
-                "invalid camera ({camera}): need 0 < near < far and 0 < fov < 180°"
-            )));
-        }
-        self.ensure_targets(ctx, width, height)?;
-        let mut split = CpuSplit::new();
-        let (bounds, moving) = self.pose(ctx, motion)?;
-        let casters = self.caster_change(motion);
-        split.mark("pose");
-        let aspect = width as f32 / height as f32;
-        let view = camera.view();
-        let unjittered = camera.proj(aspect);
-        let proj = jittered(unjittered, motion.jitter, width, height);
-        let prev_camera = motion
-            .prev_camera
-            .filter(|_| !motion.cut)
-            .unwrap_or(*camera);
-        let motion_cams = MotionCameras {
-            view,
-            proj,
-            curr_vp: unjittered * view,
-            prev_vp: prev_camera.proj(aspect) * prev_camera.view(),
-        };
-        let mut lists = LightLists::classify(
-            &self.lights,
-            self.volumes.sphere_scale,
-            self.volumes.cone_poly_scale,
-            camera,
-            &view,
-            &proj,
-            aspect,
-        );
-        // Shadow maps: which lights get layers (written into their GpuLight).
-        let shadows_grown = self.shadow_maps.prepare(
-            ctx,
-            &self.name,
-            &mut lists.gpu,
-            (
-                &ShadowFrame {
-                    camera,
-                    world: &lists.world,
-                    view,
-                    aspect,
-                    bounds,
-                    mode: self.opts.shadows,
-                    size: self.opts.shadow_size,
-                    budget: self.opts.shadow_budget,
-                },
-                &casters,
-            ),
-        )?;
-        let culling = self.opts.light_culling;
-        let visible_count = lists.forward.len() as u32;
-        let (depth_near, depth_far) =
-            super::clusters::depth_range(&bounds, &view, camera.near, camera.far);
-        let (fl, visible, grid) = lists.frame_lists(culling, width, height, depth_near, depth_far);
-        split.mark("lights");
-        let loop_count = fl.forward_lights;
-        let (clusters_grown, cluster_bytes) = match grid {
-            Some(grid) => self
-                .clusters
-                .prepare(
-                    ctx,
-                    &ClusterFrame {
-                        grid,
-                        proj: &proj,
-                        width,
-                        height,
-                        globals: &lists.globals,
-                        locals: &lists.locals,
-                    },
-                )
-                .map_err(|e| match e {
-                    ClusterError::Gpu(e) => RenderError::Gpu(e),
-                    e => RenderError::Invalid(e.to_string()),
-                })?,
-            None => (false, 0),
-        };
-        let grown = self.light_buffers.upload(ctx, &lists.gpu, &visible);
-        if grown || shadows_grown || clusters_grown {
-            self.rebuild_group0(ctx);
-        }
-        let (cluster, cluster_z, global_lights) = match grid {
-            Some(g) => (
-                [g.tiles_x, g.tiles_y, g.slices, g.tile_px],
-                [g.log_scale, g.near, 0.0, 0.0],
-                lists.globals.len() as u32,
-            ),
-            None => ([0; 4], [0.0; 4], 0),
-        };
-        self.frame_background = match &self.fog {
-            Some(f) => f.background(self.background, camera.far),
-            None => self.background,
-        };
-        let gpu_frame = GpuFrame {
-            view: mat_array(view),
-            proj: mat_array(proj),
-            inv_proj: mat_array(proj.inverse()),
-            proj_unjittered: mat_array(unjittered),
-            // a camera that did not move reprojects exactly (motion 0, not noise)
-            reproject: mat_array(if prev_camera == *camera {
-                unjittered
-            } else {
-                motion_cams.prev_vp * view.inverse()
-            }),
-            viewport: [
-                width as f32,
-                height as f32,
-                1.0 / width as f32,
-                1.0 / height as f32,
-            ],
-            background: self.frame_background.extend(1.0).into(),
-            ambient: lists.ambient.extend(0.0).into(),
-            near: camera.near,
-            far: camera.far,
-            light_count: visible_count,
-            global_lights,
-            cluster,
-            cluster_z,
-            fog: super::fog::Fog::gpu(self.fog.as_ref(), camera, &view),
-        };
-        ctx.queue
-            .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&gpu_frame));
-        let background_fog = self.fog.as_ref().map_or((Vec3::ZERO, 1.0), |f| {
-            (f.color, f.transmittance(camera.far))
-        });
-        self.environment.write_frame(ctx, &view, background_fog);
-        split.mark("upload");
-        // Pipelines depend only on the technique and the forward loop bound: the
-        // batches are fixed when the renderer is made.
-        let gpu = FrameGpu {
-            opts: &self.opts,
-            aux_formats: &self.aux_formats,
-            materials: &self.materials,
-            geometry: &self.geometry,
-            material_gpu: &self.material_gpu,
-            layouts: &self.layouts,
-            environment: &self.environment,
-            g0: &self.g0,
-            shadow_maps: &self.shadow_maps,
-            clusters: &self.clusters,
-            volumes: &self.volumes,
-            motion: &self.motion,
-            frame_background: self.frame_background,
-        };
-        if !self.ensured.contains(&(technique, loop_count)) {
-            let pipelines = (&mut self.pipelines, &mut self.light_compute);
-            frame::ensure_pipelines(&gpu, pipelines, ctx, technique, loop_count)
-                .map_err(RenderError::Material)?;
-            self.ensured.insert((technique, loop_count));
-        }
-        split.mark("pipelines");
-
-        let mut stats = RenderStats {
-            technique,
-            width,
-            height,
-            triangles: self.triangles,
-            lights_total: self.lights.len(),
-            lights_visible: lists.forward.len(),
-            lights_fullscreen: lists.fullscreen.len(),
-            volumes_outside: lists.sphere_out.len() + lists.cone_out.len(),
-            volumes_inside: lists.sphere_in.len() + lists.cone_in.len(),
-            lights_dark: lists.dark,
-            light_culling: culling,
-            cluster_bytes,
-            gbuffer_bytes_per_pixel: match technique {
-                Technique::Deferred => GBUFFER_BYTES_COMPRESSED,
-                Technique::LightPrepass => 13,
-                // depth for shading + the three colour targets for the AUX images
-                Technique::Forward => GBUFFER_BYTES_COMPRESSED,
-            },
-            shadow_layers: self.shadow_maps.used as usize,
-            shadow_layers_rendered: self.shadow_maps.rendered() as usize,
-            shadow_map_bytes: self.shadow_maps.bytes(),
-            ..Default::default()
-        };
-        let label = format!("deferred frame ({technique}, {width}x{height})");
-        let pipelines = FramePipelines {
-            pipelines: &self.pipelines,
-            light_compute: &self.light_compute,
-        };
-        let targets = self.targets.as_ref().expect("targets were just created");
-        let (pass_names, draws) = frame::encode(
-            (&gpu, &pipelines, targets),
-            ctx,
-            &label,
-            technique,
-            &fl,
-            &view,
-            timer,
-            (&motion_cams, &moving),
-        )?;
-        split.mark("record");
-        stats.draw_calls = draws;
-        stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
-        stats.cpu_split = split.parts;
-        stats.pipelines = self.pipelines.pipelines_created;
-        stats.shader_modules = self.pipelines.modules_created;
-        if let Some(timer) = timer {
-            if grid.is_some() {
-                let summary = self.clusters.summary(ctx)?;
-                stats.cluster_entries = summary.entries as usize;
-                stats.cluster_max = summary.max_per_cluster as usize;
-            }
-            let ms = timer.read_ms(ctx, pass_names.len() as u32)?;
-            stats.gpu_ms = Some(ms.iter().sum());
-            stats.pass_ms = pass_names.into_iter().zip(ms).collect();
-        }
-        let errors = ctx.take_uncaptured_errors();
-        if let Some(first) = errors.first() {
-            return Err(RenderError::Gpu(GpuError::Validation {
-                what: label,
-                message: first.clone(),
-            }));
-        }
-        log::debug!(
-            "{}: {technique} frame {width}x{height}: {} lights visible of {}, {} draws, cpu {:.2} ms",
-            self.name,
-            stats.lights_visible,
-            stats.lights_total,
-            stats.draw_calls,
-            stats.cpu_ms
-        );
-        let t = self.targets.as_ref().expect("targets were just created");
-        let output = RenderOutput {
-            width,
-            height,
-            scene: t.scene.texture.clone(),
-            aux: t
-                .aux
-                .iter()
-                .map(|(n, tex)| (n.clone(), tex.texture.clone()))
-                .collect(),
-            camera: super::camera_std(camera, &proj),
-            gbuffer: GBufferTextures {
-                depth: t.depth.texture.clone(),
-                albedo: t.albedo.texture.clone(),
-                normal: t.normal.texture.clone(),
-                specular: t.specular.texture.clone(),
-                light_diffuse: t.light_diffuse.texture.clone(),
-                light_specular: t.light_specular.texture.clone(),
-            },
-        };
-        Ok((output, stats))
     }
 }

@@ -75,6 +75,152 @@ pub(crate) struct TargetLayouts<'a> {
     pub light_compute: &'a wgpu::BindGroupLayout,
 }
 
+/// The frame's images, before their bind groups.
+struct Images {
+    depth: Target,
+    albedo: Target,
+    normal: Target,
+    specular: Target,
+    light_diffuse: Target,
+    light_specular: Target,
+    emission: Target,
+    scene: Target,
+    aux: Vec<(String, Target)>,
+}
+
+/// The bind groups of the frame's images.
+struct Groups {
+    light: wgpu::BindGroup,
+    all: wgpu::BindGroup,
+    prepass_final: wgpu::BindGroup,
+    compute_deferred: wgpu::BindGroup,
+    compute_prepass: wgpu::BindGroup,
+}
+
+/// Every image of a `width`×`height` frame (rendered to, sampled, copied; the
+/// light buffers and the scene written by the compute light pass as well).
+fn create_images(
+    device: &wgpu::Device,
+    (width, height): (u32, u32),
+    aux_formats: &[(String, wgpu::TextureFormat)],
+) -> Images {
+    let make_with = |label: &str, format: wgpu::TextureFormat, extra| {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | extra;
+        let texture =
+            device.create_texture(&texture_2d(label, (width, height), format, usage, &[]));
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(label),
+            ..Default::default()
+        });
+        Target { texture, view }
+    };
+    let make = |label: &str, format| make_with(label, format, wgpu::TextureUsages::empty());
+    // written by the compute light pass as well
+    let storage =
+        |label: &str| make_with(label, LIGHT_FORMAT, wgpu::TextureUsages::STORAGE_BINDING);
+    Images {
+        depth: make("deferred depth", DEPTH_FORMAT),
+        albedo: make("deferred G-buffer diffuse+material", ALBEDO_FORMAT),
+        normal: make("deferred G-buffer normal+roughness", NORMAL_FORMAT),
+        specular: make("deferred G-buffer specular+model", SPECULAR_FORMAT),
+        light_diffuse: storage("deferred light buffer diffuse"),
+        light_specular: storage("deferred light buffer specular"),
+        emission: make("deferred emission, ambient and environment", LIGHT_FORMAT),
+        scene: storage("deferred scene (HDR)"),
+        aux: aux_formats
+            .iter()
+            .map(|(name, format)| (name.clone(), make(&format!("deferred aux {name}"), *format)))
+            .collect(),
+    }
+}
+
+/// A bind group of `views`, bound 0, 1, 2… in order.
+fn view_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    views: &[&wgpu::TextureView],
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &views
+            .iter()
+            .enumerate()
+            .map(|(i, v)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::TextureView(v),
+            })
+            .collect::<Vec<_>>(),
+    })
+}
+
+/// The group-1 bind groups of the light pass (the light buffers stood in
+/// for), of composition and resolve, and of the light pre-pass's final pass;
+/// the compute light pass's group 2 for each technique.
+fn create_groups(device: &wgpu::Device, im: &Images, layouts: &TargetLayouts) -> Groups {
+    let group = |label: &str, layout: &wgpu::BindGroupLayout, views: &[&wgpu::TextureView]| {
+        view_group(device, label, layout, views)
+    };
+    let light = group(
+        "deferred group 1 (light pass)",
+        layouts.gbuffer,
+        &[
+            &im.depth.view,
+            &im.albedo.view,
+            &im.normal.view,
+            &im.specular.view,
+            layouts.dummy_light,
+            layouts.dummy_light,
+        ],
+    );
+    let all = group(
+        "deferred group 1 (composition, resolve)",
+        layouts.gbuffer,
+        &[
+            &im.depth.view,
+            &im.albedo.view,
+            &im.normal.view,
+            &im.specular.view,
+            &im.light_diffuse.view,
+            &im.light_specular.view,
+        ],
+    );
+    let prepass_final = group(
+        "deferred group 1 (light pre-pass final)",
+        layouts.light_buffers,
+        &[&im.light_diffuse.view, &im.light_specular.view],
+    );
+    let compute = |label: &str, read: &wgpu::TextureView| {
+        group(
+            label,
+            layouts.light_compute,
+            &[
+                &im.light_diffuse.view,
+                &im.light_specular.view,
+                &im.scene.view,
+                read,
+            ],
+        )
+    };
+    Groups {
+        light,
+        all,
+        prepass_final,
+        compute_deferred: compute(
+            "deferred group 2 (compute lights, deferred)",
+            &im.emission.view,
+        ),
+        compute_prepass: compute(
+            "deferred group 2 (compute lights, light pre-pass)",
+            layouts.dummy_light,
+        ),
+    }
+}
+
 impl Targets {
     /// Creates every target of a `width`×`height` frame.
     pub fn new(
@@ -86,96 +232,19 @@ impl Targets {
     ) -> Result<Targets, crate::gpu::context::GpuError> {
         ctx.check_size(width, height, "deferred render target")?;
         ctx.scoped("deferred render targets", |device| {
-            let make_with = |label: &str, format: wgpu::TextureFormat, extra| {
-                let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC
-                    | extra;
-                let texture =
-                    device.create_texture(&texture_2d(label, (width, height), format, usage, &[]));
-                let view = texture.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some(label),
-                    ..Default::default()
-                });
-                Target { texture, view }
-            };
-            let make = |label: &str, format| make_with(label, format, wgpu::TextureUsages::empty());
-            // written by the compute light pass as well
-            let storage =
-                |label: &str| make_with(label, LIGHT_FORMAT, wgpu::TextureUsages::STORAGE_BINDING);
-            let depth = make("deferred depth", DEPTH_FORMAT);
-            let albedo = make("deferred G-buffer diffuse+material", ALBEDO_FORMAT);
-            let normal = make("deferred G-buffer normal+roughness", NORMAL_FORMAT);
-            let specular = make("deferred G-buffer specular+model", SPECULAR_FORMAT);
-            let light_diffuse = storage("deferred light buffer diffuse");
-            let light_specular = storage("deferred light buffer specular");
-            let emission = make("deferred emission, ambient and environment", LIGHT_FORMAT);
-            let scene = storage("deferred scene (HDR)");
-            let aux = aux_formats
-                .iter()
-                .map(|(name, format)| {
-                    (name.clone(), make(&format!("deferred aux {name}"), *format))
-                })
-                .collect();
-            let group =
-                |label: &str, layout: &wgpu::BindGroupLayout, views: &[&wgpu::TextureView]| {
-                    device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some(label),
-                        layout,
-                        entries: &views
-                            .iter()
-                            .enumerate()
-                            .map(|(i, v)| wgpu::BindGroupEntry {
-                                binding: i as u32,
-                                resource: wgpu::BindingResource::TextureView(v),
-                            })
-                            .collect::<Vec<_>>(),
-                    })
-                };
-            let bg_light = group(
-                "deferred group 1 (light pass)",
-                layouts.gbuffer,
-                &[
-                    &depth.view,
-                    &albedo.view,
-                    &normal.view,
-                    &specular.view,
-                    layouts.dummy_light,
-                    layouts.dummy_light,
-                ],
-            );
-            let bg_all = group(
-                "deferred group 1 (composition, resolve)",
-                layouts.gbuffer,
-                &[
-                    &depth.view,
-                    &albedo.view,
-                    &normal.view,
-                    &specular.view,
-                    &light_diffuse.view,
-                    &light_specular.view,
-                ],
-            );
-            let bg_final = group(
-                "deferred group 1 (light pre-pass final)",
-                layouts.light_buffers,
-                &[&light_diffuse.view, &light_specular.view],
-            );
-            let compute = |label: &str, read: &wgpu::TextureView| {
-                group(
-                    label,
-                    layouts.light_compute,
-                    &[&light_diffuse.view, &light_specular.view, &scene.view, read],
-                )
-            };
-            let bg_compute_deferred = compute(
-                "deferred group 2 (compute lights, deferred)",
-                &emission.view,
-            );
-            let bg_compute_prepass = compute(
-                "deferred group 2 (compute lights, light pre-pass)",
-                layouts.dummy_light,
-            );
+            let images = create_images(device, (width, height), aux_formats);
+            let groups = create_groups(device, &images, layouts);
+            let Images {
+                depth,
+                albedo,
+                normal,
+                specular,
+                light_diffuse,
+                light_specular,
+                emission,
+                scene,
+                aux,
+            } = images;
             Targets {
                 width,
                 height,
@@ -188,11 +257,11 @@ impl Targets {
                 emission,
                 scene,
                 aux,
-                bg_light,
-                bg_all,
-                bg_final,
-                bg_compute_deferred,
-                bg_compute_prepass,
+                bg_light: groups.light,
+                bg_all: groups.all,
+                bg_final: groups.prepass_final,
+                bg_compute_deferred: groups.compute_deferred,
+                bg_compute_prepass: groups.compute_prepass,
             }
         })
     }

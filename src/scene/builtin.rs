@@ -314,101 +314,118 @@ impl Builder {
     }
 }
 
-/// `builtin:room`: a floor and three walls, boxes and spheres of assorted
-/// materials (one emissive, one transparent), 24 coloured point lights (intensity
-/// 4, radius 6..9), a spot
-/// light, a dim directional light and ambient light. One camera, "room".
 /// The material definitions of the built-in scenes.
 pub const ROOM_MATERIALS: &str = include_str!("../../materials/room.fx");
 pub const BENCH_MATERIALS: &str = include_str!("../../materials/bench.fx");
 
+/// `builtin:room`: a floor and three walls, boxes and spheres of assorted
+/// materials (one emissive, one transparent), 24 coloured point lights (intensity
+/// 4, radius 6..9), a spot
+/// light, a dim directional light and ambient light. One camera, "room".
 pub fn room() -> Scene {
     let mut b = Builder::new("room");
     let cube = b.mesh(box_mesh(Vec3::ONE));
     let sphere = b.mesh(uv_sphere(48, 24));
     let mats = b.materials_from(ROOM_MATERIALS, "<builtin>/materials/room.fx");
-    let m = |name: &str| mats[name];
-    let (floor_m, wall_m, red, blue, gold, white, green, lamp, glass) = (
-        m("floor"),
-        m("wall"),
-        m("red"),
-        m("blue"),
-        m("gold"),
-        m("white"),
-        m("green"),
-        m("lamp"),
-        m("glass"),
+    place_room_shell(&mut b, cube, |name| mats[name]);
+    place_room_props(&mut b, (cube, sphere), |name| mats[name]);
+    add_room_lights(&mut b);
+    b.camera(
+        "room",
+        Vec3::new(0.0, 4.0, 11.0),
+        Vec3::new(0.0, 1.2, -1.0),
+        50.0,
+        0.1,
+        40.0,
     );
+    b.scene.background = Vec3::new(0.02, 0.02, 0.03);
+    b.scene
+}
+
+/// The room's floor and three walls (`material` names a material of
+/// `materials/room.fx`).
+fn place_room_shell(b: &mut Builder, cube: usize, material: impl Fn(&str) -> usize) {
     let s = |x: f32, y: f32, z: f32| Mat4::from_scale(Vec3::new(x, y, z));
     let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
-    b.place(
-        "floor",
-        cube,
-        floor_m,
-        t(0.0, -0.1, 0.0) * s(12.0, 0.2, 12.0),
-    );
-    b.place(
-        "back wall",
-        cube,
-        wall_m,
-        t(0.0, 2.5, -6.1) * s(12.0, 5.0, 0.2),
-    );
-    b.place(
-        "left wall",
-        cube,
-        wall_m,
-        t(-6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0),
-    );
-    b.place(
-        "right wall",
-        cube,
-        wall_m,
-        t(6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0),
-    );
-    b.place("red box", cube, red, t(-3.0, 0.75, -2.5) * s(1.5, 1.5, 1.5));
-    b.place(
-        "tall box",
-        cube,
-        white,
-        t(3.2, 1.5, -3.0) * Mat4::from_rotation_y(0.5) * s(1.4, 3.0, 1.4),
-    );
-    b.place(
-        "green box",
-        cube,
-        green,
-        t(0.5, 0.4, 2.0) * Mat4::from_rotation_y(-0.3) * s(2.0, 0.8, 1.0),
-    );
-    b.place(
-        "blue sphere",
-        sphere,
-        blue,
-        t(-1.0, 1.0, -0.5) * s(1.0, 1.0, 1.0),
-    );
-    b.place(
-        "gold sphere",
-        sphere,
-        gold,
-        t(2.0, 0.8, 0.5) * s(0.8, 0.8, 0.8),
-    );
-    b.place(
-        "white sphere",
-        sphere,
-        white,
-        t(-3.5, 0.6, 1.5) * s(0.6, 0.6, 0.6),
-    );
-    b.place(
-        "lamp",
-        sphere,
-        lamp,
-        t(0.0, 3.8, -4.5) * s(0.35, 0.35, 0.35),
-    );
-    b.place(
-        "glass sphere",
-        sphere,
-        glass,
-        t(-1.2, 0.7, 2.6) * s(0.7, 0.7, 0.7),
-    );
+    let objects = [
+        ("floor", "floor", t(0.0, -0.1, 0.0) * s(12.0, 0.2, 12.0)),
+        ("back wall", "wall", t(0.0, 2.5, -6.1) * s(12.0, 5.0, 0.2)),
+        ("left wall", "wall", t(-6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0)),
+        ("right wall", "wall", t(6.1, 2.5, 0.0) * s(0.2, 5.0, 12.0)),
+    ];
+    for (name, m, transform) in objects {
+        b.place(name, cube, material(m), transform);
+    }
+}
 
+/// The room's boxes and spheres (`material` names a material of
+/// `materials/room.fx`).
+fn place_room_props(
+    b: &mut Builder,
+    (cube, sphere): (usize, usize),
+    material: impl Fn(&str) -> usize,
+) {
+    let s = |x: f32, y: f32, z: f32| Mat4::from_scale(Vec3::new(x, y, z));
+    let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
+    let turned = |angle: f32| Mat4::from_rotation_y(angle);
+    let objects = [
+        (
+            "red box",
+            cube,
+            "red",
+            t(-3.0, 0.75, -2.5) * s(1.5, 1.5, 1.5),
+        ),
+        (
+            "tall box",
+            cube,
+            "white",
+            t(3.2, 1.5, -3.0) * turned(0.5) * s(1.4, 3.0, 1.4),
+        ),
+        (
+            "green box",
+            cube,
+            "green",
+            t(0.5, 0.4, 2.0) * turned(-0.3) * s(2.0, 0.8, 1.0),
+        ),
+        (
+            "blue sphere",
+            sphere,
+            "blue",
+            t(-1.0, 1.0, -0.5) * s(1.0, 1.0, 1.0),
+        ),
+        (
+            "gold sphere",
+            sphere,
+            "gold",
+            t(2.0, 0.8, 0.5) * s(0.8, 0.8, 0.8),
+        ),
+        (
+            "white sphere",
+            sphere,
+            "white",
+            t(-3.5, 0.6, 1.5) * s(0.6, 0.6, 0.6),
+        ),
+        (
+            "lamp",
+            sphere,
+            "lamp",
+            t(0.0, 3.8, -4.5) * s(0.35, 0.35, 0.35),
+        ),
+        (
+            "glass sphere",
+            sphere,
+            "glass",
+            t(-1.2, 0.7, 2.6) * s(0.7, 0.7, 0.7),
+        ),
+    ];
+    for (name, mesh, m, transform) in objects {
+        b.place(name, mesh, material(m), transform);
+    }
+}
+
+/// The room's lights: 24 coloured point lights on two rings (no shadows), a
+/// spot light, a dim directional light and ambient light.
+fn add_room_lights(b: &mut Builder) {
     for i in 0..24 {
         let a = i as f32 / 24.0 * std::f32::consts::TAU;
         let ring = if i % 2 == 0 { 4.2 } else { 2.6 };
@@ -453,16 +470,6 @@ pub fn room() -> Scene {
         ),
     );
     b.light("room ambient", Light::ambient(Vec3::ONE, 0.06));
-    b.camera(
-        "room",
-        Vec3::new(0.0, 4.0, 11.0),
-        Vec3::new(0.0, 1.2, -1.0),
-        50.0,
-        0.1,
-        40.0,
-    );
-    b.scene.background = Vec3::new(0.02, 0.02, 0.03);
-    b.scene
 }
 
 /// `builtin:bench`: a 10×10 grid of tessellated spheres (960 triangles each) on a

@@ -93,100 +93,137 @@ impl Camera {
             });
         }
         if !s.contains('=') {
-            return scene
-                .cameras
-                .iter()
-                .find(|c| c.name == s)
-                .map(|c| c.camera)
-                .ok_or_else(|| {
-                    let names: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
-                    err(format!(
-                        "no camera named `{s}` (cameras: {})",
-                        if names.is_empty() {
-                            "none".to_string()
-                        } else {
-                            names.join(", ")
-                        }
-                    ))
-                });
+            return camera_named(scene, s).map_err(err);
         }
         let base = scene.default_camera();
-        let mut cam = base;
-        let mut target_given = false;
-        let mut clip_given = (false, false);
-        for part in s.split(';').map(str::trim).filter(|p| !p.is_empty()) {
-            let (key, value) = part
-                .split_once('=')
-                .ok_or_else(|| err(format!("`{part}` is not key=value")))?;
-            let key = key.trim().to_ascii_lowercase();
-            let num = |v: &str| -> Result<f32, SceneError> {
-                let x: f32 = v
-                    .trim()
-                    .parse()
-                    .map_err(|_| err(format!("`{v}` is not a number (in `{part}`)")))?;
-                if x.is_finite() {
-                    Ok(x)
-                } else {
-                    Err(err(format!("`{v}` is not finite")))
-                }
-            };
-            let vec3 = |v: &str| -> Result<Vec3, SceneError> {
-                let parts: Vec<&str> = v.split(',').collect();
-                if parts.len() != 3 {
-                    return Err(err(format!("`{key}` needs x,y,z (got `{v}`)")));
-                }
-                Ok(Vec3::new(num(parts[0])?, num(parts[1])?, num(parts[2])?))
-            };
-            match key.as_str() {
-                "eye" | "pos" | "position" => cam.eye = vec3(value)?,
-                "target" | "at" | "look" => {
-                    cam.target = vec3(value)?;
-                    target_given = true;
-                }
-                "up" => cam.up = vec3(value)?,
-                "fov" | "fovy" | "fov_y" => {
-                    let deg = num(value)?;
-                    if !(1.0..=179.0).contains(&deg) {
-                        return Err(err(format!("fov {deg} is outside 1..179 degrees")));
-                    }
-                    cam.fov_y = deg.to_radians();
-                }
-                "near" => {
-                    cam.near = num(value)?;
-                    clip_given.0 = true;
-                }
-                "far" => {
-                    cam.far = num(value)?;
-                    clip_given.1 = true;
-                }
-                other => {
-                    return Err(err(format!(
-                        "unknown key `{other}` (use eye, target, up, fov, near, far)"
-                    )))
-                }
-            }
-        }
-        if !target_given && cam.eye != base.eye {
-            cam.target = scene.bounds().center();
-        }
-        if (cam.target - cam.eye).length_squared() < 1e-12 {
-            return Err(err("eye and target are the same point".into()));
-        }
-        let (near, far) = scene.fit_clip(&cam);
-        if !clip_given.0 {
-            cam.near = near;
-        }
-        if !clip_given.1 {
-            cam.far = far;
-        }
-        if !(cam.near > 0.0 && cam.far > cam.near) {
-            return Err(err(format!(
-                "need 0 < near < far (near {}, far {})",
-                cam.near, cam.far
-            )));
-        }
+        let (mut cam, given) = parse_settings(s, base).map_err(err)?;
+        fit_to_scene(&mut cam, base, scene, given).map_err(err)?;
         Ok(cam)
     }
+}
+
+/// The scene camera named `name`.
+fn camera_named(scene: &Scene, name: &str) -> Result<Camera, String> {
+    scene
+        .cameras
+        .iter()
+        .find(|c| c.name == name)
+        .map(|c| c.camera)
+        .ok_or_else(|| {
+            let names: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
+            format!(
+                "no camera named `{name}` (cameras: {})",
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            )
+        })
+}
+
+/// Which of the settings that otherwise come from the scene were given.
+#[derive(Default, Clone, Copy)]
+struct Given {
+    target: bool,
+    near: bool,
+    far: bool,
+}
+
+/// `base` with the `key=value` settings of `spec` (separated by `;`) applied.
+fn parse_settings(spec: &str, base: Camera) -> Result<(Camera, Given), String> {
+    let mut cam = base;
+    let mut given = Given::default();
+    for part in spec.split(';').map(str::trim).filter(|p| !p.is_empty()) {
+        let (key, value) = part
+            .split_once('=')
+            .ok_or_else(|| format!("`{part}` is not key=value"))?;
+        let key = key.trim().to_ascii_lowercase();
+        apply_setting(&mut cam, &mut given, (&key, value), part)?;
+    }
+    Ok((cam, given))
+}
+
+/// Sets `key` (lower case) of `cam` to `value`, from the setting `part`.
+fn apply_setting(
+    cam: &mut Camera,
+    given: &mut Given,
+    (key, value): (&str, &str),
+    part: &str,
+) -> Result<(), String> {
+    let num = |v: &str| -> Result<f32, String> {
+        let x: f32 = v
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{v}` is not a number (in `{part}`)"))?;
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(format!("`{v}` is not finite"))
+        }
+    };
+    let vec3 = |v: &str| -> Result<Vec3, String> {
+        let parts: Vec<&str> = v.split(',').collect();
+        if parts.len() != 3 {
+            return Err(format!("`{key}` needs x,y,z (got `{v}`)"));
+        }
+        Ok(Vec3::new(num(parts[0])?, num(parts[1])?, num(parts[2])?))
+    };
+    match key {
+        "eye" | "pos" | "position" => cam.eye = vec3(value)?,
+        "target" | "at" | "look" => {
+            cam.target = vec3(value)?;
+            given.target = true;
+        }
+        "up" => cam.up = vec3(value)?,
+        "fov" | "fovy" | "fov_y" => {
+            let deg = num(value)?;
+            if !(1.0..=179.0).contains(&deg) {
+                return Err(format!("fov {deg} is outside 1..179 degrees"));
+            }
+            cam.fov_y = deg.to_radians();
+        }
+        "near" => {
+            cam.near = num(value)?;
+            given.near = true;
+        }
+        "far" => {
+            cam.far = num(value)?;
+            given.far = true;
+        }
+        other => {
+            return Err(format!(
+                "unknown key `{other}` (use eye, target, up, fov, near, far)"
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// What was not given comes from the scene: the target is its centre when
+/// only the eye moved, near and far are fitted to its bounds. The result must
+/// look somewhere, with 0 < near < far.
+fn fit_to_scene(cam: &mut Camera, base: Camera, scene: &Scene, given: Given) -> Result<(), String> {
+    if !given.target && cam.eye != base.eye {
+        cam.target = scene.bounds().center();
+    }
+    if (cam.target - cam.eye).length_squared() < 1e-12 {
+        return Err("eye and target are the same point".into());
+    }
+    let (near, far) = scene.fit_clip(cam);
+    if !given.near {
+        cam.near = near;
+    }
+    if !given.far {
+        cam.far = far;
+    }
+    if !(cam.near > 0.0 && cam.far > cam.near) {
+        return Err(format!(
+            "need 0 < near < far (near {}, far {})",
+            cam.near, cam.far
+        ));
+    }
+    Ok(())
 }
 
 impl fmt::Display for Camera {

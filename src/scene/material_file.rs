@@ -284,6 +284,71 @@ fn load_binding_shader(
     Some(shader)
 }
 
+/// Checks the values of parameter `p`: as many as its type has components,
+/// each inside its range; false (with an error at `span`) when not.
+fn check_param_values(
+    p: &crate::shader::reflect::UniformMember,
+    v: &[f64],
+    span: crate::script::diag::Span,
+    diags: &mut Diagnostics,
+) -> bool {
+    let n = p.ty.components();
+    if v.len() != n {
+        diags.push(
+            Diagnostic::error(format!(
+                "`{}` is {} ({n} value{}), got {} value{}",
+                p.name,
+                p.ty.wgsl(),
+                if n == 1 { "" } else { "s" },
+                v.len(),
+                if v.len() == 1 { "" } else { "s" }
+            ))
+            .at(span, "wrong number of values"),
+        );
+        return false;
+    }
+    if let Some((lo, hi)) = p.range {
+        if let Some(bad) = v.iter().find(|x| **x < lo || **x > hi) {
+            diags.push(
+                Diagnostic::error(format!(
+                    "`{}` = {bad} is outside its range {lo}..{hi}",
+                    p.name
+                ))
+                .at(span, "out of range"),
+            );
+            return false;
+        }
+    }
+    true
+}
+
+/// The error of a setting `key` that `shader` (named `name`) does not take,
+/// listing the settings it takes.
+fn unknown_setting(
+    shader: &shader_material::MaterialShader,
+    kind: MaterialShaderKind,
+    name: &str,
+    key: &crate::script::diag::Spanned<String>,
+) -> Diagnostic {
+    let mut known: Vec<&str> = shader
+        .params
+        .iter()
+        .flat_map(|p| p.members.iter().map(|m| m.name.as_str()))
+        .collect();
+    known.extend(shader.textures.iter().map(|t| t.name.as_str()));
+    Diagnostic::error(format!(
+        "{} shader `{name}` has no setting `{}`",
+        kind.name(),
+        key.node
+    ))
+    .at(key.span, "unknown setting")
+    .note(if known.is_empty() {
+        "this shader takes no settings".to_string()
+    } else {
+        format!("its settings: {}", known.join(", "))
+    })
+}
+
 /// The binding of `use_` to its loaded `shader`: every setting checked against the
 /// shader's parameters and textures (textures loaded).
 fn bind_settings(
@@ -314,32 +379,7 @@ fn bind_settings(
             .find(|t| t.name.eq_ignore_ascii_case(key));
         match (&s.value.node, param, texture) {
             (MaterialValue::Numbers(v), Some(p), _) => {
-                let n = p.ty.components();
-                if v.len() != n {
-                    diags.push(
-                        Diagnostic::error(format!(
-                            "`{}` is {} ({n} value{}), got {} value{}",
-                            p.name,
-                            p.ty.wgsl(),
-                            if n == 1 { "" } else { "s" },
-                            v.len(),
-                            if v.len() == 1 { "" } else { "s" }
-                        ))
-                        .at(s.value.span, "wrong number of values"),
-                    );
-                    ok = false;
-                } else if let Some((lo, hi)) = p.range {
-                    if let Some(bad) = v.iter().find(|x| **x < lo || **x > hi) {
-                        diags.push(
-                            Diagnostic::error(format!(
-                                "`{}` = {bad} is outside its range {lo}..{hi}",
-                                p.name
-                            ))
-                            .at(s.value.span, "out of range"),
-                        );
-                        ok = false;
-                    }
-                }
+                ok &= check_param_values(p, v, s.value.span, diags);
                 b.params.push((p.name.clone(), v.clone()));
             }
             (MaterialValue::Text(path), _, Some(t)) => match load_texture(dir, path.as_str()) {
@@ -375,24 +415,7 @@ fn bind_settings(
                 ok = false;
             }
             (_, None, None) => {
-                let mut known: Vec<&str> = shader
-                    .params
-                    .iter()
-                    .flat_map(|p| p.members.iter().map(|m| m.name.as_str()))
-                    .collect();
-                known.extend(shader.textures.iter().map(|t| t.name.as_str()));
-                diags.push(
-                    Diagnostic::error(format!(
-                        "{} shader `{name}` has no setting `{key}`",
-                        kind.name()
-                    ))
-                    .at(s.name.span, "unknown setting")
-                    .note(if known.is_empty() {
-                        "this shader takes no settings".to_string()
-                    } else {
-                        format!("its settings: {}", known.join(", "))
-                    }),
-                );
+                diags.push(unknown_setting(shader, kind, name, &s.name));
                 ok = false;
             }
         }

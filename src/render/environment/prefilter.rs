@@ -295,81 +295,103 @@ fn each_face(
     }
 }
 
-/// Prefilters `map` (blocks until the GPU is done, so that [`Prefiltered::ms`]
-/// is the real cost).
-pub(crate) fn prefilter(
-    ctx: &GpuContext,
-    pipes: &PrefilterPipelines,
-    map: &EnvironmentMap,
-) -> Result<Prefiltered, GpuError> {
-    let start = std::time::Instant::now();
-    let m = &map.map;
-    let texels: Vec<half::f16> = m
-        .texels
-        .iter()
-        .flat_map(|t| [t.x, t.y, t.z, 1.0].map(half::f16::from_f32))
-        .collect();
-    let equirect = ctx.upload_texture(
-        &format!("environment map {}", map.name),
-        m.width,
-        m.height,
-        FORMAT,
-        bytemuck::cast_slice(&texels),
-        wgpu::TextureUsages::empty(),
-    )?;
-    let size = face_size(m.width);
-    let source_levels = size.trailing_zeros() + 1;
-    let levels = specular_levels(size);
-    let made = ctx.scoped("environment prefiltering", |device| {
-        let source = cube(device, "environment source cube", size, source_levels);
-        let specular = cube(
-            device,
-            "environment specular cube (GGX levels)",
+/// The face size and mip levels of one prefiltering.
+#[derive(Clone, Copy)]
+struct Sizes {
+    /// The source's and the specular map's face size.
+    size: u32,
+    /// Levels of the source cube (down to 1×1).
+    source_levels: u32,
+    /// GGX levels of the specular map.
+    levels: u32,
+}
+
+impl Sizes {
+    /// The sizes for an equirectangular map `width` texels wide.
+    fn of(width: u32) -> Sizes {
+        let size = face_size(width);
+        Sizes {
             size,
-            levels,
-        );
-        let irradiance = cube(device, "environment irradiance cube", IRRADIANCE_FACE, 1);
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("environment prefiltering"),
-        });
+            source_levels: size.trailing_zeros() + 1,
+            levels: specular_levels(size),
+        }
+    }
+
+    /// The parameters of one face's pass into a level `side` texels wide.
+    fn params(
+        &self,
+        face: u32,
+        distribution: u32,
+        samples: u32,
+        roughness: f32,
+        side: u32,
+    ) -> GpuPrefilter {
+        GpuPrefilter {
+            face,
+            distribution,
+            samples,
+            _p0: 0,
+            source_size: self.size as f32,
+            roughness,
+            size: side as f32,
+            max_lod: (self.source_levels - 1) as f32,
+        }
+    }
+}
+
+/// The passes of one prefiltering, recorded into one encoder.
+struct Recorder<'a> {
+    device: &'a wgpu::Device,
+    encoder: wgpu::CommandEncoder,
+    pipes: &'a PrefilterPipelines,
+    sizes: Sizes,
+}
+
+impl Recorder<'_> {
+    /// The source cube: level 0 from the equirectangular map, every further
+    /// level downsampled from the one above.
+    fn fill_source(&mut self, source: &wgpu::Texture, equirect: &wgpu::Texture) {
+        let (device, pipes, sizes) = (self.device, self.pipes, self.sizes);
         let equirect_view = equirect.create_view(&Default::default());
-        let params =
-            |face: u32, distribution: u32, samples: u32, roughness: f32, side: u32| GpuPrefilter {
-                face,
-                distribution,
-                samples,
-                _p0: 0,
-                source_size: size as f32,
-                roughness,
-                size: side as f32,
-                max_lod: (source_levels - 1) as f32,
-            };
         each_face(
             device,
-            &mut encoder,
+            &mut self.encoder,
             &pipes.equirect,
-            (&source, 0),
-            |face| params(face, 0, 0, 0.0, size),
+            (source, 0),
+            |face| sizes.params(face, 0, 0, 0.0, sizes.size),
             &[
                 (1, wgpu::BindingResource::TextureView(&equirect_view)),
                 (4, wgpu::BindingResource::Sampler(&pipes.sampler)),
             ],
         );
-        for level in 1..source_levels {
+        for level in 1..sizes.source_levels {
             for face in 0..6 {
-                let above = face_view(&source, level - 1, face);
+                let above = face_view(source, level - 1, face);
                 pass(
                     device,
-                    &mut encoder,
+                    &mut self.encoder,
                     &pipes.downsample,
-                    &face_view(&source, level, face),
+                    &face_view(source, level, face),
                     None,
                     &[(3, wgpu::BindingResource::TextureView(&above))],
                 );
             }
         }
+    }
+
+    /// The specular map: level 0 the source itself (roughness 0), each further
+    /// level the GGX lobe of its roughness, sampled from the source cube, or
+    /// convolved from the small cube from [`CONVOLVED_ROUGHNESS`] on.
+    fn filter_specular(
+        &mut self,
+        source: &wgpu::Texture,
+        specular: &wgpu::Texture,
+        small: &wgpu::Buffer,
+    ) {
+        let (device, pipes, sizes) = (self.device, self.pipes, self.sizes);
+        let (size, levels) = (sizes.size, sizes.levels);
         // level 0 of the specular map: roughness 0, the source itself
-        encoder.copy_texture_to_texture(
+        self.encoder.copy_texture_to_texture(
             source.as_image_copy(),
             specular.as_image_copy(),
             wgpu::Extent3d {
@@ -378,12 +400,7 @@ pub(crate) fn prefilter(
                 depth_or_array_layers: 6,
             },
         );
-        let source_cube = cube_view(&source, "environment source cube");
-        let small = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("environment small cube texels"),
-            contents: bytemuck::cast_slice(&cube_texels(&map.map, CONVOLVED_SIDE)),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let source_cube = cube_view(source, "environment source cube");
         for level in 1..levels {
             let side = size >> level;
             let roughness = level as f32 / (levels - 1) as f32;
@@ -395,7 +412,7 @@ pub(crate) fn prefilter(
                     roughness,
                     samples,
                     size,
-                    (source_levels - 1) as f32,
+                    (sizes.source_levels - 1) as f32,
                 )),
                 usage: wgpu::BufferUsages::STORAGE,
             });
@@ -414,22 +431,86 @@ pub(crate) fn prefilter(
             };
             each_face(
                 device,
-                &mut encoder,
+                &mut self.encoder,
                 pipeline,
-                (&specular, level),
-                |face| params(face, 0, samples, roughness, side),
+                (specular, level),
+                |face| sizes.params(face, 0, samples, roughness, side),
                 &resources,
             );
         }
+    }
+
+    /// The irradiance cube, convolved from the small cube.
+    fn convolve_irradiance(&mut self, irradiance: &wgpu::Texture, small: &wgpu::Buffer) {
+        let sizes = self.sizes;
         each_face(
-            device,
-            &mut encoder,
-            &pipes.convolve,
-            (&irradiance, 0),
-            |face| params(face, 1, 0, 1.0, IRRADIANCE_FACE),
+            self.device,
+            &mut self.encoder,
+            &self.pipes.convolve,
+            (irradiance, 0),
+            |face| sizes.params(face, 1, 0, 1.0, IRRADIANCE_FACE),
             &[(7, small.as_entire_binding())],
         );
-        ctx.queue.submit([encoder.finish()]);
+    }
+}
+
+/// The map as an `Rgba16Float` texture (alpha 1).
+fn upload_equirect(ctx: &GpuContext, map: &EnvironmentMap) -> Result<wgpu::Texture, GpuError> {
+    let m = &map.map;
+    let texels: Vec<half::f16> = m
+        .texels
+        .iter()
+        .flat_map(|t| [t.x, t.y, t.z, 1.0].map(half::f16::from_f32))
+        .collect();
+    ctx.upload_texture(
+        &format!("environment map {}", map.name),
+        m.width,
+        m.height,
+        FORMAT,
+        bytemuck::cast_slice(&texels),
+        wgpu::TextureUsages::empty(),
+    )
+}
+
+/// Prefilters `map` (blocks until the GPU is done, so that [`Prefiltered::ms`]
+/// is the real cost).
+pub(crate) fn prefilter(
+    ctx: &GpuContext,
+    pipes: &PrefilterPipelines,
+    map: &EnvironmentMap,
+) -> Result<Prefiltered, GpuError> {
+    let start = std::time::Instant::now();
+    let m = &map.map;
+    let equirect = upload_equirect(ctx, map)?;
+    let sizes = Sizes::of(m.width);
+    let Sizes { size, levels, .. } = sizes;
+    let made = ctx.scoped("environment prefiltering", |device| {
+        let source = cube(device, "environment source cube", size, sizes.source_levels);
+        let specular = cube(
+            device,
+            "environment specular cube (GGX levels)",
+            size,
+            levels,
+        );
+        let irradiance = cube(device, "environment irradiance cube", IRRADIANCE_FACE, 1);
+        let encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("environment prefiltering"),
+        });
+        let mut rec = Recorder {
+            device,
+            encoder,
+            pipes,
+            sizes,
+        };
+        rec.fill_source(&source, &equirect);
+        let small = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("environment small cube texels"),
+            contents: bytemuck::cast_slice(&cube_texels(&map.map, CONVOLVED_SIDE)),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        rec.filter_specular(&source, &specular, &small);
+        rec.convolve_irradiance(&irradiance, &small);
+        ctx.queue.submit([rec.encoder.finish()]);
         let specular_view = cube_view(&specular, "environment specular cube");
         let irradiance_view = cube_view(&irradiance, "environment irradiance cube");
         (specular, specular_view, irradiance, irradiance_view)

@@ -149,99 +149,131 @@ fn mesh_features(m: &crate::scene::Mesh) -> u64 {
     f
 }
 
-impl Geometry {
-    pub fn upload(
-        ctx: &GpuContext,
+/// Every mesh's vertices and indices, one after the other.
+struct MeshData {
+    vertices: Vec<Vertex>,
+    indices: Vec<u32>,
+    /// Each mesh's base vertex and index range.
+    ranges: Vec<(i32, Range<u32>)>,
+}
+
+/// Concatenates the scene's meshes (missing attributes take their defaults);
+/// an index past a mesh's vertices is an error.
+fn pack_meshes(scene: &Scene) -> Result<MeshData, RenderError> {
+    let name = &scene.name;
+    let mut vertices: Vec<Vertex> = Vec::new();
+    let mut indices: Vec<u32> = Vec::new();
+    let mut ranges = Vec::with_capacity(scene.meshes.len());
+    for m in &scene.meshes {
+        let base = vertices.len() as i32;
+        let first = indices.len() as u32;
+        for i in 0..m.positions.len() {
+            let t = m
+                .tangents
+                .as_ref()
+                .and_then(|t| t.get(i).copied())
+                .unwrap_or(Vec4::ZERO);
+            vertices.push(Vertex {
+                position: m.positions[i].into(),
+                normal: m.normals.get(i).copied().unwrap_or(Vec3::Y).into(),
+                uv0: m.uvs.get(i).copied().unwrap_or_default().into(),
+                uv1: m.uvs1.get(i).copied().unwrap_or(Vec2::ZERO).into(),
+                tangent: t.into(),
+                color: m.colors.get(i).copied().unwrap_or(Vec4::ONE).into(),
+            });
+        }
+        if let Some(&bad) = m.indices.iter().find(|&&i| i as usize >= m.positions.len()) {
+            return Err(RenderError::Invalid(format!(
+                "{name}: mesh `{}` has index {bad} >= {} vertices",
+                m.name,
+                m.positions.len()
+            )));
+        }
+        indices.extend_from_slice(&m.indices);
+        ranges.push((base, first..indices.len() as u32));
+    }
+    Ok(MeshData {
+        vertices,
+        indices,
+        ranges,
+    })
+}
+
+/// Every instance must name an existing mesh and material.
+fn check_instances(scene: &Scene) -> Result<(), RenderError> {
+    for inst in &scene.instances {
+        if inst.mesh >= scene.meshes.len() || inst.material >= scene.materials.len() {
+            return Err(RenderError::Invalid(format!(
+                "{}: instance `{}` refers to a missing mesh or material",
+                scene.name, inst.name
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The face culling of an instance: its material's sidedness, and the winding
+/// its transform gives (mirrored: negative determinant).
+fn instance_cull(scene: &Scene, inst: &crate::scene::Instance) -> Cull {
+    let mirrored = inst.transform.determinant() < 0.0;
+    match (scene.materials[inst.material].double_sided, mirrored) {
+        (true, false) => Cull::None,
+        (true, true) => Cull::NoneCw,
+        (false, true) => Cull::BackCw,
+        (false, false) => Cull::BackCcw,
+    }
+}
+
+/// The instances in slot order: sorted so that runs of (cull, material, mesh)
+/// become batches, the transparent ones last.
+fn slot_order(scene: &Scene) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..scene.instances.len()).collect();
+    order.sort_by_key(|&i| {
+        let inst = &scene.instances[i];
+        let blend = scene.materials[inst.material].alpha_mode == AlphaMode::Blend;
+        (blend, instance_cull(scene, inst), inst.material, inst.mesh)
+    });
+    order
+}
+
+/// The instances sorted into draws, slot by slot.
+#[derive(Default)]
+struct Batching {
+    gpu_instances: Vec<GpuInstance>,
+    batches: Vec<Batch>,
+    blend_items: Vec<BlendItem>,
+    blend_slots: Vec<usize>,
+    deformed: Vec<Deformed>,
+}
+
+impl Batching {
+    /// Sorts every instance into the draws, in slot order: deformed instances
+    /// get a private copy of their mesh's vertices; opaque ones join the
+    /// previous batch when it draws the same thing; transparent ones are drawn
+    /// one by one.
+    fn build(
         scene: &Scene,
         materials: &MaterialSet,
-    ) -> Result<Geometry, RenderError> {
-        let name = &scene.name;
-        let mut vertices: Vec<Vertex> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        let mut ranges = Vec::with_capacity(scene.meshes.len());
-        for m in &scene.meshes {
-            let base = vertices.len() as i32;
-            let first = indices.len() as u32;
-            for i in 0..m.positions.len() {
-                let t = m
-                    .tangents
-                    .as_ref()
-                    .and_then(|t| t.get(i).copied())
-                    .unwrap_or(Vec4::ZERO);
-                vertices.push(Vertex {
-                    position: m.positions[i].into(),
-                    normal: m.normals.get(i).copied().unwrap_or(Vec3::Y).into(),
-                    uv0: m.uvs.get(i).copied().unwrap_or_default().into(),
-                    uv1: m.uvs1.get(i).copied().unwrap_or(Vec2::ZERO).into(),
-                    tangent: t.into(),
-                    color: m.colors.get(i).copied().unwrap_or(Vec4::ONE).into(),
-                });
-            }
-            if let Some(&bad) = m.indices.iter().find(|&&i| i as usize >= m.positions.len()) {
-                return Err(RenderError::Invalid(format!(
-                    "{name}: mesh `{}` has index {bad} >= {} vertices",
-                    m.name,
-                    m.positions.len()
-                )));
-            }
-            indices.extend_from_slice(&m.indices);
-            ranges.push((base, first..indices.len() as u32));
-        }
-        for inst in &scene.instances {
-            if inst.mesh >= scene.meshes.len() || inst.material >= scene.materials.len() {
-                return Err(RenderError::Invalid(format!(
-                    "{name}: instance `{}` refers to a missing mesh or material",
-                    inst.name
-                )));
-            }
-        }
-        let cull_of = |inst: &crate::scene::Instance| -> Cull {
-            let mirrored = inst.transform.determinant() < 0.0;
-            match (scene.materials[inst.material].double_sided, mirrored) {
-                (true, false) => Cull::None,
-                (true, true) => Cull::NoneCw,
-                (false, true) => Cull::BackCw,
-                (false, false) => Cull::BackCcw,
-            }
+        meshes: &mut MeshData,
+        (order, mesh_bounds): (&[usize], &[crate::scene::Aabb]),
+        align: usize,
+    ) -> Batching {
+        let mut b = Batching {
+            gpu_instances: Vec::with_capacity(order.len()),
+            ..Default::default()
         };
-        // Sorted so that runs of (cull, material, mesh) become batches.
-        let mut order: Vec<usize> = (0..scene.instances.len()).collect();
-        order.sort_by_key(|&i| {
-            let inst = &scene.instances[i];
-            let blend = scene.materials[inst.material].alpha_mode == AlphaMode::Blend;
-            (blend, cull_of(inst), inst.material, inst.mesh)
-        });
-        let mut gpu_instances = Vec::with_capacity(order.len());
-        let mut batches: Vec<Batch> = Vec::new();
-        let mut blend_items = Vec::new();
-        let mut blend_slots = Vec::new();
-        let mesh_bounds: Vec<_> = scene.meshes.iter().map(|m| m.bounds()).collect();
-        let mut deformed = Vec::new();
-        let align = vertex_alignment(ctx.device.limits().min_storage_buffer_offset_alignment);
         for (slot, &i) in order.iter().enumerate() {
             let inst = &scene.instances[i];
-            let model = inst.transform;
-            gpu_instances.push(gpu_instance(model, inst.material as u32));
-            let (mut base_vertex, ref idx) = ranges[inst.mesh];
+            b.gpu_instances
+                .push(gpu_instance(inst.transform, inst.material as u32));
+            let (mut base_vertex, ref idx) = meshes.ranges[inst.mesh];
             let n = scene.meshes[inst.mesh].positions.len();
             if scene.is_deformed(i) && n > 0 {
-                // a private copy of the mesh's vertices, at a storage-aligned offset
-                let start = base_vertex as usize;
-                vertices.resize(
-                    vertices.len().next_multiple_of(align),
-                    bytemuck::Zeroable::zeroed(),
-                );
-                base_vertex = vertices.len() as i32;
-                vertices.extend_from_within(start..start + n);
-                deformed.push(Deformed {
-                    instance: i,
-                    mesh: inst.mesh,
-                    base: base_vertex as u32,
-                    vertices: n as u32,
-                });
+                base_vertex =
+                    b.copy_deformed(&mut meshes.vertices, (i, inst.mesh), base_vertex, n, align);
             }
             let batch = Batch {
-                cull: cull_of(inst),
+                cull: instance_cull(scene, inst),
                 material: inst.material,
                 features: materials.materials[inst.material].features
                     | mesh_features(&scene.meshes[inst.mesh]),
@@ -253,29 +285,168 @@ impl Geometry {
                 continue;
             }
             if scene.materials[inst.material].alpha_mode == AlphaMode::Blend {
-                blend_slots.push(slot);
-                blend_items.push(BlendItem {
+                b.blend_slots.push(slot);
+                b.blend_items.push(BlendItem {
                     batch,
-                    center: mesh_bounds[inst.mesh].transformed(&model).center(),
+                    center: mesh_bounds[inst.mesh].transformed(&inst.transform).center(),
                 });
                 continue;
             }
-            match batches.last_mut() {
-                Some(last)
-                    if last.cull == batch.cull
-                        && last.material == batch.material
-                        && last.features == batch.features
-                        && last.indices == batch.indices
-                        && last.base_vertex == batch.base_vertex
-                        && last.instances.end == slot as u32 =>
-                {
-                    last.instances.end += 1;
-                }
-                _ => batches.push(batch),
-            }
+            b.add_opaque(batch, slot);
         }
         // in scene order, as `FrameMotion::deformed` lists their poses
-        deformed.sort_by_key(|d: &Deformed| d.instance);
+        b.deformed.sort_by_key(|d: &Deformed| d.instance);
+        b
+    }
+
+    /// A private copy of the `n` vertices of a deformed instance's mesh from
+    /// `start`, at a storage-aligned offset; returns its base vertex.
+    fn copy_deformed(
+        &mut self,
+        vertices: &mut Vec<Vertex>,
+        (instance, mesh): (usize, usize),
+        start: i32,
+        n: usize,
+        align: usize,
+    ) -> i32 {
+        let start = start as usize;
+        vertices.resize(
+            vertices.len().next_multiple_of(align),
+            bytemuck::Zeroable::zeroed(),
+        );
+        let base_vertex = vertices.len() as i32;
+        vertices.extend_from_within(start..start + n);
+        self.deformed.push(Deformed {
+            instance,
+            mesh,
+            base: base_vertex as u32,
+            vertices: n as u32,
+        });
+        base_vertex
+    }
+
+    /// An opaque draw: one more instance of the previous batch when it draws
+    /// the same thing from the slot before, else a batch of its own.
+    fn add_opaque(&mut self, batch: Batch, slot: usize) {
+        match self.batches.last_mut() {
+            Some(last)
+                if last.cull == batch.cull
+                    && last.material == batch.material
+                    && last.features == batch.features
+                    && last.indices == batch.indices
+                    && last.base_vertex == batch.base_vertex
+                    && last.instances.end == slot as u32 =>
+            {
+                last.instances.end += 1;
+            }
+            _ => self.batches.push(batch),
+        }
+    }
+}
+
+/// The geometry's buffers.
+struct GeometryBuffers {
+    vertex: wgpu::Buffer,
+    index: wgpu::Buffer,
+    instance: wgpu::Buffer,
+    prev_model: wgpu::Buffer,
+    /// The deformed vertices one frame earlier (when there are any).
+    prev_vertex: Option<wgpu::Buffer>,
+}
+
+/// Uploads the vertices, indices, instances and their previous transforms (a
+/// zero instance when there are none), and the previous vertices of the
+/// deformed instances.
+fn create_buffers(
+    ctx: &GpuContext,
+    meshes: &MeshData,
+    gpu_instances: &mut Vec<GpuInstance>,
+    any_deformed: bool,
+) -> Result<GeometryBuffers, RenderError> {
+    let vertices = &meshes.vertices;
+    let prev_models: Vec<[f32; 16]> = gpu_instances.iter().map(|g| g.model).collect();
+    if gpu_instances.is_empty() {
+        gpu_instances.push(bytemuck::Zeroable::zeroed());
+    }
+    let prev_models = if prev_models.is_empty() {
+        vec![[0.0; 16]]
+    } else {
+        prev_models
+    };
+    // the skinning pass writes the deformed instances' ranges (and
+    // `Renderer::deformed_vertices` reads them back)
+    let deformed_usage = if !any_deformed {
+        wgpu::BufferUsages::VERTEX
+    } else {
+        wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC
+    };
+    let (vertex, index, instance, prev_model) =
+        ctx.scoped("deferred renderer: geometry upload", |device| {
+            let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                })
+            };
+            (
+                init(
+                    "deferred vertices",
+                    bytemuck::cast_slice(vertices),
+                    deformed_usage,
+                ),
+                init(
+                    "deferred indices",
+                    bytemuck::cast_slice(&meshes.indices),
+                    wgpu::BufferUsages::INDEX,
+                ),
+                init(
+                    "deferred instances",
+                    bytemuck::cast_slice(gpu_instances),
+                    wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                ),
+                init(
+                    "deferred previous instance transforms",
+                    bytemuck::cast_slice(&prev_models),
+                    wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                ),
+            )
+        })?;
+    let prev_vertex = if !any_deformed {
+        None
+    } else {
+        Some(
+            ctx.scoped("deferred renderer: previous vertices", |device| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("deferred previous vertices (motion vectors)"),
+                    contents: bytemuck::cast_slice(vertices),
+                    usage: deformed_usage,
+                })
+            })?,
+        )
+    };
+    Ok(GeometryBuffers {
+        vertex,
+        index,
+        instance,
+        prev_model,
+        prev_vertex,
+    })
+}
+
+impl Geometry {
+    /// Packs the meshes, sorts the instances into batches and uploads them.
+    pub fn upload(
+        ctx: &GpuContext,
+        scene: &Scene,
+        materials: &MaterialSet,
+    ) -> Result<Geometry, RenderError> {
+        let mut meshes = pack_meshes(scene)?;
+        check_instances(scene)?;
+        let order = slot_order(scene);
+        let mesh_bounds: Vec<_> = scene.meshes.iter().map(|m| m.bounds()).collect();
+        let align = vertex_alignment(ctx.device.limits().min_storage_buffer_offset_alignment);
+        let mut b = Batching::build(scene, materials, &mut meshes, (&order, &mesh_bounds), align);
         let slot_material: Vec<u32> = order
             .iter()
             .map(|&i| scene.instances[i].material as u32)
@@ -284,86 +455,26 @@ impl Geometry {
             .iter()
             .map(|&i| mesh_bounds[scene.instances[i].mesh])
             .collect();
-        let prev_models: Vec<[f32; 16]> = gpu_instances.iter().map(|g| g.model).collect();
-        if gpu_instances.is_empty() {
-            gpu_instances.push(bytemuck::Zeroable::zeroed());
-        }
-        let prev_models = if prev_models.is_empty() {
-            vec![[0.0; 16]]
-        } else {
-            prev_models
-        };
-        // the skinning pass writes the deformed instances' ranges (and
-        // `Renderer::deformed_vertices` reads them back)
-        let deformed_usage = if deformed.is_empty() {
-            wgpu::BufferUsages::VERTEX
-        } else {
-            wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC
-        };
-        let (vertex_buffer, index_buffer, instance_buffer, prev_model_buffer) =
-            ctx.scoped("deferred renderer: geometry upload", |device| {
-                let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
-                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some(label),
-                        contents,
-                        usage,
-                    })
-                };
-                (
-                    init(
-                        "deferred vertices",
-                        bytemuck::cast_slice(&vertices),
-                        deformed_usage,
-                    ),
-                    init(
-                        "deferred indices",
-                        bytemuck::cast_slice(&indices),
-                        wgpu::BufferUsages::INDEX,
-                    ),
-                    init(
-                        "deferred instances",
-                        bytemuck::cast_slice(&gpu_instances),
-                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                    ),
-                    init(
-                        "deferred previous instance transforms",
-                        bytemuck::cast_slice(&prev_models),
-                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                    ),
-                )
-            })?;
-        let prev_vertex_buffer = if deformed.is_empty() {
-            None
-        } else {
-            Some(
-                ctx.scoped("deferred renderer: previous vertices", |device| {
-                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("deferred previous vertices (motion vectors)"),
-                        contents: bytemuck::cast_slice(&vertices),
-                        usage: deformed_usage,
-                    })
-                })?,
-            )
-        };
-        let skinning = match &prev_vertex_buffer {
-            Some(prev) => Skinning::new(ctx, scene, &deformed, &vertex_buffer, prev)?,
+        let buffers = create_buffers(ctx, &meshes, &mut b.gpu_instances, !b.deformed.is_empty())?;
+        let skinning = match &buffers.prev_vertex {
+            Some(prev) => Skinning::new(ctx, scene, &b.deformed, &buffers.vertex, prev)?,
             None => None,
         };
         Ok(Geometry {
             skinning,
-            deformed,
-            prev_vertex_buffer,
-            vertex_buffer,
-            index_buffer,
-            instance_buffer,
-            prev_model_buffer,
-            batches,
-            blend_items,
-            vertices: vertices.len(),
+            deformed: b.deformed,
+            prev_vertex_buffer: buffers.prev_vertex,
+            vertex_buffer: buffers.vertex,
+            index_buffer: buffers.index,
+            instance_buffer: buffers.instance,
+            prev_model_buffer: buffers.prev_model,
+            batches: b.batches,
+            blend_items: b.blend_items,
+            vertices: meshes.vertices.len(),
             slots: order,
             slot_material,
             slot_bounds,
-            blend_slots,
+            blend_slots: b.blend_slots,
         })
     }
 

@@ -166,6 +166,208 @@ fn vertex_range<'b>(buffer: &'b wgpu::Buffer, d: &Deformed) -> wgpu::BindingReso
     })
 }
 
+/// Refuses the skinning shader early (an internal error) when naga rejects it.
+fn check_shader() -> Result<(), RenderError> {
+    crate::render::wgsl_check::check("skinning", SHADER).map_err(|message| {
+        RenderError::from(crate::gpu::context::GpuError::Internal {
+            what: "skinning".into(),
+            message,
+        })
+    })
+}
+
+/// The deformation's layout on the GPU: each instance's info and workgroups,
+/// and the pose buffer's length in vec4s.
+struct DispatchPlan {
+    infos: Vec<(GpuSkinInfo, (u32, u32))>,
+    pose_len: usize,
+}
+
+/// Places every deformed instance's mesh in `data` (each mesh once) and plans
+/// its dispatch and its place in the pose buffer; everything must fit one
+/// storage binding of `limit` bytes (the padding of empty tables added).
+fn plan_dispatches(
+    scene: &Scene,
+    deformed: &[Deformed],
+    data: &mut MeshData,
+    limit: u64,
+) -> Result<DispatchPlan, RenderError> {
+    let too_big = |what: &str, bytes: u64| {
+        RenderError::Invalid(format!(
+            "{}: {what} needs {bytes} bytes of GPU storage, this device binds at most {limit}",
+            scene.name
+        ))
+    };
+    let mut infos = Vec::with_capacity(deformed.len());
+    let mut pose_len = 0usize;
+    for d in deformed {
+        let inst = &scene.instances[d.instance];
+        let mesh = &scene.meshes[d.mesh];
+        let [mesh_base, influences, target_base, sets] = data.add(mesh, d.mesh);
+        let joints = inst
+            .skin
+            .and_then(|s| scene.skins.get(s))
+            .map_or(0, |s| s.joints.len().min(s.inverse_bind_matrices.len()));
+        let targets = mesh.morph_targets.len();
+        let groups = d.vertices.div_ceil(WORKGROUP);
+        let x = groups.clamp(1, 65535);
+        let workgroups = (x, groups.div_ceil(x).max(1));
+        let bytes = u64::from(d.vertices) * std::mem::size_of::<Vertex>() as u64;
+        if bytes > limit {
+            return Err(too_big(&format!("deformed mesh `{}`", mesh.name), bytes));
+        }
+        infos.push((
+            GpuSkinInfo {
+                vertices: d.vertices,
+                sets,
+                joints: joints as u32,
+                targets: targets as u32,
+                mesh_base,
+                influences,
+                target_base,
+                pose_base: pose_len as u32,
+                flat: u32::from(mesh.flat),
+                row: x * WORKGROUP,
+                _pad: [0; 2],
+            },
+            workgroups,
+        ));
+        pose_len += 1 + 8 * joints + (2 * targets).div_ceil(4);
+    }
+    let data_bytes = (data.data.len() * 16) as u64;
+    if data_bytes > limit {
+        return Err(too_big("the deformed meshes", data_bytes));
+    }
+    if data.data.is_empty() {
+        data.data.push([0.0; 4]);
+    }
+    if data.targets.is_empty() {
+        data.targets.push([NONE; 4]);
+    }
+    Ok(DispatchPlan { infos, pose_len })
+}
+
+/// The pipeline, its group layout and the buffers every instance shares.
+struct SharedGpu {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    mesh_buffer: wgpu::Buffer,
+    target_buffer: wgpu::Buffer,
+    pose_buffer: wgpu::Buffer,
+}
+
+/// Creates the skinning pipeline and uploads the meshes' data, the morph
+/// target table and a zero pose buffer of `pose_len` vec4s.
+fn create_shared(
+    ctx: &GpuContext,
+    data: &MeshData,
+    pose_len: usize,
+) -> Result<SharedGpu, RenderError> {
+    Ok(ctx.scoped("skinning", |device| {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("skinning group 0"),
+            entries: &[
+                bindings::uniform_entry(0, COMPUTE),
+                bindings::storage_entry(1, COMPUTE),
+                bindings::storage_entry(2, COMPUTE),
+                bindings::storage_entry(3, COMPUTE),
+                bindings::storage_rw_entry(4, COMPUTE),
+                bindings::storage_rw_entry(5, COMPUTE),
+            ],
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("skinning"),
+            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("skinning"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("skinning"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("fx_cs_skin"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let init = |label: &str, contents: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            })
+        };
+        SharedGpu {
+            mesh_buffer: init(
+                "skinning rest vertices, influences and morph targets",
+                bytemuck::cast_slice(&data.data),
+            ),
+            target_buffer: init(
+                "skinning morph target table",
+                bytemuck::cast_slice(&data.targets),
+            ),
+            pose_buffer: init(
+                "skinning joint matrices and morph weights (per frame)",
+                bytemuck::cast_slice(&vec![[0f32; 4]; pose_len]),
+            ),
+            pipeline,
+            layout,
+        }
+    })?)
+}
+
+impl SharedGpu {
+    /// The group of one deformed instance: its info, the shared buffers, and
+    /// its private ranges of the vertices now and one frame earlier.
+    fn instance_group(
+        &self,
+        ctx: &GpuContext,
+        label: &str,
+        (d, info): (&Deformed, &GpuSkinInfo),
+        (vertices, prev_vertices): (&wgpu::Buffer, &wgpu::Buffer),
+    ) -> Result<wgpu::BindGroup, RenderError> {
+        Ok(ctx.scoped(label, |device| {
+            let info_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&format!("{label} info")),
+                contents: bytemuck::bytes_of(info),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: info_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: self.mesh_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: self.target_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: self.pose_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: vertex_range(vertices, d),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: vertex_range(prev_vertices, d),
+                    },
+                ],
+            })
+        })?)
+    }
+}
+
 impl Skinning {
     /// The deformation of `deformed` (their private ranges in `vertices` and
     /// `prev_vertices`); `None` when there is none.
@@ -179,158 +381,16 @@ impl Skinning {
         if deformed.is_empty() {
             return Ok(None);
         }
-        crate::render::wgsl_check::check("skinning", SHADER).map_err(|message| {
-            RenderError::from(crate::gpu::context::GpuError::Internal {
-                what: "skinning".into(),
-                message,
-            })
-        })?;
+        check_shader()?;
         let limit = ctx.device.limits().max_storage_buffer_binding_size;
-        let too_big = |what: &str, bytes: u64| {
-            RenderError::Invalid(format!(
-                "{}: {what} needs {bytes} bytes of GPU storage, this device binds at most {limit}",
-                scene.name
-            ))
-        };
         let mut data = MeshData::default();
-        let mut infos = Vec::with_capacity(deformed.len());
-        let mut pose_len = 0usize;
-        for d in deformed {
-            let inst = &scene.instances[d.instance];
-            let mesh = &scene.meshes[d.mesh];
-            let [mesh_base, influences, target_base, sets] = data.add(mesh, d.mesh);
-            let joints = inst
-                .skin
-                .and_then(|s| scene.skins.get(s))
-                .map_or(0, |s| s.joints.len().min(s.inverse_bind_matrices.len()));
-            let targets = mesh.morph_targets.len();
-            let groups = d.vertices.div_ceil(WORKGROUP);
-            let x = groups.clamp(1, 65535);
-            let workgroups = (x, groups.div_ceil(x).max(1));
-            let bytes = u64::from(d.vertices) * std::mem::size_of::<Vertex>() as u64;
-            if bytes > limit {
-                return Err(too_big(&format!("deformed mesh `{}`", mesh.name), bytes));
-            }
-            infos.push((
-                GpuSkinInfo {
-                    vertices: d.vertices,
-                    sets,
-                    joints: joints as u32,
-                    targets: targets as u32,
-                    mesh_base,
-                    influences,
-                    target_base,
-                    pose_base: pose_len as u32,
-                    flat: u32::from(mesh.flat),
-                    row: x * WORKGROUP,
-                    _pad: [0; 2],
-                },
-                workgroups,
-            ));
-            pose_len += 1 + 8 * joints + (2 * targets).div_ceil(4);
-        }
-        let data_bytes = (data.data.len() * 16) as u64;
-        if data_bytes > limit {
-            return Err(too_big("the deformed meshes", data_bytes));
-        }
-        if data.data.is_empty() {
-            data.data.push([0.0; 4]);
-        }
-        if data.targets.is_empty() {
-            data.targets.push([NONE; 4]);
-        }
-        let (pipeline, layout, mesh_buffer, target_buffer, pose_buffer) =
-            ctx.scoped("skinning", |device| {
-                let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("skinning group 0"),
-                    entries: &[
-                        bindings::uniform_entry(0, COMPUTE),
-                        bindings::storage_entry(1, COMPUTE),
-                        bindings::storage_entry(2, COMPUTE),
-                        bindings::storage_entry(3, COMPUTE),
-                        bindings::storage_rw_entry(4, COMPUTE),
-                        bindings::storage_rw_entry(5, COMPUTE),
-                    ],
-                });
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("skinning"),
-                    source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-                });
-                let pipeline_layout =
-                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("skinning"),
-                        bind_group_layouts: &[Some(&layout)],
-                        immediate_size: 0,
-                    });
-                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("skinning"),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some("fx_cs_skin"),
-                    compilation_options: Default::default(),
-                    cache: None,
-                });
-                let init = |label: &str, contents: &[u8]| {
-                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some(label),
-                        contents,
-                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                    })
-                };
-                let mesh_buffer = init(
-                    "skinning rest vertices, influences and morph targets",
-                    bytemuck::cast_slice(&data.data),
-                );
-                let target_buffer = init(
-                    "skinning morph target table",
-                    bytemuck::cast_slice(&data.targets),
-                );
-                let pose_buffer = init(
-                    "skinning joint matrices and morph weights (per frame)",
-                    bytemuck::cast_slice(&vec![[0f32; 4]; pose_len]),
-                );
-                (pipeline, layout, mesh_buffer, target_buffer, pose_buffer)
-            })?;
+        let plan = plan_dispatches(scene, deformed, &mut data, limit)?;
+        let shared = create_shared(ctx, &data, plan.pose_len)?;
         let mut instances = Vec::with_capacity(deformed.len());
-        for (d, (info, workgroups)) in deformed.iter().zip(infos) {
+        for (d, (info, workgroups)) in deformed.iter().zip(plan.infos) {
             let label = format!("skinning `{}`", scene.instances[d.instance].name);
-            let group = ctx.scoped(&label, |device| {
-                let info_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&format!("{label} info")),
-                    contents: bytemuck::bytes_of(&info),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some(&label),
-                    layout: &layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: info_buffer.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: mesh_buffer.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: target_buffer.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: pose_buffer.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 4,
-                            resource: vertex_range(vertices, d),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 5,
-                            resource: vertex_range(prev_vertices, d),
-                        },
-                    ],
-                })
-            })?;
+            let group =
+                shared.instance_group(ctx, &label, (d, &info), (vertices, prev_vertices))?;
             instances.push(SkinnedInstance {
                 joints: info.joints as usize,
                 targets: info.targets as usize,
@@ -340,10 +400,10 @@ impl Skinning {
             });
         }
         Ok(Some(Skinning {
-            pipeline,
-            pose_buffer,
+            pipeline: shared.pipeline,
+            pose_buffer: shared.pose_buffer,
             instances,
-            pose_len,
+            pose_len: plan.pose_len,
             written: Vec::new(),
             deformed: false,
             pending: false,

@@ -32,7 +32,8 @@
 //! and `COLOR_n`, tangents of morphed meshes whose tangents are derived (not
 //! given), `KHR_animation_pointer` and sampler settings (textures always repeat).
 //!
-//! This file reads the node tree and the meshes; materials and textures are mapped
+//! This file reads the node tree and the meshes (each primitive in
+//! `primitive.rs`); materials and textures are mapped
 //! in `material.rs`, lights and cameras converted in `lights_cameras.rs`, the raw
 //! bytes pre-checked in `json_checks.rs`.
 
@@ -42,16 +43,16 @@ mod lights_cameras;
 mod material;
 mod material_layers;
 mod nodes;
+mod primitive;
 mod skin_attributes;
 
-use super::model::{Instance, Mesh, Scene, SceneError};
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use super::model::{Instance, Scene, SceneError};
+use glam::Mat4;
 use gltf::accessor::{DataType, Dimensions};
 pub use json_checks::MAX_GLTF_FILE_BYTES;
 use json_checks::{check_json_schema, check_references, check_uris};
 use lights_cameras::{convert_camera, convert_light};
 pub use material::UvTransform;
-use material::{texture_refs, TexRef};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -263,310 +264,104 @@ impl Converter<'_> {
         types: &[DataType],
     ) -> Result<(), String> {
         let label = format!("accessor {} ({what})", acc.index());
-        if !dims.contains(&acc.dimensions()) {
-            return Err(format!(
-                "{label}: type {:?}, expected {}",
-                acc.dimensions(),
-                dims.iter()
-                    .map(|d| format!("{d:?}"))
-                    .collect::<Vec<_>>()
-                    .join(" or ")
-            ));
-        }
-        if !types.contains(&acc.data_type()) {
-            return Err(format!(
-                "{label}: component type {:?}, expected {}",
-                acc.data_type(),
-                types
-                    .iter()
-                    .map(|d| format!("{d:?}"))
-                    .collect::<Vec<_>>()
-                    .join(" or ")
-            ));
-        }
-        if acc.count() == 0 {
-            // (the `gltf` crate's readers underflow on it)
-            return Err(format!("{label}: count 0 (glTF requires at least 1)"));
-        }
-        if acc.count() > MAX_VERTICES {
-            return Err(format!("{label}: {} elements is too many", acc.count()));
-        }
+        check_accessor_type(&label, acc, dims, types)?;
         if let Some(view) = acc.view() {
-            let elem = acc.size();
-            let stride = view.stride().unwrap_or(elem);
-            if stride < elem {
-                return Err(format!(
-                    "{label}: byte stride {stride} < element size {elem}"
-                ));
-            }
-            let needed = if acc.count() == 0 {
-                Some(0)
-            } else {
-                stride
-                    .checked_mul(acc.count() - 1)
-                    .and_then(|n| n.checked_add(acc.offset()))
-                    .and_then(|n| n.checked_add(elem))
-            };
-            let Some(needed) = needed else {
-                return Err(format!(
-                    "{label}: offset {} + stride {stride} × {} elements overflows",
-                    acc.offset(),
-                    acc.count()
-                ));
-            };
-            if needed > view.length() {
-                return Err(format!(
-                    "{label}: needs {needed} bytes but buffer view {} has {}",
-                    view.index(),
-                    view.length()
-                ));
-            }
-            let buffer = view.buffer().index();
-            let have = self.buffers.get(buffer).map_or(0, |b| b.len());
-            if view
-                .offset()
-                .checked_add(view.length())
-                .is_none_or(|end| end > have)
-            {
-                return Err(format!(
-                    "buffer view {} (bytes {}..{}) is outside buffer {buffer} ({have} bytes)",
-                    view.index(),
-                    view.offset(),
-                    view.offset().saturating_add(view.length())
-                ));
-            }
+            self.check_accessor_bytes(&label, acc, &view)?;
         } else if acc.sparse().is_none() {
             log::warn!("{}: {label} has no data (all zeros)", self.name);
         }
         Ok(())
     }
 
-    /// Converts one primitive; `None` when it is not made of triangles.
-    fn primitive(
-        &mut self,
-        mesh: &gltf::Mesh,
-        prim: &gltf::Primitive,
-    ) -> Result<Option<usize>, String> {
-        use gltf::mesh::Mode;
-        let label = format!("mesh {} primitive {}", mesh.index(), prim.index());
-        let mode = prim.mode();
-        if matches!(
-            mode,
-            Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip
-        ) {
-            log::warn!("{}: {label}: {mode:?} are not drawn", self.name);
-        }
-        let pos_acc = prim
-            .get(&gltf::Semantic::Positions)
-            .ok_or_else(|| format!("{label}: no POSITION attribute"))?;
-        self.check_accessor(
-            &format!("{label} POSITION"),
-            &pos_acc,
-            &[Dimensions::Vec3],
-            &[DataType::F32],
-        )?;
-        let count = pos_acc.count();
-        for (semantic, acc) in prim.attributes() {
-            let (dims, types): (&[Dimensions], &[DataType]) = match semantic {
-                gltf::Semantic::Normals => (&[Dimensions::Vec3], &[DataType::F32]),
-                gltf::Semantic::Tangents => (&[Dimensions::Vec4], &[DataType::F32]),
-                gltf::Semantic::TexCoords(_) => (
-                    &[Dimensions::Vec2],
-                    &[DataType::F32, DataType::U8, DataType::U16],
-                ),
-                gltf::Semantic::Colors(_) => (
-                    &[Dimensions::Vec3, Dimensions::Vec4],
-                    &[DataType::F32, DataType::U8, DataType::U16],
-                ),
-                _ => continue,
-            };
-            self.check_accessor(&format!("{label} {semantic:?}"), &acc, dims, types)?;
-            if acc.count() != count {
-                return Err(format!(
-                    "{label}: attribute {semantic:?} has {} elements, POSITION has {count}",
-                    acc.count()
-                ));
-            }
-        }
-        if let Some(idx) = prim.indices() {
-            self.check_accessor(
-                &format!("{label} indices"),
-                &idx,
-                &[Dimensions::Scalar],
-                &[DataType::U8, DataType::U16, DataType::U32],
-            )?;
-        }
-        let buffers = self.buffers;
-        let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-        let positions: Vec<Vec3> = reader
-            .read_positions()
-            .ok_or_else(|| format!("{label}: POSITION data is unreadable"))?
-            .map(Vec3::from)
-            .collect();
-        if positions.len() != count {
+    /// Checks that an accessor's elements fit its buffer view, and the view
+    /// its buffer.
+    fn check_accessor_bytes(
+        &self,
+        label: &str,
+        acc: &gltf::Accessor,
+        view: &gltf::buffer::View,
+    ) -> Result<(), String> {
+        let elem = acc.size();
+        let stride = view.stride().unwrap_or(elem);
+        if stride < elem {
             return Err(format!(
-                "{label}: read {} positions, accessor says {count}",
-                positions.len()
+                "{label}: byte stride {stride} < element size {elem}"
             ));
         }
-        if let Some(bad) = positions.iter().position(|p| !p.is_finite()) {
+        let needed = if acc.count() == 0 {
+            Some(0)
+        } else {
+            stride
+                .checked_mul(acc.count() - 1)
+                .and_then(|n| n.checked_add(acc.offset()))
+                .and_then(|n| n.checked_add(elem))
+        };
+        let Some(needed) = needed else {
             return Err(format!(
-                "{label}: position {bad} is not finite ({})",
-                positions[bad]
+                "{label}: offset {} + stride {stride} × {} elements overflows",
+                acc.offset(),
+                acc.count()
+            ));
+        };
+        if needed > view.length() {
+            return Err(format!(
+                "{label}: needs {needed} bytes but buffer view {} has {}",
+                view.index(),
+                view.length()
             ));
         }
-        let raw_indices: Vec<u32> = match reader.read_indices() {
-            Some(ri) => ri.into_u32().collect(),
-            None => (0..count as u32).collect(),
-        };
-        if let Some(bad) = raw_indices.iter().position(|&i| i as usize >= count) {
+        let buffer = view.buffer().index();
+        let have = self.buffers.get(buffer).map_or(0, |b| b.len());
+        if view
+            .offset()
+            .checked_add(view.length())
+            .is_none_or(|end| end > have)
+        {
             return Err(format!(
-                "{label}: index {} (at {bad}) is out of range: the primitive has {count} vertices",
-                raw_indices[bad]
+                "buffer view {} (bytes {}..{}) is outside buffer {buffer} ({have} bytes)",
+                view.index(),
+                view.offset(),
+                view.offset().saturating_add(view.length())
             ));
         }
-        let indices: Vec<u32> = match mode {
-            Mode::Triangles => {
-                if raw_indices.len() % 3 != 0 {
-                    return Err(format!(
-                        "{label}: a triangle list needs a multiple of 3 indices, has {}",
-                        raw_indices.len()
-                    ));
-                }
-                raw_indices
-            }
-            Mode::TriangleStrip => (2..raw_indices.len())
-                .flat_map(|i| {
-                    let (a, b, c) = (raw_indices[i - 2], raw_indices[i - 1], raw_indices[i]);
-                    if i % 2 == 0 {
-                        [a, b, c]
-                    } else {
-                        [b, a, c]
-                    }
-                })
-                .collect(),
-            Mode::TriangleFan => (2..raw_indices.len())
-                .flat_map(|i| [raw_indices[0], raw_indices[i - 1], raw_indices[i]])
-                .collect(),
-            _ => return Ok(None),
-        };
-        let mut m = Mesh {
-            name: format!(
-                "{}/{}",
-                mesh.name()
-                    .map(str::to_string)
-                    .unwrap_or_else(|| format!("mesh {}", mesh.index())),
-                prim.index()
-            ),
-            positions,
-            indices,
-            ..Default::default()
-        };
-        let mut flat = false;
-        match reader.read_normals() {
-            Some(n) => {
-                m.normals = n
-                    .map(|v| Vec3::from(v).try_normalize().unwrap_or(Vec3::Y))
-                    .collect();
-                if m.normals.len() != count {
-                    return Err(format!("{label}: NORMAL count differs from POSITION"));
-                }
-                if let Some(bad) = m.normals.iter().position(|n| !n.is_finite()) {
-                    return Err(format!("{label}: normal {bad} is not finite"));
-                }
-            }
-            // glTF: without normals, flat normals (and no given tangents)
-            None => flat = true,
-        }
-        let has_uv = match reader.read_tex_coords(0) {
-            Some(t) => {
-                m.uvs = t.into_f32().map(Vec2::from).collect();
-                if m.uvs.len() != count {
-                    return Err(format!("{label}: TEXCOORD_0 count differs from POSITION"));
-                }
-                if m.uvs.iter().any(|u| !u.is_finite()) {
-                    return Err(format!("{label}: TEXCOORD_0 has non-finite values"));
-                }
-                true
-            }
-            None => {
-                m.uvs = vec![Vec2::ZERO; count];
-                false
-            }
-        };
-        if let Some(t) = reader.read_tex_coords(1) {
-            m.uvs1 = t.into_f32().map(Vec2::from).collect();
-            check_vertex_values(&label, "TEXCOORD_1", &m.uvs1, count, Vec2::is_finite)?;
-        }
-        if let Some(c) = reader.read_colors(0) {
-            // Normalised integers become 0..1, RGB gets alpha 1.
-            m.colors = c.into_rgba_f32().map(Vec4::from).collect();
-            check_vertex_values(&label, "COLOR_0", &m.colors, count, Vec4::is_finite)?;
-        }
-        skin_attributes::SkinReader {
-            conv: self,
-            label: &label,
-            mesh,
-            prim,
-            reader: &reader,
-        }
-        .read(&mut m)?;
-        if flat {
-            m.make_flat();
-        }
-        let material = prim.material();
-        let refs = texture_refs(&material).unwrap_or_default();
-        if m.uvs1.is_empty() && refs.iter().any(|r| r.set() == 1) {
-            log::warn!(
-                "{}: {label}: its material reads TEXCOORD_1, which the primitive lacks \
-                 (zeros)",
-                self.name
-            );
-        }
-        match reader.read_tangents().filter(|_| !flat) {
-            Some(t) => {
-                let t: Vec<Vec4> = t.map(Vec4::from).collect();
-                if t.len() != count || t.iter().any(|v| !v.is_finite()) {
-                    return Err(format!("{label}: TANGENT is invalid (count or non-finite)"));
-                }
-                m.tangents = Some(t);
-            }
-            None => {
-                // Derived from the texture coordinates the normal map reads (a
-                // clear coat normal map alone: set 0).
-                let coat_normal = material
-                    .extension_value("KHR_materials_clearcoat")
-                    .is_some_and(|c| c.get("clearcoatNormalTexture").is_some());
-                let normal_set = refs.iter().find(|r| r.var == "normal_map").map(TexRef::set);
-                match normal_set.or(coat_normal.then_some(0)) {
-                    Some(1) if !m.uvs1.is_empty() => {
-                        std::mem::swap(&mut m.uvs, &mut m.uvs1);
-                        m.compute_tangents();
-                        std::mem::swap(&mut m.uvs, &mut m.uvs1);
-                    }
-                    Some(_) if has_uv => m.compute_tangents(),
-                    _ => {}
-                }
-            }
-        }
-        self.scene.meshes.push(m);
-        Ok(Some(self.scene.meshes.len() - 1))
+        Ok(())
     }
 }
 
-/// Checks an optional attribute read for every vertex: `count` values, all finite.
-fn check_vertex_values<T: Copy>(
+/// Checks an accessor's element type, component type and count.
+fn check_accessor_type(
     label: &str,
-    what: &str,
-    values: &[T],
-    count: usize,
-    finite: fn(T) -> bool,
+    acc: &gltf::Accessor,
+    dims: &[Dimensions],
+    types: &[DataType],
 ) -> Result<(), String> {
-    if values.len() != count {
-        return Err(format!("{label}: {what} count differs from POSITION"));
+    if !dims.contains(&acc.dimensions()) {
+        return Err(format!(
+            "{label}: type {:?}, expected {}",
+            acc.dimensions(),
+            dims.iter()
+                .map(|d| format!("{d:?}"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        ));
     }
-    if !values.iter().all(|&v| finite(v)) {
-        return Err(format!("{label}: {what} has non-finite values"));
+    if !types.contains(&acc.data_type()) {
+        return Err(format!(
+            "{label}: component type {:?}, expected {}",
+            acc.data_type(),
+            types
+                .iter()
+                .map(|d| format!("{d:?}"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        ));
+    }
+    if acc.count() == 0 {
+        // (the `gltf` crate's readers underflow on it)
+        return Err(format!("{label}: count 0 (glTF requires at least 1)"));
+    }
+    if acc.count() > MAX_VERTICES {
+        return Err(format!("{label}: {} elements is too many", acc.count()));
     }
     Ok(())
 }
