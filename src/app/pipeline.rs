@@ -32,7 +32,7 @@ pub use super::pipeline_options::{Mode, PipelineOptions};
 use super::planes::PlaneRoute;
 use super::report::{ms, FrameDone, FrameFailure, Progress, RunReport};
 use super::stage_messages::{Decoded, Encoded, Readback};
-use crate::gpu::context::{AdapterChoice, GpuContext};
+use crate::gpu::context::{AdapterChoice, GpuContext, GpuError};
 use crate::gpu::executor::Engine;
 use crate::gpu::transfer::pixels_from_bytes;
 use crate::io::IoError;
@@ -180,40 +180,7 @@ pub fn run_frames(
     let limit = SideLimit::default();
     // Y'CbCr planes go to the GPU for sequences, as `opts.ycbcr` says for the device.
     let route = PlaneRoute::default();
-    let (ycbcr, sequence) = (opts.ycbcr, opts.mode == Mode::Sequence);
-    let device_thread = match &device {
-        Device::Engine(e) => {
-            limit.set(e.ctx.device.limits().max_texture_dimension_2d);
-            route.set(sequence && ycbcr.wants_gpu(e.ctx.info.device_type));
-            None
-        }
-        Device::Create(adapter) => {
-            let adapter = (*adapter).clone();
-            let (l, route) = (limit.clone(), route.clone());
-            Some(
-                std::thread::Builder::new()
-                    .name("fxgraph device".into())
-                    .spawn(move || {
-                        let t = Instant::now();
-                        let r = GpuContext::new(&adapter).map(|mut ctx| {
-                            super::pipeline_cache::attach(&mut ctx);
-                            Engine::new(ctx)
-                        });
-                        // A failed device unblocks the decoder (the run ends anyway).
-                        l.set(match &r {
-                            Ok(e) => e.ctx.device.limits().max_texture_dimension_2d,
-                            Err(_) => 0,
-                        });
-                        route
-                            .set(r.as_ref().is_ok_and(|e| {
-                                sequence && ycbcr.wants_gpu(e.ctx.info.device_type)
-                            }));
-                        r.map(|e| (e, t.elapsed()))
-                    })
-                    .map_err(|e| RunError::Other(format!("cannot start the device thread: {e}")))?,
-            )
-        }
-    };
+    let device_thread = start_device(&device, opts, &limit, &route)?;
     source.set_limit(limit.clone());
     source.set_plane_route(route.clone());
     let total = source.frame_count();
@@ -224,31 +191,7 @@ pub fn run_frames(
     let halt = Arc::new(AtomicBool::new(false));
     let (dec_tx, dec_rx) = sync_channel::<Decoded>(queue);
     let (enc_tx, enc_rx) = sync_channel::<Encoded>(queue);
-    let (halt_d, stop_d) = (halt.clone(), stop.clone());
-    let decoder = std::thread::Builder::new()
-        .name("fxgraph decode".into())
-        .spawn(move || -> Duration {
-            let mut busy = Duration::ZERO;
-            let mut index = 0usize;
-            while !halt_d.load(Ordering::Relaxed) && !stop_d.load(Ordering::Relaxed) {
-                let t = Instant::now();
-                let Some(f) = source.next_frame() else {
-                    break;
-                };
-                let spent = t.elapsed();
-                busy += spent;
-                let failed = f.image.is_err();
-                let item = f.image.map(|img| (img, f.aux));
-                if dec_tx.send((index, f.number, f.name, item, spent)).is_err()
-                    || (failed && !keep_going)
-                {
-                    break;
-                }
-                index += 1;
-            }
-            busy
-        })
-        .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
+    let decoder = spawn_decoder(source, dec_tx, keep_going, halt.clone(), stop.clone())?;
     // Set by this thread once the GPU stage has ended (before the encoder sees the
     // end of its queue): whether the run completed, so the sink can make its output
     // final (`finish`) or discard it (`abort`).
@@ -267,29 +210,13 @@ pub fn run_frames(
         ..Default::default()
     };
     let mut own_engine = None;
-    let engine: Result<&mut Engine, RunError> = match (device, device_thread) {
-        (Device::Engine(e), _) => Ok(e),
-        (Device::Create(_), Some(h)) => {
-            let t = Instant::now();
-            let r = h
-                .join()
-                .map_err(|_| {
-                    limit.set(0);
-                    route.set(false);
-                    RunError::Other("the device thread panicked".into())
-                })
-                .and_then(|r| r.map_err(RunError::from));
-            report.device_wait_ms = ms(t.elapsed());
-            match r {
-                Ok((e, created)) => {
-                    report.device_created_ms = ms(created);
-                    Ok(own_engine.insert(e))
-                }
-                Err(e) => Err(e),
-            }
-        }
-        (Device::Create(_), None) => unreachable!("a device thread for Device::Create"),
-    };
+    let engine = engine_of(
+        device,
+        device_thread,
+        (&limit, &route),
+        &mut report,
+        &mut own_engine,
+    );
     let fatal;
     let mut gpu_busy = Duration::ZERO;
     match engine {
@@ -327,13 +254,143 @@ pub fn run_frames(
     if let Some(e) = fatal {
         return Err(e);
     }
+    report.stages.decode_busy_ms = ms(decode_busy);
+    report.stages.gpu_busy_ms = ms(gpu_busy);
+    finish_report(report, enc, start, stills)
+}
+
+/// The thread that creates the device of [`Device::Create`], returning the engine and
+/// the time it took.
+type DeviceThread = std::thread::JoinHandle<Result<(Engine, Duration), GpuError>>;
+
+/// Sets the side limit and the plane route from the caller's engine, or starts the
+/// thread that creates the device and sets them once it exists.
+fn start_device(
+    device: &Device,
+    opts: &PipelineOptions,
+    limit: &SideLimit,
+    route: &PlaneRoute,
+) -> Result<Option<DeviceThread>, RunError> {
+    let (ycbcr, sequence) = (opts.ycbcr, opts.mode == Mode::Sequence);
+    match device {
+        Device::Engine(e) => {
+            limit.set(e.ctx.device.limits().max_texture_dimension_2d);
+            route.set(sequence && ycbcr.wants_gpu(e.ctx.info.device_type));
+            Ok(None)
+        }
+        Device::Create(adapter) => {
+            let adapter = (*adapter).clone();
+            let (l, route) = (limit.clone(), route.clone());
+            Ok(Some(
+                std::thread::Builder::new()
+                    .name("fxgraph device".into())
+                    .spawn(move || {
+                        let t = Instant::now();
+                        let r = GpuContext::new(&adapter).map(|mut ctx| {
+                            super::pipeline_cache::attach(&mut ctx);
+                            Engine::new(ctx)
+                        });
+                        // A failed device unblocks the decoder (the run ends anyway).
+                        l.set(match &r {
+                            Ok(e) => e.ctx.device.limits().max_texture_dimension_2d,
+                            Err(_) => 0,
+                        });
+                        route
+                            .set(r.as_ref().is_ok_and(|e| {
+                                sequence && ycbcr.wants_gpu(e.ctx.info.device_type)
+                            }));
+                        r.map(|e| (e, t.elapsed()))
+                    })
+                    .map_err(|e| RunError::Other(format!("cannot start the device thread: {e}")))?,
+            ))
+        }
+    }
+}
+
+/// The decode thread: reads frames from `source` into `dec_tx` until the source ends,
+/// `halt` or `stop` is set, or (without `keep_going`) a frame fails to decode; hands
+/// back its busy time.
+fn spawn_decoder(
+    mut source: Box<dyn FrameSource>,
+    dec_tx: std::sync::mpsc::SyncSender<Decoded>,
+    keep_going: bool,
+    halt_d: Arc<AtomicBool>,
+    stop_d: Arc<AtomicBool>,
+) -> Result<std::thread::JoinHandle<Duration>, RunError> {
+    std::thread::Builder::new()
+        .name("fxgraph decode".into())
+        .spawn(move || -> Duration {
+            let mut busy = Duration::ZERO;
+            let mut index = 0usize;
+            while !halt_d.load(Ordering::Relaxed) && !stop_d.load(Ordering::Relaxed) {
+                let t = Instant::now();
+                let Some(f) = source.next_frame() else {
+                    break;
+                };
+                let spent = t.elapsed();
+                busy += spent;
+                let failed = f.image.is_err();
+                let item = f.image.map(|img| (img, f.aux));
+                if dec_tx.send((index, f.number, f.name, item, spent)).is_err()
+                    || (failed && !keep_going)
+                {
+                    break;
+                }
+                index += 1;
+            }
+            busy
+        })
+        .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))
+}
+
+/// The engine of the run: the caller's, or the one the device thread created (kept in
+/// `own_engine`; the wait for it and its creation time go to `report`). A device that
+/// failed unblocks the limit and the route.
+fn engine_of<'a>(
+    device: Device<'a>,
+    device_thread: Option<DeviceThread>,
+    (limit, route): (&SideLimit, &PlaneRoute),
+    report: &mut RunReport,
+    own_engine: &'a mut Option<Engine>,
+) -> Result<&'a mut Engine, RunError> {
+    match (device, device_thread) {
+        (Device::Engine(e), _) => Ok(e),
+        (Device::Create(_), Some(h)) => {
+            let t = Instant::now();
+            let r = h
+                .join()
+                .map_err(|_| {
+                    limit.set(0);
+                    route.set(false);
+                    RunError::Other("the device thread panicked".into())
+                })
+                .and_then(|r| r.map_err(RunError::from));
+            report.device_wait_ms = ms(t.elapsed());
+            match r {
+                Ok((e, created)) => {
+                    report.device_created_ms = ms(created);
+                    Ok(own_engine.insert(e))
+                }
+                Err(e) => Err(e),
+            }
+        }
+        (Device::Create(_), None) => unreachable!("a device thread for Device::Create"),
+    }
+}
+
+/// The report of a finished run, with what the encoder wrote; `Err` for a sequence
+/// with a failed frame or no frame at all.
+fn finish_report(
+    mut report: RunReport,
+    enc: EncodeResult,
+    start: Instant,
+    stills: bool,
+) -> Result<RunReport, RunError> {
     report.done = enc.done;
     report.failed.extend(enc.failed);
     report.failed.sort_by_key(|f| f.index);
     report.steps.readback_ms = ms(enc.last_wait);
     report.stages.readback_wait_ms = ms(enc.wait);
-    report.stages.decode_busy_ms = ms(decode_busy);
-    report.stages.gpu_busy_ms = ms(gpu_busy);
     report.stages.encode_busy_ms = ms(enc.busy);
     report.wall_ms = ms(start.elapsed());
     if !stills {

@@ -15,18 +15,19 @@ use super::effect::Effect;
 use super::error::RunError;
 use super::frames::FrameSink;
 use super::pipeline::spawn_encoder;
-use super::report::{ms, JobKind, MemoryReport, Progress, RunReport};
+use super::report::{ms, JobKind, MemoryReport, Progress, RunReport, SceneStats};
 use super::scene::{prepare, SceneJob};
 use super::stage_messages::Encoded;
 use crate::gpu::executor::Engine;
 use crate::gpu::stream::{FrameExtras, Stream};
 use crate::graph::plan::{PlanOptions, ReusePolicy};
-use crate::render::{FrameMotion, Renderer};
+use crate::render::renderer::RenderStats;
+use crate::render::{FrameMotion, RenderOutput, Renderer};
 use crate::scene::{CameraPath, Playback, Scene};
 use crate::script::types::Format;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::sync_channel;
+use std::sync::mpsc::{sync_channel, SyncSender};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -118,11 +119,10 @@ pub fn run_scene_sequence(
         return Err(RunError::Other(format!("fps {} is not above 0", times.fps)));
     }
     let mut stats = job.initial_stats();
-    let (scene, mut renderer, effect) = prepare(job, engine, &mut stats)?;
+    let (scene, renderer, effect) = prepare(job, engine, &mut stats)?;
     let path = CameraPath::parse(job.camera.as_deref(), &scene)
         .map_err(|e| super::scene::scene_error(&job.scene, e))?;
     let playback = playback(job, &scene)?;
-    let animated = scene.is_animated();
     let mut report = RunReport {
         job: JobKind::Scene,
         adapter: engine.ctx.info.name.clone(),
@@ -152,128 +152,32 @@ pub fn run_scene_sequence(
     let halt = Arc::new(AtomicBool::new(false));
     let complete = Arc::new(AtomicBool::new(false));
     let encoder = spawn_encoder(sink, enc_rx, false, halt.clone(), complete.clone())?;
-    let dt = 1.0 / times.fps;
-    let mut gpu_busy = Duration::ZERO;
-    let mut fatal = None;
-    let timer = if job.timings {
-        crate::gpu::context::GpuTimer::new(&engine.ctx, 64)
-    } else {
-        None
+    let mut run = SceneRun {
+        job,
+        times,
+        scene: &scene,
+        path: &path,
+        playback: &playback,
+        animated: scene.is_animated(),
+        renderer,
+        stream,
+        timer: job
+            .timings
+            .then(|| crate::gpu::context::GpuTimer::new(&engine.ctx, 64))
+            .flatten(),
+        stats,
+        report,
+        output_format,
+        enc_tx,
+        emitted: from,
+        gpu_busy: Duration::ZERO,
     };
-    let mut emitted = from;
+    let mut fatal = None;
     for n in from..=to {
         if halt.load(Ordering::Relaxed) {
             break;
         }
-        let t0 = Instant::now();
-        let t = times.time_of(n);
-        let (pose, prev) = (scene.pose(t, &playback), scene.pose(t - dt, &playback));
-        // the frame's sub-pixel offset when the chain declares JITTER (its index
-        // is the frame number, so a frame's jitter depends on n alone)
-        let jitter = stream
-            .as_ref()
-            .and_then(|s| s.prepared.jitter())
-            .map_or([0.0, 0.0], |p| p.offset(n));
-        if animated {
-            // lights on animated nodes move with them
-            renderer.set_lights(pose.lights.clone());
-        }
-        // a camera that jumps (a STEP key) starts a new shot: no camera motion,
-        // and effects see the standard value `cut`
-        let cut = path.cuts(&scene, &playback, t - dt, t);
-        let motion = FrameMotion {
-            prev_camera: Some(path.at(&scene, Some(&prev), t - dt)),
-            jitter,
-            cut,
-            ..FrameMotion::posed(&scene, &pose, &prev)
-        };
-        let camera = path.at(&scene, Some(&pose), t);
-        let rendered = renderer.render_frame(
-            &engine.ctx,
-            &camera,
-            &motion,
-            job.width,
-            job.height,
-            job.technique,
-            timer.as_ref(),
-        );
-        let (out, rs) = match rendered {
-            Ok(x) => x,
-            Err(e) => {
-                fatal = Some(super::scene::render_error(&job.scene, e));
-                break;
-            }
-        };
-        report.frames_in += 1;
-        // `--time` with `--gbuffer`: the one output frame's G-buffer, its motion
-        // vectors those of the previous frame time
-        if let (Some(dir), true) = (&job.gbuffer, n == first && first == last) {
-            if let Err(e) = super::gbuffer::write_gbuffer(dir, &out, &engine.ctx, &job.scene) {
-                fatal = Some(e);
-                break;
-            }
-        }
-        stats.render_cpu_ms += rs.cpu_ms;
-        for (name, ms) in &rs.cpu_split {
-            match stats.render_cpu_split.iter_mut().find(|(n, _)| n == name) {
-                Some(p) => p.1 += ms,
-                None => stats.render_cpu_split.push((name.clone(), *ms)),
-            }
-        }
-        stats.render_gpu_ms = match (stats.render_gpu_ms, rs.gpu_ms) {
-            (Some(a), Some(b)) => Some(a + b),
-            (_, b) => b,
-        };
-        stats.render_passes = rs.pass_ms.clone();
-        stats.triangles = rs.triangles;
-        // (the last frame's)
-        stats.lights_visible = rs.lights_visible;
-        stats.cluster_entries = rs.cluster_entries;
-        stats.cluster_bytes = rs.cluster_bytes;
-        stats.shadow_layers = rs.shadow_layers;
-        stats.shadow_map_bytes = rs.shadow_map_bytes;
-        stats.shadow_layers_rendered += rs.shadow_layers_rendered;
-        stats.pipelines = rs.pipelines;
-        stats.shader_modules = rs.shader_modules;
-        let sent = match stream.as_mut() {
-            Some(s) => push_and_drain(
-                engine,
-                s,
-                &out,
-                (jitter, cut),
-                n == to,
-                (first, last),
-                &mut emitted,
-                &enc_tx,
-                output_format,
-            ),
-            None => {
-                // No effect: the rendered HDR image itself.
-                let ctx = engine.ctx.clone();
-                let mut enc = ctx.device.create_command_encoder(&Default::default());
-                let pending = ctx.encode_readback(&mut enc, &out.scene);
-                ctx.queue.submit([enc.finish()]);
-                pending
-                    .map_err(RunError::from)
-                    .map(|pending| {
-                        (first..=last).contains(&n)
-                            && enc_tx
-                                .send(Encoded {
-                                    index: (n - first) as usize,
-                                    number: n,
-                                    name: format!("{} at {:.4} s", job.scene, t),
-                                    pending: super::stage_messages::Readback::Texture(pending),
-                                    format: Format::Rgba16f,
-                                    gpu: None,
-                                    decode: None,
-                                })
-                                .is_err()
-                    })
-                    .map(|closed| !closed)
-            }
-        };
-        gpu_busy += t0.elapsed();
-        match sent {
+        match run.frame(engine, n, n == to) {
             Ok(true) => {}
             Ok(false) => break,
             Err(e) => {
@@ -287,16 +191,16 @@ pub fn run_scene_sequence(
             elapsed: t_all.elapsed(),
         });
         if stop.load(Ordering::Relaxed) {
-            report.interrupted = true;
+            run.report.interrupted = true;
             break;
         }
     }
     // a y4m or video output is made final only when every frame went through
     complete.store(
-        fatal.is_none() && !report.interrupted && !halt.load(Ordering::Relaxed),
+        fatal.is_none() && !run.report.interrupted && !halt.load(Ordering::Relaxed),
         Ordering::SeqCst,
     );
-    drop(enc_tx);
+    drop(run.enc_tx);
     let enc = encoder
         .join()
         .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
@@ -306,17 +210,183 @@ pub fn run_scene_sequence(
     if let Some(f) = enc.failed.into_iter().next() {
         return Err(f.error);
     }
-    if let Some(s) = &stream {
+    let mut report = run.report;
+    if let Some(s) = &run.stream {
         report.passes = s.median_timings();
     }
     report.done = enc.done;
-    report.stages.gpu_busy_ms = ms(gpu_busy);
+    report.stages.gpu_busy_ms = ms(run.gpu_busy);
     report.stages.encode_busy_ms = ms(enc.busy);
     report.stages.readback_wait_ms = ms(enc.wait);
     report.steps.readback_ms = ms(enc.last_wait);
-    report.scene = Some(stats);
+    report.scene = Some(run.stats);
     report.wall_ms = ms(t_all.elapsed());
     Ok(report)
+}
+
+/// A rendered sequence while its frames go through: what each frame is rendered
+/// from, the effect's stream, the queue to the encoder and the statistics gathered.
+struct SceneRun<'a> {
+    job: &'a SceneJob,
+    times: &'a SceneTimes,
+    scene: &'a Scene,
+    path: &'a CameraPath,
+    playback: &'a Playback,
+    /// Lights on animated nodes move with them.
+    animated: bool,
+    renderer: Renderer,
+    /// The effect (none: the rendered HDR image itself is written).
+    stream: Option<Stream>,
+    timer: Option<crate::gpu::context::GpuTimer>,
+    stats: SceneStats,
+    report: RunReport,
+    output_format: Format,
+    enc_tx: SyncSender<Encoded>,
+    /// The number of the next frame the stream hands back.
+    emitted: u64,
+    gpu_busy: Duration,
+}
+
+impl SceneRun<'_> {
+    /// Renders frame `n`, adds its statistics and sends the outputs that are ready to
+    /// the encoder; `Ok(false)` when the encoder is gone.
+    fn frame(&mut self, engine: &mut Engine, n: u64, is_last: bool) -> Result<bool, RunError> {
+        let t0 = Instant::now();
+        let (first, last) = self.times.frames;
+        let t = self.times.time_of(n);
+        // the frame's sub-pixel offset when the chain declares JITTER (its index
+        // is the frame number, so a frame's jitter depends on n alone)
+        let jitter = self
+            .stream
+            .as_ref()
+            .and_then(|s| s.prepared.jitter())
+            .map_or([0.0, 0.0], |p| p.offset(n));
+        let (out, rs, cut) = self.render(engine, t, jitter)?;
+        self.report.frames_in += 1;
+        // `--time` with `--gbuffer`: the one output frame's G-buffer, its motion
+        // vectors those of the previous frame time
+        if let (Some(dir), true) = (&self.job.gbuffer, n == first && first == last) {
+            super::gbuffer::write_gbuffer(dir, &out, &engine.ctx, &self.job.scene)?;
+        }
+        add_render_stats(&mut self.stats, &rs);
+        let sent = match self.stream.as_mut() {
+            Some(s) => push_and_drain(
+                engine,
+                s,
+                &out,
+                (jitter, cut),
+                is_last,
+                (first, last),
+                &mut self.emitted,
+                &self.enc_tx,
+                self.output_format,
+            ),
+            None => self.send_rendered_image(engine, &out, n, t),
+        };
+        self.gpu_busy += t0.elapsed();
+        sent
+    }
+
+    /// Renders the scene at time `t` (its motion from `t` − 1 / fps), offset by
+    /// `jitter`; with whether the camera jumped there (a cut).
+    fn render(
+        &mut self,
+        engine: &Engine,
+        t: f64,
+        jitter: [f32; 2],
+    ) -> Result<(RenderOutput, RenderStats, bool), RunError> {
+        let (scene, path, playback) = (self.scene, self.path, self.playback);
+        let dt = 1.0 / self.times.fps;
+        let (pose, prev) = (scene.pose(t, playback), scene.pose(t - dt, playback));
+        if self.animated {
+            // lights on animated nodes move with them
+            self.renderer.set_lights(pose.lights.clone());
+        }
+        // a camera that jumps (a STEP key) starts a new shot: no camera motion,
+        // and effects see the standard value `cut`
+        let cut = path.cuts(scene, playback, t - dt, t);
+        let motion = FrameMotion {
+            prev_camera: Some(path.at(scene, Some(&prev), t - dt)),
+            jitter,
+            cut,
+            ..FrameMotion::posed(scene, &pose, &prev)
+        };
+        let camera = path.at(scene, Some(&pose), t);
+        let (out, rs) = self
+            .renderer
+            .render_frame(
+                &engine.ctx,
+                &camera,
+                &motion,
+                self.job.width,
+                self.job.height,
+                self.job.technique,
+                self.timer.as_ref(),
+            )
+            .map_err(|e| super::scene::render_error(&self.job.scene, e))?;
+        Ok((out, rs, cut))
+    }
+
+    /// No effect: the rendered HDR image itself goes to the encoder (frames inside
+    /// the output range); `Ok(false)` when the encoder is gone.
+    fn send_rendered_image(
+        &self,
+        engine: &Engine,
+        out: &RenderOutput,
+        n: u64,
+        t: f64,
+    ) -> Result<bool, RunError> {
+        let (first, last) = self.times.frames;
+        let ctx = engine.ctx.clone();
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        let pending = ctx.encode_readback(&mut enc, &out.scene);
+        ctx.queue.submit([enc.finish()]);
+        pending
+            .map_err(RunError::from)
+            .map(|pending| {
+                (first..=last).contains(&n)
+                    && self
+                        .enc_tx
+                        .send(Encoded {
+                            index: (n - first) as usize,
+                            number: n,
+                            name: format!("{} at {:.4} s", self.job.scene, t),
+                            pending: super::stage_messages::Readback::Texture(pending),
+                            format: Format::Rgba16f,
+                            gpu: None,
+                            decode: None,
+                        })
+                        .is_err()
+            })
+            .map(|closed| !closed)
+    }
+}
+
+/// Adds one rendered frame's statistics to the sequence's: times summed, the
+/// counts of the last frame.
+fn add_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
+    stats.render_cpu_ms += rs.cpu_ms;
+    for (name, ms) in &rs.cpu_split {
+        match stats.render_cpu_split.iter_mut().find(|(n, _)| n == name) {
+            Some(p) => p.1 += ms,
+            None => stats.render_cpu_split.push((name.clone(), *ms)),
+        }
+    }
+    stats.render_gpu_ms = match (stats.render_gpu_ms, rs.gpu_ms) {
+        (Some(a), Some(b)) => Some(a + b),
+        (_, b) => b,
+    };
+    stats.render_passes = rs.pass_ms.clone();
+    stats.triangles = rs.triangles;
+    // (the last frame's)
+    stats.lights_visible = rs.lights_visible;
+    stats.cluster_entries = rs.cluster_entries;
+    stats.cluster_bytes = rs.cluster_bytes;
+    stats.shadow_layers = rs.shadow_layers;
+    stats.shadow_map_bytes = rs.shadow_map_bytes;
+    stats.shadow_layers_rendered += rs.shadow_layers_rendered;
+    stats.pipelines = rs.pipelines;
+    stats.shader_modules = rs.shader_modules;
 }
 
 /// The effect prepared for the rendered frames, as a stream; with its history
