@@ -14,7 +14,7 @@
 use super::effect::Effect;
 use super::error::RunError;
 use super::frames::FrameSink;
-use super::pipeline::spawn_encoder;
+use super::pipeline::{spawn_encoder, EncodeResult};
 use super::report::{ms, JobKind, MemoryReport, Progress, RunReport, SceneStats};
 use super::scene::{prepare, SceneJob};
 use super::stage_messages::Encoded;
@@ -129,25 +129,14 @@ pub fn run_scene_sequence(
         backend: format!("{:?}", engine.ctx.info.backend),
         ..Default::default()
     };
-    let (first, last) = times.frames;
-    let (mut stream, history, latency) = match effect {
-        Some(mut effect) => {
-            let (s, h, l) = stream_for(job, times, engine, &mut effect, &renderer, output_format)?;
-            report.plans = 1;
-            report.memory = MemoryReport::of(&s.prepared.plan);
-            (Some(s), h, l)
-        }
-        None => (None, 0, 0),
-    };
-    // Frames rendered: the history and warm-up before the first output, the
-    // latency after the last.
-    let from = first.saturating_sub(history + times.warmup);
-    let to = last.saturating_add(latency);
-    if let Some(s) = stream.as_mut() {
-        s.frame_offset = from;
-    }
-    report.frames_total = Some(last - first + 1);
-    report.frames_held_max = 2 + stream.as_ref().map_or(1, |s| s.ring_len());
+    let (stream, (from, to)) = effect_stream(
+        (job, times),
+        engine,
+        effect,
+        &renderer,
+        output_format,
+        &mut report,
+    )?;
     let (enc_tx, enc_rx) = sync_channel::<Encoded>(2);
     let halt = Arc::new(AtomicBool::new(false));
     let complete = Arc::new(AtomicBool::new(false));
@@ -172,56 +161,39 @@ pub fn run_scene_sequence(
         emitted: from,
         gpu_busy: Duration::ZERO,
     };
-    let mut fatal = None;
-    for n in from..=to {
-        if halt.load(Ordering::Relaxed) {
-            break;
-        }
-        match run.frame(engine, n, n == to) {
-            Ok(true) => {}
-            Ok(false) => break,
-            Err(e) => {
-                fatal = Some(e);
-                break;
-            }
-        }
-        progress(Progress {
-            done: n.saturating_sub(first).min(last - first + 1),
-            total: Some(last - first + 1),
-            elapsed: t_all.elapsed(),
-        });
-        if stop.load(Ordering::Relaxed) {
-            run.report.interrupted = true;
-            break;
-        }
-    }
+    let fatal = run.frames(engine, (from, to), (&halt, &stop), t_all, &mut progress);
     // a y4m or video output is made final only when every frame went through
     complete.store(
         fatal.is_none() && !run.report.interrupted && !halt.load(Ordering::Relaxed),
         Ordering::SeqCst,
     );
-    drop(run.enc_tx);
-    let enc = encoder
+    // (the encoder ends after the last frame once the queue closes)
+    let SceneRun {
+        report,
+        stream,
+        stats,
+        gpu_busy,
+        enc_tx,
+        ..
+    } = run;
+    drop(enc_tx);
+    let mut enc = encoder
         .join()
         .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
     if let Some(e) = fatal {
         return Err(e);
     }
-    if let Some(f) = enc.failed.into_iter().next() {
+    if let Some(f) = enc.failed.drain(..).next() {
         return Err(f.error);
     }
-    let mut report = run.report;
-    if let Some(s) = &run.stream {
-        report.passes = s.median_timings();
-    }
-    report.done = enc.done;
-    report.stages.gpu_busy_ms = ms(run.gpu_busy);
-    report.stages.encode_busy_ms = ms(enc.busy);
-    report.stages.readback_wait_ms = ms(enc.wait);
-    report.steps.readback_ms = ms(enc.last_wait);
-    report.scene = Some(run.stats);
-    report.wall_ms = ms(t_all.elapsed());
-    Ok(report)
+    Ok(finish_report(
+        report,
+        stream.as_ref(),
+        stats,
+        gpu_busy,
+        enc,
+        t_all,
+    ))
 }
 
 /// A rendered sequence while its frames go through: what each frame is rendered
@@ -248,6 +220,40 @@ struct SceneRun<'a> {
 }
 
 impl SceneRun<'_> {
+    /// Renders frames `from..=to` through the stream until `halt` (a failed write) or
+    /// `stop` (Ctrl-C: the run is marked interrupted) ends them early, reporting
+    /// progress after each; the error that ended the run.
+    fn frames(
+        &mut self,
+        engine: &mut Engine,
+        (from, to): (u64, u64),
+        (halt, stop): (&AtomicBool, &AtomicBool),
+        t_all: Instant,
+        progress: &mut impl FnMut(Progress),
+    ) -> Option<RunError> {
+        let (first, last) = self.times.frames;
+        for n in from..=to {
+            if halt.load(Ordering::Relaxed) {
+                break;
+            }
+            match self.frame(engine, n, n == to) {
+                Ok(true) => {}
+                Ok(false) => break,
+                Err(e) => return Some(e),
+            }
+            progress(Progress {
+                done: n.saturating_sub(first).min(last - first + 1),
+                total: Some(last - first + 1),
+                elapsed: t_all.elapsed(),
+            });
+            if stop.load(Ordering::Relaxed) {
+                self.report.interrupted = true;
+                break;
+            }
+        }
+        None
+    }
+
     /// Renders frame `n`, adds its statistics and sends the outputs that are ready to
     /// the encoder; `Ok(false)` when the encoder is gone.
     fn frame(&mut self, engine: &mut Engine, n: u64, is_last: bool) -> Result<bool, RunError> {
@@ -362,6 +368,29 @@ impl SceneRun<'_> {
     }
 }
 
+/// The report of a finished rendered sequence, with the effect's pass timings, the
+/// renderer's statistics and what the encoder wrote.
+fn finish_report(
+    mut report: RunReport,
+    stream: Option<&Stream>,
+    stats: SceneStats,
+    gpu_busy: Duration,
+    enc: EncodeResult,
+    t_all: Instant,
+) -> RunReport {
+    if let Some(s) = stream {
+        report.passes = s.median_timings();
+    }
+    report.done = enc.done;
+    report.stages.gpu_busy_ms = ms(gpu_busy);
+    report.stages.encode_busy_ms = ms(enc.busy);
+    report.stages.readback_wait_ms = ms(enc.wait);
+    report.steps.readback_ms = ms(enc.last_wait);
+    report.scene = Some(stats);
+    report.wall_ms = ms(t_all.elapsed());
+    report
+}
+
 /// Adds one rendered frame's statistics to the sequence's: times summed, the
 /// counts of the last frame.
 fn add_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
@@ -387,6 +416,39 @@ fn add_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
     stats.shadow_layers_rendered += rs.shadow_layers_rendered;
     stats.pipelines = rs.pipelines;
     stats.shader_modules = rs.shader_modules;
+}
+
+/// The job's effect prepared as a stream over the rendered frames (none without an
+/// effect), and the frames to render: the history and warm-up before the first
+/// output, the latency after the last. The plan's figures go to `report`.
+fn effect_stream(
+    (job, times): (&SceneJob, &SceneTimes),
+    engine: &mut Engine,
+    effect: Option<Effect>,
+    renderer: &Renderer,
+    output_format: Format,
+    report: &mut RunReport,
+) -> Result<(Option<Stream>, (u64, u64)), RunError> {
+    let (first, last) = times.frames;
+    let (mut stream, history, latency) = match effect {
+        Some(mut effect) => {
+            let (s, h, l) = stream_for(job, times, engine, &mut effect, renderer, output_format)?;
+            report.plans = 1;
+            report.memory = MemoryReport::of(&s.prepared.plan);
+            (Some(s), h, l)
+        }
+        None => (None, 0, 0),
+    };
+    // Frames rendered: the history and warm-up before the first output, the
+    // latency after the last.
+    let from = first.saturating_sub(history + times.warmup);
+    let to = last.saturating_add(latency);
+    if let Some(s) = stream.as_mut() {
+        s.frame_offset = from;
+    }
+    report.frames_total = Some(last - first + 1);
+    report.frames_held_max = 2 + stream.as_ref().map_or(1, |s| s.ring_len());
+    Ok((stream, (from, to)))
 }
 
 /// The effect prepared for the rendered frames, as a stream; with its history
