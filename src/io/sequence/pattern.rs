@@ -58,9 +58,11 @@ fn conversion_spec(
                 "unsupported conversion `%{spec}{other}` (use %d, %04d or %4d; %% for a literal %)"
             ))
         }
-        None => return Err(format!(
+        None => {
+            return Err(format!(
             "incomplete conversion `%{spec}` at the end (use %d, %04d or %4d; %% for a literal %)"
-        )),
+        ))
+        }
     }
     Ok(spec)
 }
