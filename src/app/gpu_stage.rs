@@ -126,17 +126,17 @@ impl<'a, 'r> GpuStage<'a, 'r> {
     }
 
     /// Whether every frame so far went through: no failure recorded, not interrupted.
-    pub(super) fn completed(&self) -> bool {
+    fn completed(&self) -> bool {
         !self.report.interrupted && self.report.failed.is_empty()
     }
 
     /// Record that the run was stopped (Ctrl-C) before its input ended.
-    pub(super) fn mark_interrupted(&mut self) {
+    fn mark_interrupted(&mut self) {
         self.report.interrupted = true;
     }
 
     /// Take every decoded frame through the GPU; `Some` error ends the run.
-    pub(super) fn run(
+    fn run(
         &mut self,
         dec_rx: &std::sync::mpsc::Receiver<Decoded>,
         halt: &AtomicBool,
@@ -193,6 +193,25 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             self.report.passes = s.median_timings();
         }
         None
+    }
+
+    /// [`Self::run`], then: a stop seen by the decoder alone (between two frames) ended
+    /// the input early, and the run was interrupted all the same; `complete` says
+    /// whether the run completed (no error, every frame through, not halted).
+    pub(super) fn run_to_end(
+        &mut self,
+        dec_rx: &std::sync::mpsc::Receiver<Decoded>,
+        (halt, stop, complete): (&AtomicBool, &AtomicBool, &AtomicBool),
+        (start, total): (Instant, Option<u64>),
+        progress: &mut impl FnMut(Progress),
+    ) -> Option<RunError> {
+        let fatal = self.run(dec_rx, halt, stop, start, total, progress);
+        if stop.load(Ordering::SeqCst) {
+            self.mark_interrupted();
+        }
+        let done = fatal.is_none() && self.completed() && !halt.load(Ordering::Relaxed);
+        complete.store(done, Ordering::SeqCst);
+        fatal
     }
 
     /// A frame that could not be decoded: the end of a sequence; for stills, a failure

@@ -199,14 +199,10 @@ pub fn run_frames(
     // What a y4m sink writes, for planes made on the GPU (used if the route says so).
     let plane_output = sink.plane_output();
     let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone(), complete.clone())?;
-
     let mut report = RunReport {
         job: opts.job,
         frames_total: total,
-        // Stills: decoded frames waiting for the GPU, the one on the GPU, read-backs
-        // waiting for the encoder, the one being encoded (sequences add their ring:
-        // set when the stream is made).
-        frames_held_max: 2 * queue + 2,
+        frames_held_max: frames_held(queue),
         ..Default::default()
     };
     let mut own_engine = None;
@@ -217,12 +213,10 @@ pub fn run_frames(
         &mut report,
         &mut own_engine,
     );
-    let fatal;
-    let mut gpu_busy = Duration::ZERO;
-    match engine {
+    let (fatal, gpu_busy) = match engine {
         Err(e) => {
             drop(enc_tx);
-            fatal = Some(e);
+            (Some(e), Duration::ZERO)
         }
         Ok(engine) => {
             report.adapter = engine.ctx.info.name.clone();
@@ -231,17 +225,11 @@ pub fn run_frames(
             if route.decided() == Some(true) {
                 gpu.offer_planes(plane_output);
             }
-            fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);
-            gpu_busy = gpu.busy;
-            // A stop seen by the decoder alone (between two frames) ended the input
-            // early: the run was interrupted all the same.
-            if stop.load(Ordering::SeqCst) {
-                gpu.mark_interrupted();
-            }
-            let done = fatal.is_none() && gpu.completed() && !halt.load(Ordering::Relaxed);
-            complete.store(done, Ordering::SeqCst);
+            let flags = (&*halt, &*stop, &*complete);
+            let fatal = gpu.run_to_end(&dec_rx, flags, (start, total), &mut progress);
+            (fatal, gpu.busy)
         }
-    }
+    };
     // (the stage's sender is dropped with it: the encoder ends after the last frame)
     drop(dec_rx);
     if let Some(e) = &own_engine {
@@ -257,6 +245,13 @@ pub fn run_frames(
     report.stages.decode_busy_ms = ms(decode_busy);
     report.stages.gpu_busy_ms = ms(gpu_busy);
     finish_report(report, enc, start, stills)
+}
+
+/// The most frames a run of stills holds at once with `queue`: decoded frames waiting
+/// for the GPU, the one on the GPU, read-backs waiting for the encoder, the one being
+/// encoded (sequences add their ring: set when the stream is made).
+fn frames_held(queue: usize) -> usize {
+    2 * queue + 2
 }
 
 /// The thread that creates the device of [`Device::Create`], returning the engine and

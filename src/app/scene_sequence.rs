@@ -167,33 +167,7 @@ pub fn run_scene_sequence(
         fatal.is_none() && !run.report.interrupted && !halt.load(Ordering::Relaxed),
         Ordering::SeqCst,
     );
-    // (the encoder ends after the last frame once the queue closes)
-    let SceneRun {
-        report,
-        stream,
-        stats,
-        gpu_busy,
-        enc_tx,
-        ..
-    } = run;
-    drop(enc_tx);
-    let mut enc = encoder
-        .join()
-        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
-    if let Some(e) = fatal {
-        return Err(e);
-    }
-    if let Some(f) = enc.failed.drain(..).next() {
-        return Err(f.error);
-    }
-    Ok(finish_report(
-        report,
-        stream.as_ref(),
-        stats,
-        gpu_busy,
-        enc,
-        t_all,
-    ))
+    end_run(run, encoder, fatal, t_all)
 }
 
 /// A rendered sequence while its frames go through: what each frame is rendered
@@ -368,17 +342,35 @@ impl SceneRun<'_> {
     }
 }
 
-/// The report of a finished rendered sequence, with the effect's pass timings, the
+/// Closes the queue to the encoder and waits for it; then the error that ended the run
+/// (or the first failed write), else its report: the effect's pass timings, the
 /// renderer's statistics and what the encoder wrote.
-fn finish_report(
-    mut report: RunReport,
-    stream: Option<&Stream>,
-    stats: SceneStats,
-    gpu_busy: Duration,
-    enc: EncodeResult,
+fn end_run(
+    run: SceneRun,
+    encoder: std::thread::JoinHandle<EncodeResult>,
+    fatal: Option<RunError>,
     t_all: Instant,
-) -> RunReport {
-    if let Some(s) = stream {
+) -> Result<RunReport, RunError> {
+    // (the encoder ends after the last frame once the queue closes)
+    let SceneRun {
+        mut report,
+        stream,
+        stats,
+        gpu_busy,
+        enc_tx,
+        ..
+    } = run;
+    drop(enc_tx);
+    let mut enc = encoder
+        .join()
+        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
+    if let Some(e) = fatal {
+        return Err(e);
+    }
+    if let Some(f) = enc.failed.drain(..).next() {
+        return Err(f.error);
+    }
+    if let Some(s) = &stream {
         report.passes = s.median_timings();
     }
     report.done = enc.done;
@@ -388,7 +380,7 @@ fn finish_report(
     report.steps.readback_ms = ms(enc.last_wait);
     report.scene = Some(stats);
     report.wall_ms = ms(t_all.elapsed());
-    report
+    Ok(report)
 }
 
 /// Adds one rendered frame's statistics to the sequence's: times summed, the
