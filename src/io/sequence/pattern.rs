@@ -51,20 +51,15 @@ fn conversion_spec(
             break;
         }
     }
+    // (how a conversion is written, in the errors)
+    let forms = "(use %d, %04d or %4d; %% for a literal %)";
     match chars.next() {
-        Some((_, 'd')) => {}
-        Some((_, other)) => {
-            return Err(format!(
-                "unsupported conversion `%{spec}{other}` (use %d, %04d or %4d; %% for a literal %)"
-            ))
-        }
-        None => {
-            return Err(format!(
-            "incomplete conversion `%{spec}` at the end (use %d, %04d or %4d; %% for a literal %)"
-        ))
-        }
+        Some((_, 'd')) => Ok(spec),
+        Some((_, other)) => Err(format!("unsupported conversion `%{spec}{other}` {forms}")),
+        None => Err(format!(
+            "incomplete conversion `%{spec}` at the end {forms}"
+        )),
     }
-    Ok(spec)
 }
 
 /// The padding a conversion's `[0][width]` asks for: zeros with a leading `0`, spaces

@@ -354,16 +354,14 @@ fn choose_encoder(
 ) -> Result<(String, Vec<String>), VideoError> {
     match &opts.codec {
         Some(c) => {
+            let unknown = || {
+                format!(
+                    "--codec {c}: this ffmpeg has no such encoder (`ffmpeg -encoders` lists them)"
+                )
+            };
             let f = encoder_formats(ffmpeg, c)
                 .map_err(|e| io_error(output, e))?
-                .ok_or_else(|| {
-                    option_error(
-                        output,
-                        format!(
-                    "--codec {c}: this ffmpeg has no such encoder (`ffmpeg -encoders` lists them)"
-                ),
-                    )
-                })?;
+                .ok_or_else(|| option_error(output, unknown()))?;
             Ok((c.clone(), f))
         }
         None => {
