@@ -39,6 +39,40 @@ struct Current {
     output: wgpu::Texture,
 }
 
+/// What became of a decoded frame in the GPU stage: the run goes on (`Next`, after its
+/// progress; `Skip`, without), stops there, or fails.
+enum Step {
+    Next,
+    Skip,
+    Stop,
+    Fail(RunError),
+}
+
+/// A decoded still: its index in the run, its number and name, its decoding time.
+struct StillFrame {
+    index: usize,
+    number: u64,
+    name: String,
+    decode_time: Duration,
+}
+
+/// Refuses auxiliary images of another size than the input.
+fn check_aux_sizes(img: &Image, aux: &[(String, Image)]) -> Result<(), RunError> {
+    if let Some((name, a)) = aux
+        .iter()
+        .find(|(_, a)| (a.width, a.height) != (img.width, img.height))
+    {
+        return Err(RunError::BadInput(IoError::Unsupported {
+            path: format!("AUX.{name}").into(),
+            message: format!(
+                "the auxiliary image is {}x{}, the input is {}x{}: they must have one size",
+                a.width, a.height, img.width, img.height
+            ),
+        }));
+    }
+    Ok(())
+}
+
 /// The GPU thread's state.
 pub(super) struct GpuStage<'a, 'r> {
     engine: &'a mut Engine,
@@ -92,17 +126,17 @@ impl<'a, 'r> GpuStage<'a, 'r> {
     }
 
     /// Whether every frame so far went through: no failure recorded, not interrupted.
-    pub(super) fn completed(&self) -> bool {
+    fn completed(&self) -> bool {
         !self.report.interrupted && self.report.failed.is_empty()
     }
 
     /// Record that the run was stopped (Ctrl-C) before its input ended.
-    pub(super) fn mark_interrupted(&mut self) {
+    fn mark_interrupted(&mut self) {
         self.report.interrupted = true;
     }
 
     /// Take every decoded frame through the GPU; `Some` error ends the run.
-    pub(super) fn run(
+    fn run(
         &mut self,
         dec_rx: &std::sync::mpsc::Receiver<Decoded>,
         halt: &AtomicBool,
@@ -117,70 +151,28 @@ impl<'a, 'r> GpuStage<'a, 'r> {
                 break;
             }
             self.report.frames_in += 1;
-            let (img, aux) = match item {
-                Ok(x) => x,
-                Err(e) => {
-                    if !stills {
-                        return Some(e.into());
-                    }
-                    self.report
-                        .failed
-                        .push(FrameFailure::new(index, name, e.into()));
-                    if !self.opts.keep_going {
-                        halt.store(true, Ordering::Relaxed);
-                        break;
-                    }
-                    continue;
+            let step = match item {
+                Err(e) => self.decode_failed(index, name, e, halt),
+                Ok((img, aux)) if stills => {
+                    let frame = StillFrame {
+                        index,
+                        number,
+                        name,
+                        decode_time,
+                    };
+                    self.still_frame(frame, img, &aux, halt)
                 }
+                Ok((img, _)) => match self.push(img, number, name).and_then(|()| self.drain()) {
+                    Ok(true) => Step::Next,
+                    Ok(false) => Step::Stop,
+                    Err(e) => Step::Fail(e),
+                },
             };
-            let t = Instant::now();
-            let sent = if stills {
-                let still = img
-                    .into_image(&name)
-                    .map_err(RunError::from)
-                    .and_then(|img| self.still(&img, &aux, number));
-                match still {
-                    Ok(pending) => {
-                        let pending = Readback::Texture(pending);
-                        let spent = t.elapsed();
-                        self.busy += spent;
-                        self.enc_tx
-                            .send(Encoded {
-                                index,
-                                number,
-                                name,
-                                pending,
-                                format: self.opts.format_for(number),
-                                gpu: Some(spent),
-                                decode: Some(decode_time),
-                            })
-                            .is_ok()
-                    }
-                    Err(e @ RunError::Rejected { .. }) => {
-                        // The effect or its shaders: every frame would fail the same way.
-                        halt.store(true, Ordering::Relaxed);
-                        return Some(e);
-                    }
-                    Err(e) => {
-                        self.busy += t.elapsed();
-                        // The textures may be in any state after a GPU error: plan afresh.
-                        self.current = None;
-                        self.report.failed.push(FrameFailure::new(index, name, e));
-                        if !self.opts.keep_going {
-                            halt.store(true, Ordering::Relaxed);
-                            break;
-                        }
-                        true
-                    }
-                }
-            } else {
-                match self.push(img, number, name).and_then(|()| self.drain()) {
-                    Ok(open) => open,
-                    Err(e) => return Some(e),
-                }
-            };
-            if !sent {
-                break;
+            match step {
+                Step::Next => {}
+                Step::Skip => continue,
+                Step::Stop => break,
+                Step::Fail(e) => return Some(e),
             }
             progress(Progress {
                 done: self.report.frames_in,
@@ -193,17 +185,118 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             }
         }
         if !stills && !self.report.interrupted && !halt.load(Ordering::Relaxed) {
-            if let Some(s) = self.stream.as_mut() {
-                s.end();
-                if let Err(e) = self.drain() {
-                    return Some(e);
-                }
+            if let Err(e) = self.end_stream() {
+                return Some(e);
             }
         }
         if let Some(s) = &self.stream {
             self.report.passes = s.median_timings();
         }
         None
+    }
+
+    /// [`Self::run`], then: a stop seen by the decoder alone (between two frames) ended
+    /// the input early, and the run was interrupted all the same; `complete` says
+    /// whether the run completed (no error, every frame through, not halted).
+    pub(super) fn run_to_end(
+        &mut self,
+        dec_rx: &std::sync::mpsc::Receiver<Decoded>,
+        (halt, stop, complete): (&AtomicBool, &AtomicBool, &AtomicBool),
+        (start, total): (Instant, Option<u64>),
+        progress: &mut impl FnMut(Progress),
+    ) -> Option<RunError> {
+        let fatal = self.run(dec_rx, halt, stop, start, total, progress);
+        if stop.load(Ordering::SeqCst) {
+            self.mark_interrupted();
+        }
+        let done = fatal.is_none() && self.completed() && !halt.load(Ordering::Relaxed);
+        complete.store(done, Ordering::SeqCst);
+        fatal
+    }
+
+    /// A frame that could not be decoded: the end of a sequence; for stills, a failure
+    /// recorded, the run halted unless `keep_going`.
+    fn decode_failed(&mut self, index: usize, name: String, e: IoError, halt: &AtomicBool) -> Step {
+        if self.opts.mode != Mode::Stills {
+            return Step::Fail(e.into());
+        }
+        self.report
+            .failed
+            .push(FrameFailure::new(index, name, e.into()));
+        if !self.opts.keep_going {
+            halt.store(true, Ordering::Relaxed);
+            return Step::Stop;
+        }
+        Step::Skip
+    }
+
+    /// Runs one still and sends its read-back to the encoder. A rejected effect ends
+    /// the run (every frame would fail the same way); another failure is recorded and
+    /// halts the run unless `keep_going`.
+    fn still_frame(
+        &mut self,
+        frame: StillFrame,
+        img: Picture,
+        aux: &[(String, Image)],
+        halt: &AtomicBool,
+    ) -> Step {
+        let StillFrame {
+            index,
+            number,
+            name,
+            decode_time,
+        } = frame;
+        let t = Instant::now();
+        let still = img
+            .into_image(&name)
+            .map_err(RunError::from)
+            .and_then(|img| self.still(&img, aux, number));
+        match still {
+            Ok(pending) => {
+                let pending = Readback::Texture(pending);
+                let spent = t.elapsed();
+                self.busy += spent;
+                let sent = self.enc_tx.send(Encoded {
+                    index,
+                    number,
+                    name,
+                    pending,
+                    format: self.opts.format_for(number),
+                    gpu: Some(spent),
+                    decode: Some(decode_time),
+                });
+                if sent.is_ok() {
+                    Step::Next
+                } else {
+                    Step::Stop
+                }
+            }
+            Err(e @ RunError::Rejected { .. }) => {
+                // The effect or its shaders: every frame would fail the same way.
+                halt.store(true, Ordering::Relaxed);
+                Step::Fail(e)
+            }
+            Err(e) => {
+                self.busy += t.elapsed();
+                // The textures may be in any state after a GPU error: plan afresh.
+                self.current = None;
+                self.report.failed.push(FrameFailure::new(index, name, e));
+                if !self.opts.keep_going {
+                    halt.store(true, Ordering::Relaxed);
+                    return Step::Stop;
+                }
+                Step::Next
+            }
+        }
+    }
+
+    /// The input of a sequence has ended: the stream outputs the frames it still holds.
+    fn end_stream(&mut self) -> Result<(), RunError> {
+        if let Some(s) = self.stream.as_mut() {
+            s.end();
+            self.drain()?;
+        }
+        Ok(())
     }
 
     fn plan_opts(&self, output: Format) -> PlanOptions {
@@ -228,26 +321,14 @@ impl<'a, 'r> GpuStage<'a, 'r> {
         number: u64,
     ) -> Result<PendingReadback, RunError> {
         let assume_linear = self.opts.assume_linear;
-        if let Some((name, a)) = aux
-            .iter()
-            .find(|(_, a)| (a.width, a.height) != (img.width, img.height))
-        {
-            return Err(RunError::BadInput(IoError::Unsupported {
-                path: format!("AUX.{name}").into(),
-                message: format!(
-                    "the auxiliary image is {}x{}, the input is {}x{}: they must have one size",
-                    a.width, a.height, img.width, img.height
-                ),
-            }));
-        }
+        check_aux_sizes(img, aux)?;
         let (in_format, colorspace) = input_format(img, assume_linear);
-        let out_format = self.opts.format_for(number);
         let key = PlanKey {
             width: img.width,
             height: img.height,
             input: in_format,
             colorspace,
-            output: out_format,
+            output: self.opts.format_for(number),
             aux: aux
                 .iter()
                 .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
@@ -255,55 +336,8 @@ impl<'a, 'r> GpuStage<'a, 'r> {
         };
         let ctx = self.engine.ctx.clone();
         let t = Instant::now();
-        let mut planning = Duration::ZERO;
         let bytes = image_bytes(img, in_format);
-        if self.current.as_ref().is_some_and(|c| c.key == key) {
-            let c = self.current.as_ref().expect("checked");
-            let texel = (bytes.len() / (img.width as usize * img.height as usize)) as u32;
-            ctx.queue.write_texture(
-                c.input.as_image_copy(),
-                &bytes,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(img.width * texel),
-                    rows_per_image: None,
-                },
-                c.input.size(),
-            );
-        } else {
-            // Free the previous size's textures before allocating the new ones.
-            self.current = None;
-            let desc = InputDesc {
-                width: img.width,
-                height: img.height,
-                format: in_format,
-                colorspace,
-                aux: key.aux.clone(),
-            };
-            // Transient textures come from the engine's pool, kept for the next frame.
-            let tp = Instant::now();
-            let prepared =
-                self.effect
-                    .prepare_with(self.engine, &desc, &self.plan_opts(out_format))?;
-            planning = tp.elapsed();
-            self.note_plan(&prepared, planning);
-            let input = ctx.upload_texture(
-                "fxgraph input",
-                img.width,
-                img.height,
-                wgpu_format(in_format),
-                &bytes,
-                wgpu::TextureUsages::empty(),
-            )?;
-            let out = prepared.plan.output;
-            let output = create_output(&ctx, out.width, out.height, out.format);
-            self.current = Some(Current {
-                key,
-                prepared,
-                input,
-                output,
-            });
-        }
+        let planning = self.upload_input(img, key, &bytes)?;
         let aux_tex = aux
             .iter()
             .map(|(n, a)| {
@@ -312,13 +346,83 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             })
             .collect::<Result<Vec<_>, crate::gpu::context::GpuError>>()?;
         self.report.steps.upload_ms = ms(t.elapsed().saturating_sub(planning));
+        self.run_current(&aux_tex)
+    }
+
+    /// Writes the input `bytes` of `img` into the current plan's input texture when
+    /// `key` is the current plan's; else plans afresh for `key` (the previous size's
+    /// textures freed first) and uploads them into a new input. The time spent
+    /// planning.
+    fn upload_input(
+        &mut self,
+        img: &Image,
+        key: PlanKey,
+        bytes: &[u8],
+    ) -> Result<Duration, RunError> {
+        let ctx = self.engine.ctx.clone();
+        if let Some(c) = self.current.as_ref().filter(|c| c.key == key) {
+            let texel = (bytes.len() / (img.width as usize * img.height as usize)) as u32;
+            ctx.queue.write_texture(
+                c.input.as_image_copy(),
+                bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(img.width * texel),
+                    rows_per_image: None,
+                },
+                c.input.size(),
+            );
+            return Ok(Duration::ZERO);
+        }
+        // Free the previous size's textures before allocating the new ones.
+        self.current = None;
+        let desc = InputDesc {
+            width: img.width,
+            height: img.height,
+            format: key.input,
+            colorspace: key.colorspace,
+            aux: key.aux.clone(),
+        };
+        // Transient textures come from the engine's pool, kept for the next frame.
+        let tp = Instant::now();
+        let prepared = self
+            .effect
+            .prepare_with(self.engine, &desc, &self.plan_opts(key.output))?;
+        let planning = tp.elapsed();
+        self.note_plan(&prepared, planning);
+        let input = ctx.upload_texture(
+            "fxgraph input",
+            img.width,
+            img.height,
+            wgpu_format(key.input),
+            bytes,
+            wgpu::TextureUsages::empty(),
+        )?;
+        let out = prepared.plan.output;
+        let output = create_output(&ctx, out.width, out.height, out.format);
+        self.current = Some(Current {
+            key,
+            prepared,
+            input,
+            output,
+        });
+        Ok(planning)
+    }
+
+    /// Runs the current plan's passes as a still (frame 0) over its input and `aux`,
+    /// and the copy of its output into a read-back buffer: one submission.
+    fn run_current(
+        &mut self,
+        aux_tex: &[(String, wgpu::Texture)],
+    ) -> Result<PendingReadback, RunError> {
+        let ctx = self.engine.ctx.clone();
         let t = Instant::now();
         let c = self.current.as_mut().expect("prepared above");
         // Every image is a still of its own: frame 0, as a one-image run.
         c.prepared.frame = 0;
         c.prepared.subframe = 0;
         let mut inputs = FrameInputs::still(&c.input, &c.prepared.plan);
-        for (n, tex) in &aux_tex {
+        for (n, tex) in aux_tex {
             inputs.aux.insert(n.clone(), tex.into());
         }
         inputs.camera = self.opts.camera;

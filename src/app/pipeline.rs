@@ -32,7 +32,7 @@ pub use super::pipeline_options::{Mode, PipelineOptions};
 use super::planes::PlaneRoute;
 use super::report::{ms, FrameDone, FrameFailure, Progress, RunReport};
 use super::stage_messages::{Decoded, Encoded, Readback};
-use crate::gpu::context::{AdapterChoice, GpuContext};
+use crate::gpu::context::{AdapterChoice, GpuContext, GpuError};
 use crate::gpu::executor::Engine;
 use crate::gpu::transfer::pixels_from_bytes;
 use crate::io::IoError;
@@ -180,17 +180,103 @@ pub fn run_frames(
     let limit = SideLimit::default();
     // Y'CbCr planes go to the GPU for sequences, as `opts.ycbcr` says for the device.
     let route = PlaneRoute::default();
+    let device_thread = start_device(&device, opts, &limit, &route)?;
+    source.set_limit(limit.clone());
+    source.set_plane_route(route.clone());
+    let total = source.frame_count();
+    let queue = opts.queue.max(1);
+    let stills = opts.mode == Mode::Stills;
+    let keep_going = stills && opts.keep_going;
+    // Set when the run must end early (a failure without keep_going).
+    let halt = Arc::new(AtomicBool::new(false));
+    let (dec_tx, dec_rx) = sync_channel::<Decoded>(queue);
+    let (enc_tx, enc_rx) = sync_channel::<Encoded>(queue);
+    let decoder = spawn_decoder(source, dec_tx, keep_going, halt.clone(), stop.clone())?;
+    // Set by this thread once the GPU stage has ended (before the encoder sees the
+    // end of its queue): whether the run completed, so the sink can make its output
+    // final (`finish`) or discard it (`abort`).
+    let complete = Arc::new(AtomicBool::new(false));
+    // What a y4m sink writes, for planes made on the GPU (used if the route says so).
+    let plane_output = sink.plane_output();
+    let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone(), complete.clone())?;
+    let mut report = RunReport {
+        job: opts.job,
+        frames_total: total,
+        frames_held_max: frames_held(queue),
+        ..Default::default()
+    };
+    let mut own_engine = None;
+    let engine = engine_of(
+        device,
+        device_thread,
+        (&limit, &route),
+        &mut report,
+        &mut own_engine,
+    );
+    let (fatal, gpu_busy) = match engine {
+        Err(e) => {
+            drop(enc_tx);
+            (Some(e), Duration::ZERO)
+        }
+        Ok(engine) => {
+            report.adapter = engine.ctx.info.name.clone();
+            report.backend = format!("{:?}", engine.ctx.info.backend);
+            let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
+            if route.decided() == Some(true) {
+                gpu.offer_planes(plane_output);
+            }
+            let flags = (&*halt, &*stop, &*complete);
+            let fatal = gpu.run_to_end(&dec_rx, flags, (start, total), &mut progress);
+            (fatal, gpu.busy)
+        }
+    };
+    // (the stage's sender is dropped with it: the encoder ends after the last frame)
+    drop(dec_rx);
+    if let Some(e) = &own_engine {
+        super::pipeline_cache::save(&e.ctx);
+    }
+    let decode_busy = decoder.join().unwrap_or_default();
+    let enc = encoder
+        .join()
+        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
+    if let Some(e) = fatal {
+        return Err(e);
+    }
+    report.stages.decode_busy_ms = ms(decode_busy);
+    report.stages.gpu_busy_ms = ms(gpu_busy);
+    finish_report(report, enc, start, stills)
+}
+
+/// The most frames a run of stills holds at once with `queue`: decoded frames waiting
+/// for the GPU, the one on the GPU, read-backs waiting for the encoder, the one being
+/// encoded (sequences add their ring: set when the stream is made).
+fn frames_held(queue: usize) -> usize {
+    2 * queue + 2
+}
+
+/// The thread that creates the device of [`Device::Create`], returning the engine and
+/// the time it took.
+type DeviceThread = std::thread::JoinHandle<Result<(Engine, Duration), GpuError>>;
+
+/// Sets the side limit and the plane route from the caller's engine, or starts the
+/// thread that creates the device and sets them once it exists.
+fn start_device(
+    device: &Device,
+    opts: &PipelineOptions,
+    limit: &SideLimit,
+    route: &PlaneRoute,
+) -> Result<Option<DeviceThread>, RunError> {
     let (ycbcr, sequence) = (opts.ycbcr, opts.mode == Mode::Sequence);
-    let device_thread = match &device {
+    match device {
         Device::Engine(e) => {
             limit.set(e.ctx.device.limits().max_texture_dimension_2d);
             route.set(sequence && ycbcr.wants_gpu(e.ctx.info.device_type));
-            None
+            Ok(None)
         }
         Device::Create(adapter) => {
             let adapter = (*adapter).clone();
             let (l, route) = (limit.clone(), route.clone());
-            Some(
+            Ok(Some(
                 std::thread::Builder::new()
                     .name("fxgraph device".into())
                     .spawn(move || {
@@ -211,21 +297,22 @@ pub fn run_frames(
                         r.map(|e| (e, t.elapsed()))
                     })
                     .map_err(|e| RunError::Other(format!("cannot start the device thread: {e}")))?,
-            )
+            ))
         }
-    };
-    source.set_limit(limit.clone());
-    source.set_plane_route(route.clone());
-    let total = source.frame_count();
-    let queue = opts.queue.max(1);
-    let stills = opts.mode == Mode::Stills;
-    let keep_going = stills && opts.keep_going;
-    // Set when the run must end early (a failure without keep_going).
-    let halt = Arc::new(AtomicBool::new(false));
-    let (dec_tx, dec_rx) = sync_channel::<Decoded>(queue);
-    let (enc_tx, enc_rx) = sync_channel::<Encoded>(queue);
-    let (halt_d, stop_d) = (halt.clone(), stop.clone());
-    let decoder = std::thread::Builder::new()
+    }
+}
+
+/// The decode thread: reads frames from `source` into `dec_tx` until the source ends,
+/// `halt` or `stop` is set, or (without `keep_going`) a frame fails to decode; hands
+/// back its busy time.
+fn spawn_decoder(
+    mut source: Box<dyn FrameSource>,
+    dec_tx: std::sync::mpsc::SyncSender<Decoded>,
+    keep_going: bool,
+    halt_d: Arc<AtomicBool>,
+    stop_d: Arc<AtomicBool>,
+) -> Result<std::thread::JoinHandle<Duration>, RunError> {
+    std::thread::Builder::new()
         .name("fxgraph decode".into())
         .spawn(move || -> Duration {
             let mut busy = Duration::ZERO;
@@ -248,26 +335,20 @@ pub fn run_frames(
             }
             busy
         })
-        .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))?;
-    // Set by this thread once the GPU stage has ended (before the encoder sees the
-    // end of its queue): whether the run completed, so the sink can make its output
-    // final (`finish`) or discard it (`abort`).
-    let complete = Arc::new(AtomicBool::new(false));
-    // What a y4m sink writes, for planes made on the GPU (used if the route says so).
-    let plane_output = sink.plane_output();
-    let encoder = spawn_encoder(sink, enc_rx, keep_going, halt.clone(), complete.clone())?;
+        .map_err(|e| RunError::Other(format!("cannot start the decode thread: {e}")))
+}
 
-    let mut report = RunReport {
-        job: opts.job,
-        frames_total: total,
-        // Stills: decoded frames waiting for the GPU, the one on the GPU, read-backs
-        // waiting for the encoder, the one being encoded (sequences add their ring:
-        // set when the stream is made).
-        frames_held_max: 2 * queue + 2,
-        ..Default::default()
-    };
-    let mut own_engine = None;
-    let engine: Result<&mut Engine, RunError> = match (device, device_thread) {
+/// The engine of the run: the caller's, or the one the device thread created (kept in
+/// `own_engine`; the wait for it and its creation time go to `report`). A device that
+/// failed unblocks the limit and the route.
+fn engine_of<'a>(
+    device: Device<'a>,
+    device_thread: Option<DeviceThread>,
+    (limit, route): (&SideLimit, &PlaneRoute),
+    report: &mut RunReport,
+    own_engine: &'a mut Option<Engine>,
+) -> Result<&'a mut Engine, RunError> {
+    match (device, device_thread) {
         (Device::Engine(e), _) => Ok(e),
         (Device::Create(_), Some(h)) => {
             let t = Instant::now();
@@ -289,51 +370,22 @@ pub fn run_frames(
             }
         }
         (Device::Create(_), None) => unreachable!("a device thread for Device::Create"),
-    };
-    let fatal;
-    let mut gpu_busy = Duration::ZERO;
-    match engine {
-        Err(e) => {
-            drop(enc_tx);
-            fatal = Some(e);
-        }
-        Ok(engine) => {
-            report.adapter = engine.ctx.info.name.clone();
-            report.backend = format!("{:?}", engine.ctx.info.backend);
-            let mut gpu = GpuStage::new(engine, effect, opts, &mut report, enc_tx);
-            if route.decided() == Some(true) {
-                gpu.offer_planes(plane_output);
-            }
-            fatal = gpu.run(&dec_rx, &halt, &stop, start, total, &mut progress);
-            gpu_busy = gpu.busy;
-            // A stop seen by the decoder alone (between two frames) ended the input
-            // early: the run was interrupted all the same.
-            if stop.load(Ordering::SeqCst) {
-                gpu.mark_interrupted();
-            }
-            let done = fatal.is_none() && gpu.completed() && !halt.load(Ordering::Relaxed);
-            complete.store(done, Ordering::SeqCst);
-        }
     }
-    // (the stage's sender is dropped with it: the encoder ends after the last frame)
-    drop(dec_rx);
-    if let Some(e) = &own_engine {
-        super::pipeline_cache::save(&e.ctx);
-    }
-    let decode_busy = decoder.join().unwrap_or_default();
-    let enc = encoder
-        .join()
-        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
-    if let Some(e) = fatal {
-        return Err(e);
-    }
+}
+
+/// The report of a finished run, with what the encoder wrote; `Err` for a sequence
+/// with a failed frame or no frame at all.
+fn finish_report(
+    mut report: RunReport,
+    enc: EncodeResult,
+    start: Instant,
+    stills: bool,
+) -> Result<RunReport, RunError> {
     report.done = enc.done;
     report.failed.extend(enc.failed);
     report.failed.sort_by_key(|f| f.index);
     report.steps.readback_ms = ms(enc.last_wait);
     report.stages.readback_wait_ms = ms(enc.wait);
-    report.stages.decode_busy_ms = ms(decode_busy);
-    report.stages.gpu_busy_ms = ms(gpu_busy);
     report.stages.encode_busy_ms = ms(enc.busy);
     report.wall_ms = ms(start.elapsed());
     if !stills {

@@ -13,6 +13,7 @@ use crate::gpu::transfer::{create_output, read_pixels};
 use crate::graph::plan::InputDesc;
 use crate::io::{self, IoError, SaveOptions};
 use crate::render::renderer::{RenderStats, Renderer, RendererOptions, Technique};
+use crate::render::RenderOutput;
 use crate::scene::{Camera, Scene};
 use crate::script::types::{ColorSpace, Format};
 use std::path::PathBuf;
@@ -293,19 +294,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
             timer.as_ref(),
         )
         .map_err(|e| render_error(&job.scene, e))?;
-    stats.render_cpu_ms = rs.cpu_ms;
-    stats.render_cpu_split = rs.cpu_split.clone();
-    stats.render_gpu_ms = rs.gpu_ms;
-    stats.render_passes = rs.pass_ms.clone();
-    stats.triangles = rs.triangles;
-    stats.lights_visible = rs.lights_visible;
-    stats.cluster_entries = rs.cluster_entries;
-    stats.cluster_bytes = rs.cluster_bytes;
-    stats.shadow_layers = rs.shadow_layers;
-    stats.shadow_layers_rendered = rs.shadow_layers_rendered;
-    stats.shadow_map_bytes = rs.shadow_map_bytes;
-    stats.pipelines = rs.pipelines;
-    stats.shader_modules = rs.shader_modules;
+    set_render_stats(&mut stats, &rs);
     if job.describe_materials {
         stats.materials = renderer.materials().describe();
     }
@@ -323,33 +312,90 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
     let (result_tex, result_format) = match effect.as_mut() {
         None => (None, Format::Rgba16f),
         Some(effect) => {
-            let desc = job.effect_input(&renderer);
-            let t = Instant::now();
-            let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
-            report.steps.pipeline_ms = ms(t.elapsed());
-            report.plans += 1;
-            report.memory = MemoryReport::of(&prepared.plan);
-            let o = prepared.plan.output;
-            let target = create_output(&ctx, o.width, o.height, o.format);
-            let t = Instant::now();
-            let mut inputs = FrameInputs::still(&out.scene, &prepared.plan);
-            inputs.aux = out.aux.iter().map(|(n, t)| (n.clone(), t.into())).collect();
-            inputs.camera = Some(out.camera);
-            report.passes = prepared.run(engine, &inputs, &target, job.timings)?;
-            report.steps.passes_ms = ms(t.elapsed());
-            (Some(target), o.format)
+            let (target, format) = run_effect_on(
+                job,
+                engine,
+                effect,
+                (&renderer, &out),
+                out_format,
+                &mut report,
+            )?;
+            (Some(target), format)
         }
     };
-    let t = Instant::now();
     let (w, h) = result_tex
         .as_ref()
         .map(|t| (t.width(), t.height()))
         .unwrap_or((job.width, job.height));
-    let pixels = read_pixels(
+    let result = result_tex.as_ref().unwrap_or(&out.scene);
+    write_output(
+        job,
         &ctx,
-        result_tex.as_ref().unwrap_or(&out.scene),
-        result_format,
+        (result, result_format, (w, h)),
+        path,
+        &mut report,
     )?;
+    report.wall_ms = ms(t_all.elapsed());
+    Ok(report)
+}
+
+/// The renderer's statistics of a still's one frame.
+fn set_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
+    stats.render_cpu_ms = rs.cpu_ms;
+    stats.render_cpu_split = rs.cpu_split.clone();
+    stats.render_gpu_ms = rs.gpu_ms;
+    stats.render_passes = rs.pass_ms.clone();
+    stats.triangles = rs.triangles;
+    stats.lights_visible = rs.lights_visible;
+    stats.cluster_entries = rs.cluster_entries;
+    stats.cluster_bytes = rs.cluster_bytes;
+    stats.shadow_layers = rs.shadow_layers;
+    stats.shadow_layers_rendered = rs.shadow_layers_rendered;
+    stats.shadow_map_bytes = rs.shadow_map_bytes;
+    stats.pipelines = rs.pipelines;
+    stats.shader_modules = rs.shader_modules;
+}
+
+/// Runs the job's effects on the rendered frame `out` (the G-buffer as `AUX.*`, the
+/// camera as standard values) into a new output texture of `out_format`'s plan: the
+/// texture and its format; planning and pass times go to `report`.
+fn run_effect_on(
+    job: &SceneJob,
+    engine: &mut Engine,
+    effect: &mut Effect,
+    (renderer, out): (&Renderer, &RenderOutput),
+    out_format: Format,
+    report: &mut RunReport,
+) -> Result<(wgpu::Texture, Format), RunError> {
+    let ctx = engine.ctx.clone();
+    let desc = job.effect_input(renderer);
+    let t = Instant::now();
+    let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
+    report.steps.pipeline_ms = ms(t.elapsed());
+    report.plans += 1;
+    report.memory = MemoryReport::of(&prepared.plan);
+    let o = prepared.plan.output;
+    let target = create_output(&ctx, o.width, o.height, o.format);
+    let t = Instant::now();
+    let mut inputs = FrameInputs::still(&out.scene, &prepared.plan);
+    inputs.aux = out.aux.iter().map(|(n, t)| (n.clone(), t.into())).collect();
+    inputs.camera = Some(out.camera);
+    report.passes = prepared.run(engine, &inputs, &target, job.timings)?;
+    report.steps.passes_ms = ms(t.elapsed());
+    Ok((target, o.format))
+}
+
+/// Reads `result` (`w`x`h`) back and writes it to `path` (the still's output), with
+/// its timings and its line in `report`.
+fn write_output(
+    job: &SceneJob,
+    ctx: &crate::gpu::context::GpuContext,
+    (result, result_format, (w, h)): (&wgpu::Texture, Format, (u32, u32)),
+    path: &std::path::Path,
+    report: &mut RunReport,
+) -> Result<(), RunError> {
+    let t = Instant::now();
+    let pixels = read_pixels(ctx, result, result_format)?;
     report.steps.readback_ms = ms(t.elapsed());
     let t = Instant::now();
     io::save_image(
@@ -377,6 +423,5 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         gpu_ms: Some(report.stages.gpu_busy_ms),
         encode_ms,
     });
-    report.wall_ms = ms(t_all.elapsed());
-    Ok(report)
+    Ok(())
 }

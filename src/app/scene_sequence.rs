@@ -14,19 +14,20 @@
 use super::effect::Effect;
 use super::error::RunError;
 use super::frames::FrameSink;
-use super::pipeline::spawn_encoder;
-use super::report::{ms, JobKind, MemoryReport, Progress, RunReport};
+use super::pipeline::{spawn_encoder, EncodeResult};
+use super::report::{ms, JobKind, MemoryReport, Progress, RunReport, SceneStats};
 use super::scene::{prepare, SceneJob};
 use super::stage_messages::Encoded;
 use crate::gpu::executor::Engine;
 use crate::gpu::stream::{FrameExtras, Stream};
 use crate::graph::plan::{PlanOptions, ReusePolicy};
-use crate::render::{FrameMotion, Renderer};
+use crate::render::renderer::RenderStats;
+use crate::render::{FrameMotion, RenderOutput, Renderer};
 use crate::scene::{CameraPath, Playback, Scene};
 use crate::script::types::Format;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::sync_channel;
+use std::sync::mpsc::{sync_channel, SyncSender};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -118,21 +119,312 @@ pub fn run_scene_sequence(
         return Err(RunError::Other(format!("fps {} is not above 0", times.fps)));
     }
     let mut stats = job.initial_stats();
-    let (scene, mut renderer, effect) = prepare(job, engine, &mut stats)?;
+    let (scene, renderer, effect) = prepare(job, engine, &mut stats)?;
     let path = CameraPath::parse(job.camera.as_deref(), &scene)
         .map_err(|e| super::scene::scene_error(&job.scene, e))?;
     let playback = playback(job, &scene)?;
-    let animated = scene.is_animated();
     let mut report = RunReport {
         job: JobKind::Scene,
         adapter: engine.ctx.info.name.clone(),
         backend: format!("{:?}", engine.ctx.info.backend),
         ..Default::default()
     };
+    let (stream, (from, to)) = effect_stream(
+        (job, times),
+        engine,
+        effect,
+        &renderer,
+        output_format,
+        &mut report,
+    )?;
+    let (enc_tx, enc_rx) = sync_channel::<Encoded>(2);
+    let halt = Arc::new(AtomicBool::new(false));
+    let complete = Arc::new(AtomicBool::new(false));
+    let encoder = spawn_encoder(sink, enc_rx, false, halt.clone(), complete.clone())?;
+    let mut run = SceneRun {
+        job,
+        times,
+        scene: &scene,
+        path: &path,
+        playback: &playback,
+        animated: scene.is_animated(),
+        renderer,
+        stream,
+        timer: job
+            .timings
+            .then(|| crate::gpu::context::GpuTimer::new(&engine.ctx, 64))
+            .flatten(),
+        stats,
+        report,
+        output_format,
+        enc_tx,
+        emitted: from,
+        gpu_busy: Duration::ZERO,
+    };
+    let fatal = run.frames(engine, (from, to), (&halt, &stop), t_all, &mut progress);
+    // a y4m or video output is made final only when every frame went through
+    complete.store(
+        fatal.is_none() && !run.report.interrupted && !halt.load(Ordering::Relaxed),
+        Ordering::SeqCst,
+    );
+    end_run(run, encoder, fatal, t_all)
+}
+
+/// A rendered sequence while its frames go through: what each frame is rendered
+/// from, the effect's stream, the queue to the encoder and the statistics gathered.
+struct SceneRun<'a> {
+    job: &'a SceneJob,
+    times: &'a SceneTimes,
+    scene: &'a Scene,
+    path: &'a CameraPath,
+    playback: &'a Playback,
+    /// Lights on animated nodes move with them.
+    animated: bool,
+    renderer: Renderer,
+    /// The effect (none: the rendered HDR image itself is written).
+    stream: Option<Stream>,
+    timer: Option<crate::gpu::context::GpuTimer>,
+    stats: SceneStats,
+    report: RunReport,
+    output_format: Format,
+    enc_tx: SyncSender<Encoded>,
+    /// The number of the next frame the stream hands back.
+    emitted: u64,
+    gpu_busy: Duration,
+}
+
+impl SceneRun<'_> {
+    /// Renders frames `from..=to` through the stream until `halt` (a failed write) or
+    /// `stop` (Ctrl-C: the run is marked interrupted) ends them early, reporting
+    /// progress after each; the error that ended the run.
+    fn frames(
+        &mut self,
+        engine: &mut Engine,
+        (from, to): (u64, u64),
+        (halt, stop): (&AtomicBool, &AtomicBool),
+        t_all: Instant,
+        progress: &mut impl FnMut(Progress),
+    ) -> Option<RunError> {
+        let (first, last) = self.times.frames;
+        for n in from..=to {
+            if halt.load(Ordering::Relaxed) {
+                break;
+            }
+            match self.frame(engine, n, n == to) {
+                Ok(true) => {}
+                Ok(false) => break,
+                Err(e) => return Some(e),
+            }
+            progress(Progress {
+                done: n.saturating_sub(first).min(last - first + 1),
+                total: Some(last - first + 1),
+                elapsed: t_all.elapsed(),
+            });
+            if stop.load(Ordering::Relaxed) {
+                self.report.interrupted = true;
+                break;
+            }
+        }
+        None
+    }
+
+    /// Renders frame `n`, adds its statistics and sends the outputs that are ready to
+    /// the encoder; `Ok(false)` when the encoder is gone.
+    fn frame(&mut self, engine: &mut Engine, n: u64, is_last: bool) -> Result<bool, RunError> {
+        let t0 = Instant::now();
+        let (first, last) = self.times.frames;
+        let t = self.times.time_of(n);
+        // the frame's sub-pixel offset when the chain declares JITTER (its index
+        // is the frame number, so a frame's jitter depends on n alone)
+        let jitter = self
+            .stream
+            .as_ref()
+            .and_then(|s| s.prepared.jitter())
+            .map_or([0.0, 0.0], |p| p.offset(n));
+        let (out, rs, cut) = self.render(engine, t, jitter)?;
+        self.report.frames_in += 1;
+        // `--time` with `--gbuffer`: the one output frame's G-buffer, its motion
+        // vectors those of the previous frame time
+        if let (Some(dir), true) = (&self.job.gbuffer, n == first && first == last) {
+            super::gbuffer::write_gbuffer(dir, &out, &engine.ctx, &self.job.scene)?;
+        }
+        add_render_stats(&mut self.stats, &rs);
+        let sent = match self.stream.as_mut() {
+            Some(s) => push_and_drain(
+                engine,
+                s,
+                &out,
+                (jitter, cut),
+                is_last,
+                (first, last),
+                &mut self.emitted,
+                &self.enc_tx,
+                self.output_format,
+            ),
+            None => self.send_rendered_image(engine, &out, n, t),
+        };
+        self.gpu_busy += t0.elapsed();
+        sent
+    }
+
+    /// Renders the scene at time `t` (its motion from `t` − 1 / fps), offset by
+    /// `jitter`; with whether the camera jumped there (a cut).
+    fn render(
+        &mut self,
+        engine: &Engine,
+        t: f64,
+        jitter: [f32; 2],
+    ) -> Result<(RenderOutput, RenderStats, bool), RunError> {
+        let (scene, path, playback) = (self.scene, self.path, self.playback);
+        let dt = 1.0 / self.times.fps;
+        let (pose, prev) = (scene.pose(t, playback), scene.pose(t - dt, playback));
+        if self.animated {
+            // lights on animated nodes move with them
+            self.renderer.set_lights(pose.lights.clone());
+        }
+        // a camera that jumps (a STEP key) starts a new shot: no camera motion,
+        // and effects see the standard value `cut`
+        let cut = path.cuts(scene, playback, t - dt, t);
+        let motion = FrameMotion {
+            prev_camera: Some(path.at(scene, Some(&prev), t - dt)),
+            jitter,
+            cut,
+            ..FrameMotion::posed(scene, &pose, &prev)
+        };
+        let camera = path.at(scene, Some(&pose), t);
+        let (out, rs) = self
+            .renderer
+            .render_frame(
+                &engine.ctx,
+                &camera,
+                &motion,
+                self.job.width,
+                self.job.height,
+                self.job.technique,
+                self.timer.as_ref(),
+            )
+            .map_err(|e| super::scene::render_error(&self.job.scene, e))?;
+        Ok((out, rs, cut))
+    }
+
+    /// No effect: the rendered HDR image itself goes to the encoder (frames inside
+    /// the output range); `Ok(false)` when the encoder is gone.
+    fn send_rendered_image(
+        &self,
+        engine: &Engine,
+        out: &RenderOutput,
+        n: u64,
+        t: f64,
+    ) -> Result<bool, RunError> {
+        let (first, last) = self.times.frames;
+        let ctx = engine.ctx.clone();
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        let pending = ctx.encode_readback(&mut enc, &out.scene);
+        ctx.queue.submit([enc.finish()]);
+        pending
+            .map_err(RunError::from)
+            .map(|pending| {
+                (first..=last).contains(&n)
+                    && self
+                        .enc_tx
+                        .send(Encoded {
+                            index: (n - first) as usize,
+                            number: n,
+                            name: format!("{} at {:.4} s", self.job.scene, t),
+                            pending: super::stage_messages::Readback::Texture(pending),
+                            format: Format::Rgba16f,
+                            gpu: None,
+                            decode: None,
+                        })
+                        .is_err()
+            })
+            .map(|closed| !closed)
+    }
+}
+
+/// Closes the queue to the encoder and waits for it; then the error that ended the run
+/// (or the first failed write), else its report: the effect's pass timings, the
+/// renderer's statistics and what the encoder wrote.
+fn end_run(
+    run: SceneRun,
+    encoder: std::thread::JoinHandle<EncodeResult>,
+    fatal: Option<RunError>,
+    t_all: Instant,
+) -> Result<RunReport, RunError> {
+    // (the encoder ends after the last frame once the queue closes)
+    let SceneRun {
+        mut report,
+        stream,
+        stats,
+        gpu_busy,
+        enc_tx,
+        ..
+    } = run;
+    drop(enc_tx);
+    let mut enc = encoder
+        .join()
+        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
+    if let Some(e) = fatal {
+        return Err(e);
+    }
+    if let Some(f) = enc.failed.drain(..).next() {
+        return Err(f.error);
+    }
+    if let Some(s) = &stream {
+        report.passes = s.median_timings();
+    }
+    report.done = enc.done;
+    report.stages.gpu_busy_ms = ms(gpu_busy);
+    report.stages.encode_busy_ms = ms(enc.busy);
+    report.stages.readback_wait_ms = ms(enc.wait);
+    report.steps.readback_ms = ms(enc.last_wait);
+    report.scene = Some(stats);
+    report.wall_ms = ms(t_all.elapsed());
+    Ok(report)
+}
+
+/// Adds one rendered frame's statistics to the sequence's: times summed, the
+/// counts of the last frame.
+fn add_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
+    stats.render_cpu_ms += rs.cpu_ms;
+    for (name, ms) in &rs.cpu_split {
+        match stats.render_cpu_split.iter_mut().find(|(n, _)| n == name) {
+            Some(p) => p.1 += ms,
+            None => stats.render_cpu_split.push((name.clone(), *ms)),
+        }
+    }
+    stats.render_gpu_ms = match (stats.render_gpu_ms, rs.gpu_ms) {
+        (Some(a), Some(b)) => Some(a + b),
+        (_, b) => b,
+    };
+    stats.render_passes = rs.pass_ms.clone();
+    stats.triangles = rs.triangles;
+    // (the last frame's)
+    stats.lights_visible = rs.lights_visible;
+    stats.cluster_entries = rs.cluster_entries;
+    stats.cluster_bytes = rs.cluster_bytes;
+    stats.shadow_layers = rs.shadow_layers;
+    stats.shadow_map_bytes = rs.shadow_map_bytes;
+    stats.shadow_layers_rendered += rs.shadow_layers_rendered;
+    stats.pipelines = rs.pipelines;
+    stats.shader_modules = rs.shader_modules;
+}
+
+/// The job's effect prepared as a stream over the rendered frames (none without an
+/// effect), and the frames to render: the history and warm-up before the first
+/// output, the latency after the last. The plan's figures go to `report`.
+fn effect_stream(
+    (job, times): (&SceneJob, &SceneTimes),
+    engine: &mut Engine,
+    effect: Option<Effect>,
+    renderer: &Renderer,
+    output_format: Format,
+    report: &mut RunReport,
+) -> Result<(Option<Stream>, (u64, u64)), RunError> {
     let (first, last) = times.frames;
     let (mut stream, history, latency) = match effect {
         Some(mut effect) => {
-            let (s, h, l) = stream_for(job, times, engine, &mut effect, &renderer, output_format)?;
+            let (s, h, l) = stream_for(job, times, engine, &mut effect, renderer, output_format)?;
             report.plans = 1;
             report.memory = MemoryReport::of(&s.prepared.plan);
             (Some(s), h, l)
@@ -148,175 +440,7 @@ pub fn run_scene_sequence(
     }
     report.frames_total = Some(last - first + 1);
     report.frames_held_max = 2 + stream.as_ref().map_or(1, |s| s.ring_len());
-    let (enc_tx, enc_rx) = sync_channel::<Encoded>(2);
-    let halt = Arc::new(AtomicBool::new(false));
-    let complete = Arc::new(AtomicBool::new(false));
-    let encoder = spawn_encoder(sink, enc_rx, false, halt.clone(), complete.clone())?;
-    let dt = 1.0 / times.fps;
-    let mut gpu_busy = Duration::ZERO;
-    let mut fatal = None;
-    let timer = if job.timings {
-        crate::gpu::context::GpuTimer::new(&engine.ctx, 64)
-    } else {
-        None
-    };
-    let mut emitted = from;
-    for n in from..=to {
-        if halt.load(Ordering::Relaxed) {
-            break;
-        }
-        let t0 = Instant::now();
-        let t = times.time_of(n);
-        let (pose, prev) = (scene.pose(t, &playback), scene.pose(t - dt, &playback));
-        // the frame's sub-pixel offset when the chain declares JITTER (its index
-        // is the frame number, so a frame's jitter depends on n alone)
-        let jitter = stream
-            .as_ref()
-            .and_then(|s| s.prepared.jitter())
-            .map_or([0.0, 0.0], |p| p.offset(n));
-        if animated {
-            // lights on animated nodes move with them
-            renderer.set_lights(pose.lights.clone());
-        }
-        // a camera that jumps (a STEP key) starts a new shot: no camera motion,
-        // and effects see the standard value `cut`
-        let cut = path.cuts(&scene, &playback, t - dt, t);
-        let motion = FrameMotion {
-            prev_camera: Some(path.at(&scene, Some(&prev), t - dt)),
-            jitter,
-            cut,
-            ..FrameMotion::posed(&scene, &pose, &prev)
-        };
-        let camera = path.at(&scene, Some(&pose), t);
-        let rendered = renderer.render_frame(
-            &engine.ctx,
-            &camera,
-            &motion,
-            job.width,
-            job.height,
-            job.technique,
-            timer.as_ref(),
-        );
-        let (out, rs) = match rendered {
-            Ok(x) => x,
-            Err(e) => {
-                fatal = Some(super::scene::render_error(&job.scene, e));
-                break;
-            }
-        };
-        report.frames_in += 1;
-        // `--time` with `--gbuffer`: the one output frame's G-buffer, its motion
-        // vectors those of the previous frame time
-        if let (Some(dir), true) = (&job.gbuffer, n == first && first == last) {
-            if let Err(e) = super::gbuffer::write_gbuffer(dir, &out, &engine.ctx, &job.scene) {
-                fatal = Some(e);
-                break;
-            }
-        }
-        stats.render_cpu_ms += rs.cpu_ms;
-        for (name, ms) in &rs.cpu_split {
-            match stats.render_cpu_split.iter_mut().find(|(n, _)| n == name) {
-                Some(p) => p.1 += ms,
-                None => stats.render_cpu_split.push((name.clone(), *ms)),
-            }
-        }
-        stats.render_gpu_ms = match (stats.render_gpu_ms, rs.gpu_ms) {
-            (Some(a), Some(b)) => Some(a + b),
-            (_, b) => b,
-        };
-        stats.render_passes = rs.pass_ms.clone();
-        stats.triangles = rs.triangles;
-        // (the last frame's)
-        stats.lights_visible = rs.lights_visible;
-        stats.cluster_entries = rs.cluster_entries;
-        stats.cluster_bytes = rs.cluster_bytes;
-        stats.shadow_layers = rs.shadow_layers;
-        stats.shadow_map_bytes = rs.shadow_map_bytes;
-        stats.shadow_layers_rendered += rs.shadow_layers_rendered;
-        stats.pipelines = rs.pipelines;
-        stats.shader_modules = rs.shader_modules;
-        let sent = match stream.as_mut() {
-            Some(s) => push_and_drain(
-                engine,
-                s,
-                &out,
-                (jitter, cut),
-                n == to,
-                (first, last),
-                &mut emitted,
-                &enc_tx,
-                output_format,
-            ),
-            None => {
-                // No effect: the rendered HDR image itself.
-                let ctx = engine.ctx.clone();
-                let mut enc = ctx.device.create_command_encoder(&Default::default());
-                let pending = ctx.encode_readback(&mut enc, &out.scene);
-                ctx.queue.submit([enc.finish()]);
-                pending
-                    .map_err(RunError::from)
-                    .map(|pending| {
-                        (first..=last).contains(&n)
-                            && enc_tx
-                                .send(Encoded {
-                                    index: (n - first) as usize,
-                                    number: n,
-                                    name: format!("{} at {:.4} s", job.scene, t),
-                                    pending: super::stage_messages::Readback::Texture(pending),
-                                    format: Format::Rgba16f,
-                                    gpu: None,
-                                    decode: None,
-                                })
-                                .is_err()
-                    })
-                    .map(|closed| !closed)
-            }
-        };
-        gpu_busy += t0.elapsed();
-        match sent {
-            Ok(true) => {}
-            Ok(false) => break,
-            Err(e) => {
-                fatal = Some(e);
-                break;
-            }
-        }
-        progress(Progress {
-            done: n.saturating_sub(first).min(last - first + 1),
-            total: Some(last - first + 1),
-            elapsed: t_all.elapsed(),
-        });
-        if stop.load(Ordering::Relaxed) {
-            report.interrupted = true;
-            break;
-        }
-    }
-    // a y4m or video output is made final only when every frame went through
-    complete.store(
-        fatal.is_none() && !report.interrupted && !halt.load(Ordering::Relaxed),
-        Ordering::SeqCst,
-    );
-    drop(enc_tx);
-    let enc = encoder
-        .join()
-        .map_err(|_| RunError::Other("the encode thread panicked".into()))?;
-    if let Some(e) = fatal {
-        return Err(e);
-    }
-    if let Some(f) = enc.failed.into_iter().next() {
-        return Err(f.error);
-    }
-    if let Some(s) = &stream {
-        report.passes = s.median_timings();
-    }
-    report.done = enc.done;
-    report.stages.gpu_busy_ms = ms(gpu_busy);
-    report.stages.encode_busy_ms = ms(enc.busy);
-    report.stages.readback_wait_ms = ms(enc.wait);
-    report.steps.readback_ms = ms(enc.last_wait);
-    report.scene = Some(stats);
-    report.wall_ms = ms(t_all.elapsed());
-    Ok(report)
+    Ok((stream, (from, to)))
 }
 
 /// The effect prepared for the rendered frames, as a stream; with its history

@@ -249,38 +249,10 @@ fn run(mut cli: Cli) -> Result<(), Fail> {
         .map_err(|e: String| rejected(format!("--execution: {e}")))?;
     fxgraph::gpu::executor::set_default_execution(execution);
     if cli.adapters {
-        let list = list_adapters();
-        if list.is_empty() {
-            return Err(Fail {
-                code: 2,
-                message: "no GPU adapter found (install mesa-vulkan-drivers for lavapipe)".into(),
-            });
-        }
-        for a in list {
-            outln!("{a}");
-        }
-        return Ok(());
+        return print_adapters();
     }
     if cli.list {
-        for (name, desc) in library::builtin_effects() {
-            outln!("{name:<20} {desc}");
-            // The pass parameters `--set PASS.NAME=VALUE` takes, by name.
-            let req = fxgraph::lookup::DiskEffects::request(std::slice::from_ref(&name), &[]);
-            if let (Some(graph), _, _) = compile(&req) {
-                // Those the effect sets (mostly from its parameters) by count.
-                let (bound, free): (Vec<_>, Vec<_>) = pass_param_rows(&graph)
-                    .into_iter()
-                    .partition(|(_, p)| p.set.is_some());
-                let free: Vec<String> = free.into_iter().map(|(key, _)| key).collect();
-                let line = match (free.is_empty(), bound.len()) {
-                    (true, 0) => continue,
-                    (false, 0) => free.join(" "),
-                    (false, n) => format!("{} (and {n} set by the effect)", free.join(" ")),
-                    (true, n) => format!("{n}, set by the effect (see --describe)"),
-                };
-                outln!("{:<20}   pass parameters: {line}", "");
-            }
-        }
+        print_effect_list();
         return Ok(());
     }
     if cli.view {
@@ -301,116 +273,183 @@ fn run(mut cli: Cli) -> Result<(), Fail> {
         return run_scene_cli(&cli);
     }
     if cli.effects.is_empty() {
-        if let Some(e) = cli.input.iter().find(|i| batch::effect_after_input(i)) {
-            return Err(rejected(format!(
-                "no effect given: `{}` was read as an input; effects go before -i (fxrun EFFECT... -i INPUT... -o OUTPUT)",
-                e.display()
-            )));
-        }
-        return Err(rejected(
-            "no effect given (try `fxrun --list`, or `fxrun --help`)",
-        ));
+        return Err(no_effect_error(&cli));
     }
-    let req = fxgraph::lookup::DiskEffects::request_with(&cli.effects, cli.set.clone());
-    let analysis = cli.check || cli.dot.is_some() || cli.plan || cli.describe;
-    if analysis {
-        let (graph, diags, mut sources) = fxgraph::shader::compile_all(&req);
-        if !diags.is_empty() {
-            eprint!("{}", diags.render(&sources));
-        }
-        let Some(graph) = graph else {
-            return Err(Fail {
-                code: 1,
-                message: String::new(),
-            });
-        };
-        if cli.describe {
-            describe(&graph);
-            // Describing needs no input: an effect reading an `--aux` image
-            // (chroma_composite's AUX.background) is described without one.
-            if !cli.check && !cli.plan && cli.dot.is_none() {
-                return Ok(());
-            }
-        }
-        let (w, h) = match &cli.size {
-            Some(s) => parse_size(s)?,
-            None => (1920, 1080),
-        };
-        let desc = planning_input(&cli, w, h);
-        let policy = match cli.policy.as_str() {
-            "min-peak" => ReusePolicy::MinPeak,
-            "pool" => ReusePolicy::Pool,
-            other => {
-                return Err(rejected(format!(
-                    "--policy {other}: expected min-peak or pool"
-                )))
-            }
-        };
-        let planned = plan(
-            &graph,
-            &desc,
-            &PlanOptions {
-                policy,
-                output_format: None,
-            },
-        );
-        let (p, notes) = match planned {
-            Ok(x) => x,
-            Err(d) => {
-                eprint!("{}", d.render(&sources));
-                return Err(Fail {
-                    code: 1,
-                    message: String::new(),
-                });
-            }
-        };
-        // Shaders are found, preprocessed, reflected and checked against the
-        // script too (no GPU needed).
-        // (--plan and --dot show the graph whatever its shaders say.)
-        let mut notes = notes;
-        if cli.check {
-            let (_, shader_diags) =
-                fxgraph::shader::load_plan_shaders(&graph, &p, &mut sources, &[]);
-            notes.extend(shader_diags);
-        }
-        notes.sort();
-        if !notes.is_empty() && (!cli.json || notes.has_errors()) {
-            eprint!("{}", notes.render(&sources));
-        }
-        if notes.has_errors() {
-            return Err(Fail {
-                code: 1,
-                message: String::new(),
-            });
-        }
-        if let Some(target) = &cli.dot {
-            let text = dot::to_dot(&graph, Some(&p));
-            if target == "-" {
-                out!("{text}");
-            } else {
-                fxgraph::io::write_atomic(std::path::Path::new(target), |w| {
-                    w.write_all(text.as_bytes())
-                        .map_err(|e| fxgraph::io::IoError::Io {
-                            path: target.into(),
-                            source: e,
-                        })
-                })
-                .map_err(RunError::from)?;
-            }
-        }
-        if cli.plan {
-            if cli.json {
-                outln!(
-                    "{}",
-                    serde_json::to_string_pretty(&p.to_json()).expect("plan serializes")
-                );
-            } else {
-                out!("{}", p.render());
-            }
-        }
-        return Ok(());
+    if cli.check || cli.dot.is_some() || cli.plan || cli.describe {
+        return run_analysis(&cli);
     }
     run_job(&cli)
+}
+
+/// `--adapters`: the GPU adapters, one a line.
+fn print_adapters() -> Result<(), Fail> {
+    let list = list_adapters();
+    if list.is_empty() {
+        return Err(Fail {
+            code: 2,
+            message: "no GPU adapter found (install mesa-vulkan-drivers for lavapipe)".into(),
+        });
+    }
+    for a in list {
+        outln!("{a}");
+    }
+    Ok(())
+}
+
+/// `--list`: the built-in effects with their descriptions and the pass parameters
+/// `--set PASS.NAME=VALUE` takes.
+fn print_effect_list() {
+    for (name, desc) in library::builtin_effects() {
+        outln!("{name:<20} {desc}");
+        // The pass parameters `--set PASS.NAME=VALUE` takes, by name.
+        let req = fxgraph::lookup::DiskEffects::request(std::slice::from_ref(&name), &[]);
+        if let (Some(graph), _, _) = compile(&req) {
+            // Those the effect sets (mostly from its parameters) by count.
+            let (bound, free): (Vec<_>, Vec<_>) = pass_param_rows(&graph)
+                .into_iter()
+                .partition(|(_, p)| p.set.is_some());
+            let free: Vec<String> = free.into_iter().map(|(key, _)| key).collect();
+            let line = match (free.is_empty(), bound.len()) {
+                (true, 0) => continue,
+                (false, 0) => free.join(" "),
+                (false, n) => format!("{} (and {n} set by the effect)", free.join(" ")),
+                (true, n) => format!("{n}, set by the effect (see --describe)"),
+            };
+            outln!("{:<20}   pass parameters: {line}", "");
+        }
+    }
+}
+
+/// Why a run without an effect is refused: an input that looks like an effect given
+/// after `-i`, or no effect at all.
+fn no_effect_error(cli: &Cli) -> Fail {
+    if let Some(e) = cli.input.iter().find(|i| batch::effect_after_input(i)) {
+        return rejected(format!(
+            "no effect given: `{}` was read as an input; effects go before -i (fxrun EFFECT... -i INPUT... -o OUTPUT)",
+            e.display()
+        ));
+    }
+    rejected("no effect given (try `fxrun --list`, or `fxrun --help`)")
+}
+
+/// An error already printed (exit 1).
+fn reported() -> Fail {
+    Fail {
+        code: 1,
+        message: String::new(),
+    }
+}
+
+/// `--check`, `--dot`, `--plan`, `--describe`: the effect compiled and planned without
+/// a GPU, and what was asked for printed.
+fn run_analysis(cli: &Cli) -> Result<(), Fail> {
+    let req = fxgraph::lookup::DiskEffects::request_with(&cli.effects, cli.set.clone());
+    let (graph, diags, mut sources) = fxgraph::shader::compile_all(&req);
+    if !diags.is_empty() {
+        eprint!("{}", diags.render(&sources));
+    }
+    let Some(graph) = graph else {
+        return Err(reported());
+    };
+    if cli.describe {
+        describe(&graph);
+        // Describing needs no input: an effect reading an `--aux` image
+        // (chroma_composite's AUX.background) is described without one.
+        if !cli.check && !cli.plan && cli.dot.is_none() {
+            return Ok(());
+        }
+    }
+    let p = checked_plan(cli, &graph, &mut sources)?;
+    if let Some(target) = &cli.dot {
+        write_dot(&graph, &p, target)?;
+    }
+    if cli.plan {
+        if cli.json {
+            outln!(
+                "{}",
+                serde_json::to_string_pretty(&p.to_json()).expect("plan serializes")
+            );
+        } else {
+            out!("{}", p.render());
+        }
+    }
+    Ok(())
+}
+
+/// The plan of `graph` for the planning input (`--size`, `--policy`); with `--check`
+/// its shaders are loaded and checked against the script too (no GPU needed). Its
+/// notes are printed; errors among them refuse it.
+fn checked_plan(
+    cli: &Cli,
+    graph: &fxgraph::graph::Graph,
+    sources: &mut fxgraph::script::SourceMap,
+) -> Result<fxgraph::graph::plan::Plan, Fail> {
+    let (w, h) = match &cli.size {
+        Some(s) => parse_size(s)?,
+        None => (1920, 1080),
+    };
+    let desc = planning_input(cli, w, h);
+    let policy = match cli.policy.as_str() {
+        "min-peak" => ReusePolicy::MinPeak,
+        "pool" => ReusePolicy::Pool,
+        other => {
+            return Err(rejected(format!(
+                "--policy {other}: expected min-peak or pool"
+            )))
+        }
+    };
+    let planned = plan(
+        graph,
+        &desc,
+        &PlanOptions {
+            policy,
+            output_format: None,
+        },
+    );
+    let (p, mut notes) = match planned {
+        Ok(x) => x,
+        Err(d) => {
+            eprint!("{}", d.render(sources));
+            return Err(reported());
+        }
+    };
+    // Shaders are found, preprocessed, reflected and checked against the
+    // script too (no GPU needed).
+    // (--plan and --dot show the graph whatever its shaders say.)
+    if cli.check {
+        let (_, shader_diags) = fxgraph::shader::load_plan_shaders(graph, &p, sources, &[]);
+        notes.extend(shader_diags);
+    }
+    notes.sort();
+    if !notes.is_empty() && (!cli.json || notes.has_errors()) {
+        eprint!("{}", notes.render(sources));
+    }
+    if notes.has_errors() {
+        return Err(reported());
+    }
+    Ok(p)
+}
+
+/// `--dot TARGET`: the graph with its plan in Graphviz form, to stdout (`-`) or a file.
+fn write_dot(
+    graph: &fxgraph::graph::Graph,
+    p: &fxgraph::graph::plan::Plan,
+    target: &str,
+) -> Result<(), Fail> {
+    let text = dot::to_dot(graph, Some(p));
+    if target == "-" {
+        out!("{text}");
+    } else {
+        fxgraph::io::write_atomic(std::path::Path::new(target), |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| fxgraph::io::IoError::Io {
+                    path: target.into(),
+                    source: e,
+                })
+        })
+        .map_err(RunError::from)?;
+    }
+    Ok(())
 }
 
 /// Lowers the slang presets among the effects (so a preset that cannot run is

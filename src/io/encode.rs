@@ -46,17 +46,7 @@ pub fn save_image(
         ));
     }
     let bits = opts.bit_depth.unwrap_or(format.default_bit_depth());
-    if !format.supports_bit_depth(bits) {
-        let supported: Vec<String> = format.bit_depths().iter().map(|b| b.to_string()).collect();
-        return Err(IoError::unsupported(
-            path,
-            format!(
-                "{} files cannot be written with {bits} bits per channel (supported: {})",
-                format.name(),
-                supported.join(", ")
-            ),
-        ));
-    }
+    check_bit_depth(path, format, bits)?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -68,129 +58,193 @@ pub fn save_image(
             "writing gray or bitmap PNM (.pgm, .pbm) is not supported; use .ppm or .pam",
         ));
     }
-    let lin = opts.assume_linear;
-    let w = width;
-    let h = height;
-    let enc_err = |e: image::ImageError| match e {
-        image::ImageError::IoError(io) => IoError::io(path, io),
-        other => IoError::unsupported(
-            path,
-            format!("cannot write {} file: {other}", format.name()),
-        ),
+    let file = ImageFile {
+        path,
+        format,
+        w: width,
+        h: height,
+        pixels,
+        bits,
+        lin: opts.assume_linear,
     };
-
     match format {
-        FileFormat::Png => {
-            let opaque = convert::is_opaque(pixels, bits);
-            let ch = if opaque { 3 } else { 4 };
-            let (data, depth) = if bits == 16 {
-                (convert::to_u16_be(pixels, ch, lin), png::BitDepth::Sixteen)
-            } else {
-                (convert::to_u8(pixels, ch, lin), png::BitDepth::Eight)
-            };
-            let color = if opaque {
-                png::ColorType::Rgb
-            } else {
-                png::ColorType::Rgba
-            };
-            write_atomic(path, |out| {
-                write_png(out, w, h, &data, color, depth, !lin).map_err(|e| match e {
-                    png::EncodingError::IoError(io) => IoError::io(path, io),
-                    other => IoError::unsupported(path, format!("cannot write PNG file: {other}")),
-                })
-            })
+        FileFormat::Png => file.save_png(),
+        FileFormat::Jpeg => file.save_jpeg(),
+        FileFormat::Exr => file.save_exr(),
+        FileFormat::Pnm if ext != "pam" => file.save_ppm(),
+        FileFormat::Hdr => file.save_hdr(),
+        _ => file.save_with_image_crate(),
+    }
+}
+
+/// Refuses a bit depth the file format cannot be written with.
+fn check_bit_depth(path: &Path, format: FileFormat, bits: u8) -> Result<(), IoError> {
+    if !format.supports_bit_depth(bits) {
+        let supported: Vec<String> = format.bit_depths().iter().map(|b| b.to_string()).collect();
+        return Err(IoError::unsupported(
+            path,
+            format!(
+                "{} files cannot be written with {bits} bits per channel (supported: {})",
+                format.name(),
+                supported.join(", ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// An image checked for writing: where, in which format and bit depth, its pixels, and
+/// whether integer files are written with plain scaling (`lin`).
+struct ImageFile<'a> {
+    path: &'a Path,
+    format: FileFormat,
+    w: u32,
+    h: u32,
+    pixels: &'a Pixels,
+    bits: u8,
+    lin: bool,
+}
+
+impl ImageFile<'_> {
+    /// An image crate error as an I/O error of this file.
+    fn image_error(&self, e: image::ImageError) -> IoError {
+        match e {
+            image::ImageError::IoError(io) => IoError::io(self.path, io),
+            other => IoError::unsupported(
+                self.path,
+                format!("cannot write {} file: {other}", self.format.name()),
+            ),
         }
-        FileFormat::Jpeg => {
-            let data = convert::to_u8(pixels, 3, lin);
-            write_atomic(path, |out| {
-                image::codecs::jpeg::JpegEncoder::new_with_quality(out, 92)
-                    .write_image(&data, w, h, image::ExtendedColorType::Rgb8)
-                    .map_err(enc_err)
+    }
+
+    /// PNG, 8 or 16 bits: RGB when every pixel is opaque, RGBA otherwise.
+    fn save_png(&self) -> Result<(), IoError> {
+        let (path, w, h, pixels, lin) = (self.path, self.w, self.h, self.pixels, self.lin);
+        let opaque = convert::is_opaque(pixels, self.bits);
+        let ch = if opaque { 3 } else { 4 };
+        let (data, depth) = if self.bits == 16 {
+            (convert::to_u16_be(pixels, ch, lin), png::BitDepth::Sixteen)
+        } else {
+            (convert::to_u8(pixels, ch, lin), png::BitDepth::Eight)
+        };
+        let color = if opaque {
+            png::ColorType::Rgb
+        } else {
+            png::ColorType::Rgba
+        };
+        write_atomic(path, |out| {
+            write_png(out, w, h, &data, color, depth, !lin).map_err(|e| match e {
+                png::EncodingError::IoError(io) => IoError::io(path, io),
+                other => IoError::unsupported(path, format!("cannot write PNG file: {other}")),
             })
-        }
-        FileFormat::Exr => {
-            let data = convert::to_f32_rgba(pixels, lin);
-            write_atomic(path, |out| {
-                exr_io::write_exr(out, w, h, &data, bits == 16).map_err(|e| match e {
-                    exr::error::Error::Io(io) => IoError::io(path, io),
-                    other => {
-                        IoError::unsupported(path, format!("cannot write OpenEXR file: {other}"))
-                    }
-                })
+        })
+    }
+
+    /// JPEG: 8-bit, quality 92, alpha dropped.
+    fn save_jpeg(&self) -> Result<(), IoError> {
+        let data = convert::to_u8(self.pixels, 3, self.lin);
+        write_atomic(self.path, |out| {
+            image::codecs::jpeg::JpegEncoder::new_with_quality(out, 92)
+                .write_image(&data, self.w, self.h, image::ExtendedColorType::Rgb8)
+                .map_err(|e| self.image_error(e))
+        })
+    }
+
+    /// OpenEXR: half or float RGBA.
+    fn save_exr(&self) -> Result<(), IoError> {
+        let path = self.path;
+        let data = convert::to_f32_rgba(self.pixels, self.lin);
+        write_atomic(path, |out| {
+            exr_io::write_exr(out, self.w, self.h, &data, self.bits == 16).map_err(|e| match e {
+                exr::error::Error::Io(io) => IoError::io(path, io),
+                other => IoError::unsupported(path, format!("cannot write OpenEXR file: {other}")),
             })
-        }
-        FileFormat::Pnm if ext != "pam" => {
-            // Binary PPM (P6), written here: the image crate's encoder has no 16-bit P6.
-            let (data, maxval) = if bits == 16 {
-                (convert::to_u16_be(pixels, 3, lin), 65535)
-            } else {
-                (convert::to_u8(pixels, 3, lin), 255)
-            };
-            write_atomic(path, |out| {
-                write!(out, "P6\n{w} {h}\n{maxval}\n")
-                    .and_then(|_| out.write_all(&data))
-                    .map_err(|e| IoError::io(path, e))
-            })
-        }
-        FileFormat::Hdr => {
-            let data = convert::to_f32_rgba(pixels, lin);
-            let rgb: Vec<image::Rgb<f32>> = data
-                .chunks_exact(4)
-                .map(|p| image::Rgb([p[0].max(0.0), p[1].max(0.0), p[2].max(0.0)]))
-                .collect();
-            write_atomic(path, |out| {
-                image::codecs::hdr::HdrEncoder::new(out)
-                    .encode(&rgb, w as usize, h as usize)
-                    .map_err(enc_err)
-            })
-        }
-        _ => {
-            // 8/16-bit integer or 32-bit float through the image crate.
-            let ch = if !convert::is_opaque(pixels, bits) {
-                4
-            } else {
-                3
-            };
-            let (bytes, color): (Vec<u8>, image::ExtendedColorType) = match bits {
-                16 => {
-                    let v = convert::to_u16(pixels, ch, lin);
-                    (
-                        bytemuck::cast_slice(&v).to_vec(),
-                        if ch == 4 {
-                            image::ExtendedColorType::Rgba16
-                        } else {
-                            image::ExtendedColorType::Rgb16
-                        },
-                    )
-                }
-                32 => {
-                    let v = convert::to_f32_rgba(pixels, lin);
-                    let v: Vec<f32> = if ch == 4 {
-                        v
-                    } else {
-                        v.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
-                    };
-                    (
-                        bytemuck::cast_slice(&v).to_vec(),
-                        if ch == 4 {
-                            image::ExtendedColorType::Rgba32F
-                        } else {
-                            image::ExtendedColorType::Rgb32F
-                        },
-                    )
-                }
-                _ => (
-                    convert::to_u8(pixels, ch, lin),
+        })
+    }
+
+    /// Binary PPM (P6), written here: the image crate's encoder has no 16-bit P6.
+    fn save_ppm(&self) -> Result<(), IoError> {
+        let (w, h) = (self.w, self.h);
+        let (data, maxval) = if self.bits == 16 {
+            (convert::to_u16_be(self.pixels, 3, self.lin), 65535)
+        } else {
+            (convert::to_u8(self.pixels, 3, self.lin), 255)
+        };
+        write_atomic(self.path, |out| {
+            write!(out, "P6\n{w} {h}\n{maxval}\n")
+                .and_then(|_| out.write_all(&data))
+                .map_err(|e| IoError::io(self.path, e))
+        })
+    }
+
+    /// Radiance HDR: RGB, negative values clamped to 0.
+    fn save_hdr(&self) -> Result<(), IoError> {
+        let data = convert::to_f32_rgba(self.pixels, self.lin);
+        let rgb: Vec<image::Rgb<f32>> = data
+            .chunks_exact(4)
+            .map(|p| image::Rgb([p[0].max(0.0), p[1].max(0.0), p[2].max(0.0)]))
+            .collect();
+        write_atomic(self.path, |out| {
+            image::codecs::hdr::HdrEncoder::new(out)
+                .encode(&rgb, self.w as usize, self.h as usize)
+                .map_err(|e| self.image_error(e))
+        })
+    }
+
+    /// 8/16-bit integer or 32-bit float through the image crate.
+    fn save_with_image_crate(&self) -> Result<(), IoError> {
+        let (bytes, color) = self.image_crate_samples();
+        write_atomic(self.path, |out| {
+            encode_with_image_crate(out, self.format, &bytes, self.w, self.h, color)
+                .map_err(|e| self.image_error(e))
+        })
+    }
+
+    /// The samples as the image crate takes them: RGB when every pixel is opaque,
+    /// RGBA otherwise, at the file's bit depth.
+    fn image_crate_samples(&self) -> (Vec<u8>, image::ExtendedColorType) {
+        let (pixels, lin) = (self.pixels, self.lin);
+        let ch = if !convert::is_opaque(pixels, self.bits) {
+            4
+        } else {
+            3
+        };
+        match self.bits {
+            16 => {
+                let v = convert::to_u16(pixels, ch, lin);
+                (
+                    bytemuck::cast_slice(&v).to_vec(),
                     if ch == 4 {
-                        image::ExtendedColorType::Rgba8
+                        image::ExtendedColorType::Rgba16
                     } else {
-                        image::ExtendedColorType::Rgb8
+                        image::ExtendedColorType::Rgb16
                     },
-                ),
-            };
-            write_atomic(path, |out| {
-                encode_with_image_crate(out, format, &bytes, w, h, color).map_err(enc_err)
-            })
+                )
+            }
+            32 => {
+                let v = convert::to_f32_rgba(pixels, lin);
+                let v: Vec<f32> = if ch == 4 {
+                    v
+                } else {
+                    v.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
+                };
+                (
+                    bytemuck::cast_slice(&v).to_vec(),
+                    if ch == 4 {
+                        image::ExtendedColorType::Rgba32F
+                    } else {
+                        image::ExtendedColorType::Rgb32F
+                    },
+                )
+            }
+            _ => (
+                convert::to_u8(pixels, ch, lin),
+                if ch == 4 {
+                    image::ExtendedColorType::Rgba8
+                } else {
+                    image::ExtendedColorType::Rgb8
+                },
+            ),
         }
     }
 }

@@ -96,45 +96,10 @@ fn read_exr_inner(bytes: &[u8]) -> Result<ExrPixels, String> {
     if meta.headers.is_empty() {
         return Err("the file has no image layers".into());
     }
-    let mut chunk_total: u64 = 0;
-    for h in &meta.headers {
-        let (w, hgt) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
-        check_dimensions(w, hgt)?;
-        chunk_total = chunk_total.saturating_add(h.chunk_count as u64);
-    }
-    // Every chunk needs an 8-byte offset table entry plus at least a few bytes of data.
-    if chunk_total.saturating_mul(8) > bytes.len() as u64 {
-        return Err(format!(
-            "the headers announce {chunk_total} pixel blocks, more than a file of {} bytes can hold (truncated or corrupt)",
-            bytes.len()
-        ));
-    }
+    check_headers(&meta, bytes.len())?;
 
     // 2. Which layer and channels.
-    let flat: Vec<&Header> = meta.headers.iter().filter(|h| !h.deep).collect();
-    if flat.is_empty() {
-        return Err("deep EXR data is not supported".into());
-    }
-    let (mode, header) = if let Some(h) = flat.iter().find(|h| {
-        has_channel(h, "R").is_some()
-            && has_channel(h, "G").is_some()
-            && has_channel(h, "B").is_some()
-    }) {
-        (Mode::Rgba, *h)
-    } else if let Some(h) = flat.iter().find(|h| has_channel(h, "Y").is_some()) {
-        (Mode::Luminance, *h)
-    } else {
-        let names: Vec<String> = flat[0]
-            .channels
-            .list
-            .iter()
-            .map(|c| c.name.to_string())
-            .collect();
-        return Err(format!(
-            "no R,G,B or Y channels in the image (channels: {})",
-            names.join(", ")
-        ));
-    };
+    let (mode, header) = choose_layer(&meta)?;
     let main_type = match mode {
         Mode::Rgba => has_channel(header, "R"),
         Mode::Luminance => has_channel(header, "Y"),
@@ -143,10 +108,79 @@ fn read_exr_inner(bytes: &[u8]) -> Result<ExrPixels, String> {
     let has_alpha = has_channel(header, "A").is_some();
 
     // 3. Pixels.
+    let (size, store) = decode_pixels(bytes, mode)?;
+    let (w, h) = (size.width(), size.height());
+    if w == 0 || h == 0 || store.1.len() != w * h * 4 {
+        return Err(format!("inconsistent image size {w}x{h}"));
+    }
+    Ok(ExrPixels {
+        width: w as u32,
+        height: h as u32,
+        rgba: store.1,
+        bit_depth: match main_type {
+            SampleType::F16 => 16,
+            SampleType::F32 | SampleType::U32 => 32,
+        },
+        has_alpha,
+        float: main_type != SampleType::U32,
+    })
+}
+
+/// Refuses layers of absurd sizes, and more pixel blocks than a file of `len` bytes can
+/// hold.
+fn check_headers(meta: &MetaData, len: usize) -> Result<(), String> {
+    let mut chunk_total: u64 = 0;
+    for h in &meta.headers {
+        let (w, hgt) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
+        check_dimensions(w, hgt)?;
+        chunk_total = chunk_total.saturating_add(h.chunk_count as u64);
+    }
+    // Every chunk needs an 8-byte offset table entry plus at least a few bytes of data.
+    if chunk_total.saturating_mul(8) > len as u64 {
+        return Err(format!(
+            "the headers announce {chunk_total} pixel blocks, more than a file of {len} bytes can hold (truncated or corrupt)"
+        ));
+    }
+    Ok(())
+}
+
+/// The first flat layer with R, G and B channels, else the first with Y; how it is read.
+fn choose_layer(meta: &MetaData) -> Result<(Mode, &Header), String> {
+    let flat: Vec<&Header> = meta.headers.iter().filter(|h| !h.deep).collect();
+    if flat.is_empty() {
+        return Err("deep EXR data is not supported".into());
+    }
+    Ok(
+        if let Some(h) = flat.iter().find(|h| {
+            has_channel(h, "R").is_some()
+                && has_channel(h, "G").is_some()
+                && has_channel(h, "B").is_some()
+        }) {
+            (Mode::Rgba, *h)
+        } else if let Some(h) = flat.iter().find(|h| has_channel(h, "Y").is_some()) {
+            (Mode::Luminance, *h)
+        } else {
+            let names: Vec<String> = flat[0]
+                .channels
+                .list
+                .iter()
+                .map(|c| c.name.to_string())
+                .collect();
+            return Err(format!(
+                "no R,G,B or Y channels in the image (channels: {})",
+                names.join(", ")
+            ));
+        },
+    )
+}
+
+/// The pixels of the chosen layer as RGBA (luminance repeated, alpha 1 where there is
+/// none), with the layer's size.
+fn decode_pixels(bytes: &[u8], mode: Mode) -> Result<(Vec2<usize>, Store), String> {
     let create = |size: Vec2<usize>, _: &_| -> Store {
         (size.width(), vec![0.0f32; size.width() * size.height() * 4])
     };
-    let (size, store) = match mode {
+    Ok(match mode {
         Mode::Rgba => {
             let reader = exr::prelude::read()
                 .no_deep_data()
@@ -182,21 +216,6 @@ fn read_exr_inner(bytes: &[u8]) -> Result<ExrPixels, String> {
             let layer = decode_layers(bytes, &reader)?;
             (layer.size, layer.channel_data.pixels)
         }
-    };
-    let (w, h) = (size.width(), size.height());
-    if w == 0 || h == 0 || store.1.len() != w * h * 4 {
-        return Err(format!("inconsistent image size {w}x{h}"));
-    }
-    Ok(ExrPixels {
-        width: w as u32,
-        height: h as u32,
-        rgba: store.1,
-        bit_depth: match main_type {
-            SampleType::F16 => 16,
-            SampleType::F32 | SampleType::U32 => 32,
-        },
-        has_alpha,
-        float: main_type != SampleType::U32,
     })
 }
 

@@ -74,17 +74,11 @@ pub(super) fn decode_png(
     // Palettes to RGB(A), tRNS to alpha, 1/2/4-bit grey to 8 bits.
     decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder.read_info().map_err(png_error_text)?;
-    let cicp = match reader.info().coding_independent_code_points.as_ref() {
-        None => None,
-        Some(c) => match cicp_signal(c) {
-            Ok(s) if s.color.is_srgb() && !s.narrow => None,
-            Ok(s) => Some(s),
-            Err(what) => {
-                log::warn!("PNG with {what}, which fxrun does not decode: read as sRGB");
-                None
-            }
-        },
-    };
+    let cicp = reader
+        .info()
+        .coding_independent_code_points
+        .as_ref()
+        .and_then(non_srgb_signal);
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| "the image is too large".to_string())?;
@@ -98,6 +92,25 @@ pub(super) fn decode_png(
     buf.truncate(frame.buffer_size());
     // The rest of the file up to IEND (its chunks' CRCs, the end of the stream).
     reader.finish().map_err(png_error_text)?;
+    let img = image_of(&frame, buf)?;
+    Ok((img, file_depth, cicp))
+}
+
+/// The signal of a cICP chunk, unless it is plain sRGB (full range); an unknown one
+/// is ignored with a warning (the image is read as sRGB).
+fn non_srgb_signal(c: &png::CodingIndependentCodePoints) -> Option<Cicp> {
+    match cicp_signal(c) {
+        Ok(s) if s.color.is_srgb() && !s.narrow => None,
+        Ok(s) => Some(s),
+        Err(what) => {
+            log::warn!("PNG with {what}, which fxrun does not decode: read as sRGB");
+            None
+        }
+    }
+}
+
+/// The decoded samples `buf` of `frame` as an image of its colour type and depth.
+fn image_of(frame: &png::OutputInfo, buf: Vec<u8>) -> Result<DynamicImage, String> {
     let (w, h) = (frame.width, frame.height);
     let wrong_size = || "the decoded data does not match the image size".to_string();
     let img = match (frame.color_type, frame.bit_depth) {
@@ -143,7 +156,7 @@ pub(super) fn decode_png(
             ))
         }
     };
-    Ok((img.ok_or_else(wrong_size)?, file_depth, cicp))
+    img.ok_or_else(wrong_size)
 }
 
 fn color_words(c: png::ColorType) -> &'static str {

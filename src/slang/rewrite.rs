@@ -282,6 +282,53 @@ fn merge_uniforms(
         return Ok(());
     }
     let own = uniform_fields(m, path, frame_mod, is_param, &mut BTreeSet::new())?;
+    let (members, offset) = params_members(m, path, fields)?;
+    let index_of: HashMap<(Handle<naga::GlobalVariable>, u32), u32> = own
+        .iter()
+        .map(|f| {
+            let at = fields
+                .names
+                .iter()
+                .position(|(n, _)| *n == f.name)
+                .unwrap_or(0);
+            ((f.global, f.index), at as u32)
+        })
+        .collect();
+    let span = offset.next_multiple_of(16).max(16);
+    let ty = m.types.insert(
+        Type {
+            name: Some("Params".into()),
+            inner: TypeInner::Struct { members, span },
+        },
+        naga::Span::UNDEFINED,
+    );
+    let params = m.global_variables.append(
+        naga::GlobalVariable {
+            name: Some("params".into()),
+            space: AddressSpace::Uniform,
+            binding: Some(ResourceBinding { group: 0, binding }),
+            ty,
+            init: None,
+            memory_decorations: Default::default(),
+        },
+        naga::Span::UNDEFINED,
+    );
+    let old = retire_old_blocks(m, params);
+    let mut functions: Vec<&mut naga::Function> = m.functions.iter_mut().map(|(_, f)| f).collect();
+    functions.extend(m.entry_points.iter_mut().map(|e| &mut e.function));
+    for f in functions {
+        redirect(f, &old, params, &index_of);
+    }
+    Ok(())
+}
+
+/// The members of the merged `Params` struct (one per field of `fields`, laid out by
+/// naga's rules) and the offset after the last.
+fn params_members(
+    m: &mut Module,
+    path: &Path,
+    fields: &Fields,
+) -> Result<(Vec<naga::StructMember>, u32), SlangError> {
     let types: Vec<Handle<Type>> = fields
         .names
         .iter()
@@ -314,36 +361,15 @@ fn merge_uniforms(
         });
         offset += layout.size;
     }
-    let index_of: HashMap<(Handle<naga::GlobalVariable>, u32), u32> = own
-        .iter()
-        .map(|f| {
-            let at = fields
-                .names
-                .iter()
-                .position(|(n, _)| *n == f.name)
-                .unwrap_or(0);
-            ((f.global, f.index), at as u32)
-        })
-        .collect();
-    let span = offset.next_multiple_of(16).max(16);
-    let ty = m.types.insert(
-        Type {
-            name: Some("Params".into()),
-            inner: TypeInner::Struct { members, span },
-        },
-        naga::Span::UNDEFINED,
-    );
-    let params = m.global_variables.append(
-        naga::GlobalVariable {
-            name: Some("params".into()),
-            space: AddressSpace::Uniform,
-            binding: Some(ResourceBinding { group: 0, binding }),
-            ty,
-            init: None,
-            memory_decorations: Default::default(),
-        },
-        naga::Span::UNDEFINED,
-    );
+    Ok((members, offset))
+}
+
+/// Turns every uniform block but `params` into an unused private variable (renamed, so
+/// that `params` is free); their handles.
+fn retire_old_blocks(
+    m: &mut Module,
+    params: Handle<naga::GlobalVariable>,
+) -> Vec<Handle<naga::GlobalVariable>> {
     let old: Vec<Handle<naga::GlobalVariable>> = m
         .global_variables
         .iter()
@@ -360,12 +386,7 @@ fn merge_uniforms(
             g.name.as_deref().unwrap_or("block")
         ));
     }
-    let mut functions: Vec<&mut naga::Function> = m.functions.iter_mut().map(|(_, f)| f).collect();
-    functions.extend(m.entry_points.iter_mut().map(|e| &mut e.function));
-    for f in functions {
-        redirect(f, &old, params, &index_of);
-    }
-    Ok(())
+    old
 }
 
 /// Points member accesses of the old blocks at `params`.

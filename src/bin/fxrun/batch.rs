@@ -28,9 +28,53 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
         .iter()
         .map(|i| SequenceSpec::parse_input(&i.to_string_lossy()))
         .collect();
+    if !is_batch_shape(cli, &specs, &ospec, output)? {
+        return Ok(false);
+    }
+    // A batch reads and writes image files: no stream colour options apply.
+    super::streams::check_color_options(cli, false, false)?;
+    let mut effect = Effect::compile_overrides(&cli.effects, cli.set.clone())?;
+    let g = &effect.graph;
+    if g.history > 0 || g.latency > 0 || g.has_feedback() {
+        if specs.len() == 1 {
+            return Ok(false); // a sequence (its frames must have one size: check_same_size)
+        }
+        return Err(rejected(
+            "this effect reads other frames (IN[-n], IN[+n] or feedback): give its frames as one folder or pattern, not as several -i",
+        ));
+    }
+    if !cli.aux.is_empty() {
+        return Err(rejected(
+            "--aux is for one image: its size must match the input's",
+        ));
+    }
+    let inputs = collect_inputs(cli, &specs)?;
+    let mut items = name_outputs(cli, &inputs, &ospec)?;
+    check_outputs(&items)?;
+    if cli.skip_existing {
+        items.retain(|it| std::fs::symlink_metadata(&it.output).is_err());
+        if items.is_empty() {
+            eprintln!("fxrun: every output exists already (--skip-existing)");
+            return Ok(true);
+        }
+    }
+    clean_output_dirs(&items);
+    run(cli, &mut effect, &items).map(|_| true)
+}
+
+/// Whether the inputs and the output make a batch: one folder or wildcard pattern
+/// (without the sequence options or a stream output), or one image into a folder; or
+/// several inputs, refused when one is a stream or pattern, with the sequence options
+/// or with a stream output. `Ok(false)`: a single image or a sequence.
+fn is_batch_shape(
+    cli: &Cli,
+    specs: &[SequenceSpec],
+    ospec: &SequenceSpec,
+    output: &Path,
+) -> Result<bool, Fail> {
     let sequence_options =
         cli.frames.is_some() || cli.warmup > 0 || cli.rate != 1 || cli.fps.is_some();
-    if let [spec] = specs.as_slice() {
+    if let [spec] = specs {
         match spec {
             SequenceSpec::Dir(_) | SequenceSpec::Glob(_) => {
                 if sequence_options || ospec.is_stream() {
@@ -61,33 +105,11 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
             )));
         }
     }
-    // A batch reads and writes image files: no stream colour options apply.
-    super::streams::check_color_options(cli, false, false)?;
-    let mut effect = Effect::compile_overrides(&cli.effects, cli.set.clone())?;
-    let g = &effect.graph;
-    if g.history > 0 || g.latency > 0 || g.has_feedback() {
-        if specs.len() == 1 {
-            return Ok(false); // a sequence (its frames must have one size: check_same_size)
-        }
-        return Err(rejected(
-            "this effect reads other frames (IN[-n], IN[+n] or feedback): give its frames as one folder or pattern, not as several -i",
-        ));
-    }
-    if !cli.aux.is_empty() {
-        return Err(rejected(
-            "--aux is for one image: its size must match the input's",
-        ));
-    }
-    let inputs = collect_inputs(cli, &specs)?;
-    let mut items = name_outputs(cli, &inputs, &ospec)?;
-    check_outputs(&items)?;
-    if cli.skip_existing {
-        items.retain(|it| std::fs::symlink_metadata(&it.output).is_err());
-        if items.is_empty() {
-            eprintln!("fxrun: every output exists already (--skip-existing)");
-            return Ok(true);
-        }
-    }
+    Ok(true)
+}
+
+/// Removes the temporaries an interrupted run left in the output folders.
+fn clean_output_dirs(items: &[BatchItem]) {
     let mut dirs: Vec<&Path> = items.iter().filter_map(|it| it.output.parent()).collect();
     dirs.sort();
     dirs.dedup();
@@ -99,7 +121,6 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
         };
         let _ = fxgraph::io::sequence::remove_stale_temporaries(d);
     }
-    run(cli, &mut effect, &items).map(|_| true)
 }
 
 /// The input files, numbered: a single folder or wildcard pattern as a sequence numbers
@@ -200,40 +221,8 @@ fn name_outputs(
     inputs: &[(u64, PathBuf)],
     ospec: &SequenceSpec,
 ) -> Result<Vec<BatchItem>, Fail> {
-    let format = match &cli.format {
-        Some(ext) => {
-            let ext = ext.trim_start_matches('.');
-            if FileFormat::from_extension(ext).is_none() {
-                return Err(rejected(format!(
-                    "--format {ext}: unknown image file extension (use png, jpg, exr, tif, ...)"
-                )));
-            }
-            Some(ext.to_string())
-        }
-        None => None,
-    };
-    let in_dir = |dir: &Path| -> Result<Vec<BatchItem>, Fail> {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            RunError::from(fxgraph::io::IoError::Io {
-                path: dir.to_path_buf(),
-                source: e,
-            })
-        })?;
-        Ok(inputs
-            .iter()
-            .map(|(_, p)| {
-                let stem = p.file_stem().unwrap_or_default().to_string_lossy();
-                let ext = match &format {
-                    Some(f) => f.clone(),
-                    None => p.extension().unwrap_or_default().to_string_lossy().into(),
-                };
-                BatchItem {
-                    input: p.clone(),
-                    output: dir.join(format!("{stem}.{ext}")),
-                }
-            })
-            .collect())
-    };
+    let format = output_extension(cli)?;
+    let in_dir = |dir: &Path| outputs_in_dir(dir, inputs, format.as_deref());
     let own_extension = || {
         rejected(
             "--format sets the format of -o DIR outputs; a pattern or a file name has its own extension",
@@ -277,6 +266,51 @@ fn name_outputs(
             other.display_path().display()
         ))),
     }
+}
+
+/// `--format EXT`: the extension of `-o DIR` outputs, refused when unknown.
+fn output_extension(cli: &Cli) -> Result<Option<String>, Fail> {
+    Ok(match &cli.format {
+        Some(ext) => {
+            let ext = ext.trim_start_matches('.');
+            if FileFormat::from_extension(ext).is_none() {
+                return Err(rejected(format!(
+                    "--format {ext}: unknown image file extension (use png, jpg, exr, tif, ...)"
+                )));
+            }
+            Some(ext.to_string())
+        }
+        None => None,
+    })
+}
+
+/// The outputs in `dir` (created): each input's file stem with its extension, or
+/// `format`.
+fn outputs_in_dir(
+    dir: &Path,
+    inputs: &[(u64, PathBuf)],
+    format: Option<&str>,
+) -> Result<Vec<BatchItem>, Fail> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        RunError::from(fxgraph::io::IoError::Io {
+            path: dir.to_path_buf(),
+            source: e,
+        })
+    })?;
+    Ok(inputs
+        .iter()
+        .map(|(_, p)| {
+            let stem = p.file_stem().unwrap_or_default().to_string_lossy();
+            let ext = match format {
+                Some(f) => f.to_string(),
+                None => p.extension().unwrap_or_default().to_string_lossy().into(),
+            };
+            BatchItem {
+                input: p.clone(),
+                output: dir.join(format!("{stem}.{ext}")),
+            }
+        })
+        .collect())
 }
 
 /// Refuses a batch that would write two images to one file, or over one of its inputs.

@@ -43,6 +43,30 @@ pub(crate) fn describe(graph: &fxgraph::graph::Graph) {
             outln!("  {line}");
         }
     }
+    describe_passes(graph);
+    describe_params(graph);
+    describe_pass_params(graph);
+    if graph.has_feedback() {
+        outln!("temporal: uses feedback (earlier output frames); a sharded sequence run needs warm-up frames");
+    }
+    if graph.latency > 0 || graph.history > 0 {
+        outln!(
+            "temporal: reads {} earlier and {} later input frames (latency {})",
+            graph.history,
+            graph.latency,
+            graph.latency
+        );
+    }
+    if let Some(j) = graph.jitter {
+        outln!(
+            "jitter: {j} (asks for input frames rendered with sub-pixel offsets, period {}; the renderer applies them)",
+            j.period()
+        );
+    }
+}
+
+/// The passes in execution order, with their shaders and inputs.
+fn describe_passes(graph: &fxgraph::graph::Graph) {
     outln!("passes (in execution order):");
     for &n in &graph.schedule {
         let p = graph.pass(n);
@@ -57,6 +81,10 @@ pub(crate) fn describe(graph: &fxgraph::graph::Graph) {
             inputs.join(" ")
         );
     }
+}
+
+/// The effect parameters: type, value, default, range or choices, description.
+fn describe_params(graph: &fxgraph::graph::Graph) {
     if graph.params.is_empty() {
         outln!("parameters: none");
     } else {
@@ -90,6 +118,10 @@ pub(crate) fn describe(graph: &fxgraph::graph::Graph) {
             );
         }
     }
+}
+
+/// The pass parameters `--set PASS.NAME=VALUE` takes, and those the effect sets.
+fn describe_pass_params(graph: &fxgraph::graph::Graph) {
     let rows = pass_param_rows(graph);
     if rows.is_empty() {
         outln!("pass parameters: none");
@@ -121,22 +153,5 @@ pub(crate) fn describe(graph: &fxgraph::graph::Graph) {
                 p.description
             );
         }
-    }
-    if graph.has_feedback() {
-        outln!("temporal: uses feedback (earlier output frames); a sharded sequence run needs warm-up frames");
-    }
-    if graph.latency > 0 || graph.history > 0 {
-        outln!(
-            "temporal: reads {} earlier and {} later input frames (latency {})",
-            graph.history,
-            graph.latency,
-            graph.latency
-        );
-    }
-    if let Some(j) = graph.jitter {
-        outln!(
-            "jitter: {j} (asks for input frames rendered with sub-pixel offsets, period {}; the renderer applies them)",
-            j.period()
-        );
     }
 }

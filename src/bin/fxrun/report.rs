@@ -5,6 +5,7 @@
 //! stream).
 
 use super::*;
+use fxgraph::app::report::SceneStats;
 use fxgraph::app::{JobKind, RunReport};
 use fxgraph::gpu::executor::PassTiming;
 
@@ -110,72 +111,92 @@ fn print_batch_summary(r: &RunReport) {
 
 /// The `--timings` lines of a report.
 fn timing_lines(r: &RunReport) -> Vec<String> {
-    let mut out = Vec::new();
     let size = r
         .done
         .last()
         .map(|d| format!("{}x{}", d.width, d.height))
         .unwrap_or_else(|| "-".into());
-    match (&r.scene, r.job) {
-        (Some(s), _) => {
-            out.push(format!(
-                "adapter: {} ({})  scene {} ({} triangles, {} lights visible, {} culling: {} light-cluster entries, {:.1} KiB)  {size}",
-                r.adapter,
-                r.backend,
-                s.scene,
-                s.triangles,
-                s.lights_visible,
-                s.light_culling,
-                s.cluster_entries,
-                s.cluster_bytes as f64 / 1024.0,
-            ));
-            for (name, ms) in &s.render_passes {
-                out.push(format!("  render {name:<26} gpu {ms:>8.2} ms"));
-            }
-            if !s.render_cpu_split.is_empty() {
-                let parts: Vec<String> = s
-                    .render_cpu_split
-                    .iter()
-                    .map(|(name, ms)| format!("{name} {ms:.2}"))
-                    .collect();
-                out.push(format!(
-                    "  render cpu {:.2} ms: {} ms",
-                    s.render_cpu_ms,
-                    parts.join(", ")
-                ));
-            }
-            out.push(format!(
-                "  shadows {}: {} layers ({} rendered over the run, the others kept), {:.1} MiB of shadow maps",
-                s.shadows,
-                s.shadow_layers,
-                s.shadow_layers_rendered,
-                s.shadow_map_bytes as f64 / (1u64 << 20) as f64
-            ));
-        }
-        (None, JobKind::Image) => {
-            out.push(format!(
-                "adapter: {} ({})  image {size}",
-                r.adapter, r.backend
-            ));
-        }
-        (None, _) => {
-            out.push(format!(
-                "adapter: {} ({})  frames: {} in, {} out  wall {:.1} ms  {:.2} fps  ({} plan{})",
-                r.adapter,
-                r.backend,
-                r.frames_in,
-                r.done.len(),
-                r.wall_ms,
-                r.fps(),
-                r.plans,
-                if r.plans == 1 { "" } else { "s" }
-            ));
-        }
-    }
+    let mut out = match &r.scene {
+        Some(s) => scene_header_lines(r, s, &size),
+        None => vec![job_header_line(r, &size)],
+    };
     out.extend(pass_lines(&r.passes));
+    out.push(stage_line(r));
+    if r.plans > 0 {
+        let mib = |b: u64| b as f64 / 1048576.0;
+        out.push(format!(
+            "transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})",
+            mib(r.memory.peak_bytes),
+            mib(r.memory.lower_bound_bytes),
+            mib(r.memory.naive_bytes)
+        ));
+    }
+    out
+}
+
+/// A rendered scene's first lines: the adapter, the scene and its lights, the render
+/// passes' GPU times, the renderer's CPU time by step, the shadows.
+fn scene_header_lines(r: &RunReport, s: &SceneStats, size: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    out.push(format!(
+        "adapter: {} ({})  scene {} ({} triangles, {} lights visible, {} culling: {} light-cluster entries, {:.1} KiB)  {size}",
+        r.adapter,
+        r.backend,
+        s.scene,
+        s.triangles,
+        s.lights_visible,
+        s.light_culling,
+        s.cluster_entries,
+        s.cluster_bytes as f64 / 1024.0,
+    ));
+    for (name, ms) in &s.render_passes {
+        out.push(format!("  render {name:<26} gpu {ms:>8.2} ms"));
+    }
+    if !s.render_cpu_split.is_empty() {
+        let parts: Vec<String> = s
+            .render_cpu_split
+            .iter()
+            .map(|(name, ms)| format!("{name} {ms:.2}"))
+            .collect();
+        out.push(format!(
+            "  render cpu {:.2} ms: {} ms",
+            s.render_cpu_ms,
+            parts.join(", ")
+        ));
+    }
+    out.push(format!(
+        "  shadows {}: {} layers ({} rendered over the run, the others kept), {:.1} MiB of shadow maps",
+        s.shadows,
+        s.shadow_layers,
+        s.shadow_layers_rendered,
+        s.shadow_map_bytes as f64 / (1u64 << 20) as f64
+    ));
+    out
+}
+
+/// An image's or a sequence's first line: the adapter, the image size or the frames.
+fn job_header_line(r: &RunReport, size: &str) -> String {
+    match r.job {
+        JobKind::Image => format!("adapter: {} ({})  image {size}", r.adapter, r.backend),
+        _ => format!(
+            "adapter: {} ({})  frames: {} in, {} out  wall {:.1} ms  {:.2} fps  ({} plan{})",
+            r.adapter,
+            r.backend,
+            r.frames_in,
+            r.done.len(),
+            r.wall_ms,
+            r.fps(),
+            r.plans,
+            if r.plans == 1 { "" } else { "s" }
+        ),
+    }
+}
+
+/// Where the time went: by step (a scene, an image) or by stage (a sequence or batch).
+fn stage_line(r: &RunReport) -> String {
     let st = &r.stages;
     match (&r.scene, r.job) {
-        (Some(s), _) => out.push(format!(
+        (Some(s), _) => format!(
             "load {:.1} ms | render cpu {:.1} gpu {} | pipelines {:.1} | effects {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
             s.load_ms,
             s.render_cpu_ms,
@@ -187,8 +208,8 @@ fn timing_lines(r: &RunReport) -> Vec<String> {
             r.steps.readback_ms,
             st.encode_busy_ms,
             r.wall_ms
-        )),
-        (None, JobKind::Image) => out.push(format!(
+        ),
+        (None, JobKind::Image) => format!(
             "compile {:.1} ms | decode {:.1} | device {:.1} (created in {:.1}, overlapping the decode) | pipelines {:.1} | upload {:.1} | passes {:.1} | readback {:.1} | encode {:.1} | total {:.1} ms",
             r.compile_ms,
             st.decode_busy_ms,
@@ -200,10 +221,10 @@ fn timing_lines(r: &RunReport) -> Vec<String> {
             r.steps.readback_ms,
             st.encode_busy_ms,
             r.wall_ms
-        )),
+        ),
         (None, _) => {
             let (d, g, e) = r.utilisation();
-            out.push(format!(
+            format!(
                 "stage busy: decode {:.0} ms ({:.0}%), gpu {:.0} ms ({:.0}%), encode {:.0} ms ({:.0}%); the encoder waited {:.0} ms for the GPU; wall {:.0} ms  (frames held at most: {})",
                 st.decode_busy_ms,
                 d * 100.0,
@@ -214,19 +235,9 @@ fn timing_lines(r: &RunReport) -> Vec<String> {
                 st.readback_wait_ms,
                 r.wall_ms,
                 r.frames_held_max
-            ));
+            )
         }
     }
-    if r.plans > 0 {
-        let mib = |b: u64| b as f64 / 1048576.0;
-        out.push(format!(
-            "transient textures: peak {:.2} MiB (lower bound {:.2}, naive {:.2})",
-            mib(r.memory.peak_bytes),
-            mib(r.memory.lower_bound_bytes),
-            mib(r.memory.naive_bytes)
-        ));
-    }
-    out
 }
 
 /// The passes with their GPU (and CPU recording) time and the path they ran on,

@@ -61,67 +61,14 @@ pub(crate) fn scene_job(
         .light_culling
         .parse()
         .map_err(|e: String| rejected(format!("--light-culling {}: {e}", cli.light_culling)))?;
-    let fog = if cli.fog.is_empty() {
-        None
-    } else {
-        Some(
-            fxgraph::render::fog::Fog::parse(&cli.fog).map_err(|errors| {
-                rejected(
-                    errors
-                        .iter()
-                        .map(|e| format!("--{e}"))
-                        .collect::<Vec<_>>()
-                        .join("\nfxrun: error: "),
-                )
-            })?,
-        )
-    };
-    let material_map = cli
-        .material
-        .iter()
-        .map(|m| {
-            m.split_once('=')
-                .map(|(a, b)| (a.trim().to_string(), b.trim().to_string()))
-                .filter(|(a, b)| !a.is_empty() && !b.is_empty())
-                .ok_or_else(|| {
-                    rejected(format!(
-                        "--material {m}: expected SCENE_MATERIAL=DEFINITION"
-                    ))
-                })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let ambient = match &cli.ambient {
-        None => None,
-        Some(a) => {
-            let v: Vec<f32> = a
-                .split(',')
-                .map(|x| x.trim().parse::<f32>())
-                .collect::<Result<_, _>>()
-                .map_err(|_| rejected(format!("--ambient {a}: expected V or R,G,B (numbers)")))?;
-            let rgb = match v.as_slice() {
-                [x] => [*x; 3],
-                [r, g, b] => [*r, *g, *b],
-                _ => return Err(rejected(format!("--ambient {a}: expected V or R,G,B"))),
-            };
-            if rgb.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                return Err(rejected(format!(
-                    "--ambient {a}: values must be finite and not negative"
-                )));
-            }
-            Some(rgb)
-        }
-    };
+    let fog = parse_fog(cli)?;
+    let material_map = parse_material_map(cli)?;
+    let ambient = parse_ambient(cli)?;
     let shadows = cli
         .shadows
         .parse()
         .map_err(|e: String| rejected(format!("--shadows {}: {e}", cli.shadows)))?;
-    use fxgraph::render::renderer::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
-    if !(MIN_SHADOW_SIZE..=MAX_SHADOW_SIZE).contains(&cli.shadow_size) {
-        return Err(rejected(format!(
-            "--shadow-size {}: must be {MIN_SHADOW_SIZE} to {MAX_SHADOW_SIZE} texels",
-            cli.shadow_size
-        )));
-    }
+    check_shadow_size(cli)?;
     let (environment, background) = environment_options(cli)?;
     let effects = if default_chain {
         DEFAULT_CHAIN.iter().map(|s| s.to_string()).collect()
@@ -162,13 +109,83 @@ pub(crate) fn scene_job(
     Ok(job)
 }
 
+/// `--fog`: the scene's fog, none without the option; every error in it reported.
+fn parse_fog(cli: &Cli) -> Result<Option<fxgraph::render::fog::Fog>, Fail> {
+    if cli.fog.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(fxgraph::render::fog::Fog::parse(&cli.fog).map_err(
+        |errors| {
+            rejected(
+                errors
+                    .iter()
+                    .map(|e| format!("--{e}"))
+                    .collect::<Vec<_>>()
+                    .join("\nfxrun: error: "),
+            )
+        },
+    )?))
+}
+
+/// `--material SCENE_MATERIAL=DEFINITION`, each as a (name, definition) pair.
+fn parse_material_map(cli: &Cli) -> Result<Vec<(String, String)>, Fail> {
+    cli.material
+        .iter()
+        .map(|m| {
+            m.split_once('=')
+                .map(|(a, b)| (a.trim().to_string(), b.trim().to_string()))
+                .filter(|(a, b)| !a.is_empty() && !b.is_empty())
+                .ok_or_else(|| {
+                    rejected(format!(
+                        "--material {m}: expected SCENE_MATERIAL=DEFINITION"
+                    ))
+                })
+        })
+        .collect()
+}
+
+/// `--ambient V` or `--ambient R,G,B`: finite, not negative.
+fn parse_ambient(cli: &Cli) -> Result<Option<[f32; 3]>, Fail> {
+    let Some(a) = &cli.ambient else {
+        return Ok(None);
+    };
+    let v: Vec<f32> = a
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| rejected(format!("--ambient {a}: expected V or R,G,B (numbers)")))?;
+    let rgb = match v.as_slice() {
+        [x] => [*x; 3],
+        [r, g, b] => [*r, *g, *b],
+        _ => return Err(rejected(format!("--ambient {a}: expected V or R,G,B"))),
+    };
+    if rgb.iter().any(|x| !x.is_finite() || *x < 0.0) {
+        return Err(rejected(format!(
+            "--ambient {a}: values must be finite and not negative"
+        )));
+    }
+    Ok(Some(rgb))
+}
+
+/// `--shadow-size` within what the renderer takes.
+fn check_shadow_size(cli: &Cli) -> Result<(), Fail> {
+    use fxgraph::render::renderer::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
+    if !(MIN_SHADOW_SIZE..=MAX_SHADOW_SIZE).contains(&cli.shadow_size) {
+        return Err(rejected(format!(
+            "--shadow-size {}: must be {MIN_SHADOW_SIZE} to {MAX_SHADOW_SIZE} texels",
+            cli.shadow_size
+        )));
+    }
+    Ok(())
+}
+
 /// `--scene` with `--frames A..B` or `--time SECONDS`: a rendered sequence (or one
 /// frame of it) written as numbered files, into a folder, to a y4m stream on
 /// stdout, or (one frame) to one file; `--time` with `--gbuffer` and no `-o`: that
 /// frame's G-buffer alone.
 fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(), Fail> {
-    use fxgraph::app::{FilesSink, OutputNames, SceneTimes};
-    use fxgraph::io::sequence::{OutputPattern, SequenceSpec};
+    use fxgraph::app::SceneTimes;
+    use fxgraph::io::sequence::SequenceSpec;
     let fps = cli.fps.unwrap_or(30.0);
     if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
         return Err(rejected(format!(
@@ -185,27 +202,7 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         if cli.gbuffer.is_none() {
             return Err(rejected("a rendered sequence needs -o OUTPUT"));
         }
-        // `--time` with `--gbuffer` alone: that frame's G-buffer, as for a still
-        // (no effects run, no image written)
-        let job = fxgraph::app::SceneJob {
-            effects: Vec::new(),
-            ..job.clone()
-        };
-        let report = render_frames(
-            cli,
-            &job,
-            &times,
-            Box::new(fxgraph::app::DiscardSink),
-            fxgraph::script::types::Format::Rgba16f,
-        )?;
-        finish_report(cli, &report)?;
-        if report.interrupted && report.done.is_empty() {
-            return Err(Fail {
-                code: 130,
-                message: "interrupted before the frame's G-buffer was written".into(),
-            });
-        }
-        return Ok(());
+        return write_gbuffer_only(cli, job, &times);
     };
     let ospec = SequenceSpec::parse_output(&output.to_string_lossy());
     let stream = matches!(
@@ -213,20 +210,76 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
         SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_)
     );
     super::streams::check_color_options(cli, false, stream)?;
+    let Some((sink, format, first)) = open_scene_sink(cli, &ospec, output, &times, fps)? else {
+        return Ok(());
+    };
+    let times = SceneTimes {
+        frames: (first, times.frames.1),
+        ..times
+    };
+    let report = render_frames(cli, job, &times, sink, format)?;
+    finish_report(cli, &report)?;
+    super::streams::check_interrupted(&report, &ospec)
+}
+
+/// `--time` with `--gbuffer` alone: that frame's G-buffer, as for a still (no
+/// effects run, no image written).
+fn write_gbuffer_only(
+    cli: &Cli,
+    job: &fxgraph::app::SceneJob,
+    times: &fxgraph::app::SceneTimes,
+) -> Result<(), Fail> {
+    let job = fxgraph::app::SceneJob {
+        effects: Vec::new(),
+        ..job.clone()
+    };
+    let report = render_frames(
+        cli,
+        &job,
+        times,
+        Box::new(fxgraph::app::DiscardSink),
+        fxgraph::script::types::Format::Rgba16f,
+    )?;
+    finish_report(cli, &report)?;
+    if report.interrupted && report.done.is_empty() {
+        return Err(Fail {
+            code: 130,
+            message: "interrupted before the frame's G-buffer was written".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Where a rendered sequence goes (`-o`), the output texture format, and the first
+/// frame to render (after those that exist, with --skip-existing).
+type SceneSink = (Box<dyn FrameSink>, fxgraph::script::types::Format, u64);
+
+/// The sink of a rendered sequence: y4m on stdout, a .y4m or video file, one file
+/// (one frame), or numbered files (a pattern or a folder); `None` when there is
+/// nothing to render (the outputs exist, with --skip-existing).
+fn open_scene_sink(
+    cli: &Cli,
+    ospec: &fxgraph::io::sequence::SequenceSpec,
+    output: &std::path::Path,
+    times: &fxgraph::app::SceneTimes,
+    fps: f64,
+) -> Result<Option<SceneSink>, Fail> {
+    use fxgraph::app::{FilesSink, OutputNames};
+    use fxgraph::io::sequence::{OutputPattern, SequenceSpec};
     let save = fxgraph::io::SaveOptions {
         bit_depth: cli.bit_depth,
         assume_linear: false,
     };
-    let mut first = times.frames.0;
-    let (sink, format): (Box<dyn FrameSink>, _) = match &ospec {
+    let first = times.frames.0;
+    match ospec {
         SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
             // y4m on stdout, a .y4m file or a video file (through ffmpeg); a whole
             // file is written or not: with --skip-existing an existing one is kept
             // and the run skipped, as for an image sequence's output
-            if super::streams::skip_whole_file(cli, &ospec) {
-                return Ok(());
+            if super::streams::skip_whole_file(cli, ospec) {
+                return Ok(None);
             }
-            let output = super::streams::stream_output(&ospec).expect("a stream spec");
+            let output = super::streams::stream_output(ospec).expect("a stream spec");
             let plan = super::streams::StreamPlan {
                 template: None,
                 video: None,
@@ -237,25 +290,21 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
                 hdr: Default::default(),
             };
             let opened = super::streams::open_stream_output(cli, &output, &plan)?;
-            (opened.sink, opened.texture_format)
+            Ok(Some((opened.sink, opened.texture_format, first)))
         }
         SequenceSpec::Single(path) if times.frames.0 == times.frames.1 => {
             let format = output_format_for(path, cli.bit_depth, false).map_err(RunError::from)?;
             let names = OutputNames::Named([(times.frames.0, path.clone())].into());
-            (Box::new(FilesSink { names, save }), format)
+            Ok(Some((Box::new(FilesSink { names, save }), format, first)))
         }
-        SequenceSpec::Single(path) => {
-            return Err(rejected(format!(
-                "-o {}: several frames need a numbered pattern (out/%04d.png), a folder, a .y4m or video file, or - (y4m)",
-                path.display()
-            )))
-        }
-        SequenceSpec::Stdin | SequenceSpec::Glob(_) => {
-            return Err(rejected(format!(
-                "-o {}: not an output for frames",
-                output.display()
-            )))
-        }
+        SequenceSpec::Single(path) => Err(rejected(format!(
+            "-o {}: several frames need a numbered pattern (out/%04d.png), a folder, a .y4m or video file, or - (y4m)",
+            path.display()
+        ))),
+        SequenceSpec::Stdin | SequenceSpec::Glob(_) => Err(rejected(format!(
+            "-o {}: not an output for frames",
+            output.display()
+        ))),
         spec => {
             let pattern = match (spec, &cli.format) {
                 (SequenceSpec::Dir(dir), ext) => OutputPattern::in_dir(
@@ -266,33 +315,25 @@ fn run_scene_sequence_cli(cli: &Cli, job: &fxgraph::app::SceneJob) -> Result<(),
             }
             .map_err(RunError::from)?;
             let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
+            let mut first = first;
             if cli.skip_existing {
                 match (times.frames.0..=times.frames.1).find(|n| !pattern.exists(*n)) {
                     Some(n) => first = n,
                     None => {
                         eprintln!("fxrun: every output frame exists already (--skip-existing)");
-                        return Ok(());
+                        return Ok(None);
                     }
                 }
             }
             let format = output_format_for(&pattern.path_for(0), cli.bit_depth, false)
                 .map_err(RunError::from)?;
-            (
-                Box::new(FilesSink {
-                    names: OutputNames::Pattern(pattern),
-                    save,
-                }),
-                format,
-            )
+            let sink = Box::new(FilesSink {
+                names: OutputNames::Pattern(pattern),
+                save,
+            });
+            Ok(Some((sink, format, first)))
         }
-    };
-    let times = SceneTimes {
-        frames: (first, times.frames.1),
-        ..times
-    };
-    let report = render_frames(cli, job, &times, sink, format)?;
-    finish_report(cli, &report)?;
-    super::streams::check_interrupted(&report, &ospec)
+    }
 }
 
 /// The frames `--time SECONDS` or `--frames A..B` render (at `fps`).

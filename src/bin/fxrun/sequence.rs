@@ -3,6 +3,9 @@
 
 use super::*;
 use fxgraph::app::{BatchItem, Change};
+use fxgraph::io::sequence::FrameRange;
+use fxgraph::io::video::{HdrMetadata, VideoInfo};
+use fxgraph::io::y4m::{Y4mHeader, YuvConversion};
 use std::collections::HashMap;
 use streams::{
     check_interrupted, open_input, open_stream_output, skip_whole_file, stream_input,
@@ -25,221 +28,33 @@ pub(crate) fn run_sequence_cli(
     let stop = stop_flag();
     let mut effect = Effect::compile_overrides(&cli.effects, cli.set.clone())?;
     print_diagnostics(cli, &effect);
-    let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
     let range = match &cli.frames {
         Some(f) => Some(parse_frames(f).map_err(|e| rejected(format!("--frames {f}: {e}")))?),
         None => None,
     };
-    let mut fps = cli.fps.unwrap_or(25.0);
-    if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
-        return Err(rejected(format!(
-            "--fps {fps}: expected a number above 0, at most 1000"
-        )));
-    }
-    let load = fxgraph::io::LoadOptions {
-        assume_linear: cli.assume_linear,
-    };
-    // A y4m or video file read and written at once would be replaced by the output.
-    if let (
-        SequenceSpec::Y4m(i) | SequenceSpec::Video(i),
-        SequenceSpec::Y4m(o) | SequenceSpec::Video(o),
-    ) = (&ispec, &ospec)
-    {
-        if let (Ok(a), Ok(b)) = (std::fs::canonicalize(i), std::fs::canonicalize(o)) {
-            if a == b {
-                return Err(rejected(format!(
-                    "-o {}: the output would replace the input; write another file",
-                    o.display()
-                )));
-            }
-        }
-    }
+    let fps = checked_fps(cli)?;
+    check_output_is_not_input(&ispec, &ospec)?;
     // A whole y4m or video file is written or not: with --skip-existing, an existing
     // one is kept and the run skipped.
     if skip_whole_file(cli, &ospec) {
         return Ok(());
     }
-    // Source: files (with the context frames a slice needs) or a y4m or video stream.
-    let mut y4m_template = None;
-    let mut video_in = None;
-    let mut hdr_in = None;
-    let mut emit = None;
-    // `-o DIR` from files (one output per input frame): each frame's own file name.
-    let mut named: Option<HashMap<u64, PathBuf>> = None;
-    let source: Box<dyn FrameSource> = match &ispec {
-        SequenceSpec::Stdin | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
-            let input = stream_input(&ispec).expect("a stream spec");
-            let opened = open_input(cli, &input)?;
-            let header = opened.header.clone();
-            if cli.fps.is_none() && header.fps.1 > 0 {
-                fps = header.fps.0 as f64 / header.fps.1 as f64;
-            }
-            y4m_template = Some((header, opened.conversion));
-            video_in = opened.video.clone();
-            hdr_in = opened.is_hdr().then(|| opened.hdr_metadata());
-            let (skip, last) = match range {
-                Some(r) => {
-                    emit = Some((r.start, r.end));
-                    (
-                        r.start.saturating_sub(history + cli.warmup),
-                        r.end.checked_add(latency),
-                    )
-                }
-                None => (0, None),
-            };
-            opened.into_source(skip, last)
-        }
-        SequenceSpec::Stdout => return Err(rejected("`-` as an input reads stdin; use -i - ")),
-        spec => {
-            let seq = InputSequence::open(spec).map_err(RunError::from)?;
-            let all = &seq.frames;
-            if let (SequenceSpec::Dir(dir), 1) = (&ospec, cli.rate) {
-                named = Some(named_outputs(cli, dir, all)?);
-            }
-            let (lo, hi) = match range {
-                Some(r) => {
-                    let r = seq.resolve(r).ok_or_else(|| {
-                        rejected(format!(
-                            "--frames {}: no frame of the sequence is in that range",
-                            cli.frames.clone().unwrap_or_default()
-                        ))
-                    })?;
-                    (r.start, r.end)
-                }
-                None => (
-                    seq.first_number().unwrap_or(0),
-                    seq.last_number().unwrap_or(0),
-                ),
-            };
-            let mut lo = lo;
-            if let (true, Some(names)) = (cli.skip_existing, &named) {
-                let exists = |n: &u64| {
-                    names
-                        .get(n)
-                        .is_some_and(|p| std::fs::symlink_metadata(p).is_ok())
-                };
-                match all
-                    .iter()
-                    .map(|f| f.0)
-                    .filter(|n| *n >= lo && *n <= hi)
-                    .find(|n| !exists(n))
-                {
-                    Some(first_missing) => lo = first_missing,
-                    None => {
-                        eprintln!("fxrun: every output frame exists already (--skip-existing)");
-                        return Ok(());
-                    }
-                }
-            } else if cli.skip_existing {
-                if let Ok(out) = output_pattern(cli, &ospec) {
-                    match all
-                        .iter()
-                        .map(|f| f.0)
-                        .filter(|n| *n >= lo && *n <= hi)
-                        .find(|n| !out.exists(*n))
-                    {
-                        Some(first_missing) => lo = first_missing,
-                        None => {
-                            eprintln!("fxrun: every output frame exists already (--skip-existing)");
-                            return Ok(());
-                        }
-                    }
-                }
-            }
-            emit = Some((lo, hi));
-            // Positions of the slice in the sequence, widened by the context frames.
-            let first = all.iter().position(|f| f.0 >= lo).unwrap_or(0);
-            let last = all
-                .iter()
-                .rposition(|f| f.0 <= hi)
-                .unwrap_or(all.len().saturating_sub(1));
-            let from = first.saturating_sub((history + cli.warmup) as usize);
-            let to = (last + latency as usize).min(all.len() - 1);
-            if effect.graph.has_feedback() && first > 0 && (cli.warmup as usize) < first {
-                eprintln!(
-                    "fxrun: warning: this effect uses feedback (earlier output frames); a slice starting at frame {lo} differs from one whole run unless it warms up over the frames before it (--warmup N)"
-                );
-            }
-            // Frames of one size: checked from the headers before anything is written.
-            check_same_size(&all[from..=to])?;
-            Box::new(FilesSource::new(all[from..=to].to_vec(), load))
-        }
+    let Some(mut input) = open_sequence_source(cli, &ispec, &ospec, &effect, range, fps)? else {
+        return Ok(());
     };
-    // Sink: numbered files or a y4m or video stream; the output texture format follows.
-    let (sink, output_format): (Box<dyn FrameSink>, _) = match &ospec {
-        SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
-            let output = stream_output(&ospec).expect("a stream spec");
-            let plan = StreamPlan {
-                template: y4m_template.clone(),
-                video: video_in.as_ref(),
-                fps,
-                emit,
-                deinterlaces: effect.graph.params.iter().any(|p| p.name == "field_order"),
-                display_referred: streams::has_tonemap(cli),
-                hdr: hdr_in.unwrap_or_default(),
-            };
-            let opened = open_stream_output(cli, &output, &plan)?;
-            (opened.sink, opened.texture_format)
-        }
-        SequenceSpec::Stdin => return Err(rejected("`-` as an output writes stdout; use -o -")),
-        SequenceSpec::Dir(dir) if named.is_some() => {
-            let names = named.take().expect("checked");
-            std::fs::create_dir_all(dir).map_err(|e| {
-                RunError::from(fxgraph::io::IoError::Io {
-                    path: dir.clone(),
-                    source: e,
-                })
-            })?;
-            let _ = fxgraph::io::sequence::remove_stale_temporaries(dir);
-            let probe = names.values().next().cloned().unwrap_or_default();
-            files_sink(cli, fxgraph::app::OutputNames::Named(names), &probe)?
-        }
-        spec => {
-            let pattern = output_pattern(cli, spec).map_err(RunError::from)?;
-            let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
-            let probe = pattern.path_for(0);
-            files_sink(cli, fxgraph::app::OutputNames::Pattern(pattern), &probe)?
-        }
-    };
-    // An HDR input makes the BT.2390 EETF `tonemap`'s default, with the metadata's
-    // peak.
-    if let Some(h) = &hdr_in {
-        let base_set = streams::hdr_tonemap_sets(cli, h.peak_nits());
-        let effects = streams::video_tonemap(&cli.effects);
-        if cli.verbose {
-            for s in &base_set[cli.set.len()..] {
-                eprintln!("fxrun: note: HDR input: --set {s}");
-            }
-            if effects != cli.effects {
-                eprintln!("fxrun: note: HDR input: tonemap runs as tonemap_video (its measured peak smoothed over frames)");
-            }
-        }
-        if base_set.len() != cli.set.len() || effects != cli.effects {
-            effect = Effect::compile_overrides(&effects, base_set)?;
-        }
+    let (sink, output_format) = open_sequence_sink(cli, &ospec, &mut input, &effect)?;
+    if let Some(h) = &input.hdr_in {
+        apply_hdr_tonemap(cli, &mut effect, h)?;
     }
-    // An interlaced y4m input sets the field order of effects that take one.
-    if let Some((h, _)) = &y4m_template {
-        use fxgraph::io::y4m::Interlace;
-        let order = match h.interlace {
-            Interlace::TopFieldFirst => Some("tff"),
-            Interlace::BottomFieldFirst => Some("bff"),
-            _ => None,
-        };
-        let has_param = effect.is_effect_param("field_order");
-        let user_set = effect.overrides().iter().any(|o| o.name() == "field_order");
-        if let (Some(order), true, false) = (order, has_param, user_set) {
-            if let Change::Replan(new) = effect.set(None, "field_order", order)? {
-                effect = *new;
-            }
-        }
+    if let Some((h, _)) = &input.y4m_template {
+        apply_input_field_order(&mut effect, h)?;
     }
     let opts = SequenceOptions {
         output_format,
         assume_linear: cli.assume_linear,
         rate: cli.rate,
-        fps,
-        emit,
+        fps: input.fps,
+        emit: input.emit,
         queue: cli.queue.max(1),
         timings: cli.timings || cli.timings_json.is_some(),
         ycbcr: cli
@@ -253,7 +68,7 @@ pub(crate) fn run_sequence_cli(
     let result = run_sequence(
         fxgraph::app::Device::Create(&adapter),
         &mut effect,
-        source,
+        input.source,
         sink,
         &opts,
         None,
@@ -264,6 +79,316 @@ pub(crate) fn run_sequence_cli(
     let report = result?;
     finish_report(cli, &report)?;
     check_interrupted(&report, &ospec)
+}
+
+/// `--fps`, 25 when not given: refused unless above 0 and at most 1000.
+fn checked_fps(cli: &Cli) -> Result<f64, Fail> {
+    let fps = cli.fps.unwrap_or(25.0);
+    if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+        return Err(rejected(format!(
+            "--fps {fps}: expected a number above 0, at most 1000"
+        )));
+    }
+    Ok(fps)
+}
+
+/// A y4m or video file read and written at once would be replaced by the output:
+/// refused.
+fn check_output_is_not_input(ispec: &SequenceSpec, ospec: &SequenceSpec) -> Result<(), Fail> {
+    if let (
+        SequenceSpec::Y4m(i) | SequenceSpec::Video(i),
+        SequenceSpec::Y4m(o) | SequenceSpec::Video(o),
+    ) = (ispec, ospec)
+    {
+        if let (Ok(a), Ok(b)) = (std::fs::canonicalize(i), std::fs::canonicalize(o)) {
+            if a == b {
+                return Err(rejected(format!(
+                    "-o {}: the output would replace the input; write another file",
+                    o.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The opened input of a sequence, and what the output and the effect take from it.
+struct SequenceInput {
+    source: Box<dyn FrameSource>,
+    /// `--fps`, else a stream's own rate.
+    fps: f64,
+    /// A stream input's header and Y'CbCr conversion.
+    y4m_template: Option<(Y4mHeader, YuvConversion)>,
+    /// A video input's streams.
+    video_in: Option<VideoInfo>,
+    /// An HDR stream input's metadata.
+    hdr_in: Option<HdrMetadata>,
+    /// The frame numbers written (the slice, without its context frames).
+    emit: Option<(u64, u64)>,
+    /// `-o DIR` from files (one output per input frame): each frame's own file name.
+    named: Option<HashMap<u64, PathBuf>>,
+}
+
+/// Source: files (with the context frames a slice needs) or a y4m or video stream.
+/// `None` when there is nothing to do (every output exists, with --skip-existing).
+fn open_sequence_source(
+    cli: &Cli,
+    ispec: &SequenceSpec,
+    ospec: &SequenceSpec,
+    effect: &Effect,
+    range: Option<FrameRange>,
+    fps: f64,
+) -> Result<Option<SequenceInput>, Fail> {
+    match ispec {
+        SequenceSpec::Stdin | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
+            open_stream_source(cli, ispec, effect, range, fps).map(Some)
+        }
+        SequenceSpec::Stdout => Err(rejected("`-` as an input reads stdin; use -i - ")),
+        spec => open_files_source(cli, spec, ospec, effect, range, fps),
+    }
+}
+
+/// A y4m or video stream as the source, skipping to the frames a slice needs.
+fn open_stream_source(
+    cli: &Cli,
+    ispec: &SequenceSpec,
+    effect: &Effect,
+    range: Option<FrameRange>,
+    fps: f64,
+) -> Result<SequenceInput, Fail> {
+    let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
+    let input = stream_input(ispec).expect("a stream spec");
+    let opened = open_input(cli, &input)?;
+    let header = opened.header.clone();
+    let fps = if cli.fps.is_none() && header.fps.1 > 0 {
+        header.fps.0 as f64 / header.fps.1 as f64
+    } else {
+        fps
+    };
+    let y4m_template = Some((header, opened.conversion));
+    let video_in = opened.video.clone();
+    let hdr_in = opened.is_hdr().then(|| opened.hdr_metadata());
+    let mut emit = None;
+    let (skip, last) = match range {
+        Some(r) => {
+            emit = Some((r.start, r.end));
+            (
+                r.start.saturating_sub(history + cli.warmup),
+                r.end.checked_add(latency),
+            )
+        }
+        None => (0, None),
+    };
+    Ok(SequenceInput {
+        source: opened.into_source(skip, last),
+        fps,
+        y4m_template,
+        video_in,
+        hdr_in,
+        emit,
+        named: None,
+    })
+}
+
+/// Numbered image files as the source: the slice (`--frames`, after the outputs that
+/// exist with --skip-existing) widened by the context frames the effect needs.
+fn open_files_source(
+    cli: &Cli,
+    spec: &SequenceSpec,
+    ospec: &SequenceSpec,
+    effect: &Effect,
+    range: Option<FrameRange>,
+    fps: f64,
+) -> Result<Option<SequenceInput>, Fail> {
+    let (history, latency) = (effect.graph.history as u64, effect.graph.latency as u64);
+    let seq = InputSequence::open(spec).map_err(RunError::from)?;
+    let all = &seq.frames;
+    let named = match (ospec, cli.rate) {
+        (SequenceSpec::Dir(dir), 1) => Some(named_outputs(cli, dir, all)?),
+        _ => None,
+    };
+    let (lo, hi) = slice_bounds(cli, &seq, range)?;
+    let lo = match skip_existing_start(cli, ospec, named.as_ref(), all, lo, hi) {
+        SliceStart::From(n) => n,
+        SliceStart::AllExist => {
+            eprintln!("fxrun: every output frame exists already (--skip-existing)");
+            return Ok(None);
+        }
+    };
+    // Positions of the slice in the sequence, widened by the context frames.
+    let first = all.iter().position(|f| f.0 >= lo).unwrap_or(0);
+    let last = all
+        .iter()
+        .rposition(|f| f.0 <= hi)
+        .unwrap_or(all.len().saturating_sub(1));
+    let from = first.saturating_sub((history + cli.warmup) as usize);
+    let to = (last + latency as usize).min(all.len() - 1);
+    if effect.graph.has_feedback() && first > 0 && (cli.warmup as usize) < first {
+        eprintln!(
+            "fxrun: warning: this effect uses feedback (earlier output frames); a slice starting at frame {lo} differs from one whole run unless it warms up over the frames before it (--warmup N)"
+        );
+    }
+    // Frames of one size: checked from the headers before anything is written.
+    check_same_size(&all[from..=to])?;
+    let load = fxgraph::io::LoadOptions {
+        assume_linear: cli.assume_linear,
+    };
+    Ok(Some(SequenceInput {
+        source: Box::new(FilesSource::new(all[from..=to].to_vec(), load)),
+        fps,
+        y4m_template: None,
+        video_in: None,
+        hdr_in: None,
+        emit: Some((lo, hi)),
+        named,
+    }))
+}
+
+/// The first and last frame numbers of the slice: `--frames` within the sequence, else
+/// the whole sequence.
+fn slice_bounds(
+    cli: &Cli,
+    seq: &InputSequence,
+    range: Option<FrameRange>,
+) -> Result<(u64, u64), Fail> {
+    Ok(match range {
+        Some(r) => {
+            let r = seq.resolve(r).ok_or_else(|| {
+                rejected(format!(
+                    "--frames {}: no frame of the sequence is in that range",
+                    cli.frames.clone().unwrap_or_default()
+                ))
+            })?;
+            (r.start, r.end)
+        }
+        None => (
+            seq.first_number().unwrap_or(0),
+            seq.last_number().unwrap_or(0),
+        ),
+    })
+}
+
+/// Where a slice of numbered files starts once --skip-existing has passed over the
+/// outputs already written.
+enum SliceStart {
+    From(u64),
+    AllExist,
+}
+
+/// With --skip-existing, the first frame in `lo..=hi` whose output is missing (by
+/// `named`, else by the output pattern); `lo` without it.
+fn skip_existing_start(
+    cli: &Cli,
+    ospec: &SequenceSpec,
+    named: Option<&HashMap<u64, PathBuf>>,
+    all: &[(u64, PathBuf)],
+    lo: u64,
+    hi: u64,
+) -> SliceStart {
+    if !cli.skip_existing {
+        return SliceStart::From(lo);
+    }
+    let exists: Box<dyn Fn(u64) -> bool + '_> = match named {
+        Some(names) => Box::new(move |n| {
+            names
+                .get(&n)
+                .is_some_and(|p| std::fs::symlink_metadata(p).is_ok())
+        }),
+        None => match output_pattern(cli, ospec) {
+            Ok(out) => Box::new(move |n| out.exists(n)),
+            Err(_) => return SliceStart::From(lo),
+        },
+    };
+    match all
+        .iter()
+        .map(|f| f.0)
+        .filter(|n| *n >= lo && *n <= hi)
+        .find(|n| !exists(*n))
+    {
+        Some(first_missing) => SliceStart::From(first_missing),
+        None => SliceStart::AllExist,
+    }
+}
+
+/// Sink: numbered files or a y4m or video stream; the output texture format follows.
+fn open_sequence_sink(
+    cli: &Cli,
+    ospec: &SequenceSpec,
+    input: &mut SequenceInput,
+    effect: &Effect,
+) -> Result<(Box<dyn FrameSink>, fxgraph::script::types::Format), Fail> {
+    match ospec {
+        SequenceSpec::Stdout | SequenceSpec::Y4m(_) | SequenceSpec::Video(_) => {
+            let output = stream_output(ospec).expect("a stream spec");
+            let plan = StreamPlan {
+                template: input.y4m_template.clone(),
+                video: input.video_in.as_ref(),
+                fps: input.fps,
+                emit: input.emit,
+                deinterlaces: effect.graph.params.iter().any(|p| p.name == "field_order"),
+                display_referred: streams::has_tonemap(cli),
+                hdr: input.hdr_in.unwrap_or_default(),
+            };
+            let opened = open_stream_output(cli, &output, &plan)?;
+            Ok((opened.sink, opened.texture_format))
+        }
+        SequenceSpec::Stdin => Err(rejected("`-` as an output writes stdout; use -o -")),
+        SequenceSpec::Dir(dir) if input.named.is_some() => {
+            let names = input.named.take().expect("checked");
+            std::fs::create_dir_all(dir).map_err(|e| {
+                RunError::from(fxgraph::io::IoError::Io {
+                    path: dir.clone(),
+                    source: e,
+                })
+            })?;
+            let _ = fxgraph::io::sequence::remove_stale_temporaries(dir);
+            let probe = names.values().next().cloned().unwrap_or_default();
+            files_sink(cli, fxgraph::app::OutputNames::Named(names), &probe)
+        }
+        spec => {
+            let pattern = output_pattern(cli, spec).map_err(RunError::from)?;
+            let _ = fxgraph::io::sequence::remove_stale_temporaries(pattern.dir());
+            let probe = pattern.path_for(0);
+            files_sink(cli, fxgraph::app::OutputNames::Pattern(pattern), &probe)
+        }
+    }
+}
+
+/// An HDR input makes the BT.2390 EETF `tonemap`'s default, with the metadata's
+/// peak.
+fn apply_hdr_tonemap(cli: &Cli, effect: &mut Effect, hdr: &HdrMetadata) -> Result<(), Fail> {
+    let base_set = streams::hdr_tonemap_sets(cli, hdr.peak_nits());
+    let effects = streams::video_tonemap(&cli.effects);
+    if cli.verbose {
+        for s in &base_set[cli.set.len()..] {
+            eprintln!("fxrun: note: HDR input: --set {s}");
+        }
+        if effects != cli.effects {
+            eprintln!("fxrun: note: HDR input: tonemap runs as tonemap_video (its measured peak smoothed over frames)");
+        }
+    }
+    if base_set.len() != cli.set.len() || effects != cli.effects {
+        *effect = Effect::compile_overrides(&effects, base_set)?;
+    }
+    Ok(())
+}
+
+/// An interlaced y4m input sets the field order of effects that take one.
+fn apply_input_field_order(effect: &mut Effect, header: &Y4mHeader) -> Result<(), Fail> {
+    use fxgraph::io::y4m::Interlace;
+    let order = match header.interlace {
+        Interlace::TopFieldFirst => Some("tff"),
+        Interlace::BottomFieldFirst => Some("bff"),
+        _ => None,
+    };
+    let has_param = effect.is_effect_param("field_order");
+    let user_set = effect.overrides().iter().any(|o| o.name() == "field_order");
+    if let (Some(order), true, false) = (order, has_param, user_set) {
+        if let Change::Replan(new) = effect.set(None, "field_order", order)? {
+            *effect = *new;
+        }
+    }
+    Ok(())
 }
 
 /// A sequence's output image files, named by `names`, and the output texture

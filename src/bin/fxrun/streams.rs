@@ -251,18 +251,7 @@ pub(crate) fn open_stream_output(
 ) -> Result<OpenedOutput, Fail> {
     let video_out = matches!(output, StreamOutput::Video(_));
     if !video_out {
-        let given = [
-            ("--codec", cli.codec.is_some()),
-            ("--crf", cli.crf.is_some()),
-            ("--preset", cli.preset.is_some()),
-            ("--pix-fmt", cli.pix_fmt.is_some()),
-        ];
-        if let Some((name, _)) = given.iter().find(|g| g.1) {
-            return Err(rejected(format!(
-                "{name} is for video file outputs (.mp4, .mkv, ...), not for {}",
-                output.name()
-            )));
-        }
+        check_no_video_options(cli, output)?;
     }
     let (mut header, conversion) = match plan.template.clone() {
         Some(t) => t,
@@ -283,40 +272,7 @@ pub(crate) fn open_stream_output(
         .map_err(|m| rejected(format!("--bit-depth {depth}: {m}")))?;
     let mut settings = OutputSettings::new(header, conversion);
     if video_out {
-        settings.codec = cli.codec.clone();
-        settings.crf = cli.crf;
-        settings.preset = cli.preset.clone();
-        settings.pix_fmt = cli.pix_fmt.clone();
-        if conversion.color.transfer.is_hdr() && !retag {
-            settings.hdr = Some(plan.hdr).filter(|h| !h.is_empty());
-        }
-        // Tags say what the pixels are: named after the signal, except SDR video
-        // read with the sRGB curve, whose own tags are kept.
-        if retag || !conversion.color.is_srgb() {
-            settings.tag_signal();
-        } else if let Some(v) = plan.video {
-            settings.primaries = v.color_primaries.clone();
-            settings.transfer = v.color_transfer.clone();
-        }
-        if let Some(v) = plan.video {
-            let fps = if v.fps.1 > 0 {
-                v.fps.0 as f64 / v.fps.1 as f64
-            } else {
-                plan.fps
-            };
-            let (start, duration) = match plan.emit {
-                Some((a, b)) => (
-                    a as f64 / fps,
-                    (b != u64::MAX).then(|| (b - a + 1) as f64 / fps),
-                ),
-                None => (0.0, None),
-            };
-            settings.media = Some(MediaSource {
-                info: v.clone(),
-                start,
-                duration,
-            });
-        }
+        set_video_options(cli, plan, &mut settings, conversion, retag);
     } else if let Some(v) = plan.video {
         let n = v.audio.len() + v.subtitles.len();
         if n > 0 {
@@ -337,6 +293,68 @@ pub(crate) fn open_stream_output(
         eprintln!("fxrun: note: {n}");
     }
     Ok(opened)
+}
+
+/// Refuses the video encoder options for an output that is not a video file.
+fn check_no_video_options(cli: &Cli, output: &StreamOutput) -> Result<(), Fail> {
+    let given = [
+        ("--codec", cli.codec.is_some()),
+        ("--crf", cli.crf.is_some()),
+        ("--preset", cli.preset.is_some()),
+        ("--pix-fmt", cli.pix_fmt.is_some()),
+    ];
+    if let Some((name, _)) = given.iter().find(|g| g.1) {
+        return Err(rejected(format!(
+            "{name} is for video file outputs (.mp4, .mkv, ...), not for {}",
+            output.name()
+        )));
+    }
+    Ok(())
+}
+
+/// The encoder options of a video file output, its colour tags and HDR metadata, and
+/// the input video whose audio and subtitles it keeps (the slice written).
+fn set_video_options(
+    cli: &Cli,
+    plan: &StreamPlan,
+    settings: &mut OutputSettings,
+    conversion: YuvConversion,
+    retag: bool,
+) {
+    settings.codec = cli.codec.clone();
+    settings.crf = cli.crf;
+    settings.preset = cli.preset.clone();
+    settings.pix_fmt = cli.pix_fmt.clone();
+    if conversion.color.transfer.is_hdr() && !retag {
+        settings.hdr = Some(plan.hdr).filter(|h| !h.is_empty());
+    }
+    // Tags say what the pixels are: named after the signal, except SDR video
+    // read with the sRGB curve, whose own tags are kept.
+    if retag || !conversion.color.is_srgb() {
+        settings.tag_signal();
+    } else if let Some(v) = plan.video {
+        settings.primaries = v.color_primaries.clone();
+        settings.transfer = v.color_transfer.clone();
+    }
+    if let Some(v) = plan.video {
+        let fps = if v.fps.1 > 0 {
+            v.fps.0 as f64 / v.fps.1 as f64
+        } else {
+            plan.fps
+        };
+        let (start, duration) = match plan.emit {
+            Some((a, b)) => (
+                a as f64 / fps,
+                (b != u64::MAX).then(|| (b - a + 1) as f64 / fps),
+            ),
+            None => (0.0, None),
+        };
+        settings.media = Some(MediaSource {
+            info: v.clone(),
+            start,
+            duration,
+        });
+    }
 }
 
 #[cfg(test)]

@@ -83,62 +83,94 @@ pub(crate) fn run_watch(cli: &Cli) -> Result<(), Fail> {
             };
         }
         files.extend(watched_files(cli));
-        let watch_dirs = files
-            .iter()
-            .filter_map(|f| f.parent().map(Path::to_path_buf))
-            .chain(hot.iter().flat_map(|h| h.dirs.clone()));
-        for dir in watch_dirs.collect::<Vec<_>>() {
-            if dirs.insert(dir.clone()) {
-                if let Err(e) = watcher.watch(&dir, RecursiveMode::NonRecursive) {
-                    eprintln!("fxrun: warning: --watch: {}: {e}", dir.display());
-                }
-            }
-        }
-        match &hot {
-            Some(h) => eprintln!(
-                "fxrun: watching {} files and {} input folder(s) for changes (Ctrl-C ends)",
-                files.len(),
-                h.dirs.len()
-            ),
-            None => eprintln!(
-                "fxrun: watching {} files for changes (Ctrl-C ends)",
-                files.len()
-            ),
-        }
-        job = loop {
-            let hot_dirs: Vec<PathBuf> = hot.iter().flat_map(|h| h.dirs.clone()).collect();
-            match wait_for_change(&rx, &files, &hot_dirs, &stop) {
-                Change::Stop => return Ok(()),
-                Change::Script => {
-                    if let Some(h) = &mut hot {
-                        h.refresh(cli);
-                    }
-                    break cli.clone();
-                }
-                Change::Inputs => {
-                    let Some(h) = &mut hot else { continue };
-                    let changed = h.refresh(cli);
-                    if changed.is_empty() {
-                        continue;
-                    }
-                    eprintln!(
-                        "fxrun: {} new or changed input(s): {}",
-                        changed.len(),
-                        changed
-                            .iter()
-                            .map(|p| p.display().to_string())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    );
-                    if !h.names_kept {
-                        break cli.clone();
-                    }
-                    let mut sub = cli.clone();
-                    sub.input = changed;
-                    break sub;
-                }
-            }
+        watch_new_dirs(&mut watcher, &mut dirs, &files, hot.as_ref());
+        announce_watching(&files, hot.as_ref());
+        job = match next_job(cli, &rx, &files, &mut hot, &stop) {
+            Some(next) => next,
+            None => return Ok(()),
         };
+    }
+}
+
+/// Watches the folders of `files` and the hot input folders not watched yet (added to
+/// `dirs`); a folder that cannot be watched is a warning.
+fn watch_new_dirs(
+    watcher: &mut notify::RecommendedWatcher,
+    dirs: &mut HashSet<PathBuf>,
+    files: &HashSet<PathBuf>,
+    hot: Option<&HotFolders>,
+) {
+    let watch_dirs = files
+        .iter()
+        .filter_map(|f| f.parent().map(Path::to_path_buf))
+        .chain(hot.iter().flat_map(|h| h.dirs.clone()));
+    for dir in watch_dirs.collect::<Vec<_>>() {
+        if dirs.insert(dir.clone()) {
+            if let Err(e) = watcher.watch(&dir, RecursiveMode::NonRecursive) {
+                eprintln!("fxrun: warning: --watch: {}: {e}", dir.display());
+            }
+        }
+    }
+}
+
+/// Says what is watched.
+fn announce_watching(files: &HashSet<PathBuf>, hot: Option<&HotFolders>) {
+    match hot {
+        Some(h) => eprintln!(
+            "fxrun: watching {} files and {} input folder(s) for changes (Ctrl-C ends)",
+            files.len(),
+            h.dirs.len()
+        ),
+        None => eprintln!(
+            "fxrun: watching {} files for changes (Ctrl-C ends)",
+            files.len()
+        ),
+    }
+}
+
+/// Waits for the next change and says what to run then: the whole job again (the
+/// effect or a watched file changed), or only the new or changed inputs of hot folders
+/// whose output names are kept; `None` when stopped (Ctrl-C).
+fn next_job(
+    cli: &Cli,
+    rx: &Receiver<notify::Result<notify::Event>>,
+    files: &HashSet<PathBuf>,
+    hot: &mut Option<HotFolders>,
+    stop: &AtomicBool,
+) -> Option<Cli> {
+    loop {
+        let hot_dirs: Vec<PathBuf> = hot.iter().flat_map(|h| h.dirs.clone()).collect();
+        match wait_for_change(rx, files, &hot_dirs, stop) {
+            Change::Stop => return None,
+            Change::Script => {
+                if let Some(h) = hot {
+                    h.refresh(cli);
+                }
+                return Some(cli.clone());
+            }
+            Change::Inputs => {
+                let Some(h) = hot.as_mut() else { continue };
+                let changed = h.refresh(cli);
+                if changed.is_empty() {
+                    continue;
+                }
+                eprintln!(
+                    "fxrun: {} new or changed input(s): {}",
+                    changed.len(),
+                    changed
+                        .iter()
+                        .map(|p| p.display().to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+                if !h.names_kept {
+                    return Some(cli.clone());
+                }
+                let mut sub = cli.clone();
+                sub.input = changed;
+                return Some(sub);
+            }
+        }
     }
 }
 

@@ -13,10 +13,10 @@ use crate::graph::plan::{Plan, PlannedPass, Resource, View};
 use crate::graph::Graph;
 use crate::script::types::{Filter, Sampling};
 use crate::script::{Diagnostic, Diagnostics, SourceMap};
-use crate::shader::load_plan_shaders;
 use crate::shader::reflect::{StdContext, UniformBlock};
 use crate::shader::Reflection;
 use crate::shader::UniformLayout;
+use crate::shader::{load_plan_shaders, LoadedShader};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -26,6 +26,14 @@ type PassPipelines = (
     Option<super::compute::ComputePath>,
     PipelineKey,
 );
+
+/// The textures (binding, input index), their filterability (binding, filterable)
+/// and the samplers (binding, sampling, filtering) of a pass's shader.
+struct PassBindings {
+    textures: Vec<(u32, usize)>,
+    filterable: Vec<(u32, bool)>,
+    samplers: Vec<(u32, Sampling, bool)>,
+}
 
 /// The source of a resource; caller images are added to `caller` once each.
 fn source_of(
@@ -123,7 +131,6 @@ impl Engine {
     ) -> Result<Prepared, ExecError> {
         let start = Instant::now();
         let mut diags = Diagnostics::default();
-        let adapter = self.ctx.info.name.clone();
         let (shaders, shader_diags) = load_plan_shaders(graph, &plan, sources, &self.shader_dirs);
         diags.extend(shader_diags);
         let mut passes = Vec::new();
@@ -145,137 +152,22 @@ impl Engine {
             let Some(loaded) = shaders[pi].clone() else {
                 continue;
             };
-            let (wgsl, refl, layout) = (loaded.wgsl, loaded.reflection, loaded.layout);
-            // Textures and samplers by name; filterability from the bound formats.
-            let mut textures = Vec::new();
-            let mut filterable = Vec::new();
-            let mut ok = true;
-            for t in &refl.textures {
-                let Some(ii) = p.inputs.iter().position(|i| i.name == t.name) else {
-                    ok = false;
-                    continue;
-                };
-                let inp = &p.inputs[ii];
-                let f = self.format_filterable(inp.desc.format);
-                if !f
-                    && inp.sampling.filter == Filter::Linear
-                    && refl
-                        .samplers
-                        .iter()
-                        .any(|s| s.name == format!("{}_sampler", t.name))
-                {
-                    let span = p
-                        .node
-                        .and_then(|n| graph.pass(n).inputs.get(ii).map(|i| i.span));
-                    let d = Diagnostic::error(format!(
-                        "input `{}` of pass `{}` is {}, which this adapter ({adapter}) cannot filter",
-                        inp.name, p.path, inp.desc.format
-                    ))
-                    .note(format!("set `{}.FILTER = nearest`, or use a 16-bit float format", inp.name));
-                    diags.push(match span {
-                        Some(s) => d.at(s, "linear filtering requested"),
-                        None => d,
-                    });
-                    ok = false;
-                }
-                if inp.view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
-                    diags.push(at(Diagnostic::error(format!(
-                        "pass `{}` needs to view `{}` in another colour space, which the GL backend cannot do",
-                        p.path, inp.name
-                    ))));
-                    ok = false;
-                }
-                textures.push((t.binding, ii));
-                filterable.push((t.binding, f));
-            }
-            let mut samplers = Vec::new();
-            for s in &refl.samplers {
-                let (sampling, filtering) = match s
-                    .name
-                    .strip_suffix("_sampler")
-                    .and_then(|n| p.inputs.iter().find(|i| i.name == n))
-                {
-                    Some(inp) => (
-                        inp.sampling,
-                        inp.sampling.filter == Filter::Linear
-                            && self.format_filterable(inp.desc.format),
-                    ),
-                    None => {
-                        let all = p
-                            .inputs
-                            .iter()
-                            .all(|i| self.format_filterable(i.desc.format));
-                        (Sampling::default(), all)
-                    }
-                };
-                samplers.push((s.binding, sampling, filtering));
-            }
-            if !ok {
+            let Some(bindings) = self.pass_bindings(graph, p, &loaded.reflection, &mut diags)
+            else {
                 continue;
-            }
-            let key = PipelineKey {
-                wgsl: wgsl.clone(),
-                entry: refl.entry_point.clone(),
+            };
+            let built = self.build_pass(
+                p,
+                loaded,
                 target,
-                filterable: filterable.clone(),
-            };
-            let (pipeline, native, key) =
-                match self.pass_pipelines(p, key, &refl, &samplers, &plan, &mut caller) {
-                    Ok(built) => built,
-                    Err(d) => {
-                        diags.push(at(d));
-                        continue;
-                    }
-                };
-            let uniform = refl
-                .uniform
-                .as_ref()
-                .map(|u| self.pass_uniform(p, u, &layout, image_sizes(&plan), &mut stats));
-            let compute = match self.execution {
-                _ if native.is_some() => native,
-                // A compute-native pass drawn instead: its compute path failed.
-                super::Execution::Compute if refl.compute.is_none() => {
-                    let storage_target = source_of(&p.output, None, &plan, &mut caller);
-                    self.prepare_compute(p, &key, &refl, &samplers, storage_target)
-                }
-                _ => None,
-            };
-            // A pass writing the caller's output may write a BGRA twin of it.
-            let twin = match p.output {
-                Resource::Output if pipeline.is_some() => {
-                    TwinPipeline::new(&key, &refl, &samplers, &p.path)
-                }
-                _ => None,
-            };
-            let textures = textures
-                .iter()
-                .map(|&(binding, ii)| {
-                    let inp = &p.inputs[ii];
-                    let format = view_format(inp.desc.format, inp.view);
-                    (
-                        binding,
-                        source_of(&inp.resource, format, &plan, &mut caller),
-                        format,
-                    )
-                })
-                .collect();
-            let samplers = samplers
-                .iter()
-                .map(|&(b, s, f)| (b, self.sampler(s, f)))
-                .collect();
-            let target_format = view_format(p.desc.format, p.target_view);
-            let target = source_of(&p.output, target_format, &plan, &mut caller);
-            let mut gp = GpuPass::new(
-                p.path.clone(),
-                pipeline,
-                textures,
-                samplers,
-                uniform,
-                (target, target_format),
+                bindings,
+                (&plan, &mut caller),
+                &mut stats,
             );
-            gp.twin = twin;
-            gp.compute = compute;
-            passes.push(gp);
+            match built {
+                Ok(gp) => passes.push(gp),
+                Err(d) => diags.push(at(d)),
+            }
         }
         if diags.has_errors() {
             diags.sort();
@@ -295,6 +187,181 @@ impl Engine {
         );
         prepared.prebind(self);
         Ok(prepared)
+    }
+
+    /// The textures and samplers the shader of pass `p` declares, matched by name to
+    /// the pass's inputs, with their filterability from the bound formats. `None` (and
+    /// errors in `diags`) when an input is missing, or cannot be filtered or viewed as
+    /// the pass asks on this adapter.
+    fn pass_bindings(
+        &self,
+        graph: &Graph,
+        p: &PlannedPass,
+        refl: &Reflection,
+        diags: &mut Diagnostics,
+    ) -> Option<PassBindings> {
+        let adapter = &self.ctx.info.name;
+        let span = p.node.map(|n| graph.pass(n).name_span);
+        let at = |d: Diagnostic| match span {
+            Some(s) => d.at(s, ""),
+            None => d,
+        };
+        let mut textures = Vec::new();
+        let mut filterable = Vec::new();
+        let mut ok = true;
+        for t in &refl.textures {
+            let Some(ii) = p.inputs.iter().position(|i| i.name == t.name) else {
+                ok = false;
+                continue;
+            };
+            let inp = &p.inputs[ii];
+            let f = self.format_filterable(inp.desc.format);
+            if !f
+                && inp.sampling.filter == Filter::Linear
+                && refl
+                    .samplers
+                    .iter()
+                    .any(|s| s.name == format!("{}_sampler", t.name))
+            {
+                let span = p
+                    .node
+                    .and_then(|n| graph.pass(n).inputs.get(ii).map(|i| i.span));
+                let d = Diagnostic::error(format!(
+                    "input `{}` of pass `{}` is {}, which this adapter ({adapter}) cannot filter",
+                    inp.name, p.path, inp.desc.format
+                ))
+                .note(format!(
+                    "set `{}.FILTER = nearest`, or use a 16-bit float format",
+                    inp.name
+                ));
+                diags.push(match span {
+                    Some(s) => d.at(s, "linear filtering requested"),
+                    None => d,
+                });
+                ok = false;
+            }
+            if inp.view != View::Natural && self.ctx.info.backend == wgpu::Backend::Gl {
+                diags.push(at(Diagnostic::error(format!(
+                    "pass `{}` needs to view `{}` in another colour space, which the GL backend cannot do",
+                    p.path, inp.name
+                ))));
+                ok = false;
+            }
+            textures.push((t.binding, ii));
+            filterable.push((t.binding, f));
+        }
+        let samplers = self.pass_samplers(p, refl);
+        ok.then_some(PassBindings {
+            textures,
+            filterable,
+            samplers,
+        })
+    }
+
+    /// The sampling of each sampler the shader declares: its input's (`NAME_sampler`),
+    /// filtering where that input's format can be filtered; else the default sampling,
+    /// filtering when every input can be.
+    fn pass_samplers(&self, p: &PlannedPass, refl: &Reflection) -> Vec<(u32, Sampling, bool)> {
+        let mut samplers = Vec::new();
+        for s in &refl.samplers {
+            let (sampling, filtering) = match s
+                .name
+                .strip_suffix("_sampler")
+                .and_then(|n| p.inputs.iter().find(|i| i.name == n))
+            {
+                Some(inp) => (
+                    inp.sampling,
+                    inp.sampling.filter == Filter::Linear
+                        && self.format_filterable(inp.desc.format),
+                ),
+                None => {
+                    let all = p
+                        .inputs
+                        .iter()
+                        .all(|i| self.format_filterable(i.desc.format));
+                    (Sampling::default(), all)
+                }
+            };
+            samplers.push((s.binding, sampling, filtering));
+        }
+        samplers
+    }
+
+    /// Pass `p` ready to record: its pipelines (render, compute, BGRA twin), uniform
+    /// buffer, bound textures and samplers, and target. Caller images it reads are
+    /// added to `caller`.
+    fn build_pass(
+        &mut self,
+        p: &PlannedPass,
+        loaded: LoadedShader,
+        target: wgpu::TextureFormat,
+        bindings: PassBindings,
+        (plan, caller): (&Plan, &mut Vec<CallerRef>),
+        stats: &mut PreparedStats,
+    ) -> Result<GpuPass, Diagnostic> {
+        let (wgsl, refl, layout) = (loaded.wgsl, loaded.reflection, loaded.layout);
+        let PassBindings {
+            textures,
+            filterable,
+            samplers,
+        } = bindings;
+        let key = PipelineKey {
+            wgsl: wgsl.clone(),
+            entry: refl.entry_point.clone(),
+            target,
+            filterable: filterable.clone(),
+        };
+        let (pipeline, native, key) =
+            self.pass_pipelines(p, key, &refl, &samplers, plan, caller)?;
+        let uniform = refl
+            .uniform
+            .as_ref()
+            .map(|u| self.pass_uniform(p, u, &layout, image_sizes(plan), stats));
+        let compute = match self.execution {
+            _ if native.is_some() => native,
+            // A compute-native pass drawn instead: its compute path failed.
+            super::Execution::Compute if refl.compute.is_none() => {
+                let storage_target = source_of(&p.output, None, plan, caller);
+                self.prepare_compute(p, &key, &refl, &samplers, storage_target)
+            }
+            _ => None,
+        };
+        // A pass writing the caller's output may write a BGRA twin of it.
+        let twin = match p.output {
+            Resource::Output if pipeline.is_some() => {
+                TwinPipeline::new(&key, &refl, &samplers, &p.path)
+            }
+            _ => None,
+        };
+        let textures = textures
+            .iter()
+            .map(|&(binding, ii)| {
+                let inp = &p.inputs[ii];
+                let format = view_format(inp.desc.format, inp.view);
+                (
+                    binding,
+                    source_of(&inp.resource, format, plan, caller),
+                    format,
+                )
+            })
+            .collect();
+        let samplers = samplers
+            .iter()
+            .map(|&(b, s, f)| (b, self.sampler(s, f)))
+            .collect();
+        let target_format = view_format(p.desc.format, p.target_view);
+        let target = source_of(&p.output, target_format, plan, caller);
+        let mut gp = GpuPass::new(
+            p.path.clone(),
+            pipeline,
+            textures,
+            samplers,
+            uniform,
+            (target, target_format),
+        );
+        gp.twin = twin;
+        gp.compute = compute;
+        Ok(gp)
     }
 
     /// Whether the adapter can run pass `p` at all: its size, and the format its

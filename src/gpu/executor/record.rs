@@ -368,6 +368,30 @@ impl Prepared {
         }
     }
 
+    /// The textures in slots go back to the engine's pool.
+    fn release_slots(&mut self, engine: &mut Engine, frame_no: u64) {
+        for s in &mut self.slots {
+            if let Some(i) = s.take() {
+                engine.pool.release(i, frame_no);
+            }
+        }
+    }
+
+    /// The timing of pass `pass`, recorded on `execution` since `t0` (GPU time to come).
+    fn timing(&self, pass: usize, execution: Execution, t0: Instant) -> PassTiming {
+        let p = &self.plan.passes[pass];
+        PassTiming {
+            path: p.path.clone(),
+            width: p.desc.width,
+            height: p.desc.height,
+            format: p.desc.format.name().to_string(),
+            execution,
+            gpu_ms: None,
+            cpu_ms: t0.elapsed().as_secs_f64() * 1e3,
+            frames: 1,
+        }
+    }
+
     /// Record every step of the plan into `encoder`; returns per-pass timings
     /// (CPU recording time; GPU times are filled in by `run`).
     fn record_frame(
@@ -388,11 +412,7 @@ impl Prepared {
         let frame_no = engine.frames;
         let gl = engine.is_gl();
         // Textures a failed frame left in slots go back first.
-        for s in &mut self.slots {
-            if let Some(i) = s.take() {
-                engine.pool.release(i, frame_no);
-            }
-        }
+        self.release_slots(engine, frame_no);
         let mut timings = Vec::with_capacity(self.passes.len());
         let mut result = Ok(());
         for si in 0..self.plan.steps.len() {
@@ -417,19 +437,7 @@ impl Prepared {
                     let t0 = Instant::now();
                     let index = timings.len() as u32;
                     match self.record_pass(engine, encoder, pass, &caller, bgra, timer, index) {
-                        Ok(execution) => {
-                            let p = &self.plan.passes[pass];
-                            timings.push(PassTiming {
-                                path: p.path.clone(),
-                                width: p.desc.width,
-                                height: p.desc.height,
-                                format: p.desc.format.name().to_string(),
-                                execution,
-                                gpu_ms: None,
-                                cpu_ms: t0.elapsed().as_secs_f64() * 1e3,
-                                frames: 1,
-                            });
-                        }
+                        Ok(execution) => timings.push(self.timing(pass, execution, t0)),
                         Err(e) => {
                             result = Err(e);
                             break;
@@ -438,11 +446,7 @@ impl Prepared {
                 }
             }
         }
-        for s in &mut self.slots {
-            if let Some(i) = s.take() {
-                engine.pool.release(i, frame_no);
-            }
-        }
+        self.release_slots(engine, frame_no);
         engine.pool.trim(frame_no);
         result?;
         // Feedback rings: this frame's output becomes "one frame ago".

@@ -30,80 +30,9 @@ impl InputSequence {
     /// read with [`super::y4m::Y4mReader`]).
     pub fn open(spec: &SequenceSpec) -> Result<InputSequence, IoError> {
         match spec {
-            SequenceSpec::Pattern { pattern } => {
-                let path = Path::new(pattern);
-                let pat =
-                    FramePattern::parse(pattern).map_err(|m| IoError::unsupported(path, m))?;
-                let mut frames = Vec::new();
-                for (name, _) in list_files(pat.dir())? {
-                    if let Some(n) = pat.match_file_name(&name) {
-                        frames.push((n, pat.format(n)));
-                    }
-                }
-                if frames.is_empty() {
-                    return Err(not_found(
-                        path,
-                        format!("no files match the pattern in {}", pat.dir().display()),
-                    ));
-                }
-                frames.sort_by_key(|(n, _)| *n);
-                Ok(InputSequence { frames })
-            }
-            SequenceSpec::Dir(dir) => {
-                let files: Vec<(String, PathBuf)> = list_files(dir)?
-                    .into_iter()
-                    .filter(|(name, p)| {
-                        !name.starts_with('.') && FileFormat::from_path(p).is_some()
-                    })
-                    .collect();
-                if files.is_empty() {
-                    return Err(not_found(
-                        dir,
-                        "the folder holds no image files".to_string(),
-                    ));
-                }
-                Ok(InputSequence {
-                    frames: number_files(files),
-                })
-            }
-            SequenceSpec::Glob(glob) => {
-                let path = Path::new(glob);
-                let split = glob.rfind(is_separator).map(|i| i + 1).unwrap_or(0);
-                let (dir_part, name_glob) = glob.split_at(split);
-                if has_glob_chars(dir_part) {
-                    return Err(IoError::unsupported(
-                        path,
-                        "wildcards are only supported in the file name, not in folder names",
-                    ));
-                }
-                let glob_chars: Vec<char> = name_glob.chars().collect();
-                check_glob(&glob_chars).map_err(|m| IoError::unsupported(path, m))?;
-                let dir = if dir_part.is_empty() {
-                    PathBuf::from(".")
-                } else {
-                    PathBuf::from(dir_part)
-                };
-                let files: Vec<(String, PathBuf)> = list_files(&dir)?
-                    .into_iter()
-                    .filter(|(name, _)| {
-                        (!name.starts_with('.') || name_glob.starts_with('.'))
-                            && glob_match(&glob_chars, &name.chars().collect::<Vec<_>>())
-                    })
-                    .map(|(name, _)| {
-                        let p = PathBuf::from(format!("{dir_part}{name}"));
-                        (name, p)
-                    })
-                    .collect();
-                if files.is_empty() {
-                    return Err(not_found(
-                        path,
-                        format!("no files match the wildcard pattern in {}", dir.display()),
-                    ));
-                }
-                Ok(InputSequence {
-                    frames: number_files(files),
-                })
-            }
+            SequenceSpec::Pattern { pattern } => open_pattern(pattern),
+            SequenceSpec::Dir(dir) => open_dir(dir),
+            SequenceSpec::Glob(glob) => open_glob(glob),
             SequenceSpec::Single(p) => {
                 let meta = fs::metadata(p).map_err(|e| IoError::io(p, e))?;
                 if !meta.is_file() {
@@ -195,6 +124,83 @@ impl InputSequence {
         }
         Ok(InputSequence { frames })
     }
+}
+
+/// The files a `%04d` / `####` pattern matches, by number.
+fn open_pattern(pattern: &str) -> Result<InputSequence, IoError> {
+    let path = Path::new(pattern);
+    let pat = FramePattern::parse(pattern).map_err(|m| IoError::unsupported(path, m))?;
+    let mut frames = Vec::new();
+    for (name, _) in list_files(pat.dir())? {
+        if let Some(n) = pat.match_file_name(&name) {
+            frames.push((n, pat.format(n)));
+        }
+    }
+    if frames.is_empty() {
+        return Err(not_found(
+            path,
+            format!("no files match the pattern in {}", pat.dir().display()),
+        ));
+    }
+    frames.sort_by_key(|(n, _)| *n);
+    Ok(InputSequence { frames })
+}
+
+/// The image files of a folder (hidden files skipped), numbered.
+fn open_dir(dir: &Path) -> Result<InputSequence, IoError> {
+    let files: Vec<(String, PathBuf)> = list_files(dir)?
+        .into_iter()
+        .filter(|(name, p)| !name.starts_with('.') && FileFormat::from_path(p).is_some())
+        .collect();
+    if files.is_empty() {
+        return Err(not_found(
+            dir,
+            "the folder holds no image files".to_string(),
+        ));
+    }
+    Ok(InputSequence {
+        frames: number_files(files),
+    })
+}
+
+/// The files a wildcard pattern (`*`, `?`, `[...]` in the file name) matches, numbered.
+fn open_glob(glob: &str) -> Result<InputSequence, IoError> {
+    let path = Path::new(glob);
+    let split = glob.rfind(is_separator).map(|i| i + 1).unwrap_or(0);
+    let (dir_part, name_glob) = glob.split_at(split);
+    if has_glob_chars(dir_part) {
+        return Err(IoError::unsupported(
+            path,
+            "wildcards are only supported in the file name, not in folder names",
+        ));
+    }
+    let glob_chars: Vec<char> = name_glob.chars().collect();
+    check_glob(&glob_chars).map_err(|m| IoError::unsupported(path, m))?;
+    let dir = if dir_part.is_empty() {
+        PathBuf::from(".")
+    } else {
+        PathBuf::from(dir_part)
+    };
+    let files: Vec<(String, PathBuf)> = list_files(&dir)?
+        .into_iter()
+        .filter(|(name, _)| {
+            (!name.starts_with('.') || name_glob.starts_with('.'))
+                && glob_match(&glob_chars, &name.chars().collect::<Vec<_>>())
+        })
+        .map(|(name, _)| {
+            let p = PathBuf::from(format!("{dir_part}{name}"));
+            (name, p)
+        })
+        .collect();
+    if files.is_empty() {
+        return Err(not_found(
+            path,
+            format!("no files match the wildcard pattern in {}", dir.display()),
+        ));
+    }
+    Ok(InputSequence {
+        frames: number_files(files),
+    })
 }
 
 fn not_found(path: &Path, message: String) -> IoError {

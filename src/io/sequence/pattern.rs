@@ -37,6 +37,52 @@ pub struct FramePattern {
     padding: Padding,
 }
 
+/// The `[0][width]` of a conversion after its `%`, up to and with its `d`; an error for
+/// another conversion or one cut short.
+fn conversion_spec(
+    chars: &mut std::iter::Peekable<std::str::CharIndices>,
+) -> Result<String, String> {
+    let mut spec = String::new();
+    while let Some(&(_, d)) = chars.peek() {
+        if d.is_ascii_digit() {
+            spec.push(d);
+            chars.next();
+        } else {
+            break;
+        }
+    }
+    // (how a conversion is written, in the errors)
+    let forms = "(use %d, %04d or %4d; %% for a literal %)";
+    match chars.next() {
+        Some((_, 'd')) => Ok(spec),
+        Some((_, other)) => Err(format!("unsupported conversion `%{spec}{other}` {forms}")),
+        None => Err(format!(
+            "incomplete conversion `%{spec}` at the end {forms}"
+        )),
+    }
+}
+
+/// The padding a conversion's `[0][width]` asks for: zeros with a leading `0`, spaces
+/// otherwise, none for a width of 0 or 1.
+fn padding_of(spec: &str) -> Result<Padding, String> {
+    let zero = spec.starts_with('0');
+    let width: usize = if spec.is_empty() {
+        0
+    } else {
+        spec.parse()
+            .ok()
+            .filter(|w| *w <= MAX_PAD_WIDTH)
+            .ok_or_else(|| {
+                format!("padding width `{spec}` is too large (at most {MAX_PAD_WIDTH})")
+            })?
+    };
+    Ok(match (width, zero) {
+        (0 | 1, _) => Padding::None,
+        (w, true) => Padding::Zeros(w),
+        (w, false) => Padding::Spaces(w),
+    })
+}
+
 impl FramePattern {
     /// Parse a pattern: exactly one `%d`, `%0Nd` or `%Nd` conversion (N up to 20), in the
     /// file name (not in a folder name); `%%` is a literal `%`. The error says what is
@@ -62,50 +108,14 @@ impl FramePattern {
                 continue;
             }
             // A conversion: [0][width]d
-            let mut spec = String::new();
-            while let Some(&(_, d)) = chars.peek() {
-                if d.is_ascii_digit() {
-                    spec.push(d);
-                    chars.next();
-                } else {
-                    break;
-                }
-            }
-            match chars.next() {
-                Some((_, 'd')) => {}
-                Some((_, other)) => {
-                    return Err(format!(
-                        "unsupported conversion `%{spec}{other}` (use %d, %04d or %4d; %% for a literal %)"
-                    ))
-                }
-                None => {
-                    return Err(format!(
-                        "incomplete conversion `%{spec}` at the end (use %d, %04d or %4d; %% for a literal %)"
-                    ))
-                }
-            }
+            let spec = conversion_spec(&mut chars)?;
             if padding.is_some() {
                 return Err(
                     "more than one frame number conversion; use exactly one (%% for a literal %)"
                         .to_string(),
                 );
             }
-            let zero = spec.starts_with('0');
-            let width: usize = if spec.is_empty() {
-                0
-            } else {
-                spec.parse()
-                    .ok()
-                    .filter(|w| *w <= MAX_PAD_WIDTH)
-                    .ok_or_else(|| {
-                        format!("padding width `{spec}` is too large (at most {MAX_PAD_WIDTH})")
-                    })?
-            };
-            padding = Some(match (width, zero) {
-                (0 | 1, _) => Padding::None,
-                (w, true) => Padding::Zeros(w),
-                (w, false) => Padding::Spaces(w),
-            });
+            padding = Some(padding_of(&spec)?);
         }
         let Some(padding) = padding else {
             return Err(

@@ -161,84 +161,25 @@ impl Encoder {
     /// ([`VideoError::Option`]), ffmpeg missing ([`VideoError::Missing`]), the temporary
     /// or the process cannot be made ([`VideoError::Io`]).
     pub fn spawn(output: &Path, opts: &EncodeOptions) -> Result<Encoder, VideoError> {
-        let option = |message: String| VideoError::Option {
-            path: output.to_path_buf(),
-            message,
-        };
-        let io_err = |source| VideoError::Io {
-            path: output.to_path_buf(),
-            program: "ffmpeg",
-            source,
-        };
         let container = Container::of_path(output).ok_or_else(|| {
-            option(format!(
-                "not a video file extension (known: {})",
-                super::container::extensions().join(", ")
-            ))
+            option_error(
+                output,
+                format!(
+                    "not a video file extension (known: {})",
+                    super::container::extensions().join(", ")
+                ),
+            )
         })?;
         let ffmpeg = require("ffmpeg", output)?;
-        let (codec, formats) = match &opts.codec {
-            Some(c) => {
-                let f = encoder_formats(&ffmpeg, c).map_err(io_err)?.ok_or_else(|| {
-                    option(format!(
-                        "--codec {c}: this ffmpeg has no such encoder (`ffmpeg -encoders` lists them)"
-                    ))
-                })?;
-                (c.clone(), f)
-            }
-            None => {
-                let list = default_codecs(container, opts);
-                let mut found = None;
-                for c in &list {
-                    if let Some(f) = encoder_formats(&ffmpeg, c).map_err(io_err)? {
-                        found = Some((c.to_string(), f));
-                        break;
-                    }
-                }
-                found.ok_or_else(|| {
-                    option(format!(
-                        "this ffmpeg has none of the encoders used for this container ({}): choose one with --codec (`ffmpeg -encoders` lists them)",
-                        list.join(", ")
-                    ))
-                })?
-            }
-        };
-        let pix_fmt = match &opts.pix_fmt {
-            Some(p) if !formats.is_empty() && !formats.contains(p) => {
-                return Err(option(format!(
-                    "--pix-fmt {p}: the encoder {codec} takes {}",
-                    formats.join(", ")
-                )))
-            }
-            Some(p) => Some(p.clone()),
-            None => pix_fmt::choose(&formats, Layout::Yuv420, opts.depth),
-        };
-        let crf_default = CRF_DEFAULTS.iter().find(|(c, _)| *c == codec).map(|c| c.1);
-        if opts.crf.is_some() && crf_default.is_none() {
-            return Err(option(format!(
-                "--crf: the encoder {codec} has no constant-quality factor here (--crf is for {})",
-                CRF_DEFAULTS
-                    .iter()
-                    .map(|c| c.0)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
-        }
-        if let Some(p) = &opts.preset {
-            if (codec == "libx264" || codec == "libx265") && !X26X_PRESETS.contains(&p.as_str()) {
-                return Err(option(format!(
-                    "--preset {p}: {codec} takes {}",
-                    X26X_PRESETS.join(", ")
-                )));
-            }
-        }
+        let (codec, formats) = choose_encoder(&ffmpeg, output, container, opts)?;
+        let choice = check_encoder_options(output, container, codec, &formats, opts)?;
         // the audio's fate, before ffmpeg starts (it writes the header, where a
         // codec the container cannot hold fails, only once the first frames came in)
         let audio = match &opts.media {
             Some(m) => plan_audio(container, &m.info.audio, |e| {
                 matches!(encoder_formats(&ffmpeg, e), Ok(Some(_)))
             })
-            .map_err(|e| option(format!("{}: {e}", m.info.path.display())))?,
+            .map_err(|e| option_error(output, format!("{}: {e}", m.info.path.display())))?,
             None => Vec::new(),
         };
         let ext = output
@@ -246,36 +187,28 @@ impl Encoder {
             .map(|e| e.to_string_lossy().into_owned())
             .unwrap_or_default();
         let (tmp, file) = create_temporary(output, Some(&ext)).map_err(|e| match e {
-            IoError::Io { source, .. } => io_err(source),
-            other => io_err(std::io::Error::other(other.to_string())),
+            IoError::Io { source, .. } => io_error(output, source),
+            other => io_error(output, std::io::Error::other(other.to_string())),
         })?;
         drop(file);
         let mut notes = Vec::new();
         if let (true, Some(h)) = (opts.is_hdr(), &opts.hdr) {
-            if h.encoder_params(&codec).is_empty() {
+            if h.encoder_params(&choice.codec).is_empty() {
                 notes.push(format!(
-                    "{}: the input's mastering-display / content-light metadata is not written by {codec} (libx265 and libx264 write it)",
-                    output.display()
+                    "{}: the input's mastering-display / content-light metadata is not written by {} (libx265 and libx264 write it)",
+                    output.display(),
+                    choice.codec
                 ));
             }
         }
-        let args = encode_args(
-            &tmp,
-            container,
-            &codec,
-            pix_fmt,
-            crf_default,
-            opts,
-            &audio,
-            &mut notes,
-        );
+        let args = encode_args(&tmp, &choice, opts, &audio, &mut notes);
         let line = shell_line("ffmpeg", &args);
         let child = Child::spawn("ffmpeg", &ffmpeg, &args, Stdio::piped(), Stdio::null());
         let mut child = match child {
             Ok(c) => c,
             Err(e) => {
                 let _ = std::fs::remove_file(&tmp);
-                return Err(io_err(e));
+                return Err(io_error(output, e));
             }
         };
         let stdin = child
@@ -394,16 +327,124 @@ impl Drop for Encoder {
     }
 }
 
+/// An option ffmpeg cannot encode `output` with.
+fn option_error(output: &Path, message: String) -> VideoError {
+    VideoError::Option {
+        path: output.to_path_buf(),
+        message,
+    }
+}
+
+/// A failure running ffmpeg for `output`.
+fn io_error(output: &Path, source: std::io::Error) -> VideoError {
+    VideoError::Io {
+        path: output.to_path_buf(),
+        program: "ffmpeg",
+        source,
+    }
+}
+
+/// The encoder for `output` and the pixel formats it takes: `--codec`, else the first
+/// of the container's usual encoders this ffmpeg has.
+fn choose_encoder(
+    ffmpeg: &Path,
+    output: &Path,
+    container: &Container,
+    opts: &EncodeOptions,
+) -> Result<(String, Vec<String>), VideoError> {
+    match &opts.codec {
+        Some(c) => {
+            let unknown = || {
+                format!(
+                    "--codec {c}: this ffmpeg has no such encoder (`ffmpeg -encoders` lists them)"
+                )
+            };
+            let f = encoder_formats(ffmpeg, c)
+                .map_err(|e| io_error(output, e))?
+                .ok_or_else(|| option_error(output, unknown()))?;
+            Ok((c.clone(), f))
+        }
+        None => {
+            let list = default_codecs(container, opts);
+            for c in &list {
+                if let Some(f) = encoder_formats(ffmpeg, c).map_err(|e| io_error(output, e))? {
+                    return Ok((c.to_string(), f));
+                }
+            }
+            Err(option_error(
+                output,
+                format!(
+                    "this ffmpeg has none of the encoders used for this container ({}): choose one with --codec (`ffmpeg -encoders` lists them)",
+                    list.join(", ")
+                ),
+            ))
+        }
+    }
+}
+
+/// The encoder chosen for an output, and how it is set.
+struct EncoderChoice<'a> {
+    container: &'a Container,
+    codec: String,
+    /// `--pix-fmt`, else the best of the encoder's formats for the depth.
+    pix_fmt: Option<String>,
+    /// The encoder's constant-quality factor when `--crf` is not given.
+    crf_default: Option<u32>,
+}
+
+/// `--pix-fmt`, `--crf` and `--preset` checked against the encoder `codec` (taking
+/// `formats`).
+fn check_encoder_options<'a>(
+    output: &Path,
+    container: &'a Container,
+    codec: String,
+    formats: &[String],
+    opts: &EncodeOptions,
+) -> Result<EncoderChoice<'a>, VideoError> {
+    let option = |message: String| option_error(output, message);
+    let pix_fmt = match &opts.pix_fmt {
+        Some(p) if !formats.is_empty() && !formats.contains(p) => {
+            return Err(option(format!(
+                "--pix-fmt {p}: the encoder {codec} takes {}",
+                formats.join(", ")
+            )))
+        }
+        Some(p) => Some(p.clone()),
+        None => pix_fmt::choose(formats, Layout::Yuv420, opts.depth),
+    };
+    let crf_default = CRF_DEFAULTS.iter().find(|(c, _)| *c == codec).map(|c| c.1);
+    if opts.crf.is_some() && crf_default.is_none() {
+        return Err(option(format!(
+            "--crf: the encoder {codec} has no constant-quality factor here (--crf is for {})",
+            CRF_DEFAULTS
+                .iter()
+                .map(|c| c.0)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    if let Some(p) = &opts.preset {
+        if (codec == "libx264" || codec == "libx265") && !X26X_PRESETS.contains(&p.as_str()) {
+            return Err(option(format!(
+                "--preset {p}: {codec} takes {}",
+                X26X_PRESETS.join(", ")
+            )));
+        }
+    }
+    Ok(EncoderChoice {
+        container,
+        codec,
+        pix_fmt,
+        crf_default,
+    })
+}
+
 /// The ffmpeg arguments of an encoder writing `tmp` (`audio`: what happens to the
 /// input's audio streams); notes about the input's other streams are added to
 /// `notes`.
-#[allow(clippy::too_many_arguments)]
 fn encode_args(
     tmp: &Path,
-    container: &Container,
-    codec: &str,
-    pix_fmt: Option<String>,
-    crf_default: Option<u32>,
+    choice: &EncoderChoice,
     opts: &EncodeOptions,
     audio: &[AudioStream],
     notes: &mut Vec<String>,
@@ -423,41 +464,70 @@ fn encode_args(
     }
     push(&["-map", "0:v:0"]);
     if let Some(m) = &opts.media {
-        let name = m.info.path.display();
-        let ext = tmp
-            .extension()
-            .map(|e| e.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let (audio_args, audio_notes) = super::audio::audio_args(audio, &name.to_string(), &ext);
-        push(&audio_args.iter().map(String::as_str).collect::<Vec<_>>());
-        notes.extend(audio_notes);
-        let mut j = 0;
-        for s in &m.info.subtitles {
-            match container.subtitle_codec(&s.codec) {
-                Some(c) => {
-                    push(&["-map", &format!("1:{}", s.index)]);
-                    push(&[&per_stream("-c:s", 's', j), c]);
-                    if c != "copy" {
-                        notes.push(format!(
-                            "{name}: subtitle stream {} ({}) is converted to {c} for .{ext}",
-                            s.index, s.codec
-                        ));
-                    }
-                    j += 1;
-                }
-                None => notes.push(format!(
-                    "{name}: subtitle stream {} ({}) cannot be stored in .{ext}: dropped (.mkv keeps every subtitle)",
-                    s.index, s.codec
-                )),
-            }
-        }
-        push(&["-map_metadata", "1"]);
+        a.extend(media_stream_args(tmp, choice.container, m, audio, notes));
     }
+    a.extend(video_codec_args(choice, opts));
+    a.extend(color_args(choice.container, opts));
+    a.push("-y".into());
+    a.push(file_arg(tmp));
+    a
+}
+
+/// The arguments that carry the input video's audio and subtitles (as the container
+/// can hold them) and its metadata into the output; notes about what is converted or
+/// dropped are added to `notes`.
+fn media_stream_args(
+    tmp: &Path,
+    container: &Container,
+    m: &MediaSource,
+    audio: &[AudioStream],
+    notes: &mut Vec<String>,
+) -> Vec<String> {
+    let mut a: Vec<String> = Vec::new();
+    let mut push = |v: &[&str]| a.extend(v.iter().map(|s| s.to_string()));
+    let name = m.info.path.display();
+    let ext = tmp
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let (audio_args, audio_notes) = super::audio::audio_args(audio, &name.to_string(), &ext);
+    push(&audio_args.iter().map(String::as_str).collect::<Vec<_>>());
+    notes.extend(audio_notes);
+    let mut j = 0;
+    for s in &m.info.subtitles {
+        match container.subtitle_codec(&s.codec) {
+            Some(c) => {
+                push(&["-map", &format!("1:{}", s.index)]);
+                push(&[&per_stream("-c:s", 's', j), c]);
+                if c != "copy" {
+                    notes.push(format!(
+                        "{name}: subtitle stream {} ({}) is converted to {c} for .{ext}",
+                        s.index, s.codec
+                    ));
+                }
+                j += 1;
+            }
+            None => notes.push(format!(
+                "{name}: subtitle stream {} ({}) cannot be stored in .{ext}: dropped (.mkv keeps every subtitle)",
+                s.index, s.codec
+            )),
+        }
+    }
+    push(&["-map_metadata", "1"]);
+    a
+}
+
+/// The video encoder and its settings: pixel format, quality, speed, x26x parameters
+/// and preset.
+fn video_codec_args(choice: &EncoderChoice, opts: &EncodeOptions) -> Vec<String> {
+    let codec = choice.codec.as_str();
+    let mut a: Vec<String> = Vec::new();
+    let mut push = |v: &[&str]| a.extend(v.iter().map(|s| s.to_string()));
     push(&["-c:v", codec]);
-    if let Some(p) = &pix_fmt {
+    if let Some(p) = &choice.pix_fmt {
         push(&["-pix_fmt", p]);
     }
-    if let Some(crf) = opts.crf.or(crf_default) {
+    if let Some(crf) = opts.crf.or(choice.crf_default) {
         push(&["-crf", &crf.to_string()]);
         if codec.starts_with("libvpx") || codec == "libaom-av1" {
             push(&["-b:v", "0"]);
@@ -477,6 +547,14 @@ fn encode_args(
     if let Some(p) = &opts.preset {
         push(&["-preset", p]);
     }
+    a
+}
+
+/// The colour tags of the output (range, matrix, primaries, transfer), and the
+/// fast-start layout of MP4 and MOV files.
+fn color_args(container: &Container, opts: &EncodeOptions) -> Vec<String> {
+    let mut a: Vec<String> = Vec::new();
+    let mut push = |v: &[&str]| a.extend(v.iter().map(|s| s.to_string()));
     let range = match opts.range {
         Range::Limited => "tv",
         Range::Full => "pc",
@@ -496,6 +574,5 @@ fn encode_args(
     if container.extensions.contains(&"mp4") || container.extensions.contains(&"mov") {
         push(&["-movflags", "+faststart"]);
     }
-    push(&["-y", &file_arg(tmp)]);
     a
 }

@@ -198,54 +198,13 @@ pub fn parse(path: &Path, json: &[u8]) -> Result<VideoInfo, VideoError> {
             "ffprobe finds no pixel format for the video stream (a damaged file, or a codec this ffmpeg cannot decode)".into(),
         ));
     }
-    let (layout, mut depth) = pix_fmt::parse(&pix);
-    if let Some(bits) = v
-        .bits_per_raw_sample
-        .as_deref()
-        .and_then(|b| b.parse::<u8>().ok())
-    {
-        // Some decoders output wider samples than the stream has (e.g. 10-bit in
-        // 16-bit words): the stream's depth is enough.
-        if (9..depth).contains(&bits) {
-            depth = bits;
-        }
-    }
-    let known = |t: &Option<String>| {
-        t.clone()
-            .filter(|s| !s.is_empty() && s != "unknown" && s != "reserved")
-    };
-    let range = match v.color_range.as_deref() {
-        Some("tv") => Some(Range::Limited),
-        Some("pc") => Some(Range::Full),
-        _ if pix.starts_with("yuvj") => Some(Range::Full),
-        _ => None,
-    };
-    let matrix = match v.color_space.as_deref() {
-        Some("bt709") => Some(Matrix::Bt709),
-        Some("smpte170m" | "bt470bg" | "fcc") => Some(Matrix::Bt601),
-        Some("bt2020nc" | "bt2020c") => Some(Matrix::Bt2020),
-        _ => None,
-    };
+    let (layout, depth) = layout_and_depth(v, &pix);
     let fps = [&v.r_frame_rate, &v.avg_frame_rate]
         .into_iter()
         .filter_map(|r| r.as_deref().and_then(ratio))
         .next()
         .unwrap_or((0, 0));
-    let seconds = |s: &Option<String>| {
-        s.as_deref()
-            .and_then(|d| d.parse::<f64>().ok())
-            .filter(|d| d.is_finite() && *d > 0.0)
-    };
-    let others = |k: &str| -> Vec<OtherStream> {
-        p.streams
-            .iter()
-            .filter(|s| kind(s, k))
-            .map(|s| OtherStream {
-                index: s.index,
-                codec: s.codec_name.clone().unwrap_or_default(),
-            })
-            .collect()
-    };
+    let others = |k: &str| other_streams(&p.streams, k);
     Ok(VideoInfo {
         path: path.to_path_buf(),
         index: v.index,
@@ -253,11 +212,11 @@ pub fn parse(path: &Path, json: &[u8]) -> Result<VideoInfo, VideoError> {
         width,
         height,
         fps,
-        pix_fmt: pix,
         layout,
         depth,
-        range,
-        matrix,
+        range: stream_range(v, &pix),
+        matrix: stream_matrix(v),
+        pix_fmt: pix,
         color_space: known(&v.color_space),
         color_primaries: known(&v.color_primaries),
         color_transfer: known(&v.color_transfer),
@@ -272,6 +231,68 @@ pub fn parse(path: &Path, json: &[u8]) -> Result<VideoInfo, VideoError> {
         subtitles: others("subtitle"),
         hdr: stream_hdr(v, &p.frames),
     })
+}
+
+/// The sample layout and depth of the pixel format `pix`; a narrower depth the
+/// stream declares (`bits_per_raw_sample`) wins, since some decoders output wider
+/// samples than the stream has (e.g. 10-bit in 16-bit words).
+fn layout_and_depth(v: &Stream, pix: &str) -> (Layout, u8) {
+    let (layout, mut depth) = pix_fmt::parse(pix);
+    if let Some(bits) = v
+        .bits_per_raw_sample
+        .as_deref()
+        .and_then(|b| b.parse::<u8>().ok())
+    {
+        if (9..depth).contains(&bits) {
+            depth = bits;
+        }
+    }
+    (layout, depth)
+}
+
+/// A colour tag ffprobe gives, unless it is empty, `unknown` or `reserved`.
+fn known(t: &Option<String>) -> Option<String> {
+    t.clone()
+        .filter(|s| !s.is_empty() && s != "unknown" && s != "reserved")
+}
+
+/// The stream's range: its tag, else full for the `yuvj` formats.
+fn stream_range(v: &Stream, pix: &str) -> Option<Range> {
+    match v.color_range.as_deref() {
+        Some("tv") => Some(Range::Limited),
+        Some("pc") => Some(Range::Full),
+        _ if pix.starts_with("yuvj") => Some(Range::Full),
+        _ => None,
+    }
+}
+
+/// The stream's Y'CbCr matrix, from its colour space tag.
+fn stream_matrix(v: &Stream) -> Option<Matrix> {
+    match v.color_space.as_deref() {
+        Some("bt709") => Some(Matrix::Bt709),
+        Some("smpte170m" | "bt470bg" | "fcc") => Some(Matrix::Bt601),
+        Some("bt2020nc" | "bt2020c") => Some(Matrix::Bt2020),
+        _ => None,
+    }
+}
+
+/// A duration in seconds ffprobe gives: finite and above 0.
+fn seconds(s: &Option<String>) -> Option<f64> {
+    s.as_deref()
+        .and_then(|d| d.parse::<f64>().ok())
+        .filter(|d| d.is_finite() && *d > 0.0)
+}
+
+/// The streams of kind `k` (`audio`, `subtitle`): their indices and codecs.
+fn other_streams(streams: &[Stream], k: &str) -> Vec<OtherStream> {
+    streams
+        .iter()
+        .filter(|s| s.codec_type.as_deref() == Some(k))
+        .map(|s| OtherStream {
+            index: s.index,
+            codec: s.codec_name.clone().unwrap_or_default(),
+        })
+        .collect()
 }
 
 /// The HDR metadata of the stream `v`: its own side data, else its first frame's.

@@ -1,7 +1,7 @@
 //! Y'CbCr frames to RGBA: chroma upsampled at its siting (per field for interlaced
 //! 4:2:0), the matrix, then the caller's row store (8-bit codes or linear floats).
 
-use super::resample::{upsample_row, vertical_up_taps};
+use super::resample::{upsample_row, vertical_up_taps, Tap};
 use super::samples::{Bytes, Coeffs, Store, Words};
 use super::{check_rgba, threads_for, YuvConversion};
 use crate::io::y4m::{Y4mHeader, YuvFrame};
@@ -39,23 +39,14 @@ fn convert<T: Send, S: Store>(
 ) {
     let (w, h) = (header.width as usize, header.height as usize);
     let chroma = header.colorspace;
-    let (cw, ch) = chroma.chroma_size(header.width, header.height);
+    let (cw, _) = chroma.chroma_size(header.width, header.height);
     let k = Coeffs::new(conv, header.depth);
     // Y' = (Y - y_off) * ys; Pb = (Cb - c_mid) * cs, both times `scale`.
     let ys = scale / k.y_scale;
     let y0s = -k.y_off * ys;
     let cs = scale / k.c_scale;
     let c0s = k.c_mid * cs;
-    let vtaps = if chroma.has_chroma() {
-        vertical_up_taps(
-            h,
-            ch,
-            chroma.vertical_siting(),
-            frame.field_chroma(header, conv),
-        )
-    } else {
-        Vec::new()
-    };
+    let vtaps = chroma_taps(frame, header, conv);
     let hsiting = chroma.horizontal_siting();
     let (yb, cb) = (w * S::BYTES, cw * S::BYTES);
     let threads = threads_for(w * h, h);
@@ -107,11 +98,40 @@ fn convert<T: Send, S: Store>(
             emit(orow, &mut rr, &mut gg, &mut bb);
         }
     };
+    in_bands(out, w * 4, band, threads, work);
+}
+
+/// The vertical upsampling taps of each output row (per field for interlaced 4:2:0);
+/// none without chroma.
+fn chroma_taps(frame: &YuvFrame, header: &Y4mHeader, conv: &YuvConversion) -> Vec<Tap> {
+    let chroma = header.colorspace;
+    let (_, ch) = chroma.chroma_size(header.width, header.height);
+    if chroma.has_chroma() {
+        vertical_up_taps(
+            header.height as usize,
+            ch,
+            chroma.vertical_siting(),
+            frame.field_chroma(header, conv),
+        )
+    } else {
+        Vec::new()
+    }
+}
+
+/// `work(first_row, rows)` over bands of `band` rows of `out` (`row_len` items a row),
+/// one thread each; on this thread with one.
+fn in_bands<T: Send>(
+    out: &mut [T],
+    row_len: usize,
+    band: usize,
+    threads: usize,
+    work: impl Fn(usize, &mut [T]) + Sync,
+) {
     if threads == 1 {
         work(0, out);
     } else {
         std::thread::scope(|s| {
-            for (i, chunk) in out.chunks_mut(band * w * 4).enumerate() {
+            for (i, chunk) in out.chunks_mut(band * row_len).enumerate() {
                 let work = &work;
                 s.spawn(move || work(i * band, chunk));
             }
