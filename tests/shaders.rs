@@ -193,3 +193,68 @@ fn pass_shaders_include_the_library_and_report_errors_in_included_files() {
     let bad = check("fn helper(x: f32) -> f32 {\n    return vec2<f32>(x);\n}\n");
     exits_with(&bad, 1, &["helper.wgsl:2:"]);
 }
+
+/// Samples at `u' = 3u - 1` (from -1 to 2 across the image), nearest texel.
+const WRAP_PROBE: &str = "@group(0) @binding(0) var img: texture_2d<f32>;
+@group(0) @binding(1) var img_sampler: sampler;
+@fragment
+fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
+    return textureSampleLevel(img, img_sampler, vec2<f32>(3.0 * uv.x - 1.0, uv.y), 0.0);
+}
+";
+
+/// Every `WRAP` mode against its definition on the CPU: an 8x4 image sampled from
+/// u = -1 to 2 with nearest filtering (no sample on a texel edge), each output
+/// texel equal to the texel the mode names; `border` gives transparent black.
+#[test]
+fn wrap_modes_read_the_texels_they_name() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (w, h) = (8u32, 4u32);
+    let img = common::image_u8(w, h, |x, y| [x as u8 * 30 + 10, y as u8 * 60 + 5, 200, 255]);
+    let texel = |i: i64| -> Option<i64> { (0..i64::from(w)).contains(&i).then_some(i) };
+    let modes: [(&str, &dyn Fn(i64) -> Option<i64>); 4] = [
+        ("clamp", &|i| Some(i.clamp(0, i64::from(w) - 1))),
+        ("repeat", &|i| Some(i.rem_euclid(i64::from(w)))),
+        ("mirror", &|i| {
+            let p = i.rem_euclid(2 * i64::from(w));
+            Some(if p < i64::from(w) {
+                p
+            } else {
+                2 * i64::from(w) - 1 - p
+            })
+        }),
+        ("border", &|i| texel(i)),
+    ];
+    for (mode, pick) in modes {
+        let fx = format!(
+            "EFFECT.wrap_{mode} = {{ PASS = {{ p = SHADER.probe {{ img = IN  img.FILTER = nearest  img.WRAP = {mode}  OUT.FORMAT = rgba8 }} }} OUT = p }}"
+        );
+        let fx = write_effect(
+            dir.path(),
+            &format!("wrap_{mode}"),
+            &fx,
+            ("probe", WRAP_PROBE),
+        );
+        // 8-bit values as they are (no sRGB decoding on the way in)
+        let (_, _, px) = common::run_raw(&mut engine, &[&fx], &[], &img, Format::Rgba8)
+            .unwrap_or_else(|e| panic!("{mode}: {e}"));
+        let fxgraph::io::Pixels::U8(v) = px else {
+            panic!("rgba8 output reads back as bytes")
+        };
+        for y in 0..h {
+            for x in 0..w {
+                // u' * w = 3 (x + 0.5) - w: never a whole number for w = 8
+                let i = (3.0 * (f64::from(x) + 0.5) - f64::from(w)).floor() as i64;
+                let expected = match pick(i) {
+                    Some(t) => [t as u8 * 30 + 10, y as u8 * 60 + 5, 200, 255],
+                    None => [0, 0, 0, 0],
+                };
+                let at = 4 * (y * w + x) as usize;
+                assert_eq!(&v[at..at + 4], &expected, "{mode}: texel ({x}, {y})");
+            }
+        }
+    }
+}

@@ -188,7 +188,7 @@ fn check_sampling_attr(pass: &mut PassDef, s: &Stmt, diags: &mut Diagnostics) {
             Some(w) => input.wrap = Some(Spanned::new(w, s.value.span)),
             None => diags.push(Diagnostic::error("unknown wrap mode").at(
                 s.value.span,
-                "expected `clamp`, `repeat`, `mirror` or a pair `(u, v)` of them",
+                "expected `clamp`, `repeat`, `mirror`, `border` or a pair `(u, v)` of them",
             )),
         },
         _ => input.colorspace = colorspace_value(s, diags),
