@@ -2,15 +2,16 @@
 //! instance the adapter came from), egui's state and renderer, and the viewer's
 //! state between frames.
 
-use super::commands::{key_command, Command};
-use super::content::Content;
-use super::fx::Fx;
+use super::commands::key_command;
+use fxgraph::view::command::Command;
+use fxgraph::view::content::Content;
+use fxgraph::view::fx::Fx;
+use fxgraph::view::ui_state::{UiState, PANEL_WIDTH};
 use super::reload::Reloader;
 use super::script::Script;
 use super::UserEvent;
 use crate::{Cli, Fail};
 use fxgraph::gpu::executor::Engine;
-use fxgraph::view::inspect::Inspect;
 use fxgraph::view::panel_cache::PanelCache;
 use fxgraph::view::present::Presenter;
 use std::collections::HashSet;
@@ -21,66 +22,6 @@ use winit::event::{ElementState, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoopProxy};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
-
-/// Width of the control panel, in points.
-pub(super) const PANEL_WIDTH: f32 = 360.0;
-
-/// What the viewer shows and how, besides the content.
-pub(super) struct UiState {
-    pub panel: bool,
-    /// Fit the image to the area (else `zoom` with `center`).
-    pub fit: bool,
-    /// Screen pixels per image pixel when not fitting.
-    pub zoom: f32,
-    /// The image point (in its pixels) at the centre of the area.
-    pub center: [f32; 2],
-    /// Image x (0..1) of the before/after split, when shown.
-    pub split: Option<f32>,
-    /// Exposure (stops) of linear-light images.
-    pub exposure: f32,
-    pub mark_clipping: bool,
-    /// Record the effect of a still or a scene every frame (for its GPU times).
-    pub continuous: bool,
-    pub inspect: Inspect,
-    /// The last compile or run error (rendered diagnostics), shown until it is fixed.
-    pub error: Option<String>,
-    /// The last message.
-    pub status: String,
-    /// The last "copy as --set" text.
-    pub copied: Option<String>,
-    /// The image area of the last frame (surface pixels: x, y, width, height).
-    pub area: [u32; 4],
-    /// The frame and pass times the panel shows.
-    pub figures: Option<Figures>,
-}
-
-/// Times shown in the panel, refreshed twice a second.
-pub(super) struct Figures {
-    pub at: Instant,
-    pub frame_ms: Option<f64>,
-    pub gpu_ms: Vec<Option<f64>>,
-}
-
-impl Default for UiState {
-    fn default() -> Self {
-        UiState {
-            panel: true,
-            fit: true,
-            zoom: 1.0,
-            center: [0.0, 0.0],
-            split: None,
-            exposure: 0.0,
-            mark_clipping: false,
-            continuous: false,
-            inspect: Inspect::default(),
-            error: None,
-            status: String::new(),
-            copied: None,
-            area: [0, 0, 0, 0],
-            figures: None,
-        }
-    }
-}
 
 /// The window and what draws into it.
 pub(super) struct Win {

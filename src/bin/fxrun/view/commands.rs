@@ -3,7 +3,8 @@
 //! inspecting, screenshots, reloads and the scripted actions.
 
 use super::app::Viewer;
-use super::content::Content;
+use fxgraph::view::content::Content;
+use fxgraph::view::command::Command;
 use super::screenshot;
 use super::script::Action;
 use crate::{stdout_result, Fail};
@@ -17,41 +18,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{Key, NamedKey};
-
-/// A command of a key (or of the panel's buttons).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Command {
-    /// Next image, or next frame (pauses a sequence).
-    Next,
-    /// Previous image or frame.
-    Prev,
-    /// First image or frame.
-    First,
-    PlayPause,
-    Fit,
-    OneToOne,
-    ZoomIn,
-    ZoomOut,
-    TogglePanel,
-    ToggleSplit,
-    Screenshot,
-    /// Back to the run's camera (scenes).
-    CameraHome,
-    /// Inspect the next / previous pass of the list.
-    InspectNext,
-    InspectPrev,
-    Quit,
-}
-
-impl Command {
-    /// Does holding the key repeat it?
-    pub fn repeats(self) -> bool {
-        matches!(
-            self,
-            Command::Next | Command::Prev | Command::ZoomIn | Command::ZoomOut
-        )
-    }
-}
 
 /// The command of a key (docs/cli.md lists them).
 pub(super) fn key_command(key: &Key, ctrl: bool) -> Option<Command> {

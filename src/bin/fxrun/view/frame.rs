@@ -4,9 +4,10 @@
 //! then the panel's changes are applied (the next frame shows them) and, when
 //! scripted, the actions of this frame run.
 
-use super::app::{Figures, FrameStats, UiState, Viewer};
-use super::content::Content;
-use super::panel::{self, ImageInput, Model, UiEvent};
+use super::app::{FrameStats, Viewer};
+use fxgraph::view::ui_state::{Figures, UiState};
+use fxgraph::view::content::Content;
+use fxgraph::view::panel::{self, ImageInput, Model, UiEvent};
 use crate::Fail;
 use fxgraph::gpu::fullscreen::begin_color_pass;
 use fxgraph::view::inspect::{pass_rows, shade_of};

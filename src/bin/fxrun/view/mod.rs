@@ -21,19 +21,14 @@
 
 mod app;
 mod commands;
-mod content;
 mod frame;
-mod fx;
-mod panel;
-mod playback;
 mod reload;
-mod scene_view;
 mod screenshot;
 mod script;
-mod stills;
 
 use super::*;
-use content::Content;
+use fxgraph::view::content::Content;
+use fxgraph::view::{fx, playback, scene_view, stills};
 use fxgraph::io::sequence::SequenceSpec;
 
 /// Events sent to the window's event loop from other threads.

@@ -1,5 +1,5 @@
 //! A rendered scene in the viewer: the scene options of a normal run, rendered
-//! with the camera under the mouse ([`fxgraph::view::camera_control`]) at `--size`, or at
+//! with the camera under the mouse ([`crate::view::camera_control`]) at `--size`, or at
 //! the size of the window's image area (resizing renders and plans again). The
 //! effects read the render and its G-buffer (`AUX.*`), which the pass list shows
 //! too.
@@ -14,18 +14,18 @@
 //! to it). Temporal effects (`IN[-1]`, feedback) see each frame as a still.
 
 use super::fx::Fx;
-use fxgraph::app::scene::{load_scene, render_error, scene_renderer, SceneJob};
-use fxgraph::app::RunError;
-use fxgraph::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
-use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
-use fxgraph::render::renderer::Renderer;
-use fxgraph::render::{FrameMotion, RenderOutput};
-use fxgraph::scene::{Camera, CameraPath, Playback, Pose, Scene};
-use fxgraph::view::camera_control::CameraControl;
+use crate::app::scene::{load_scene, render_error, scene_renderer, SceneJob};
+use crate::app::RunError;
+use crate::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
+use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use crate::render::renderer::Renderer;
+use crate::render::{FrameMotion, RenderOutput};
+use crate::scene::{Camera, CameraPath, Playback, Pose, Scene};
+use crate::view::camera_control::CameraControl;
 use std::time::{Duration, Instant};
 
 /// The scene's clock.
-pub(super) struct Clock {
+pub struct Clock {
     pub frame: u64,
     pub fps: f64,
     pub playing: bool,
@@ -48,10 +48,10 @@ impl Clock {
         Duration::from_secs_f64(1.0 / self.fps)
     }
 }
-use fxgraph::script::types::{ColorSpace, Format};
+use crate::script::types::{ColorSpace, Format};
 
 /// The scene, its renderer and the camera.
-pub(super) struct SceneView {
+pub struct SceneView {
     job: SceneJob,
     renderer: Renderer,
     pub camera: Camera,
@@ -91,7 +91,7 @@ impl SceneView {
         (fps, time): (f64, f64),
     ) -> Result<Self, RunError> {
         let (scene, camera) = load_scene(&job)?;
-        let scene_error = |e| render_error(&job.scene, fxgraph::render::RenderError::Scene(e));
+        let scene_error = |e| render_error(&job.scene, crate::render::RenderError::Scene(e));
         let path = CameraPath::parse(job.camera.as_deref(), &scene).map_err(scene_error)?;
         let playback = match &job.animation {
             Some(spec) => Playback::parse(spec, &scene, job.looping).map_err(scene_error)?,
@@ -109,7 +109,7 @@ impl SceneView {
         };
         let renderer = scene_renderer(&job, &engine.ctx, &scene)?;
         let base = if job.default_chain && !job.effects.is_empty() {
-            fxgraph::app::scene::default_chain_settings(&scene)
+            crate::app::scene::default_chain_settings(&scene)
         } else {
             Vec::new()
         };
@@ -246,7 +246,7 @@ impl SceneView {
         }
         prepared.set_gpu_timings(engine, true);
         let o = prepared.plan.output;
-        self.output = Some(fxgraph::view::present::window_output(
+        self.output = Some(crate::view::present::window_output(
             &engine.ctx,
             o.width,
             o.height,

@@ -5,11 +5,11 @@ use super::fx::Fx;
 use super::playback::Playback;
 use super::scene_view::SceneView;
 use super::stills::Stills;
-use fxgraph::app::RunError;
-use fxgraph::gpu::executor::{Engine, Prepared};
-use fxgraph::script::types::Format;
+use crate::app::RunError;
+use crate::gpu::executor::{Engine, Prepared};
+use crate::script::types::Format;
 
-pub(super) enum Content {
+pub enum Content {
     Stills(Box<Stills>),
     Playback(Box<Playback>),
     Scene(Box<SceneView>),

@@ -12,18 +12,18 @@
 //! Changes come back as [`UiEvent`]s, applied after the frame by the code the keys
 //! and scripted actions use: nothing here changes the effect.
 
-use super::app::{UiState, PANEL_WIDTH};
-use super::commands::Command;
+use super::ui_state::{UiState, PANEL_WIDTH};
+use super::command::Command;
 use egui::{Color32, RichText};
-use fxgraph::gpu::executor::ParamInfo;
-use fxgraph::graph::EffectParam;
-use fxgraph::script::types::{format_value, Format, ParamType};
-use fxgraph::view::inspect::{PassRow, Target};
-use fxgraph::view::present::Shade;
+use crate::gpu::executor::ParamInfo;
+use crate::graph::EffectParam;
+use crate::script::types::{format_value, Format, ParamType};
+use crate::view::inspect::{PassRow, Target};
+use crate::view::present::Shade;
 
 /// A change asked for in the panel.
 #[derive(Debug, Clone, PartialEq)]
-pub(super) enum UiEvent {
+pub enum UiEvent {
     /// Set parameter KEY to a `--set` value text.
     Set(String, String),
     Reset(String),
@@ -36,7 +36,7 @@ pub(super) enum UiEvent {
 
 /// The mouse over the image area.
 #[derive(Debug, Default, Clone)]
-pub(super) struct ImageInput {
+pub struct ImageInput {
     /// The image area in points: x, y, width, height.
     pub area: [f32; 4],
     /// Dragged this frame, in pixels.
@@ -51,7 +51,7 @@ pub(super) struct ImageInput {
 }
 
 /// What the panel shows (a copy, made before the frame).
-pub(super) struct Model {
+pub struct Model {
     pub caption: String,
     pub adapter: String,
     pub effect_params: Vec<EffectParam>,
@@ -95,7 +95,7 @@ const KEYS: &[(&str, &str)] = &[
 ];
 
 /// The panel and the image area; returns the mouse over the image area.
-pub(super) fn show(
+pub fn show(
     ui: &mut egui::Ui,
     m: &Model,
     state: &mut UiState,
