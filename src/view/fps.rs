@@ -107,7 +107,13 @@ mod tests {
             Duration::from_millis(9),
         );
         // Slower now: after more than a second of 20 fps only new frames count.
-        run(&mut c, t, 25, Duration::from_millis(50), Duration::from_millis(2));
+        run(
+            &mut c,
+            t,
+            25,
+            Duration::from_millis(50),
+            Duration::from_millis(2),
+        );
         let r = c.reading().expect("frames");
         assert!((r.fps - 20.0).abs() < 1e-6, "{r:?}");
         assert!((r.frame_ms - 2.0).abs() < 1e-9, "{r:?}");
@@ -124,7 +130,13 @@ mod tests {
             Duration::from_millis(1),
         );
         // Half a second at 20 fps after 100 fps: between the two.
-        run(&mut c, t, 10, Duration::from_millis(50), Duration::from_millis(1));
+        run(
+            &mut c,
+            t,
+            10,
+            Duration::from_millis(50),
+            Duration::from_millis(1),
+        );
         let r = c.reading().expect("frames");
         assert!(r.fps > 20.0 && r.fps < 100.0, "{r:?}");
     }

@@ -12,14 +12,14 @@
 //! Changes come back as [`UiEvent`]s, applied after the frame by the code the keys
 //! and scripted actions use: nothing here changes the effect.
 
-use super::ui_state::{UiState, PANEL_WIDTH};
 use super::command::Command;
-use egui::{Color32, RichText};
+use super::ui_state::{UiState, PANEL_WIDTH};
 use crate::gpu::executor::ParamInfo;
 use crate::graph::EffectParam;
 use crate::script::types::{format_value, Format, ParamType};
 use crate::view::inspect::{PassRow, Target};
 use crate::view::present::Shade;
+use egui::{Color32, RichText};
 
 /// A change asked for in the panel.
 #[derive(Debug, Clone, PartialEq)]

@@ -3,17 +3,17 @@
 //! state between frames.
 
 use super::commands::key_command;
-use fxgraph::view::command::Command;
-use fxgraph::view::content::Content;
-use fxgraph::view::fx::Fx;
-use fxgraph::view::ui_state::{UiState, PANEL_WIDTH};
 use super::reload::Reloader;
 use super::script::Script;
 use super::UserEvent;
 use crate::{Cli, Fail};
 use fxgraph::gpu::executor::Engine;
+use fxgraph::view::command::Command;
+use fxgraph::view::content::Content;
+use fxgraph::view::fx::Fx;
 use fxgraph::view::panel_cache::PanelCache;
 use fxgraph::view::present::Presenter;
+use fxgraph::view::ui_state::{UiState, PANEL_WIDTH};
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::{Duration, Instant};

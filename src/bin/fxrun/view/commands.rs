@@ -3,8 +3,6 @@
 //! inspecting, screenshots, reloads and the scripted actions.
 
 use super::app::Viewer;
-use fxgraph::view::content::Content;
-use fxgraph::view::command::Command;
 use super::screenshot;
 use super::script::Action;
 use crate::{stdout_result, Fail};
@@ -12,6 +10,8 @@ use fxgraph::app::Change;
 use fxgraph::app::Effect;
 use fxgraph::io::SaveOptions;
 use fxgraph::script::types::Format;
+use fxgraph::view::command::Command;
+use fxgraph::view::content::Content;
 use fxgraph::view::inspect::{aux_range, Target};
 use std::io::BufRead as _;
 use std::path::PathBuf;

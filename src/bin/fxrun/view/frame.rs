@@ -5,14 +5,14 @@
 //! scripted, the actions of this frame run.
 
 use super::app::{FrameStats, Viewer};
-use fxgraph::view::ui_state::{Figures, UiState};
-use fxgraph::view::content::Content;
-use fxgraph::view::panel::{self, ImageInput, Model, UiEvent};
 use crate::Fail;
 use fxgraph::gpu::fullscreen::begin_color_pass;
+use fxgraph::view::content::Content;
 use fxgraph::view::inspect::{pass_rows, shade_of};
+use fxgraph::view::panel::{self, ImageInput, Model, UiEvent};
 use fxgraph::view::panel_cache::PanelPaint;
 use fxgraph::view::present::{Placement, Shown};
+use fxgraph::view::ui_state::{Figures, UiState};
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
 

@@ -27,9 +27,9 @@ mod screenshot;
 mod script;
 
 use super::*;
+use fxgraph::io::sequence::SequenceSpec;
 use fxgraph::view::content::Content;
 use fxgraph::view::{fx, playback, scene_view, stills};
-use fxgraph::io::sequence::SequenceSpec;
 
 /// Events sent to the window's event loop from other threads.
 #[derive(Debug, Clone, Copy)]
