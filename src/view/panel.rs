@@ -17,6 +17,7 @@ use super::ui_state::{UiState, PANEL_WIDTH};
 use crate::gpu::executor::ParamInfo;
 use crate::graph::EffectParam;
 use crate::script::types::{format_value, Format, ParamType};
+use crate::view::fps::FpsReading;
 use crate::view::inspect::{PassRow, Target};
 use crate::view::present::Shade;
 use egui::{Color32, RichText};
@@ -68,6 +69,8 @@ pub struct Model {
     pub playing: Option<bool>,
     pub scene: bool,
     pub frame_ms: Option<f64>,
+    /// Frames per second over the last second, with the mean frame time.
+    pub fps: Option<FpsReading>,
     /// The output's size, which the image area shows.
     pub image_size: (f32, f32),
     pub set_args: Option<String>,
@@ -147,6 +150,9 @@ fn contents(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec<UiE
         .map(|t| format!(" · last frame {t:.1} ms"))
         .unwrap_or_default();
     ui.label(RichText::new(format!("{}{frame}", m.adapter)).small());
+    if let Some(fps) = &m.fps {
+        ui.label(RichText::new(fps.text()).small());
+    }
     if let Some(e) = &state.error {
         ui.separator();
         ui.label(RichText::new("error (the last good image stays):").color(Color32::LIGHT_RED));

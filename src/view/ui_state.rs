@@ -3,6 +3,7 @@
 //! figures the panel shows. The panel ([`super::panel`]) edits it; the window
 //! loop reads it each frame.
 
+use super::fps::{FpsCounter, FpsReading};
 use super::inspect::Inspect;
 use std::time::Instant;
 
@@ -36,6 +37,8 @@ pub struct UiState {
     pub area: [u32; 4],
     /// The frame and pass times the panel shows.
     pub figures: Option<Figures>,
+    /// The frames shown over the last second (the panel's fps readout).
+    pub fps: FpsCounter,
 }
 
 /// Times shown in the panel, refreshed twice a second.
@@ -43,6 +46,8 @@ pub struct Figures {
     pub at: Instant,
     pub frame_ms: Option<f64>,
     pub gpu_ms: Vec<Option<f64>>,
+    /// Frames per second and the mean frame time over the last second.
+    pub fps: Option<FpsReading>,
 }
 
 impl Default for UiState {
@@ -62,6 +67,60 @@ impl Default for UiState {
             copied: None,
             area: [0, 0, 0, 0],
             figures: None,
+            fps: FpsCounter::default(),
         }
+    }
+}
+
+impl UiState {
+    /// Where an image of `size` pixels is drawn in the image area (fit, or the
+    /// zoom around the centre point), on whole pixels: x, y, width, height.
+    pub fn image_rect(&self, (iw, ih): (f32, f32)) -> [f32; 4] {
+        let [ax, ay, aw, ah] = self.area.map(|v| v as f32);
+        let (cx, cy) = (ax + aw / 2.0, ay + ah / 2.0);
+        if self.fit {
+            let s = (aw / iw).min(ah / ih);
+            let (w, h) = (iw * s, ih * s);
+            return [(cx - w / 2.0).round(), (cy - h / 2.0).round(), w, h];
+        }
+        let z = self.zoom;
+        [
+            (cx - self.center[0] * z).round(),
+            (cy - self.center[1] * z).round(),
+            iw * z,
+            ih * z,
+        ]
+    }
+
+    /// Show an image of `size` pixels at 1:1 around its centre.
+    pub fn one_to_one(&mut self, (iw, ih): (f32, f32)) {
+        self.fit = false;
+        self.zoom = 1.0;
+        self.center = [iw / 2.0, ih / 2.0];
+    }
+
+    /// Zoom an image of `size` pixels by `factor` around `at` (area pixels;
+    /// `None`: the area's centre); the image point under `at` stays there.
+    pub fn zoom_by(&mut self, (iw, ih): (f32, f32), factor: f32, at: Option<[f32; 2]>) {
+        let [ax, ay, aw, ah] = self.area.map(|v| v as f32);
+        if self.fit {
+            self.zoom = (aw / iw).min(ah / ih).max(1e-3);
+            self.center = [iw / 2.0, ih / 2.0];
+            self.fit = false;
+        }
+        let at = at.unwrap_or([ax + aw / 2.0, ay + ah / 2.0]);
+        let z0 = self.zoom;
+        let z1 = (z0 * factor).clamp(1.0 / 64.0, 64.0);
+        let origin = [
+            ax + aw / 2.0 - self.center[0] * z0,
+            ay + ah / 2.0 - self.center[1] * z0,
+        ];
+        let p = [(at[0] - origin[0]) / z0, (at[1] - origin[1]) / z0];
+        let new_origin = [at[0] - p[0] * z1, at[1] - p[1] * z1];
+        self.zoom = z1;
+        self.center = [
+            (ax + aw / 2.0 - new_origin[0]) / z1,
+            (ay + ah / 2.0 - new_origin[1]) / z1,
+        ];
     }
 }

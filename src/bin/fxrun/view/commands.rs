@@ -91,9 +91,13 @@ impl Viewer {
                 Ok(())
             }
             Command::OneToOne => {
-                self.ui.fit = false;
-                self.ui.zoom = 1.0;
-                self.center_image();
+                match self.image_size() {
+                    Some(size) => self.ui.one_to_one(size),
+                    None => {
+                        self.ui.fit = false;
+                        self.ui.zoom = 1.0;
+                    }
+                }
                 Ok(())
             }
             Command::ZoomIn | Command::ZoomOut => {
@@ -150,40 +154,17 @@ impl Viewer {
         }
     }
 
-    /// Show the image at 1:1 around its centre.
-    fn center_image(&mut self) {
-        if let Some((t, _)) = self.content.output() {
-            self.ui.center = [t.width() as f32 / 2.0, t.height() as f32 / 2.0];
-        }
+    /// The size of the image shown, in pixels.
+    fn image_size(&self) -> Option<(f32, f32)> {
+        let (t, _) = self.content.output()?;
+        Some((t.width() as f32, t.height() as f32))
     }
 
     /// Zoom by `factor` around `at` (area pixels; `None`: the area's centre).
     pub fn zoom_by(&mut self, factor: f32, at: Option<[f32; 2]>) {
-        let Some((t, _)) = self.content.output() else {
-            return;
-        };
-        let [ax, ay, aw, ah] = self.ui.area.map(|v| v as f32);
-        let (iw, ih) = (t.width() as f32, t.height() as f32);
-        if self.ui.fit {
-            self.ui.zoom = (aw / iw).min(ah / ih).max(1e-3);
-            self.ui.center = [iw / 2.0, ih / 2.0];
-            self.ui.fit = false;
+        if let Some(size) = self.image_size() {
+            self.ui.zoom_by(size, factor, at);
         }
-        let at = at.unwrap_or([ax + aw / 2.0, ay + ah / 2.0]);
-        let z0 = self.ui.zoom;
-        let z1 = (z0 * factor).clamp(1.0 / 64.0, 64.0);
-        // The image point under `at` stays there.
-        let origin = [
-            ax + aw / 2.0 - self.ui.center[0] * z0,
-            ay + ah / 2.0 - self.ui.center[1] * z0,
-        ];
-        let p = [(at[0] - origin[0]) / z0, (at[1] - origin[1]) / z0];
-        let new_origin = [at[0] - p[0] * z1, at[1] - p[1] * z1];
-        self.ui.zoom = z1;
-        self.ui.center = [
-            (ax + aw / 2.0 - new_origin[0]) / z1,
-            (ay + ah / 2.0 - new_origin[1]) / z1,
-        ];
     }
 
     /// Next, previous or first image or frame.

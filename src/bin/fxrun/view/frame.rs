@@ -12,7 +12,7 @@ use fxgraph::view::inspect::{pass_rows, shade_of};
 use fxgraph::view::panel::{self, ImageInput, Model, UiEvent};
 use fxgraph::view::panel_cache::PanelPaint;
 use fxgraph::view::present::{Placement, Shown};
-use fxgraph::view::ui_state::{Figures, UiState};
+use fxgraph::view::ui_state::Figures;
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
 
@@ -24,25 +24,6 @@ const RELOAD_WAIT: Duration = Duration::from_secs(600);
 
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
-}
-
-/// Where an image of `size` pixels is drawn in the area of `ui` (fit, or the zoom
-/// around the centre point), on whole pixels.
-fn image_rect(ui: &UiState, (iw, ih): (f32, f32)) -> [f32; 4] {
-    let [ax, ay, aw, ah] = ui.area.map(|v| v as f32);
-    let (cx, cy) = (ax + aw / 2.0, ay + ah / 2.0);
-    if ui.fit {
-        let s = (aw / iw).min(ah / ih);
-        let (w, h) = (iw * s, ih * s);
-        return [(cx - w / 2.0).round(), (cy - h / 2.0).round(), w, h];
-    }
-    let z = ui.zoom;
-    [
-        (cx - ui.center[0] * z).round(),
-        (cy - ui.center[1] * z).round(),
-        iw * z,
-        ih * z,
-    ]
 }
 
 fn median(v: &[f64]) -> f64 {
@@ -78,7 +59,7 @@ impl Viewer {
             .output()
             .map(|(t, _)| (t.width() as f32, t.height() as f32))
             .unwrap_or((1.0, 1.0));
-        image_rect(&self.ui, size)
+        self.ui.image_rect(size)
     }
 
     /// Draw one frame (see the module's documentation).
@@ -164,6 +145,7 @@ impl Viewer {
         }
         self.shown += 1;
         self.stats.frames.push(ms(t0.elapsed()));
+        self.ui.fps.tick(Instant::now(), t0.elapsed());
         if let Some(at) = self.stats.change_at.take() {
             self.stats.change_shown.push((ms(at.elapsed()), self.shown));
         }
@@ -286,7 +268,7 @@ impl Viewer {
         let extra =
             win.egui_renderer
                 .update_buffers(&ctx.device, &ctx.queue, &mut encoder, &jobs, &screen);
-        let rect = image_rect(&self.ui, model.image_size);
+        let rect = self.ui.image_rect(model.image_size);
         let place = Placement {
             rect,
             area,
@@ -384,13 +366,14 @@ impl Viewer {
                 at: Instant::now(),
                 frame_ms: self.stats.frames.last().copied(),
                 gpu_ms: rows.iter().map(|r| r.gpu_ms).collect(),
+                fps: self.ui.fps.reading(),
             });
         }
         let figures = self.ui.figures.as_ref().expect("set above");
         for (r, ms) in rows.iter_mut().zip(&figures.gpu_ms) {
             r.gpu_ms = *ms;
         }
-        let frame_ms = figures.frame_ms;
+        let (frame_ms, fps) = (figures.frame_ms, figures.fps);
         let image_size = self
             .content
             .output()
@@ -420,6 +403,7 @@ impl Viewer {
             },
             scene: matches!(self.content, Content::Scene(_)),
             frame_ms,
+            fps,
             image_size,
             set_args: self.ui.copied.clone(),
         }
