@@ -24,12 +24,15 @@
 //!   ([`camera_control::CameraControl`]).
 //! - [`panel_cache`]: an egui panel drawn into a texture once and reused while
 //!   nothing changes ([`panel_cache::PanelCache`]).
+//! - [`frame_paint`]: the steps of painting a frame that need no window (the
+//!   image area, egui's textures, the image and the cached panel).
 //! - [`fps`]: the frames-per-second readout ([`fps::FpsCounter`]).
 
 pub mod camera_control;
 pub mod command;
 pub mod content;
 pub mod fps;
+pub mod frame_paint;
 pub mod fx;
 pub mod inspect;
 pub mod panel;

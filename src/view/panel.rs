@@ -13,6 +13,7 @@
 //! and scripted actions use: nothing here changes the effect.
 
 use super::command::Command;
+use super::fx::effect_value_text;
 use super::ui_state::{UiState, PANEL_WIDTH};
 use crate::gpu::executor::ParamInfo;
 use crate::graph::EffectParam;
@@ -325,94 +326,19 @@ fn slider_range(lo: f64, hi: f64) -> bool {
     lo.is_finite() && hi.is_finite() && hi > lo
 }
 
+/// The effect's parameters, then every pass's, then "copy as --set".
 fn params_section(ui: &mut egui::Ui, m: &Model, out: &mut Vec<UiEvent>) {
     for p in &m.effect_params {
-        let key = format!("{}.{}", p.effect, p.name);
-        let hover = format!(
-            "{key} ({}){}\ndefault {}\n{}",
-            p.ty.name(),
-            p.range
-                .map(|(a, b)| format!(", range [{a}, {b}]"))
-                .unwrap_or_default(),
-            super::fx::effect_value_text(p, &p.default),
-            p.description
-        );
-        ui.horizontal(|ui| {
-            ui.label(RichText::new(&key).strong()).on_hover_text(&hover);
-            let mut v = p.value.clone();
-            let changed = match &p.ty {
-                ParamType::Bool => {
-                    let mut b = v[0] != 0.0;
-                    let c = ui.checkbox(&mut b, "").changed();
-                    v[0] = f64::from(u8::from(b));
-                    c
-                }
-                ParamType::Enum(names) => {
-                    let mut i = v[0] as usize;
-                    let before = i;
-                    egui::ComboBox::from_id_salt(&key)
-                        .selected_text(names.get(i).cloned().unwrap_or_default())
-                        .show_ui(ui, |ui| {
-                            for (j, n) in names.iter().enumerate() {
-                                ui.selectable_value(&mut i, j, n);
-                            }
-                        });
-                    v[0] = i as f64;
-                    i != before
-                }
-                ty => value_widget(ui, &p.name, *ty == ParamType::Int, p.range, &mut v),
-            };
-            if changed {
-                out.push(UiEvent::Set(
-                    key.clone(),
-                    super::fx::effect_value_text(p, &v),
-                ));
-            }
-            if p.value != p.default && ui.small_button("reset").clicked() {
-                out.push(UiEvent::Reset(key.clone()));
-            }
-        });
+        effect_param_row(ui, p, out);
     }
     let mut pass = "";
     for (i, p) in m.params.iter().enumerate() {
-        let (path, field) = p.name.rsplit_once('.').unwrap_or(("", &p.name));
+        let (path, _) = p.name.rsplit_once('.').unwrap_or(("", &p.name));
         if path != pass {
             pass = path;
             ui.label(RichText::new(path).small().weak());
         }
-        let hover = format!(
-            "{} ({}){}\nshader @default {}\n{}{}",
-            p.name,
-            p.ty,
-            p.range
-                .map(|(a, b)| format!(", range [{a}, {b}]"))
-                .unwrap_or_default(),
-            p.default
-                .as_ref()
-                .map_or_else(|| "none".to_string(), |d| format_value(d)),
-            p.description,
-            if m.set[i] {
-                "\n(set here or by --set)"
-            } else {
-                ""
-            }
-        );
-        ui.horizontal(|ui| {
-            let label = if m.set[i] {
-                RichText::new(field).strong()
-            } else {
-                RichText::new(field)
-            };
-            ui.label(label).on_hover_text(&hover);
-            let mut v = p.value.clone();
-            let integer = p.ty.contains("i32") || p.ty.contains("u32");
-            if value_widget(ui, field, integer, p.range, &mut v) {
-                out.push(UiEvent::Set(p.name.clone(), format_value(&v)));
-            }
-            if v != m.defaults[i] && ui.small_button("reset").clicked() {
-                out.push(UiEvent::Reset(p.name.clone()));
-            }
-        });
+        pass_param_row(ui, p, &m.defaults[i], m.set[i], out);
     }
     if m.params.is_empty() && m.effect_params.is_empty() {
         ui.label("no parameters");
@@ -427,6 +353,101 @@ fn params_section(ui: &mut egui::Ui, m: &Model, out: &mut Vec<UiEvent>) {
     if let Some(text) = &m.set_args {
         ui.label(RichText::new(text).monospace().small());
     }
+}
+
+/// ", range [a, b]" when there is one.
+fn range_text(range: Option<(f64, f64)>) -> String {
+    range
+        .map(|(a, b)| format!(", range [{a}, {b}]"))
+        .unwrap_or_default()
+}
+
+/// One effect parameter (`EFFECT.NAME`): its control and a reset.
+fn effect_param_row(ui: &mut egui::Ui, p: &EffectParam, out: &mut Vec<UiEvent>) {
+    let key = format!("{}.{}", p.effect, p.name);
+    let hover = format!(
+        "{key} ({}){}\ndefault {}\n{}",
+        p.ty.name(),
+        range_text(p.range),
+        effect_value_text(p, &p.default),
+        p.description
+    );
+    ui.horizontal(|ui| {
+        ui.label(RichText::new(&key).strong()).on_hover_text(&hover);
+        let mut v = p.value.clone();
+        if effect_value_widget(ui, p, &key, &mut v) {
+            out.push(UiEvent::Set(key.clone(), effect_value_text(p, &v)));
+        }
+        if p.value != p.default && ui.small_button("reset").clicked() {
+            out.push(UiEvent::Reset(key.clone()));
+        }
+    });
+}
+
+/// The control of an effect parameter by its type (a switch, a choice, a
+/// number or vector); true when changed.
+fn effect_value_widget(ui: &mut egui::Ui, p: &EffectParam, key: &str, v: &mut [f64]) -> bool {
+    match &p.ty {
+        ParamType::Bool => {
+            let mut b = v[0] != 0.0;
+            let c = ui.checkbox(&mut b, "").changed();
+            v[0] = f64::from(u8::from(b));
+            c
+        }
+        ParamType::Enum(names) => {
+            let mut i = v[0] as usize;
+            let before = i;
+            egui::ComboBox::from_id_salt(key)
+                .selected_text(names.get(i).cloned().unwrap_or_default())
+                .show_ui(ui, |ui| {
+                    for (j, n) in names.iter().enumerate() {
+                        ui.selectable_value(&mut i, j, n);
+                    }
+                });
+            v[0] = i as f64;
+            i != before
+        }
+        ty => value_widget(ui, &p.name, *ty == ParamType::Int, p.range, v),
+    }
+}
+
+/// One shader parameter of a pass (`PASS.NAME`, shown by its field name, in
+/// bold when set): its control and a reset to `default`.
+fn pass_param_row(
+    ui: &mut egui::Ui,
+    p: &ParamInfo,
+    default: &[f64],
+    set: bool,
+    out: &mut Vec<UiEvent>,
+) {
+    let field = p.name.rsplit_once('.').map_or(p.name.as_str(), |(_, f)| f);
+    let hover = format!(
+        "{} ({}){}\nshader @default {}\n{}{}",
+        p.name,
+        p.ty,
+        range_text(p.range),
+        p.default
+            .as_ref()
+            .map_or_else(|| "none".to_string(), |d| format_value(d)),
+        p.description,
+        if set { "\n(set here or by --set)" } else { "" }
+    );
+    ui.horizontal(|ui| {
+        let label = if set {
+            RichText::new(field).strong()
+        } else {
+            RichText::new(field)
+        };
+        ui.label(label).on_hover_text(&hover);
+        let mut v = p.value.clone();
+        let integer = p.ty.contains("i32") || p.ty.contains("u32");
+        if value_widget(ui, field, integer, p.range, &mut v) {
+            out.push(UiEvent::Set(p.name.clone(), format_value(&v)));
+        }
+        if v != default && ui.small_button("reset").clicked() {
+            out.push(UiEvent::Reset(p.name.clone()));
+        }
+    });
 }
 
 fn passes_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec<UiEvent>) {

@@ -252,4 +252,9 @@ impl Stills {
     pub fn len(&self) -> usize {
         self.items.len()
     }
+
+    /// No images (a batch always has one).
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
 }
