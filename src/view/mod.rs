@@ -14,7 +14,7 @@
 //!   effect and of every pass, the pass list to inspect, the view; changes come
 //!   back as [`panel::UiEvent`]s. [`ui_state::UiState`] is what it edits (fit,
 //!   zoom, split, exposure, what is inspected), [`command::Command`] what its
-//!   buttons ask for.
+//!   buttons ask for; [`model::Model`] what it shows.
 //! - [`fx`]: the effect shown and its parameters ([`fx::Fx`], over
 //!   [`crate::app::Effect::set`]).
 //! - [`content`]: what is shown ([`content::Content`]): still images
@@ -35,6 +35,7 @@ pub mod fps;
 pub mod frame_paint;
 pub mod fx;
 pub mod inspect;
+pub mod model;
 pub mod panel;
 pub mod panel_cache;
 pub mod playback;

@@ -14,12 +14,12 @@
 
 use super::command::Command;
 use super::fx::effect_value_text;
-use super::ui_state::{UiState, PANEL_WIDTH};
+use super::ui_state::{ImageInput, UiState, PANEL_WIDTH};
 use crate::gpu::executor::ParamInfo;
 use crate::graph::EffectParam;
 use crate::script::types::{format_value, Format, ParamType};
-use crate::view::fps::FpsReading;
-use crate::view::inspect::{PassRow, Target};
+use crate::view::inspect::Target;
+pub use crate::view::model::Model;
 use crate::view::present::Shade;
 use egui::{Color32, RichText};
 
@@ -34,47 +34,6 @@ pub enum UiEvent {
     CopySet,
     /// Set the range to the shown texture's smallest and largest value.
     AutoRange,
-}
-
-/// The mouse over the image area.
-#[derive(Debug, Default, Clone)]
-pub struct ImageInput {
-    /// The image area in points: x, y, width, height.
-    pub area: [f32; 4],
-    /// Dragged this frame, in pixels.
-    pub drag: [f32; 2],
-    /// With the primary button (else the secondary or middle one).
-    pub primary: bool,
-    /// Wheel notches (positive: away from the user, zoom in).
-    pub scroll: f32,
-    /// The pointer, in pixels.
-    pub hover: Option<[f32; 2]>,
-    pub double_click: bool,
-}
-
-/// What the panel shows (a copy, made before the frame).
-pub struct Model {
-    pub caption: String,
-    pub adapter: String,
-    pub effect_params: Vec<EffectParam>,
-    pub params: Vec<ParamInfo>,
-    /// Per pass parameter: the value a reset gives, and whether it is set.
-    pub defaults: Vec<Vec<f64>>,
-    pub set: Vec<bool>,
-    pub rows: Vec<PassRow>,
-    /// GPU times have been read.
-    pub timed: bool,
-    pub aux: Vec<(String, Format)>,
-    pub output_format: Option<Format>,
-    pub shown_format: Option<Format>,
-    pub playing: Option<bool>,
-    pub scene: bool,
-    pub frame_ms: Option<f64>,
-    /// Frames per second over the last second, with the mean frame time.
-    pub fps: Option<FpsReading>,
-    /// The output's size, which the image area shows.
-    pub image_size: (f32, f32),
-    pub set_args: Option<String>,
 }
 
 /// The keys (also in docs/cli.md).

@@ -20,6 +20,7 @@ use crate::gpu::executor::{Engine, Prepared};
 use crate::scene::Camera;
 use crate::script::types::Format;
 use crate::view::camera_control::CameraControl;
+use crate::view::ui_state::ImageInput;
 use std::time::{Duration, Instant};
 
 /// The scene's clock.
@@ -137,6 +138,33 @@ impl SceneView {
     pub fn camera_moved(&mut self) {
         self.free = true;
         self.stale = true;
+    }
+
+    /// Mouse input over an image area of `width` x `height` pixels: the render
+    /// follows the area's size; drag orbits (secondary button: pans), the wheel
+    /// dollies. True when the scene must be rendered again.
+    pub fn apply_input(&mut self, input: &ImageInput, (width, height): (u32, u32)) -> bool {
+        let resized = self.resize(width, height);
+        let mut cam = self.camera;
+        let mut moved = false;
+        if input.drag != [0.0, 0.0] {
+            let [dx, dy] = input.drag;
+            if input.primary {
+                self.control.orbit(&mut cam, dx, dy);
+            } else {
+                self.control.pan(&mut cam, dx, dy, height as f32);
+            }
+            moved = true;
+        }
+        if input.scroll != 0.0 {
+            self.control.dolly(&mut cam, input.scroll);
+            moved = true;
+        }
+        if moved {
+            self.camera = cam;
+            self.camera_moved();
+        }
+        resized || moved
     }
 
     /// Back to the camera of the run.

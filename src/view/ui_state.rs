@@ -41,6 +41,22 @@ pub struct UiState {
     pub fps: FpsCounter,
 }
 
+/// The mouse over the image area.
+#[derive(Debug, Default, Clone)]
+pub struct ImageInput {
+    /// The image area in points: x, y, width, height.
+    pub area: [f32; 4],
+    /// Dragged this frame, in pixels.
+    pub drag: [f32; 2],
+    /// With the primary button (else the secondary or middle one).
+    pub primary: bool,
+    /// Wheel notches (positive: away from the user, zoom in).
+    pub scroll: f32,
+    /// The pointer, in pixels.
+    pub hover: Option<[f32; 2]>,
+    pub double_click: bool,
+}
+
 /// Times shown in the panel, refreshed twice a second.
 pub struct Figures {
     pub at: Instant,
@@ -122,5 +138,31 @@ impl UiState {
             (ax + aw / 2.0 - new_origin[0]) / z1,
             (ay + ah / 2.0 - new_origin[1]) / z1,
         ];
+    }
+
+    /// Mouse input over an image of `size` pixels (none shown yet: `None`):
+    /// drag pans, the wheel zooms at the pointer, a double click toggles fit.
+    /// True when the view changed.
+    pub fn apply_image_input(&mut self, input: &ImageInput, size: Option<(f32, f32)>) -> bool {
+        let mut changed = false;
+        if input.drag != [0.0, 0.0] {
+            if let (true, Some(size)) = (self.fit, size) {
+                self.zoom_by(size, 1.0, None);
+            }
+            self.center[0] -= input.drag[0] / self.zoom;
+            self.center[1] -= input.drag[1] / self.zoom;
+            changed = true;
+        }
+        if input.scroll != 0.0 {
+            if let Some(size) = size {
+                self.zoom_by(size, 1.25f32.powf(input.scroll), input.hover);
+            }
+            changed = true;
+        }
+        if input.double_click {
+            self.fit = !self.fit;
+            changed = true;
+        }
+        changed
     }
 }

@@ -10,14 +10,10 @@ use fxgraph::gpu::context::GpuContext;
 use fxgraph::script::types::Format;
 use fxgraph::view::content::Content;
 use fxgraph::view::frame_paint as paint;
-use fxgraph::view::inspect::pass_rows;
-use fxgraph::view::panel::{self, ImageInput, Model, UiEvent};
-use fxgraph::view::ui_state::{Figures, UiState};
+use fxgraph::view::panel::{self, Model, UiEvent};
+use fxgraph::view::ui_state::{ImageInput, UiState};
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
-
-/// How often the panel's figures (frame and pass times) are refreshed.
-const FIGURES_EVERY: Duration = Duration::from_millis(500);
 
 /// How long a scripted `wait-reload` waits.
 const RELOAD_WAIT: Duration = Duration::from_secs(600);
@@ -74,7 +70,13 @@ impl Viewer {
             return;
         }
         let scripted = self.script.is_some();
-        self.advance_content(dt, scripted);
+        match self
+            .content
+            .advance(&mut self.engine, dt, scripted, self.shown == 0)
+        {
+            Ok(again) => self.dirty |= again,
+            Err(e) => self.ui.status = e.to_string(),
+        }
         self.plan_if_needed();
         let device = self.engine.ctx.device.clone();
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -121,39 +123,6 @@ impl Viewer {
             self.fail(event_loop, f);
         }
         true
-    }
-
-    /// Move on what plays: a scene's flying camera and clock, a sequence's next
-    /// frame. Scripted: one frame further per frame shown while playing (the
-    /// first shows frame 0).
-    fn advance_content(&mut self, dt: f32, scripted: bool) {
-        let step = |playing: bool, due: bool| (scripted && playing) || (!scripted && due);
-        let later = self.shown > 0;
-        match &mut self.content {
-            Content::Scene(s) => {
-                let mut cam = s.camera;
-                if s.control.fly(&mut cam, dt) {
-                    s.camera = cam;
-                    s.camera_moved();
-                    self.dirty = true;
-                }
-                // A scene's clock: as a sequence's frames.
-                let c = &s.clock;
-                if s.timed() && step(later && c.playing, c.due()) {
-                    let next = c.frame + 1;
-                    s.set_frame(next);
-                    self.dirty = true;
-                }
-            }
-            Content::Playback(p) => {
-                if step(later && p.playing, p.due()) {
-                    if let Err(e) = p.advance(&mut self.engine) {
-                        self.ui.status = e.to_string();
-                    }
-                }
-            }
-            Content::Stills(_) => {}
-        }
     }
 
     /// Plan the effect again when what is shown needs it (a new size or format).
@@ -310,119 +279,31 @@ impl Viewer {
 
     /// What the panel shows (its own copy: the panel runs while the window is borrowed).
     fn model(&mut self) -> Model {
-        let prepared = self.content.prepared_ref();
-        let params = prepared.map(|p| p.params()).unwrap_or_default();
-        let defaults = params.iter().map(|p| self.fx.pass_default(p)).collect();
-        let set = params
-            .iter()
-            .map(|p| self.fx.pass_is_set(&p.name))
-            .collect();
-        let mut rows = prepared.map(pass_rows).unwrap_or_default();
-        let timed = prepared.is_some_and(|p| !p.gpu_timings().is_empty());
-        // The figures change every frame: shown twice a second (readable, and the
-        // panel is not drawn again for them every frame: panel_cache.rs).
-        let stale = self
-            .ui
-            .figures
-            .as_ref()
-            .is_none_or(|f| f.at.elapsed() >= FIGURES_EVERY || f.gpu_ms.len() != rows.len());
-        if stale {
-            self.ui.figures = Some(Figures {
-                at: Instant::now(),
-                frame_ms: self.stats.frames.last().copied(),
-                gpu_ms: rows.iter().map(|r| r.gpu_ms).collect(),
-                fps: self.ui.fps.reading(),
-            });
-        }
-        let figures = self.ui.figures.as_ref().expect("set above");
-        for (r, ms) in rows.iter_mut().zip(&figures.gpu_ms) {
-            r.gpu_ms = *ms;
-        }
-        let (frame_ms, fps) = (figures.frame_ms, figures.fps);
-        let image_size = self
-            .content
-            .output()
-            .map(|(t, _)| (t.width() as f32, t.height() as f32))
-            .unwrap_or((1.0, 1.0));
-        Model {
-            caption: self.content.caption(),
-            adapter: self.engine.ctx.info.name.clone(),
-            effect_params: self.fx.effect_params().to_vec(),
-            params,
-            defaults,
-            set,
-            rows,
-            timed,
-            aux: self
-                .content
-                .aux()
-                .into_iter()
-                .map(|(n, _, f)| (n, f))
-                .collect(),
-            output_format: self.content.output_format(),
-            shown_format: self.shown_texture().map(|(_, f)| f),
-            playing: match &self.content {
-                Content::Playback(p) => Some(p.playing),
-                Content::Scene(s) if s.timed() => Some(s.clock.playing),
-                _ => None,
-            },
-            scene: matches!(self.content, Content::Scene(_)),
-            frame_ms,
-            fps,
-            image_size,
-            set_args: self.ui.copied.clone(),
-        }
+        let last = self.stats.frames.last().copied();
+        Model::new(
+            &mut self.content,
+            &self.fx,
+            &mut self.ui,
+            &self.engine,
+            last,
+        )
     }
 
     /// Mouse input over the image: pan and zoom it, or move a scene's camera.
     fn apply_input(&mut self, input: &ImageInput) {
         let [_, _, aw, ah] = self.ui.area;
-        if let Content::Scene(s) = &mut self.content {
-            let mut again = false;
-            if s.resize(aw, ah) {
-                self.dirty = true;
-                again = true;
+        let changed = match &mut self.content {
+            Content::Scene(s) => {
+                let again = s.apply_input(input, (aw, ah));
+                self.dirty |= again;
+                again
             }
-            let mut cam = s.camera;
-            let mut moved = false;
-            if input.drag != [0.0, 0.0] {
-                if input.primary {
-                    s.control.orbit(&mut cam, input.drag[0], input.drag[1]);
-                } else {
-                    s.control
-                        .pan(&mut cam, input.drag[0], input.drag[1], ah as f32);
-                }
-                moved = true;
+            _ => {
+                let size = self.content.image_size();
+                self.ui.apply_image_input(input, size)
             }
-            if input.scroll != 0.0 {
-                s.control.dolly(&mut cam, input.scroll);
-                moved = true;
-            }
-            if moved {
-                s.camera = cam;
-                s.camera_moved();
-                self.dirty = true;
-                again = true;
-            }
-            if again {
-                self.redraw();
-            }
-            return;
-        }
-        if input.drag != [0.0, 0.0] {
-            if self.ui.fit {
-                self.zoom_by(1.0, None);
-            }
-            self.ui.center[0] -= input.drag[0] / self.ui.zoom;
-            self.ui.center[1] -= input.drag[1] / self.ui.zoom;
-            self.redraw();
-        }
-        if input.scroll != 0.0 {
-            self.zoom_by(1.25f32.powf(input.scroll), input.hover);
-            self.redraw();
-        }
-        if input.double_click {
-            self.ui.fit = !self.ui.fit;
+        };
+        if changed {
             self.redraw();
         }
     }
