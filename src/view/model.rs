@@ -10,7 +10,7 @@ use super::fps::FpsReading;
 use super::fx::Fx;
 use super::inspect::{pass_rows, PassRow};
 use super::ui_state::{Figures, UiState};
-use crate::gpu::executor::{Engine, ParamInfo};
+use crate::gpu::executor::{Engine, ParamInfo, Prepared};
 use crate::graph::EffectParam;
 use crate::script::types::Format;
 use std::time::{Duration, Instant};
@@ -45,6 +45,33 @@ pub struct Model {
 }
 
 impl Model {
+    /// The parameters and passes of `fx` as planned in `prepared`, for a panel
+    /// of an application's own ([`super::panel::params_section`],
+    /// [`super::panel::passes_section`]); what is shown and the times are left
+    /// empty.
+    pub fn for_effect(fx: &Fx, prepared: Option<&Prepared>, adapter: &str) -> Model {
+        let params = prepared.map(|p| p.params()).unwrap_or_default();
+        Model {
+            caption: String::new(),
+            adapter: adapter.to_string(),
+            effect_params: fx.effect_params().to_vec(),
+            defaults: params.iter().map(|p| fx.pass_default(p)).collect(),
+            set: params.iter().map(|p| fx.pass_is_set(&p.name)).collect(),
+            params,
+            rows: prepared.map(pass_rows).unwrap_or_default(),
+            timed: prepared.is_some_and(|p| !p.gpu_timings().is_empty()),
+            aux: Vec::new(),
+            output_format: prepared.map(|p| p.plan.output.format),
+            shown_format: None,
+            playing: None,
+            scene: false,
+            frame_ms: None,
+            fps: None,
+            image_size: (1.0, 1.0),
+            set_args: None,
+        }
+    }
+
     /// The panel's copy of what `content`, `fx` and `ui` show on `engine`;
     /// `frame_ms`: the last frame's time. Refreshes `ui.figures` when due.
     pub fn new(
@@ -54,37 +81,21 @@ impl Model {
         engine: &Engine,
         frame_ms: Option<f64>,
     ) -> Model {
-        let prepared = content.prepared_ref();
-        let params = prepared.map(|p| p.params()).unwrap_or_default();
-        let defaults = params.iter().map(|p| fx.pass_default(p)).collect();
-        let set = params.iter().map(|p| fx.pass_is_set(&p.name)).collect();
-        let mut rows = prepared.map(pass_rows).unwrap_or_default();
-        let timed = prepared.is_some_and(|p| !p.gpu_timings().is_empty());
-        let figures = refresh_figures(ui, &rows, frame_ms);
-        for (r, ms) in rows.iter_mut().zip(&figures.gpu_ms) {
+        let mut m = Model::for_effect(fx, content.prepared_ref(), &engine.ctx.info.name);
+        let figures = refresh_figures(ui, &m.rows, frame_ms);
+        for (r, ms) in m.rows.iter_mut().zip(&figures.gpu_ms) {
             r.gpu_ms = *ms;
         }
-        let (frame_ms, fps) = (figures.frame_ms, figures.fps);
-        let shown_format = content.shown(engine, &ui.inspect.target).map(|(_, f)| f);
-        Model {
-            caption: content.caption(),
-            adapter: engine.ctx.info.name.clone(),
-            effect_params: fx.effect_params().to_vec(),
-            params,
-            defaults,
-            set,
-            rows,
-            timed,
-            aux: content.aux().into_iter().map(|(n, _, f)| (n, f)).collect(),
-            output_format: content.output_format(),
-            shown_format,
-            playing: content.playing(),
-            scene: matches!(content, Content::Scene(_)),
-            frame_ms,
-            fps,
-            image_size: content.image_size().unwrap_or((1.0, 1.0)),
-            set_args: ui.copied.clone(),
-        }
+        (m.frame_ms, m.fps) = (figures.frame_ms, figures.fps);
+        m.shown_format = content.shown(engine, &ui.inspect.target).map(|(_, f)| f);
+        m.caption = content.caption();
+        m.aux = content.aux().into_iter().map(|(n, _, f)| (n, f)).collect();
+        m.output_format = content.output_format();
+        m.playing = content.playing();
+        m.scene = matches!(content, Content::Scene(_));
+        m.image_size = content.image_size().unwrap_or((1.0, 1.0));
+        m.set_args = ui.copied.clone();
+        m
     }
 }
 

@@ -285,8 +285,9 @@ fn slider_range(lo: f64, hi: f64) -> bool {
     lo.is_finite() && hi.is_finite() && hi > lo
 }
 
-/// The effect's parameters, then every pass's, then "copy as --set".
-fn params_section(ui: &mut egui::Ui, m: &Model, out: &mut Vec<UiEvent>) {
+/// The effect's parameters, then every pass's, then "copy as --set" (an
+/// application's own panel may show it alone, with a [`Model::for_effect`]).
+pub fn params_section(ui: &mut egui::Ui, m: &Model, out: &mut Vec<UiEvent>) {
     for p in &m.effect_params {
         effect_param_row(ui, p, out);
     }
@@ -409,7 +410,9 @@ fn pass_param_row(
     });
 }
 
-fn passes_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec<UiEvent>) {
+/// The pass list (the output, each pass with its size, format and GPU time,
+/// the input, the AUX images) to pick what is inspected, and how it is shown.
+pub fn passes_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec<UiEvent>) {
     let mut pick = |ui: &mut egui::Ui, t: Target, label: String| {
         if ui.radio(state.inspect.target == t, label).clicked() {
             out.push(UiEvent::Inspect(t));
