@@ -33,20 +33,22 @@ impl FpsCounter {
     /// How far back frames are counted.
     pub const WINDOW: Duration = Duration::from_secs(1);
 
-    /// A frame ended at `end`, after `took`; frames older than the window go.
+    /// A frame ended at `end`, after `took`; frames older than the window go,
+    /// but for the last two (frames slower than the window still give a rate).
     pub fn tick(&mut self, end: Instant, took: Duration) {
         self.frames.push_back((end, took));
-        while self
-            .frames
-            .front()
-            .is_some_and(|(t, _)| end.duration_since(*t) > Self::WINDOW)
+        while self.frames.len() > 2
+            && self
+                .frames
+                .front()
+                .is_some_and(|(t, _)| end.duration_since(*t) > Self::WINDOW)
         {
             self.frames.pop_front();
         }
     }
 
     /// The rate over the window (intervals between the frames kept) and the mean
-    /// frame time; `None` until two frames were shown within a second.
+    /// frame time; `None` until two frames were shown.
     pub fn reading(&self) -> Option<FpsReading> {
         let (first, _) = self.frames.front()?;
         let (last, _) = self.frames.back()?;
@@ -117,6 +119,22 @@ mod tests {
         let r = c.reading().expect("frames");
         assert!((r.fps - 20.0).abs() < 1e-6, "{r:?}");
         assert!((r.frame_ms - 2.0).abs() < 1e-9, "{r:?}");
+    }
+
+    #[test]
+    fn frames_slower_than_the_window_give_their_rate() {
+        let mut c = FpsCounter::default();
+        let every = Duration::from_millis(2500);
+        run(
+            &mut c,
+            Instant::now(),
+            3,
+            every,
+            Duration::from_millis(2400),
+        );
+        let r = c.reading().expect("frames");
+        assert!((r.fps - 0.4).abs() < 1e-9, "{r:?}");
+        assert!((r.frame_ms - 2400.0).abs() < 1e-6, "{r:?}");
     }
 
     #[test]
