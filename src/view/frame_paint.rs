@@ -64,15 +64,18 @@ pub fn placement(ui: &UiState, image_size: (f32, f32), area: [u32; 4]) -> Placem
 }
 
 /// Bind the texture shown (shaded as `ui` inspects it) and the split view's
-/// "before" to the image pass.
+/// "before" to the image pass; nothing when no image is shown yet.
 pub fn prepare_image(
     presenter: &mut Presenter,
     ctx: &GpuContext,
     ui: &UiState,
-    (texture, format): (&wgpu::Texture, Format),
+    shown: Option<(&wgpu::Texture, Format)>,
     before: Option<(&wgpu::Texture, Format)>,
     place: &Placement,
 ) {
+    let Some((texture, format)) = shown else {
+        return;
+    };
     let after = Shown {
         texture,
         format,

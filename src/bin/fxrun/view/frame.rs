@@ -225,17 +225,9 @@ impl Viewer {
             win.egui_renderer
                 .update_buffers(&ctx.device, &ctx.queue, &mut encoder, &jobs, &screen);
         let place = paint::placement(&self.ui, model.image_size, area);
-        if let Some((tex, format)) = &shown {
-            let before = before.as_ref().map(|(t, f)| (t, *f));
-            paint::prepare_image(
-                &mut win.presenter,
-                &ctx,
-                &self.ui,
-                (tex, *format),
-                before,
-                &place,
-            );
-        }
+        let image = shown.as_ref().map(|(t, f)| (t, *f));
+        let before = before.as_ref().map(|(t, f)| (t, *f));
+        paint::prepare_image(&mut win.presenter, &ctx, &self.ui, image, before, &place);
         let split = before.is_some() && place.split > 0.0;
         let panel_jobs = paint::PanelJobs {
             jobs: &jobs,
