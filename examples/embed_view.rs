@@ -1,23 +1,32 @@
 //! A winit application that embeds fxgraph's viewer parts around its own
 //! rendering (docs/library.md, "Embedding the viewer's parts"): its scene
-//! texture goes through an effect each frame; an egui side panel sets the
-//! effect's pass parameters with `Effect::set` and lists the passes
-//! (`fxgraph::view::inspect::pass_rows`), one of which may be inspected
-//! (`Prepared::inspect`); the library's image pass (`fxgraph::view::present`)
-//! draws the output, or the inspected pass, next to the panel.
+//! texture goes through an effect each frame; a side panel shows the library's
+//! parameter panel and pass inspector (`fxgraph::view::panel::params_section`
+//! and `passes_section`, over a `view::model::Model::for_effect`), whose changes
+//! come back as `UiEvent`s applied with `view::fx::Fx` (`Effect::set`, planned
+//! again when the passes change) and `Prepared::inspect`; the library's image
+//! pass (`fxgraph::view::present`) draws the output, or the inspected pass as the
+//! panel says to shade it, next to the panel, with an fps readout
+//! (`view::fps::FpsCounter`).
 //!
 //! Run: `cargo run --example embed_view [EFFECT...]` (default: glow);
 //! `FX_EXAMPLE_FRAMES=N` closes the window after N frames.
 
-use fxgraph::app::{Change, Effect};
+use fxgraph::app::Change;
 use fxgraph::gpu::context::{AdapterChoice, GpuContext};
 use fxgraph::gpu::executor::{Engine, FrameInputs, Prepared};
 use fxgraph::gpu::transfer::texture_2d;
 use fxgraph::graph::plan::InputDesc;
 use fxgraph::script::types::{ColorSpace, Format};
-use fxgraph::view::inspect::pass_rows;
+use fxgraph::view::fps::FpsCounter;
+use fxgraph::view::fx::Fx;
+use fxgraph::view::inspect::{shade_of, Target};
+use fxgraph::view::model::Model;
+use fxgraph::view::panel::{params_section, passes_section, UiEvent};
 use fxgraph::view::present::{Placement, Presenter, Shown};
+use fxgraph::view::ui_state::UiState;
 use std::sync::Arc;
+use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
@@ -43,11 +52,14 @@ struct Win {
 /// The application: its scene texture, the effect on it, the window.
 struct App {
     engine: Engine,
-    effect: Effect,
+    fx: Fx,
     prepared: Prepared,
-    scene: wgpu::TextureView,
+    scene: wgpu::Texture,
+    scene_view: wgpu::TextureView,
     output: wgpu::Texture,
-    inspected: Option<usize>,
+    /// What is inspected and how (the pass inspector edits it).
+    ui: UiState,
+    fps: FpsCounter,
     frames_left: Option<u32>,
     win: Option<Win>,
 }
@@ -89,9 +101,12 @@ fn input_desc() -> InputDesc {
 impl App {
     fn new(effects: &[String]) -> Result<App, Box<dyn std::error::Error>> {
         let mut engine = Engine::new(GpuContext::new(&AdapterChoice::Auto)?);
-        let mut effect = Effect::compile(effects, &[])?;
-        let prepared = effect.prepare(&mut engine, &input_desc(), Some(Format::Rgba16f))?;
-        let scene = scene_texture(&engine.ctx).create_view(&wgpu::TextureViewDescriptor {
+        let mut fx = Fx::new(effects, &[], &[])?;
+        let prepared =
+            fx.effect_mut()?
+                .prepare(&mut engine, &input_desc(), Some(Format::Rgba16f))?;
+        let scene = scene_texture(&engine.ctx);
+        let scene_view = scene.create_view(&wgpu::TextureViewDescriptor {
             label: Some("embed_view scene view"),
             ..Default::default()
         });
@@ -109,11 +124,13 @@ impl App {
             .and_then(|v| v.parse().ok());
         Ok(App {
             engine,
-            effect,
+            fx,
             prepared,
             scene,
+            scene_view,
             output,
-            inspected: None,
+            ui: UiState::default(),
+            fps: FpsCounter::default(),
             frames_left,
             win: None,
         })
@@ -169,60 +186,83 @@ impl App {
         Ok(())
     }
 
-    /// The side panel: a slider per one-number pass parameter, then the passes.
-    /// Returns the parameter changes and the pass clicked.
-    fn panel(&self, ui: &mut egui::Ui) -> (Vec<(String, f64)>, Option<usize>) {
-        let mut changes = Vec::new();
-        let mut clicked = None;
-        ui.heading("Parameters");
-        for p in self.prepared.params().iter().filter(|p| p.value.len() == 1) {
-            let mut v = p.value[0];
-            let (lo, hi) = p.range.unwrap_or((0.0, (2.0 * v).max(1.0)));
-            if ui
-                .add(egui::Slider::new(&mut v, lo..=hi).text(&p.name))
-                .changed()
-            {
-                changes.push((p.name.clone(), v));
-            }
+    /// The side panel: the fps readout, then the library's parameter panel and
+    /// pass inspector; their changes go to `events`.
+    fn panel(&mut self, ui: &mut egui::Ui, events: &mut Vec<UiEvent>) {
+        let adapter = &self.engine.ctx.info.name;
+        let model = Model::for_effect(&self.fx, Some(&self.prepared), adapter);
+        if let Some(r) = self.fps.reading() {
+            ui.label(r.text());
         }
-        ui.separator();
-        ui.heading("Passes");
-        for row in pass_rows(&self.prepared) {
-            let text = format!("{} {}x{} {:?}", row.path, row.width, row.height, row.format);
-            if ui
-                .selectable_label(self.inspected == Some(row.index), text)
-                .clicked()
-            {
-                clicked = Some(row.index);
-            }
-        }
-        (changes, clicked)
+        egui::CollapsingHeader::new("Parameters")
+            .default_open(true)
+            .show(ui, |ui| params_section(ui, &model, events));
+        egui::CollapsingHeader::new("Passes")
+            .default_open(true)
+            .show(ui, |ui| passes_section(ui, &model, &mut self.ui, events));
     }
 
-    /// Apply the panel's changes: parameters through `Effect::set` (planned again
-    /// when the passes change), the inspected pass toggled.
-    fn apply(&mut self, changes: Vec<(String, f64)>, clicked: Option<usize>) {
-        for (name, value) in changes {
-            match self
-                .effect
-                .set(Some(&mut self.prepared), &name, &value.to_string())
-            {
-                Ok(Change::Replan(new)) => {
-                    let mut new = *new;
-                    match new.prepare(&mut self.engine, &input_desc(), Some(Format::Rgba16f)) {
-                        Ok(p) => (self.effect, self.prepared) = (new, p),
-                        Err(e) => log::warn!("{name}: {e}"),
-                    }
+    /// Apply the panel's changes: parameters through `Fx` (`Effect::set`; planned
+    /// again when the passes change), the pass inspected. The viewer's commands
+    /// (its keys and buttons) are not part of this application.
+    fn apply(&mut self, events: Vec<UiEvent>) {
+        for e in events {
+            let r = match e {
+                UiEvent::Set(k, v) => self
+                    .fx
+                    .set(Some(&mut self.prepared), &k, &v)
+                    .and_then(|c| self.applied(c)),
+                UiEvent::Reset(k) => self
+                    .fx
+                    .reset(Some(&mut self.prepared), &k)
+                    .and_then(|c| self.applied(c)),
+                UiEvent::Inspect(t) => self.inspect(t),
+                UiEvent::CopySet => {
+                    println!("{}", self.fx.as_set_args(&self.prepared.params()));
+                    Ok(())
                 }
-                Ok(_) => {}
-                Err(e) => log::warn!("{name}: {e}"),
+                UiEvent::Command(_) | UiEvent::AutoRange => Ok(()),
+            };
+            if let Err(e) = r {
+                log::warn!("{e}");
             }
         }
-        if let Some(i) = clicked {
-            self.inspected = (self.inspected != Some(i)).then_some(i);
-            if let Err(e) = self.prepared.inspect(self.inspected) {
-                log::warn!("inspect: {e}");
+    }
+
+    /// A parameter change: a new effect is planned (and nothing is inspected).
+    fn applied(&mut self, change: Change) -> Result<(), String> {
+        if let Change::Replan(new) = change {
+            let mut new = *new;
+            let prepared = new
+                .prepare(&mut self.engine, &input_desc(), Some(Format::Rgba16f))
+                .map_err(|e| e.to_string())?;
+            (self.fx.effect, self.prepared) = (Some(new), prepared);
+            self.ui.inspect.target = Target::Output;
+        }
+        Ok(())
+    }
+
+    /// Show `target` instead of the output (a pass is kept by `Prepared::inspect`).
+    fn inspect(&mut self, target: Target) -> Result<(), String> {
+        let pass = match &target {
+            Target::Pass(i) => Some(*i),
+            _ => None,
+        };
+        self.prepared.inspect(pass).map_err(|e| e.to_string())?;
+        self.ui.inspect.target = target;
+        Ok(())
+    }
+
+    /// The texture to show and its format: the inspected pass (once written),
+    /// the input, else the effect's output.
+    fn shown(&self) -> (&wgpu::Texture, Format) {
+        match (&self.ui.inspect.target, self.prepared.inspected()) {
+            (Target::Pass(i), Some(t)) => {
+                let passes = &self.prepared.plan.passes;
+                (t, passes.get(*i).map_or(Format::Rgba16f, |p| p.desc.format))
             }
+            (Target::Input, _) => (&self.scene, Format::Rgba16f),
+            _ => (&self.output, Format::Rgba16f),
         }
     }
 
@@ -239,13 +279,17 @@ impl App {
     /// The effect on the scene, the panel, the image pass.
     fn draw(&mut self, win: &mut Win) -> Result<(), Box<dyn std::error::Error>> {
         let ctx = self.engine.ctx.clone();
+        let start = Instant::now();
         let raw = win.egui_state.take_egui_input(&win.window);
-        let (mut changes, mut clicked) = (Vec::new(), None);
+        let mut events = Vec::new();
         let full = win.egui_ctx.run_ui(raw, |ui| {
+            events.clear();
             egui::Panel::left("embed_view panel")
                 .default_size(PANEL_WIDTH)
                 .resizable(false)
-                .show(ui, |ui| (changes, clicked) = self.panel(ui));
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| self.panel(ui, &mut events))
+                });
         });
         let mut encoder = ctx
             .device
@@ -255,7 +299,7 @@ impl App {
         self.prepared.record(
             &mut self.engine,
             &mut encoder,
-            &FrameInputs::single(&self.scene),
+            &FrameInputs::single(&self.scene_view),
             &self.output,
         )?;
         win.egui_state
@@ -294,19 +338,11 @@ impl App {
         let extra =
             win.egui_renderer
                 .update_buffers(&ctx.device, &ctx.queue, &mut encoder, &jobs, &screen);
-        // The inspected pass (once written), else the effect's output.
-        let rows = pass_rows(&self.prepared);
-        let shown = match (self.prepared.inspected(), self.inspected) {
-            (Some(t), Some(i)) => Shown {
-                texture: t,
-                format: rows.get(i).map_or(Format::Rgba16f, |r| r.format),
-                shade: None,
-            },
-            _ => Shown {
-                texture: &self.output,
-                format: Format::Rgba16f,
-                shade: None,
-            },
+        let (texture, format) = self.shown();
+        let shown = Shown {
+            texture,
+            format,
+            shade: Some(shade_of(&self.ui.inspect, format)),
         };
         let x = ((PANEL_WIDTH * ppp) as u32).min(sw);
         let area = [x, 0, sw - x, sh];
@@ -316,7 +352,7 @@ impl App {
             area,
             split: 0.0,
             exposure: 0.0,
-            range: (0.0, 1.0),
+            range: self.ui.inspect.range,
             mark_clipping: false,
         };
         win.presenter.prepare(&ctx, shown, None, &place);
@@ -341,7 +377,8 @@ impl App {
             win.egui_renderer.free_texture(id);
         }
         win.window.request_redraw();
-        self.apply(changes, clicked);
+        self.fps.tick(Instant::now(), start.elapsed());
+        self.apply(events);
         Ok(())
     }
 }

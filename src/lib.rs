@@ -25,8 +25,9 @@
 //!   consumes a loaded scene and returns images (no file I/O: nothing from `io`).
 //! - `app` (feature `gpu`): jobs joining sources, the effect on the GPU and sinks;
 //!   one report type. `fxrun` is a command line over it.
-//! - `view` (feature `view`): the reusable parts of `fxrun --view` (the image
-//!   pass, the pass inspector, camera control, the cached egui panel).
+//! - `view` (feature `view`): the reusable parts of `fxrun --view` (the
+//!   parameter panel, what is shown, the image pass, the pass inspector, the fps
+//!   readout, camera control, the cached egui panel), without a window system.
 // No printing from the library: messages go through `log` (Cargo.toml's
 // `[lints]` has the rules held on every target).
 #![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]

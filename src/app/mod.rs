@@ -18,7 +18,9 @@
 //!   files, y4m, memory; [`streams`]: y4m on stdin/stdout, y4m files and video files
 //!   (through ffmpeg) opened for a run.
 //! - [`scene`]: render a scene, then the effects ([`run_scene_job`]); [`gbuffer`]:
-//!   its G-buffer as files ([`write_gbuffer`]).
+//!   its G-buffer as files ([`write_gbuffer`]); [`scene_frames`]: a scene
+//!   rendered live, frame by frame, through an effect ([`SceneFrames`]: what
+//!   `fxrun --view` shows a scene with).
 //! - [`report`]: [`RunReport`]; [`error`]: [`RunError`].
 
 pub mod batch;
@@ -38,6 +40,7 @@ pub mod planes;
 pub mod report;
 pub mod scene;
 mod scene_errors;
+pub mod scene_frames;
 pub mod scene_sequence;
 pub mod sequence;
 pub mod sources;
@@ -56,6 +59,7 @@ pub use pipeline::{
 };
 pub use report::{FrameDone, FrameFailure, JobKind, Progress, RunReport};
 pub use scene::{run_scene_job, SceneJob};
+pub use scene_frames::{SceneFrame, SceneFrames};
 pub use scene_sequence::{run_scene_sequence, SceneTimes};
 pub use sequence::{run_sequence, SequenceOptions};
 pub use sources::{

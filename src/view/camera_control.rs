@@ -28,6 +28,22 @@ impl FlyKeys {
     pub fn any(&self) -> bool {
         self.forward || self.back || self.left || self.right || self.up || self.down
     }
+
+    /// A fly key (W A S D forward, left, back, right; E Q up, down; any case)
+    /// pressed or released; false when `letter` is none of them.
+    pub fn set_letter(&mut self, letter: &str, pressed: bool) -> bool {
+        let slot = match letter.to_lowercase().as_str() {
+            "w" => &mut self.forward,
+            "s" => &mut self.back,
+            "a" => &mut self.left,
+            "d" => &mut self.right,
+            "e" => &mut self.up,
+            "q" => &mut self.down,
+            _ => return false,
+        };
+        *slot = pressed;
+        true
+    }
 }
 
 /// Moves a [`Camera`]; `radius` is half the scene's bounding-box diagonal.

@@ -28,6 +28,40 @@ pub enum Target {
     Aux(String),
 }
 
+impl Target {
+    /// By name: a pass's path or its last part (in `prepared`'s plan), `output`,
+    /// `input`, `aux:NAME` (`--view-do inspect NAME`).
+    pub fn by_name(prepared: Option<&Prepared>, name: &str) -> Result<Target, String> {
+        Ok(match name {
+            "output" => Target::Output,
+            "input" => Target::Input,
+            _ if name.starts_with("aux:") => Target::Aux(name[4..].to_string()),
+            _ => {
+                let p = prepared.ok_or("no effect is planned")?;
+                let i = p
+                    .plan
+                    .passes
+                    .iter()
+                    .position(|q| q.path == name || q.path.rsplit('/').next() == Some(name))
+                    .ok_or_else(|| format!("inspect {name}: no such pass"))?;
+                Target::Pass(i)
+            }
+        })
+    }
+
+    /// The next (`forward`) or previous entry of a list of `passes` passes after
+    /// the output; other targets stay.
+    pub fn step(&self, passes: usize, forward: bool) -> Target {
+        match (self, forward) {
+            (Target::Pass(i), true) if i + 1 < passes => Target::Pass(i + 1),
+            (Target::Pass(0), false) => Target::Output,
+            (Target::Pass(i), false) => Target::Pass(i - 1),
+            (Target::Output, true) if passes > 0 => Target::Pass(0),
+            (t, _) => t.clone(),
+        }
+    }
+}
+
 /// The inspection settings of the panel.
 pub struct Inspect {
     pub target: Target,

@@ -10,6 +10,48 @@ use crate::gpu::fullscreen::{begin_color_pass, fullscreen_pipeline};
 use crate::gpu::transfer::{create_output, texture_2d};
 use crate::script::types::Format;
 
+/// A window surface's configuration on `ctx`: a unorm format where the window
+/// offers one (8-bit outputs' codes shown exactly), `COPY_DST` where offered (a
+/// 1:1 image is copied into the surface), `size`, vsync or not; `None` when the
+/// window offers no format.
+pub fn surface_config(
+    ctx: &GpuContext,
+    surface: &wgpu::Surface<'static>,
+    (width, height): (u32, u32),
+    vsync: bool,
+) -> Option<wgpu::SurfaceConfiguration> {
+    let caps = surface.get_capabilities(&ctx.adapter);
+    let unorm = |f: &wgpu::TextureFormat| {
+        matches!(
+            f,
+            wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
+        )
+    };
+    let format = caps
+        .formats
+        .iter()
+        .copied()
+        .find(unorm)
+        .or(caps.formats.first().copied())?;
+    let usage =
+        wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
+    Some(wgpu::SurfaceConfiguration {
+        usage,
+        format,
+        width: width.max(1),
+        height: height.max(1),
+        present_mode: if vsync {
+            wgpu::PresentMode::AutoVsync
+        } else {
+            wgpu::PresentMode::AutoNoVsync
+        },
+        desired_maximum_frame_latency: 2,
+        alpha_mode: caps.alpha_modes[0],
+        view_formats: vec![],
+        color_space: wgpu::SurfaceColorSpace::Auto,
+    })
+}
+
 /// The texture format the window's copy of an output of `format` is in: the BGRA
 /// twin of an 8-bit format (what window surfaces offer: at 1:1 the output is copied
 /// to the screen, not drawn), the plan's own otherwise (and on GL, which cannot

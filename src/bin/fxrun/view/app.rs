@@ -2,85 +2,26 @@
 //! instance the adapter came from), egui's state and renderer, and the viewer's
 //! state between frames.
 
-use super::commands::{key_command, Command};
-use super::content::Content;
-use super::fx::Fx;
+use super::commands::key_command;
 use super::reload::Reloader;
 use super::script::Script;
 use super::UserEvent;
 use crate::{Cli, Fail};
 use fxgraph::gpu::executor::Engine;
-use fxgraph::view::inspect::Inspect;
+use fxgraph::view::command::Command;
+use fxgraph::view::content::Content;
+use fxgraph::view::fx::Fx;
 use fxgraph::view::panel_cache::PanelCache;
-use fxgraph::view::present::Presenter;
+use fxgraph::view::present::{surface_config, Presenter};
+use fxgraph::view::ui_state::{UiState, PANEL_WIDTH};
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoopProxy};
-use winit::keyboard::{Key, NamedKey};
+use winit::keyboard::Key;
 use winit::window::{Window, WindowId};
-
-/// Width of the control panel, in points.
-pub(super) const PANEL_WIDTH: f32 = 360.0;
-
-/// What the viewer shows and how, besides the content.
-pub(super) struct UiState {
-    pub panel: bool,
-    /// Fit the image to the area (else `zoom` with `center`).
-    pub fit: bool,
-    /// Screen pixels per image pixel when not fitting.
-    pub zoom: f32,
-    /// The image point (in its pixels) at the centre of the area.
-    pub center: [f32; 2],
-    /// Image x (0..1) of the before/after split, when shown.
-    pub split: Option<f32>,
-    /// Exposure (stops) of linear-light images.
-    pub exposure: f32,
-    pub mark_clipping: bool,
-    /// Record the effect of a still or a scene every frame (for its GPU times).
-    pub continuous: bool,
-    pub inspect: Inspect,
-    /// The last compile or run error (rendered diagnostics), shown until it is fixed.
-    pub error: Option<String>,
-    /// The last message.
-    pub status: String,
-    /// The last "copy as --set" text.
-    pub copied: Option<String>,
-    /// The image area of the last frame (surface pixels: x, y, width, height).
-    pub area: [u32; 4],
-    /// The frame and pass times the panel shows.
-    pub figures: Option<Figures>,
-}
-
-/// Times shown in the panel, refreshed twice a second.
-pub(super) struct Figures {
-    pub at: Instant,
-    pub frame_ms: Option<f64>,
-    pub gpu_ms: Vec<Option<f64>>,
-}
-
-impl Default for UiState {
-    fn default() -> Self {
-        UiState {
-            panel: true,
-            fit: true,
-            zoom: 1.0,
-            center: [0.0, 0.0],
-            split: None,
-            exposure: 0.0,
-            mark_clipping: false,
-            continuous: false,
-            inspect: Inspect::default(),
-            error: None,
-            status: String::new(),
-            copied: None,
-            area: [0, 0, 0, 0],
-            figures: None,
-        }
-    }
-}
 
 /// The window and what draws into it.
 pub(super) struct Win {
@@ -307,51 +248,17 @@ impl Viewer {
         Ok(())
     }
 
-    /// The surface's configuration: a unorm format where the window offers one
-    /// (8-bit outputs' codes shown exactly), the window's size, no vsync in
-    /// scripted runs.
+    /// The surface's configuration ([`surface_config`]): no vsync in scripted runs
+    /// (tests, benchmarks are not held to the display's rate).
     fn surface_config(
         &self,
         surface: &wgpu::Surface<'static>,
         size: winit::dpi::PhysicalSize<u32>,
     ) -> Result<wgpu::SurfaceConfiguration, Fail> {
-        let ctx = &self.engine.ctx;
-        let gpu_fail = |m: String| Fail {
+        let vsync = self.script.is_none();
+        surface_config(&self.engine.ctx, surface, (size.width, size.height), vsync).ok_or(Fail {
             code: 2,
-            message: format!("--view: {m}"),
-        };
-        let caps = surface.get_capabilities(&ctx.adapter);
-        // A unorm surface shows 8-bit outputs' codes exactly.
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(|f| {
-                matches!(
-                    f,
-                    wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
-                )
-            })
-            .or(caps.formats.first().copied())
-            .ok_or_else(|| gpu_fail("the window offers no surface format".into()))?;
-        // COPY_DST: a 1:1 image is copied into the surface (`fxgraph::view::present`).
-        let usage =
-            wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
-        Ok(wgpu::SurfaceConfiguration {
-            usage,
-            format,
-            width: size.width.max(1),
-            height: size.height.max(1),
-            // Scripted runs (tests, benchmarks) are not held to the display's rate.
-            present_mode: if self.script.is_some() {
-                wgpu::PresentMode::AutoNoVsync
-            } else {
-                wgpu::PresentMode::AutoVsync
-            },
-            desired_maximum_frame_latency: 2,
-            alpha_mode: caps.alpha_modes[0],
-            view_formats: vec![],
-            color_space: wgpu::SurfaceColorSpace::Auto,
+            message: "--view: the window offers no surface format".into(),
         })
     }
 
@@ -383,11 +290,7 @@ impl Viewer {
     /// Does anything need frames without input (playing, flying, scripted)?
     fn animating(&self) -> bool {
         let flying = matches!(&self.content, Content::Scene(s) if s.control.keys.any());
-        let playing = match &self.content {
-            Content::Playback(p) => p.playing,
-            Content::Scene(s) => s.timed() && s.clock.playing,
-            Content::Stills(_) => false,
-        };
+        let playing = self.content.playing() == Some(true);
         self.script.is_some() || flying || playing || self.ui.continuous || self.reload_pending
     }
 }
@@ -467,11 +370,7 @@ impl ApplicationHandler<UserEvent> for Viewer {
             w.window.request_redraw();
             return;
         }
-        let until_due = match &self.content {
-            Content::Playback(p) => p.until_due(),
-            Content::Scene(s) if s.timed() => s.clock.until_due(),
-            _ => None,
-        };
+        let until_due = self.content.until_due();
         if let (Some(wait), None) = (until_due, &self.script) {
             event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + wait));
             if wait.is_zero() {
@@ -492,25 +391,11 @@ impl Viewer {
         let Content::Scene(s) = &mut self.content else {
             return false;
         };
-        let k = &mut s.control.keys;
-        k.fast = shift;
-        let slot = match key {
-            Key::Character(c) => match c.to_lowercase().as_str() {
-                "w" => &mut k.forward,
-                "s" => &mut k.back,
-                "a" => &mut k.left,
-                "d" => &mut k.right,
-                "e" => &mut k.up,
-                "q" => &mut k.down,
-                _ => return false,
-            },
-            Key::Named(NamedKey::Shift) => return false,
-            _ => return false,
-        };
-        *slot = pressed;
-        if let Some(w) = &self.win {
-            w.window.request_redraw();
+        s.control.keys.fast = shift;
+        let fly = matches!(key, Key::Character(c) if s.control.keys.set_letter(c, pressed));
+        if fly {
+            self.redraw();
         }
-        true
+        fly
     }
 }

@@ -3,7 +3,6 @@
 //! inspecting, screenshots, reloads and the scripted actions.
 
 use super::app::Viewer;
-use super::content::Content;
 use super::screenshot;
 use super::script::Action;
 use crate::{stdout_result, Fail};
@@ -11,47 +10,14 @@ use fxgraph::app::Change;
 use fxgraph::app::Effect;
 use fxgraph::io::SaveOptions;
 use fxgraph::script::types::Format;
-use fxgraph::view::inspect::{aux_range, Target};
+use fxgraph::view::command::Command;
+use fxgraph::view::content::Content;
+use fxgraph::view::inspect::Target;
 use std::io::BufRead as _;
 use std::path::PathBuf;
 use std::time::Instant;
 use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{Key, NamedKey};
-
-/// A command of a key (or of the panel's buttons).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Command {
-    /// Next image, or next frame (pauses a sequence).
-    Next,
-    /// Previous image or frame.
-    Prev,
-    /// First image or frame.
-    First,
-    PlayPause,
-    Fit,
-    OneToOne,
-    ZoomIn,
-    ZoomOut,
-    TogglePanel,
-    ToggleSplit,
-    Screenshot,
-    /// Back to the run's camera (scenes).
-    CameraHome,
-    /// Inspect the next / previous pass of the list.
-    InspectNext,
-    InspectPrev,
-    Quit,
-}
-
-impl Command {
-    /// Does holding the key repeat it?
-    pub fn repeats(self) -> bool {
-        matches!(
-            self,
-            Command::Next | Command::Prev | Command::ZoomIn | Command::ZoomOut
-        )
-    }
-}
 
 /// The command of a key (docs/cli.md lists them).
 pub(super) fn key_command(key: &Key, ctrl: bool) -> Option<Command> {
@@ -110,14 +76,7 @@ impl Viewer {
             }
             Command::Next | Command::Prev | Command::First => self.navigate(c),
             Command::PlayPause => {
-                match &mut self.content {
-                    Content::Playback(p) => p.playing = !p.playing,
-                    Content::Scene(s) if s.timed() => {
-                        s.clock.playing = !s.clock.playing;
-                        s.set_frame(s.clock.frame);
-                    }
-                    _ => {}
-                }
+                self.content.play_pause();
                 Ok(())
             }
             Command::Fit => {
@@ -125,9 +84,13 @@ impl Viewer {
                 Ok(())
             }
             Command::OneToOne => {
-                self.ui.fit = false;
-                self.ui.zoom = 1.0;
-                self.center_image();
+                match self.content.image_size() {
+                    Some(size) => self.ui.one_to_one(size),
+                    None => {
+                        self.ui.fit = false;
+                        self.ui.zoom = 1.0;
+                    }
+                }
                 Ok(())
             }
             Command::ZoomIn | Command::ZoomOut => {
@@ -161,13 +124,7 @@ impl Viewer {
                     .content
                     .prepared_ref()
                     .map_or(0, |p| p.plan.passes.len());
-                let next = match (&self.ui.inspect.target, c) {
-                    (Target::Pass(i), Command::InspectNext) if i + 1 < n => Target::Pass(i + 1),
-                    (Target::Pass(0), Command::InspectPrev) => Target::Output,
-                    (Target::Pass(i), Command::InspectPrev) => Target::Pass(i - 1),
-                    (Target::Output, Command::InspectNext) if n > 0 => Target::Pass(0),
-                    (t, _) => t.clone(),
-                };
+                let next = self.ui.inspect.target.step(n, c == Command::InspectNext);
                 self.inspect(next)
             }
         };
@@ -184,79 +141,26 @@ impl Viewer {
         }
     }
 
-    /// Show the image at 1:1 around its centre.
-    fn center_image(&mut self) {
-        if let Some((t, _)) = self.content.output() {
-            self.ui.center = [t.width() as f32 / 2.0, t.height() as f32 / 2.0];
-        }
-    }
-
     /// Zoom by `factor` around `at` (area pixels; `None`: the area's centre).
     pub fn zoom_by(&mut self, factor: f32, at: Option<[f32; 2]>) {
-        let Some((t, _)) = self.content.output() else {
-            return;
-        };
-        let [ax, ay, aw, ah] = self.ui.area.map(|v| v as f32);
-        let (iw, ih) = (t.width() as f32, t.height() as f32);
-        if self.ui.fit {
-            self.ui.zoom = (aw / iw).min(ah / ih).max(1e-3);
-            self.ui.center = [iw / 2.0, ih / 2.0];
-            self.ui.fit = false;
+        if let Some(size) = self.content.image_size() {
+            self.ui.zoom_by(size, factor, at);
         }
-        let at = at.unwrap_or([ax + aw / 2.0, ay + ah / 2.0]);
-        let z0 = self.ui.zoom;
-        let z1 = (z0 * factor).clamp(1.0 / 64.0, 64.0);
-        // The image point under `at` stays there.
-        let origin = [
-            ax + aw / 2.0 - self.ui.center[0] * z0,
-            ay + ah / 2.0 - self.ui.center[1] * z0,
-        ];
-        let p = [(at[0] - origin[0]) / z0, (at[1] - origin[1]) / z0];
-        let new_origin = [at[0] - p[0] * z1, at[1] - p[1] * z1];
-        self.ui.zoom = z1;
-        self.ui.center = [
-            (ax + aw / 2.0 - new_origin[0]) / z1,
-            (ay + ah / 2.0 - new_origin[1]) / z1,
-        ];
     }
 
     /// Next, previous or first image or frame.
     fn navigate(&mut self, c: Command) -> Result<(), String> {
-        match &mut self.content {
-            Content::Stills(s) => {
-                let moved = match c {
-                    Command::Next => s.step(1),
-                    Command::Prev => s.step(-1),
-                    _ => s.first(),
-                };
-                if moved {
-                    s.load(&self.engine).map_err(|e| e.to_string())?;
-                    self.dirty = true;
-                    self.watch();
-                }
-                Ok(())
-            }
-            Content::Playback(p) => {
-                p.playing = false;
-                let r = match c {
-                    Command::Next => p.step(&mut self.engine, &mut self.fx, 1),
-                    Command::Prev => p.step(&mut self.engine, &mut self.fx, -1),
-                    _ => p.seek(&mut self.engine, &mut self.fx, 0).map(|_| true),
-                };
-                r.map(|_| ()).map_err(|e| e.to_string())
-            }
-            Content::Scene(s) => {
-                s.clock.playing = false;
-                let f = s.clock.frame;
-                s.set_frame(match c {
-                    Command::Next => f + 1,
-                    Command::Prev => f.saturating_sub(1),
-                    _ => 0,
-                });
-                self.dirty = true;
-                Ok(())
+        let again = self
+            .content
+            .navigate(&mut self.engine, &mut self.fx, c)
+            .map_err(|e| e.to_string())?;
+        if again {
+            self.dirty = true;
+            if let Content::Stills(_) = &self.content {
+                self.watch();
             }
         }
+        Ok(())
     }
 
     /// Set a parameter: the panel's controls and `--view-do set` come here.
@@ -286,14 +190,8 @@ impl Viewer {
     /// next frame).
     fn rerun(&mut self) {
         self.dirty = true;
-        if let Content::Playback(p) = &mut self.content {
-            if !p.playing && !self.fx.has_feedback() {
-                if let Some(at) = p.shown() {
-                    if let Err(e) = p.seek(&mut self.engine, &mut self.fx, at) {
-                        self.ui.status = e.to_string();
-                    }
-                }
-            }
+        if let Err(e) = self.content.rerun_paused(&mut self.engine, &mut self.fx) {
+            self.ui.status = e.to_string();
         }
     }
 
@@ -361,10 +259,7 @@ impl Viewer {
         }
         self.ui.inspect.shade = None;
         self.ui.inspect.range = match &target {
-            Target::Aux(name) => match &self.content {
-                Content::Scene(s) => aux_range(name, s.depth_range(), s.control.radius * 2.0),
-                _ => (0.0, 1.0),
-            },
+            Target::Aux(name) => self.content.aux_range(name),
             _ => (0.0, 1.0),
         };
         self.ui.inspect.target = target;
@@ -374,44 +269,13 @@ impl Viewer {
 
     /// Inspect by name: a pass's path or last part, `output`, `input`, `aux:NAME`.
     pub fn inspect_by_name(&mut self, name: &str) -> Result<(), String> {
-        let target = match name {
-            "output" => Target::Output,
-            "input" => Target::Input,
-            _ if name.starts_with("aux:") => Target::Aux(name[4..].to_string()),
-            _ => {
-                let p = self.content.prepared_ref().ok_or("no effect is planned")?;
-                let i = p
-                    .plan
-                    .passes
-                    .iter()
-                    .position(|q| q.path == name || q.path.rsplit('/').next() == Some(name))
-                    .ok_or_else(|| format!("inspect {name}: no such pass"))?;
-                Target::Pass(i)
-            }
-        };
+        let target = Target::by_name(self.content.prepared_ref(), name)?;
         self.inspect(target)
     }
 
     /// The texture shown (at full resolution) and its format.
     pub fn shown_texture(&mut self) -> Option<(wgpu::Texture, Format)> {
-        match self.ui.inspect.target.clone() {
-            Target::Output => self.content.output().map(|(t, f)| (t.clone(), f)),
-            Target::Pass(i) => {
-                let p = self.content.prepared_ref()?;
-                let f = p.plan.passes.get(i)?.desc.format;
-                p.inspected().map(|t| (t.clone(), f))
-            }
-            Target::Input => self
-                .content
-                .before(&self.engine)
-                .map(|(t, f)| (t.clone(), f)),
-            Target::Aux(n) => self
-                .content
-                .aux()
-                .into_iter()
-                .find(|(m, _, _)| *m == n)
-                .map(|(_, t, f)| (t.clone(), f)),
-        }
+        self.content.shown(&self.engine, &self.ui.inspect.target)
     }
 
     /// Write what is shown to `path` (else `--screenshot`, `-o FILE`, or a new

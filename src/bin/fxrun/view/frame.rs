@@ -4,44 +4,22 @@
 //! then the panel's changes are applied (the next frame shows them) and, when
 //! scripted, the actions of this frame run.
 
-use super::app::{Figures, FrameStats, UiState, Viewer};
-use super::content::Content;
-use super::panel::{self, ImageInput, Model, UiEvent};
+use super::app::{FrameStats, Viewer, Win};
 use crate::Fail;
-use fxgraph::gpu::fullscreen::begin_color_pass;
-use fxgraph::view::inspect::{pass_rows, shade_of};
-use fxgraph::view::panel_cache::PanelPaint;
-use fxgraph::view::present::{Placement, Shown};
+use fxgraph::gpu::context::GpuContext;
+use fxgraph::script::types::Format;
+use fxgraph::view::content::Content;
+use fxgraph::view::frame_paint as paint;
+use fxgraph::view::panel::{self, Model, UiEvent};
+use fxgraph::view::ui_state::{ImageInput, UiState};
 use std::time::{Duration, Instant};
 use winit::event_loop::ActiveEventLoop;
-
-/// How often the panel's figures (frame and pass times) are refreshed.
-const FIGURES_EVERY: Duration = Duration::from_millis(500);
 
 /// How long a scripted `wait-reload` waits.
 const RELOAD_WAIT: Duration = Duration::from_secs(600);
 
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
-}
-
-/// Where an image of `size` pixels is drawn in the area of `ui` (fit, or the zoom
-/// around the centre point), on whole pixels.
-fn image_rect(ui: &UiState, (iw, ih): (f32, f32)) -> [f32; 4] {
-    let [ax, ay, aw, ah] = ui.area.map(|v| v as f32);
-    let (cx, cy) = (ax + aw / 2.0, ay + ah / 2.0);
-    if ui.fit {
-        let s = (aw / iw).min(ah / ih);
-        let (w, h) = (iw * s, ih * s);
-        return [(cx - w / 2.0).round(), (cy - h / 2.0).round(), w, h];
-    }
-    let z = ui.zoom;
-    [
-        (cx - ui.center[0] * z).round(),
-        (cy - ui.center[1] * z).round(),
-        iw * z,
-        ih * z,
-    ]
 }
 
 fn median(v: &[f64]) -> f64 {
@@ -77,7 +55,7 @@ impl Viewer {
             .output()
             .map(|(t, _)| (t.width() as f32, t.height() as f32))
             .unwrap_or((1.0, 1.0));
-        image_rect(&self.ui, size)
+        self.ui.image_rect(size)
     }
 
     /// Draw one frame (see the module's documentation).
@@ -88,68 +66,23 @@ impl Viewer {
         if self.reload_pending {
             self.reload();
         }
-        if let Some((n, since)) = self.waiting_reload {
-            if self.reloads < n {
-                if since.elapsed() > RELOAD_WAIT {
-                    let f = Fail {
-                        code: 2,
-                        message: "--view-do wait-reload: no watched file changed in 10 minutes"
-                            .into(),
-                    };
-                    self.fail(event_loop, f);
-                }
-                return;
-            }
-            self.waiting_reload = None;
+        if self.still_waiting_reload(event_loop) {
+            return;
         }
         let scripted = self.script.is_some();
-        if let Content::Scene(s) = &mut self.content {
-            let mut cam = s.camera;
-            if s.control.fly(&mut cam, dt) {
-                s.camera = cam;
-                s.camera_moved();
-                self.dirty = true;
-            }
+        match self
+            .content
+            .advance(&mut self.engine, dt, scripted, self.shown == 0)
+        {
+            Ok(again) => self.dirty |= again,
+            Err(e) => self.ui.status = e.to_string(),
         }
-        if let Content::Scene(s) = &mut self.content {
-            // A scene's clock: as a sequence's frames.
-            let c = &s.clock;
-            if s.timed() && ((scripted && self.shown > 0 && c.playing) || (!scripted && c.due())) {
-                let next = c.frame + 1;
-                s.set_frame(next);
-                self.dirty = true;
-            }
-        }
-        if let Content::Playback(p) = &mut self.content {
-            // Scripted: one frame further per frame shown while playing (the first
-            // shows frame 0).
-            if (scripted && self.shown > 0 && p.playing) || (!scripted && p.due()) {
-                if let Err(e) = p.advance(&mut self.engine) {
-                    self.ui.status = e.to_string();
-                }
-            }
-        }
-        if self.content.needs_plan() {
-            if let Err(e) = self.content.prepare(&mut self.engine, &mut self.fx) {
-                self.ui.error = Some(e.to_string());
-            }
-            self.dirty = true;
-        }
+        self.plan_if_needed();
         let device = self.engine.ctx.device.clone();
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("viewer frame"),
         });
-        let record = self.content.rerecordable() && (self.dirty || self.ui.continuous || scripted);
-        if record {
-            let t = Instant::now();
-            match self.content.record(&mut self.engine, &mut encoder) {
-                Ok(()) => {
-                    self.dirty = false;
-                    self.stats.record.push(ms(t.elapsed()));
-                }
-                Err(e) => self.ui.error = Some(e.to_string()),
-            }
-        }
+        self.record_effect(&mut encoder, scripted);
         let (events, input) = match self.draw(encoder) {
             Ok(x) => x,
             Err(f) => {
@@ -161,11 +94,7 @@ impl Viewer {
             // The frame is on screen once the GPU is done with it.
             let _ = device.poll(wgpu::PollType::wait_indefinitely());
         }
-        self.shown += 1;
-        self.stats.frames.push(ms(t0.elapsed()));
-        if let Some(at) = self.stats.change_at.take() {
-            self.stats.change_shown.push((ms(at.elapsed()), self.shown));
-        }
+        self.count_frame(t0);
         self.apply_input(&input);
         for e in events {
             self.apply_event(event_loop, e);
@@ -174,6 +103,64 @@ impl Viewer {
             w.window.set_title(&self.title());
         }
         self.script_step(event_loop);
+    }
+
+    /// Scripted `wait-reload`: true while the reload waited for has not come
+    /// (no frame is drawn); fails after [`RELOAD_WAIT`].
+    fn still_waiting_reload(&mut self, event_loop: &ActiveEventLoop) -> bool {
+        let Some((n, since)) = self.waiting_reload else {
+            return false;
+        };
+        if self.reloads >= n {
+            self.waiting_reload = None;
+            return false;
+        }
+        if since.elapsed() > RELOAD_WAIT {
+            let f = Fail {
+                code: 2,
+                message: "--view-do wait-reload: no watched file changed in 10 minutes".into(),
+            };
+            self.fail(event_loop, f);
+        }
+        true
+    }
+
+    /// Plan the effect again when what is shown needs it (a new size or format).
+    fn plan_if_needed(&mut self) {
+        if self.content.needs_plan() {
+            if let Err(e) = self.content.prepare(&mut self.engine, &mut self.fx) {
+                self.ui.error = Some(e.to_string());
+            }
+            self.dirty = true;
+        }
+    }
+
+    /// Record the effect of a still or a scene into `encoder` when it changed
+    /// (every frame when continuous or scripted).
+    fn record_effect(&mut self, encoder: &mut wgpu::CommandEncoder, scripted: bool) {
+        let record = self.content.rerecordable() && (self.dirty || self.ui.continuous || scripted);
+        if !record {
+            return;
+        }
+        let t = Instant::now();
+        match self.content.record(&mut self.engine, encoder) {
+            Ok(()) => {
+                self.dirty = false;
+                self.stats.record.push(ms(t.elapsed()));
+            }
+            Err(e) => self.ui.error = Some(e.to_string()),
+        }
+    }
+
+    /// A frame begun at `t0` was shown: the frame times, the fps readout, the
+    /// latency of a parameter change.
+    fn count_frame(&mut self, t0: Instant) {
+        self.shown += 1;
+        self.stats.frames.push(ms(t0.elapsed()));
+        self.ui.fps.tick(Instant::now(), t0.elapsed());
+        if let Some(at) = self.stats.change_at.take() {
+            self.stats.change_shown.push((ms(at.elapsed()), self.shown));
+        }
     }
 
     /// Scripted mode: this frame's actions, and the end.
@@ -208,70 +195,22 @@ impl Viewer {
         mut encoder: wgpu::CommandEncoder,
     ) -> Result<(Vec<UiEvent>, ImageInput), Fail> {
         let model = self.model();
-        let before = if self.ui.split.is_some() {
-            self.content
-                .before(&self.engine)
-                .map(|(t, f)| (t.clone(), f))
-        } else {
-            None
-        };
+        let before = self.split_before();
         let shown = self.shown_texture();
         let ctx = self.engine.ctx.clone();
         let Some(win) = &mut self.win else {
             return Ok((Vec::new(), ImageInput::default()));
         };
-        let raw = win.egui_state.take_egui_input(&win.window);
-        let mut events = Vec::new();
-        let mut input = ImageInput::default();
-        let ui_state = &mut self.ui;
-        let full = win.egui_ctx.run_ui(raw, |ui| {
-            events.clear();
-            input = panel::show(ui, &model, ui_state, &mut events);
-        });
-        win.egui_state
-            .handle_platform_output(&win.window, full.platform_output);
+        let (full, events, input) = run_panel(win, &model, &mut self.ui);
         let ppp = full.pixels_per_point;
         let (sw, sh) = (win.config.width, win.config.height);
-        let a = input.area;
-        let area = [
-            (a[0] * ppp).round().clamp(0.0, sw as f32) as u32,
-            (a[1] * ppp).round().clamp(0.0, sh as f32) as u32,
-            (a[2] * ppp).round().clamp(0.0, sw as f32) as u32,
-            (a[3] * ppp).round().clamp(0.0, sh as f32) as u32,
-        ];
-        let area = [
-            area[0],
-            area[1],
-            area[2].min(sw - area[0]),
-            area[3].min(sh - area[1]),
-        ];
+        let area = paint::area_pixels(input.area, ppp, (sw, sh));
         self.ui.area = area;
-        // egui's textures are updated even when no frame is drawn.
-        for (id, deltas) in &full.textures_delta.set {
-            for delta in deltas {
-                win.egui_renderer
-                    .update_texture(&ctx.device, &ctx.queue, *id, delta);
-            }
-        }
-        let textures_changed = !full.textures_delta.set.is_empty();
-        let mut textures_delta = full.textures_delta;
-        textures_delta.set.clear();
-        let surface = match win.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                log::debug!("--view: the surface is outdated: configured again");
-                win.surface.configure(&ctx.device, &win.config);
-                win.window.request_redraw();
-                Self::free_textures(win, textures_delta);
-                return Ok((events, input));
-            }
-            other => {
-                log::debug!("--view: no surface texture this frame ({other:?})");
-                win.window.request_redraw();
-                Self::free_textures(win, textures_delta);
-                return Ok((events, input));
-            }
+        let (textures_changed, textures_delta) =
+            paint::update_textures(&mut win.egui_renderer, &ctx, full.textures_delta);
+        let Some(surface) = surface_texture(win, &ctx) else {
+            paint::free_textures(&mut win.egui_renderer, textures_delta);
+            return Ok((events, input));
         };
         let target = surface.texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("viewer surface view"),
@@ -285,56 +224,29 @@ impl Viewer {
         let extra =
             win.egui_renderer
                 .update_buffers(&ctx.device, &ctx.queue, &mut encoder, &jobs, &screen);
-        let rect = image_rect(&self.ui, model.image_size);
-        let place = Placement {
-            rect,
-            area,
-            split: self.ui.split.unwrap_or(0.0),
-            exposure: self.ui.exposure,
-            range: self.ui.inspect.range,
-            mark_clipping: self.ui.mark_clipping,
-        };
-        if let Some((tex, format)) = &shown {
-            let after = Shown {
-                texture: tex,
-                format: *format,
-                shade: Some(shade_of(&self.ui.inspect, *format)),
-            };
-            let before = before.as_ref().map(|(t, f)| Shown {
-                texture: t,
-                format: *f,
-                shade: None,
-            });
-            win.presenter.prepare(&ctx, after, before, &place);
-        }
+        let place = paint::placement(&self.ui, model.image_size, area);
+        let image = shown.as_ref().map(|(t, f)| (t, *f));
+        let before = before.as_ref().map(|(t, f)| (t, *f));
+        paint::prepare_image(&mut win.presenter, &ctx, &self.ui, image, before, &place);
         let split = before.is_some() && place.split > 0.0;
-        let panel_x = self.ui.panel.then_some(area[0] + area[2]);
-        let paint = win
-            .panel_cache
-            .plan(&jobs, ppp, (sw, sh), panel_x, textures_changed);
+        let panel_jobs = paint::PanelJobs {
+            jobs: &jobs,
+            ppp,
+            size: (sw, sh),
+            format: win.config.format,
+            panel_x: self.ui.panel.then_some(area[0] + area[2]),
+            textures_changed,
+        };
         let egui_renderer = &win.egui_renderer;
         let draw_egui =
             |rp: &mut wgpu::RenderPass<'static>| egui_renderer.render(rp, &jobs, &screen);
-        let (panel, direct) = match paint {
-            PanelPaint::Nothing => (None, false),
-            PanelPaint::Direct => (None, true),
-            PanelPaint::Cached { rect, redraw } => {
-                let cache = win
-                    .panel_cache
-                    .texture(&ctx.device, (sw, sh), win.config.format);
-                if redraw {
-                    let view = cache.create_view(&wgpu::TextureViewDescriptor {
-                        label: Some("viewer panel cache view"),
-                        ..Default::default()
-                    });
-                    let clear = wgpu::LoadOp::Clear(wgpu::Color::BLACK);
-                    let mut rp = begin_color_pass(&mut encoder, "viewer panel", &view, clear, None)
-                        .forget_lifetime();
-                    draw_egui(&mut rp);
-                }
-                (Some((cache, rect)), false)
-            }
-        };
+        let (panel, direct) = paint::paint_panel(
+            &mut win.panel_cache,
+            &ctx,
+            &mut encoder,
+            &panel_jobs,
+            draw_egui,
+        );
         win.presenter.encode(
             &mut encoder,
             &surface.texture,
@@ -345,134 +257,45 @@ impl Viewer {
             panel,
             direct.then_some(draw_egui),
         );
-        ctx.queue
-            .submit(extra.into_iter().chain([encoder.finish()]));
-        win.window.pre_present_notify();
-        ctx.queue.present(surface);
-        Self::free_textures(win, textures_delta);
+        submit_and_present(win, &ctx, extra, encoder, surface);
+        paint::free_textures(&mut win.egui_renderer, textures_delta);
         Ok((events, input))
     }
 
-    /// Free the egui textures a frame no longer uses.
-    fn free_textures(win: &mut super::app::Win, delta: egui::TexturesDelta) {
-        for id in &delta.free {
-            win.egui_renderer.free_texture(id);
-        }
+    /// The "before" image of the split view, when it is shown.
+    fn split_before(&mut self) -> Option<(wgpu::Texture, Format)> {
+        self.ui.split?;
+        let (t, f) = self.content.before(&self.engine)?;
+        Some((t.clone(), f))
     }
 
     /// What the panel shows (its own copy: the panel runs while the window is borrowed).
     fn model(&mut self) -> Model {
-        let prepared = self.content.prepared_ref();
-        let params = prepared.map(|p| p.params()).unwrap_or_default();
-        let defaults = params.iter().map(|p| self.fx.pass_default(p)).collect();
-        let set = params
-            .iter()
-            .map(|p| self.fx.pass_is_set(&p.name))
-            .collect();
-        let mut rows = prepared.map(pass_rows).unwrap_or_default();
-        let timed = prepared.is_some_and(|p| !p.gpu_timings().is_empty());
-        // The figures change every frame: shown twice a second (readable, and the
-        // panel is not drawn again for them every frame: panel_cache.rs).
-        let stale = self
-            .ui
-            .figures
-            .as_ref()
-            .is_none_or(|f| f.at.elapsed() >= FIGURES_EVERY || f.gpu_ms.len() != rows.len());
-        if stale {
-            self.ui.figures = Some(Figures {
-                at: Instant::now(),
-                frame_ms: self.stats.frames.last().copied(),
-                gpu_ms: rows.iter().map(|r| r.gpu_ms).collect(),
-            });
-        }
-        let figures = self.ui.figures.as_ref().expect("set above");
-        for (r, ms) in rows.iter_mut().zip(&figures.gpu_ms) {
-            r.gpu_ms = *ms;
-        }
-        let frame_ms = figures.frame_ms;
-        let image_size = self
-            .content
-            .output()
-            .map(|(t, _)| (t.width() as f32, t.height() as f32))
-            .unwrap_or((1.0, 1.0));
-        Model {
-            caption: self.content.caption(),
-            adapter: self.engine.ctx.info.name.clone(),
-            effect_params: self.fx.effect_params().to_vec(),
-            params,
-            defaults,
-            set,
-            rows,
-            timed,
-            aux: self
-                .content
-                .aux()
-                .into_iter()
-                .map(|(n, _, f)| (n, f))
-                .collect(),
-            output_format: self.content.output_format(),
-            shown_format: self.shown_texture().map(|(_, f)| f),
-            playing: match &self.content {
-                Content::Playback(p) => Some(p.playing),
-                Content::Scene(s) if s.timed() => Some(s.clock.playing),
-                _ => None,
-            },
-            scene: matches!(self.content, Content::Scene(_)),
-            frame_ms,
-            image_size,
-            set_args: self.ui.copied.clone(),
-        }
+        let last = self.stats.frames.last().copied();
+        Model::new(
+            &mut self.content,
+            &self.fx,
+            &mut self.ui,
+            &self.engine,
+            last,
+        )
     }
 
     /// Mouse input over the image: pan and zoom it, or move a scene's camera.
     fn apply_input(&mut self, input: &ImageInput) {
         let [_, _, aw, ah] = self.ui.area;
-        if let Content::Scene(s) = &mut self.content {
-            let mut again = false;
-            if s.resize(aw, ah) {
-                self.dirty = true;
-                again = true;
+        let changed = match &mut self.content {
+            Content::Scene(s) => {
+                let again = s.apply_input(input, (aw, ah));
+                self.dirty |= again;
+                again
             }
-            let mut cam = s.camera;
-            let mut moved = false;
-            if input.drag != [0.0, 0.0] {
-                if input.primary {
-                    s.control.orbit(&mut cam, input.drag[0], input.drag[1]);
-                } else {
-                    s.control
-                        .pan(&mut cam, input.drag[0], input.drag[1], ah as f32);
-                }
-                moved = true;
+            _ => {
+                let size = self.content.image_size();
+                self.ui.apply_image_input(input, size)
             }
-            if input.scroll != 0.0 {
-                s.control.dolly(&mut cam, input.scroll);
-                moved = true;
-            }
-            if moved {
-                s.camera = cam;
-                s.camera_moved();
-                self.dirty = true;
-                again = true;
-            }
-            if again {
-                self.redraw();
-            }
-            return;
-        }
-        if input.drag != [0.0, 0.0] {
-            if self.ui.fit {
-                self.zoom_by(1.0, None);
-            }
-            self.ui.center[0] -= input.drag[0] / self.ui.zoom;
-            self.ui.center[1] -= input.drag[1] / self.ui.zoom;
-            self.redraw();
-        }
-        if input.scroll != 0.0 {
-            self.zoom_by(1.25f32.powf(input.scroll), input.hover);
-            self.redraw();
-        }
-        if input.double_click {
-            self.ui.fit = !self.ui.fit;
+        };
+        if changed {
             self.redraw();
         }
     }
@@ -509,4 +332,54 @@ impl Viewer {
         }
         self.redraw();
     }
+}
+
+/// Run the panel (egui) for this frame: its output, the changes asked for and
+/// the mouse over the image area.
+fn run_panel(
+    win: &mut Win,
+    model: &Model,
+    ui_state: &mut UiState,
+) -> (egui::FullOutput, Vec<UiEvent>, ImageInput) {
+    let raw = win.egui_state.take_egui_input(&win.window);
+    let mut events = Vec::new();
+    let mut input = ImageInput::default();
+    let mut full = win.egui_ctx.run_ui(raw, |ui| {
+        events.clear();
+        input = panel::show(ui, model, ui_state, &mut events);
+    });
+    let platform = std::mem::take(&mut full.platform_output);
+    win.egui_state.handle_platform_output(&win.window, platform);
+    (full, events, input)
+}
+
+/// The surface's texture for this frame; `None` (and another frame asked for)
+/// when the surface was outdated (configured again) or gave none.
+fn surface_texture(win: &mut Win, ctx: &GpuContext) -> Option<wgpu::SurfaceTexture> {
+    match win.surface.get_current_texture() {
+        wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => {
+            return Some(t)
+        }
+        wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+            log::debug!("--view: the surface is outdated: configured again");
+            win.surface.configure(&ctx.device, &win.config);
+        }
+        other => log::debug!("--view: no surface texture this frame ({other:?})"),
+    }
+    win.window.request_redraw();
+    None
+}
+
+/// Submit the frame's work (egui's buffers, then the frame) and present it.
+fn submit_and_present(
+    win: &Win,
+    ctx: &GpuContext,
+    extra: Vec<wgpu::CommandBuffer>,
+    encoder: wgpu::CommandEncoder,
+    surface: wgpu::SurfaceTexture,
+) {
+    ctx.queue
+        .submit(extra.into_iter().chain([encoder.finish()]));
+    win.window.pre_present_notify();
+    ctx.queue.present(surface);
 }

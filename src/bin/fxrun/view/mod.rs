@@ -9,32 +9,29 @@
 //! - `app.rs`: the window, its surface and the event loop; `frame.rs`: one frame
 //!   (the effect, the panel, the image pass, present); `commands.rs`: keys,
 //!   panel changes, reloads and scripted actions, applied in one place.
-//! - `content.rs`: what is shown: `stills.rs` (an image or a batch),
-//!   `playback.rs` (sequences), `scene_view.rs` (the renderer, with
-//!   `camera_control.rs`).
-//! - `fx.rs`: the effect and its parameters; `panel.rs`: the control panel;
-//!   `inspect.rs`: the pass list and what is inspected; `present.rs`: the image
-//!   pass; `screenshot.rs`: writing what is shown; `reload.rs`: hot reload;
-//!   `script.rs`: `--view-frames` and `--view-do`.
+//! - `screenshot.rs`: writing what is shown; `reload.rs`: hot reload;
+//!   `script.rs`: `--view-frames` and `--view-do`; this file: the command line
+//!   turned into the library's content (`fxgraph::view::content`: stills, a
+//!   sequence, a scene through `fxgraph::app::SceneFrames`) and effect
+//!   (`fxgraph::view::fx`).
+//! - The rest is the library's `fxgraph::view`: the panel (`panel`, `model`,
+//!   `ui_state`), the pass list and what is inspected (`inspect`), the image pass
+//!   (`present`), the frame's painting steps (`frame_paint`), the fps readout
+//!   (`fps`), camera control.
 //!
 //! Without a display the option fails with a clear message (exit 1).
 
 mod app;
 mod commands;
-mod content;
 mod frame;
-mod fx;
-mod panel;
-mod playback;
 mod reload;
-mod scene_view;
 mod screenshot;
 mod script;
-mod stills;
 
 use super::*;
-use content::Content;
 use fxgraph::io::sequence::SequenceSpec;
+use fxgraph::view::content::Content;
+use fxgraph::view::{fx, playback, scene_view, stills};
 
 /// Events sent to the window's event loop from other threads.
 #[derive(Debug, Clone, Copy)]

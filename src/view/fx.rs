@@ -4,13 +4,13 @@
 //! are compiled in as a normal run does; a reload keeps the pass parameters set
 //! here where they still exist with the same type.
 
-use fxgraph::app::{Change, Effect, RunError};
-use fxgraph::gpu::executor::{ParamInfo, Prepared};
-use fxgraph::graph::{EffectParam, Graph, Override};
-use fxgraph::script::types::{format_value, ParamType};
+use crate::app::{Change, Effect, RunError};
+use crate::gpu::executor::{ParamInfo, Prepared};
+use crate::graph::{EffectParam, Graph, Override};
+use crate::script::types::{format_value, ParamType};
 
 /// The effect being viewed.
-pub(super) struct Fx {
+pub struct Fx {
     names: Vec<String>,
     /// `--set`s always given first and never shown (the default chain's settings).
     base: Vec<String>,
@@ -146,7 +146,7 @@ impl Fx {
 }
 
 /// An effect parameter's value as a `--set` writes it (ENUM by name, BOOL as a word).
-pub(super) fn effect_value_text(p: &EffectParam, value: &[f64]) -> String {
+pub fn effect_value_text(p: &EffectParam, value: &[f64]) -> String {
     match &p.ty {
         ParamType::Enum(names) => names
             .get(value[0] as usize)

@@ -12,13 +12,13 @@
 //! kept in memory.
 
 use super::fx::Fx;
-use fxgraph::app::{FilesSource, FrameSource, OpenedInput, RunError, SourceFrame, StreamInput};
-use fxgraph::gpu::executor::{Engine, Prepared};
-use fxgraph::gpu::stream::Stream;
-use fxgraph::gpu::transfer::{input_format, upload_image};
-use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
-use fxgraph::io::{Image, IoError, LoadOptions};
-use fxgraph::script::types::Format;
+use crate::app::{FilesSource, FrameSource, OpenedInput, RunError, SourceFrame, StreamInput};
+use crate::gpu::executor::{Engine, Prepared};
+use crate::gpu::stream::Stream;
+use crate::gpu::transfer::{input_format, upload_image};
+use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use crate::io::{Image, IoError, LoadOptions};
+use crate::script::types::Format;
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,7 +30,7 @@ use std::time::{Duration, Instant};
 const EXTRA_KEPT: usize = 8;
 
 /// Where the frames come from.
-pub(super) enum SeqInput {
+pub enum SeqInput {
     /// Image files in order.
     Files(Vec<(u64, PathBuf)>),
     /// A `.y4m` file or a video file (decoded by ffmpeg), reopened to go back.
@@ -92,7 +92,7 @@ impl Decoder {
 }
 
 /// A sequence played through the effect.
-pub(super) struct Playback {
+pub struct Playback {
     input: SeqInput,
     load: LoadOptions,
     pub fps: f64,

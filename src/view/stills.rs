@@ -4,13 +4,13 @@
 //! format changes), recorded as frame 0 into the viewer's encoder with
 //! `Prepared::record`.
 
-use fxgraph::app::{Effect, RunError};
-use fxgraph::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
-use fxgraph::gpu::transfer::{input_format, upload_image};
-use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
-use fxgraph::io::{self, Image, IoError, LoadOptions};
-use fxgraph::script::types::Format;
-use fxgraph::view::present::{window_output, window_output_format};
+use crate::app::{Effect, RunError};
+use crate::gpu::executor::{Engine, ExecError, FrameInputs, Prepared};
+use crate::gpu::transfer::{input_format, upload_image};
+use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
+use crate::io::{self, Image, IoError, LoadOptions};
+use crate::script::types::Format;
+use crate::view::present::{window_output, window_output_format};
 use std::path::PathBuf;
 
 /// An image on the GPU with its auxiliary images.
@@ -22,7 +22,7 @@ struct Loaded {
 }
 
 /// The images of the run and the one shown.
-pub(super) struct Stills {
+pub struct Stills {
     items: Vec<PathBuf>,
     index: usize,
     aux: Vec<(String, PathBuf)>,
@@ -251,5 +251,10 @@ impl Stills {
     /// Number of images.
     pub fn len(&self) -> usize {
         self.items.len()
+    }
+
+    /// No images (a batch always has one).
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
     }
 }

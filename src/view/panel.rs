@@ -12,18 +12,20 @@
 //! Changes come back as [`UiEvent`]s, applied after the frame by the code the keys
 //! and scripted actions use: nothing here changes the effect.
 
-use super::app::{UiState, PANEL_WIDTH};
-use super::commands::Command;
+use super::command::Command;
+use super::fx::effect_value_text;
+use super::ui_state::{ImageInput, UiState, PANEL_WIDTH};
+use crate::gpu::executor::ParamInfo;
+use crate::graph::EffectParam;
+use crate::script::types::{format_value, Format, ParamType};
+use crate::view::inspect::Target;
+pub use crate::view::model::Model;
+use crate::view::present::Shade;
 use egui::{Color32, RichText};
-use fxgraph::gpu::executor::ParamInfo;
-use fxgraph::graph::EffectParam;
-use fxgraph::script::types::{format_value, Format, ParamType};
-use fxgraph::view::inspect::{PassRow, Target};
-use fxgraph::view::present::Shade;
 
 /// A change asked for in the panel.
 #[derive(Debug, Clone, PartialEq)]
-pub(super) enum UiEvent {
+pub enum UiEvent {
     /// Set parameter KEY to a `--set` value text.
     Set(String, String),
     Reset(String),
@@ -32,45 +34,6 @@ pub(super) enum UiEvent {
     CopySet,
     /// Set the range to the shown texture's smallest and largest value.
     AutoRange,
-}
-
-/// The mouse over the image area.
-#[derive(Debug, Default, Clone)]
-pub(super) struct ImageInput {
-    /// The image area in points: x, y, width, height.
-    pub area: [f32; 4],
-    /// Dragged this frame, in pixels.
-    pub drag: [f32; 2],
-    /// With the primary button (else the secondary or middle one).
-    pub primary: bool,
-    /// Wheel notches (positive: away from the user, zoom in).
-    pub scroll: f32,
-    /// The pointer, in pixels.
-    pub hover: Option<[f32; 2]>,
-    pub double_click: bool,
-}
-
-/// What the panel shows (a copy, made before the frame).
-pub(super) struct Model {
-    pub caption: String,
-    pub adapter: String,
-    pub effect_params: Vec<EffectParam>,
-    pub params: Vec<ParamInfo>,
-    /// Per pass parameter: the value a reset gives, and whether it is set.
-    pub defaults: Vec<Vec<f64>>,
-    pub set: Vec<bool>,
-    pub rows: Vec<PassRow>,
-    /// GPU times have been read.
-    pub timed: bool,
-    pub aux: Vec<(String, Format)>,
-    pub output_format: Option<Format>,
-    pub shown_format: Option<Format>,
-    pub playing: Option<bool>,
-    pub scene: bool,
-    pub frame_ms: Option<f64>,
-    /// The output's size, which the image area shows.
-    pub image_size: (f32, f32),
-    pub set_args: Option<String>,
 }
 
 /// The keys (also in docs/cli.md).
@@ -95,7 +58,7 @@ const KEYS: &[(&str, &str)] = &[
 ];
 
 /// The panel and the image area; returns the mouse over the image area.
-pub(super) fn show(
+pub fn show(
     ui: &mut egui::Ui,
     m: &Model,
     state: &mut UiState,
@@ -147,6 +110,9 @@ fn contents(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec<UiE
         .map(|t| format!(" · last frame {t:.1} ms"))
         .unwrap_or_default();
     ui.label(RichText::new(format!("{}{frame}", m.adapter)).small());
+    if let Some(fps) = &m.fps {
+        ui.label(RichText::new(fps.text()).small());
+    }
     if let Some(e) = &state.error {
         ui.separator();
         ui.label(RichText::new("error (the last good image stays):").color(Color32::LIGHT_RED));
@@ -319,94 +285,20 @@ fn slider_range(lo: f64, hi: f64) -> bool {
     lo.is_finite() && hi.is_finite() && hi > lo
 }
 
-fn params_section(ui: &mut egui::Ui, m: &Model, out: &mut Vec<UiEvent>) {
+/// The effect's parameters, then every pass's, then "copy as --set" (an
+/// application's own panel may show it alone, with a [`Model::for_effect`]).
+pub fn params_section(ui: &mut egui::Ui, m: &Model, out: &mut Vec<UiEvent>) {
     for p in &m.effect_params {
-        let key = format!("{}.{}", p.effect, p.name);
-        let hover = format!(
-            "{key} ({}){}\ndefault {}\n{}",
-            p.ty.name(),
-            p.range
-                .map(|(a, b)| format!(", range [{a}, {b}]"))
-                .unwrap_or_default(),
-            super::fx::effect_value_text(p, &p.default),
-            p.description
-        );
-        ui.horizontal(|ui| {
-            ui.label(RichText::new(&key).strong()).on_hover_text(&hover);
-            let mut v = p.value.clone();
-            let changed = match &p.ty {
-                ParamType::Bool => {
-                    let mut b = v[0] != 0.0;
-                    let c = ui.checkbox(&mut b, "").changed();
-                    v[0] = f64::from(u8::from(b));
-                    c
-                }
-                ParamType::Enum(names) => {
-                    let mut i = v[0] as usize;
-                    let before = i;
-                    egui::ComboBox::from_id_salt(&key)
-                        .selected_text(names.get(i).cloned().unwrap_or_default())
-                        .show_ui(ui, |ui| {
-                            for (j, n) in names.iter().enumerate() {
-                                ui.selectable_value(&mut i, j, n);
-                            }
-                        });
-                    v[0] = i as f64;
-                    i != before
-                }
-                ty => value_widget(ui, &p.name, *ty == ParamType::Int, p.range, &mut v),
-            };
-            if changed {
-                out.push(UiEvent::Set(
-                    key.clone(),
-                    super::fx::effect_value_text(p, &v),
-                ));
-            }
-            if p.value != p.default && ui.small_button("reset").clicked() {
-                out.push(UiEvent::Reset(key.clone()));
-            }
-        });
+        effect_param_row(ui, p, out);
     }
     let mut pass = "";
     for (i, p) in m.params.iter().enumerate() {
-        let (path, field) = p.name.rsplit_once('.').unwrap_or(("", &p.name));
+        let (path, _) = p.name.rsplit_once('.').unwrap_or(("", &p.name));
         if path != pass {
             pass = path;
             ui.label(RichText::new(path).small().weak());
         }
-        let hover = format!(
-            "{} ({}){}\nshader @default {}\n{}{}",
-            p.name,
-            p.ty,
-            p.range
-                .map(|(a, b)| format!(", range [{a}, {b}]"))
-                .unwrap_or_default(),
-            p.default
-                .as_ref()
-                .map_or_else(|| "none".to_string(), |d| format_value(d)),
-            p.description,
-            if m.set[i] {
-                "\n(set here or by --set)"
-            } else {
-                ""
-            }
-        );
-        ui.horizontal(|ui| {
-            let label = if m.set[i] {
-                RichText::new(field).strong()
-            } else {
-                RichText::new(field)
-            };
-            ui.label(label).on_hover_text(&hover);
-            let mut v = p.value.clone();
-            let integer = p.ty.contains("i32") || p.ty.contains("u32");
-            if value_widget(ui, field, integer, p.range, &mut v) {
-                out.push(UiEvent::Set(p.name.clone(), format_value(&v)));
-            }
-            if v != m.defaults[i] && ui.small_button("reset").clicked() {
-                out.push(UiEvent::Reset(p.name.clone()));
-            }
-        });
+        pass_param_row(ui, p, &m.defaults[i], m.set[i], out);
     }
     if m.params.is_empty() && m.effect_params.is_empty() {
         ui.label("no parameters");
@@ -423,7 +315,104 @@ fn params_section(ui: &mut egui::Ui, m: &Model, out: &mut Vec<UiEvent>) {
     }
 }
 
-fn passes_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec<UiEvent>) {
+/// ", range [a, b]" when there is one.
+fn range_text(range: Option<(f64, f64)>) -> String {
+    range
+        .map(|(a, b)| format!(", range [{a}, {b}]"))
+        .unwrap_or_default()
+}
+
+/// One effect parameter (`EFFECT.NAME`): its control and a reset.
+fn effect_param_row(ui: &mut egui::Ui, p: &EffectParam, out: &mut Vec<UiEvent>) {
+    let key = format!("{}.{}", p.effect, p.name);
+    let hover = format!(
+        "{key} ({}){}\ndefault {}\n{}",
+        p.ty.name(),
+        range_text(p.range),
+        effect_value_text(p, &p.default),
+        p.description
+    );
+    ui.horizontal(|ui| {
+        ui.label(RichText::new(&key).strong()).on_hover_text(&hover);
+        let mut v = p.value.clone();
+        if effect_value_widget(ui, p, &key, &mut v) {
+            out.push(UiEvent::Set(key.clone(), effect_value_text(p, &v)));
+        }
+        if p.value != p.default && ui.small_button("reset").clicked() {
+            out.push(UiEvent::Reset(key.clone()));
+        }
+    });
+}
+
+/// The control of an effect parameter by its type (a switch, a choice, a
+/// number or vector); true when changed.
+fn effect_value_widget(ui: &mut egui::Ui, p: &EffectParam, key: &str, v: &mut [f64]) -> bool {
+    match &p.ty {
+        ParamType::Bool => {
+            let mut b = v[0] != 0.0;
+            let c = ui.checkbox(&mut b, "").changed();
+            v[0] = f64::from(u8::from(b));
+            c
+        }
+        ParamType::Enum(names) => {
+            let mut i = v[0] as usize;
+            let before = i;
+            egui::ComboBox::from_id_salt(key)
+                .selected_text(names.get(i).cloned().unwrap_or_default())
+                .show_ui(ui, |ui| {
+                    for (j, n) in names.iter().enumerate() {
+                        ui.selectable_value(&mut i, j, n);
+                    }
+                });
+            v[0] = i as f64;
+            i != before
+        }
+        ty => value_widget(ui, &p.name, *ty == ParamType::Int, p.range, v),
+    }
+}
+
+/// One shader parameter of a pass (`PASS.NAME`, shown by its field name, in
+/// bold when set): its control and a reset to `default`.
+fn pass_param_row(
+    ui: &mut egui::Ui,
+    p: &ParamInfo,
+    default: &[f64],
+    set: bool,
+    out: &mut Vec<UiEvent>,
+) {
+    let field = p.name.rsplit_once('.').map_or(p.name.as_str(), |(_, f)| f);
+    let hover = format!(
+        "{} ({}){}\nshader @default {}\n{}{}",
+        p.name,
+        p.ty,
+        range_text(p.range),
+        p.default
+            .as_ref()
+            .map_or_else(|| "none".to_string(), |d| format_value(d)),
+        p.description,
+        if set { "\n(set here or by --set)" } else { "" }
+    );
+    ui.horizontal(|ui| {
+        let label = if set {
+            RichText::new(field).strong()
+        } else {
+            RichText::new(field)
+        };
+        ui.label(label).on_hover_text(&hover);
+        let mut v = p.value.clone();
+        let integer = p.ty.contains("i32") || p.ty.contains("u32");
+        if value_widget(ui, field, integer, p.range, &mut v) {
+            out.push(UiEvent::Set(p.name.clone(), format_value(&v)));
+        }
+        if v != default && ui.small_button("reset").clicked() {
+            out.push(UiEvent::Reset(p.name.clone()));
+        }
+    });
+}
+
+/// The pass list (the output, each pass with its size, format and GPU time,
+/// the input, the AUX images) to pick what is inspected, and how it is shown.
+pub fn passes_section(ui: &mut egui::Ui, m: &Model, state: &mut UiState, out: &mut Vec<UiEvent>) {
     let mut pick = |ui: &mut egui::Ui, t: Target, label: String| {
         if ui.radio(state.inspect.target == t, label).clicked() {
             out.push(UiEvent::Inspect(t));
