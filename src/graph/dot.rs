@@ -1,7 +1,7 @@
 //! Graphviz DOT output of a compiled graph.
 
 use super::plan::Plan;
-use super::{Graph, Node};
+use super::{Graph, Node, PassNode};
 use petgraph::visit::EdgeRef;
 use std::fmt::Write as _;
 
@@ -12,11 +12,20 @@ fn esc(s: &str) -> String {
 /// DOT text: one box per pass with its size, format and colour space (from `plan`
 /// when given, else the rules), solid data edges and dashed feedback edges.
 pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
-    let g = &graph.graph;
     let mut out = String::new();
     let _ = writeln!(out, "digraph fxgraph {{");
     let _ = writeln!(out, "  rankdir=LR;");
     let _ = writeln!(out, "  node [fontname=\"Helvetica\", fontsize=10];");
+    write_nodes(&mut out, graph, plan);
+    write_edges(&mut out, graph);
+    let _ = writeln!(out, "}}");
+    out
+}
+
+/// Inputs as ellipses, the output as a double circle, passes as boxes (dashed
+/// when culled); feedback nodes are drawn as edges.
+fn write_nodes(out: &mut String, graph: &Graph, plan: Option<&Plan>) {
+    let g = &graph.graph;
     for n in g.node_indices() {
         let id = n.index();
         match &g[n] {
@@ -39,21 +48,7 @@ pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
                             "{}x{} {} {}",
                             pp.desc.width, pp.desc.height, pp.desc.format, pp.colorspace
                         ),
-                        None => {
-                            let size = match &p.size {
-                                super::SizeRule::Absolute(w, h) => format!("{w}x{h}"),
-                                super::SizeRule::Scale { sx, sy, of } => {
-                                    format!("{sx}x{sy} of {}", graph.label(*of))
-                                }
-                            };
-                            let format = match &p.format {
-                                super::FormatRule::Fixed(f) => f.name().to_string(),
-                                super::FormatRule::SameAs(of) => {
-                                    format!("format of {}", graph.label(*of))
-                                }
-                            };
-                            format!("{size} {format} {}", p.colorspace)
-                        }
+                        None => rule_detail(graph, p),
                     };
                 let style = if live { "filled" } else { "dashed" };
                 let _ = writeln!(
@@ -66,6 +61,29 @@ pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
             }
         }
     }
+}
+
+/// A pass's size, format and colour space as its rules say (without a plan).
+fn rule_detail(graph: &Graph, p: &PassNode) -> String {
+    let size = match &p.size {
+        super::SizeRule::Absolute(w, h) => format!("{w}x{h}"),
+        super::SizeRule::Scale { sx, sy, of } => {
+            format!("{sx}x{sy} of {}", graph.label(*of))
+        }
+    };
+    let format = match &p.format {
+        super::FormatRule::Fixed(f) => f.name().to_string(),
+        super::FormatRule::SameAs(of) => {
+            format!("format of {}", graph.label(*of))
+        }
+    };
+    format!("{size} {format} {}", p.colorspace)
+}
+
+/// Data edges labelled with the input they feed; feedback edges dashed, from
+/// the pass whose earlier output they read.
+fn write_edges(out: &mut String, graph: &Graph) {
+    let g = &graph.graph;
     for e in g.edge_references() {
         let (s, t) = (e.source(), e.target());
         let label = match &g[t] {
@@ -97,6 +115,4 @@ pub fn to_dot(graph: &Graph, plan: Option<&Plan>) -> String {
             }
         }
     }
-    let _ = writeln!(out, "}}");
-    out
 }

@@ -162,29 +162,55 @@ fn check_material(
     span: Span,
     diags: &mut Diagnostics,
 ) -> Option<MaterialDef> {
-    let mut description = None;
-    let mut surface = None;
-    let mut lighting = None;
-    let mut alpha: Option<Spanned<AlphaSpec>> = None;
-    let mut alpha_cutoff: Option<Spanned<f64>> = None;
-    let mut double_sided = None;
+    let mut attrs = MaterialAttrs::default();
     let mut seen = SeenKeys::new(format!("material `{}`", name.node));
     for stmt in body {
         let k = stmt.key.dotted();
         if !seen.first(&k, stmt.key.span, diags) {
             continue;
         }
-        match k.as_str() {
+        attrs.read(&k, stmt, &name.node, diags);
+    }
+    let written = |key: &str| seen.contains(key);
+    report_missing_shaders(&name, written("SURFACE"), written("LIGHTING"), diags);
+    attrs.check_alpha_cutoff(written("ALPHA"), diags);
+    Some(MaterialDef {
+        name,
+        description: attrs.description,
+        surface: attrs.surface?,
+        lighting: attrs.lighting?,
+        alpha: attrs.alpha,
+        alpha_cutoff: attrs.alpha_cutoff,
+        double_sided: attrs.double_sided,
+        span,
+    })
+}
+
+/// The attributes of a material as they are read.
+#[derive(Default)]
+struct MaterialAttrs {
+    description: Option<String>,
+    surface: Option<MaterialShader>,
+    lighting: Option<MaterialShader>,
+    alpha: Option<Spanned<AlphaSpec>>,
+    alpha_cutoff: Option<Spanned<f64>>,
+    double_sided: Option<Spanned<bool>>,
+}
+
+impl MaterialAttrs {
+    /// Attribute `k` of material `material`, written by `stmt`.
+    fn read(&mut self, k: &str, stmt: &Stmt, material: &str, diags: &mut Diagnostics) {
+        match k {
             "DESCRIPTION" => match &stmt.value.node {
-                RawValue::Str(s) => description = Some(s.clone()),
+                RawValue::Str(s) => self.description = Some(s.clone()),
                 other => diags.push(type_error(stmt, "a string", other)),
             },
-            "SURFACE" => surface = check_shader(stmt, &name.node, diags),
-            "LIGHTING" => lighting = check_shader(stmt, &name.node, diags),
-            "ALPHA" => alpha = alpha_value(stmt, diags),
+            "SURFACE" => self.surface = check_shader(stmt, material, diags),
+            "LIGHTING" => self.lighting = check_shader(stmt, material, diags),
+            "ALPHA" => self.alpha = alpha_value(stmt, diags),
             "ALPHA_CUTOFF" => match &stmt.value.node {
                 RawValue::Number(n) if (0.0..=1.0).contains(n) => {
-                    alpha_cutoff = Some(Spanned::new(*n, stmt.value.span))
+                    self.alpha_cutoff = Some(Spanned::new(*n, stmt.value.span))
                 }
                 RawValue::Number(n) => diags.push(
                     Diagnostic::error(format!(
@@ -196,13 +222,13 @@ fn check_material(
                 other => diags.push(type_error(stmt, "a number between 0 and 1", other)),
             },
             "DOUBLE_SIDED" => match bool_word(&stmt.value) {
-                Some(b) => double_sided = Some(Spanned::new(b, stmt.value.span)),
+                Some(b) => self.double_sided = Some(Spanned::new(b, stmt.value.span)),
                 None => diags.push(expected_bool(stmt)),
             },
             _ => {
                 let mut d = Diagnostic::error(format!("unknown material attribute `{k}`"))
                     .at(stmt.key.span, "not a material attribute");
-                d = match suggest(&k, MATERIAL_KEYS.into_iter()) {
+                d = match suggest(k, MATERIAL_KEYS.into_iter()) {
                     Some(s) => d.note(format!("did you mean `{s}`?")),
                     None => d.note(format!(
                         "a material may contain {}",
@@ -213,8 +239,35 @@ fn check_material(
             }
         }
     }
-    let written = |key: &str| seen.contains(key);
-    if !written("SURFACE") {
+
+    /// `ALPHA_CUTOFF` without `ALPHA = mask` is a warning (`alpha_written`:
+    /// `ALPHA` was written, even wrongly).
+    fn check_alpha_cutoff(&self, alpha_written: bool, diags: &mut Diagnostics) {
+        let Some(cutoff) = &self.alpha_cutoff else {
+            return;
+        };
+        let alpha = &self.alpha;
+        let is_mask = alpha.as_ref().map(|a| a.node) == Some(AlphaSpec::Mask);
+        // A wrongly written ALPHA is reported already; say nothing more about it.
+        if !is_mask && (alpha.is_some() || !alpha_written) {
+            let mut d = Diagnostic::warning("`ALPHA_CUTOFF` has no effect unless `ALPHA = mask`")
+                .at(cutoff.span, "ignored");
+            if let Some(a) = alpha {
+                d = d.also(a.span, format!("the alpha mode is `{}`", a.node.name()));
+            }
+            diags.push(d);
+        }
+    }
+}
+
+/// A material needs a `SURFACE` and a `LIGHTING` (written, even wrongly).
+fn report_missing_shaders(
+    name: &Spanned<String>,
+    surface_written: bool,
+    lighting_written: bool,
+    diags: &mut Diagnostics,
+) {
+    if !surface_written {
         diags.push(
             Diagnostic::error(format!("material `{}` has no `SURFACE`", name.node))
                 .at(
@@ -224,35 +277,13 @@ fn check_material(
                 .note("add e.g. `SURFACE = SHADER.standard { base_color = (1, 1, 1, 1) }`"),
         );
     }
-    if !written("LIGHTING") {
+    if !lighting_written {
         diags.push(
             Diagnostic::error(format!("material `{}` has no `LIGHTING`", name.node))
                 .at(name.span, "this material never says which shader lights it")
                 .note("add e.g. `LIGHTING = SHADER.lambert`"),
         );
     }
-    if let Some(cutoff) = &alpha_cutoff {
-        let is_mask = alpha.as_ref().map(|a| a.node) == Some(AlphaSpec::Mask);
-        // A wrongly written ALPHA is reported already; say nothing more about it.
-        if !is_mask && (alpha.is_some() || !written("ALPHA")) {
-            let mut d = Diagnostic::warning("`ALPHA_CUTOFF` has no effect unless `ALPHA = mask`")
-                .at(cutoff.span, "ignored");
-            if let Some(a) = &alpha {
-                d = d.also(a.span, format!("the alpha mode is `{}`", a.node.name()));
-            }
-            diags.push(d);
-        }
-    }
-    Some(MaterialDef {
-        name,
-        description,
-        surface: surface?,
-        lighting: lighting?,
-        alpha,
-        alpha_cutoff,
-        double_sided,
-        span,
-    })
 }
 
 /// `SURFACE = SHADER.name { ... }` or `LIGHTING = SHADER.name`.
@@ -328,59 +359,11 @@ const SETTING_EXPECTED: &str =
 
 /// The value of one shader setting.
 fn setting_value(s: &Stmt, diags: &mut Diagnostics) -> Option<MaterialValue> {
-    let finite = |n: f64, span: Span, diags: &mut Diagnostics| {
-        if n.is_finite() {
-            true
-        } else {
-            diags.push(
-                Diagnostic::error(format!("`{}` must be finite", s.key.dotted()))
-                    .at(span, "not a finite number"),
-            );
-            false
-        }
-    };
     match &s.value.node {
         RawValue::Number(n) => {
-            finite(*n, s.value.span, diags).then(|| MaterialValue::Numbers(vec![*n]))
+            is_finite_setting(s, *n, s.value.span, diags).then(|| MaterialValue::Numbers(vec![*n]))
         }
-        RawValue::Tuple(items) => {
-            let mut out = Vec::with_capacity(items.len());
-            let mut ok = true;
-            for it in items {
-                match &it.node {
-                    RawValue::Number(n) => {
-                        ok &= finite(*n, it.span, diags);
-                        out.push(*n);
-                    }
-                    other => {
-                        let found = match other {
-                            RawValue::Ref { .. } => format!("`{}`", text_of_ref(other)),
-                            o => o.kind_name().to_string(),
-                        };
-                        diags.push(
-                            Diagnostic::error(format!(
-                                "a tuple in `{}` holds numbers only, found {found}",
-                                s.key.dotted()
-                            ))
-                            .at(it.span, "expected a number"),
-                        );
-                        ok = false;
-                    }
-                }
-            }
-            if items.len() > MAX_SETTING_NUMBERS {
-                diags.push(
-                    Diagnostic::error(format!(
-                        "a tuple of {} numbers in `{}`: at most {MAX_SETTING_NUMBERS} (a 4x4 matrix)",
-                        items.len(),
-                        s.key.dotted()
-                    ))
-                    .at(s.value.span, "too many numbers"),
-                );
-                ok = false;
-            }
-            ok.then_some(MaterialValue::Numbers(out))
-        }
+        RawValue::Tuple(items) => tuple_setting_value(s, items, diags),
         RawValue::Str(t) if t.is_empty() => {
             diags.push(
                 Diagnostic::error(format!("`{}` is an empty texture path", s.key.dotted())).at(
@@ -394,22 +377,7 @@ fn setting_value(s: &Stmt, diags: &mut Diagnostics) -> Option<MaterialValue> {
         RawValue::Ref { .. } => match bool_word(&s.value) {
             Some(b) => Some(MaterialValue::Numbers(vec![if b { 1.0 } else { 0.0 }])),
             None => {
-                let r = text_of_ref(&s.value.node);
-                let mut d = Diagnostic::error(format!(
-                    "`{}` expects {SETTING_EXPECTED}, found `{r}`",
-                    s.key.dotted()
-                ))
-                .at(s.value.span, "not a material setting value");
-                let first = match &s.value.node {
-                    RawValue::Ref { key, .. } => key.first(),
-                    _ => "",
-                };
-                d = if ["IN", "PASS", "AUX", "PARAM"].contains(&first) {
-                    d.note("a material reads no images or parameters of an effect; textures are file paths in quotes")
-                } else {
-                    d.note(format!("a texture path is written in quotes: `\"{r}\"`"))
-                };
-                diags.push(d);
+                report_name_setting(s, diags);
                 None
             }
         },
@@ -418,6 +386,85 @@ fn setting_value(s: &Stmt, diags: &mut Diagnostics) -> Option<MaterialValue> {
             None
         }
     }
+}
+
+/// True when number `n` (at `span`) of setting `s` is finite; an error otherwise.
+fn is_finite_setting(s: &Stmt, n: f64, span: Span, diags: &mut Diagnostics) -> bool {
+    if n.is_finite() {
+        true
+    } else {
+        diags.push(
+            Diagnostic::error(format!("`{}` must be finite", s.key.dotted()))
+                .at(span, "not a finite number"),
+        );
+        false
+    }
+}
+
+/// A setting written as a tuple: finite numbers only, at most
+/// [`MAX_SETTING_NUMBERS`] of them.
+fn tuple_setting_value(
+    s: &Stmt,
+    items: &[Spanned<RawValue>],
+    diags: &mut Diagnostics,
+) -> Option<MaterialValue> {
+    let mut out = Vec::with_capacity(items.len());
+    let mut ok = true;
+    for it in items {
+        match &it.node {
+            RawValue::Number(n) => {
+                ok &= is_finite_setting(s, *n, it.span, diags);
+                out.push(*n);
+            }
+            other => {
+                let found = match other {
+                    RawValue::Ref { .. } => format!("`{}`", text_of_ref(other)),
+                    o => o.kind_name().to_string(),
+                };
+                diags.push(
+                    Diagnostic::error(format!(
+                        "a tuple in `{}` holds numbers only, found {found}",
+                        s.key.dotted()
+                    ))
+                    .at(it.span, "expected a number"),
+                );
+                ok = false;
+            }
+        }
+    }
+    if items.len() > MAX_SETTING_NUMBERS {
+        diags.push(
+            Diagnostic::error(format!(
+                "a tuple of {} numbers in `{}`: at most {MAX_SETTING_NUMBERS} (a 4x4 matrix)",
+                items.len(),
+                s.key.dotted()
+            ))
+            .at(s.value.span, "too many numbers"),
+        );
+        ok = false;
+    }
+    ok.then_some(MaterialValue::Numbers(out))
+}
+
+/// A setting written as a name other than `true`/`false`: an effect's image
+/// or parameter, or a texture path without its quotes.
+fn report_name_setting(s: &Stmt, diags: &mut Diagnostics) {
+    let r = text_of_ref(&s.value.node);
+    let mut d = Diagnostic::error(format!(
+        "`{}` expects {SETTING_EXPECTED}, found `{r}`",
+        s.key.dotted()
+    ))
+    .at(s.value.span, "not a material setting value");
+    let first = match &s.value.node {
+        RawValue::Ref { key, .. } => key.first(),
+        _ => "",
+    };
+    d = if ["IN", "PASS", "AUX", "PARAM"].contains(&first) {
+        d.note("a material reads no images or parameters of an effect; textures are file paths in quotes")
+    } else {
+        d.note(format!("a texture path is written in quotes: `\"{r}\"`"))
+    };
+    diags.push(d);
 }
 
 /// `PASS.x`, `IN[-1]`, `word` as written.

@@ -8,10 +8,13 @@ impl Plan {
     /// another live value, and freed exactly once. Returns the bytes actually held at
     /// the peak (which must equal `peak_bytes`).
     pub fn validate(&self) -> Result<u64, String> {
-        let mut slot_holder: Vec<Option<usize>> = vec![None; self.slots.len()];
-        let mut slot_exists = vec![false; self.slots.len()];
-        let mut alive = vec![false; self.values.len()];
-        let mut done = vec![false; self.values.len()];
+        let mut sim = Simulation {
+            plan: self,
+            slot_holder: vec![None; self.slots.len()],
+            slot_exists: vec![false; self.slots.len()],
+            alive: vec![false; self.values.len()],
+            done: vec![false; self.values.len()],
+        };
         let mut peak = 0u64;
         for step in &self.steps {
             match *step {
@@ -19,78 +22,19 @@ impl Plan {
                     value,
                     slot,
                     create,
-                } => {
-                    if done[value] || alive[value] {
-                        return Err(format!("value {value} allocated twice"));
-                    }
-                    if let Some(other) = slot_holder[slot] {
-                        return Err(format!("value {value} allocated in slot {slot} still holding live value {other}"));
-                    }
-                    if create == slot_exists[slot] {
-                        return Err(format!(
-                            "slot {slot}: create={create} but exists={}",
-                            slot_exists[slot]
-                        ));
-                    }
-                    if self.slots[slot] != self.values[value].desc {
-                        return Err(format!(
-                            "value {value} does not match slot {slot}'s descriptor"
-                        ));
-                    }
-                    slot_exists[slot] = true;
-                    slot_holder[slot] = Some(value);
-                    alive[value] = true;
-                }
-                Step::Run { pass } => {
-                    let p = &self.passes[pass];
-                    for inp in &p.inputs {
-                        if let Resource::Value(v) = inp.resource {
-                            if !alive[v] {
-                                return Err(format!(
-                                    "pass {} reads value {v} which is not alive",
-                                    p.path
-                                ));
-                            }
-                        }
-                    }
-                    if let Resource::Value(v) = p.output {
-                        if !alive[v] || slot_holder[self.values[v].slot] != Some(v) {
-                            return Err(format!(
-                                "pass {} writes value {v} that does not own its slot",
-                                p.path
-                            ));
-                        }
-                        if p.inputs.iter().any(|i| i.resource == p.output) {
-                            return Err(format!("pass {} reads its own output", p.path));
-                        }
-                    }
-                    let held: u64 = (0..self.slots.len())
-                        .filter(|&s| slot_exists[s])
-                        .map(|s| self.slots[s].bytes())
-                        .sum();
-                    peak = peak.max(held);
-                }
+                } => sim.alloc(value, slot, create)?,
+                Step::Run { pass } => peak = peak.max(sim.run(pass)?),
                 Step::Free {
                     value,
                     slot,
                     release,
-                } => {
-                    if !alive[value] || slot_holder[slot] != Some(value) {
-                        return Err(format!("value {value} freed but not alive in slot {slot}"));
-                    }
-                    alive[value] = false;
-                    done[value] = true;
-                    slot_holder[slot] = None;
-                    if release {
-                        slot_exists[slot] = false;
-                    }
-                }
+                } => sim.free(value, slot, release)?,
             }
         }
-        if let Some(v) = alive.iter().position(|&a| a) {
+        if let Some(v) = sim.alive.iter().position(|&a| a) {
             return Err(format!("value {v} never freed"));
         }
-        if slot_exists.iter().any(|&e| e) {
+        if sim.slot_exists.iter().any(|&e| e) {
             return Err("a slot is still held at the end".into());
         }
         if peak != self.peak_bytes {
@@ -113,56 +57,72 @@ impl Plan {
         );
         let _ = writeln!(out, "passes:");
         for (i, p) in self.passes.iter().enumerate() {
-            let ins: Vec<String> = p
-                .inputs
-                .iter()
-                .map(|i| format!("{}={}", i.name, self.resource_name(&i.resource)))
-                .collect();
-            let _ = writeln!(
-                out,
-                "  {i:>2} {:<28} {:>5}x{:<5} {:<10} {:<6} <- {}  -> {}",
-                p.path,
-                p.desc.width,
-                p.desc.height,
-                p.desc.format.name(),
-                p.colorspace.name(),
-                ins.join(" "),
-                self.resource_name(&p.output)
-            );
+            let _ = writeln!(out, "  {i:>2} {}", self.pass_line(p));
         }
         let _ = writeln!(out, "steps:");
         for s in &self.steps {
-            let line = match s {
-                Step::Alloc {
-                    value,
-                    slot,
-                    create,
-                } => {
-                    let d = self.values[*value].desc;
-                    format!(
-                        "alloc  v{value} -> t{slot} {}x{} {}{}",
-                        d.width,
-                        d.height,
-                        d.format,
-                        if *create { " (new)" } else { " (reused)" }
-                    )
-                }
-                Step::Run { pass } => format!("run    {}", self.passes[*pass].path),
-                Step::Free {
-                    value,
-                    slot,
-                    release,
-                } => format!(
-                    "free   v{value} (t{slot}{})",
-                    if *release {
-                        " released"
-                    } else {
-                        " kept for reuse"
-                    }
-                ),
-            };
-            let _ = writeln!(out, "  {line}");
+            let _ = writeln!(out, "  {}", self.step_line(s));
         }
+        self.render_figures(&mut out);
+        out
+    }
+
+    /// A pass in [`Plan::render`]: path, size, format, colour space, what it
+    /// reads and writes.
+    fn pass_line(&self, p: &PlannedPass) -> String {
+        let ins: Vec<String> = p
+            .inputs
+            .iter()
+            .map(|i| format!("{}={}", i.name, self.resource_name(&i.resource)))
+            .collect();
+        format!(
+            "{:<28} {:>5}x{:<5} {:<10} {:<6} <- {}  -> {}",
+            p.path,
+            p.desc.width,
+            p.desc.height,
+            p.desc.format.name(),
+            p.colorspace.name(),
+            ins.join(" "),
+            self.resource_name(&p.output)
+        )
+    }
+
+    /// A step in [`Plan::render`].
+    fn step_line(&self, s: &Step) -> String {
+        match s {
+            Step::Alloc {
+                value,
+                slot,
+                create,
+            } => {
+                let d = self.values[*value].desc;
+                format!(
+                    "alloc  v{value} -> t{slot} {}x{} {}{}",
+                    d.width,
+                    d.height,
+                    d.format,
+                    if *create { " (new)" } else { " (reused)" }
+                )
+            }
+            Step::Run { pass } => format!("run    {}", self.passes[*pass].path),
+            Step::Free {
+                value,
+                slot,
+                release,
+            } => format!(
+                "free   v{value} (t{slot}{})",
+                if *release {
+                    " released"
+                } else {
+                    " kept for reuse"
+                }
+            ),
+        }
+    }
+
+    /// The byte figures, frames kept and jitter of [`Plan::render`].
+    fn render_figures(&self, out: &mut String) {
+        use std::fmt::Write as _;
         for (what, bytes) in [
             ("naive bytes:      ", self.naive_bytes),
             ("peak bytes:       ", self.peak_bytes),
@@ -186,7 +146,6 @@ impl Plan {
                 j.period()
             );
         }
-        out
     }
 
     pub fn resource_name(&self, r: &Resource) -> String {
@@ -221,5 +180,91 @@ impl Plan {
             "history": self.history,
             "jitter": self.jitter.map(|j| j.name()),
         })
+    }
+}
+
+/// The state of [`Plan::validate`]'s simulation: who holds each slot, which
+/// slots exist, which values are alive or done.
+struct Simulation<'p> {
+    plan: &'p Plan,
+    slot_holder: Vec<Option<usize>>,
+    slot_exists: Vec<bool>,
+    alive: Vec<bool>,
+    done: Vec<bool>,
+}
+
+impl Simulation<'_> {
+    /// `Alloc`: a value not allocated before, into a free slot of its
+    /// descriptor, created exactly when it does not exist.
+    fn alloc(&mut self, value: usize, slot: usize, create: bool) -> Result<(), String> {
+        if self.done[value] || self.alive[value] {
+            return Err(format!("value {value} allocated twice"));
+        }
+        if let Some(other) = self.slot_holder[slot] {
+            return Err(format!(
+                "value {value} allocated in slot {slot} still holding live value {other}"
+            ));
+        }
+        if create == self.slot_exists[slot] {
+            return Err(format!(
+                "slot {slot}: create={create} but exists={}",
+                self.slot_exists[slot]
+            ));
+        }
+        if self.plan.slots[slot] != self.plan.values[value].desc {
+            return Err(format!(
+                "value {value} does not match slot {slot}'s descriptor"
+            ));
+        }
+        self.slot_exists[slot] = true;
+        self.slot_holder[slot] = Some(value);
+        self.alive[value] = true;
+        Ok(())
+    }
+
+    /// `Run`: the pass reads alive values and writes one that owns its slot;
+    /// returns the bytes of the slots held meanwhile.
+    fn run(&self, pass: usize) -> Result<u64, String> {
+        let plan = self.plan;
+        let p = &plan.passes[pass];
+        for inp in &p.inputs {
+            if let Resource::Value(v) = inp.resource {
+                if !self.alive[v] {
+                    return Err(format!(
+                        "pass {} reads value {v} which is not alive",
+                        p.path
+                    ));
+                }
+            }
+        }
+        if let Resource::Value(v) = p.output {
+            if !self.alive[v] || self.slot_holder[plan.values[v].slot] != Some(v) {
+                return Err(format!(
+                    "pass {} writes value {v} that does not own its slot",
+                    p.path
+                ));
+            }
+            if p.inputs.iter().any(|i| i.resource == p.output) {
+                return Err(format!("pass {} reads its own output", p.path));
+            }
+        }
+        Ok((0..plan.slots.len())
+            .filter(|&s| self.slot_exists[s])
+            .map(|s| plan.slots[s].bytes())
+            .sum())
+    }
+
+    /// `Free`: an alive value in its slot; the slot is destroyed if `release`.
+    fn free(&mut self, value: usize, slot: usize, release: bool) -> Result<(), String> {
+        if !self.alive[value] || self.slot_holder[slot] != Some(value) {
+            return Err(format!("value {value} freed but not alive in slot {slot}"));
+        }
+        self.alive[value] = false;
+        self.done[value] = true;
+        self.slot_holder[slot] = None;
+        if release {
+            self.slot_exists[slot] = false;
+        }
+        Ok(())
     }
 }
