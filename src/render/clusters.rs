@@ -363,7 +363,14 @@ pub(crate) fn build(
             });
         }
     }
-    // Counting sort by cluster, keeping each cluster's lights in light order.
+    Ok(sort_by_cluster(grid, globals, pairs))
+}
+
+/// The lists from (cluster, light) pairs: the global lights first, then each
+/// cluster's lights (counting sort by cluster, each cluster's lights in light
+/// order).
+#[cfg(test)]
+fn sort_by_cluster(grid: ClusterGrid, globals: &[u32], pairs: Vec<(u32, u32)>) -> ClusterLists {
     let mut counts = vec![0u32; grid.count()];
     for &(c, _) in &pairs {
         counts[c as usize] += 1;
@@ -383,13 +390,13 @@ pub(crate) fn build(
         indices[(r[0] + r[1]) as usize] = light;
         r[1] += 1;
     }
-    Ok(ClusterLists {
+    ClusterLists {
         grid,
         globals: globals.len() as u32,
         ranges,
         indices,
         max_per_cluster,
-    })
+    }
 }
 
 #[cfg(test)]

@@ -150,6 +150,50 @@ fn array_texture(
     (view, layer_views)
 }
 
+/// The depth pass's group: the light matrices of the layer drawn (a dynamic
+/// offset into `pass_buffer`) and the instance transforms.
+fn pass_group(
+    device: &wgpu::Device,
+    pass_buffer: &wgpu::Buffer,
+    instance_buffer: &wgpu::Buffer,
+) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("deferred shadow pass group"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(64),
+                },
+                count: None,
+            },
+            storage_entry(1, wgpu::ShaderStages::VERTEX),
+        ],
+    });
+    let pass_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("deferred shadow pass group"),
+        layout: &pass_layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: pass_buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(64),
+                }),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: instance_buffer.as_entire_binding(),
+            },
+        ],
+    });
+    (pass_layout, pass_group)
+}
+
 impl ShadowMaps {
     /// The resources for `opts` (checked with [`check_options`]); the texture
     /// grows to the layers a frame needs.
@@ -187,40 +231,8 @@ impl ShadowMaps {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("deferred shadow pass group"),
-                entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: true,
-                            min_binding_size: wgpu::BufferSize::new(64),
-                        },
-                        count: None,
-                    },
-                    storage_entry(1, wgpu::ShaderStages::VERTEX),
-                ],
-            });
-            let pass_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("deferred shadow pass group"),
-                layout: &pass_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                            buffer: &pass_buffer,
-                            offset: 0,
-                            size: wgpu::BufferSize::new(64),
-                        }),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: geometry.instance_buffer.as_entire_binding(),
-                    },
-                ],
-            });
+            let (pass_layout, pass_group) =
+                pass_group(device, &pass_buffer, &geometry.instance_buffer);
             let pipeline = on.then(|| pipeline(device, &pass_layout));
             ShadowMaps {
                 size: opts.shadow_size,

@@ -207,40 +207,8 @@ impl MaterialSet {
         let l = &self.lightings[lighting];
         let surface_params = pack_params(s, &m.surface, &m.name, &mut errors);
         let lighting_params = pack_params(l, &m.lighting, &m.name, &mut errors);
-        let mut features = 0u64;
-        match m.alpha_mode {
-            AlphaMode::Opaque => {}
-            AlphaMode::Mask => features |= variant::engine_bit("ALPHA_MASK"),
-            AlphaMode::Blend => features |= variant::engine_bit("ALPHA_BLEND"),
-        }
-        if m.double_sided {
-            features |= variant::engine_bit("DOUBLE_SIDED");
-        }
-        if has_layers(s, &m.surface) {
-            features |= variant::engine_bit("HAS_LAYERS");
-        }
-        let mut textures = vec![None; s.shader.textures.len()];
-        for (name, index) in &m.surface.textures {
-            match s.shader.textures.iter().position(|t| &t.name == name) {
-                Some(slot) => {
-                    if *index >= scene.textures.len() {
-                        errors.push(format!(
-                            "material `{}`: texture `{name}` refers to missing scene texture {index}",
-                            m.name
-                        ));
-                        continue;
-                    }
-                    textures[slot] = Some(*index);
-                    features |= s.bit(&variant::texture_flag(name)).unwrap_or(0);
-                }
-                None => errors.push(format!(
-                    "material `{}`: surface shader `{}` has no texture `{name}` (its textures: {})",
-                    m.name,
-                    s.name,
-                    list_or_none(s.shader.textures.iter().map(|t| t.name.as_str()))
-                )),
-            }
-        }
+        let (textures, texture_bits) = surface_textures(m, s, scene, &mut errors);
+        let features = material_bits(m, s) | texture_bits;
         let _ = MaterialShaderKind::Surface;
         if !m.lighting.textures.is_empty() {
             errors.push(format!(
@@ -334,6 +302,59 @@ fn has_layers(s: &ShaderInfo, b: &ShaderBinding) -> bool {
             let value = given.map(|(_, v)| v.clone()).or_else(|| m.default.clone());
             value.is_some_and(|v| v.iter().any(|x| *x > 0.0))
         })
+}
+
+/// The engine feature bits a material turns on: its alpha mode, double
+/// sides, and layers of its surface shader `s`.
+fn material_bits(m: &Material, s: &ShaderInfo) -> u64 {
+    let mut features = 0u64;
+    match m.alpha_mode {
+        AlphaMode::Opaque => {}
+        AlphaMode::Mask => features |= variant::engine_bit("ALPHA_MASK"),
+        AlphaMode::Blend => features |= variant::engine_bit("ALPHA_BLEND"),
+    }
+    if m.double_sided {
+        features |= variant::engine_bit("DOUBLE_SIDED");
+    }
+    if has_layers(s, &m.surface) {
+        features |= variant::engine_bit("HAS_LAYERS");
+    }
+    features
+}
+
+/// The scene texture in each texture slot of surface shader `s`, and the
+/// feature bits of the textures given; a texture the shader lacks or a
+/// missing scene texture is an error.
+fn surface_textures(
+    m: &Material,
+    s: &ShaderInfo,
+    scene: &Scene,
+    errors: &mut Vec<String>,
+) -> (Vec<Option<usize>>, u64) {
+    let mut features = 0u64;
+    let mut textures = vec![None; s.shader.textures.len()];
+    for (name, index) in &m.surface.textures {
+        match s.shader.textures.iter().position(|t| &t.name == name) {
+            Some(slot) => {
+                if *index >= scene.textures.len() {
+                    errors.push(format!(
+                        "material `{}`: texture `{name}` refers to missing scene texture {index}",
+                        m.name
+                    ));
+                    continue;
+                }
+                textures[slot] = Some(*index);
+                features |= s.bit(&variant::texture_flag(name)).unwrap_or(0);
+            }
+            None => errors.push(format!(
+                "material `{}`: surface shader `{}` has no texture `{name}` (its textures: {})",
+                m.name,
+                s.name,
+                list_or_none(s.shader.textures.iter().map(|t| t.name.as_str()))
+            )),
+        }
+    }
+    (textures, features)
 }
 
 fn pack_params(

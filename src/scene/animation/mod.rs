@@ -277,82 +277,110 @@ impl Scene {
             message,
         };
         super::node::check_hierarchy(&self.nodes, super::node::MAX_NODE_DEPTH).map_err(err)?;
+        self.check_skins().map_err(err)?;
+        self.check_instance_deformation().map_err(err)?;
+        self.check_light_and_camera_nodes().map_err(err)?;
+        self.check_channels().map_err(err)
+    }
+
+    /// Skins of at most [`MAX_JOINTS`] joints, an inverse bind matrix each,
+    /// joints naming existing nodes.
+    fn check_skins(&self) -> Result<(), String> {
         let node_count = self.nodes.len();
         for (si, skin) in self.skins.iter().enumerate() {
             if skin.joints.len() > MAX_JOINTS {
-                return Err(err(format!(
+                return Err(format!(
                     "skin {si} (`{}`) has {} joints, at most {MAX_JOINTS} are supported",
                     skin.name,
                     skin.joints.len()
-                )));
+                ));
             }
             if skin.inverse_bind_matrices.len() != skin.joints.len() {
-                return Err(err(format!(
+                return Err(format!(
                     "skin {si}: {} inverse bind matrices for {} joints",
                     skin.inverse_bind_matrices.len(),
                     skin.joints.len()
-                )));
+                ));
             }
             if let Some(&j) = skin.joints.iter().find(|&&j| j >= node_count) {
-                return Err(err(format!("skin {si}: joint node {j} is out of range")));
+                return Err(format!("skin {si}: joint node {j} is out of range"));
             }
         }
+        Ok(())
+    }
+
+    /// Instances on existing nodes, with a morph weight per morph target of
+    /// their mesh and a skin that has every joint the mesh uses.
+    fn check_instance_deformation(&self) -> Result<(), String> {
+        let node_count = self.nodes.len();
         for (ii, inst) in self.instances.iter().enumerate() {
             let label = || format!("instance {ii} (`{}`)", inst.name);
             if inst.node.is_some_and(|n| n >= node_count) {
-                return Err(err(format!("{}: node out of range", label())));
+                return Err(format!("{}: node out of range", label()));
             }
             let Some(mesh) = self.meshes.get(inst.mesh) else {
                 continue;
             };
             if inst.morph_weights.len() != mesh.morph_targets.len() {
-                return Err(err(format!(
+                return Err(format!(
                     "{}: {} morph weights for {} morph targets",
                     label(),
                     inst.morph_weights.len(),
                     mesh.morph_targets.len()
-                )));
+                ));
             }
             if let Some(s) = inst.skin {
                 let skin = self
                     .skins
                     .get(s)
-                    .ok_or_else(|| err(format!("{}: skin {s} is out of range", label())))?;
+                    .ok_or_else(|| format!("{}: skin {s} is out of range", label()))?;
                 if let Some(j) = mesh.max_joint() {
                     if j as usize >= skin.joints.len() {
-                        return Err(err(format!(
+                        return Err(format!(
                             "{}: mesh `{}` uses joint {j}, skin {s} has {} joints",
                             label(),
                             mesh.name,
                             skin.joints.len()
-                        )));
+                        ));
                     }
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Lights and cameras on existing nodes.
+    fn check_light_and_camera_nodes(&self) -> Result<(), String> {
+        let node_count = self.nodes.len();
         for light in &self.lights {
             if light.node.is_some_and(|n| n >= node_count) {
-                return Err(err(format!("light `{}`: node out of range", light.name)));
+                return Err(format!("light `{}`: node out of range", light.name));
             }
         }
         for cam in &self.cameras {
             if cam.node.is_some_and(|n| n >= node_count) {
-                return Err(err(format!("camera `{}`: node out of range", cam.name)));
+                return Err(format!("camera `{}`: node out of range", cam.name));
             }
         }
+        Ok(())
+    }
+
+    /// Channels animating existing nodes, with samplers of the path's width
+    /// (the node's morph weights for `weights`).
+    fn check_channels(&self) -> Result<(), String> {
         for (ai, anim) in self.animations.iter().enumerate() {
             for (ci, ch) in anim.channels.iter().enumerate() {
                 let label = || format!("animation {ai} (`{}`) channel {ci}", anim.name);
                 let node = self
                     .nodes
                     .get(ch.node)
-                    .ok_or_else(|| err(format!("{}: node {} is out of range", label(), ch.node)))?;
+                    .ok_or_else(|| format!("{}: node {} is out of range", label(), ch.node))?;
                 let width = match ch.path {
                     ChannelPath::Translation | ChannelPath::Scale => 3,
                     ChannelPath::Rotation => 4,
                     ChannelPath::Weights => node.weights.len(),
                 };
-                check_sampler(&ch.sampler, width).map_err(|m| err(format!("{}: {m}", label())))?;
+                check_sampler(&ch.sampler, width).map_err(|m| format!("{}: {m}", label()))?;
             }
         }
         Ok(())
