@@ -364,29 +364,26 @@ fn every_error_class_names_its_file_and_cause() {
     // and fxgraph corrects them: docs/slang.md, "Errors")
     let p = preset(d, "glsl", "", "FragColor = undefined_thing;", "");
     rejected(&p, &["glsl.slang:16: GLSL error", "undefined_thing"]);
-    // ... and in an included file, and in the shader after the include
-    std::fs::write(
-        d.join("part.inc"),
-        "// 1\n// 2\nfloat f() { return missing_in_include; }\n",
-    )
-    .unwrap();
-    let p = preset(
-        d,
-        "inc_err",
-        "",
-        "FragColor = vec4(1.0);",
-        "#include \"part.inc\"",
-    );
-    rejected(&p, &["part.inc:3: GLSL error", "missing_in_include"]);
-    std::fs::write(d.join("part.inc"), "// 1\n").unwrap();
-    let p = preset(
-        d,
-        "after_inc",
-        "",
-        "FragColor = after_include;",
-        "#include \"part.inc\"",
-    );
-    rejected(&p, &["after_inc.slang:16: GLSL error", "after_include"]);
+    // ... and in an included file, and in the shader after the include:
+    // (shader, fragment body, the included file, the expected location)
+    for (name, body, included, at) in [
+        (
+            "inc_err",
+            "FragColor = vec4(1.0);",
+            "// 1\n// 2\nfloat f() { return missing_in_include; }\n",
+            "part.inc:3: GLSL error",
+        ),
+        (
+            "after_inc",
+            "FragColor = after_include;",
+            "// 1\n",
+            "after_inc.slang:16: GLSL error",
+        ),
+    ] {
+        std::fs::write(d.join("part.inc"), included).unwrap();
+        let p = preset(d, name, "", body, "#include \"part.inc\"");
+        rejected(&p, &[at]);
+    }
     // an unknown uniform semantic (no `#pragma parameter` declares it)
     let p = preset(
         d,

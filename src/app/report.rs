@@ -144,6 +144,23 @@ pub struct SceneStats {
     pub shader_modules: usize,
 }
 
+impl SceneStats {
+    /// The counts of one rendered frame (each render pass's time, triangles,
+    /// lights, clusters, shadow maps, pipelines): a still's, or the last frame's
+    /// of a sequence.
+    pub(crate) fn take_frame_counts(&mut self, rs: &crate::render::renderer::RenderStats) {
+        self.render_passes = rs.pass_ms.clone();
+        self.triangles = rs.triangles;
+        self.lights_visible = rs.lights_visible;
+        self.cluster_entries = rs.cluster_entries;
+        self.cluster_bytes = rs.cluster_bytes;
+        self.shadow_layers = rs.shadow_layers;
+        self.shadow_map_bytes = rs.shadow_map_bytes;
+        self.pipelines = rs.pipelines;
+        self.shader_modules = rs.shader_modules;
+    }
+}
+
 /// What a job did and where its time went.
 #[derive(Debug, Default, serde::Serialize)]
 pub struct RunReport {

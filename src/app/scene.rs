@@ -344,16 +344,8 @@ fn set_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
     stats.render_cpu_ms = rs.cpu_ms;
     stats.render_cpu_split = rs.cpu_split.clone();
     stats.render_gpu_ms = rs.gpu_ms;
-    stats.render_passes = rs.pass_ms.clone();
-    stats.triangles = rs.triangles;
-    stats.lights_visible = rs.lights_visible;
-    stats.cluster_entries = rs.cluster_entries;
-    stats.cluster_bytes = rs.cluster_bytes;
-    stats.shadow_layers = rs.shadow_layers;
     stats.shadow_layers_rendered = rs.shadow_layers_rendered;
-    stats.shadow_map_bytes = rs.shadow_map_bytes;
-    stats.pipelines = rs.pipelines;
-    stats.shader_modules = rs.shader_modules;
+    stats.take_frame_counts(rs);
 }
 
 /// Runs the job's effects on the rendered frame `out` (the G-buffer as `AUX.*`, the

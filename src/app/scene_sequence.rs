@@ -397,17 +397,8 @@ fn add_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
         (Some(a), Some(b)) => Some(a + b),
         (_, b) => b,
     };
-    stats.render_passes = rs.pass_ms.clone();
-    stats.triangles = rs.triangles;
-    // (the last frame's)
-    stats.lights_visible = rs.lights_visible;
-    stats.cluster_entries = rs.cluster_entries;
-    stats.cluster_bytes = rs.cluster_bytes;
-    stats.shadow_layers = rs.shadow_layers;
-    stats.shadow_map_bytes = rs.shadow_map_bytes;
     stats.shadow_layers_rendered += rs.shadow_layers_rendered;
-    stats.pipelines = rs.pipelines;
-    stats.shader_modules = rs.shader_modules;
+    stats.take_frame_counts(rs);
 }
 
 /// The job's effect prepared as a stream over the rendered frames (none without an
