@@ -10,6 +10,7 @@ use super::vertex::combine;
 use crate::unwind::catch_quiet;
 use librashader_preprocess::ShaderParameter;
 use librashader_presets::{ShaderFeatures, ShaderPreset};
+use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -50,26 +51,49 @@ fn preset_error(path: &Path, message: String) -> SlangError {
 }
 
 /// Lowers the preset at `path` and writes the effect (or finds it written). A
-/// preset is lowered once per process (the command line and the lookup both ask).
+/// preset is lowered once per process for one content (the command line and the
+/// lookup both ask): the memo is keyed by the parsed preset (its `#reference`s
+/// resolved) and each pass's preprocessed text (its includes in it), so an
+/// edited preset or shader (`--watch`) is lowered again.
 pub fn lower_preset(path: &Path) -> Result<Lowered, SlangError> {
-    static DONE: Mutex<Vec<(PathBuf, Lowered)>> = Mutex::new(Vec::new());
-    let done = |d: &[(PathBuf, Lowered)]| d.iter().find(|(p, _)| p == path).map(|(_, l)| l.clone());
-    if let Some(l) = done(&DONE.lock().unwrap_or_else(|e| e.into_inner())) {
-        return Ok(l);
-    }
-    let lowered = lower_uncached(path)?;
-    let mut d = DONE.lock().unwrap_or_else(|e| e.into_inner());
-    d.push((path.to_path_buf(), lowered.clone()));
-    Ok(lowered)
-}
-
-fn lower_uncached(path: &Path) -> Result<Lowered, SlangError> {
+    static DONE: Mutex<Option<HashMap<u64, Lowered>>> = Mutex::new(None);
     let preset = parse_preset(path)?;
     let sources = preset
         .passes
         .iter()
         .map(|p| load_source(&p.path))
         .collect::<Result<Vec<Source>, SlangError>>()?;
+    let key = content_key(path, &preset, &sources);
+    let memo = |d: &Option<HashMap<u64, Lowered>>| d.as_ref().and_then(|m| m.get(&key)).cloned();
+    if let Some(l) = memo(&DONE.lock().unwrap_or_else(|e| e.into_inner())) {
+        return Ok(l);
+    }
+    let lowered = lower_uncached(path, preset, &sources)?;
+    let mut d = DONE.lock().unwrap_or_else(|e| e.into_inner());
+    d.get_or_insert_with(HashMap::new)
+        .insert(key, lowered.clone());
+    Ok(lowered)
+}
+
+/// What a lowering depends on: the preset's path, its parsed settings and each
+/// pass's preprocessed stages.
+fn content_key(path: &Path, preset: &ShaderPreset, sources: &[Source]) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    path.hash(&mut h);
+    format!("{preset:?}").hash(&mut h);
+    for s in sources {
+        s.path.hash(&mut h);
+        s.source.vertex.hash(&mut h);
+        s.source.fragment.hash(&mut h);
+    }
+    h.finish()
+}
+
+fn lower_uncached(
+    path: &Path,
+    preset: ShaderPreset,
+    sources: &[Source],
+) -> Result<Lowered, SlangError> {
     let params = with_preset_values(parameters(&sources), &preset);
     let effect = effect_name(path);
     let mut shaders = Vec::new();
