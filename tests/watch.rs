@@ -51,8 +51,13 @@ impl Watch {
     fn start(d: &Path, input: &Path, output: &Path) -> Watch {
         std::fs::write(d.join("solid.fx"), FX).unwrap();
         std::fs::write(d.join("solid.wgsl"), shader("1.0, 0.0, 0.0")).unwrap();
+        Watch::start_effect(&d.join("solid.fx"), input, output)
+    }
+
+    /// `fxrun EFFECT -i INPUT -o OUTPUT --watch`.
+    fn start_effect(effect: &Path, input: &Path, output: &Path) -> Watch {
         let mut child = Command::new(env!("CARGO_BIN_EXE_fxrun"))
-            .arg(d.join("solid.fx"))
+            .arg(effect)
             .arg("-i")
             .arg(input)
             .arg("-o")
@@ -197,6 +202,54 @@ fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
         "the watch ended on a shader error: {}",
         w.stderr()
     );
+}
+
+/// A one-pass slang preset whose shader writes `rgb` (GLSL), as its path.
+fn slang_solid(d: &Path, rgb: &str) -> std::path::PathBuf {
+    let shader = format!(
+        "#version 450\n\
+         layout(push_constant) uniform Push {{ vec4 SourceSize; }} params;\n\
+         layout(std140, set = 0, binding = 0) uniform UBO {{ mat4 MVP; }} global;\n\
+         #pragma stage vertex\n\
+         layout(location = 0) in vec4 Position;\nlayout(location = 1) in vec2 TexCoord;\n\
+         layout(location = 0) out vec2 vTexCoord;\n\
+         void main() {{ gl_Position = global.MVP * Position; vTexCoord = TexCoord; }}\n\
+         #pragma stage fragment\n\
+         layout(location = 0) in vec2 vTexCoord;\nlayout(location = 0) out vec4 FragColor;\n\
+         layout(set = 0, binding = 2) uniform sampler2D Source;\n\
+         void main() {{ FragColor = vec4({rgb}, 1.0) + 0.0 * texture(Source, vTexCoord); }}\n"
+    );
+    save(&d.join("solid.slang"), &shader);
+    let preset = d.join("solid.slangp");
+    std::fs::write(&preset, "shaders = 1\nshader0 = solid.slang\n").unwrap();
+    preset
+}
+
+/// A slang preset under `--watch`: editing its `.slang` shader lowers the preset
+/// again and re-runs it.
+#[cfg(feature = "slang")]
+#[test]
+fn a_changed_slang_shader_is_lowered_again() {
+    let Some(dir) = common::gpu_scratch() else {
+        return;
+    };
+    let d = dir.path();
+    let input = d.join("in.png");
+    save_png(&input, 16, 8);
+    let out = d.join("out.png");
+    let preset = slang_solid(d, "1.0, 0.0, 0.0");
+    let mut w = Watch::start_effect(&preset, &input, &out);
+    let first = std::fs::read(&out).expect("the first output");
+    slang_solid(d, "0.0, 0.0, 1.0");
+    wait_until(60, "the re-run after the slang shader changed", || {
+        std::fs::read(&out).is_ok_and(|b| b != first)
+    });
+    let blue = fxgraph::io::load_image(&out, &Default::default()).unwrap();
+    let fxgraph::io::Pixels::U8(px) = &blue.pixels else {
+        panic!("an 8-bit output")
+    };
+    assert_eq!(&px[..4], &[0, 0, 255, 255], "{}", w.stderr());
+    assert!(w.still_running(), "{}", w.stderr());
 }
 
 #[test]

@@ -50,6 +50,17 @@ fn preset_error(path: &Path, message: String) -> SlangError {
     }
 }
 
+/// The files a preset is read from, for `--watch`: the preset itself, each
+/// pass's shader and each LUT image (files the shaders `#include` are not
+/// known before preprocessing, and are not listed).
+pub fn preset_files(path: &Path) -> Result<Vec<PathBuf>, SlangError> {
+    let preset = parse_preset(path)?;
+    let mut files = vec![path.to_path_buf()];
+    files.extend(preset.passes.iter().map(|p| p.path.clone()));
+    files.extend(preset.textures.iter().map(|t| t.path.clone()));
+    Ok(files)
+}
+
 /// Lowers the preset at `path` and writes the effect (or finds it written). A
 /// preset is lowered once per process for one content (the command line and the
 /// lookup both ask): the memo is keyed by the parsed preset (its `#reference`s

@@ -18,4 +18,4 @@ mod varyings;
 mod vertex;
 
 pub use error::{FailureClass, SlangError};
-pub use lower::{is_preset, lower_preset, parse_preset, Lowered};
+pub use lower::{is_preset, lower_preset, parse_preset, preset_files, Lowered};

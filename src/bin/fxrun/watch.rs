@@ -351,6 +351,7 @@ pub(crate) fn watched_files(cli: &Cli) -> Vec<PathBuf> {
             .map(PathBuf::from)
             .filter(|p| p.extension().is_some_and(|e| e == "fx")),
     );
+    paths.extend(preset_files(cli));
     if let [input] = cli.input.as_slice() {
         if input.is_file() {
             paths.push(input.clone());
@@ -374,6 +375,25 @@ pub(crate) fn watched_files(cli: &Cli) -> Vec<PathBuf> {
         }
     }
     out
+}
+
+/// The slang presets among the effects, with their shaders and LUTs (the effect
+/// they are lowered to lies in the temporary folder; an edit of these re-lowers
+/// it, see `slang::lower_preset`).
+#[cfg(feature = "slang")]
+fn preset_files(cli: &Cli) -> Vec<PathBuf> {
+    cli.effects
+        .iter()
+        .filter(|e| fxgraph::slang::is_preset(e))
+        .flat_map(|e| {
+            fxgraph::slang::preset_files(Path::new(e)).unwrap_or_else(|_| vec![PathBuf::from(e)])
+        })
+        .collect()
+}
+
+#[cfg(not(feature = "slang"))]
+fn preset_files(_: &Cli) -> Vec<PathBuf> {
+    Vec::new()
 }
 
 /// `path` with its folder made canonical (the file itself may not exist yet).
