@@ -91,8 +91,12 @@ pub fn convert_features(
     cond: impl Fn(&str) -> String,
 ) -> Result<String, PreprocessError> {
     let mut out = String::with_capacity(text.len() + 64);
-    let mut stack: Vec<Open> = Vec::new();
-    let mut depth = BraceDepth::default();
+    let mut conv = Converter {
+        flags,
+        cond: &cond,
+        stack: Vec::new(),
+        depth: BraceDepth::default(),
+    };
     for (start, line) in lines_with_offsets(text) {
         let body = line.trim_end_matches(['\n', '\r']);
         let eol = &line[body.len()..];
@@ -104,23 +108,53 @@ pub fn convert_features(
             message: msg,
         };
         let Some(rest) = t.strip_prefix('#') else {
-            depth.scan(body);
+            conv.depth.scan(body);
             out.push_str(line);
             continue;
         };
+        match conv.directive(rest, &err)? {
+            Some(code) => {
+                out.push_str(indent);
+                out.push_str(&code);
+                out.push_str(eol);
+            }
+            None => out.push_str(line),
+        }
+    }
+    Ok(out)
+}
+
+/// The state of [`convert_features`] between lines.
+struct Converter<'a> {
+    flags: &'a [&'a str],
+    cond: &'a dyn Fn(&str) -> String,
+    /// The open `#if` blocks, innermost last.
+    stack: Vec<Open>,
+    depth: BraceDepth,
+}
+
+impl Converter<'_> {
+    /// The directive line `#rest`: the code it becomes, or `None` to keep it
+    /// for the preprocessor.
+    fn directive(
+        &mut self,
+        rest: &str,
+        err: &dyn Fn(String) -> PreprocessError,
+    ) -> Result<Option<String>, PreprocessError> {
         let mut words = rest.split_whitespace();
         let directive = words.next().unwrap_or("");
         let args: Vec<&str> = words.collect();
-        let converted = match directive {
+        let flags = self.flags;
+        Ok(match directive {
             "ifdef" | "ifndef" => match args.as_slice() {
                 [name] if flags.contains(name) => {
-                    if depth.depth == 0 {
+                    if self.depth.depth == 0 {
                         return Err(err(format!(
                             "feature flag `{name}` used outside a function: feature blocks must be statements inside a function body"
                         )));
                     }
-                    stack.push(Open::Feature);
-                    let c = cond(name);
+                    self.stack.push(Open::Feature);
+                    let c = (self.cond)(name);
                     Some(if directive == "ifdef" {
                         format!("if {c} {{")
                     } else {
@@ -128,28 +162,21 @@ pub fn convert_features(
                     })
                 }
                 _ => {
-                    stack.push(Open::Other);
+                    self.stack.push(Open::Other);
                     None
                 }
             },
             "if" => {
-                if let Some(f) = args.iter().find_map(|a| {
-                    let a = a.trim_start_matches('!');
-                    let a = a
-                        .strip_prefix("defined(")
-                        .and_then(|r| r.strip_suffix(')'))
-                        .unwrap_or(a);
-                    flags.iter().find(|f| **f == a)
-                }) {
+                if let Some(f) = args.iter().find_map(|a| tested_flag(a, flags)) {
                     return Err(err(format!(
                         "test feature flag `{f}` with `#ifdef {f}` or `#ifndef {f}`, not `#if`"
                     )));
                 }
-                stack.push(Open::Other);
+                self.stack.push(Open::Other);
                 None
             }
             "elif" => {
-                if stack.last() == Some(&Open::Feature) {
+                if self.stack.last() == Some(&Open::Feature) {
                     return Err(err(
                         "`#elif` after a feature `#ifdef`: nest `#ifdef`s in the `#else` instead"
                             .into(),
@@ -157,8 +184,8 @@ pub fn convert_features(
                 }
                 None
             }
-            "else" => (stack.last() == Some(&Open::Feature)).then(|| "} else {".to_string()),
-            "endif" => match stack.pop() {
+            "else" => (self.stack.last() == Some(&Open::Feature)).then(|| "} else {".to_string()),
+            "endif" => match self.stack.pop() {
                 Some(Open::Feature) => Some("}".to_string()),
                 _ => None,
             },
@@ -169,17 +196,18 @@ pub fn convert_features(
                 )));
             }
             _ => None,
-        };
-        match converted {
-            Some(code) => {
-                out.push_str(indent);
-                out.push_str(&code);
-                out.push_str(eol);
-            }
-            None => out.push_str(line),
-        }
+        })
     }
-    Ok(out)
+}
+
+/// The feature flag an `#if` argument tests (`FLAG`, `!FLAG`, `defined(FLAG)`).
+fn tested_flag<'f>(arg: &str, flags: &[&'f str]) -> Option<&'f str> {
+    let a = arg.trim_start_matches('!');
+    let a = a
+        .strip_prefix("defined(")
+        .and_then(|r| r.strip_suffix(')'))
+        .unwrap_or(a);
+    flags.iter().find(|f| **f == a).copied()
 }
 
 /// [`convert_features`] for [`FeatureMode::Override`], with the `override`

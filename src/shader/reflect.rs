@@ -1,4 +1,5 @@
-//! naga reflection of a pass shader and the checks of the script against it.
+//! naga reflection of a pass shader (its entry points, resources and uniform
+//! struct) and the checks of the script against it (`reflect/bind.rs`).
 
 use crate::script::types::{format_value, Value};
 use crate::script::{Diagnostic, FileId, Span};

@@ -145,9 +145,22 @@ fn unnamed_structs(msg: &str) -> String {
 /// can't work with``) and a struct no module names by its members (`struct { w }`;
 /// [`sanitize_in`] gives its name).
 pub fn sanitize(msg: &str) -> String {
+    let mut s = msg.to_string();
+    for (debug, wgsl) in debug_type_forms() {
+        if s.contains(debug.as_str()) {
+            s = s.replace(debug.as_str(), wgsl);
+        }
+    }
+    let s = unnamed_structs(&operator_names(&s));
+    function_names(indexed_types(&s))
+}
+
+/// naga's `Debug` forms of the scalar, vector, matrix and value-pointer types,
+/// each with its WGSL form, longest first (made once).
+fn debug_type_forms() -> &'static [(String, String)] {
     use std::sync::OnceLock;
     static PAIRS: OnceLock<Vec<(String, String)>> = OnceLock::new();
-    let pairs = PAIRS.get_or_init(|| {
+    PAIRS.get_or_init(|| {
         let arena = naga::UniqueArena::<naga::Type>::new();
         let wgsl = |inner: &TypeInner| {
             let mut s = String::new();
@@ -204,17 +217,13 @@ pub fn sanitize(msg: &str) -> String {
         }
         v.sort_by_key(|(d, _)| std::cmp::Reverse(d.len()));
         v
-    });
-    let mut s = msg.to_string();
-    for (debug, wgsl) in pairs {
-        if s.contains(debug.as_str()) {
-            s = s.replace(debug.as_str(), wgsl);
-        }
-    }
-    let s = unnamed_structs(&operator_names(&s));
-    // `[3] (of type vec3<f32>)` → `` `vec3<f32>` ``
+    })
+}
+
+/// `[3] (of type vec3<f32>)` → `` `vec3<f32>` ``
+fn indexed_types(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
-    let mut rest = s.as_str();
+    let mut rest = s;
     while let Some(i) = rest.find('[') {
         let after = &rest[i + 1..];
         let digits = after.chars().take_while(|c| c.is_ascii_digit()).count();
@@ -235,7 +244,11 @@ pub fn sanitize(msg: &str) -> String {
         rest = after;
     }
     out.push_str(rest);
-    // `Function [0] 'f' is invalid` → ``function `f` is invalid``
+    out
+}
+
+/// `Function [0] 'f' is invalid` → ``function `f` is invalid``
+fn function_names(out: String) -> String {
     if let Some(r) = out.strip_prefix("Function [") {
         if let Some(q) = r.find("] '") {
             let r2 = &r[q + 3..];
