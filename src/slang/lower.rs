@@ -105,7 +105,7 @@ fn lower_uncached(
     preset: ShaderPreset,
     sources: &[Source],
 ) -> Result<Lowered, SlangError> {
-    let params = with_preset_values(parameters(&sources), &preset);
+    let params = with_preset_values(parameters(sources), &preset);
     let effect = effect_name(path);
     let mut shaders = Vec::new();
     let mut plans = Vec::new();
