@@ -215,7 +215,9 @@ fn wrap_modes_read_the_texels_they_name() {
     let (w, h) = (8u32, 4u32);
     let img = common::image_u8(w, h, |x, y| [x as u8 * 30 + 10, y as u8 * 60 + 5, 200, 255]);
     let texel = |i: i64| -> Option<i64> { (0..i64::from(w)).contains(&i).then_some(i) };
-    let modes: [(&str, &dyn Fn(i64) -> Option<i64>); 4] = [
+    // (mode, the texel it reads for texel index i; None: outside, the border)
+    type Pick<'a> = &'a dyn Fn(i64) -> Option<i64>;
+    let modes: [(&str, Pick); 4] = [
         ("clamp", &|i| Some(i.clamp(0, i64::from(w) - 1))),
         ("repeat", &|i| Some(i.rem_euclid(i64::from(w)))),
         ("mirror", &|i| {
