@@ -290,20 +290,16 @@ impl<'g> Planner<'g> {
         );
         let v = self.push_value(conv_desc);
         self.passes.push(PlannedPass {
-            node: None,
-            path: format!("{}:{}:{}", c.pass.path, c.input.name, want),
-            shader: PassShader::Convert { to: want },
-            inputs: vec![PlannedInput {
-                name: "img".into(),
-                resource,
-                view: View::Natural,
-                sampling: Sampling::default(),
-                desc: src_desc,
-            }],
             output: Resource::Value(v),
             desc: conv_desc,
             colorspace: want,
             target_view: View::Natural,
+            ..engine_pass(
+                format!("{}:{}:{}", c.pass.path, c.input.name, want),
+                PassShader::Convert { to: want },
+                resource,
+                src_desc,
+            )
         });
         let resource = Resource::Value(v);
         self.conversions.insert(key, resource.clone());
@@ -345,20 +341,11 @@ impl<'g> Planner<'g> {
             (PassShader::Blit, src_cs)
         };
         self.passes.push(PlannedPass {
-            node: None,
-            path: "OUT".into(),
-            shader,
-            inputs: vec![PlannedInput {
-                name: "img".into(),
-                resource,
-                view: View::Natural,
-                sampling: Sampling::default(),
-                desc: src_desc,
-            }],
             output: Resource::Output,
             desc: output_desc,
             colorspace,
             target_view: output_view(output_desc.format, colorspace),
+            ..engine_pass("OUT".into(), shader, resource, src_desc)
         });
         Some(output_desc)
     }
@@ -444,4 +431,30 @@ struct Conversion<'a> {
     src_desc: TextureDesc,
     have: ColorSpace,
     want: ColorSpace,
+}
+
+/// An engine pass (a conversion or the output's blit) of one input `img` read as
+/// it is; the caller sets its output.
+fn engine_pass(
+    path: String,
+    shader: PassShader,
+    resource: Resource,
+    desc: TextureDesc,
+) -> PlannedPass {
+    PlannedPass {
+        node: None,
+        path,
+        shader,
+        inputs: vec![PlannedInput {
+            name: "img".into(),
+            resource,
+            view: View::Natural,
+            sampling: Sampling::default(),
+            desc,
+        }],
+        output: Resource::Output,
+        desc,
+        colorspace: ColorSpace::Linear,
+        target_view: View::Natural,
+    }
 }
