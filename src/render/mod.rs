@@ -24,7 +24,7 @@
 //!   lists, light volumes), `light_buffers.rs`, `clusters.rs` (clustered light
 //!   lists: the grid and the CPU reference), `cluster_gpu.rs` (the lists built
 //!   on the GPU each frame), `pipelines.rs` (layouts, module and pipeline
-//!   caches), `frame.rs` (the passes of each technique), [`shadows`] (which lights
+//!   caches; `pass_states.rs`: what each pass and light pipeline renders into), `frame.rs` (the passes of each technique), [`shadows`] (which lights
 //!   get shadow maps, cascades, light matrices) and `shadow_pass.rs` (the
 //!   shadow-map array and its depth pass), [`fog`] (fog in the lighting template),
 //!   `gpu_types.rs`, `technique.rs`, `output.rs` ([`RenderOutput`],

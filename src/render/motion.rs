@@ -150,6 +150,45 @@ impl MotionPass {
         Ok(())
     }
 
+    /// Writes the frame's matrices and viewport (`size` in pixels).
+    fn write_uniforms(&self, ctx: &GpuContext, cams: &MotionCameras, size: (u32, u32)) {
+        let (w, h) = (size.0 as f32, size.1 as f32);
+        let frame = GpuMotionFrame {
+            view: mat_array(cams.view),
+            proj: mat_array(cams.proj),
+            curr_vp: mat_array(cams.curr_vp),
+            prev_vp: mat_array(cams.prev_vp),
+            viewport: [w, h, 1.0 / w, 1.0 / h],
+        };
+        ctx.queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
+    }
+
+    /// Group 0 of the object pass: the uniforms and the instance transforms
+    /// now and one frame earlier.
+    fn group0(&self, ctx: &GpuContext, geometry: &Geometry) -> Result<wgpu::BindGroup, GpuError> {
+        ctx.scoped("motion vectors: bind group", |device| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("motion vectors group 0"),
+                layout: &self.group0_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: self.uniforms.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: geometry.instance_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: geometry.prev_model_buffer.as_entire_binding(),
+                    },
+                ],
+            })
+        })
+    }
+
     /// Records the object pass into `encoder` (after the resolve pass wrote the
     /// camera motion): `moving` lists the batches (one instance each) whose
     /// transforms changed since the previous frame ([`MotionPass::prepare`]d).
@@ -170,36 +209,8 @@ impl MotionPass {
         if moving.is_empty() {
             return Ok(0);
         }
-        let (w, h) = (size.0 as f32, size.1 as f32);
-        let frame = GpuMotionFrame {
-            view: mat_array(cams.view),
-            proj: mat_array(cams.proj),
-            curr_vp: mat_array(cams.curr_vp),
-            prev_vp: mat_array(cams.prev_vp),
-            viewport: [w, h, 1.0 / w, 1.0 / h],
-        };
-        ctx.queue
-            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&frame));
-        let g0 = ctx.scoped("motion vectors: bind group", |device| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("motion vectors group 0"),
-                layout: &self.group0_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: self.uniforms.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: geometry.instance_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: geometry.prev_model_buffer.as_entire_binding(),
-                    },
-                ],
-            })
-        })?;
+        self.write_uniforms(ctx, cams, size);
+        let g0 = self.group0(ctx, geometry)?;
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("motion vectors: objects"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {

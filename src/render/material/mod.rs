@@ -388,53 +388,70 @@ fn pack_params(
             .iter()
             .find(|(n, _)| n.eq_ignore_ascii_case(&m.name))
             .map(|(_, v)| v.clone());
-        let n = m.ty.components();
-        let value = match (&given, &m.default) {
-            (Some(v), _) => v.clone(),
-            (None, Some(d)) => d.clone(),
-            (None, None) => vec![0.0; n],
-        };
-        if value.len() != n {
-            errors.push(format!(
-                "material `{material}`: `{}` of shader `{}` is {} ({n} value{}), got {} value{}",
-                m.name,
-                s.name,
-                m.ty.wgsl(),
-                if n == 1 { "" } else { "s" },
-                value.len(),
-                if value.len() == 1 { "" } else { "s" }
-            ));
-            continue;
-        }
-        if let Some(bad) = value.iter().find(|x| !x.is_finite()) {
-            errors.push(format!(
-                "material `{material}`: `{}` = {bad} is not finite",
-                m.name
-            ));
-            continue;
-        }
-        if given.is_some() {
-            if let Some((lo, hi)) = m.range {
-                if let Some(bad) = value.iter().find(|x| **x < lo || **x > hi) {
-                    errors.push(format!(
-                        "material `{material}`: `{}` = {bad} is outside its range {lo}..{hi}",
-                        m.name
-                    ));
-                    continue;
-                }
-            }
-        }
-        for (i, x) in value.iter().enumerate() {
-            let at = m.offset as usize + i * 4;
-            let word: [u8; 4] = match m.ty {
-                FieldType::I32(_) => (*x as i32).to_le_bytes(),
-                FieldType::U32(_) => (x.max(0.0) as u32).to_le_bytes(),
-                _ => (*x as f32).to_le_bytes(),
-            };
-            if at + 4 <= bytes.len() {
-                bytes[at..at + 4].copy_from_slice(&word);
-            }
+        match member_value(s, m, given.as_deref(), material) {
+            Ok(value) => write_member(&mut bytes, m, &value),
+            Err(e) => errors.push(e),
         }
     }
     bytes
+}
+
+/// The value of parameter `m` of shader `s`: the one given, else its default,
+/// else zeros; checked for its component count, finite values, and (when
+/// given) its range.
+fn member_value(
+    s: &ShaderInfo,
+    m: &crate::shader::reflect::UniformMember,
+    given: Option<&[f64]>,
+    material: &str,
+) -> Result<Vec<f64>, String> {
+    let n = m.ty.components();
+    let value = match (given, &m.default) {
+        (Some(v), _) => v.to_vec(),
+        (None, Some(d)) => d.clone(),
+        (None, None) => vec![0.0; n],
+    };
+    if value.len() != n {
+        return Err(format!(
+            "material `{material}`: `{}` of shader `{}` is {} ({n} value{}), got {} value{}",
+            m.name,
+            s.name,
+            m.ty.wgsl(),
+            if n == 1 { "" } else { "s" },
+            value.len(),
+            if value.len() == 1 { "" } else { "s" }
+        ));
+    }
+    if let Some(bad) = value.iter().find(|x| !x.is_finite()) {
+        return Err(format!(
+            "material `{material}`: `{}` = {bad} is not finite",
+            m.name
+        ));
+    }
+    if given.is_some() {
+        if let Some((lo, hi)) = m.range {
+            if let Some(bad) = value.iter().find(|x| **x < lo || **x > hi) {
+                return Err(format!(
+                    "material `{material}`: `{}` = {bad} is outside its range {lo}..{hi}",
+                    m.name
+                ));
+            }
+        }
+    }
+    Ok(value)
+}
+
+/// Writes `value` at parameter `m`'s offset in `bytes`, as its type's words.
+fn write_member(bytes: &mut [u8], m: &crate::shader::reflect::UniformMember, value: &[f64]) {
+    for (i, x) in value.iter().enumerate() {
+        let at = m.offset as usize + i * 4;
+        let word: [u8; 4] = match m.ty {
+            FieldType::I32(_) => (*x as i32).to_le_bytes(),
+            FieldType::U32(_) => (x.max(0.0) as u32).to_le_bytes(),
+            _ => (*x as f32).to_le_bytes(),
+        };
+        if at + 4 <= bytes.len() {
+            bytes[at..at + 4].copy_from_slice(&word);
+        }
+    }
 }
