@@ -499,6 +499,12 @@ fn aux_images(cli: &Cli) -> Result<Vec<(String, PathBuf)>, Fail> {
 
 /// An image, batch or sequence run (what `--watch` re-runs).
 fn run_job(cli: &Cli) -> Result<(), Fail> {
+    if cli.size.is_some() {
+        return Err(rejected(
+            "--size sets the size of a rendered --scene and the input size --plan, --dot and --check assume; \
+             the output of -i INPUT has the size the effect's passes give it (OUT.SIZE, OUT.SCALE)",
+        ));
+    }
     if try_run_batch(cli)? {
         return Ok(());
     }

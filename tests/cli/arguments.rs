@@ -18,6 +18,21 @@ fn bad_arguments_are_rejected_with_exit_1() {
         &["no effect file or built-in effect named `no_such_effect`"],
     );
     assert_eq!(code(&fxrun(&["--help"])), 0);
+    // --size is a scene's (and --plan's) size: never silently ignored on an input
+    let dir = tempfile::tempdir().unwrap();
+    let input = input_png(dir.path());
+    let out = dir.path().join("o.png");
+    let o = fxrun(&[
+        "glow",
+        "-i",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "64x32",
+    ]);
+    exits_with(&o, 1, &["--size sets the size of a rendered --scene"]);
+    assert!(!out.exists(), "nothing written");
 }
 
 /// A shader `s` with one parameter `s`, beside an effect `p` whose PARAM `sigma`
