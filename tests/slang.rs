@@ -148,33 +148,9 @@ fn corpus_presets_match_librashader() {
     eprintln!("{}", report.join("\n"));
 }
 
-/// A one-pass preset of `glsl` (the fragment body, `FragColor = ...`) in `dir`,
-/// with the default vertex stage; returns the preset's path.
+/// A one-pass preset (`common::slang`).
 fn preset(dir: &Path, name: &str, decls: &str, body: &str, extra: &str) -> PathBuf {
-    let shader = format!(
-        "#version 450\n\
-         layout(push_constant) uniform Push {{ vec4 SourceSize; uint FrameCount; {decls} }} params;\n\
-         layout(std140, set = 0, binding = 0) uniform UBO {{ mat4 MVP; }} global;\n\
-         {extra}\n\
-         #pragma stage vertex\n\
-         layout(location = 0) in vec4 Position;\nlayout(location = 1) in vec2 TexCoord;\n\
-         layout(location = 0) out vec2 vTexCoord;\n\
-         void main() {{ gl_Position = global.MVP * Position; vTexCoord = TexCoord; }}\n\
-         #pragma stage fragment\n\
-         layout(location = 0) in vec2 vTexCoord;\nlayout(location = 0) out vec4 FragColor;\n\
-         layout(set = 0, binding = 2) uniform sampler2D Source;\n\
-         layout(set = 0, binding = 3) uniform sampler2D OriginalHistory1;\n\
-         layout(set = 0, binding = 4) uniform sampler2D PassFeedback0;\n\
-         void main() {{ {body} }}\n"
-    );
-    std::fs::write(dir.join(format!("{name}.slang")), shader).unwrap();
-    let p = dir.join(format!("{name}.slangp"));
-    std::fs::write(
-        &p,
-        format!("shaders = 1\nshader0 = {name}.slang\nfilter_linear0 = false\n"),
-    )
-    .unwrap();
-    p
+    common::slang::one_pass_preset(dir, name, decls, body, extra)
 }
 
 /// Frames `in/0000.png`... of flat grey levels `levels`.
@@ -201,30 +177,12 @@ fn history_and_feedback_carry_earlier_frames() {
     let levels = [20u8, 200, 80, 140];
     let input = grey_sequence(d, &levels);
     // out[n] = (in[n] + in[n-1]) / 2 + (out[n-1]) / 4, out[-1] = 0, in[-1] = in[0]
-    let p = preset(
-        d,
-        "temporal",
-        "",
-        "FragColor = 0.5 * (texture(Source, vTexCoord) + texture(OriginalHistory1, vTexCoord)) \
-         + 0.25 * texture(PassFeedback0, vTexCoord);",
-        "",
-    );
+    let p = preset(d, "temporal", "", common::slang::TEMPORAL_BODY, "");
     std::fs::create_dir_all(d.join("out")).unwrap();
     let out = d.join("out/%04d.png").display().to_string();
     let o = fxrun(&[arg(&p), "-i", &input, "-o", &out]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
-    let mut previous_out = 0.0f64;
-    for n in 0..levels.len() {
-        let cur = f64::from(levels[n]);
-        let prev = f64::from(levels[n.saturating_sub(1)]);
-        let expected = ((cur + prev) / 2.0 + previous_out / 4.0).min(255.0);
-        let got = f64::from(red(d, n));
-        assert!(
-            (got - expected).abs() <= 1.5,
-            "frame {n}: {got}, expected {expected:.1}"
-        );
-        previous_out = got;
-    }
+    common::slang::check_temporal(&levels, |n| f64::from(red(d, n)), 1.5);
 }
 
 /// A y4m stream (8x8, 4:4:4, full range) of flat grey levels `levels`.
@@ -267,31 +225,14 @@ fn history_and_feedback_carry_earlier_frames_of_a_video() {
     let levels = [20u8, 200, 80, 140, 40];
     let input = d.join("in.y4m");
     grey_y4m(&input, &levels);
-    let p = preset(
-        d,
-        "temporal",
-        "",
-        "FragColor = 0.5 * (texture(Source, vTexCoord) + texture(OriginalHistory1, vTexCoord)) \
-         + 0.25 * texture(PassFeedback0, vTexCoord);",
-        "",
-    );
+    let p = preset(d, "temporal", "", common::slang::TEMPORAL_BODY, "");
     let out = d.join("out.y4m");
     let o = fxrun(&[arg(&p), "-i", arg(&input), "-o", arg(&out)]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let got = y4m_centre_luma(&out);
     assert_eq!(got.len(), levels.len(), "frames out");
-    let mut previous_out = 0.0f64;
-    for (n, &g) in got.iter().enumerate() {
-        let cur = f64::from(levels[n]);
-        let prev = f64::from(levels[n.saturating_sub(1)]);
-        let expected = ((cur + prev) / 2.0 + previous_out / 4.0).min(255.0);
-        // ±1.5 codes for the 8-bit stores, as above, and 1 for the Y'CbCr round trip.
-        assert!(
-            (g - expected).abs() <= 2.5,
-            "frame {n}: {g}, expected {expected:.1} (frames {got:?})"
-        );
-        previous_out = g;
-    }
+    // ±1.5 codes for the 8-bit stores, as above, and 1 for the Y'CbCr round trip.
+    common::slang::check_temporal(&levels, |n| got[n], 2.5);
 }
 
 #[test]

@@ -206,18 +206,10 @@ fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
 
 /// A one-pass slang preset whose shader writes `rgb` (GLSL), as its path.
 fn slang_solid(d: &Path, rgb: &str) -> std::path::PathBuf {
-    let shader = format!(
-        "#version 450\n\
-         layout(push_constant) uniform Push {{ vec4 SourceSize; }} params;\n\
-         layout(std140, set = 0, binding = 0) uniform UBO {{ mat4 MVP; }} global;\n\
-         #pragma stage vertex\n\
-         layout(location = 0) in vec4 Position;\nlayout(location = 1) in vec2 TexCoord;\n\
-         layout(location = 0) out vec2 vTexCoord;\n\
-         void main() {{ gl_Position = global.MVP * Position; vTexCoord = TexCoord; }}\n\
-         #pragma stage fragment\n\
-         layout(location = 0) in vec2 vTexCoord;\nlayout(location = 0) out vec4 FragColor;\n\
-         layout(set = 0, binding = 2) uniform sampler2D Source;\n\
-         void main() {{ FragColor = vec4({rgb}, 1.0) + 0.0 * texture(Source, vTexCoord); }}\n"
+    let shader = common::slang::one_pass_shader(
+        "",
+        &format!("FragColor = vec4({rgb}, 1.0) + 0.0 * texture(Source, vTexCoord);"),
+        "",
     );
     save(&d.join("solid.slang"), &shader);
     let preset = d.join("solid.slangp");

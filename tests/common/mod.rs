@@ -17,6 +17,7 @@ pub mod rng;
 pub mod samples;
 pub mod scenes;
 pub mod skinned_scene;
+pub mod slang;
 pub mod stream;
 pub mod tools;
 pub mod variant_bench;
