@@ -123,6 +123,13 @@ fn save_png(path: &Path, w: u32, h: u32) {
     std::fs::rename(&tmp, path).unwrap();
 }
 
+/// A 16x8 `in.png` in `d`, and the `out.png` beside it to write.
+fn image_job(d: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
+    let input = d.join("in.png");
+    save_png(&input, 16, 8);
+    (input, d.join("out.png"))
+}
+
 /// `-i DIR -o DIR --watch`: an image that appears in the input folder is processed
 /// alone (the others are not written again); a changed shader re-runs them all.
 #[test]
@@ -172,9 +179,7 @@ fn a_changed_shader_reruns_and_a_broken_one_keeps_watching() {
         return;
     };
     let d = dir.path();
-    let input = d.join("in.png");
-    save_png(&input, 16, 8);
-    let out = d.join("out.png");
+    let (input, out) = image_job(d);
     let mut w = Watch::start(d, &input, &out);
     let stderr = || w.stderr();
     let watching = || w.watching();
@@ -226,9 +231,7 @@ fn a_changed_slang_shader_is_lowered_again() {
         return;
     };
     let d = dir.path();
-    let input = d.join("in.png");
-    save_png(&input, 16, 8);
-    let out = d.join("out.png");
+    let (input, out) = image_job(d);
     let preset = slang_solid(d, "1.0, 0.0, 0.0");
     let mut w = Watch::start_effect(&preset, &input, &out);
     let first = std::fs::read(&out).expect("the first output");
