@@ -3,7 +3,7 @@
 #   bench/slang_coverage.sh DIR [FXRUN]
 # walks DIR for *.slangp and, for each preset, asks fxrun to
 #   1. parse it and its shaders    (fails: "cannot parse the preset", "cannot preprocess")
-#   2. translate every pass to WGSL and check it (`fxrun P --check`)
+#   2. translate every pass to WGSL and check it (`fxrun P --check --size 64x64`, the size step 3 renders)
 #   3. render one frame of a 64x64 image (`fxrun P -i in.png -o out.png`)
 # and prints the counts, with the failures by class (the phrase of the message).
 # FXRUN defaults to target/release/fxrun (build it first: cargo build --release).
@@ -37,7 +37,7 @@ total=0 parsed=0 translated=0 rendered=0
 : > "$work/classes"
 while IFS= read -r -d '' p; do
     total=$((total + 1))
-    if check=$("$fxrun" "$p" --check 2>&1 >/dev/null); then
+    if check=$("$fxrun" "$p" --check --size 64x64 2>&1 >/dev/null); then
         parsed=$((parsed + 1)); translated=$((translated + 1))
         if run=$("$fxrun" "$p" -i "$work/in.png" -o "$work/out.png" 2>&1 >/dev/null); then
             rendered=$((rendered + 1))

@@ -105,6 +105,35 @@ fn glow_compiles_schedules_and_sizes_as_the_paper_intends() {
     assert_eq!(p.naive_bytes, full + 2 * half);
 }
 
+/// `OUT.RELATIVE_TO = (X, Y)`: the width scales input `X`'s, the height `Y`'s
+/// (`IN`: the effect input); a name that is not an input is an error.
+#[test]
+fn relative_to_may_name_one_image_per_axis() {
+    let g = ok("EFFECT.axes = { PASS = {
+            a = SHADER.s { img = IN  OUT.SIZE = (10, 20) }
+            b = SHADER.s { img = PASS.a  OUT.SCALE = (2, 3)  OUT.RELATIVE_TO = (img, IN) }
+            c = SHADER.s { img = PASS.b  OUT.SCALE = 0.5  OUT.RELATIVE_TO = (IN, img) }
+        } OUT = c }");
+    let (p, _) = plan(&g, &InputDesc::rgba8_srgb(64, 48), &PlanOptions::default()).unwrap();
+    let sizes: Vec<(u32, u32)> = p
+        .passes
+        .iter()
+        .map(|p| (p.desc.width, p.desc.height))
+        .collect();
+    // b: 2 x a's width 10, 3 x IN's height 48; c: half IN's width, half b's height
+    assert_eq!(sizes, [(10, 20), (20, 144), (32, 72)]);
+    let (_, d, s) = compile_text(
+        "EFFECT.bad = { PASS = {
+            a = SHADER.s { img = IN  OUT.SCALE = 2  OUT.RELATIVE_TO = (img, nothere) }
+        } OUT = a }",
+    );
+    let text = d.render(&s);
+    assert!(
+        d.has_errors() && text.contains("`OUT.RELATIVE_TO` names `nothere`"),
+        "{text}"
+    );
+}
+
 #[test]
 fn schedule_follows_dependencies_and_breaks_ties_by_declaration() {
     let g = ok("EFFECT.e = { PASS = {

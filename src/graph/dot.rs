@@ -67,9 +67,14 @@ fn write_nodes(out: &mut String, graph: &Graph, plan: Option<&Plan>) {
 fn rule_detail(graph: &Graph, p: &PassNode) -> String {
     let size = match &p.size {
         super::SizeRule::Absolute(w, h) => format!("{w}x{h}"),
-        super::SizeRule::Scale { sx, sy, of } => {
-            format!("{sx}x{sy} of {}", graph.label(*of))
+        super::SizeRule::Scale { sx, sy, of } if of.0 == of.1 => {
+            format!("{sx}x{sy} of {}", graph.label(of.0))
         }
+        super::SizeRule::Scale { sx, sy, of } => format!(
+            "{sx} of {}'s width x {sy} of {}'s height",
+            graph.label(of.0),
+            graph.label(of.1)
+        ),
     };
     let format = match &p.format {
         super::FormatRule::Fixed(f) => f.name().to_string(),

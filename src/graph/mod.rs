@@ -88,12 +88,12 @@ pub struct PassParam {
 #[derive(Debug, Clone, PartialEq)]
 pub enum SizeRule {
     Absolute(u32, u32),
-    /// `scale` times the size of `of` (a node of the graph: the effect input or one
-    /// of the pass's inputs).
+    /// `sx` times the width of `of.0` by `sy` times the height of `of.1` (nodes
+    /// of the graph: the effect input or the pass's inputs; mostly one node).
     Scale {
         sx: f64,
         sy: f64,
-        of: NodeIndex,
+        of: (NodeIndex, NodeIndex),
     },
 }
 

@@ -223,14 +223,26 @@ fn write_size(out: &mut String, path: &Path, p: &PassPlan, i: usize) -> Result<(
         ScaleFactor::Float(v) => v as f64,
         ScaleFactor::Absolute(v) => v as f64,
     };
+    // The image an axis scales: the pass's Source, or the effect's input (the
+    // viewport and the original have its size).
+    let of = |s: &Scaling| match s.scale_type {
+        ScaleType::Input if i > 0 => "Source",
+        _ => "IN",
+    };
     if absolute(x) && absolute(y) {
         let _ = writeln!(out, "            OUT.SIZE = ({}, {})", f(x), f(y));
     } else if relative_to_in(x) && relative_to_in(y) {
         let _ = writeln!(out, "            OUT.SCALE = ({}, {})", f(x), f(y));
-    } else if matches!(x.scale_type, ScaleType::Input) && matches!(y.scale_type, ScaleType::Input) {
+    } else if !absolute(x) && !absolute(y) {
         let _ = writeln!(out, "            OUT.SCALE = ({}, {})", f(x), f(y));
-        if i > 0 {
-            out.push_str("            OUT.RELATIVE_TO = Source\n");
+        match (of(x), of(y)) {
+            ("IN", "IN") => {}
+            (a, b) if a == b => {
+                let _ = writeln!(out, "            OUT.RELATIVE_TO = {a}");
+            }
+            (a, b) => {
+                let _ = writeln!(out, "            OUT.RELATIVE_TO = ({a}, {b})");
+            }
         }
     } else {
         return Err(SlangError::Unsupported {
@@ -239,7 +251,7 @@ fn write_size(out: &mut String, path: &Path, p: &PassPlan, i: usize) -> Result<(
                 "pass {i}'s scale_type_x = {:?} with scale_type_y = {:?}",
                 x.scale_type, y.scale_type
             ),
-            why: "a pass size is relative to one image on both axes, or absolute on both".into(),
+            why: "a pass size is absolute on both axes or on neither".into(),
         });
     }
     Ok(())
@@ -252,8 +264,8 @@ pub fn needs_source(meta: &PassMeta, i: usize, last: bool) -> bool {
     }
     let sc = &meta.scaling;
     !sc.valid
-        || (matches!(sc.x.scale_type, ScaleType::Input)
-            && matches!(sc.y.scale_type, ScaleType::Input))
+        || matches!(sc.x.scale_type, ScaleType::Input)
+        || matches!(sc.y.scale_type, ScaleType::Input)
 }
 
 /// The colour space a pass's values are in: sRGB-encoded codes, as RetroArch

@@ -204,7 +204,7 @@ impl Lowerer<'_> {
                     size: SizeRule::Scale {
                         sx: 1.0,
                         sy: 1.0,
-                        of: inst.effect_in,
+                        of: (inst.effect_in, inst.effect_in),
                     },
                     format,
                     colorspace: p
@@ -293,12 +293,13 @@ impl Lowerer<'_> {
             (Some(s), _) => SizeRule::Absolute(s.node.0, s.node.1),
             (None, scale) => {
                 let (sx, sy) = scale.as_ref().map(|s| s.node).unwrap_or((1.0, 1.0));
+                let mut node = |name: &str| match input_refs.get(name) {
+                    Some(r) if name != "IN" => self.node_of(*r),
+                    _ => inst.effect_in,
+                };
                 let of = match &p.out.relative_to {
-                    Some(rel) => match input_refs.get(&rel.node) {
-                        Some(r) => self.node_of(*r),
-                        None => inst.effect_in,
-                    },
-                    None => inst.effect_in,
+                    Some(rel) => (node(&rel.node.0), node(&rel.node.1)),
+                    None => (inst.effect_in, inst.effect_in),
                 };
                 SizeRule::Scale { sx, sy, of }
             }

@@ -23,7 +23,12 @@ impl Resolver<'_> {
             Node::Pass(p) => match &p.size {
                 SizeRule::Absolute(w, h) => Some((*w, *h)),
                 SizeRule::Scale { sx, sy, of } => {
-                    let base = if *of == n { None } else { self.size(*of) };
+                    let size_of =
+                        |r: &mut Self, m: NodeIndex| if m == n { None } else { r.size(m) };
+                    let base = match (size_of(self, of.0), size_of(self, of.1)) {
+                        (Some((w, _)), Some((_, h))) => Some((w, h)),
+                        _ => None,
+                    };
                     match base {
                         None => {
                             self.diags.push(

@@ -264,13 +264,18 @@ fn check_references(e: &EffectDef, diags: &mut Diagnostics) {
             }
         }
         if let Some(rel) = &p.out.relative_to {
-            if !p.inputs.iter().any(|i| i.name.node == rel.node) {
+            let (x, y) = &rel.node;
+            let unknown = [x, y]
+                .into_iter()
+                .find(|n| *n != "IN" && !p.inputs.iter().any(|i| i.name.node == **n));
+            if let Some(name) = unknown {
                 diags.push(
                     Diagnostic::error(format!(
                         "`OUT.RELATIVE_TO` names `{}`, which is not an input of pass `{}`",
-                        rel.node, p.name.node
+                        name, p.name.node
                     ))
-                    .at(rel.span, "not an input of this pass"),
+                    .at(rel.span, "not an input of this pass")
+                    .note("an input of the pass, or IN for the effect's input"),
                 );
             }
         }

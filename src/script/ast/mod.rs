@@ -147,7 +147,9 @@ pub enum DefineArg {
 pub struct OutSpec {
     pub size: Option<Spanned<(u32, u32)>>,
     pub scale: Option<Spanned<(f64, f64)>>,
-    pub relative_to: Option<Spanned<String>>,
+    /// `OUT.RELATIVE_TO`: the images the width and the height scale, each an
+    /// input of the pass or `IN` (the effect's input); one name gives both.
+    pub relative_to: Option<Spanned<(String, String)>>,
     pub format: Option<Spanned<FormatSpec>>,
     pub colorspace: Option<Spanned<ColorSpace>>,
 }

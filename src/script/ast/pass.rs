@@ -195,6 +195,16 @@ fn check_sampling_attr(pass: &mut PassDef, s: &Stmt, diags: &mut Diagnostics) {
     }
 }
 
+/// `OUT.RELATIVE_TO`'s names: one word for both axes, or a pair `(x, y)`.
+fn relative_to_names(v: &Spanned<RawValue>) -> Option<(String, String)> {
+    match &v.node {
+        RawValue::Tuple(items) if items.len() == 2 => {
+            Some((word(&items[0])?.to_string(), word(&items[1])?.to_string()))
+        }
+        _ => word(v).map(|w| (w.to_string(), w.to_string())),
+    }
+}
+
 /// The wrap modes of `img.WRAP`: one for both axes, or a pair `(u, v)`.
 fn wrap_modes(value: &Spanned<RawValue>) -> Option<(Wrap, Wrap)> {
     match &value.node {
@@ -355,9 +365,13 @@ fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnosti
                 out.scale = Some(Spanned::new((x, y), s.value.span));
             }
         }
-        "RELATIVE_TO" => match word(&s.value) {
-            Some(w) => out.relative_to = Some(Spanned::new(w.to_string(), s.value.span)),
-            None => diags.push(type_error(s, "the name of one of this pass's inputs", &s.value.node)),
+        "RELATIVE_TO" => match relative_to_names(&s.value) {
+            Some(names) => out.relative_to = Some(Spanned::new(names, s.value.span)),
+            None => diags.push(type_error(
+                s,
+                "the name of one of this pass's inputs (or `IN`), or a pair `(width's, height's)`",
+                &s.value.node,
+            )),
         },
         "FORMAT" => out.format = format_spec(s, diags),
         "COLORSPACE" => out.colorspace = colorspace_value(s, diags),
