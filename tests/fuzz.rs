@@ -801,6 +801,7 @@ fn truncated_images_are_rejected() {
 /// Inputs the long run found, kept as regressions (each was a panic).
 #[test]
 fn findings_stay_fixed() {
+    slang_stage_inputs_are_named_in_words();
     // A span ending inside a multi-byte character (naga on a damaged shader).
     let mut sources = SourceMap::new();
     let id = sources.add("x.wgsl", "let a = \u{FFFD}\u{FFFD};\nfn".to_string());
@@ -830,4 +831,27 @@ fn findings_stay_fixed() {
             diags.render(&sources)
         );
     }
+}
+
+/// A slang vertex stage reading `TexCoord` at location 5 (the `slang-shader`
+/// target's finding, seed 0x18ebf040ca48573a): the message named naga's
+/// `Some(Location { .. })`.
+fn slang_stage_inputs_are_named_in_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let shader = common::slang::one_pass_shader("", "FragColor = texture(Source, vTexCoord);", "")
+        .replace(
+            "layout(location = 1) in vec2 TexCoord;",
+            "layout(location = 5) in vec2 TexCoord;",
+        );
+    std::fs::write(dir.path().join("s.slang"), shader).unwrap();
+    let preset = dir.path().join("s.slangp");
+    std::fs::write(&preset, "shaders = 1\nshader0 = s.slang\n").unwrap();
+    let message = match fxgraph::slang::lower_preset(&preset) {
+        Ok(_) => panic!("a vertex input at location 5 was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        message.contains("the vertex input at location 5") && rejected_with(&message).is_ok(),
+        "{message}"
+    );
 }

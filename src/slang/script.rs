@@ -248,13 +248,24 @@ fn write_size(out: &mut String, path: &Path, p: &PassPlan, i: usize) -> Result<(
         return Err(SlangError::Unsupported {
             path: path.to_path_buf(),
             feature: format!(
-                "pass {i}'s scale_type_x = {:?} with scale_type_y = {:?}",
-                x.scale_type, y.scale_type
+                "pass {i}'s scale_type_x = {} with scale_type_y = {}",
+                scale_type_name(x),
+                scale_type_name(y)
             ),
             why: "a pass size is absolute on both axes or on neither".into(),
         });
     }
     Ok(())
+}
+
+/// A scale type as a preset spells it.
+fn scale_type_name(s: &Scaling) -> &'static str {
+    match s.scale_type {
+        ScaleType::Input => "source",
+        ScaleType::Absolute => "absolute",
+        ScaleType::Viewport => "viewport",
+        ScaleType::Original => "original",
+    }
 }
 
 /// True when pass `i` needs its `Source` bound to size itself.

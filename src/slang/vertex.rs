@@ -193,7 +193,7 @@ fn vertex_call(m: &Module, vs: &Detached, at: &str, path: &Path) -> Result<Strin
             other => {
                 return Err(unsupported(
                     path,
-                    &format!("the vertex input {other:?}"),
+                    &format!("the vertex input {}", binding_words(other.as_ref())),
                     "the quad provides Position (location 0) and TexCoord (location 1)",
                 ))
             }
@@ -228,7 +228,7 @@ fn fragment_args(
             other => {
                 return Err(unsupported(
                     path,
-                    &format!("the fragment input {other:?}"),
+                    &format!("the fragment input {}", binding_words(other.as_ref())),
                     "fxgraph provides the position",
                 ))
             }
@@ -331,6 +331,31 @@ fn shared_params_removed(text: &str) -> String {
         out.push('\n');
     }
     out
+}
+
+/// A stage input's binding in words, as a message names it (never naga's
+/// `Debug` form).
+fn binding_words(b: Option<&Binding>) -> String {
+    match b {
+        Some(Binding::Location { location, .. }) => format!("at location {location}"),
+        Some(Binding::BuiltIn(builtin)) => format!("built-in `{}`", builtin_name(builtin)),
+        None => "without a binding".to_string(),
+    }
+}
+
+/// GLSL's name of a built-in a stage may read.
+fn builtin_name(b: &BuiltIn) -> &'static str {
+    match b {
+        BuiltIn::Position { .. } => "gl_FragCoord",
+        BuiltIn::VertexIndex => "gl_VertexIndex",
+        BuiltIn::InstanceIndex => "gl_InstanceIndex",
+        BuiltIn::FrontFacing => "gl_FrontFacing",
+        BuiltIn::SampleIndex => "gl_SampleID",
+        BuiltIn::SampleMask => "gl_SampleMask",
+        BuiltIn::PrimitiveIndex => "gl_PrimitiveID",
+        BuiltIn::ViewIndex => "gl_ViewIndex",
+        _ => "(another)",
+    }
 }
 
 fn unsupported(path: &Path, feature: &str, why: &str) -> SlangError {
