@@ -134,6 +134,26 @@ fn relative_to_may_name_one_image_per_axis() {
     );
 }
 
+/// `STEP` reaches the graph's parameter (the viewer's slider notch); it must be
+/// a positive number.
+#[test]
+fn a_parameter_step_is_kept_and_checked() {
+    let g = ok(
+        "EFFECT.stepped = { PARAM = { k = FLOAT { DEFAULT = 1  RANGE = (0, 2)  STEP = 0.25 } }
+        PASS = { a = SHADER.s { img = IN  k = PARAM.k } } OUT = a }",
+    );
+    assert_eq!(g.params[0].step, Some(0.25));
+    let (_, d, s) = compile_text(
+        "EFFECT.bad = { PARAM = { k = FLOAT { DEFAULT = 1  STEP = -1 } }
+        PASS = { a = SHADER.s { img = IN  k = PARAM.k } } OUT = a }",
+    );
+    let text = d.render(&s);
+    assert!(
+        d.has_errors() && text.contains("a positive number"),
+        "{text}"
+    );
+}
+
 #[test]
 fn schedule_follows_dependencies_and_breaks_ties_by_declaration() {
     let g = ok("EFFECT.e = { PASS = {

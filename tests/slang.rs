@@ -268,7 +268,7 @@ fn set_changes_a_parameter_as_the_shader_says() {
     let o = fxrun(&[arg(&p), "--describe"]);
     let text = common::cli::stdout(&o);
     assert!(
-        text.contains("gain") && text.contains("range [0, 2]"),
+        text.contains("gain") && text.contains("range [0, 2] step 0.05"),
         "{text}"
     );
 }

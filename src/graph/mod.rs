@@ -122,6 +122,8 @@ pub struct EffectParam {
     pub value: Value,
     pub default: Value,
     pub range: Option<(f64, f64)>,
+    /// `STEP`: a control's increment.
+    pub step: Option<f64>,
     pub description: String,
 }
 

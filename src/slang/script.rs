@@ -60,10 +60,19 @@ fn write_params(out: &mut String, params: &[ShaderParameter]) {
     for p in params {
         let (lo, hi) = (p.minimum.min(p.initial), p.maximum.max(p.initial));
         let description = p.description.replace(['"', '\\'], "'");
+        let step = if p.step > 0.0 && p.step.is_finite() {
+            format!("  STEP = {}", p.step)
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             out,
-            "        {} = FLOAT {{ DEFAULT = {}  RANGE = ({}, {})  DESCRIPTION = \"{} (step {})\" }}",
-            p.id, p.initial, lo, hi, description.trim(), p.step
+            "        {} = FLOAT {{ DEFAULT = {}  RANGE = ({}, {}){step}  DESCRIPTION = \"{}\" }}",
+            p.id,
+            p.initial,
+            lo,
+            hi,
+            description.trim()
         );
     }
     out.push_str("    }\n");

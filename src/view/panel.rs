@@ -231,7 +231,7 @@ fn value_widget(
     ui: &mut egui::Ui,
     name: &str,
     integer: bool,
-    range: Option<(f64, f64)>,
+    (range, step): (Option<(f64, f64)>, Option<f64>),
     v: &mut [f64],
 ) -> bool {
     let lname = name.to_lowercase();
@@ -262,10 +262,13 @@ fn value_widget(
                 if integer {
                     s = s.integer();
                 }
+                if let Some(step) = step {
+                    s = s.step_by(step);
+                }
                 ui.add(s).changed()
             }
             _ => {
-                let speed = (x.abs() * 0.01).max(if integer { 0.1 } else { 0.001 });
+                let speed = step.unwrap_or((x.abs() * 0.01).max(if integer { 0.1 } else { 0.001 }));
                 let mut d = egui::DragValue::new(x).speed(speed);
                 if let Some((lo, hi)) = range {
                     d = d.range(lo..=hi);
@@ -367,7 +370,7 @@ fn effect_value_widget(ui: &mut egui::Ui, p: &EffectParam, key: &str, v: &mut [f
             v[0] = i as f64;
             i != before
         }
-        ty => value_widget(ui, &p.name, *ty == ParamType::Int, p.range, v),
+        ty => value_widget(ui, &p.name, *ty == ParamType::Int, (p.range, p.step), v),
     }
 }
 
@@ -401,7 +404,7 @@ fn pass_param_row(
         ui.label(label).on_hover_text(&hover);
         let mut v = p.value.clone();
         let integer = p.ty.contains("i32") || p.ty.contains("u32");
-        if value_widget(ui, field, integer, p.range, &mut v) {
+        if value_widget(ui, field, integer, (p.range, None), &mut v) {
             out.push(UiEvent::Set(p.name.clone(), format_value(&v)));
         }
         if v != default && ui.small_button("reset").clicked() {

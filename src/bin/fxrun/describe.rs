@@ -90,10 +90,20 @@ fn describe_params(graph: &fxgraph::graph::Graph) {
     } else {
         outln!("parameters:");
         for p in &graph.params {
+            let step = p
+                .step
+                .map(|s| format!(" step {}", format_value(&[s])))
+                .unwrap_or_default();
             let range = p
                 .range
-                .map(|(a, b)| format!(" range [{}, {}]", format_value(&[a]), format_value(&[b])))
-                .unwrap_or_default();
+                .map(|(a, b)| {
+                    format!(
+                        " range [{}, {}]{step}",
+                        format_value(&[a]),
+                        format_value(&[b])
+                    )
+                })
+                .unwrap_or(step);
             let choices = match &p.ty {
                 fxgraph::script::types::ParamType::Enum(v) => format!(" one of {}", v.join("|")),
                 _ => String::new(),

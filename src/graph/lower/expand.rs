@@ -94,6 +94,7 @@ impl Lowerer<'_> {
                 value,
                 default: decl.default.clone(),
                 range: decl.range,
+                step: decl.step,
                 description: decl.description.clone(),
             });
         }

@@ -62,6 +62,8 @@ pub struct ParamDecl {
     pub ty: ParamType,
     pub default: Value,
     pub range: Option<(f64, f64)>,
+    /// `STEP`: the increment a control moves the value by (a slider's notch).
+    pub step: Option<f64>,
     pub description: String,
     pub span: Span,
 }

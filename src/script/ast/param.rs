@@ -55,6 +55,7 @@ pub(super) fn check_param_decl(stmt: &Stmt, diags: &mut Diagnostics) -> Option<P
         ty,
         default,
         range: attrs.range,
+        step: attrs.step,
         description: attrs.description,
         span: stmt.span,
     })
@@ -125,16 +126,19 @@ fn read_enum_values(ty: &mut ParamType, body: &[Stmt], diags: &mut Diagnostics) 
 struct ParamAttrs<'s> {
     default: Option<&'s Stmt>,
     range: Option<(f64, f64)>,
+    step: Option<f64>,
     description: String,
     /// False after an error in one of them.
     ok: bool,
 }
 
-/// `DEFAULT` (kept as written), `RANGE` and `DESCRIPTION`; others are errors.
+/// `DEFAULT` (kept as written), `RANGE`, `STEP` and `DESCRIPTION`; others are
+/// errors.
 fn read_param_attrs<'s>(body: &'s [Stmt], diags: &mut Diagnostics) -> ParamAttrs<'s> {
     let mut attrs = ParamAttrs {
         default: None,
         range: None,
+        step: None,
         description: String::new(),
         ok: true,
     };
@@ -156,6 +160,13 @@ fn read_param_attrs<'s>(body: &'s [Stmt], diags: &mut Diagnostics) -> ParamAttrs
                     attrs.ok = false;
                 }
             },
+            "STEP" => match numbers(&s.value).as_deref() {
+                Some(&[v]) if v > 0.0 && v.is_finite() => attrs.step = Some(v),
+                _ => {
+                    diags.push(type_error(s, "a positive number", &s.value.node));
+                    attrs.ok = false;
+                }
+            },
             "DESCRIPTION" => match &s.value.node {
                 RawValue::Str(d) => attrs.description = d.clone(),
                 other => {
@@ -167,7 +178,7 @@ fn read_param_attrs<'s>(body: &'s [Stmt], diags: &mut Diagnostics) -> ParamAttrs
                 diags.push(
                     Diagnostic::error(format!("unknown parameter attribute `{other}`")).at(
                         s.key.span,
-                        "expected DEFAULT, RANGE, DESCRIPTION or (for ENUM) VALUES",
+                        "expected DEFAULT, RANGE, STEP, DESCRIPTION or (for ENUM) VALUES",
                     ),
                 );
                 attrs.ok = false;
