@@ -1,8 +1,8 @@
 //! GLSL built-ins that naga cannot carry to WGSL inside librashader, written
 //! out in plain GLSL before glslang runs. A stage that names one gets small
-//! GLSL functions after its `#version` line and a `#define` that redirects the
-//! name to them; a `#line 2` after them keeps glslang's line numbers those of
-//! the file.
+//! GLSL functions after librashader's header and a `#define` that redirects the
+//! name to them; the header's `#line` marker, repeated after them, keeps
+//! glslang's line numbers those of the file.
 //! - `packHalf2x16`/`unpackHalf2x16`: naga's translation needs its
 //!   `SHADER_FLOAT16_IN_FLOAT32` capability, which librashader's validation does
 //!   not grant, so FSR (`ffx_a.h` packs its RCAS constants with them) failed
@@ -11,6 +11,8 @@
 //! - `modf` with its `out` whole part: naga's SPIR-V reader leaves the result
 //!   struct's special type unregistered ("special type not registered",
 //!   `crt-1tap`). Replaced by `trunc` and a subtraction, for float and vectors.
+
+use super::words::has_word;
 
 /// The half-float packing functions (one line each) and the redirections.
 const HALF_PACKING: &str = "\
@@ -31,39 +33,41 @@ vec4 fx_modf(vec4 x, out vec4 i) { i = trunc(x); return x - i; }
 #define modf fx_modf
 ";
 
-/// Each replaced built-in: a name that selects it, and its GLSL.
-const REPLACED: &[(&str, &str)] = &[("packHalf2x16", HALF_PACKING), ("modf", MODF)];
+/// Each group of replaced built-ins: the names that select it, and its GLSL.
+const REPLACED: &[(&[&str], &str)] = &[
+    (&["packHalf2x16", "unpackHalf2x16"], HALF_PACKING),
+    (&["modf"], MODF),
+];
 
-/// `stage` with the built-ins it names replaced (unchanged when it names none
-/// or has no `#version` first line).
+/// `stage` with the built-ins it names replaced (unchanged when it names none).
+/// The functions go after librashader's header (`#version`, its `#extension` and
+/// `#define` lines, up to its first `#line` marker), so that extensions still
+/// come before any code, and that marker is repeated after them.
 pub fn with_replaced_builtins(stage: String) -> String {
     let prelude: String = REPLACED
         .iter()
-        .filter(|(name, _)| names(&stage, name))
+        .filter(|(names, _)| names.iter().any(|n| has_word(&stage, n)))
         .map(|(_, glsl)| *glsl)
         .collect();
     if prelude.is_empty() {
         return stage;
     }
-    let Some((first, rest)) = stage.split_once('\n') else {
-        return stage;
-    };
-    if !first.trim_start().starts_with("#version") {
-        return stage;
+    // The end of librashader's first `#line` marker, and the marker.
+    let mut end = 0;
+    let marker = stage.split_inclusive('\n').find(|line| {
+        end += line.len();
+        line.starts_with("#line ")
+    });
+    match marker {
+        Some(marker) => format!("{}{prelude}{marker}{}", &stage[..end], &stage[end..]),
+        // No marker (librashader's line directives off): after `#version`.
+        None => match stage.split_once('\n') {
+            Some((first, rest)) if first.trim_start().starts_with("#version") => {
+                format!("{first}\n{prelude}#line 2\n{rest}")
+            }
+            _ => stage,
+        },
     }
-    format!("{first}\n{prelude}#line 2\n{rest}")
-}
-
-/// Whether `text` has `name` as a whole identifier (`unpackHalf2x16` names
-/// `packHalf2x16`'s group too).
-fn names(text: &str, name: &str) -> bool {
-    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
-    text.match_indices(name).any(|(at, _)| {
-        let after = text[at + name.len()..].chars().next();
-        let before = text[..at].chars().last();
-        after.is_none_or(|c| !ident(c))
-            && before.is_none_or(|c| !ident(c) || text[..at].ends_with("un"))
-    })
 }
 
 #[cfg(test)]
@@ -86,6 +90,27 @@ mod tests {
         assert!(s.contains("#define modf fx_modf\n#line 2\nfloat a = modf(1.5, b);"));
         let t = "#version 450\nfloat modfoo;\n".to_string();
         assert_eq!(with_replaced_builtins(t.clone()), t);
+    }
+
+    /// librashader's header: the functions after its `#line` marker (extensions
+    /// stay before any code), the marker repeated after them.
+    #[test]
+    fn the_prelude_follows_librashaders_header() {
+        let s = with_replaced_builtins(
+            "#version 450\n#extension GL_GOOGLE_cpp_style_line_directive : require\n#line 2 \"a.slang\"\nfloat a = modf(1.5, b);\n"
+                .into(),
+        );
+        let lines: Vec<&str> = s.lines().collect();
+        assert_eq!(
+            lines[1],
+            "#extension GL_GOOGLE_cpp_style_line_directive : require"
+        );
+        assert_eq!(lines[2], "#line 2 \"a.slang\"");
+        assert!(lines[3].starts_with("float fx_modf("));
+        assert_eq!(
+            &lines[lines.len() - 2..],
+            &["#line 2 \"a.slang\"", "float a = modf(1.5, b);"]
+        );
     }
 
     #[test]

@@ -7,13 +7,14 @@ use super::error::SlangError;
 use super::rewrite::{plan_fields, rewrite_fragment, rewrite_vertex};
 use super::script::{needs_source, script, PassPlan, ScriptInput};
 use super::vertex::combine;
+use super::words::replace_word;
 use crate::unwind::catch_quiet;
 use librashader_preprocess::ShaderParameter;
 use librashader_presets::{ShaderFeatures, ShaderPreset};
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{LazyLock, Mutex};
 
 /// A lowered preset.
 #[derive(Debug, Clone)]
@@ -67,7 +68,7 @@ pub fn preset_files(path: &Path) -> Result<Vec<PathBuf>, SlangError> {
 /// resolved) and each pass's preprocessed text (its includes in it), so an
 /// edited preset or shader (`--watch`) is lowered again.
 pub fn lower_preset(path: &Path) -> Result<Lowered, SlangError> {
-    static DONE: Mutex<Option<HashMap<u64, Lowered>>> = Mutex::new(None);
+    static DONE: LazyLock<Mutex<HashMap<u64, Lowered>>> = LazyLock::new(Mutex::default);
     let preset = parse_preset(path)?;
     let sources = preset
         .passes
@@ -75,14 +76,12 @@ pub fn lower_preset(path: &Path) -> Result<Lowered, SlangError> {
         .map(|p| load_source(&p.path))
         .collect::<Result<Vec<Source>, SlangError>>()?;
     let key = content_key(path, &preset, &sources);
-    let memo = |d: &Option<HashMap<u64, Lowered>>| d.as_ref().and_then(|m| m.get(&key)).cloned();
-    if let Some(l) = memo(&DONE.lock().unwrap_or_else(|e| e.into_inner())) {
-        return Ok(l);
+    let done = || DONE.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(l) = done().get(&key) {
+        return Ok(l.clone());
     }
     let lowered = lower_uncached(path, preset, &sources)?;
-    let mut d = DONE.lock().unwrap_or_else(|e| e.into_inner());
-    d.get_or_insert_with(HashMap::new)
-        .insert(key, lowered.clone());
+    done().insert(key, lowered.clone());
     Ok(lowered)
 }
 
@@ -212,26 +211,6 @@ fn follow_renamed_textures(mut wgsl: String, ir: &[String], written: &[String]) 
         }
     }
     wgsl
-}
-
-/// `text` with every whole identifier `from` replaced by `to`.
-fn replace_word(text: &str, from: &str, to: &str) -> String {
-    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(at) = rest.find(from) {
-        let before = rest[..at].chars().next_back();
-        let after = rest[at + from.len()..].chars().next();
-        out.push_str(&rest[..at]);
-        if before.is_some_and(ident) || after.is_some_and(ident) {
-            out.push_str(from);
-        } else {
-            out.push_str(to);
-        }
-        rest = &rest[at + from.len()..];
-    }
-    out.push_str(rest);
-    out
 }
 
 /// The preset's own values (`parameters = "a;b"`, `a = 0.5`) replace the

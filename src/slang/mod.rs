@@ -16,6 +16,7 @@ mod rewrite;
 mod script;
 mod varyings;
 mod vertex;
+mod words;
 
 pub use error::{FailureClass, SlangError};
 pub use lower::{is_preset, lower_preset, parse_preset, preset_files, Lowered};

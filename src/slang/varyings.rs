@@ -13,6 +13,8 @@
 //! work on GLSL that glslang has not parsed yet; no crate does it, and it only
 //! has to recognise one declaration form.
 
+use super::words::replace_word;
+
 /// One matrix varying: its location, column count, row count and name.
 #[derive(Debug, Clone, PartialEq)]
 struct MatrixVarying {
@@ -135,7 +137,8 @@ fn with_new_main(text: String, matrices: &[MatrixVarying], order: Order) -> Stri
     if matrices.is_empty() {
         return text;
     }
-    let renamed = rename_main(&text);
+    // GLSL cannot call `main`: the identifier is the definition alone.
+    let renamed = replace_word(&text, "main", "fx_stage_main");
     let mut moves = String::new();
     for m in matrices {
         match order {
@@ -161,34 +164,6 @@ fn with_new_main(text: String, matrices: &[MatrixVarying], order: Order) -> Stri
     };
     let sep = if renamed.ends_with('\n') { "" } else { "\n" };
     format!("{renamed}{sep}void main() {{{body} }}\n")
-}
-
-/// `void main(` (any spacing) renamed to `void fx_stage_main(`.
-fn rename_main(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(at) = rest.find("void") {
-        out.push_str(&rest[..at]);
-        let after = &rest[at + 4..];
-        let trimmed = after.trim_start();
-        let boundary_before = out
-            .chars()
-            .last()
-            .is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_'));
-        if boundary_before && after.len() > trimmed.len() {
-            if let Some(tail) = trimmed.strip_prefix("main") {
-                if tail.trim_start().starts_with('(') {
-                    out.push_str("void fx_stage_main");
-                    rest = tail;
-                    continue;
-                }
-            }
-        }
-        out.push_str("void");
-        rest = after;
-    }
-    out.push_str(rest);
-    out
 }
 
 #[cfg(test)]
@@ -233,13 +208,5 @@ mod tests {
         let v = "layout(location = 0) out vec2 a;\nvoid main() {}\n";
         let f = "layout(location = 0) in vec2 a;\nmat4 m;\nvoid main() {}\n";
         assert_eq!(split_matrix_varyings(v, f), (v.to_string(), f.to_string()));
-    }
-
-    #[test]
-    fn only_a_whole_main_is_renamed() {
-        assert_eq!(
-            rename_main("void mainly() {}\nvoid  main (){}\nvoidmain()"),
-            "void mainly() {}\nvoid fx_stage_main (){}\nvoidmain()"
-        );
     }
 }

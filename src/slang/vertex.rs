@@ -55,15 +55,21 @@ pub fn combine(
                 "the quad's point at a pixel is found from gl_Position",
             )
         })?;
-        (quad_point_fn(&vs_call, &position)?, "fx_quad_point(uv)")
+        (quad_point_fn(&vs_call, &position)?, "q")
     } else {
         (String::new(), "uv")
     };
     let v_at = vs_call(at)?;
+    // the quad point once per pixel: its corners are three vertex-stage runs
+    let q = if at == "q" {
+        "let q = fx_quad_point(uv);\n    "
+    } else {
+        ""
+    };
     Ok(format!(
         "{fragment_text}\n// The vertex stage, evaluated per pixel.\n{vertex_text}\n{quad_point}\
          @fragment\nfn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {{\n    \
-         let v = {v_at};\n    return fs_stage({fs_args}){color};\n}}\n"
+         {q}let v = {v_at};\n    return fs_stage({fs_args}){color};\n}}\n"
     ))
 }
 
