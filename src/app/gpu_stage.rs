@@ -382,6 +382,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             format: key.input,
             colorspace: key.colorspace,
             aux: key.aux.clone(),
+            viewport: self.opts.viewport,
         };
         // Transient textures come from the engine's pool, kept for the next frame.
         let tp = Instant::now();
@@ -453,6 +454,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
                 format: fmt,
                 colorspace: cs,
                 aux: Vec::new(),
+                viewport: self.opts.viewport,
             };
             let mut prepared = self.effect.prepare_with(
                 self.engine,

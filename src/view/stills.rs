@@ -118,6 +118,7 @@ impl Stills {
             format,
             colorspace,
             aux: l.aux.iter().map(|(n, _, f)| (n.clone(), *f)).collect(),
+            viewport: None,
         })
     }
 

@@ -79,6 +79,7 @@ pub fn stream_with_aux(
         format,
         colorspace,
         aux,
+        viewport: None,
     };
     let opts = PlanOptions {
         policy: ReusePolicy::Pool,
