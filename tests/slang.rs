@@ -58,6 +58,7 @@ const RUNS: &[&str] = &[
     "edge-smoothing/ddt/cut",
     "edge-smoothing/ddt/ddt-extended",
     "edge-smoothing/ddt/ddt-xbr-lv1",
+    "edge-smoothing/nis/nis",
     "edge-smoothing/fsr/fsr",
     "edge-smoothing/fsr/fsr-easu",
     "edge-smoothing/omniscale/omniscale",
@@ -429,4 +430,27 @@ fn every_error_class_names_its_file_and_cause() {
         "",
     );
     rejected(&p, &["fps.slang", "`OriginalFPS` is not supported"]);
+    // a shader that translates but cannot run as a pass (an integer colour
+    // output): the error lies in the generated WGSL, and names the `.slang` file
+    let float_out = "layout(location = 0) out vec4 FragColor;";
+    let shader = common::slang::one_pass_shader(
+        "",
+        "FragColor = ivec4(texture(Source, vTexCoord) * 255.0);",
+        "",
+    )
+    .replace(float_out, "layout(location = 0) out ivec4 FragColor;");
+    std::fs::write(d.join("int_out.slang"), shader).unwrap();
+    let p = d.join("int_out.slangp");
+    std::fs::write(&p, "shaders = 1\nshader0 = int_out.slang\n").unwrap();
+    let slang = d.join("int_out.slang").display().to_string();
+    let msg = rejected(
+        &p,
+        &[
+            "WGSL validation",
+            "generated this WGSL from",
+            &slang,
+            "pass 0 of",
+        ],
+    );
+    assert!(msg.contains("int_out_pass0.wgsl:"), "{msg}");
 }

@@ -13,6 +13,8 @@ use std::path::Path;
 /// One pass of the preset, after translation.
 pub struct PassPlan<'a> {
     pub meta: &'a PassMeta,
+    /// `#pragma name` of its shader: a second alias.
+    pub name: Option<String>,
     /// `#pragma format` of its shader.
     pub format: ImageFormat,
     /// The textures its shader binds: (slang semantic, WGSL name).
@@ -196,10 +198,12 @@ fn number_after(name: &str, prefix: &str) -> Option<usize> {
     name.strip_prefix(prefix)?.parse().ok()
 }
 
+/// The pass `alias` names: its preset `alias` or its shader's `#pragma name`.
 fn alias_index(passes: &[PassPlan], alias: &str) -> Option<usize> {
-    passes
-        .iter()
-        .position(|p| p.meta.alias.as_ref().is_some_and(|a| a.as_str() == alias))
+    passes.iter().position(|p| {
+        p.meta.alias.as_ref().is_some_and(|a| a.as_str() == alias)
+            || p.name.as_deref() == Some(alias)
+    })
 }
 
 fn filter(f: FilterMode) -> &'static str {
