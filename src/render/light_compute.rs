@@ -87,7 +87,7 @@ impl ComputeLighting {
                     module: &module,
                     entry_point: Some(which.entry_point()),
                     compilation_options: Default::default(),
-                    cache: None,
+                    cache: ctx.pipeline_cache.as_ref(),
                 })
             })
             .map_err(|e| e.to_string())?;

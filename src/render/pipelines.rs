@@ -404,7 +404,7 @@ pub(crate) fn create(
                 targets,
             }),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache.as_ref(),
         })
     })
     .map_err(|e| e.to_string())
