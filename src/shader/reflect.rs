@@ -34,6 +34,10 @@ pub struct ComputeNative {
     /// pass drawn where the compute one cannot run (an sRGB or BGRA output, an
     /// adapter without that storage format).
     pub fragment: Option<String>,
+    /// The shader's `// @execution(compute)` line: its compute entry point
+    /// runs under compute execution only, and fragment execution draws its
+    /// fragment one (a pass whose staging does not pay on CPU adapters).
+    pub compute_execution_only: bool,
 }
 
 impl ComputeNative {
@@ -42,6 +46,38 @@ impl ComputeNative {
     pub fn per_texel(&self) -> bool {
         self.workgroup[0] * self.workgroup[1] == 1
     }
+
+    /// Whether fragment execution draws the fragment entry point instead of
+    /// dispatching the compute one: reductions and shaders marked
+    /// `// @execution(compute)`.
+    pub fn drawn_under_fragment_execution(&self) -> bool {
+        self.fragment.is_some() && (self.per_texel() || self.compute_execution_only)
+    }
+}
+
+/// The line that keeps a shader's `@compute` entry point to compute execution.
+const COMPUTE_EXECUTION_ONLY: &str = "// @execution(compute)";
+
+/// Whether `wgsl` has the `// @execution(compute)` line; an error where it has
+/// no fragment entry point to draw under fragment execution.
+fn compute_execution_only(
+    wgsl: &str,
+    file: FileId,
+    native: &ComputeNative,
+) -> Result<bool, Diagnostic> {
+    let Some((off, line)) = crate::shader::preprocess::lines_with_offsets(wgsl)
+        .find(|(_, l)| l.trim() == COMPUTE_EXECUTION_ONLY)
+    else {
+        return Ok(false);
+    };
+    if native.fragment.is_none() {
+        let at = Span::new(file, off, off + line.trim_end().len());
+        return Err(Diagnostic::error(
+            "`// @execution(compute)` keeps the `@compute` entry point to compute execution, but the shader has no `@fragment` entry point to draw under fragment execution",
+        )
+        .at(at, "add a `@fragment` entry point or remove this line"));
+    }
+    Ok(true)
 }
 
 /// A `texture_2d<f32>` the script binds an input to, by name.
@@ -209,7 +245,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
     };
     let resources = source.resources(entries.native.is_some(), &mut diags);
     check_group_zero(&resources, &mut diags);
-    let compute = entries.native.and_then(|ep| {
+    let mut compute = entries.native.and_then(|ep| {
         compute_native(
             ep,
             &resources.outputs,
@@ -218,6 +254,12 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             &mut diags,
         )
     });
+    if let Some(native) = &mut compute {
+        match compute_execution_only(wgsl, file, native) {
+            Ok(only) => native.compute_execution_only = only,
+            Err(d) => diags.push(d),
+        }
+    }
     if diags.is_empty() {
         Ok(Reflection {
             entry_point: entries.entry_point,
@@ -469,6 +511,7 @@ fn compute_native(
             workgroup: ep.workgroup_size,
             output: one.clone(),
             fragment,
+            compute_execution_only: false,
         }),
         _ => {
             diags.push(
