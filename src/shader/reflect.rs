@@ -7,6 +7,7 @@ use crate::shader::wgsl_names::validation_diagnostic;
 use naga::{ImageClass, ImageDimension, ScalarKind, TypeInner};
 
 mod bind;
+mod execution_line;
 
 pub(crate) use super::uniforms::std_value;
 pub use super::uniforms::{StdContext, StdValue, UniformField, UniformLayout, UniformSource};
@@ -53,31 +54,6 @@ impl ComputeNative {
     pub fn drawn_under_fragment_execution(&self) -> bool {
         self.fragment.is_some() && (self.per_texel() || self.compute_execution_only)
     }
-}
-
-/// The line that keeps a shader's `@compute` entry point to compute execution.
-const COMPUTE_EXECUTION_ONLY: &str = "// @execution(compute)";
-
-/// Whether `wgsl` has the `// @execution(compute)` line; an error where it has
-/// no fragment entry point to draw under fragment execution.
-fn compute_execution_only(
-    wgsl: &str,
-    file: FileId,
-    native: &ComputeNative,
-) -> Result<bool, Diagnostic> {
-    let Some((off, line)) = crate::shader::preprocess::lines_with_offsets(wgsl)
-        .find(|(_, l)| l.trim() == COMPUTE_EXECUTION_ONLY)
-    else {
-        return Ok(false);
-    };
-    if native.fragment.is_none() {
-        let at = Span::new(file, off, off + line.trim_end().len());
-        return Err(Diagnostic::error(
-            "`// @execution(compute)` keeps the `@compute` entry point to compute execution, but the shader has no `@fragment` entry point to draw under fragment execution",
-        )
-        .at(at, "add a `@fragment` entry point or remove this line"));
-    }
-    Ok(true)
 }
 
 /// A `texture_2d<f32>` the script binds an input to, by name.
@@ -255,7 +231,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
         )
     });
     if let Some(native) = &mut compute {
-        match compute_execution_only(wgsl, file, native) {
+        match execution_line::compute_execution_only(wgsl, file, native) {
             Ok(only) => native.compute_execution_only = only,
             Err(d) => diags.push(d),
         }
