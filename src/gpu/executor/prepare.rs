@@ -103,7 +103,7 @@ impl Engine {
             entry: entry.clone(),
             ..key.clone()
         };
-        if self.execution == super::Execution::Fragment && native.per_texel() {
+        if self.execution == super::Execution::Fragment && native.drawn_under_fragment_execution() {
             return Ok((Some(render(self, &fragment_key)?), None, fragment_key));
         }
         let target = source_of(&p.output, None, plan, caller);
