@@ -58,13 +58,22 @@ fn frame(t: u32) -> fxgraph::io::Image {
 
 /// The output images (float, rgba) and every (pass, execution) of a run of
 /// `args` under `execution`.
-fn run(dir: &Path, args: &[&str], outputs: &[String], execution: &str) -> (Vec<Vec<f32>>, Vec<(String, String)>) {
+fn run(
+    dir: &Path,
+    args: &[&str],
+    outputs: &[String],
+    execution: &str,
+) -> (Vec<Vec<f32>>, Vec<(String, String)>) {
     let json = dir.join("timings.json");
     let mut all: Vec<String> = args.iter().map(|s| s.to_string()).collect();
     all.extend(["--execution", execution, "--timings-json"].map(String::from));
     all.push(json.display().to_string());
     let o = command(&all).current_dir(dir).output().expect("run fxrun");
-    assert!(o.status.success(), "{args:?} ({execution}): {}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "{args:?} ({execution}): {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let images = outputs
         .iter()
         .map(|name| {
@@ -85,7 +94,9 @@ fn run(dir: &Path, args: &[&str], outputs: &[String], execution: &str) -> (Vec<V
 fn collect_executions(v: &Value, out: &mut Vec<(String, String)>) {
     match v {
         Value::Object(m) => {
-            if let (Some(Value::String(e)), Some(Value::String(p))) = (m.get("execution"), m.get("path")) {
+            if let (Some(Value::String(e)), Some(Value::String(p))) =
+                (m.get("execution"), m.get("path"))
+            {
                 out.push((p.clone(), e.clone()));
             }
             m.values().for_each(|x| collect_executions(x, out));
@@ -145,23 +156,52 @@ fn tile_and_motion_search_compute_entry_points_agree_with_their_fragment_ones() 
     std::fs::write(d.join("copy.wgsl"), COPY).unwrap();
     // (effect, the passes checked, whether it reads a sequence)
     let cases: [(String, &[&str], bool); 4] = [
-        (single("SHADER.motion_blur_tilemax { motion = IN  OUT.SCALE = (0.09, 1)"), &["agree/p"], false),
-        (single("SHADER.motion_blur_tilemax { motion = IN  DEFINE.AXIS = 1  OUT.SCALE = (1, 0.09)"), &["agree/p"], false),
-        (single("SHADER.motion_blur_neighbor { tiles = IN"), &["agree/p"], false),
-        (MOTION.to_string(), &["agree/mv2", "agree/mv1", "agree/p"], true),
+        (
+            single("SHADER.motion_blur_tilemax { motion = IN  OUT.SCALE = (0.09, 1)"),
+            &["agree/p"],
+            false,
+        ),
+        (
+            single(
+                "SHADER.motion_blur_tilemax { motion = IN  DEFINE.AXIS = 1  OUT.SCALE = (1, 0.09)",
+            ),
+            &["agree/p"],
+            false,
+        ),
+        (
+            single("SHADER.motion_blur_neighbor { tiles = IN"),
+            &["agree/p"],
+            false,
+        ),
+        (
+            MOTION.to_string(),
+            &["agree/mv2", "agree/mv1", "agree/p"],
+            true,
+        ),
     ];
     for (fx, passes, sequence) in cases {
         let mut images = Vec::new();
         for (format, runs_as) in [("rg32f", "compute"), ("rgba32f", "fragment")] {
             std::fs::write(d.join("agree.fx"), fx.replace("FMT", format)).unwrap();
             let (input, output, outputs) = match sequence {
-                true => ("seq/%04d.exr", format!("{format}/%04d.exr"), (1..4).map(|t| format!("{format}/{t:04}.exr")).collect()),
-                false => ("seq/0001.exr", format!("{format}.exr"), vec![format!("{format}.exr")]),
+                true => (
+                    "seq/%04d.exr",
+                    format!("{format}/%04d.exr"),
+                    (1..4).map(|t| format!("{format}/{t:04}.exr")).collect(),
+                ),
+                false => (
+                    "seq/0001.exr",
+                    format!("{format}.exr"),
+                    vec![format!("{format}.exr")],
+                ),
             };
             let args = ["agree.fx", "-i", input, "--bit-depth", "32", "-o", &output];
             let (imgs, executions) = run(d, &args, &outputs, "compute");
             for pass in passes {
-                let got = executions.iter().find(|(p, _)| p == pass).map(|(_, e)| e.as_str());
+                let got = executions
+                    .iter()
+                    .find(|(p, _)| p == pass)
+                    .map(|(_, e)| e.as_str());
                 assert_eq!(got, Some(runs_as), "{pass} at {format}: {executions:?}");
             }
             images.push(imgs);
@@ -191,8 +231,22 @@ fn taa_and_motion_blur_agree_over_frames_of_a_moving_camera() {
         let mut images = Vec::new();
         for execution in ["fragment", "compute"] {
             let out = format!("{effect}-{execution}/%04d.exr");
-            let args = [effect, "--scene", "builtin:room", "--size", "96x64", "--camera", "orbit:period=2", "--frames", "0..3", "-o", &out];
-            let outputs: Vec<String> = (0..4).map(|t| format!("{effect}-{execution}/{t:04}.exr")).collect();
+            let args = [
+                effect,
+                "--scene",
+                "builtin:room",
+                "--size",
+                "96x64",
+                "--camera",
+                "orbit:period=2",
+                "--frames",
+                "0..3",
+                "-o",
+                &out,
+            ];
+            let outputs: Vec<String> = (0..4)
+                .map(|t| format!("{effect}-{execution}/{t:04}.exr"))
+                .collect();
             let (imgs, executions) = run(d, &args, &outputs, execution);
             for (pass, e) in &executions {
                 let want = match (execution, pass.as_str()) {

@@ -12,7 +12,8 @@
 // keeping the longest vector and, of equal lengths, the one at the lowest index.
 // `fs_main` walks the footprint in one invocation where the output cannot be a
 // storage texture. Both return the same texel (comparisons only): measured
-// difference 0 (tests/compute_native.rs).
+// difference 0 (tests/compute_native.rs). Lanes share a texel, so fragment
+// execution (`auto` on lavapipe) draws `fs_main`.
 @group(0) @binding(0) var motion: texture_2d<f32>;
 
 struct Params {

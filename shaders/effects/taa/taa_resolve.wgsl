@@ -15,10 +15,10 @@
 // (at most 9 x 9, `sane` applied) in workgroup memory once, where each is read
 // by the 9 x 9 texels whose 3 x 3 neighbourhood holds it; `fs_main` loads its 9
 // where the output cannot be a storage texture. The same arithmetic on the same
-// values: measured difference 0 (tests/compute_native.rs). On lavapipe the staged
-// dispatch is the slower one (960x540, 4 frames of the room: 16.7 s against
-// 15.2 s whole runs; the pass 1.9-2.4 s against 1.7-1.9 s), so fragment
-// execution, `auto` there, draws `fs_main`.
+// values: measured difference 0 (tests/compute_native.rs). On lavapipe the
+// staged dispatch is the slower one (docs/architecture.md, "Execution paths"),
+// so the shader declares DRAWN_UNDER_FRAGMENT_EXECUTION: fragment execution,
+// `auto` there, draws `fs_main`.
 @group(0) @binding(0) var cur: texture_2d<f32>;
 @group(0) @binding(1) var hist: texture_2d<f32>;
 @group(0) @binding(2) var hist_sampler: sampler;

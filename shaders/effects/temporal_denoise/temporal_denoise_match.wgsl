@@ -24,7 +24,8 @@
 // parabola), each cost summed by one lane in fs_main's order; lane 0 then
 // scans them in fs_main's order. `fs_main` evaluates them one after another
 // where the output cannot be a storage texture. The same vectors: measured
-// difference 0 (tests/compute_native.rs).
+// difference 0 (tests/compute_native.rs). Lanes share a texel, so fragment
+// execution (`auto` on lavapipe) draws `fs_main`.
 @group(0) @binding(0) var cur: texture_2d<f32>;
 @group(0) @binding(1) var prev: texture_2d<f32>;
 @group(0) @binding(2) var prev_sampler: sampler;

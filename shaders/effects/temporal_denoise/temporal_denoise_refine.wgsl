@@ -15,7 +15,9 @@
 // side (the 5 coarse vectors, then the 8 quarter-pixel steps), each cost summed
 // by one lane in fs_main's order; lane 0 scans them in fs_main's order.
 // `fs_main` evaluates them one after another where the output cannot be a
-// storage texture. The same vectors: measured difference 0 (tests/compute_native.rs).
+// storage texture. The same vectors: measured difference 0
+// (tests/compute_native.rs). Lanes share a texel, so fragment execution (`auto`
+// on lavapipe) draws `fs_main`.
 @group(0) @binding(0) var cur: texture_2d<f32>;
 @group(0) @binding(1) var hist: texture_2d<f32>;
 @group(0) @binding(2) var hist_sampler: sampler;
