@@ -243,8 +243,10 @@ fn cs_main(
     let n = 5;
     let g = vec2<i32>(floor(uvc * vec2<f32>(textureDimensions(coarse)) - 0.5));
 #endif
-    // Step 1: zero, preferred on near-ties, then the others LANES at a time.
-    if (lane == 0) {
+    // Step 1: zero, preferred on near-ties (on the last lane, which has no
+    // candidate in the first round when there are fewer than LANES), then the
+    // others LANES at a time.
+    if (lane == LANES - 1) {
         cs_best[t] = vec2<f32>(0.0);
         cs_best_cost[t] = 0.97 * cs_block_cost(t, org, vec2<f32>(0.0));
     }
