@@ -214,12 +214,12 @@ fn tile_and_motion_search_compute_entry_points_agree_with_their_fragment_ones() 
     }
 }
 
-/// taa and motion_blur on four frames of the room seen by an orbiting camera
+/// taa and motion_blur on three frames of the room seen by an orbiting camera
 /// (motion everywhere, a history for taa), fragment against compute execution.
 /// Fragment execution draws every pass of these two as a fragment pass but
-/// motion_blur's neighbour maximum (a staged 8 x 8 dispatch on both paths);
-/// compute execution dispatches all of them, its own entry point for the
-/// compute-native ones. Measured on lavapipe: 0 (taa), 0 (motion_blur).
+/// motion_blur's neighbour maximum and taa's resolve (staged dispatches on both
+/// paths); compute execution dispatches all of them, its own entry point for
+/// the compute-native ones. Measured on lavapipe: 0 (taa), 0 (motion_blur).
 #[test]
 fn taa_and_motion_blur_agree_over_frames_of_a_moving_camera() {
     if !gpu() {
@@ -240,17 +240,19 @@ fn taa_and_motion_blur_agree_over_frames_of_a_moving_camera() {
                 "--camera",
                 "orbit:period=2",
                 "--frames",
-                "0..3",
+                "0..2",
                 "-o",
                 &out,
             ];
-            let outputs: Vec<String> = (0..4)
+            let outputs: Vec<String> = (0..3)
                 .map(|t| format!("{effect}-{execution}/{t:04}.exr"))
                 .collect();
             let (imgs, executions) = run(d, &args, &outputs, execution);
             for (pass, e) in &executions {
                 let want = match (execution, pass.as_str()) {
-                    ("fragment", "motion_blur/neighbor") | ("compute", _) => "compute",
+                    ("fragment", "motion_blur/neighbor" | "taa/resolve") | ("compute", _) => {
+                        "compute"
+                    }
                     _ => "fragment",
                 };
                 assert_eq!(e, want, "{effect} ({execution}): {pass}");
@@ -262,5 +264,63 @@ fn taa_and_motion_blur_agree_over_frames_of_a_moving_camera() {
             eprintln!("{effect} frame {f}: |fragment - compute| = {diff:e}");
             assert!(diff <= 1e-3, "{effect} frame {f}: {diff}");
         }
+    }
+}
+
+/// taa's resolve runs its `@compute` entry point on both execution paths, so its
+/// `@fragment` one (the fallback where the state cannot be a storage texture)
+/// is checked by a copy of taa whose resolve shader lacks the compute entry:
+/// drawn under fragment execution, against the built-in taa's dispatch, over
+/// three frames of an orbiting camera. Measured on lavapipe: 0.
+#[test]
+fn taa_resolve_fragment_entry_point_gives_the_compute_ones_image() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shader =
+        std::fs::read_to_string(root.join("shaders/effects/taa/taa_resolve.wgsl")).unwrap();
+    let cut = shader
+        .find("\n// cs_main:")
+        .expect("taa_resolve.wgsl's cs_main section");
+    let fragment_only: String = shader[..cut]
+        .lines()
+        .filter(|l| !l.contains("texture_storage_2d"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::create_dir_all(d.join("copy")).unwrap();
+    std::fs::write(d.join("copy/taa_resolve.wgsl"), fragment_only).unwrap();
+    std::fs::copy(root.join("effects/taa.fx"), d.join("copy/taa.fx")).unwrap();
+    let mut images = Vec::new();
+    for (effect, runs_as) in [("taa", "compute"), ("copy/taa.fx", "fragment")] {
+        let out = format!("{runs_as}/%04d.exr");
+        let args = [
+            effect,
+            "--scene",
+            "builtin:room",
+            "--size",
+            "96x64",
+            "--camera",
+            "orbit:period=2",
+            "--frames",
+            "0..2",
+            "-o",
+            &out,
+        ];
+        let outputs: Vec<String> = (0..3).map(|t| format!("{runs_as}/{t:04}.exr")).collect();
+        let (imgs, executions) = run(d, &args, &outputs, "fragment");
+        let got = executions
+            .iter()
+            .find(|(p, _)| p == "taa/resolve")
+            .map(|(_, e)| e.as_str());
+        assert_eq!(got, Some(runs_as), "{effect}: {executions:?}");
+        images.push(imgs);
+    }
+    for (f, (a, b)) in images[0].iter().zip(&images[1]).enumerate() {
+        let diff = worst(a, b, &[0, 1, 2, 3]);
+        eprintln!("taa frame {f}: |compute - fragment entry point| = {diff:e}");
+        assert_eq!(diff, 0.0, "taa frame {f}");
     }
 }

@@ -53,9 +53,9 @@ const SCENE_EFFECTS: &[&str] = &[
 
 /// Passes written as compute passes (`@compute` shaders): compute on both paths.
 /// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2,
-/// motion_blur's tile maxima, temporal_denoise's motion search and taa's
-/// resolve are compute passes drawn as fragment passes under fragment
-/// execution; tests/compute_native.rs compares those entry points.)
+/// motion_blur's tile maxima and temporal_denoise's motion search are compute
+/// passes drawn as fragment passes under fragment execution;
+/// tests/compute_native.rs compares those entry points.)
 const NATIVE: &[&str] = &[
     "gaussian_blur/horizontal",
     "sharpen/blur",
@@ -64,6 +64,7 @@ const NATIVE: &[&str] = &[
     "dof/nearmax_h",
     "dof/nearmax_v",
     "motion_blur/neighbor",
+    "taa/resolve",
 ];
 
 /// Float outputs agree within this (absolute, per channel).

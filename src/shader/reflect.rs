@@ -34,25 +34,9 @@ pub struct ComputeNative {
     /// pass drawn where the compute one cannot run (an sRGB or BGRA output, an
     /// adapter without that storage format).
     pub fragment: Option<String>,
-    /// The shader declares `const DRAWN_UNDER_FRAGMENT_EXECUTION: bool = true;`:
-    /// its compute entry point is the faster one on GPUs but was measured slower
-    /// than its `@fragment` one on lavapipe, where `auto` is fragment execution.
-    pub declared_drawn: bool,
 }
 
-/// The module-scope constant by which a shader with both entry points keeps its
-/// `@fragment` one under fragment execution (docs/shaders.md, "Compute passes").
-pub const DRAWN_UNDER_FRAGMENT: &str = "DRAWN_UNDER_FRAGMENT_EXECUTION";
-
 impl ComputeNative {
-    /// Whether fragment execution draws the `@fragment` entry point (where the
-    /// shader has one) instead of dispatching the `@compute` one: a pass whose
-    /// invocations share output texels, or one declaring
-    /// [`DRAWN_UNDER_FRAGMENT`].
-    pub fn drawn_under_fragment(&self) -> bool {
-        self.lanes_per_texel() || self.declared_drawn
-    }
-
     /// Whether several invocations share the work of each output texel (a third
     /// workgroup size above 1: a reduction, `@workgroup_size(1, 1, Z)`, or
     /// motion_blur's tile maximum, `(1, 8, 32)`). Under fragment execution such a
@@ -236,10 +220,6 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             file,
             &mut diags,
         )
-    });
-    let compute = compute.map(|c| ComputeNative {
-        declared_drawn: declares_true(&module, DRAWN_UNDER_FRAGMENT),
-        ..c
     });
     if diags.is_empty() {
         Ok(Reflection {
@@ -492,7 +472,6 @@ fn compute_native(
             workgroup: ep.workgroup_size,
             output: one.clone(),
             fragment,
-            declared_drawn: false,
         }),
         _ => {
             diags.push(
@@ -505,17 +484,6 @@ fn compute_native(
             None
         }
     }
-}
-
-/// Whether the module declares `const NAME: bool = true;`.
-fn declares_true(module: &naga::Module, name: &str) -> bool {
-    module.constants.iter().any(|(_, c)| {
-        c.name.as_deref() == Some(name)
-            && matches!(
-                module.global_expressions[c.init],
-                naga::Expression::Literal(naga::Literal::Bool(true))
-            )
-    })
 }
 
 /// The parameter type of a struct member's WGSL type (f32, i32, u32, their

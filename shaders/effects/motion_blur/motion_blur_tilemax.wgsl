@@ -48,11 +48,24 @@ fn footprint(o: vec2<i32>) -> Footprint {
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let f = footprint(vec2<i32>(pos.xy));
+    let o = vec2<i32>(pos.xy);
+    let size_in = vec2<i32>(textureDimensions(motion));
+    let size_out = vec2<i32>(params.out_size);
+#if AXIS == 0
+    let a0 = min((o.x * size_in.x + size_out.x - 1) / size_out.x, size_in.x - 1);
+    let a1 = max(((o.x + 1) * size_in.x + size_out.x - 1) / size_out.x, a0 + 1);
+    let step = vec2<i32>(1, 0);
+    let start = vec2<i32>(a0, min(o.y, size_in.y - 1));
+#else
+    let a0 = min((o.y * size_in.y + size_out.y - 1) / size_out.y, size_in.y - 1);
+    let a1 = max(((o.y + 1) * size_in.y + size_out.y - 1) / size_out.y, a0 + 1);
+    let step = vec2<i32>(0, 1);
+    let start = vec2<i32>(min(o.x, size_in.x - 1), a0);
+#endif
     var best = vec2<f32>(0.0);
     var best_len = -1.0;
-    for (var i = 0; i < f.count; i++) {
-        let v = textureLoad(motion, f.start + f.step * i, 0).xy;
+    for (var i = 0; i < a1 - a0; i++) {
+        let v = textureLoad(motion, start + step * i, 0).xy;
         let l = dot(v, v);
         if (l > best_len) {
             best_len = l;

@@ -15,10 +15,9 @@
 // (at most 9 x 9, `sane` applied) in workgroup memory once, where each is read
 // by the 9 x 9 texels whose 3 x 3 neighbourhood holds it; `fs_main` loads its 9
 // where the output cannot be a storage texture. The same arithmetic on the same
-// values: measured difference 0 (tests/compute_native.rs). On lavapipe the
-// staged dispatch is the slower one (docs/architecture.md, "Execution paths"),
-// so the shader declares DRAWN_UNDER_FRAGMENT_EXECUTION: fragment execution,
-// `auto` there, draws `fs_main`.
+// values: measured difference 0 (tests/compute_native.rs). Both sum the 3 x 3
+// through `accumulate` (a 9-element array indexed in a loop made either entry
+// point half again as slow on lavapipe).
 @group(0) @binding(0) var cur: texture_2d<f32>;
 @group(0) @binding(1) var hist: texture_2d<f32>;
 @group(0) @binding(2) var hist_sampler: sampler;
@@ -125,50 +124,46 @@ fn clip_box(lo: vec3<f32>, hi: vec3<f32>, q: vec3<f32>) -> vec3<f32> {
 const HISTORY_SCALE: f32 = 3.0;
 
 // The current samples around a texel: the Gaussian-weighted sum near x and its
-// weight, the wide fallback estimate, and the YCoCg moments and range of the 3x3.
+// weight, the wide estimate and its weight, and the YCoCg moments and range of
+// the 3x3.
 struct Neighbourhood {
     sum: vec3<f32>,
     wsum: f32,
-    fallback: vec3<f32>,
+    wide: vec3<f32>,
+    wide_w: f32,
     m1: vec3<f32>,
     m2: vec3<f32>,
     mn: vec3<f32>,
     mx: vec3<f32>,
 }
 
-// 1. The current samples near x (input pixels; `c` the 3x3 colours around pixel
-// p, row by row), each weighed by a Gaussian of its distance from x (sample q
-// was taken at q + 0.5 + jitter); `fallback`, a wider Gaussian (sigma 1/3 px),
-// stands in where no sample is near and the history is gone.
-fn neighbourhood(x: vec2<f32>, p: vec2<i32>, c: array<vec3<f32>, 9>) -> Neighbourhood {
+const EMPTY: Neighbourhood = Neighbourhood(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(1e30), vec3<f32>(-1e30));
+
+// 1. One current sample c of pixel q near x (input pixels), weighed by a
+// Gaussian of its distance from x (sample q was taken at q + 0.5 + jitter);
+// `wide`, a wider Gaussian (sigma 1/3 px), gives the fallback that stands in
+// where no sample is near and the history is gone.
+fn accumulate(n: ptr<function, Neighbourhood>, x: vec2<f32>, q: vec2<i32>, c: vec3<f32>) {
     let inv2s2 = 0.5 / (params.filter_width * params.filter_width);
-    var n = Neighbourhood(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(1e30), vec3<f32>(-1e30));
-    var wide = vec3<f32>(0.0);
-    var wide_w = 0.0;
-    for (var k = 0; k < 9; k++) {
-        let q = p + vec2<i32>(k % 3 - 1, k / 3 - 1);
-        let d = vec2<f32>(q) + 0.5 + params.jitter - x;
-        let w = exp(-dot(d, d) * inv2s2);
-        n.sum += c[k] * w;
-        n.wsum += w;
-        let ww = exp(-dot(d, d) * 4.5);
-        wide += c[k] * ww;
-        wide_w += ww;
-        let y = to_ycocg(c[k]);
-        n.m1 += y;
-        n.m2 += y * y;
-        n.mn = min(n.mn, y);
-        n.mx = max(n.mx, y);
-    }
-    n.fallback = wide / wide_w;
-    return n;
+    let d = vec2<f32>(q) + 0.5 + params.jitter - x;
+    let w = exp(-dot(d, d) * inv2s2);
+    (*n).sum += c * w;
+    (*n).wsum += w;
+    let ww = exp(-dot(d, d) * 4.5);
+    (*n).wide += c * ww;
+    (*n).wide_w += ww;
+    let y = to_ycocg(c);
+    (*n).m1 += y;
+    (*n).m2 += y * y;
+    (*n).mn = min((*n).mn, y);
+    (*n).mx = max((*n).mx, y);
 }
 
 // Steps 2 to 5 for the texel at x (input pixels) in pixel p.
 fn resolve(x: vec2<f32>, p: vec2<i32>, n: Neighbourhood) -> vec4<f32> {
     let in_size = params.out_size / HISTORY_SCALE;
     let hi = vec2<i32>(in_size) - vec2<i32>(1);
-    let fallback = n.fallback;
+    let fallback = n.wide / n.wide_w;
     // 2. Where this texel was one frame earlier (the motion of its input pixel's
     // nearest surface), and 3. whether the surface seen there was the same one.
     let g = textureLoad(geo, p, 0);
@@ -220,15 +215,15 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let x = pos.xy / HISTORY_SCALE;
     let p = vec2<i32>(floor(x));
     let hi = vec2<i32>(params.out_size / HISTORY_SCALE) - vec2<i32>(1);
-    var c: array<vec3<f32>, 9>;
-    for (var k = 0; k < 9; k++) {
-        let q = p + vec2<i32>(k % 3 - 1, k / 3 - 1);
-        c[k] = sane(textureLoad(cur, clamp(q, vec2<i32>(0), hi), 0).rgb);
+    var n = EMPTY;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let q = p + vec2<i32>(dx, dy);
+            accumulate(&n, x, q, sane(textureLoad(cur, clamp(q, vec2<i32>(0), hi), 0).rgb));
+        }
     }
-    return resolve(x, p, neighbourhood(x, p, c));
+    return resolve(x, p, n);
 }
-
-const DRAWN_UNDER_FRAGMENT_EXECUTION: bool = true;
 
 // cs_main: 16 x 16 texels; the input pixels from floor(first texel / 3) - 1 to
 // floor(last texel / 3) + 1 on each axis, at most 9 (16 texels span 6 1/3 px).
@@ -256,10 +251,13 @@ fn cs_main(
     }
     let x = (vec2<f32>(o) + 0.5) / HISTORY_SCALE;
     let p = vec2<i32>(floor(x));
-    var c: array<vec3<f32>, 9>;
-    for (var k = 0; k < 9; k++) {
-        let s = p - base + vec2<i32>(k % 3 - 1, k / 3 - 1);
-        c[k] = staged[s.y * SPAN + s.x];
+    var n = EMPTY;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let q = p + vec2<i32>(dx, dy);
+            let s = q - base;
+            accumulate(&n, x, q, staged[s.y * SPAN + s.x]);
+        }
     }
-    textureStore(out, o, resolve(x, p, neighbourhood(x, p, c)));
+    textureStore(out, o, resolve(x, p, n));
 }

@@ -74,9 +74,9 @@ impl Engine {
     /// adapter or for this format, or where the pass writes the caller's output
     /// (which may be an sRGB or BGRA texture); the frame then draws it where the
     /// target cannot be stored to. Under fragment execution a pass whose
-    /// invocations share output texels (a reduction, a tile maximum: a third
-    /// workgroup size above 1) or that declares itself drawn there is drawn: on
-    /// lavapipe those dispatches cost more than the fragment pass. Returns the render
+    /// invocations share output texels (a reduction, a tile maximum, a block
+    /// matcher's lanes: a third workgroup size above 1) is drawn: on lavapipe
+    /// such dispatches cost more than the fragment pass over the same footprint. Returns the render
     /// pipeline's key too.
     fn pass_pipelines(
         &mut self,
@@ -104,7 +104,7 @@ impl Engine {
             entry: entry.clone(),
             ..key.clone()
         };
-        if self.execution == super::Execution::Fragment && native.drawn_under_fragment() {
+        if self.execution == super::Execution::Fragment && native.lanes_per_texel() {
             return Ok((Some(render(self, &fragment_key)?), None, fragment_key));
         }
         let target = source_of(&p.output, None, plan, caller);
