@@ -52,8 +52,10 @@ const SCENE_EFFECTS: &[&str] = &[
 ];
 
 /// Passes written as compute passes (`@compute` shaders): compute on both paths.
-/// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2, are
-/// compute passes drawn as fragment passes under fragment execution.)
+/// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2,
+/// motion_blur's tile maxima and temporal_denoise's motion search are compute
+/// passes drawn as fragment passes under fragment execution;
+/// tests/compute_native.rs compares those entry points.)
 /// (gaussian_blur's `vertical`, sharpen's `sharpen`, pencil's blurs and the
 /// G-buffer blurs of ssao and ssgi are marked `// @execution(compute)`: their
 /// compute entry points run under compute execution, which `compare` checks,
@@ -65,6 +67,8 @@ const NATIVE: &[&str] = &[
     "glow/blurY",
     "dof/nearmax_h",
     "dof/nearmax_v",
+    "motion_blur/neighbor",
+    "taa/resolve",
 ];
 
 /// Float outputs agree within this (absolute, per channel).

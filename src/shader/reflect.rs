@@ -42,17 +42,21 @@ pub struct ComputeNative {
 }
 
 impl ComputeNative {
-    /// Whether each workgroup computes one output texel (`@workgroup_size(1, 1,
-    /// Z)`: a reduction whose invocations share the work of one texel).
-    pub fn per_texel(&self) -> bool {
-        self.workgroup[0] * self.workgroup[1] == 1
+    /// Whether several invocations share the work of each output texel (a third
+    /// workgroup size above 1: a reduction, `@workgroup_size(1, 1, Z)`, or
+    /// motion_blur's tile maximum, `(1, 8, 32)`). Under fragment execution such a
+    /// pass draws its `@fragment` entry point: on lavapipe such a dispatch costs
+    /// more than the fragment pass over the same footprint.
+    pub fn lanes_per_texel(&self) -> bool {
+        self.workgroup[2] > 1
     }
 
     /// Whether fragment execution draws the fragment entry point instead of
-    /// dispatching the compute one: reductions and shaders marked
+    /// dispatching the compute one: passes with several lanes per texel
+    /// ([`ComputeNative::lanes_per_texel`]) and shaders marked
     /// `// @execution(compute)`.
     pub fn drawn_under_fragment_execution(&self) -> bool {
-        self.fragment.is_some() && (self.per_texel() || self.compute_execution_only)
+        self.fragment.is_some() && (self.lanes_per_texel() || self.compute_execution_only)
     }
 }
 
