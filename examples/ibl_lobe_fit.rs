@@ -12,19 +12,24 @@
 //! environment.wgsl, t the unit vector in the plane of incidence
 //! perpendicular to r, towards the normal) at the level of roughness `ρ_k`,
 //! weighted by `w_k` (Σ w = 1, so a constant environment is kept exactly).
-//! Each tap's lobe is the prefiltered level's: `D(d·h) G1(d·l)` about d,
-//! normalised. The fit minimises the L1 distance between the normalised true
+//! Each tap's lobe is the prefiltered level's, `D(d·h) G1(d·l)` about d,
+//! normalised, of roughness `ρ_k` (at least 0.2, the first filtered level,
+//! for surfaces from 0.2 on); below roughness 0.25 it is instead the mix of
+//! two levels' lobes that the shader's trilinear read gives in a 1024 × 512
+//! map's chain (levels 0.2 apart: there the lobe is no wider than a step),
+//! with level 0, the unfiltered map, a point read that adds its whole weight
+//! to the distance. Below 0.15 the taps are the split sum's. The fit minimises the L1 distance between the normalised true
 //! lobe and the weighted sum of tap lobes over the sphere (it bounds the
 //! error of the mean radiance for any bounded map), by Nelder–Mead from the
 //! neighbouring grid point's solution (so the table is smooth for bilinear
 //! lookup; the first from the split sum's own lobe), restarted once.
 //!
-//! We wrote our own fit because the model is ours: published fits
-//! (Karis 2013, Lagarde 2014, Filament) give one direction and one level, and
-//! the lobe-sum models of the literature (e.g. Jimenez et al. 2016's cone
-//! taps) are tied to other prefiltered representations.
+//! We wrote our own fit because the model is ours: the published fits
+//! (Karis 2013, Lagarde 2014, Filament) give one direction and one level per
+//! lookup, and none of them describes reading this renderer's chain (its
+//! levels, its `D·G1` lobes, its level fraction) several times.
 //!
-//! Run (std only; about a minute with optimisations):
+//! Run (std only; under a minute with optimisations on two cores):
 //! `cargo run --release --example ibl_lobe_fit > src/render/environment/lobe_table.rs`
 //! or `rustc -O examples/ibl_lobe_fit.rs -o /tmp/fit && /tmp/fit > …`.
 
