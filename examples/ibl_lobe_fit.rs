@@ -49,6 +49,8 @@ const NP: usize = 40;
 const EVALS: usize = 600;
 
 type V3 = [f64; 3];
+/// A fitted grid point: the taps, the split sum's L1 distance, the fit's.
+type Fitted = ([[f64; 3]; TAPS], f64, f64);
 
 fn dot(a: V3, b: V3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -316,7 +318,7 @@ fn split_sum(roughness: f64) -> Vec<f64> {
 /// One row of the table (roughness index `j`), n·v from 1 down to 0, each
 /// fit started from its neighbour's solution and from the split sum: per
 /// n·v, the taps and (L1 of the split sum, L1 of the fit).
-fn fit_row(j: usize) -> Vec<([[f64; 3]; TAPS], f64, f64)> {
+fn fit_row(j: usize) -> Vec<Fitted> {
     let roughness = j as f64 / (ROUGH - 1) as f64;
     let mut row = vec![([[0.0; 3]; TAPS], 0.0, 0.0); MU];
     let mut prev = split_sum(roughness);
@@ -395,7 +397,7 @@ fn main() {
 }
 
 /// Mean of field `k` (1: split sum's L1, 2: the fit's) over the fitted rows.
-fn mean(rows: &[Vec<([[f64; 3]; TAPS], f64, f64)>], k: usize) -> f64 {
+fn mean(rows: &[Vec<Fitted>], k: usize) -> f64 {
     let vals: Vec<f64> = rows[2..]
         .iter()
         .flatten()

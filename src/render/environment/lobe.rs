@@ -61,9 +61,9 @@ mod tests {
 
     #[test]
     fn weights_sum_to_one_and_the_mirror_is_the_split_sum() {
-        for j in 0..LOBE_ROUGHNESS {
-            for i in 0..LOBE_MU {
-                let w: f32 = LOBE_TABLE[j][i].iter().map(|t| t[2]).sum();
+        for (j, row) in LOBE_TABLE.iter().enumerate() {
+            for (i, taps) in row.iter().enumerate() {
+                let w: f32 = taps.iter().map(|t| t[2]).sum();
                 assert!((w - 1.0).abs() < 1e-4, "({i}, {j}): weights sum to {w}");
             }
         }
