@@ -81,6 +81,20 @@ mod tests {
     }
 
     #[test]
+    fn the_fit_reads_levels_as_the_shader_does() {
+        // the fit models the shader's level fraction with the shader's fit of
+        // the lobe's spread (spread.rs checks it against its integral)
+        let fit = include_str!("../../../examples/ibl_lobe_fit.rs");
+        let line = "a * a * (30.124 - 9.4665 * sa + 1.4145 * a) / (1.0 + 8.8945 * sa + 3.2514 * a + 46.424 * a * a)";
+        assert!(
+            fit.contains(line),
+            "examples/ibl_lobe_fit.rs lacks `{line}`"
+        );
+        let wgsl = include_str!("../../../shaders/render/environment.wgsl");
+        assert!(wgsl.contains(line), "environment.wgsl lacks `{line}`");
+    }
+
+    #[test]
     fn lookups_hit_the_grid_points() {
         let (i, j) = (5, 7);
         let got = lobe_taps(
