@@ -105,7 +105,7 @@ fn sphere_error(
 }
 
 /// A sphere case: (base colour, metallic, roughness, limit against the BRDF
-/// integral, limit against the split sum on the CPU).
+/// integral, limit against the model on the CPU).
 type SphereCase = (Vec3, f32, f32, f64, f64);
 
 const GOLD: Vec3 = Vec3::new(1.0, 0.766, 0.336);
@@ -114,8 +114,10 @@ const PAINT: Vec3 = Vec3::new(0.8, 0.25, 0.15);
 /// Spheres of gold and of red paint under corpus maps, each pixel against (1)
 /// the glTF BRDF integrated over the map's texels (with the renderer's
 /// multiple-scattering lobe, see `ibl::reference_radiance`), and (2) the
-/// renderer's own model (the split sum) computed on the CPU, which checks the
-/// implementation apart from the approximation.
+/// renderer's own model (the split sum's albedos, the lobe model's taps, each
+/// an exact convolution) computed on the CPU, which checks the implementation
+/// apart from the approximation (up to the GPU's reading of the taps'
+/// roughnesses as mixes of the chain's levels).
 #[test]
 fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
     let Some(gpu) = common::gpu_context() else {
@@ -130,37 +132,36 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
 /// Gold at roughness 0.2, 0.3, 0.5, 0.7, 0.9 and red paint at 0.2, 0.5, 0.9
 /// under city.exr (a bright overcast sky over a dark car park). Issue 29 asks
 /// for metals within 5 % of the integral from roughness 0.3 on and 10 % below.
-/// Measured for gold at 0.2 / 0.3 / 0.5 / 0.7 / 0.9: 5.9 / 8.0 / 7.6 / 7.3 /
-/// 4.3 % from the integral, 2.0 / 5.2 / 3.8 / 2.1 / 1.3 % from the model
-/// (before issue 29's level fraction, `fx_env_specular_level`: 5.9 / 9.7 /
-/// 7.4 / 7.2 / 4.5 % and 2.0 / 5.7 / 3.8 / 2.3 / 1.2 %). Not met from 0.3 to
-/// 0.7: the split sum itself, computed exactly on the CPU, is 7.1 / 8.0 / 8.1
-/// / 4.9 % from the integral at 0.3 / 0.5 / 0.7 / 0.9 (its lobe is the one at
-/// n = v; docs/environment.md, "Accuracy").
+/// Measured with the lobe model (four fitted taps, docs/environment.md,
+/// "Shading"), gold at 0.2 / 0.3 / 0.5 / 0.7 / 0.9: 5.2 / 4.6 / 3.0 / 2.4 /
+/// 1.6 % from the integral, 2.2 / 4.0 / 2.6 / 2.2 / 1.6 % from the model
+/// computed on the CPU (the split sum before it: 5.9 / 8.0 / 7.6 / 7.3 / 4.3 %
+/// and 2.0 / 5.2 / 3.8 / 2.1 / 1.3 %); paint at 0.2 / 0.5 / 0.9: 3.1 / 1.8 /
+/// 3.3 % (before: 3.3 / 2.2 / 2.9 %).
 const CITY: [SphereCase; 8] = [
-    (GOLD, 1.0, 0.2, 0.07, 0.03),
-    (GOLD, 1.0, 0.3, 0.085, 0.06),
-    (GOLD, 1.0, 0.5, 0.08, 0.045),
-    (GOLD, 1.0, 0.7, 0.08, 0.03),
-    (GOLD, 1.0, 0.9, 0.05, 0.02),
-    (PAINT, 0.0, 0.2, 0.05, 0.03),
-    (PAINT, 0.0, 0.5, 0.03, 0.025),
+    (GOLD, 1.0, 0.2, 0.06, 0.03),
+    (GOLD, 1.0, 0.3, 0.05, 0.045),
+    (GOLD, 1.0, 0.5, 0.035, 0.03),
+    (GOLD, 1.0, 0.7, 0.03, 0.025),
+    (GOLD, 1.0, 0.9, 0.02, 0.02),
+    (PAINT, 0.0, 0.2, 0.035, 0.02),
+    (PAINT, 0.0, 0.5, 0.025, 0.02),
     (PAINT, 0.0, 0.9, 0.035, 0.02),
 ];
 
 /// Gold under forest.exr (a second map: sky through foliage, fine detail).
-/// Measured at 0.2 / 0.3 / 0.5 / 0.7 / 0.9: 8.2 / 8.8 / 7.2 / 7.8 / 4.7 % from
-/// the integral, 3.0 / 8.1 / 3.7 / 1.2 / 0.6 % from the model (before: 8.2 /
-/// 12.0 / 7.2 / 8.1 / 5.0 % and 3.0 / 8.8 / 3.7 / 1.5 / 0.7 %). At 0.3 the
-/// GPU mixes the levels of 0.2 and 0.4, which is not the lobe of 0.3 over
-/// foliage; the split sum itself is 7.7 / 8.2 / 8.0 / 4.4 % from the integral
-/// at 0.3 / 0.5 / 0.7 / 0.9.
+/// Measured with the lobe model at 0.2 / 0.3 / 0.5 / 0.7 / 0.9: 8.1 / 6.5 /
+/// 3.3 / 2.1 / 1.2 % from the integral, 3.3 / 6.0 / 2.7 / 0.9 / 0.6 % from the
+/// model on the CPU (the split sum before it: 8.2 / 8.8 / 7.2 / 7.8 / 4.7 %
+/// and 3.0 / 8.1 / 3.7 / 1.2 / 0.6 %). Not met at 0.3 (5 % asked): the model
+/// itself, with exact convolutions, is 3.7 % off; the GPU reads its taps'
+/// roughnesses as mixes of the chain's levels 0.2 apart over fine foliage.
 const FOREST: [SphereCase; 5] = [
     (GOLD, 1.0, 0.2, 0.09, 0.04),
-    (GOLD, 1.0, 0.3, 0.095, 0.09),
-    (GOLD, 1.0, 0.5, 0.08, 0.045),
-    (GOLD, 1.0, 0.7, 0.085, 0.02),
-    (GOLD, 1.0, 0.9, 0.05, 0.01),
+    (GOLD, 1.0, 0.3, 0.07, 0.065),
+    (GOLD, 1.0, 0.5, 0.04, 0.03),
+    (GOLD, 1.0, 0.7, 0.025, 0.015),
+    (GOLD, 1.0, 0.9, 0.015, 0.01),
 ];
 
 /// [`SphereCase`]s under corpus map `name`: the failures.
@@ -193,7 +194,7 @@ fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<Stri
             ibl::split_sum_radiance(t, surface, n, v)
         });
         eprintln!(
-            "{name}, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.1} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the split sum on the CPU (limit {:.1} %), {} pixels",
+            "{name}, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.1} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the model on the CPU (limit {:.1} %), {} pixels",
             brdf * 100.0,
             limit * 100.0,
             facing * 100.0,

@@ -113,3 +113,49 @@ fn environment_benchmark() {
     }
     common::bench::publish(&report);
 }
+
+/// The environment term's per-frame GPU time alone (issue 29's cost check):
+/// builtin:room at 1920×1080, deferred, with and without builtin:studio,
+/// frames interleaved, medians of `FX_BENCH_FRAMES` (5). The timestamps are
+/// the GPU's (lavapipe's), so a debug build of the test measures the same
+/// work as a release one. Run: `cargo test --test environment_bench
+/// environment_term_cost -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn environment_term_cost() {
+    let Some(engine) = common::engine() else {
+        return;
+    };
+    let ctx = &engine.ctx;
+    let frames: usize = std::env::var("FX_BENCH_FRAMES").map_or(5, |s| s.parse().unwrap());
+    let Some(timer) = GpuTimer::new(ctx, 64) else {
+        panic!("the adapter has no timestamp queries: no frame times");
+    };
+    let plain = Scene::load("builtin:room").unwrap();
+    let mut lit = plain.clone();
+    lit.set_environment(Some(Environment::new(EnvironmentSource::Studio)));
+    let mut lit_lights = plain.clone();
+    lit_lights.lights = lit.lights.clone();
+    let camera = plain.default_camera();
+    let mut a = Renderer::new(ctx, &lit_lights, &RendererOptions::default()).unwrap();
+    let mut b = Renderer::new(ctx, &lit, &RendererOptions::default()).unwrap();
+    let (mut ta, mut tb) = (Vec::new(), Vec::new());
+    for i in 0..frames + 1 {
+        for (r, t) in [(&mut a, &mut ta), (&mut b, &mut tb)] {
+            let (_, stats) = r
+                .render(ctx, &camera, 1920, 1080, Technique::Deferred, Some(&timer))
+                .unwrap();
+            if i > 0 {
+                t.push(stats.gpu_ms.unwrap());
+            }
+        }
+    }
+    let (ma, mb) = (median(ta.clone()), median(tb.clone()));
+    // each frame with the environment against the frame without it just before
+    // (the load of a shared machine drifts between frames)
+    let pairs = median(ta.iter().zip(&tb).map(|(a, b)| b - a).collect());
+    eprintln!(
+        "builtin:room 1920x1080 deferred: without {ta:.0?} ms, with builtin:studio {tb:.0?} ms; medians {ma:.0} / {mb:.0} ms, environment term {:.0} ms (median of the pairs' differences {pairs:.0} ms)",
+        mb - ma
+    );
+}

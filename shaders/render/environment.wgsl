@@ -22,8 +22,10 @@ struct FxEnvironment {
 @group(0) @binding(11) var fx_env_specular: texture_cube<f32>;
 // cosine-weighted mean radiance (irradiance / pi)
 @group(0) @binding(12) var fx_env_irradiance: texture_cube<f32>;
-// split sum: x = n.v, y = roughness; r = A, g = B (albedo F0 A + B)
-@group(0) @binding(13) var fx_env_dfg: texture_2d<f32>;
+// x = n.v, y = roughness; layer 0: the split sum's r = A, g = B (albedo F0 A +
+// B); layers 1, 2, 3: the lobe model's four taps' offsets, roughnesses and
+// weights, rgba = taps 0-3 (src/render/environment/lobe.rs)
+@group(0) @binding(13) var fx_env_dfg: texture_2d_array<f32>;
 @group(0) @binding(14) var fx_env_sampler: sampler;
 @group(0) @binding(15) var<uniform> fx_env: FxEnvironment;
 
@@ -54,18 +56,42 @@ fn fx_env_specular_level(roughness: f32) -> f32 {
     return k + clamp((fx_env_lobe_spread(r) - s0) / max(s1 - s0, 1e-12), 0.0, 1.0);
 }
 
+// The prefiltered radiance of the specular lobe at normal `n`, view `v`: the
+// lobe model of src/render/environment/lobe.rs, fitted offline to the glTF
+// BRDF's lobe at n != v (examples/ibl_lobe_fit.rs; issue 29). Four reads of
+// the specular map, each along the dominant direction `r` offset by o in the
+// plane of incidence (towards the normal), at the level of its roughness,
+// weighted; the weights sum to 1, so a constant environment is kept. The
+// split sum's single read along `r` at the surface's roughness is what the
+// fit replaces: at n != v the true lobe is stretched along the plane of
+// incidence and narrower across it.
+fn fx_env_prefiltered(n: vec3<f32>, v: vec3<f32>, roughness: f32) -> vec3<f32> {
+    // the dominant direction leans from the mirror direction towards the normal
+    // as the surface gets rough (Lagarde and de Rousiers, "Moving Frostbite to
+    // PBR", 2014, listing 22; alpha = roughness^2)
+    let alpha = roughness * roughness;
+    let gloss = 1.0 - alpha;
+    let r = normalize(mix(n, reflect(-v, n), gloss * (sqrt(gloss) + alpha)));
+    let across = n - dot(n, r) * r;
+    let t = across * inverseSqrt(max(dot(across, across), 1e-12));
+    let uv = vec2<f32>(max(dot(n, v), 1e-4), roughness);
+    let offset = textureSampleLevel(fx_env_dfg, fx_env_sampler, uv, 1, 0.0);
+    let level = textureSampleLevel(fx_env_dfg, fx_env_sampler, uv, 2, 0.0);
+    let weight = textureSampleLevel(fx_env_dfg, fx_env_sampler, uv, 3, 0.0);
+    var sum = vec3<f32>(0.0);
+    for (var k = 0; k < 4; k++) {
+        let d = normalize(r + offset[k] * t);
+        sum += weight[k] * textureSampleLevel(fx_env_specular, fx_env_sampler, fx_env.map_from_view * d, fx_env_specular_level(level[k])).rgb;
+    }
+    return sum / max(dot(weight, vec4<f32>(1.0)), 1e-6);
+}
+
 // The lookups of the surface at view-space point `p`.
 fn fx_environment_input(s: SurfaceOutput, p: vec3<f32>) -> EnvironmentInput {
     var e: EnvironmentInput;
     let v = fx_safe_normalize(-p);
     let n = s.normal;
     let ndv = max(dot(n, v), 1e-4);
-    // the dominant direction of the GGX lobe leans from the mirror direction
-    // towards the normal as the surface gets rough (Lagarde and de Rousiers,
-    // "Moving Frostbite to PBR", 2014, listing 22; alpha = roughness^2)
-    let alpha = s.roughness * s.roughness;
-    let gloss = 1.0 - alpha;
-    let r = normalize(mix(n, reflect(-v, n), gloss * (sqrt(gloss) + alpha)));
     let intensity = fx_env.params.x;
     e.normal = n;
     e.view_dir = v;
@@ -73,8 +99,8 @@ fn fx_environment_input(s: SurfaceOutput, p: vec3<f32>) -> EnvironmentInput {
     e.roughness = s.roughness;
     e.occlusion = s.occlusion;
     e.irradiance = textureSampleLevel(fx_env_irradiance, fx_env_sampler, fx_env.map_from_view * n, 0.0).rgb * intensity;
-    e.prefiltered = textureSampleLevel(fx_env_specular, fx_env_sampler, fx_env.map_from_view * r, fx_env_specular_level(s.roughness)).rgb * intensity;
-    e.dfg = textureSampleLevel(fx_env_dfg, fx_env_sampler, vec2<f32>(ndv, s.roughness), 0.0).rg;
+    e.prefiltered = fx_env_prefiltered(n, v, s.roughness) * intensity;
+    e.dfg = textureSampleLevel(fx_env_dfg, fx_env_sampler, vec2<f32>(ndv, s.roughness), 0, 0.0).rg;
     return e;
 }
 

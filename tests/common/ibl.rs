@@ -181,22 +181,43 @@ pub fn interior_pixels(o: &OracleCamera, stride: u32) -> Vec<(u32, u32, Vec3, Ve
 }
 
 /// The renderer's model of the same light, computed here from its definition
-/// (docs/renderer.md, "Environment lighting"): the split sum with the
-/// multiple-scattering lobe, i.e. `Fss·Ess · P + Fms·Ems · E/π + c_diff (1 −
-/// Fss·Ess − Fms·Ems) E/π` where `P` is [`ggx_prefiltered`] about the lobe's
-/// dominant direction (Lagarde's lean of the mirror direction towards the
-/// normal) and the albedos are brute-force hemisphere integrals. What it
-/// differs by from [`reference_radiance`] is the split sum's own error.
+/// (docs/environment.md, "Shading"): the split sum's albedos with the
+/// multiple-scattering lobe, `Fss·Ess · P + Fms·Ems · E/π + c_diff (1 −
+/// Fss·Ess − Fms·Ems) E/π`, where `P` is the lobe model's weighted sum of
+/// [`ggx_prefiltered`] reads ([`model_prefiltered`]) and the albedos are
+/// brute-force hemisphere integrals. What it differs by from
+/// [`reference_radiance`] is the model's own error.
 pub fn split_sum_radiance(t: &[Texel], s: MetalRough, n: Vec3, v: Vec3) -> Vec3 {
     let (fss_ess, fms_ems) = scattering(s.f0(), s.roughness, n, v);
-    let a = s.roughness * s.roughness;
-    let gloss = 1.0 - a;
-    let mirror = 2.0 * n.dot(v) * n - v;
-    let r = n.lerp(mirror, gloss * (gloss.sqrt() + a)).normalize();
     let e = irradiance(t, n);
-    fss_ess * ggx_prefiltered(t, r, s.roughness)
+    fss_ess * model_prefiltered(t, s.roughness, n, v)
         + fms_ems * e
         + s.c_diff() * (Vec3::ONE - fss_ess - fms_ems) * e
+}
+
+/// The lobe's dominant direction: the mirror direction leaned towards the
+/// normal (Lagarde and de Rousiers 2014, listing 22; α = roughness²).
+pub fn dominant_direction(roughness: f32, n: Vec3, v: Vec3) -> Vec3 {
+    let a = roughness * roughness;
+    let gloss = 1.0 - a;
+    let mirror = 2.0 * n.dot(v) * n - v;
+    n.lerp(mirror, gloss * (gloss.sqrt() + a)).normalize()
+}
+
+/// The prefiltered radiance of the lobe model (fxgraph's `lobe_taps`: per
+/// tap an offset `o` from the dominant direction `r` along `t`, the in-plane
+/// unit vector ⟂ r towards n, a roughness and a weight), each tap an exact
+/// convolution of the map ([`ggx_prefiltered`]).
+pub fn model_prefiltered(t: &[Texel], roughness: f32, n: Vec3, v: Vec3) -> Vec3 {
+    let r = dominant_direction(roughness, n, v);
+    let across = (n - n.dot(r) * r).normalize_or_zero();
+    let taps = fxgraph::render::environment::lobe_taps(n.dot(v).max(1e-4), roughness);
+    let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
+    for [o, rho, w] in taps {
+        sum += w * ggx_prefiltered(t, (r + o * across).normalize(), rho);
+        weight += w;
+    }
+    sum / weight
 }
 
 /// `(Fss·Ess, Fms·Ems)` of Fdez-Agüera (2019) at a point of normal `n` seen

@@ -101,8 +101,10 @@ struct EnvironmentInput {
     // cosine-weighted mean radiance about the normal (irradiance / pi), times
     // the environment's intensity
     irradiance: vec3<f32>,
-    // the radiance prefiltered with the GGX lobe of `roughness` about the
-    // reflected view direction, times the intensity
+    // the radiance of the specular lobe of `roughness` at this n.v: the lobe
+    // model's weighted reads of the GGX-prefiltered map about the lobe's
+    // dominant direction (environment.wgsl, fx_env_prefiltered), times the
+    // intensity
     prefiltered: vec3<f32>,
     // the split-sum terms A, B: the specular albedo of the glTF BRDF (Schlick
     // Fresnel, GGX, height-correlated Smith) for this n.v and roughness is

@@ -5,7 +5,9 @@
 //!   specular cube map, a diffuse irradiance cube map and the split-sum DFG table,
 //!   on the GPU, once per map: the result is cached by (map content, face size),
 //!   so a sequence or a renderer given the same map again prefilters once.
-//! - `dfg.rs`: the split-sum table; `small_cube.rs`: the map as a 16² cube on
+//! - `dfg.rs`: the split-sum table and, beside it, the lobe model's taps
+//!   (`lobe.rs`, fitted offline into `lobe_table.rs` by
+//!   `examples/ibl_lobe_fit.rs`); `small_cube.rs`: the map as a 16² cube on
 //!   the CPU for the exact convolutions; the renderer's methods are in `../renderer_environment.rs`.
 //! - this file: [`EnvironmentLighting`], the state a [`super::Renderer`] keeps
 //!   (the current maps, the cache, the background), its group-0 bindings 11–15
@@ -16,6 +18,8 @@
 //!   background.
 
 mod dfg;
+mod lobe;
+mod lobe_table;
 mod prefilter;
 mod small_cube;
 mod spread;
@@ -42,6 +46,7 @@ const BINDING_SAMPLER: u32 = 14;
 const BINDING_UNIFORM: u32 = 15;
 
 pub(crate) use dfg::Dfg;
+pub use lobe::{lobe_taps, LOBE_MU, LOBE_ROUGHNESS, LOBE_TABLE, LOBE_TAPS};
 
 /// `FxEnvironment` of environment.wgsl.
 #[repr(C)]
@@ -123,8 +128,8 @@ impl EnvironmentLighting {
                 ),
                 dummy_dfg: dummy(
                     "environment placeholder DFG table (no environment)",
-                    1,
-                    wgpu::TextureViewDimension::D2,
+                    dfg::DFG_LAYERS,
+                    wgpu::TextureViewDimension::D2Array,
                 ),
                 pipes: None,
                 dfg: None,
@@ -233,7 +238,7 @@ impl EnvironmentLighting {
         [
             texture(BINDING_SPECULAR, wgpu::TextureViewDimension::Cube),
             texture(BINDING_IRRADIANCE, wgpu::TextureViewDimension::Cube),
-            texture(BINDING_DFG, wgpu::TextureViewDimension::D2),
+            texture(BINDING_DFG, wgpu::TextureViewDimension::D2Array),
             sampler_entry(
                 BINDING_SAMPLER,
                 fragment,
