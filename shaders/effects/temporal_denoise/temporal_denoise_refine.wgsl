@@ -34,6 +34,7 @@ struct Params {
 #define WINDOW 8
 
 #include "lib/temporal_denoise.wgsl"
+#include "lib/temporal_denoise_lanes.wgsl"
 
 var<private> block: array<f32, 256>;
 var<private> origin: vec2<i32>;
@@ -117,33 +118,6 @@ fn cs_block_cost(t: i32, org: vec2<i32>, v: vec2<f32>) -> f32 {
         }
     }
     return s / f32(WINDOW * WINDOW);
-}
-
-// Candidate `k` of texel `t`: its vector and cost in the lane's slots.
-fn cs_candidate(t: i32, k: i32, org: vec2<i32>, v: vec2<f32>) {
-    cs_vec[t * LANES + k] = v;
-    cs_cost[t * LANES + k] = cs_block_cost(t, org, v);
-}
-
-// After a barrier, lane 0 scans the first `n` candidates of texel `t` in
-// fs_main's order from its best so far, keeping the first strictly lower cost;
-// every lane may read the result after the closing barrier.
-fn cs_scan(t: i32, lane: i32, n: i32) {
-    workgroupBarrier();
-    if (lane == 0) {
-        var b = cs_best[t];
-        var bc = cs_best_cost[t];
-        for (var k = 0; k < n; k++) {
-            let c = cs_cost[t * LANES + k];
-            if (c < bc) {
-                b = cs_vec[t * LANES + k];
-                bc = c;
-            }
-        }
-        cs_best[t] = b;
-        cs_best_cost[t] = bc;
-    }
-    workgroupBarrier();
 }
 
 @compute @workgroup_size(8, 4, 8)
