@@ -74,6 +74,7 @@ fn main() {
         format: Format::Rgba16f,
         colorspace: ColorSpace::Linear,
         aux: vec![
+        aux_sizes: Vec::new(),
             ("motion".into(), Format::Rgba16f),
             ("depth".into(), Format::Rgba16f),
         ],

@@ -1,0 +1,164 @@
+//! Mip chains (`NAME.MIPMAP = true`, docs/language.md "Sampling") and
+//! auxiliary images of their own size, on the GPU against CPU oracles:
+//! - the chain of a 64 x 64 input, levels 1 to 6 read with `textureLoad`,
+//!   against a box filter of the 8-bit codes computed here (each level from the
+//!   previous one rounded to 8 bits, as the GPU stores it): within 1 code, on
+//!   both execution paths (the copy into level 0 runs as compute under compute
+//!   execution);
+//! - `textureSampleLevel(img, s, uv, 2.0)` reads level 2, exactly;
+//! - `textureSample` of a mipmapped input at a quarter of its size reads level
+//!   2 on both execution paths (the pass stays a fragment pass under compute);
+//! - an `AUX` image of another size than the input keeps its size: sampled over
+//!   the output and its `NAME_size` standard value.
+
+mod common;
+
+use common::mips::box_level;
+use fxgraph::app::apply_in_memory;
+use fxgraph::gpu::executor::{Engine, Execution};
+use fxgraph::io::{Image, Pixels};
+use fxgraph::script::types::Format;
+use std::path::{Path, PathBuf};
+
+/// The input: 64 x 64 codes with edges and noise, so that every level differs.
+fn input() -> Image {
+    common::image_u8(64, 64, |x, y| {
+        let h = (x.wrapping_mul(73_856_093) ^ y.wrapping_mul(19_349_663)) % 251;
+        [
+            (x * 4) as u8,
+            h as u8,
+            if (x / 3 + y / 5) % 2 == 0 { 230 } else { 20 },
+            255,
+        ]
+    })
+}
+
+fn here() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mipmap")
+}
+
+/// `effect` (a file of tests/mipmap) on `img` with `aux`, codes as they are,
+/// on `engine` under `execution`: the output's RGBA codes.
+fn run(
+    engine: &mut Engine,
+    execution: Execution,
+    effect: &str,
+    img: &Image,
+    aux: &[(String, &Image)],
+) -> (u32, u32, Vec<u8>) {
+    let before = engine.execution();
+    engine.set_execution(execution);
+    let fx = here().join(effect).display().to_string();
+    let ran = apply_in_memory(engine, &[fx], &[], img, aux, Format::Rgba8, true);
+    engine.set_execution(before);
+    let (w, h, px) = ran.unwrap_or_else(|e| panic!("{effect} ({execution}): {e}"));
+    let Pixels::U8(v) = px else {
+        panic!("rgba8 output reads back as bytes")
+    };
+    (w, h, v)
+}
+
+#[test]
+fn the_chain_is_a_box_filter_and_an_explicit_level_reads_it() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let img = input();
+    let Pixels::U8(codes) = &img.pixels else {
+        unreachable!()
+    };
+    for execution in [Execution::Fragment, Execution::Compute] {
+        let (w, h, out) = run(&mut engine, execution, "mips.fx", &img, &[]);
+        assert_eq!((w, h), (64, 64));
+        let mut worst = 0i32;
+        for level in 1..=6u32 {
+            let (side, want) = box_level(codes, (64, 64), level);
+            let x0 = 64 - (128 >> level);
+            for y in 0..side {
+                for x in 0..side {
+                    for c in 0..4 {
+                        let got = out[4 * (y * 64 + x0 + x) + c];
+                        let d = (i32::from(got) - i32::from(want[4 * (y * side + x) + c])).abs();
+                        assert!(
+                            d <= 1,
+                            "{execution}: level {level} texel ({x}, {y}) channel {c}: {got}, box filter {}",
+                            want[4 * (y * side + x) + c]
+                        );
+                        worst = worst.max(d);
+                    }
+                }
+            }
+        }
+        // Rows 32..64: level 2 (16 x 16) at uv, nearest: texel (x / 4, y' / 2).
+        let (_, level2) = box_level(codes, (64, 64), 2);
+        for y in 0..32usize {
+            for x in 0..64usize {
+                let t = 4 * ((y / 2) * 16 + x / 4);
+                let texel_in_atlas = 4 * ((y / 2) * 64 + 32 + x / 4);
+                let at = 4 * ((32 + y) * 64 + x);
+                // The sampled level is the level the atlas shows (exactly), and
+                // that level is the box filter's (within 1 code, above).
+                assert_eq!(
+                    &out[at..at + 4],
+                    &out[texel_in_atlas..texel_in_atlas + 4],
+                    "{execution}: level 2.0 at pixel ({x}, {})",
+                    32 + y
+                );
+                let d = out[at..at + 4]
+                    .iter()
+                    .zip(&level2[t..t + 4])
+                    .map(|(a, b)| (i32::from(*a) - i32::from(*b)).abs())
+                    .max()
+                    .unwrap();
+                assert!(d <= 1, "{execution}: level 2.0 at ({x}, {y})");
+            }
+        }
+        eprintln!("{execution}: largest difference from the box filter {worst} code(s)");
+    }
+}
+
+#[test]
+fn an_implicit_level_follows_the_derivatives_on_both_paths() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let img = input();
+    let Pixels::U8(codes) = &img.pixels else {
+        unreachable!()
+    };
+    let (_, level2) = box_level(codes, (64, 64), 2);
+    let fragment = run(&mut engine, Execution::Fragment, "lod.fx", &img, &[]);
+    let compute = run(&mut engine, Execution::Compute, "lod.fx", &img, &[]);
+    assert_eq!((fragment.0, fragment.1), (16, 16));
+    assert_eq!(fragment.2, compute.2, "the two execution paths differ");
+    let worst = fragment
+        .2
+        .iter()
+        .zip(&level2)
+        .map(|(a, b)| (i32::from(*a) - i32::from(*b)).abs())
+        .max()
+        .unwrap();
+    assert!(worst <= 1, "not level 2: {worst} codes off the box filter");
+}
+
+#[test]
+fn an_auxiliary_image_keeps_its_own_size() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let img = input();
+    let lut = common::image_u8(24, 40, |x, y| [(x * 10) as u8, (y * 6) as u8, 99, 255]);
+    let aux = [("lut".to_string(), &lut)];
+    let (w, h, out) = run(&mut engine, Execution::Fragment, "lut.fx", &img, &aux);
+    assert_eq!((w, h), (64, 64), "the output has the input's size");
+    assert_eq!(&out[..4], &[24, 40, 0, 255], "`lut_size` is the LUT's size");
+    for y in 1..64usize {
+        for x in 0..64usize {
+            // (x + 0.5) * 24 / 64 and (y + 0.5) * 40 / 64 are never whole.
+            let (lx, ly) = ((2 * x + 1) * 24 / 128, (2 * y + 1) * 40 / 128);
+            let want = [(lx * 10) as u8, (ly * 6) as u8, 99, 255];
+            let at = 4 * (y * 64 + x);
+            assert_eq!(&out[at..at + 4], &want, "pixel ({x}, {y})");
+        }
+    }
+}
