@@ -333,7 +333,7 @@ fn mipmapped_inputs_get_their_chain_in_the_plan() {
     let paths: Vec<&str> = p.passes.iter().map(|p| p.path.as_str()).collect();
     assert_eq!(
         paths,
-        ["a:img:mips", "a", "b", "c:lut:mips", "c"],
+        ["m/a:img:mips", "m/a", "m/b", "m/c:lut:mips", "m/c"],
         "one copy of IN, shared"
     );
     assert_eq!(p.passes[0].shader, PassShader::Mips);

@@ -95,6 +95,7 @@ const RUNS: &[&str] = &[
     "stereoscopic-3d/side-by-side-simple",
     "subframe-bfi/bfi-simple",
     "subframe-bfi/crt-beam-simulator",
+    "subframe-bfi/motionblur_test",
 ];
 
 fn corpus() -> Option<PathBuf> {
