@@ -74,10 +74,10 @@ fn main() {
         format: Format::Rgba16f,
         colorspace: ColorSpace::Linear,
         aux: vec![
-        aux_sizes: Vec::new(),
             ("motion".into(), Format::Rgba16f),
             ("depth".into(), Format::Rgba16f),
         ],
+        aux_sizes: Vec::new(),
     };
     let names = ["fxaa", "taa", "motion_blur"];
     let mut effects: Vec<(Prepared, wgpu::Texture)> = names

@@ -9,13 +9,16 @@
 //! - `textureSample` of a mipmapped input at a quarter of its size reads level
 //!   2 on both execution paths (the pass stays a fragment pass under compute);
 //! - an `AUX` image of another size than the input keeps its size: sampled over
-//!   the output and its `NAME_size` standard value.
+//!   the output and its `NAME_size` standard value;
+//! - on the CPU, the plan: which textures get a chain, the copies, the bytes.
 
 mod common;
 
 use common::mips::box_level;
 use fxgraph::app::apply_in_memory;
 use fxgraph::gpu::executor::{Engine, Execution};
+use fxgraph::graph::plan::{mip_levels, plan, InputDesc, PassShader, PlanOptions, Resource, View};
+use fxgraph::graph::Graph;
 use fxgraph::io::{Image, Pixels};
 use fxgraph::script::types::Format;
 use std::path::{Path, PathBuf};
@@ -161,4 +164,74 @@ fn an_auxiliary_image_keeps_its_own_size() {
             assert_eq!(&out[at..at + 4], &want, "pixel ({x}, {y})");
         }
     }
+}
+
+/// The graph of an effect script `text` (no error).
+fn graph_of(text: &str) -> Graph {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.fx");
+    std::fs::write(&path, text).unwrap();
+    let (g, d, s) = common::compile::compile_file(&path);
+    assert!(!d.has_errors(), "{}", d.render(&s));
+    g.unwrap()
+}
+
+/// `img.MIPMAP = true`: a pass output gets the full chain in its own texture
+/// (no copy), the input is copied once into a mipmapped texture (read raw, so
+/// the copy is rgba8), the plan counts every level's bytes, and an auxiliary
+/// image keeps its own size.
+#[test]
+fn mipmapped_inputs_get_their_chain_in_the_plan() {
+    let g = graph_of("EFFECT.m = { PASS = {
+        a = SHADER.s { img = IN  img.MIPMAP = true  img.COLORSPACE = srgb  OUT.FORMAT = rgba8 }
+        b = SHADER.s { img = PASS.a  img.MIPMAP = true  other = IN  other.MIPMAP = true  other.COLORSPACE = srgb }
+        c = SHADER.s { img = PASS.b  lut = AUX.lut  lut.MIPMAP = true }
+    } OUT = c }");
+    assert_eq!(mip_levels(40, 24), 6);
+    assert_eq!(mip_levels(1, 1), 1);
+    let input = InputDesc::rgba8_srgb(40, 24)
+        .with_aux_of(&g)
+        .with_aux_size("lut", (8, 5));
+    let (p, _) = plan(&g, &input, &PlanOptions::default()).unwrap();
+    p.validate().unwrap();
+    let paths: Vec<&str> = p.passes.iter().map(|p| p.path.as_str()).collect();
+    assert_eq!(
+        paths,
+        ["m/a:img:mips", "m/a", "m/b", "m/c:lut:mips", "m/c"],
+        "one copy of IN, shared"
+    );
+    assert_eq!(p.passes[0].shader, PassShader::Mips);
+    assert_eq!(p.passes[0].inputs[0].view, View::Raw);
+    let copy = match p.passes[0].output {
+        Resource::Value(v) => p.values[v].desc,
+        _ => panic!("the copy is a value"),
+    };
+    assert_eq!((copy.format, copy.mips), (Format::Rgba8, 6));
+    let a_out = match p.passes[1].output {
+        Resource::Value(v) => p.values[v].desc,
+        _ => panic!("a writes a value"),
+    };
+    assert_eq!(a_out.mips, 6, "a's own texture has the chain");
+    assert_eq!(
+        p.passes[2].inputs[1].resource,
+        p.passes[1].inputs[0].resource
+    );
+    // 40x24 + 20x12 + 10x6 + 5x3 + 2x1 + 1x1 texels of 4 bytes.
+    assert_eq!(a_out.bytes(), 4 * (960 + 240 + 60 + 15 + 2 + 1));
+    let lut = &p.passes[3].inputs[0];
+    assert_eq!(
+        (lut.desc.width, lut.desc.height),
+        (8, 5),
+        "the LUT's own size"
+    );
+    let lut_copy = match p.passes[3].output {
+        Resource::Value(v) => p.values[v].desc,
+        _ => panic!("the copy is a value"),
+    };
+    assert_eq!((lut_copy.width, lut_copy.height, lut_copy.mips), (8, 5, 4));
+    let b_out = match p.passes[2].output {
+        Resource::Value(v) => p.values[v].desc,
+        _ => panic!("b writes a value"),
+    };
+    assert_eq!(b_out.mips, 1, "read without MIPMAP: one level");
 }

@@ -10,8 +10,11 @@
 //! is (pooled textures are recycled, so their bind groups are too).
 
 use super::pool::PooledTexture;
+use super::record::Prepared;
+use super::Engine;
 use crate::gpu::bindings::texture_entry;
 use crate::gpu::fullscreen::{begin_color_pass, fullscreen_pipeline};
+use crate::graph::plan::Resource;
 use std::collections::HashMap;
 
 /// The built-in downsampling shader.
@@ -110,5 +113,31 @@ impl MipChains {
             rp.draw(0..3, 0..1);
         }
         created
+    }
+}
+
+impl Prepared {
+    /// After pass `pass`: the mip chain of its output, where an input reads it
+    /// mipmapped (`mips > 1`). Returns the number of bind groups created.
+    pub(super) fn make_mips(
+        &self,
+        engine: &mut Engine,
+        encoder: &mut wgpu::CommandEncoder,
+        pass: usize,
+    ) -> u64 {
+        let Resource::Value(v) = self.plan.passes[pass].output else {
+            return 0;
+        };
+        let value = &self.plan.values[v];
+        if value.desc.mips < 2 {
+            return 0;
+        }
+        let Some(i) = self.slots[value.slot] else {
+            return 0;
+        };
+        let device = &engine.ctx.device;
+        let chains = engine.mips.get_or_insert_with(|| MipChains::new(device));
+        let path = &self.plan.passes[pass].path;
+        chains.generate(device, &engine.vs, encoder, engine.pool.get(i), path)
     }
 }

@@ -15,7 +15,6 @@ use super::bgra::{is_bgra, TwinPipeline};
 use super::compute::{encode_compute_pass, prebind_compute, ComputePath};
 use super::encode::{bind_group, encode_pass, BindKey, FrameTextures};
 use super::inspect::{FrameTimings, Inspection};
-use super::mips::MipChains;
 use super::pool::PooledTexture;
 use super::{
     CachedPipeline, CameraStd, Engine, ExecError, Execution, FrameInputs, ImageRef, PassTiming,
@@ -519,30 +518,6 @@ impl Prepared {
         } else {
             Execution::Fragment
         })
-    }
-
-    /// After pass `pass`: the mip chain of its output, where an input reads it
-    /// mipmapped (`mips > 1`). Returns the number of bind groups created.
-    fn make_mips(
-        &self,
-        engine: &mut Engine,
-        encoder: &mut wgpu::CommandEncoder,
-        pass: usize,
-    ) -> u64 {
-        let Resource::Value(v) = self.plan.passes[pass].output else {
-            return 0;
-        };
-        let value = &self.plan.values[v];
-        if value.desc.mips < 2 {
-            return 0;
-        }
-        let Some(i) = self.slots[value.slot] else {
-            return 0;
-        };
-        let device = &engine.ctx.device;
-        let chains = engine.mips.get_or_insert_with(|| MipChains::new(device));
-        let path = &self.plan.passes[pass].path;
-        chains.generate(device, &engine.vs, encoder, engine.pool.get(i), path)
     }
 
     /// The frame's textures as they stand (pool, slots, rings, caller views).
