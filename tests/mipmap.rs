@@ -6,6 +6,8 @@
 //!   both execution paths (the copy into level 0 runs as compute under compute
 //!   execution);
 //! - `textureSampleLevel(img, s, uv, 2.0)` reads level 2, exactly;
+//! - sides that do not halve exactly: each level against the definition of
+//!   Vulkan's linear blit (librashader's), within 1 code;
 //! - `textureSample` of a mipmapped input at a quarter of its size reads level
 //!   2 on both execution paths (the pass stays a fragment pass under compute);
 //! - an `AUX` image of another size than the input keeps its size: sampled over
@@ -49,10 +51,21 @@ fn run(
     img: &Image,
     aux: &[(String, &Image)],
 ) -> (u32, u32, Vec<u8>) {
+    run_set(engine, execution, (effect, &[]), img, aux)
+}
+
+/// [`run`] with `--set` values `sets`.
+fn run_set(
+    engine: &mut Engine,
+    execution: Execution,
+    (effect, sets): (&str, &[String]),
+    img: &Image,
+    aux: &[(String, &Image)],
+) -> (u32, u32, Vec<u8>) {
     let before = engine.execution();
     engine.set_execution(execution);
     let fx = here().join(effect).display().to_string();
-    let ran = apply_in_memory(engine, &[fx], &[], img, aux, Format::Rgba8, true);
+    let ran = apply_in_memory(engine, &[fx], sets, img, aux, Format::Rgba8, true);
     engine.set_execution(before);
     let (w, h, px) = ran.unwrap_or_else(|e| panic!("{effect} ({execution}): {e}"));
     let Pixels::U8(v) = px else {
@@ -117,6 +130,50 @@ fn the_chain_is_a_box_filter_and_an_explicit_level_reads_it() {
             }
         }
         eprintln!("{execution}: largest difference from the box filter {worst} code(s)");
+    }
+}
+
+/// An input whose sides do not halve exactly (48 x 20: 3 x 2 and 1 x 1 at the
+/// end): every level against the linear blit's definition, within 1 code.
+#[test]
+fn odd_sides_follow_the_linear_blit() {
+    let Some(mut engine) = common::engine() else {
+        return;
+    };
+    let img = common::image_u8(48, 20, |x, y| {
+        [
+            (x * 5) as u8,
+            (y * 12) as u8,
+            ((x * 7 + y * 13) % 256) as u8,
+            255,
+        ]
+    });
+    let Pixels::U8(codes) = &img.pixels else {
+        unreachable!()
+    };
+    assert_eq!(mip_levels(48, 20), 6);
+    for level in 1..6u32 {
+        let sets = [format!("level={level}")];
+        let (w, _, out) = run_set(
+            &mut engine,
+            Execution::Fragment,
+            ("level.fx", &sets),
+            &img,
+            &[],
+        );
+        let ((lw, lh), want) = common::mips::blit_level(codes, (48, 20), level);
+        for y in 0..lh {
+            for x in 0..lw {
+                for c in 0..4 {
+                    let got = out[4 * (y * w as usize + x) + c];
+                    let expected = want[4 * (y * lw + x) + c];
+                    assert!(
+                        got.abs_diff(expected) <= 1,
+                        "level {level} ({lw}x{lh}) texel ({x}, {y}) channel {c}: {got}, blit {expected}"
+                    );
+                }
+            }
+        }
     }
 }
 
