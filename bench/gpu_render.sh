@@ -4,7 +4,9 @@
 # random lights, rendered as sequences under an orbit camera to y4m:
 #   - each render pass's GPU time (timestamp queries, last frame of a timed run);
 #   - the render CPU time per frame (`scene.render_cpu_ms` of --timings-json over
-#     the frames: posing, light culling, uploads and command recording);
+#     the frames: posing, light culling, uploads and command recording), and the
+#     one-time creation of the render pipelines on their first use
+#     (`scene.render_pipelines_ms`, once per run);
 #   - the rendered sequence's frames per second to a y4m file (an untimed run,
 #     whole process, wall clock of this script).
 # Every figure comes from this run, on the machine it runs on; markdown rows on
@@ -67,23 +69,24 @@ r = json.load(open(sys.argv[1]))
 frames = int(sys.argv[2])
 s = r["scene"]
 cpu = s["render_cpu_ms"] / max(r["frames_in"], 1)
+once = s.get("render_pipelines_ms", 0.0)
 fps = frames / ((int(sys.argv[4]) - int(sys.argv[3])) / 1e9)
 passes = ";".join(f"{n}={ms:.3f}" for n, ms in s["render_passes"])
-print(f"{cpu:.2f} {fps:.2f} {passes}")
+print(f"{cpu:.2f} {once:.1f} {fps:.2f} {passes}")
 EOF
 }
 
-echo "| scene | size | render CPU ms/frame | sequence fps (y4m, whole process) | render GPU ms per pass (last frame) |"
-echo "|---|---|---|---|---|"
+echo "| scene | size | render CPU ms/frame | pipelines created (ms, once) | sequence fps (y4m, whole process) | render GPU ms per pass (last frame) |"
+echo "|---|---|---|---|---|---|"
 for size in $SIZES; do
     for scene in room cornell; do
         case $scene in
             room) label="builtin:room"; args=(builtin:room) ;;
             cornell) label="Cornell box, $LIGHTS lights"; args=("$CORNELL" --lights "$LIGHTS") ;;
         esac
-        read -r cpu fps passes < <(run "$scene" "$size" "${args[@]}")
+        read -r cpu once fps passes < <(run "$scene" "$size" "${args[@]}")
         total=$(echo "$passes" | tr ';' '\n' | awk -F= '{s += $2} END {printf "%.2f", s}')
-        echo "| $label | $size | $cpu | $fps | ${passes//;/, } (sum $total) |"
+        echo "| $label | $size | $cpu | $once | $fps | ${passes//;/, } (sum $total) |"
     done
 done
 echo

@@ -78,6 +78,7 @@ fn main() {
             ("depth".into(), Format::Rgba16f),
         ],
         aux_sizes: Vec::new(),
+        viewport: None,
     };
     let names = ["fxaa", "taa", "motion_blur"];
     let mut effects: Vec<(Prepared, wgpu::Texture)> = names

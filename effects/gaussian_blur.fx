@@ -19,7 +19,10 @@
 //                                       compute pass; each 256-pixel run of a row
 //                                       is read once into workgroup memory
 //   vertical    SHADER.gaussian_blur VERTICAL   horizontal -> output, in the input's format
-//                                       (8-bit stays 8-bit)
+//                                       (8-bit stays 8-bit); under compute execution
+//                                       an rgba16f output is a compute pass: 32
+//                                       pixels of each of 8 columns from one staged
+//                                       column segment
 // The intermediate is rgba16f rather than the input's format: on lavapipe
 // sampling an rgba8-srgb texture with bilinear filtering costs more than sampling
 // rgba16f (the sRGB decode), so for 8-bit photos this is ~10% faster overall

@@ -22,6 +22,8 @@
 // Passes
 //   blur_h: luma + horizontal Gaussian, half size   (shaders/effects/pencil/pencil_blur.wgsl) -> r16f
 //   blur_v: vertical Gaussian, half size            (pencil_blur, VERTICAL)     -> r16f
+//           (both blurs are compute passes under compute execution: each input
+//           line under a workgroup's outputs is staged once in workgroup memory)
 //   sketch: dodge, grain, tint at full size         (shaders/effects/pencil/pencil_sketch.wgsl)       -> 8-bit
 //   G is smooth, so it is computed at half resolution (sigma / 2 half-size pixels,
 //   blur_h's bilinear taps averaging 2x2 input pixels) and upsampled bilinearly:

@@ -19,7 +19,9 @@
 //                                             gaussian_blur.fx for why)
 //   sharpen  SHADER.gaussian_blur VERTICAL UNSHARP    vertical blur of `blur`, combined
 //                                             with IN in the same pass -> output,
-//                                             in the input's format
+//                                             in the input's format (under compute
+//                                             execution an rgba16f output is a compute
+//                                             pass from staged column segments)
 EFFECT.sharpen = {
     DESCRIPTION = "Unsharp mask: in + amount * (in - gaussian_blur(in, sigma)), with a threshold."
     FORMAT = IN

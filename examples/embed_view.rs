@@ -96,6 +96,7 @@ fn input_desc() -> InputDesc {
         colorspace: ColorSpace::Linear,
         aux: Vec::new(),
         aux_sizes: Vec::new(),
+        viewport: None,
     }
 }
 

@@ -31,6 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         colorspace,
         aux: Vec::new(),
         aux_sizes: Vec::new(),
+        viewport: None,
     };
     let mut effect = Effect::compile(std::slice::from_ref(name), &[])?;
     let opts = PlanOptions {

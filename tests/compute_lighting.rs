@@ -13,7 +13,7 @@ use common::ibl::corpus;
 use common::renders::{rgb_psnr, save_rgb_review};
 use fxgraph::gpu::context::GpuContext;
 use fxgraph::render::gbuffer::read_rgba_f32;
-use fxgraph::render::{Renderer, RendererOptions, Technique};
+use fxgraph::render::{FrameMotion, Renderer, RendererOptions, Technique};
 use fxgraph::scene::{Environment, EnvironmentSource, Scene};
 
 const SIZE: (u32, u32) = (160, 120);
@@ -83,6 +83,77 @@ fn compute_lighting_matches_the_fragment_pass() {
         "hdri/city.exr",
     )))));
     compute_matches_fragment(ctx, &helmet, "flight helmet with city.exr");
+}
+
+/// The AUX resolve's compute dispatch (`fx_cs_aux_a`) against its fragment
+/// pass: AUX.depth, normal, position and motion (the camera moved since the
+/// previous frame) of the room, the same values; they are the same maths, and
+/// the float conversions of a store and of a render target agree (measured:
+/// identical on lavapipe; the limit allows 1e-6 relative).
+#[test]
+fn the_aux_resolve_in_compute_matches_the_fragment_pass() {
+    let Some(gpu) = common::gpu_context() else {
+        return;
+    };
+    let ctx = &*gpu;
+    let scene = Scene::load("builtin:room").unwrap();
+    let camera = scene.default_camera();
+    let mut before = camera;
+    before.eye += glam::Vec3::new(0.2, 0.05, -0.1);
+    let motion = FrameMotion {
+        prev_camera: Some(before),
+        ..Default::default()
+    };
+    let names = ["depth", "normal", "position", "motion"];
+    let mut got = Vec::new();
+    for compute in [false, true] {
+        let opts = RendererOptions {
+            compute_lighting: compute,
+            ..Default::default()
+        };
+        let mut r = Renderer::new(ctx, &scene, &opts).unwrap();
+        assert_eq!(r.resolves_aux_in_compute(), compute, "the path asked for");
+        let (out, _) = r
+            .render_frame(
+                ctx,
+                &camera,
+                &motion,
+                SIZE.0,
+                SIZE.1,
+                Technique::Deferred,
+                None,
+            )
+            .unwrap();
+        let images: Vec<Vec<[f32; 4]>> = names
+            .iter()
+            .map(|n| read_rgba_f32(ctx, out.aux(n).unwrap()).unwrap())
+            .collect();
+        got.push(images);
+    }
+    for (i, name) in names.iter().enumerate() {
+        let (fragment, compute) = (&got[0][i], &got[1][i]);
+        let moving = fragment
+            .iter()
+            .filter(|v| v[0].abs() + v[1].abs() > 0.01)
+            .count();
+        if *name == "motion" {
+            assert!(
+                moving > fragment.len() / 2,
+                "the camera moved: {moving} moving pixels"
+            );
+        }
+        let worst = fragment
+            .iter()
+            .zip(compute)
+            .flat_map(|(a, b)| {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| (x - y).abs() / x.abs().max(1.0))
+            })
+            .fold(0.0f32, f32::max);
+        eprintln!("AUX.{name}: compute vs fragment, largest relative difference {worst:e}");
+        assert!(worst <= 1e-6, "AUX.{name}: {worst:e}");
+    }
 }
 
 /// The three techniques agree (≥ 40 dB against deferred) with the compute light

@@ -52,8 +52,14 @@ const SCENE_EFFECTS: &[&str] = &[
 ];
 
 /// Passes written as compute passes (`@compute` shaders): compute on both paths.
-/// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2, are
-/// compute passes drawn as fragment passes under fragment execution.)
+/// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2,
+/// motion_blur's tile maxima and temporal_denoise's motion search are compute
+/// passes drawn as fragment passes under fragment execution;
+/// tests/compute_native.rs compares those entry points.)
+/// (gaussian_blur's `vertical`, sharpen's `sharpen`, pencil's blurs and the
+/// G-buffer blurs of ssao and ssgi are marked `// @execution(compute)`: their
+/// compute entry points run under compute execution, which `compare` checks,
+/// and their fragment ones under fragment execution.)
 const NATIVE: &[&str] = &[
     "gaussian_blur/horizontal",
     "sharpen/blur",
@@ -61,6 +67,8 @@ const NATIVE: &[&str] = &[
     "glow/blurY",
     "dof/nearmax_h",
     "dof/nearmax_v",
+    "motion_blur/neighbor",
+    "taa/resolve",
 ];
 
 /// Float outputs agree within this (absolute, per channel).
@@ -476,15 +484,8 @@ fn twice(@builtin(global_invocation_id) id: vec3<u32>) {{
 /// runs where the pass's output can be a storage texture (rgba16f), on both
 /// execution paths; the fragment one is drawn where it cannot (an `rgba8-srgb`
 /// pass). Two passes of it give 2 min(2 x, 1).
-#[test]
-fn a_compute_pass_with_a_fragment_entry_point_draws_it_where_compute_cannot_run() {
-    if !gpu() {
-        return;
-    }
-    let dir = temp();
-    let input = picture(2);
-    save(&dir.path().join("in.exr"), &input);
-    let wgsl = r#"
+/// A shader doubling its input, with both entry points.
+const TWICE_BOTH: &str = r#"
 @group(0) @binding(0) var img: texture_2d<f32>;
 @group(0) @binding(1) var out: texture_storage_2d<rgba16float, write>;
 @compute @workgroup_size(8, 4, 1)
@@ -500,6 +501,60 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     return 2.0 * textureLoad(img, vec2<i32>(pos.xy), 0);
 }
 "#;
+
+/// `// @execution(compute)` keeps a compute entry point to compute execution:
+/// fragment execution draws the fragment one (both double the input); without
+/// a fragment entry point the line is an error naming it.
+#[test]
+fn a_compute_entry_point_marked_for_compute_execution_is_drawn_under_fragment() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    let input = picture(1);
+    save(&dir.path().join("in.exr"), &input);
+    let wgsl = TWICE_BOTH.replace("@compute", "// @execution(compute)\n@compute");
+    let fx = "EFFECT.marked = {\n    PASS = {\n        q = SHADER.marked { img = IN  OUT.FORMAT = rgba16f }\n    }\n    OUT = q\n}\n";
+    let effect = common::cli::write_effect(dir.path(), "marked", fx, ("marked", &wgsl));
+    let want: Vec<f32> = to_f32(&input).iter().map(|v| 2.0 * v).collect();
+    for execution in ["fragment", "compute"] {
+        let args = [effect.as_str(), "-i", "in.exr", "-o", "marked-EXEC.exr"];
+        let r = run(dir.path(), "marked", &args, &["marked-EXEC.exr"], execution);
+        assert_eq!(
+            r.executions,
+            [("marked/q".to_string(), execution.to_string())]
+        );
+        // rgba16f keeps 11 significant bits: 2^-11 of at most 2.
+        let worst = r.images[0]
+            .iter()
+            .zip(&want)
+            .map(|(g, w)| (g - w).abs())
+            .fold(0.0f32, f32::max);
+        assert!(worst <= 1e-3, "{execution}: error {worst} from 2 x");
+    }
+    let compute_only = wgsl.split("@fragment").next().unwrap().to_string();
+    let effect = common::cli::write_effect(dir.path(), "marked", fx, ("marked", &compute_only));
+    let o = command([effect.as_str(), "-i", "in.exr", "-o", "x.exr"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "ran without a fragment entry point");
+    assert!(
+        err.contains("marked.wgsl:4:1:") && err.contains("no `@fragment` entry point"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_compute_pass_with_a_fragment_entry_point_draws_it_where_compute_cannot_run() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp();
+    let input = picture(2);
+    save(&dir.path().join("in.exr"), &input);
+    let wgsl = TWICE_BOTH;
     let fx = "EFFECT.both = {\n    PASS = {\n        p = SHADER.both { img = IN  OUT.FORMAT = rgba8-srgb }\n        q = SHADER.both { img = PASS.p  OUT.FORMAT = rgba16f }\n    }\n    OUT = q\n}\n";
     let effect = common::cli::write_effect(dir.path(), "both", fx, ("both", wgsl));
     let want: Vec<f32> = to_f32(&input)
@@ -543,17 +598,85 @@ fn worst_relative(a: &[f32], b: &[f32], channels: &[usize]) -> f32 {
         .fold(0.0, f32::max)
 }
 
+/// One shader with both entry points, run both ways by
+/// [`compute_passes_agree_with_their_fragment_entry_points`].
+struct Agree {
+    /// The input: an image (`-i in.exr`) or a rendered scene (AUX images).
+    input: &'static [&'static str],
+    shader: &'static str,
+    settings: &'static str,
+    /// The pass's storage format (runs the compute entry point) and another
+    /// (runs the fragment one).
+    storage: &'static str,
+    other: &'static str,
+    /// The channels compared and the bound on their relative difference.
+    channels: &'static [usize],
+    bound: f32,
+}
+
+const IMAGE: &[&str] = &["-i", "in.exr"];
+const SCENE: &[&str] = &["--scene", "builtin:room", "--size", "96x64"];
+const RGBA: &[usize] = &[0, 1, 2, 3];
+
+const fn agree(
+    input: &'static [&'static str],
+    shader: &'static str,
+    settings: &'static str,
+    storage: &'static str,
+    other: &'static str,
+    channels: &'static [usize],
+    bound: f32,
+) -> Agree {
+    Agree {
+        input,
+        shader,
+        settings,
+        storage,
+        other,
+        channels,
+        bound,
+    }
+}
+
+/// The shaders with both entry points and the settings they are compared at.
+const AGREE: &[Agree] = &[
+    agree(IMAGE, "blurX", "img = IN  OUT.SCALE = 0.5  sigma = 3", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(IMAGE, "blurY", "img = IN  sigma = 2.5", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(IMAGE, "blurY", "img = IN  OUT.SCALE = 0.5  sigma = 1.5", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(IMAGE, "auto_exposure_meter", "img = IN  DEFINE.FIRST = 1  OUT.SCALE = 0.125", "rg32f", "rgba32f", &[0, 1], 1e-5),
+    agree(IMAGE, "tonemap_peak", "img = IN  DEFINE.FIRST = 1  exposure = 2  OUT.SCALE = 0.125", "rgba32f", "rg32f", &[0, 1], 1e-5),
+    agree(IMAGE, "tonemap_peak", "img = IN  exposure = 2  OUT.SIZE = (1, 1)", "rgba32f", "rg32f", &[0, 1], 1e-5),
+    agree(IMAGE, "dof_nearmax", "src = PASS.n  max_radius = 5.5", "r16f", "rgba16f", &[0], 0.0),
+    agree(IMAGE, "dof_nearmax", "src = IN  max_radius = 40  DEFINE.VERTICAL = 1", "r16f", "rgba16f", &[0], 0.0),
+    agree(IMAGE, "gaussian_blur_rows", "img = IN  sigma = 3.5", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(IMAGE, "gaussian_blur", "img = PASS.n  sigma = 3.5  DEFINE.VERTICAL = 1", "rgba16f", "rgba32f", RGBA, 1e-3),
+    // A radius (60) past one round of the column window (48).
+    agree(IMAGE, "gaussian_blur", "img = IN  sigma = 20  DEFINE.VERTICAL = 1  DEFINE.EXACT = 1", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(IMAGE, "gaussian_blur", "img = IN  sigma = 1.5  DEFINE.VERTICAL = 0", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(IMAGE, "gaussian_blur", "img = PASS.n  orig = IN  sigma = 2  amount = 1.5  threshold = 0  DEFINE.VERTICAL = 1  DEFINE.UNSHARP = 1  DEFINE.EXACT = 1", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(IMAGE, "pencil_blur", "img = IN  sigma = 5  scale = 0.5  OUT.SCALE = 0.5", "r16f", "r32f", &[0], 1e-3),
+    agree(IMAGE, "pencil_blur", "img = PASS.n  sigma = 7  DEFINE.VERTICAL = 1", "r16f", "r32f", &[0], 1e-3),
+    // Taps reaching past the staged window (r = 300): sampled as fs_main does.
+    agree(IMAGE, "pencil_blur", "img = IN  sigma = 100  DEFINE.VERTICAL = 1", "r16f", "r32f", &[0], 1e-3),
+    agree(SCENE, "ssao_blur", "img = IN  ao = PASS.n  depth = AUX.depth  normal = AUX.normal  depth_tolerance = 0.05", "rgba16f", "rgba32f", RGBA, 1e-3),
+    agree(SCENE, "ssgi_out", "img = IN  gi = PASS.n  depth = AUX.depth  normal = AUX.normal  albedo = AUX.albedo  intensity = 2", "rgba16f", "rgba32f", RGBA, 1e-3),
+];
+
 /// The built-in shaders with both entry points (glow's blurs, the metering and
-/// peak reductions, dof's near-field maximum filter, gaussian_blur's rows) give
-/// the same image from either: under compute execution each pass runs
-/// once at its storage format (the compute entry point) and once at another
-/// (the fragment one), copied to a 32-bit EXR. Measured on lavapipe: blurs 4.9e-4
-/// relative (the rgba16f rounding of the compute run, 2^-11 = 4.9e-4, and at
-/// the same size the bilinear pairs of the fragment blur against exact taps;
-/// gaussian_blur's rows: the rgba16f rounding alone),
-/// reductions 5.7e-7 (the order of the f32 sums), dof's near-field maximum
-/// filter 0 (comparisons only; r16f and rgba16f round the same); the bounds are
-/// 1e-3, 1e-5 and 0.
+/// peak reductions, dof's near-field maximum filter, gaussian_blur's rows and
+/// columns, pencil's blurs, the G-buffer blurs of ssao and ssgi) give the same
+/// image from either: under compute execution each pass runs once at its
+/// storage format (the compute entry point) and once at another (the fragment
+/// one), copied to a 32-bit EXR. Measured on lavapipe: blurs 4.9e-4 relative
+/// (the rgba16f rounding of the compute run, 2^-11 = 4.9e-4, and at the same
+/// size the bilinear pairs of the fragment blur against exact taps;
+/// gaussian_blur's rows: the rgba16f rounding alone; gaussian_blur's columns
+/// 2.4e-4 to 4.9e-4, its unsharp mask 9.2e-4 (one rgba16f step is 2^-10
+/// relative: lavapipe's stores round towards zero); pencil's blurs 2.4e-4 to
+/// 4.9e-4 (r16f); the G-buffer blurs of ssao 7.9e-4 and ssgi 7.1e-4: the same
+/// arithmetic, the rgba16f step alone), reductions 5.7e-7 (the order of the f32 sums), dof's
+/// near-field maximum filter 0 (comparisons only; r16f and rgba16f round the
+/// same); the bounds are 1e-3, 1e-5 and 0.
 #[test]
 fn compute_passes_agree_with_their_fragment_entry_points() {
     if !gpu() {
@@ -566,105 +689,30 @@ fn compute_passes_agree_with_their_fragment_entry_points() {
     // Values of both signs (dof's near field is the negative CoC).
     let signs = copy.replace("return textureLoad", "return vec4<f32>(0.5) - textureLoad");
     std::fs::write(dir.path().join("signs.wgsl"), signs).unwrap();
-    // (shader, settings, the storage format, another format, channels compared, bound)
-    let cases = [
-        (
-            "blurX",
-            "img = IN  OUT.SCALE = 0.5  sigma = 3",
-            "rgba16f",
-            "rgba32f",
-            &[0usize, 1, 2, 3][..],
-            1e-3,
-        ),
-        (
-            "blurY",
-            "img = IN  sigma = 2.5",
-            "rgba16f",
-            "rgba32f",
-            &[0, 1, 2, 3],
-            1e-3,
-        ),
-        (
-            "blurY",
-            "img = IN  OUT.SCALE = 0.5  sigma = 1.5",
-            "rgba16f",
-            "rgba32f",
-            &[0, 1, 2, 3],
-            1e-3,
-        ),
-        (
-            "auto_exposure_meter",
-            "img = IN  DEFINE.FIRST = 1  OUT.SCALE = 0.125",
-            "rg32f",
-            "rgba32f",
-            &[0, 1],
-            1e-5,
-        ),
-        (
-            "tonemap_peak",
-            "img = IN  DEFINE.FIRST = 1  exposure = 2  OUT.SCALE = 0.125",
-            "rgba32f",
-            "rg32f",
-            &[0, 1],
-            1e-5,
-        ),
-        (
-            "tonemap_peak",
-            "img = IN  exposure = 2  OUT.SIZE = (1, 1)",
-            "rgba32f",
-            "rg32f",
-            &[0, 1],
-            1e-5,
-        ),
-        (
-            "dof_nearmax",
-            "src = PASS.n  max_radius = 5.5",
-            "r16f",
-            "rgba16f",
-            &[0],
-            0.0,
-        ),
-        (
-            "dof_nearmax",
-            "src = IN  max_radius = 40  DEFINE.VERTICAL = 1",
-            "r16f",
-            "rgba16f",
-            &[0],
-            0.0,
-        ),
-        (
-            "gaussian_blur_rows",
-            "img = IN  sigma = 3.5",
-            "rgba16f",
-            "rgba32f",
-            &[0, 1, 2, 3],
-            1e-3,
-        ),
-    ];
-    for (shader, settings, storage, other, channels, bound) in cases {
-        let mut images = Vec::new();
-        for (format, runs_as) in [(storage, "compute"), (other, "fragment")] {
-            let fx = format!("EFFECT.agree = {{\n    PASS = {{\n        n = SHADER.signs {{ img = IN  OUT.FORMAT = rgba32f }}\n        p = SHADER.{shader} {{ {settings}  OUT.FORMAT = {format} }}\n        q = SHADER.copy {{ img = PASS.p  OUT.FORMAT = rgba32f }}\n    }}\n    OUT = q\n}}\n");
-            std::fs::write(dir.path().join("agree.fx"), fx).unwrap();
-            let args = [
-                "agree.fx",
-                "-i",
-                "in.exr",
-                "--bit-depth",
-                "32",
-                "-o",
-                "agree-EXEC.exr",
-            ];
-            let r = run(dir.path(), "agree", &args, &["agree-EXEC.exr"], "compute");
-            let want = ("agree/p".to_string(), runs_as.to_string());
-            let got = r.executions.iter().find(|(p, _)| p == "agree/p");
-            assert_eq!(got, Some(&want), "{shader} {settings} {format}");
-            images.push(r.images.into_iter().next().unwrap());
-        }
-        let d = worst_relative(&images[0], &images[1], channels);
+    for case in AGREE {
+        let images = [(case.storage, "compute"), (case.other, "fragment")]
+            .map(|(format, runs_as)| agree_run(dir.path(), case, format, runs_as));
+        let d = worst_relative(&images[0], &images[1], case.channels);
+        let (shader, settings, bound) = (case.shader, case.settings, case.bound);
         eprintln!("{shader} {settings}: compute against fragment entry point {d:.2e}");
         assert!(d <= bound, "{shader} {settings}: {d} (bound {bound})");
     }
+}
+
+/// `case`'s pass at `format` under compute execution, which must run as
+/// `runs_as`: its output in float.
+fn agree_run(dir: &Path, case: &Agree, format: &str, runs_as: &str) -> Vec<f32> {
+    let (shader, settings) = (case.shader, case.settings);
+    let fx = format!("EFFECT.agree = {{\n    PASS = {{\n        n = SHADER.signs {{ img = IN  OUT.FORMAT = rgba32f }}\n        p = SHADER.{shader} {{ {settings}  OUT.FORMAT = {format} }}\n        q = SHADER.copy {{ img = PASS.p  OUT.FORMAT = rgba32f }}\n    }}\n    OUT = q\n}}\n");
+    std::fs::write(dir.join("agree.fx"), fx).unwrap();
+    let mut args = vec!["agree.fx"];
+    args.extend(case.input);
+    args.extend(["--bit-depth", "32", "-o", "agree-EXEC.exr"]);
+    let r = run(dir, "agree", &args, &["agree-EXEC.exr"], "compute");
+    let want = ("agree/p".to_string(), runs_as.to_string());
+    let got = r.executions.iter().find(|(p, _)| p == "agree/p");
+    assert_eq!(got, Some(&want), "{shader} {settings} {format}");
+    r.images.into_iter().next().unwrap()
 }
 
 /// The pipeline cache is kept on disk where the backend has one (Vulkan), named

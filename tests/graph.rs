@@ -134,6 +134,60 @@ fn relative_to_may_name_one_image_per_axis() {
     );
 }
 
+/// `OUT.WIDTH` / `OUT.HEIGHT` fix one axis in pixels and leave the other
+/// scaled; `VIEWPORT` is the run's output size (the input's unless the plan's
+/// input says otherwise, as `fxrun --size` does for `-i INPUT`).
+#[test]
+fn one_axis_may_be_in_pixels_and_scale_from_the_viewport() {
+    let g = ok("EFFECT.axes = { PASS = {
+            a = SHADER.s { img = IN  OUT.WIDTH = 40  OUT.SCALE = (1, 0.5)  OUT.RELATIVE_TO = VIEWPORT }
+            b = SHADER.s { img = PASS.a  OUT.HEIGHT = 7  OUT.SCALE = 2  OUT.RELATIVE_TO = img }
+            c = SHADER.s { img = PASS.b  OUT.RELATIVE_TO = VIEWPORT }
+        } OUT = c }");
+    assert!(g.scales_from_viewport());
+    let sizes = |desc: &InputDesc| -> Vec<(u32, u32)> {
+        let (p, _) = plan(&g, desc, &PlanOptions::default()).unwrap();
+        p.passes
+            .iter()
+            .map(|p| (p.desc.width, p.desc.height))
+            .collect()
+    };
+    // a: 40 px by half the viewport's height; b: twice a's width by 7 px; c: the viewport.
+    assert_eq!(
+        sizes(&InputDesc::rgba8_srgb(64, 48)),
+        [(40, 24), (80, 7), (64, 48)]
+    );
+    let wide = InputDesc::rgba8_srgb(64, 48).with_viewport(Some((100, 30)));
+    assert_eq!(sizes(&wide), [(40, 15), (80, 7), (100, 30)]);
+    assert!(
+        !ok("EFFECT.e = { PASS = { a = SHADER.s { img = IN } } OUT = a }").scales_from_viewport()
+    );
+    for (script, needle) in [
+        (
+            "OUT.SIZE = (4, 4)  OUT.WIDTH = 3",
+            "`OUT.SIZE` with `OUT.WIDTH` or `OUT.HEIGHT`",
+        ),
+        (
+            "OUT.WIDTH = 3  OUT.HEIGHT = 4  OUT.SCALE = 2",
+            "the scale has no axis to scale",
+        ),
+        (
+            "OUT.WIDTH = 2.5",
+            "`OUT.WIDTH` takes whole numbers of pixels",
+        ),
+        (
+            "OUT.HEIGHT = (1, 2)",
+            "`OUT.HEIGHT` expects a number of pixels",
+        ),
+    ] {
+        let (_, d, s) = compile_text(&format!(
+            "EFFECT.bad = {{ PASS = {{ a = SHADER.s {{ img = IN  {script} }} }} OUT = a }}"
+        ));
+        let text = d.render(&s);
+        assert!(d.has_errors() && text.contains(needle), "{script}: {text}");
+    }
+}
+
 /// `STEP` reaches the graph's parameter (the viewer's slider notch); it must be
 /// a positive number.
 #[test]

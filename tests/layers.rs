@@ -15,7 +15,7 @@ const LAYERS: &[(&str, &[&str], bool)] = &[
     ("graph", &["script"], false),
     ("shader", &["script", "graph"], true),
     // RetroArch slang presets lowered to effects (reads presets and shaders).
-    ("slang", &["unwind", "shader"], true),
+    ("slang", &["unwind", "script", "shader"], true),
     ("lookup", &["script", "graph", "shader", "slang"], true),
     ("io", &["pixels", "unwind"], true),
     ("gpu", &["pixels", "script", "graph", "shader"], false),

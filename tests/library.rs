@@ -163,6 +163,7 @@ fn f32_input() -> InputDesc {
         colorspace: ColorSpace::Linear,
         aux: vec![],
         aux_sizes: Vec::new(),
+        viewport: None,
     }
 }
 

@@ -58,6 +58,7 @@ const RUNS: &[&str] = &[
     "edge-smoothing/ddt/cut",
     "edge-smoothing/ddt/ddt-extended",
     "edge-smoothing/ddt/ddt-xbr-lv1",
+    "edge-smoothing/nis/nis",
     "edge-smoothing/fsr/fsr",
     "edge-smoothing/fsr/fsr-easu",
     "edge-smoothing/omniscale/omniscale",
@@ -379,6 +380,68 @@ fn set_changes_a_parameter_as_the_shader_says() {
     );
 }
 
+/// Two passes: pass 0 `absolute` 40 px wide by half the viewport's height
+/// (one axis in pixels, the other relative), writing its own size and the
+/// viewport's (`OutputSize`, `FinalViewportSize`) as codes; pass 1, the last,
+/// at the viewport's size, passes them on with its own. The viewport is the
+/// input's size by default and `--size`'s when given.
+#[test]
+fn size_chooses_the_viewport_and_axes_may_mix_pixels_and_scale() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let sizes = "vec4 OutputSize; vec4 FinalViewportSize;";
+    let first = "FragColor = vec4(params.OutputSize.xy, params.FinalViewportSize.xy) / 255.0;";
+    let last = "vec4 s = texture(Source, vTexCoord);\n\
+                FragColor = vec4(s.rg, params.OutputSize.xy / 255.0);";
+    for (name, body) in [("first", first), ("last", last)] {
+        let shader = common::slang::one_pass_shader(sizes, body, "");
+        std::fs::write(d.join(format!("{name}.slang")), shader).unwrap();
+    }
+    let p = d.join("viewport.slangp");
+    std::fs::write(
+        &p,
+        "shaders = 2\nshader0 = first.slang\nfilter_linear0 = false\n\
+         scale_type_x0 = absolute\nscale_x0 = 40\nscale_type_y0 = viewport\nscale_y0 = 0.5\n\
+         shader1 = last.slang\nfilter_linear1 = false\n",
+    )
+    .unwrap();
+    let input = d.join("in.png");
+    save(&input, &image_u8(16, 8, |_, _| [0, 0, 0, 255]));
+    let out = d.join("out.png");
+    // (viewport, expected codes of every pixel: pass 0's size, the viewport's)
+    for (size, expected) in [
+        (None, [40.0, 4.0, 16.0, 8.0]),
+        (Some("60x50"), [40.0, 25.0, 60.0, 50.0]),
+    ] {
+        let mut args = vec![arg(&p), "-i", arg(&input), "-o", arg(&out)];
+        args.extend(size.iter().flat_map(|s| ["--size", *s]));
+        let o = fxrun(&args);
+        assert_eq!(code(&o), 0, "{size:?}: {}", stderr(&o));
+        let img = load_image(&out, &Default::default()).unwrap();
+        let Pixels::U8(px) = &img.pixels else {
+            panic!("not 8-bit")
+        };
+        let (w, h) = (expected[2] as u32, expected[3] as u32);
+        assert_eq!((img.width, img.height), (w, h), "{size:?}: output size");
+        for (i, c) in px.chunks(4).enumerate() {
+            let got = [c[0], c[1], c[2], c[3]].map(f64::from);
+            assert_eq!(got, expected, "{size:?}: pixel {i}");
+        }
+    }
+    // An effect with no pass that scales from the viewport refuses --size.
+    let o = fxrun(&[
+        "tonemap",
+        "-i",
+        arg(&input),
+        "-o",
+        arg(&out),
+        "--size",
+        "60x50",
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("sets the viewport"), "{}", stderr(&o));
+}
+
 /// Runs `--check` on `p` and returns its message, which must give status 1
 /// and contain each of `needles`, without a panic or a wgpu error chain.
 fn rejected(p: &Path, needles: &[&str]) -> String {
@@ -455,4 +518,27 @@ fn every_error_class_names_its_file_and_cause() {
         "",
     );
     rejected(&p, &["fps.slang", "`OriginalFPS` is not supported"]);
+    // a shader that translates but cannot run as a pass (an integer colour
+    // output): the error lies in the generated WGSL, and names the `.slang` file
+    let float_out = "layout(location = 0) out vec4 FragColor;";
+    let shader = common::slang::one_pass_shader(
+        "",
+        "FragColor = ivec4(texture(Source, vTexCoord) * 255.0);",
+        "",
+    )
+    .replace(float_out, "layout(location = 0) out ivec4 FragColor;");
+    std::fs::write(d.join("int_out.slang"), shader).unwrap();
+    let p = d.join("int_out.slangp");
+    std::fs::write(&p, "shaders = 1\nshader0 = int_out.slang\n").unwrap();
+    let slang = d.join("int_out.slang").display().to_string();
+    let msg = rejected(
+        &p,
+        &[
+            "WGSL validation",
+            "generated this WGSL from",
+            &slang,
+            "pass 0 of",
+        ],
+    );
+    assert!(msg.contains("int_out_pass0.wgsl:"), "{msg}");
 }

@@ -225,6 +225,7 @@ fn render_and_run(sets: &[&str], frames: usize) -> (Vec<[f32; 4]>, Vec<Vec<[f32;
         colorspace: ColorSpace::Linear,
         aux: r.aux_formats().to_vec(),
         aux_sizes: Vec::new(),
+        viewport: None,
     };
     let mut prepared = fx
         .prepare(&mut engine, &desc, Some(Format::Rgba32f))

@@ -231,26 +231,51 @@ fn fx_camera_motion(v: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(m, 0.0, 1.0);
 }
 
-@fragment
-fn fx_fs_aux_a(@builtin(position) pos: vec4<f32>) -> FxAuxA {
-    let c = vec2<i32>(pos.xy);
+// The AUX images of the pixel whose centre is `xy`.
+fn fx_aux_a(xy: vec2<f32>) -> FxAuxA {
+    let c = vec2<i32>(xy);
     let depth = textureLoad(fx_t_depth, c, 0);
     var out: FxAuxA;
     if depth >= 1.0 {
-        let p = fx_view_position(pos.xy, 1.0);
+        let p = fx_view_position(xy, 1.0);
         out.depth = vec4<f32>(fx_frame.far, 0.0, 0.0, 0.0);
         out.normal = vec4<f32>(0.0);
         out.position = vec4<f32>(p, 0.0);
         out.motion = fx_camera_motion(vec4<f32>(p, 0.0));
         return out;
     }
-    let p = fx_view_position(pos.xy, depth);
+    let p = fx_view_position(xy, depth);
     let g = textureLoad(fx_t_normal, c, 0);
     out.depth = vec4<f32>(-p.z, 0.0, 0.0, 0.0);
     out.normal = vec4<f32>(fx_decode_normal(g.xy), 1.0);
     out.position = vec4<f32>(p, 1.0);
     out.motion = fx_camera_motion(vec4<f32>(p, 1.0));
     return out;
+}
+
+@fragment
+fn fx_fs_aux_a(@builtin(position) pos: vec4<f32>) -> FxAuxA {
+    return fx_aux_a(pos.xy);
+}
+
+// The same resolve as a compute dispatch (src/render/light_compute.rs), where
+// the adapter can store to the AUX images' formats.
+@group(2) @binding(4) var fx_a_depth: texture_storage_2d<r32float, write>;
+@group(2) @binding(5) var fx_a_normal: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(6) var fx_a_position: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(7) var fx_a_motion: texture_storage_2d<rg16float, write>;
+
+@compute @workgroup_size(8, 8)
+fn fx_cs_aux_a(@builtin(global_invocation_id) id: vec3<u32>) {
+    if !fx_cs_inside(id) {
+        return;
+    }
+    let a = fx_aux_a(vec2<f32>(id.xy) + 0.5);
+    let c = vec2<i32>(id.xy);
+    textureStore(fx_a_depth, c, a.depth);
+    textureStore(fx_a_normal, c, a.normal);
+    textureStore(fx_a_position, c, a.position);
+    textureStore(fx_a_motion, c, a.motion);
 }
 
 struct FxAuxB {

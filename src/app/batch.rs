@@ -52,6 +52,9 @@ pub struct BatchOptions {
     pub queue: usize,
     /// Collect per-pass GPU timings (of the last image, in [`RunReport::passes`]).
     pub timings: bool,
+    /// The viewport: the output size passes scale from as `VIEWPORT` (`None`:
+    /// each input's size; `fxrun --size`).
+    pub viewport: Option<(u32, u32)>,
 }
 
 impl Default for BatchOptions {
@@ -62,6 +65,7 @@ impl Default for BatchOptions {
             keep_going: false,
             queue: 2,
             timings: false,
+            viewport: None,
         }
     }
 }
@@ -117,6 +121,7 @@ pub fn run_batch(
         keep_going: opts.keep_going,
         queue: opts.queue,
         timings: opts.timings,
+        viewport: opts.viewport,
         ..Default::default()
     };
     run_frames(

@@ -371,6 +371,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             colorspace: key.colorspace,
             aux: key.aux.clone(),
             aux_sizes: key.aux_sizes.clone(),
+            viewport: self.opts.viewport,
         };
         // Transient textures come from the engine's pool, kept for the next frame.
         let tp = Instant::now();
@@ -443,6 +444,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
                 colorspace: cs,
                 aux: Vec::new(),
                 aux_sizes: Vec::new(),
+                viewport: self.opts.viewport,
             };
             let mut prepared = self.effect.prepare_with(
                 self.engine,

@@ -41,6 +41,9 @@ pub struct PipelineOptions {
     pub timings: bool,
     /// Where the Y'CbCr frames of y4m and video streams are converted (sequences).
     pub ycbcr: PlaneConversion,
+    /// The viewport: the output size passes scale from as `VIEWPORT` (`None`:
+    /// each input's size; `fxrun --size`).
+    pub viewport: Option<(u32, u32)>,
 }
 
 impl Default for PipelineOptions {
@@ -59,6 +62,7 @@ impl Default for PipelineOptions {
             queue: 3,
             timings: false,
             ycbcr: PlaneConversion::Auto,
+            viewport: None,
         }
     }
 }

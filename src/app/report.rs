@@ -120,10 +120,15 @@ pub struct SceneStats {
     pub light_culling: String,
     pub shadows: String,
     pub load_ms: f64,
+    /// The renderer's CPU time of every frame's own steps, summed over the
+    /// frames (without `render_pipelines_ms`).
     pub render_cpu_ms: f64,
     /// Where the render CPU time went (summed over the frames): pose, lights,
-    /// upload, pipelines, record (`RenderStats::cpu_split`).
+    /// upload, record (`RenderStats::cpu_split`).
     pub render_cpu_split: Vec<(String, f64)>,
+    /// CPU time creating the render pipelines, on their first use (once per
+    /// run for a sequence: `RenderStats::pipeline_ms`).
+    pub render_pipelines_ms: f64,
     pub render_gpu_ms: Option<f64>,
     pub render_passes: Vec<(String, f64)>,
     pub triangles: usize,

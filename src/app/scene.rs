@@ -118,6 +118,7 @@ impl SceneJob {
             colorspace: ColorSpace::Linear,
             aux: renderer.aux_formats().to_vec(),
             aux_sizes: Vec::new(),
+            viewport: None,
         }
     }
 }
@@ -300,7 +301,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
         stats.materials = renderer.materials().describe();
     }
     report.frames_in = 1;
-    report.stages.decode_busy_ms = stats.load_ms + stats.render_cpu_ms;
+    report.stages.decode_busy_ms = stats.load_ms + stats.render_cpu_ms + stats.render_pipelines_ms;
     report.scene = Some(stats);
     if let Some(dir) = &job.gbuffer {
         super::gbuffer::write_gbuffer(dir, &out, &ctx, &job.scene)?;
@@ -344,6 +345,7 @@ pub fn run_scene_job(job: &SceneJob, engine: &mut Engine) -> Result<RunReport, R
 fn set_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
     stats.render_cpu_ms = rs.cpu_ms;
     stats.render_cpu_split = rs.cpu_split.clone();
+    stats.render_pipelines_ms = rs.pipeline_ms;
     stats.render_gpu_ms = rs.gpu_ms;
     stats.shadow_layers_rendered = rs.shadow_layers_rendered;
     stats.take_frame_counts(rs);

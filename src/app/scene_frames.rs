@@ -128,6 +128,7 @@ impl SceneFrames {
             colorspace: ColorSpace::Linear,
             aux: self.aux_formats().to_vec(),
             aux_sizes: Vec::new(),
+            viewport: None,
         }
     }
 

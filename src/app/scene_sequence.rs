@@ -387,6 +387,7 @@ fn end_run(
 /// counts of the last frame.
 fn add_render_stats(stats: &mut SceneStats, rs: &RenderStats) {
     stats.render_cpu_ms += rs.cpu_ms;
+    stats.render_pipelines_ms += rs.pipeline_ms;
     for (name, ms) in &rs.cpu_split {
         match stats.render_cpu_split.iter_mut().find(|(n, _)| n == name) {
             Some(p) => p.1 += ms,

@@ -34,6 +34,9 @@ pub struct SequenceOptions {
     pub timings: bool,
     /// Where the Y'CbCr frames of y4m and video streams are converted.
     pub ycbcr: PlaneConversion,
+    /// The viewport: the output size passes scale from as `VIEWPORT` (`None`:
+    /// each input's size; `fxrun --size`).
+    pub viewport: Option<(u32, u32)>,
 }
 
 impl Default for SequenceOptions {
@@ -47,6 +50,7 @@ impl Default for SequenceOptions {
             queue: 3,
             timings: false,
             ycbcr: PlaneConversion::Auto,
+            viewport: None,
         }
     }
 }
@@ -80,6 +84,7 @@ pub fn run_sequence(
         queue: opts.queue,
         timings: opts.timings,
         ycbcr: opts.ycbcr,
+        viewport: opts.viewport,
     };
     run_frames(device, effect, source, sink, &p, stop, progress)
 }

@@ -62,6 +62,9 @@ pub struct ImageJob {
     /// `--aux NAME=FILE` images.
     pub aux: Vec<(String, PathBuf)>,
     pub timings: bool,
+    /// The viewport: the output size passes scale from as `VIEWPORT` (`None`:
+    /// each input's size; `fxrun --size`).
+    pub viewport: Option<(u32, u32)>,
 }
 
 /// The image and its auxiliary images.
@@ -145,6 +148,7 @@ pub fn apply_to_image(
         assume_linear: job.assume_linear,
         queue: 1,
         timings: job.timings,
+        viewport: job.viewport,
         ..Default::default()
     };
     let device = match engine {

@@ -501,14 +501,28 @@ fn aux_images(cli: &Cli) -> Result<Vec<(String, PathBuf)>, Fail> {
         .collect()
 }
 
+/// `--size WxH` with `-i INPUT`: the viewport, the output size that passes scale
+/// from as `OUT.RELATIVE_TO = VIEWPORT` (a slang preset's viewport and its last
+/// pass). Refused when no pass of the effects reads it: their output has the
+/// size their passes give it.
+pub(crate) fn viewport_of(cli: &Cli) -> Result<Option<(u32, u32)>, Fail> {
+    let Some(s) = &cli.size else { return Ok(None) };
+    let size = parse_size(s)?;
+    let request = fxgraph::lookup::DiskEffects::request_with(&cli.effects, cli.set.clone());
+    if let (Some(graph), _, _) = compile(&request) {
+        if !graph.scales_from_viewport() {
+            return Err(rejected(
+                "--size with -i INPUT sets the viewport, the size passes scale from as \
+                 OUT.RELATIVE_TO = VIEWPORT (a slang preset's viewport); no pass of these effects does, \
+                 so the output has the size their passes give it (OUT.SIZE, OUT.SCALE)",
+            ));
+        }
+    }
+    Ok(Some(size))
+}
+
 /// An image, batch or sequence run (what `--watch` re-runs).
 fn run_job(cli: &Cli) -> Result<(), Fail> {
-    if cli.size.is_some() {
-        return Err(rejected(
-            "--size sets the size of a rendered --scene and the input size --plan, --dot and --check assume; \
-             the output of -i INPUT has the size the effect's passes give it (OUT.SIZE, OUT.SCALE)",
-        ));
-    }
     if try_run_batch(cli)? {
         return Ok(());
     }
@@ -541,6 +555,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
         ));
     }
     let aux = aux_images(cli)?;
+    let viewport = viewport_of(cli)?;
     let job = ImageJob {
         effects: cli.effects.clone(),
         overrides: cli.set.clone(),
@@ -550,6 +565,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
         assume_linear: cli.assume_linear,
         aux,
         timings: cli.timings || cli.timings_json.is_some(),
+        viewport,
     };
     let report = apply_to_image(&job, None, &adapter_choice(&cli.adapter))?;
     finish_report(cli, &report)?;

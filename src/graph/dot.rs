@@ -2,6 +2,7 @@
 
 use super::plan::Plan;
 use super::{Graph, Node, PassNode};
+use petgraph::graph::NodeIndex;
 use petgraph::visit::EdgeRef;
 use std::fmt::Write as _;
 
@@ -63,19 +64,33 @@ fn write_nodes(out: &mut String, graph: &Graph, plan: Option<&Plan>) {
     }
 }
 
+/// A pass's size rule in words: `640x480`, `2x2 of IN`, or one axis at a time.
+fn size_detail(graph: &Graph, size: &super::SizeRule) -> String {
+    use super::AxisSize::{Pixels, Scale};
+    match (size.x, size.y) {
+        (Pixels(w), Pixels(h)) => format!("{w}x{h}"),
+        (Scale(sx, a), Scale(sy, b)) if a == b => format!("{sx}x{sy} of {}", name(graph, a)),
+        (x, y) => {
+            let axis = |a: super::AxisSize, what: &str| match a {
+                Pixels(n) => format!("{n} px"),
+                Scale(s, of) => format!("{s} of {}'s {what}", name(graph, of)),
+            };
+            format!("{} x {}", axis(x, "width"), axis(y, "height"))
+        }
+    }
+}
+
+/// The name a size rule gives a node: the graph's output is `VIEWPORT` there.
+fn name(graph: &Graph, n: NodeIndex) -> String {
+    match graph.graph[n] {
+        Node::Output => "VIEWPORT".into(),
+        _ => graph.label(n),
+    }
+}
+
 /// A pass's size, format and colour space as its rules say (without a plan).
 fn rule_detail(graph: &Graph, p: &PassNode) -> String {
-    let size = match &p.size {
-        super::SizeRule::Absolute(w, h) => format!("{w}x{h}"),
-        super::SizeRule::Scale { sx, sy, of } if of.0 == of.1 => {
-            format!("{sx}x{sy} of {}", graph.label(of.0))
-        }
-        super::SizeRule::Scale { sx, sy, of } => format!(
-            "{sx} of {}'s width x {sy} of {}'s height",
-            graph.label(of.0),
-            graph.label(of.1)
-        ),
-    };
+    let size = size_detail(graph, &p.size);
     let format = match &p.format {
         super::FormatRule::Fixed(f) => f.name().to_string(),
         super::FormatRule::SameAs(of) => {

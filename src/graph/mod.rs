@@ -84,17 +84,39 @@ pub struct PassParam {
     pub span: Span,
 }
 
-/// How big a pass output is.
+/// How big a pass output is: each axis in pixels or scaled from a node.
 #[derive(Debug, Clone, PartialEq)]
-pub enum SizeRule {
-    Absolute(u32, u32),
-    /// `sx` times the width of `of.0` by `sy` times the height of `of.1` (nodes
-    /// of the graph: the effect input or the pass's inputs; mostly one node).
-    Scale {
-        sx: f64,
-        sy: f64,
-        of: (NodeIndex, NodeIndex),
-    },
+pub struct SizeRule {
+    pub x: AxisSize,
+    pub y: AxisSize,
+}
+
+/// One axis of a pass's size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AxisSize {
+    /// So many pixels (`OUT.SIZE`, `OUT.WIDTH`, `OUT.HEIGHT`).
+    Pixels(u32),
+    /// A factor of the same axis of a node: the effect input, one of the pass's
+    /// inputs, or the graph's output (`VIEWPORT`: the size the run asks for).
+    Scale(f64, NodeIndex),
+}
+
+impl SizeRule {
+    /// `w` x `h` pixels.
+    pub fn absolute(w: u32, h: u32) -> Self {
+        SizeRule {
+            x: AxisSize::Pixels(w),
+            y: AxisSize::Pixels(h),
+        }
+    }
+
+    /// `sx` times the width and `sy` times the height of `of`.
+    pub fn scale(sx: f64, sy: f64, of: NodeIndex) -> Self {
+        SizeRule {
+            x: AxisSize::Scale(sx, of),
+            y: AxisSize::Scale(sy, of),
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -210,6 +232,16 @@ impl Graph {
     }
 
     /// A short label for a node (pass path, `IN[-1]`, `AUX.depth`, ...).
+    /// Whether a pass scales an axis from the graph's output (`VIEWPORT`).
+    pub fn scales_from_viewport(&self) -> bool {
+        self.schedule.iter().any(|&n| match &self.graph[n] {
+            Node::Pass(p) => [p.size.x, p.size.y]
+                .iter()
+                .any(|a| matches!(a, AxisSize::Scale(_, of) if *of == self.output)),
+            _ => false,
+        })
+    }
+
     pub fn label(&self, n: NodeIndex) -> String {
         match &self.graph[n] {
             Node::Input { frame: 0 } => "IN".into(),

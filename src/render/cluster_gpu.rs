@@ -285,7 +285,7 @@ impl GpuClusters {
                     module: &module,
                     entry_point: Some(entry),
                     compilation_options: Default::default(),
-                    cache: None,
+                    cache: ctx.pipeline_cache.as_ref(),
                 })
             });
             let buffers = Buffers::new(device);

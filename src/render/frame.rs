@@ -4,7 +4,7 @@
 use super::error::RenderError;
 use super::frame_record::{geo_key, light_compute_of, Recorder};
 pub(crate) use super::frame_record::{FrameGpu, FramePipelines};
-use super::light_compute::ComputeLighting;
+use super::light_compute::{ComputeLighting, LightCompute};
 use super::lights::FrameLists;
 use super::motion::MotionCameras;
 use super::options::RendererOptions;
@@ -31,6 +31,13 @@ fn computes_lights(opts: &RendererOptions, technique: Technique) -> bool {
     technique != Technique::Forward
         && opts.compute_lighting
         && opts.light_culling != super::clusters::LightCulling::Volumes
+}
+
+/// Whether AUX.depth, normal, position and the camera motion are resolved by
+/// a compute dispatch (`fx_cs_aux_a`): with compute lighting on, where the
+/// adapter can store to their formats; else the fragment pass draws them.
+pub(super) fn computes_aux(r: &FrameGpu<'_>) -> bool {
+    r.opts.compute_lighting && r.layouts.g2_aux_compute.is_some()
 }
 
 /// The geometry pipelines of `technique` (with a forward loop of `lights`):
@@ -66,7 +73,10 @@ fn geometry_keys(
 /// (deferred in fragments) or the background (the other techniques, when the
 /// environment draws one).
 fn light_pipes(r: &FrameGpu<'_>, technique: Technique, compute: bool) -> Vec<LightPipe> {
-    let mut light = vec![LightPipe::AuxA, LightPipe::AuxB];
+    let mut light = vec![LightPipe::AuxB];
+    if !computes_aux(r) {
+        light.push(LightPipe::AuxA);
+    }
     if !compute && technique != Technique::Forward {
         if r.opts.light_culling == super::clusters::LightCulling::Volumes {
             light.extend([
@@ -113,13 +123,17 @@ pub(crate) fn ensure_pipelines(
         .map(|(n, f)| (n.clone(), crate::gpu::executor::wgpu_format(*f)))
         .collect();
     let compute = computes_lights(r.opts, technique);
-    if compute {
+    let dispatches = [
+        compute.then_some(light_compute_of(technique)),
+        computes_aux(r).then_some(LightCompute::AuxResolve),
+    ];
+    for which in dispatches.into_iter().flatten() {
         light_compute.ensure(
             ctx,
             pipelines,
             r.materials,
             (r.layouts, &r.material_gpu.params_layout),
-            light_compute_of(technique),
+            which,
         )?;
     }
     for which in light_pipes(r, technique, compute) {

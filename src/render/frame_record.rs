@@ -360,20 +360,33 @@ impl<'a> Recorder<'a> {
     /// The AUX images from the G-buffer (motion: of the camera alone; the
     /// moved instances are drawn over it by [`Recorder::object_motion`]).
     pub fn aux_resolve(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        let t = self.t;
+        let (r, p, t) = (self.r, self.p, self.t);
         let zero = clear_to(Vec4::ZERO);
-        for (pipe, range, name) in [
-            (
-                LightPipe::AuxA,
-                [0, 1, 2, 6].as_slice(),
-                "aux depth/normal/position/motion",
-            ),
-            (
-                LightPipe::AuxB,
-                [3, 4, 5].as_slice(),
-                "aux albedo/material/specular",
-            ),
-        ] {
+        let first_half = "aux depth/normal/position/motion";
+        let drawn: &[(LightPipe, &[usize], &str)] = match &t.bg_aux_compute {
+            Some(outputs) if super::frame::computes_aux(r) => {
+                p.light_compute.encode(
+                    encoder,
+                    LightCompute::AuxResolve,
+                    &LightComputeGroups {
+                        g0: r.g0,
+                        gbuffer: &t.bg_all,
+                        outputs,
+                        params: &r.material_gpu.params_group,
+                    },
+                    (t.width, t.height),
+                    first_half,
+                    &mut self.names,
+                    self.timer,
+                );
+                &[(LightPipe::AuxB, &[3, 4, 5], "aux albedo/material/specular")]
+            }
+            _ => &[
+                (LightPipe::AuxA, &[0, 1, 2, 6], first_half),
+                (LightPipe::AuxB, &[3, 4, 5], "aux albedo/material/specular"),
+            ],
+        };
+        for &(pipe, range, name) in drawn {
             let attachments: Vec<_> = range
                 .iter()
                 .map(|&i| attach(&t.aux[i].1.view, zero))

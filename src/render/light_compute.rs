@@ -29,6 +29,9 @@ pub(crate) enum LightCompute {
     Prepass,
     /// Light buffers and the composed scene (deferred).
     Compose,
+    /// AUX.depth, normal, position and camera motion from the G-buffer (the
+    /// resolve's first half: `fx_cs_aux_a`).
+    AuxResolve,
 }
 
 impl LightCompute {
@@ -36,6 +39,7 @@ impl LightCompute {
         match self {
             LightCompute::Prepass => "fx_cs_light",
             LightCompute::Compose => "fx_cs_light_compose",
+            LightCompute::AuxResolve => "fx_cs_aux_a",
         }
     }
 }
@@ -69,6 +73,13 @@ impl ComputeLighting {
         }
         let module = pipelines.light_module(ctx, set)?;
         let label = format!("deferred compute pipeline {which:?}");
+        let outputs = match which {
+            LightCompute::AuxResolve => layouts
+                .g2_aux_compute
+                .as_ref()
+                .ok_or("the adapter cannot store to the AUX images' formats")?,
+            _ => &layouts.g2_light_compute,
+        };
         let pipeline = ctx
             .scoped(&label, |device| {
                 let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -76,7 +87,7 @@ impl ComputeLighting {
                     bind_group_layouts: &[
                         Some(&layouts.g0),
                         Some(&layouts.g1_gbuffer),
-                        Some(&layouts.g2_light_compute),
+                        Some(outputs),
                         Some(params_layout),
                     ],
                     immediate_size: 0,
@@ -87,7 +98,7 @@ impl ComputeLighting {
                     module: &module,
                     entry_point: Some(which.entry_point()),
                     compilation_options: Default::default(),
-                    cache: None,
+                    cache: ctx.pipeline_cache.as_ref(),
                 })
             })
             .map_err(|e| e.to_string())?;

@@ -97,14 +97,18 @@ pub struct RenderStats {
     pub pass_ms: Vec<(String, f64)>,
     /// Sum of `pass_ms`.
     pub gpu_ms: Option<f64>,
-    /// CPU milliseconds to prepare, encode and submit the frame.
+    /// CPU milliseconds to prepare, encode and submit the frame, without
+    /// `pipeline_ms`.
     pub cpu_ms: f64,
     /// Where `cpu_ms` went, in order: `pose` (transforms, joints, morph
     /// weights), `lights` (culling, shadow planning, the lights' footprints on
     /// the cluster grid), `upload` (light, cluster and frame data written to the
-    /// queue), `pipelines` (created on first use), `record` (the passes recorded
-    /// and submitted).
+    /// queue), `record` (the passes recorded and submitted).
     pub cpu_split: Vec<(String, f64)>,
+    /// CPU milliseconds creating the pipelines this frame used first: once per
+    /// renderer and technique (and whenever the scene's material variants or
+    /// light budget change), not a cost of every frame.
+    pub pipeline_ms: f64,
     /// G-buffer bytes per pixel written by the technique's geometry pass(es):
     /// deferred 16 (diffuse+material id, normal+roughness, specular+model id,
     /// depth), light pre-pass 13 (normal+roughness, specular+model id, material

@@ -32,7 +32,21 @@ pub(crate) struct Layouts {
     /// Group 2 of the compute light pass: the light buffers and the scene
     /// (written), the geometry pass's emission (read).
     pub g2_light_compute: wgpu::BindGroupLayout,
+    /// Group 2 of the compute AUX resolve: AUX.depth, normal, position and
+    /// motion (written, in [`AUX_COMPUTE_FORMATS`]); `None` where the adapter
+    /// cannot store to them (the resolve is then a fragment pass).
+    pub g2_aux_compute: Option<wgpu::BindGroupLayout>,
 }
+
+/// The formats the compute AUX resolve stores (`fx_cs_aux_a`, bindings 4–7 of
+/// group 2): AUX.depth, normal, position and motion, as `published_aux` makes
+/// them where the adapter renders `R32Float`.
+pub(crate) const AUX_COMPUTE_FORMATS: [wgpu::TextureFormat; 4] = [
+    wgpu::TextureFormat::R32Float,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rg16Float,
+];
 
 /// The stages of group 0 and of the G-buffer group: the render stages and the
 /// compute light pass.
@@ -54,14 +68,31 @@ pub(crate) fn texture_entry(
     bindings::texture_entry(binding, stages, sample_type, d2)
 }
 
+/// Whether the adapter can store to every format of the compute AUX resolve
+/// (and renders `R32Float`, so AUX.depth has that format).
+pub(crate) fn aux_compute_supported(ctx: &GpuContext) -> bool {
+    AUX_COMPUTE_FORMATS
+        .iter()
+        .all(|f| ctx.format_support(*f).storage)
+        && ctx.format_support(wgpu::TextureFormat::R32Float).render
+}
+
 /// A write-only `Rgba16Float` storage texture of the compute light pass.
 fn storage_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    storage_texture_entry_of(binding, LIGHT_FORMAT)
+}
+
+/// A write-only storage texture of `format` of a compute pass.
+fn storage_texture_entry_of(
+    binding: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::StorageTexture {
             access: wgpu::StorageTextureAccess::WriteOnly,
-            format: LIGHT_FORMAT,
+            format,
             view_dimension: wgpu::TextureViewDimension::D2,
         },
         count: None,
@@ -72,7 +103,7 @@ impl Layouts {
     /// Group 0 (frame, material info, instances, lights, visible light indices),
     /// group 1 of the light passes (G-buffer) and of the light pre-pass final pass
     /// (light buffers).
-    pub fn new(device: &wgpu::Device) -> Layouts {
+    pub fn new(device: &wgpu::Device, aux_compute: bool) -> Layouts {
         let env = super::environment::EnvironmentLighting::g0_layout_entries();
         let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred group 0 (frame, materials, instances, lights)"),
@@ -124,11 +155,23 @@ impl Layouts {
                 texture_entry(3, unfilterable),
             ],
         });
+        let g2_aux_compute = aux_compute.then(|| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("deferred group 2 (compute AUX resolve)"),
+                entries: &[
+                    storage_texture_entry_of(4, AUX_COMPUTE_FORMATS[0]),
+                    storage_texture_entry_of(5, AUX_COMPUTE_FORMATS[1]),
+                    storage_texture_entry_of(6, AUX_COMPUTE_FORMATS[2]),
+                    storage_texture_entry_of(7, AUX_COMPUTE_FORMATS[3]),
+                ],
+            })
+        });
         Layouts {
             g0,
             g1_gbuffer,
             g1_light_buffers,
             g2_light_compute,
+            g2_aux_compute,
         }
     }
 }
@@ -404,7 +447,7 @@ pub(crate) fn create(
                 targets,
             }),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache.as_ref(),
         })
     })
     .map_err(|e| e.to_string())

@@ -190,6 +190,7 @@ fn create_frame_buffers(
     if infos.is_empty() {
         infos.push(bytemuck::Zeroable::zeroed());
     }
+    let aux_compute = super::pipelines::aux_compute_supported(ctx);
     ctx.scoped("deferred renderer: scene upload", |device| {
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -209,7 +210,11 @@ fn create_frame_buffers(
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        (material_info_buffer, frame_buffer, Layouts::new(device))
+        (
+            material_info_buffer,
+            frame_buffer,
+            Layouts::new(device, aux_compute),
+        )
     })
 }
 
@@ -431,6 +436,13 @@ impl Renderer {
         &self.aux_formats
     }
 
+    /// Whether AUX.depth, normal, position and motion are resolved by a
+    /// compute dispatch (compute lighting on, and the adapter can store to
+    /// their formats) rather than drawn.
+    pub fn resolves_aux_in_compute(&self) -> bool {
+        self.opts.compute_lighting && self.layouts.g2_aux_compute.is_some()
+    }
+
     /// Creates the frame targets for `width`×`height` if the size changed.
     pub(super) fn ensure_targets(
         &mut self,
@@ -460,6 +472,7 @@ impl Renderer {
                 light_buffers: &self.layouts.g1_light_buffers,
                 dummy_light: &self.dummy_light,
                 light_compute: &self.layouts.g2_light_compute,
+                aux_compute: self.layouts.g2_aux_compute.as_ref(),
             },
         )?;
         self.targets = Some(targets);

@@ -81,6 +81,18 @@ impl CpuSplit {
         }
     }
 
+    /// Removes step `name` from the split, and gives its time.
+    fn take(&mut self, name: &str) -> f64 {
+        let ms = self
+            .parts
+            .iter()
+            .filter(|(n, _)| n == name)
+            .map(|p| p.1)
+            .sum();
+        self.parts.retain(|(n, _)| n != name);
+        ms
+    }
+
     /// Ends step `name` (its time is added when it ran before).
     fn mark(&mut self, name: &str) {
         let now = Instant::now();
@@ -158,7 +170,8 @@ impl Renderer {
         let (pass_names, draws) = self.record_frame(ctx, (&fv, &fl), &label, timer, &moving)?;
         split.mark("record");
         stats.draw_calls = draws;
-        stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        stats.pipeline_ms = split.take("pipelines");
+        stats.cpu_ms = start.elapsed().as_secs_f64() * 1e3 - stats.pipeline_ms;
         stats.cpu_split = split.parts;
         stats.pipelines = self.pipelines.pipelines_created;
         stats.shader_modules = self.pipelines.modules_created;

@@ -61,7 +61,14 @@ pub(crate) struct Targets {
     /// emission read (deferred), or nothing read (light pre-pass).
     pub bg_compute_deferred: wgpu::BindGroup,
     pub bg_compute_prepass: wgpu::BindGroup,
+    /// group 2 of the compute AUX resolve (AUX.depth, normal, position and
+    /// motion written), where the adapter can store to them.
+    pub bg_aux_compute: Option<wgpu::BindGroup>,
 }
+
+/// The AUX images the compute resolve writes, by their index in the AUX list
+/// (`published_aux`: depth, normal, position, ..., motion last).
+const AUX_COMPUTE_IMAGES: [usize; 4] = [0, 1, 2, 6];
 
 /// Layouts of the group-1 bind groups.
 pub(crate) struct TargetLayouts<'a> {
@@ -73,6 +80,8 @@ pub(crate) struct TargetLayouts<'a> {
     pub dummy_light: &'a wgpu::TextureView,
     /// The compute light pass's outputs and emission.
     pub light_compute: &'a wgpu::BindGroupLayout,
+    /// The compute AUX resolve's outputs (`None`: the resolve is drawn).
+    pub aux_compute: Option<&'a wgpu::BindGroupLayout>,
 }
 
 /// The frame's images, before their bind groups.
@@ -95,6 +104,7 @@ struct Groups {
     prepass_final: wgpu::BindGroup,
     compute_deferred: wgpu::BindGroup,
     compute_prepass: wgpu::BindGroup,
+    aux_compute: Option<wgpu::BindGroup>,
 }
 
 /// Every image of a `width`×`height` frame (rendered to, sampled, copied; the
@@ -103,6 +113,7 @@ fn create_images(
     device: &wgpu::Device,
     (width, height): (u32, u32),
     aux_formats: &[(String, wgpu::TextureFormat)],
+    aux_storage: bool,
 ) -> Images {
     let make_with = |label: &str, format: wgpu::TextureFormat, extra| {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
@@ -132,7 +143,15 @@ fn create_images(
         scene: storage("deferred scene (HDR)"),
         aux: aux_formats
             .iter()
-            .map(|(name, format)| (name.clone(), make(&format!("deferred aux {name}"), *format)))
+            .enumerate()
+            .map(|(i, (name, format))| {
+                let label = format!("deferred aux {name}");
+                let image = match aux_storage && AUX_COMPUTE_IMAGES.contains(&i) {
+                    true => make_with(&label, *format, wgpu::TextureUsages::STORAGE_BINDING),
+                    false => make(&label, *format),
+                };
+                (name.clone(), image)
+            })
             .collect(),
     }
 }
@@ -206,9 +225,25 @@ fn create_groups(device: &wgpu::Device, im: &Images, layouts: &TargetLayouts) ->
             ],
         )
     };
+    let aux_compute = layouts.aux_compute.map(|layout| {
+        let views = AUX_COMPUTE_IMAGES.map(|i| &im.aux[i].1.view);
+        let entries: Vec<wgpu::BindGroupEntry> = (4..)
+            .zip(views)
+            .map(|(binding, view)| wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("deferred group 2 (compute AUX resolve)"),
+            layout,
+            entries: &entries,
+        })
+    });
     Groups {
         light,
         all,
+        aux_compute,
         prepass_final,
         compute_deferred: compute(
             "deferred group 2 (compute lights, deferred)",
@@ -232,7 +267,8 @@ impl Targets {
     ) -> Result<Targets, crate::gpu::context::GpuError> {
         ctx.check_size(width, height, "deferred render target")?;
         ctx.scoped("deferred render targets", |device| {
-            let images = create_images(device, (width, height), aux_formats);
+            let aux_storage = layouts.aux_compute.is_some();
+            let images = create_images(device, (width, height), aux_formats, aux_storage);
             let groups = create_groups(device, &images, layouts);
             let Images {
                 depth,
@@ -262,6 +298,7 @@ impl Targets {
                 bg_final: groups.prepass_final,
                 bg_compute_deferred: groups.compute_deferred,
                 bg_compute_prepass: groups.compute_prepass,
+                bg_aux_compute: groups.aux_compute,
             }
         })
     }

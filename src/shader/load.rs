@@ -81,7 +81,8 @@ pub fn load_plan_shaders(
             Some(n) => match bind_pass(graph.pass(n), &reflection, &label) {
                 Ok(l) => l,
                 Err(ds) => {
-                    ds.into_iter().for_each(|d| diags.push(d));
+                    ds.into_iter()
+                        .for_each(|d| diags.push(with_origin(d, &file.text)));
                     out.push(None);
                     continue;
                 }
@@ -166,10 +167,29 @@ fn load_file(
                         }
                     }
                 }
-                diags.push(d);
+                diags.push(with_origin(d, &file.text));
             }
             None
         }
+    }
+}
+
+/// The first line of a shader fxgraph generated from another file (the slang
+/// lowering writes its WGSL with it): `// fxgraph: generated from FILE ...`.
+pub const GENERATED_FROM: &str = "// fxgraph: generated from ";
+
+/// `d`, with a note naming the file a generated shader `text` was made from: its
+/// spans point into the generated WGSL, which the user did not write.
+fn with_origin(d: Diagnostic, text: &str) -> Diagnostic {
+    match text
+        .lines()
+        .next()
+        .and_then(|l| l.strip_prefix(GENERATED_FROM))
+    {
+        Some(origin) => d.note(format!(
+            "fxgraph generated this WGSL from {origin}; the shader cannot run as translated"
+        )),
+        None => d,
     }
 }
 

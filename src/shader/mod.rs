@@ -19,6 +19,7 @@ pub mod wgsl_names;
 pub use features::{convert_features, feature_flags_used, FeatureMode};
 pub use load::{
     check_references, compile_all, load_plan_shaders, pass_parameters, LoadedShader, PassParamInfo,
+    GENERATED_FROM,
 };
 pub use material::{
     find_material_shader, load_material_shader, MaterialParams, MaterialSampler, MaterialShader,

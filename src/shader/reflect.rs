@@ -7,6 +7,7 @@ use crate::shader::wgsl_names::validation_diagnostic;
 use naga::{ImageClass, ImageDimension, ScalarKind, TypeInner};
 
 mod bind;
+mod execution_line;
 
 pub(crate) use super::uniforms::std_value;
 pub use super::uniforms::{StdContext, StdValue, UniformField, UniformLayout, UniformSource};
@@ -34,13 +35,28 @@ pub struct ComputeNative {
     /// pass drawn where the compute one cannot run (an sRGB or BGRA output, an
     /// adapter without that storage format).
     pub fragment: Option<String>,
+    /// The shader's `// @execution(compute)` line: its compute entry point
+    /// runs under compute execution only, and fragment execution draws its
+    /// fragment one (a pass whose staging does not pay on CPU adapters).
+    pub compute_execution_only: bool,
 }
 
 impl ComputeNative {
-    /// Whether each workgroup computes one output texel (`@workgroup_size(1, 1,
-    /// Z)`: a reduction whose invocations share the work of one texel).
-    pub fn per_texel(&self) -> bool {
-        self.workgroup[0] * self.workgroup[1] == 1
+    /// Whether several invocations share the work of each output texel (a third
+    /// workgroup size above 1: a reduction, `@workgroup_size(1, 1, Z)`, or
+    /// motion_blur's tile maximum, `(1, 8, 32)`). Under fragment execution such a
+    /// pass draws its `@fragment` entry point: on lavapipe such a dispatch costs
+    /// more than the fragment pass over the same footprint.
+    pub fn lanes_per_texel(&self) -> bool {
+        self.workgroup[2] > 1
+    }
+
+    /// Whether fragment execution draws the fragment entry point instead of
+    /// dispatching the compute one: passes with several lanes per texel
+    /// ([`ComputeNative::lanes_per_texel`]) and shaders marked
+    /// `// @execution(compute)`.
+    pub fn drawn_under_fragment_execution(&self) -> bool {
+        self.fragment.is_some() && (self.lanes_per_texel() || self.compute_execution_only)
     }
 }
 
@@ -209,7 +225,7 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
     };
     let resources = source.resources(entries.native.is_some(), &mut diags);
     check_group_zero(&resources, &mut diags);
-    let compute = entries.native.and_then(|ep| {
+    let mut compute = entries.native.and_then(|ep| {
         compute_native(
             ep,
             &resources.outputs,
@@ -218,6 +234,12 @@ pub fn reflect(wgsl: &str, file: FileId) -> Result<Reflection, Vec<Diagnostic>> 
             &mut diags,
         )
     });
+    if let Some(native) = &mut compute {
+        match execution_line::compute_execution_only(wgsl, file, native) {
+            Ok(only) => native.compute_execution_only = only,
+            Err(d) => diags.push(d),
+        }
+    }
     if diags.is_empty() {
         Ok(Reflection {
             entry_point: entries.entry_point,
@@ -469,6 +491,7 @@ fn compute_native(
             workgroup: ep.workgroup_size,
             output: one.clone(),
             fragment,
+            compute_execution_only: false,
         }),
         _ => {
             diags.push(

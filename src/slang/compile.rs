@@ -12,7 +12,9 @@ use librashader_reflect::back::{CompileShader, FromCompilation};
 use librashader_reflect::error::{SemanticsErrorKind, ShaderCompileError, ShaderReflectError};
 use librashader_reflect::front::{Glslang, ShaderInputCompiler};
 use librashader_reflect::reflect::naga::NagaLoweringOptions;
-use librashader_reflect::reflect::semantics::ShaderSemantics;
+use librashader_reflect::reflect::semantics::{
+    Semantic, ShaderSemantics, TextureSemantics, UniformSemantic, UniqueSemantics,
+};
 use librashader_reflect::reflect::ReflectShader;
 use std::path::{Path, PathBuf};
 
@@ -72,23 +74,96 @@ pub fn parameters(sources: &[Source]) -> Vec<ShaderParameter> {
     out
 }
 
-/// Compiles pass `index` of `preset` to naga modules.
+/// The semantics every pass of `preset` may read, as librashader's runtime
+/// builds them for the whole chain (`compile_preset_passes`): every pass's
+/// `#pragma parameter`s; every pass's alias and `#pragma name`, as its output
+/// (`NAME`, `NAMESize`) and feedback (`NAMEFeedback`, `NAMEFeedbackSize`); the
+/// LUTs (`NAME`, `NAMESize`). librashader's reflection-only helper
+/// (`ShaderSemantics::create_pass_semantics`) knows only the pass's own alias,
+/// so a pass reading an earlier one by its alias (NIS's scaler reads
+/// `NISCoef`) failed as an unknown semantic.
+pub fn preset_semantics(preset: &ShaderPreset, sources: &[Source]) -> ShaderSemantics {
+    let mut semantics = ShaderSemantics {
+        uniform_semantics: Default::default(),
+        texture_semantics: Default::default(),
+    };
+    for s in sources {
+        for p in s.source.parameters.values() {
+            let parameter = UniqueSemantics::FloatParameter;
+            let unique = UniformSemantic::Unique(Semantic {
+                semantics: parameter,
+                index: (),
+            });
+            semantics.uniform_semantics.insert(p.id.clone(), unique);
+        }
+    }
+    for (pass, s) in preset.passes.iter().zip(sources) {
+        for name in [pass.meta.alias.as_ref(), s.source.name.as_ref()]
+            .into_iter()
+            .flatten()
+        {
+            if !name.trim().is_empty() {
+                insert_texture(
+                    &mut semantics,
+                    name,
+                    TextureSemantics::PassOutput,
+                    pass.meta.id as usize,
+                    "",
+                );
+                insert_texture(
+                    &mut semantics,
+                    name,
+                    TextureSemantics::PassFeedback,
+                    pass.meta.id as usize,
+                    "Feedback",
+                );
+            }
+        }
+    }
+    for (index, lut) in preset.textures.iter().enumerate() {
+        insert_texture(
+            &mut semantics,
+            &lut.meta.name,
+            TextureSemantics::User,
+            index,
+            "",
+        );
+    }
+    semantics
+}
+
+/// `NAME{suffix}` as texture `kind` number `index`, and `NAME{suffix}Size` as its size.
+fn insert_texture(
+    semantics: &mut ShaderSemantics,
+    name: &str,
+    kind: TextureSemantics,
+    index: usize,
+    suffix: &str,
+) {
+    let texture = Semantic {
+        semantics: kind,
+        index,
+    };
+    semantics
+        .texture_semantics
+        .insert(format!("{name}{suffix}").as_str().into(), texture);
+    semantics.uniform_semantics.insert(
+        format!("{name}{suffix}Size").as_str().into(),
+        UniformSemantic::Texture(texture),
+    );
+}
+
+/// Compiles pass `index` of a preset to naga modules, with the preset's
+/// `semantics` ([`preset_semantics`]).
 pub fn compile_pass(
-    preset: &ShaderPreset,
+    semantics: &ShaderSemantics,
     index: usize,
     src: &Source,
 ) -> Result<Stages, SlangError> {
     let path = &src.path;
     let spirv = catch_quiet(|| Glslang::compile(&src.source).map_err(|e| compile_error(path, e)))
         .map_err(|panic| glsl_error(path, &format!("glslang failed: {panic}")))??;
-    let semantics = ShaderSemantics::create_pass_semantics::<SemanticsError>(preset, index)
-        .map_err(|e| match e {
-            SemanticsError::Reflect(e) => reflect_error(path, e),
-            SemanticsError::Preprocess(e) => SlangError::Preprocess {
-                path: path.to_path_buf(),
-                message: e.to_string(),
-            },
-        })?;
+    let semantics = semantics.clone();
     let outcome = catch_quiet(move || -> Result<Stages, SlangError> {
         let mut backend = WGSL::from_compilation(spirv).map_err(|e| reflect_error(path, e))?;
         backend
@@ -107,24 +182,6 @@ pub fn compile_pass(
         })
     });
     outcome.map_err(|panic| translate_error(path, &panic))?
-}
-
-/// What building a pass's semantics can fail with.
-enum SemanticsError {
-    Reflect(ShaderReflectError),
-    Preprocess(librashader_preprocess::PreprocessError),
-}
-
-impl From<ShaderReflectError> for SemanticsError {
-    fn from(e: ShaderReflectError) -> Self {
-        SemanticsError::Reflect(e)
-    }
-}
-
-impl From<librashader_preprocess::PreprocessError> for SemanticsError {
-    fn from(e: librashader_preprocess::PreprocessError) -> Self {
-        SemanticsError::Preprocess(e)
-    }
 }
 
 fn glsl_error(path: &Path, message: &str) -> SlangError {

@@ -2,7 +2,7 @@
 //! pass, written to a content-addressed folder of the temporary directory, so the
 //! lookup serves it as any `.fx` file (and its shaders are found beside it).
 
-use super::compile::{compile_pass, load_source, parameters, Source};
+use super::compile::{compile_pass, load_source, parameters, preset_semantics, Source};
 use super::error::SlangError;
 use super::rewrite::{plan_fields, rewrite_fragment, rewrite_vertex};
 use super::script::{needs_source, script, PassPlan, ScriptInput};
@@ -109,9 +109,10 @@ fn lower_uncached(
     let mut shaders = Vec::new();
     let mut plans = Vec::new();
     let last = preset.passes.len() - 1;
+    let semantics = preset_semantics(&preset, sources);
     for (i, src) in sources.iter().enumerate() {
         let meta = &preset.passes[i].meta;
-        let stages = compile_pass(&preset, i, src)?;
+        let stages = compile_pass(&semantics, i, src)?;
         let (mut fragment, mut vertex) = (stages.fragment, stages.vertex);
         let is_param = |n: &str| params.iter().any(|p| p.id.as_str() == n);
         let fm = meta.frame_count_mod;
@@ -134,9 +135,16 @@ fn lower_uncached(
             .filter(|((n, _), _)| fields.params.contains(n))
             .map(|((n, _), w)| (n.clone(), w))
             .collect();
+        let wgsl = format!(
+            "{}{} (pass {i} of {})\n{wgsl}",
+            crate::shader::GENERATED_FROM,
+            src.path.display(),
+            path.display()
+        );
         shaders.push((shader.clone(), wgsl));
         plans.push(PassPlan {
             meta,
+            name: src.source.name.as_ref().map(|n| n.to_string()),
             format: src.source.format,
             textures: textures.into_iter().zip(written_textures).collect(),
             params,

@@ -3,6 +3,7 @@
 //! space, sampler modes, and the preset's parameters as effect parameters.
 
 use super::error::SlangError;
+use crate::script::ast::VIEWPORT;
 use librashader_common::{FilterMode, ImageFormat, WrapMode};
 use librashader_preprocess::ShaderParameter;
 use librashader_presets::{PassMeta, ScaleFactor, ScaleType, Scaling, TextureMeta};
@@ -12,6 +13,8 @@ use std::path::Path;
 /// One pass of the preset, after translation.
 pub struct PassPlan<'a> {
     pub meta: &'a PassMeta,
+    /// `#pragma name` of its shader: a second alias.
+    pub name: Option<String>,
     /// `#pragma format` of its shader.
     pub format: ImageFormat,
     /// The textures its shader binds: (slang semantic, WGSL name).
@@ -105,7 +108,9 @@ fn write_pass(out: &mut String, s: &ScriptInput, i: usize) -> Result<(), SlangEr
         let _ = writeln!(out, "            {field} = PARAM.{id}");
     }
     if i + 1 < s.passes.len() {
-        write_size(out, s.path, p, i)?;
+        write_size(out, p, i);
+    } else {
+        let _ = writeln!(out, "            OUT.RELATIVE_TO = {VIEWPORT}");
     }
     let (format, colorspace) = format_of(p);
     let _ = writeln!(out, "            OUT.FORMAT = {format}");
@@ -207,10 +212,12 @@ fn number_after(name: &str, prefix: &str) -> Option<usize> {
     name.strip_prefix(prefix)?.parse().ok()
 }
 
+/// The pass `alias` names: its preset `alias` or its shader's `#pragma name`.
 fn alias_index(passes: &[PassPlan], alias: &str) -> Option<usize> {
-    passes
-        .iter()
-        .position(|p| p.meta.alias.as_ref().is_some_and(|a| a.as_str() == alias))
+    passes.iter().position(|p| {
+        p.meta.alias.as_ref().is_some_and(|a| a.as_str() == alias)
+            || p.name.as_deref() == Some(alias)
+    })
 }
 
 fn filter(f: FilterMode) -> &'static str {
@@ -229,65 +236,51 @@ fn wrap(w: WrapMode) -> &'static str {
     }
 }
 
-/// A pass's output size (all but the last pass, which has the viewport's).
-fn write_size(out: &mut String, path: &Path, p: &PassPlan, i: usize) -> Result<(), SlangError> {
+/// A pass's output size, axis by axis: pixels (`absolute`), or a factor of
+/// the pass's `Source` (`source`), the effect's input (`original`) or the
+/// viewport (`viewport`: `VIEWPORT`, the run's output size).
+fn write_size(out: &mut String, p: &PassPlan, i: usize) {
     let sc = &p.meta.scaling;
     if !sc.valid {
         if i > 0 {
             out.push_str("            OUT.SCALE = 1\n            OUT.RELATIVE_TO = Source\n");
         }
-        return Ok(());
+        return;
     }
     let (x, y) = (&sc.x, &sc.y);
     let absolute = |s: &Scaling| matches!(s.scale_type, ScaleType::Absolute);
-    let relative_to_in =
-        |s: &Scaling| matches!(s.scale_type, ScaleType::Viewport | ScaleType::Original);
     let f = |s: &Scaling| match s.factor {
         ScaleFactor::Float(v) => v as f64,
         ScaleFactor::Absolute(v) => v as f64,
     };
-    // The image an axis scales: the pass's Source, or the effect's input (the
-    // viewport and the original have its size).
     let of = |s: &Scaling| match s.scale_type {
         ScaleType::Input if i > 0 => "Source",
+        ScaleType::Viewport => VIEWPORT,
         _ => "IN",
     };
-    if absolute(x) && absolute(y) {
-        let _ = writeln!(out, "            OUT.SIZE = ({}, {})", f(x), f(y));
-    } else if relative_to_in(x) && relative_to_in(y) {
-        let _ = writeln!(out, "            OUT.SCALE = ({}, {})", f(x), f(y));
-    } else if !absolute(x) && !absolute(y) {
-        let _ = writeln!(out, "            OUT.SCALE = ({}, {})", f(x), f(y));
-        match (of(x), of(y)) {
-            ("IN", "IN") => {}
-            (a, b) if a == b => {
-                let _ = writeln!(out, "            OUT.RELATIVE_TO = {a}");
-            }
-            (a, b) => {
-                let _ = writeln!(out, "            OUT.RELATIVE_TO = ({a}, {b})");
+    let line = |out: &mut String, text: String| {
+        let _ = writeln!(out, "            {text}");
+    };
+    match (absolute(x), absolute(y)) {
+        (true, true) => line(out, format!("OUT.SIZE = ({}, {})", f(x), f(y))),
+        (true, false) => {
+            line(out, format!("OUT.WIDTH = {}", f(x)));
+            line(out, format!("OUT.SCALE = (1, {})", f(y)));
+            line(out, format!("OUT.RELATIVE_TO = {}", of(y)));
+        }
+        (false, true) => {
+            line(out, format!("OUT.HEIGHT = {}", f(y)));
+            line(out, format!("OUT.SCALE = ({}, 1)", f(x)));
+            line(out, format!("OUT.RELATIVE_TO = {}", of(x)));
+        }
+        (false, false) => {
+            line(out, format!("OUT.SCALE = ({}, {})", f(x), f(y)));
+            match (of(x), of(y)) {
+                ("IN", "IN") => {}
+                (a, b) if a == b => line(out, format!("OUT.RELATIVE_TO = {a}")),
+                (a, b) => line(out, format!("OUT.RELATIVE_TO = ({a}, {b})")),
             }
         }
-    } else {
-        return Err(SlangError::Unsupported {
-            path: path.to_path_buf(),
-            feature: format!(
-                "pass {i}'s scale_type_x = {} with scale_type_y = {}",
-                scale_type_name(x),
-                scale_type_name(y)
-            ),
-            why: "a pass size is absolute on both axes or on neither".into(),
-        });
-    }
-    Ok(())
-}
-
-/// A scale type as a preset spells it.
-fn scale_type_name(s: &Scaling) -> &'static str {
-    match s.scale_type {
-        ScaleType::Input => "source",
-        ScaleType::Absolute => "absolute",
-        ScaleType::Viewport => "viewport",
-        ScaleType::Original => "original",
     }
 }
 

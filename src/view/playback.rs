@@ -267,6 +267,7 @@ impl Playback {
             colorspace,
             aux: Vec::new(),
             aux_sizes: Vec::new(),
+            viewport: None,
         });
     }
 

@@ -115,6 +115,7 @@ impl Stills {
                 .iter()
                 .map(|(n, t, _)| (n.clone(), (t.width(), t.height())))
                 .collect(),
+            viewport: None,
         })
     }
 

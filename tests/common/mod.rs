@@ -60,6 +60,26 @@ pub fn engine() -> Option<std::sync::MutexGuard<'static, Engine>> {
         .map(|m| m.lock().unwrap_or_else(|p| p.into_inner()))
 }
 
+/// Runs `f` on `eng` set to `execution`, then sets it back (also where `f`
+/// panics): for the passes whose `@compute` entry point runs under compute
+/// execution only (`// @execution(compute)`, docs/shaders.md).
+pub fn with_execution<R>(
+    eng: &mut Engine,
+    execution: fxgraph::gpu::executor::Execution,
+    f: impl FnOnce(&mut Engine) -> R,
+) -> R {
+    struct Back<'a>(&'a mut Engine, fxgraph::gpu::executor::Execution);
+    impl Drop for Back<'_> {
+        fn drop(&mut self) {
+            self.0.set_execution(self.1);
+        }
+    }
+    let before = eng.execution();
+    eng.set_execution(execution);
+    let back = Back(eng, before);
+    f(&mut *back.0)
+}
+
 /// The test engine's GPU context (held locked, like [`engine`]), or `None` (test
 /// skipped): for the renderer tests, which need the device and not the engine.
 pub fn gpu_context() -> Option<Gpu> {

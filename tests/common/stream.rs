@@ -80,6 +80,7 @@ pub fn stream_with_aux(
         colorspace,
         aux,
         aux_sizes: Vec::new(),
+        viewport: None,
     };
     let opts = PlanOptions {
         policy: ReusePolicy::Pool,

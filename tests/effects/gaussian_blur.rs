@@ -4,6 +4,7 @@
 use crate::common::samples::*;
 use crate::common::*;
 use crate::oracle::*;
+use fxgraph::gpu::executor::Execution;
 use fxgraph::io::Image;
 use fxgraph::script::types::Format;
 
@@ -99,6 +100,35 @@ fn gaussian_blur_float_matches_oracle() {
             assert!(d < 1e-3, "sigma {sigma} exact={exact}: max abs diff {d}");
         }
     }
+}
+
+/// The vertical pass as a compute pass (its `@compute` entry point: compute
+/// execution, an rgba16f output) against the oracle; sigma 20 (r = 60) takes
+/// two rounds of the staged column window (48 taps either side).
+#[test]
+fn gaussian_blur_compute_columns_match_oracle() {
+    let img = pattern_f32(96, 64);
+    let src = uploaded_f16(&img);
+    let Some(mut eng) = engine() else { return };
+    with_execution(&mut eng, Execution::Compute, |eng| {
+        for sigma in [1.0, 4.0, 20.0] {
+            let sets = format!("sigma={sigma}");
+            let (w, h, px) = run(
+                eng,
+                &["gaussian_blur"],
+                &words(&sets),
+                &img,
+                Format::Rgba16f,
+            )
+            .unwrap();
+            let want = blur_f64(&src, w, h, sigma);
+            let d = max_diff(f32s(&px), &want);
+            eprintln!("gaussian_blur compute columns sigma {sigma}: max abs diff {d:.2e}");
+            // gaussian_blur_float_matches_oracle's bound, and one more rgba16f
+            // step (2^-11 below 1) for the output.
+            assert!(d < 1.5e-3, "sigma {sigma}: max abs diff {d}");
+        }
+    });
 }
 
 /// Colour 8-bit inputs are blurred in linear light: decode, blur, encode.

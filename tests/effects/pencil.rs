@@ -4,6 +4,7 @@
 use crate::common::samples::*;
 use crate::common::*;
 use crate::oracle::*;
+use fxgraph::gpu::executor::{Engine, Execution};
 use fxgraph::script::types::Format;
 
 /// The `pencil` sketch level s of an 8-bit image (sRGB-encoded samples): luma,
@@ -43,11 +44,24 @@ fn pencil_oracle(enc: &[f64], w: u32, h: u32, sigma: f64, darkness: f64) -> Vec<
 #[test]
 fn pencil_matches_the_dodge_oracle() {
     let Some(mut eng) = engine() else { return };
+    matches_the_dodge_oracle(&mut eng);
+}
+
+/// The same with the blurs as compute passes (their `@compute` entry points,
+/// which run under compute execution).
+#[test]
+fn pencil_compute_blurs_match_the_dodge_oracle() {
+    let Some(mut eng) = engine() else { return };
+    with_execution(&mut eng, Execution::Compute, matches_the_dodge_oracle);
+}
+
+fn matches_the_dodge_oracle(eng: &mut Engine) {
+    let how = eng.execution();
     for (w, h, sigma, darkness) in [(67, 41, 2.0, 1.0), (96, 64, 5.0, 1.0), (67, 41, 3.0, 2.5)] {
         let img = pattern_u8(w, h);
         let set = [format!("sigma={sigma}"), format!("darkness={darkness}")];
         let set: Vec<&str> = set.iter().map(|s| s.as_str()).collect();
-        let px = apply_fx(&mut eng, "pencil", &set, &img, Format::Rgba8Srgb);
+        let px = apply_fx(eng, "pencil", &set, &img, Format::Rgba8Srgb);
         let s = pencil_oracle(&unit_u8(&img), w, h, sigma, darkness);
         let want: Vec<f64> = s
             .iter()
@@ -57,13 +71,16 @@ fn pencil_matches_the_dodge_oracle() {
         let got: Vec<f32> = u8s(&px).iter().map(|&b| b as f32).collect();
         let want32: Vec<f32> = want.iter().map(|&v| v.round() as f32).collect();
         let q = psnr(&got, &want32, 255.0);
-        eprintln!("pencil {w}x{h} sigma {sigma} darkness {darkness}: max {max} LSB, {:.2}% off, PSNR {q:.1} dB", off * 100.0);
+        eprintln!("pencil ({how}) {w}x{h} sigma {sigma} darkness {darkness}: max {max} LSB, {:.2}% off, PSNR {q:.1} dB", off * 100.0);
         let allowed = (2.0 * darkness.max(1.0)) as u8;
         assert!(
             max <= allowed,
-            "pencil {w}x{h} sigma {sigma}: {max} LSB from the dodge oracle (allowed {allowed})"
+            "pencil ({how}) {w}x{h} sigma {sigma}: {max} LSB from the dodge oracle (allowed {allowed})"
         );
-        assert!(q > 45.0, "pencil {w}x{h} sigma {sigma}: PSNR {q} dB");
+        assert!(
+            q > 45.0,
+            "pencil ({how}) {w}x{h} sigma {sigma}: PSNR {q} dB"
+        );
     }
 }
 

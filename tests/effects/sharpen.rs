@@ -4,6 +4,7 @@
 use crate::common::samples::*;
 use crate::common::*;
 use crate::oracle::*;
+use fxgraph::gpu::executor::Execution;
 use fxgraph::script::types::Format;
 
 /// Unsharp mask oracle: max(in + amount * d, 0) where |d| >= threshold, d = in - blur.
@@ -75,6 +76,30 @@ fn sharpen_matches_oracle_float() {
             "amount {amount} sigma {sigma} threshold {threshold}: max abs diff {d}"
         );
     }
+}
+
+/// The `sharpen` pass as a compute pass (its `@compute` entry point: compute
+/// execution, an rgba16f output) against the oracle.
+#[test]
+fn sharpen_compute_matches_oracle() {
+    let img = pattern_f32(96, 64);
+    let src = uploaded_f16(&img);
+    let Some(mut eng) = engine() else { return };
+    with_execution(&mut eng, Execution::Compute, |eng| {
+        for (amount, sigma) in [(1.0, 1.5), (3.0, 2.0)] {
+            let sets = format!("amount={amount} sigma={sigma}");
+            let (w, h, px) = run(eng, &["sharpen"], &words(&sets), &img, Format::Rgba16f).unwrap();
+            let want = sharpen_f64(&src, w, h, amount, sigma, 0.0);
+            let d = max_diff(f32s(&px), &want);
+            eprintln!("sharpen compute amount {amount} sigma {sigma}: max abs diff {d:.2e}");
+            // sharpen_matches_oracle_float's bound, and one rgba16f step of
+            // the output (2^-10 up to 2, 2^-9 up to 4).
+            assert!(
+                d < 1e-3 * amount + 2e-3,
+                "amount {amount} sigma {sigma}: max abs diff {d}"
+            );
+        }
+    });
 }
 
 #[test]

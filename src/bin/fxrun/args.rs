@@ -101,8 +101,9 @@ pub(crate) struct Cli {
     /// Print the schedule, the texture lifetime steps and the memory figures.
     #[arg(help_heading = ANALYSIS, long)]
     pub(crate) plan: bool,
-    /// WxH: the size of a rendered --scene (1280x720), or the input size
-    /// --plan/--dot/--check assume (1920x1080).
+    /// WxH: the size of a rendered --scene (1280x720); with -i INPUT, the
+    /// viewport passes scale from (a slang preset's output size; the input's by
+    /// default); or the input size --plan/--dot/--check assume (1920x1080).
     #[arg(help_heading = COMMON, long, value_name = "WxH")]
     pub(crate) size: Option<String>,
     /// With --plan: one JSON object on stdout.

@@ -363,6 +363,7 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         keep_going: cli.keep_going,
         queue: cli.queue.max(1),
         timings: cli.timings || cli.timings_json.is_some(),
+        viewport: crate::viewport_of(cli)?,
     };
     let progress = ProgressLine::new("images");
     // The device is created while the first image decodes.

@@ -159,9 +159,10 @@ fn scene_header_lines(r: &RunReport, s: &SceneStats, size: &str) -> Vec<String> 
             .map(|(name, ms)| format!("{name} {ms:.2}"))
             .collect();
         out.push(format!(
-            "  render cpu {:.2} ms: {} ms",
+            "  render cpu {:.2} ms: {} ms; pipelines created on first use {:.2} ms",
             s.render_cpu_ms,
-            parts.join(", ")
+            parts.join(", "),
+            s.render_pipelines_ms
         ));
     }
     out.push(format!(

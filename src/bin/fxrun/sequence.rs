@@ -61,6 +61,7 @@ pub(crate) fn run_sequence_cli(
             .ycbcr
             .parse()
             .map_err(|e: String| rejected(format!("--ycbcr: {e}")))?,
+        viewport: crate::viewport_of(cli)?,
     };
     let adapter = adapter_choice(&cli.adapter);
     let progress = ProgressLine::new("frames");

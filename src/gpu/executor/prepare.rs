@@ -73,9 +73,10 @@ impl Engine {
     /// pipeline of that entry where the compute path cannot be made on this
     /// adapter or for this format, or where the pass writes the caller's output
     /// (which may be an sRGB or BGRA texture); the frame then draws it where the
-    /// target cannot be stored to. Under fragment execution a reduction (one
-    /// workgroup per output texel) is drawn: on lavapipe such dispatches cost
-    /// more than the fragment pass over the same footprints. Returns the render
+    /// target cannot be stored to. Under fragment execution a pass whose
+    /// invocations share output texels (a reduction, a tile maximum, a block
+    /// matcher's lanes: a third workgroup size above 1) is drawn: on lavapipe
+    /// such dispatches cost more than the fragment pass over the same footprint. Returns the render
     /// pipeline's key too.
     fn pass_pipelines(
         &mut self,
@@ -103,7 +104,7 @@ impl Engine {
             entry: entry.clone(),
             ..key.clone()
         };
-        if self.execution == super::Execution::Fragment && native.per_texel() {
+        if self.execution == super::Execution::Fragment && native.drawn_under_fragment_execution() {
             return Ok((Some(render(self, &fragment_key)?), None, fragment_key));
         }
         let target = source_of(&p.output, None, plan, caller);

@@ -27,6 +27,9 @@ pub(super) struct Lowerer<'a> {
     pub(super) params: Vec<EffectParam>,
     /// `JITTER` requests: (namespace of the effect instance, sequence).
     pub(super) jitter: Vec<(String, JitterPattern)>,
+    /// The graph's output, made when a pass first scales from it (`VIEWPORT`)
+    /// or when the graph is connected.
+    pub(super) output: Option<NodeIndex>,
 }
 
 impl Lowerer<'_> {
@@ -37,6 +40,14 @@ impl Lowerer<'_> {
         let n = self.g.add_node(Node::Input { frame });
         self.inputs.insert(frame, n);
         n
+    }
+
+    /// The graph's output node (`VIEWPORT` in a size rule).
+    pub(super) fn output_node(&mut self) -> NodeIndex {
+        match self.output {
+            Some(n) => n,
+            None => *self.output.insert(self.g.add_node(Node::Output)),
+        }
     }
 
     pub(super) fn node_of(&mut self, r: SourceRef) -> NodeIndex {
@@ -202,11 +213,7 @@ impl Lowerer<'_> {
                     inputs: Vec::new(),
                     params: Vec::new(),
                     defines: Vec::new(),
-                    size: SizeRule::Scale {
-                        sx: 1.0,
-                        sy: 1.0,
-                        of: (inst.effect_in, inst.effect_in),
-                    },
+                    size: SizeRule::scale(1.0, 1.0, inst.effect_in),
                     format,
                     colorspace: p
                         .out
@@ -282,28 +289,48 @@ impl Lowerer<'_> {
         (inputs, input_refs)
     }
 
-    /// The size of shader pass `p`: absolute, or scaled from the input named by
-    /// `OUT.RELATIVE_TO` (the effect's input by default).
+    /// The size of shader pass `p`, axis by axis: pixels (`OUT.SIZE`,
+    /// `OUT.WIDTH`, `OUT.HEIGHT`), or scaled from the image `OUT.RELATIVE_TO`
+    /// names for that axis: the effect's input by default, one of the pass's
+    /// inputs, or `VIEWPORT`, the run's output size.
     fn shader_pass_size(
         &mut self,
         inst: &Instance,
         p: &ast::PassDef,
         input_refs: &HashMap<String, SourceRef>,
     ) -> SizeRule {
-        match (&p.out.size, &p.out.scale) {
-            (Some(s), _) => SizeRule::Absolute(s.node.0, s.node.1),
-            (None, scale) => {
-                let (sx, sy) = scale.as_ref().map(|s| s.node).unwrap_or((1.0, 1.0));
-                let mut node = |name: &str| match input_refs.get(name) {
-                    Some(r) if name != "IN" => self.node_of(*r),
-                    _ => inst.effect_in,
-                };
-                let of = match &p.out.relative_to {
-                    Some(rel) => (node(&rel.node.0), node(&rel.node.1)),
-                    None => (inst.effect_in, inst.effect_in),
-                };
-                SizeRule::Scale { sx, sy, of }
-            }
+        let out = &p.out;
+        let fixed = |i: usize| match (&out.size, &out.width, &out.height) {
+            (Some(s), _, _) => Some(if i == 0 { s.node.0 } else { s.node.1 }),
+            (None, w, h) => if i == 0 { w } else { h }.as_ref().map(|v| v.node),
+        };
+        let (sx, sy) = out.scale.as_ref().map(|s| s.node).unwrap_or((1.0, 1.0));
+        let (rx, ry) = match &out.relative_to {
+            Some(rel) => (rel.node.0.clone(), rel.node.1.clone()),
+            None => ("IN".to_string(), "IN".to_string()),
+        };
+        let mut axis = |pixels: Option<u32>, factor: f64, of: &str| match pixels {
+            Some(n) => AxisSize::Pixels(n),
+            None => AxisSize::Scale(factor, self.relative_node(inst, input_refs, of)),
+        };
+        SizeRule {
+            x: axis(fixed(0), sx, &rx),
+            y: axis(fixed(1), sy, &ry),
+        }
+    }
+
+    /// The node `OUT.RELATIVE_TO` names: a pass input, `VIEWPORT` (the graph's
+    /// output), or the effect's input (`IN`, and names the check rejected).
+    fn relative_node(
+        &mut self,
+        inst: &Instance,
+        input_refs: &HashMap<String, SourceRef>,
+        name: &str,
+    ) -> NodeIndex {
+        match input_refs.get(name) {
+            Some(r) if name != "IN" => self.node_of(*r),
+            _ if name == ast::VIEWPORT => self.output_node(),
+            _ => inst.effect_in,
         }
     }
 

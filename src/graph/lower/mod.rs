@@ -123,6 +123,7 @@ fn compile_inner(req: &CompileRequest) -> Compiled {
         overrides,
         params: Vec::new(),
         jitter: Vec::new(),
+        output: None,
     };
     let (current, descriptions) = lw.expand_entries(&entries);
     lw.report_unused_overrides();
@@ -255,7 +256,7 @@ impl Lowerer<'_> {
 
     /// The output node, reading `current`, and the edges of every pass input.
     fn connect(&mut self, current: SourceRef) -> NodeIndex {
-        let output = self.g.add_node(Node::Output);
+        let output = self.output_node();
         let out_node = self.node_of(current);
         self.g.add_edge(out_node, output, Edge { input: 0 });
         for (src, dst, input, _span) in std::mem::take(&mut self.edges) {

@@ -9,7 +9,7 @@
 //! otherwise it is released and a new one created later. So on every graph the
 //! plan's peak equals the lower bound (`peak_bytes == lower_bound_bytes`).
 
-use super::{FormatRule, Graph, Node, SizeRule};
+use super::{AxisSize, FormatRule, Graph, Node, PassNode, SizeRule};
 use crate::script::ast::MAX_SIDE;
 use crate::script::jitter::JitterPattern;
 use crate::script::types::{ColorSpace, Format, Sampling};
@@ -41,6 +41,9 @@ pub struct InputDesc {
     /// slang preset's LUT): `(name, (width, height))`. An auxiliary image not
     /// listed has the input's size (the renderer's G-buffer).
     pub aux_sizes: Vec<(String, (u32, u32))>,
+    /// The run's output size, which passes scale from as `VIEWPORT`
+    /// (`None`: the input's size).
+    pub viewport: Option<(u32, u32)>,
 }
 
 impl InputDesc {
@@ -53,7 +56,19 @@ impl InputDesc {
             colorspace: ColorSpace::Linear,
             aux: Vec::new(),
             aux_sizes: Vec::new(),
+            viewport: None,
         }
+    }
+
+    /// The run's output size: [`InputDesc::viewport`], or the input's size.
+    pub fn viewport(&self) -> (u32, u32) {
+        self.viewport.unwrap_or((self.width, self.height))
+    }
+
+    /// Sets the run's output size (`VIEWPORT` in size rules).
+    pub fn with_viewport(mut self, viewport: Option<(u32, u32)>) -> Self {
+        self.viewport = viewport;
+        self
     }
 
     /// Gives auxiliary image `name` its own size `(width, height)`.

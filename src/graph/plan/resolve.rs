@@ -16,65 +16,68 @@ impl Resolver<'_> {
         }
         self.sizes.insert(n, None); // in progress: a size that depends on itself is None
         let s = match &self.graph.graph[n] {
-            Node::Input { .. } | Node::Output => Some((self.input.width, self.input.height)),
+            Node::Input { .. } => Some((self.input.width, self.input.height)),
             Node::Aux { name, .. } => Some(self.input.aux_size(name)),
+            Node::Output => Some(self.input.viewport()),
             Node::Feedback { pass, .. } => self.size(*pass),
-            Node::Pass(p) => match &p.size {
-                SizeRule::Absolute(w, h) => Some((*w, *h)),
-                SizeRule::Scale { sx, sy, of } => {
-                    let size_of =
-                        |r: &mut Self, m: NodeIndex| if m == n { None } else { r.size(m) };
-                    let base = match (size_of(self, of.0), size_of(self, of.1)) {
-                        (Some((w, _)), Some((_, h))) => Some((w, h)),
-                        _ => None,
-                    };
-                    match base {
-                        None => {
-                            self.diags.push(
-                                Diagnostic::error(format!(
-                                    "the size of pass `{}` depends on itself",
-                                    p.path
-                                ))
-                                .at(
-                                    p.name_span,
-                                    "its OUT.RELATIVE_TO input is sized from this pass",
-                                ),
-                            );
-                            None
-                        }
-                        Some((w, h)) => {
-                            let (fw, fh) = ((w as f64 * sx).round(), (h as f64 * sy).round());
-                            if fw > MAX_SIDE as f64 || fh > MAX_SIDE as f64 {
-                                self.diags.push(
-                                    Diagnostic::error(format!(
-                                        "pass `{}` would be {}x{} px for a {}x{} input, larger than {MAX_SIDE} px",
-                                        p.path, fw, fh, self.input.width, self.input.height
-                                    ))
-                                    .at(p.name_span, "output too large"),
-                                );
-                                None
-                            } else {
-                                let out = ((fw as u32).max(1), (fh as u32).max(1));
-                                let growth = (out.0 as f64 / self.input.width as f64)
-                                    .max(out.1 as f64 / self.input.height as f64);
-                                if growth > 4.0 {
-                                    self.diags.push(
-                                        Diagnostic::warning(format!(
-                                            "pass `{}` is {:.0}x larger than the effect input ({}x{} px)",
-                                            p.path, growth, out.0, out.1
-                                        ))
-                                        .at(p.name_span, "pathological growth"),
-                                    );
-                                }
-                                Some(out)
-                            }
-                        }
-                    }
-                }
-            },
+            Node::Pass(p) => self.pass_size(n, p, &p.size),
         };
         self.sizes.insert(n, s);
         s
+    }
+
+    /// The size `rule` gives pass `n`, axis by axis; `None` (reported) when it
+    /// depends on itself or is too large.
+    fn pass_size(&mut self, n: NodeIndex, p: &PassNode, rule: &SizeRule) -> Option<(u32, u32)> {
+        let w = self.axis_size(n, rule.x, |s| s.0);
+        let h = self.axis_size(n, rule.y, |s| s.1);
+        let (Some(fw), Some(fh)) = (w, h) else {
+            self.diags.push(
+                Diagnostic::error(format!("the size of pass `{}` depends on itself", p.path)).at(
+                    p.name_span,
+                    "its OUT.RELATIVE_TO input is sized from this pass",
+                ),
+            );
+            return None;
+        };
+        if fw > MAX_SIDE as f64 || fh > MAX_SIDE as f64 {
+            self.diags.push(
+                Diagnostic::error(format!(
+                    "pass `{}` would be {}x{} px for a {}x{} input, larger than {MAX_SIDE} px",
+                    p.path, fw, fh, self.input.width, self.input.height
+                ))
+                .at(p.name_span, "output too large"),
+            );
+            return None;
+        }
+        let out = ((fw as u32).max(1), (fh as u32).max(1));
+        let growth =
+            (out.0 as f64 / self.input.width as f64).max(out.1 as f64 / self.input.height as f64);
+        if growth > 4.0 {
+            self.diags.push(
+                Diagnostic::warning(format!(
+                    "pass `{}` is {:.0}x larger than the effect input ({}x{} px)",
+                    p.path, growth, out.0, out.1
+                ))
+                .at(p.name_span, "pathological growth"),
+            );
+        }
+        Some(out)
+    }
+
+    /// One axis of pass `n`'s size, in (rounded) pixels; `None` when it is
+    /// scaled from the pass itself or from a node whose size depends on it.
+    fn axis_size(
+        &mut self,
+        n: NodeIndex,
+        axis: AxisSize,
+        pick: fn((u32, u32)) -> u32,
+    ) -> Option<f64> {
+        match axis {
+            AxisSize::Pixels(v) => Some(v as f64),
+            AxisSize::Scale(_, of) if of == n => None,
+            AxisSize::Scale(f, of) => self.size(of).map(|s| (pick(s) as f64 * f).round()),
+        }
     }
 
     pub(super) fn format(&self, n: NodeIndex, depth: usize) -> Format {

@@ -290,7 +290,7 @@ fn create_shared(
             module: &module,
             entry_point: Some("fx_cs_skin"),
             compilation_options: Default::default(),
-            cache: None,
+            cache: ctx.pipeline_cache.as_ref(),
         });
         let init = |label: &str, contents: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

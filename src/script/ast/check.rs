@@ -265,9 +265,9 @@ fn check_references(e: &EffectDef, diags: &mut Diagnostics) {
         }
         if let Some(rel) = &p.out.relative_to {
             let (x, y) = &rel.node;
-            let unknown = [x, y]
-                .into_iter()
-                .find(|n| *n != "IN" && !p.inputs.iter().any(|i| i.name.node == **n));
+            let unknown = [x, y].into_iter().find(|n| {
+                *n != "IN" && *n != VIEWPORT && !p.inputs.iter().any(|i| i.name.node == **n)
+            });
             if let Some(name) = unknown {
                 diags.push(
                     Diagnostic::error(format!(
@@ -275,7 +275,7 @@ fn check_references(e: &EffectDef, diags: &mut Diagnostics) {
                         name, p.name.node
                     ))
                     .at(rel.span, "not an input of this pass")
-                    .note("an input of the pass, or IN for the effect's input"),
+                    .note("an input of the pass, IN for the effect's input, or VIEWPORT for the run's output size"),
                 );
             }
         }

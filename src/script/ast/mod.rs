@@ -148,9 +148,16 @@ pub enum DefineArg {
     Param(Spanned<String>),
 }
 
+/// The name `OUT.RELATIVE_TO` gives the run's output size: the input's, or
+/// the one the run asks for (`fxrun --size` on images; a slang preset's viewport).
+pub const VIEWPORT: &str = "VIEWPORT";
+
 #[derive(Debug, Clone, Default)]
 pub struct OutSpec {
     pub size: Option<Spanned<(u32, u32)>>,
+    /// `OUT.WIDTH` / `OUT.HEIGHT`: one axis in pixels, the other scaled.
+    pub width: Option<Spanned<u32>>,
+    pub height: Option<Spanned<u32>>,
     pub scale: Option<Spanned<(f64, f64)>>,
     /// `OUT.RELATIVE_TO`: the images the width and the height scale, each an
     /// input of the pass or `IN` (the effect's input); one name gives both.

@@ -139,7 +139,7 @@ fn check_pass_attr(pass: &mut PassDef, is_effect: bool, s: &Stmt, diags: &mut Di
         _ => diags.push(
             Diagnostic::error(format!("unknown pass attribute `{}`", s.key.dotted()))
                 .at(s.key.span, "not a pass attribute")
-                .note("a pass contains inputs (`img = IN`), parameters (`threshold = 0.8`), `img.FILTER`, `img.WRAP`, `img.MIPMAP`, `img.COLORSPACE`, `OUT.SIZE`, `OUT.SCALE`, `OUT.RELATIVE_TO`, `OUT.FORMAT`, `OUT.COLORSPACE` and `DEFINE.NAME`"),
+                .note("a pass contains inputs (`img = IN`), parameters (`threshold = 0.8`), `img.FILTER`, `img.WRAP`, `img.MIPMAP`, `img.COLORSPACE`, `OUT.SIZE`, `OUT.WIDTH`, `OUT.HEIGHT`, `OUT.SCALE`, `OUT.RELATIVE_TO`, `OUT.FORMAT`, `OUT.COLORSPACE` and `DEFINE.NAME`"),
         ),
     }
 }
@@ -351,17 +351,15 @@ fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnosti
     match attr {
         "SIZE" => {
             let Some((w, h)) = pair(s, diags, "a size `(width, height)` in pixels") else { return };
-            if w.fract() != 0.0 || h.fract() != 0.0 || w < 0.0 || h < 0.0 {
-                diags.push(Diagnostic::error("`OUT.SIZE` takes whole numbers of pixels").at(s.value.span, "not whole pixel counts"));
-            } else if w == 0.0 || h == 0.0 {
-                diags.push(Diagnostic::error("an output size of 0 pixels").at(s.value.span, "width and height must be at least 1"));
-            } else if w > MAX_SIDE as f64 || h > MAX_SIDE as f64 {
-                diags.push(
-                    Diagnostic::error(format!("output size {}x{} is larger than {MAX_SIDE} px", w, h))
-                        .at(s.value.span, format!("at most {MAX_SIDE} on a side")),
-                );
-            } else {
-                out.size = Some(Spanned::new((w as u32, h as u32), s.value.span));
+            if let Some(v) = pixel_counts(&[w, h], s, diags) {
+                out.size = Some(Spanned::new((v[0], v[1]), s.value.span));
+            }
+        }
+        "WIDTH" | "HEIGHT" => {
+            let Some(n) = one_number(s, diags) else { return };
+            if let Some(v) = pixel_counts(&[n], s, diags) {
+                let axis = if attr == "WIDTH" { &mut out.width } else { &mut out.height };
+                *axis = Some(Spanned::new(v[0], s.value.span));
             }
         }
         "SCALE" => {
@@ -379,7 +377,7 @@ fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnosti
             Some(names) => out.relative_to = Some(Spanned::new(names, s.value.span)),
             None => diags.push(type_error(
                 s,
-                "the name of one of this pass's inputs (or `IN`), or a pair `(width's, height's)`",
+                "the name of one of this pass's inputs (or `IN`, or `VIEWPORT`), or a pair `(width's, height's)`",
                 &s.value.node,
             )),
         },
@@ -388,11 +386,89 @@ fn check_out_attr(out: &mut OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnosti
         _ => diags.push(
             Diagnostic::error(format!("unknown output attribute `OUT.{attr}`"))
                 .at(s.key.span, "not an output attribute")
-                .note(match suggest(attr, ["SIZE", "SCALE", "RELATIVE_TO", "FORMAT", "COLORSPACE"].into_iter()) {
+                .note(match suggest(attr, OUT_ATTRIBUTES.into_iter()) {
                     Some(x) => format!("did you mean `OUT.{x}`?"),
-                    None => "output attributes: OUT.SIZE, OUT.SCALE, OUT.RELATIVE_TO, OUT.FORMAT, OUT.COLORSPACE".to_string(),
+                    None => format!("output attributes: OUT.{}", OUT_ATTRIBUTES.join(", OUT.")),
                 }),
         ),
+    }
+    check_size_attrs_agree(out, attr, s, diags);
+}
+
+const OUT_ATTRIBUTES: [&str; 7] = [
+    "SIZE",
+    "WIDTH",
+    "HEIGHT",
+    "SCALE",
+    "RELATIVE_TO",
+    "FORMAT",
+    "COLORSPACE",
+];
+
+/// Whole, positive numbers of pixels no larger than `MAX_SIDE` (`OUT.SIZE`'s
+/// two, `OUT.WIDTH`'s one), or the one error they make.
+fn pixel_counts(v: &[f64], s: &Stmt, diags: &mut Diagnostics) -> Option<Vec<u32>> {
+    let what = s.key.dotted();
+    let shown = v
+        .iter()
+        .map(|n| n.to_string())
+        .collect::<Vec<_>>()
+        .join("x");
+    if v.iter().any(|n| n.fract() != 0.0 || *n < 0.0 || n.is_nan()) {
+        diags.push(
+            Diagnostic::error(format!("`{what}` takes whole numbers of pixels"))
+                .at(s.value.span, "not whole pixel counts"),
+        );
+    } else if v.contains(&0.0) {
+        diags.push(
+            Diagnostic::error("an output size of 0 pixels")
+                .at(s.value.span, "width and height must be at least 1"),
+        );
+    } else if v.iter().any(|n| *n > MAX_SIDE as f64) {
+        diags.push(
+            Diagnostic::error(format!("output size {shown} is larger than {MAX_SIDE} px"))
+                .at(s.value.span, format!("at most {MAX_SIDE} on a side")),
+        );
+    } else {
+        return Some(v.iter().map(|n| *n as u32).collect());
+    }
+    None
+}
+
+/// The single number of `OUT.WIDTH = 640`.
+fn one_number(s: &Stmt, diags: &mut Diagnostics) -> Option<f64> {
+    match &s.value.node {
+        RawValue::Number(n) => Some(*n),
+        other => {
+            diags.push(type_error(s, "a number of pixels", other));
+            None
+        }
+    }
+}
+
+/// `OUT.SIZE` fixes both axes, so it excludes `OUT.SCALE`, `OUT.WIDTH` and
+/// `OUT.HEIGHT`; `OUT.WIDTH` with `OUT.HEIGHT` leaves `OUT.SCALE` no axis.
+fn check_size_attrs_agree(out: &OutSpec, attr: &str, s: &Stmt, diags: &mut Diagnostics) {
+    if !matches!(attr, "SIZE" | "SCALE" | "WIDTH" | "HEIGHT") {
+        return;
+    }
+    let size = out.size.is_some();
+    let axes = out.width.is_some() || out.height.is_some();
+    if size && axes && attr != "SCALE" {
+        diags.push(
+            Diagnostic::error("`OUT.SIZE` with `OUT.WIDTH` or `OUT.HEIGHT`").at(
+                s.key.span,
+                "OUT.SIZE sets both axes; OUT.WIDTH and OUT.HEIGHT set one each",
+            ),
+        );
+    }
+    if out.width.is_some() && out.height.is_some() && out.scale.is_some() && attr != "SIZE" {
+        diags.push(
+            Diagnostic::error("`OUT.SCALE` with both `OUT.WIDTH` and `OUT.HEIGHT`").at(
+                s.key.span,
+                "both axes are in pixels: the scale has no axis to scale",
+            ),
+        );
     }
     if out.size.is_some() && out.scale.is_some() && matches!(attr, "SIZE" | "SCALE") {
         diags.push(Diagnostic::error("`OUT.SIZE` and `OUT.SCALE` both set").at(

@@ -243,6 +243,7 @@ fn run_gbuffer(
         colorspace: ColorSpace::Linear,
         aux: aux.iter().map(|n| (n.to_string(), formats[*n])).collect(),
         aux_sizes: Vec::new(),
+        viewport: None,
     };
     let mut prepared = e
         .prepare(engine, &desc, Some(Format::Rgba32f))
