@@ -306,12 +306,24 @@ fn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @lo
     );
 }
 
-/// Numbered EXR frames of a moving picture: `dir/seq/0000.exr` ...
+/// Numbered EXR frames of a moving picture with noise that changes every
+/// frame (±0.1, a fixed hash): `dir/seq/0000.exr` ... The noise gives motion
+/// searches and keys discrete choices to make, where a last-bit difference
+/// between the paths would show (temporal_denoise's luma levels sampled at the
+/// interpolated `uv` made its outputs differ by up to 0.17).
 fn sequence(dir: &Path, frames: u32) -> PathBuf {
     let seq = dir.join("seq");
     std::fs::create_dir_all(&seq).unwrap();
     for i in 0..frames {
-        save(&seq.join(format!("{i:04}.exr")), &picture(2 * i));
+        let mut img = picture(2 * i);
+        if let Pixels::F32(px) = &mut img.pixels {
+            for (k, v) in px.iter_mut().enumerate().filter(|(k, _)| k % 4 != 3) {
+                let h = (k as u32 ^ i.wrapping_mul(0x9e37_79b9)).wrapping_mul(0x85eb_ca6b);
+                let n = (h >> 8) as f32 / (1u32 << 24) as f32 - 0.5;
+                *v = (*v + 0.2 * n).clamp(0.0, 1.0);
+            }
+        }
+        save(&seq.join(format!("{i:04}.exr")), &img);
     }
     seq
 }

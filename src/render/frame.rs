@@ -2,7 +2,7 @@
 //! recording itself is `frame_record.rs`).
 
 use super::error::RenderError;
-use super::frame_record::{geo_key, light_compute_of, Recorder};
+use super::frame_record::{computes_aux, geo_key, light_compute_of, Recorder};
 pub(crate) use super::frame_record::{FrameGpu, FramePipelines};
 use super::light_compute::{ComputeLighting, LightCompute};
 use super::lights::FrameLists;
@@ -31,13 +31,6 @@ fn computes_lights(opts: &RendererOptions, technique: Technique) -> bool {
     technique != Technique::Forward
         && opts.compute_lighting
         && opts.light_culling != super::clusters::LightCulling::Volumes
-}
-
-/// Whether AUX.depth, normal, position and the camera motion are resolved by
-/// a compute dispatch (`fx_cs_aux_a`): with compute lighting on, where the
-/// adapter can store to their formats; else the fragment pass draws them.
-pub(super) fn computes_aux(r: &FrameGpu<'_>) -> bool {
-    r.opts.compute_lighting && r.layouts.g2_aux_compute.is_some()
 }
 
 /// The geometry pipelines of `technique` (with a forward loop of `lights`):

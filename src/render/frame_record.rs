@@ -74,6 +74,13 @@ pub(super) fn geo_key(
     }
 }
 
+/// Whether AUX.depth, normal, position and the camera motion are resolved by
+/// a compute dispatch (`fx_cs_aux_a`): with compute lighting on, where the
+/// adapter can store to their formats; else the fragment pass draws them.
+pub(super) fn computes_aux(r: &FrameGpu<'_>) -> bool {
+    r.opts.compute_lighting && r.layouts.g2_aux_compute.is_some()
+}
+
 /// The compute light pass of `technique`.
 pub(super) fn light_compute_of(technique: Technique) -> LightCompute {
     match technique {
@@ -364,7 +371,7 @@ impl<'a> Recorder<'a> {
         let zero = clear_to(Vec4::ZERO);
         let first_half = "aux depth/normal/position/motion";
         let drawn: &[(LightPipe, &[usize], &str)] = match &t.bg_aux_compute {
-            Some(outputs) if super::frame::computes_aux(r) => {
+            Some(outputs) if computes_aux(r) => {
                 p.light_compute.encode(
                     encoder,
                     LightCompute::AuxResolve,
