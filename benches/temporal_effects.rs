@@ -77,6 +77,7 @@ fn main() {
             ("motion".into(), Format::Rgba16f),
             ("depth".into(), Format::Rgba16f),
         ],
+        aux_sizes: Vec::new(),
         viewport: None,
     };
     let names = ["fxaa", "taa", "motion_blur"];

@@ -95,6 +95,7 @@ fn input_desc() -> InputDesc {
         format: Format::Rgba16f,
         colorspace: ColorSpace::Linear,
         aux: Vec::new(),
+        aux_sizes: Vec::new(),
         viewport: None,
     }
 }

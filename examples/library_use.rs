@@ -84,6 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         format: Format::Rgba16f,
         colorspace: fxgraph::script::types::ColorSpace::Linear,
         aux: Vec::new(),
+        aux_sizes: Vec::new(),
         viewport: None,
     };
     let mut prepared = effect.prepare(&mut engine, &desc, Some(Format::Rgba8Srgb))?;

@@ -30,6 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         format,
         colorspace,
         aux: Vec::new(),
+        aux_sizes: Vec::new(),
         viewport: None,
     };
     let mut effect = Effect::compile(std::slice::from_ref(name), &[])?;

@@ -162,6 +162,7 @@ fn f32_input() -> InputDesc {
         format: Format::Rgba32f,
         colorspace: ColorSpace::Linear,
         aux: vec![],
+        aux_sizes: Vec::new(),
         viewport: None,
     }
 }

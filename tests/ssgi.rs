@@ -224,6 +224,7 @@ fn render_and_run(sets: &[&str], frames: usize) -> (Vec<[f32; 4]>, Vec<Vec<[f32;
         format: Format::Rgba16f,
         colorspace: ColorSpace::Linear,
         aux: r.aux_formats().to_vec(),
+        aux_sizes: Vec::new(),
         viewport: None,
     };
     let mut prepared = fx

@@ -29,6 +29,8 @@ struct PlanKey {
     colorspace: ColorSpace,
     output: Format,
     aux: Vec<(String, Format)>,
+    /// Each auxiliary image's own size (it may differ from the input's).
+    aux_sizes: Vec<(String, (u32, u32))>,
 }
 
 /// The effect prepared for one [`PlanKey`], with its input and output textures.
@@ -54,23 +56,6 @@ struct StillFrame {
     number: u64,
     name: String,
     decode_time: Duration,
-}
-
-/// Refuses auxiliary images of another size than the input.
-fn check_aux_sizes(img: &Image, aux: &[(String, Image)]) -> Result<(), RunError> {
-    if let Some((name, a)) = aux
-        .iter()
-        .find(|(_, a)| (a.width, a.height) != (img.width, img.height))
-    {
-        return Err(RunError::BadInput(IoError::Unsupported {
-            path: format!("AUX.{name}").into(),
-            message: format!(
-                "the auxiliary image is {}x{}, the input is {}x{}: they must have one size",
-                a.width, a.height, img.width, img.height
-            ),
-        }));
-    }
-    Ok(())
 }
 
 /// The GPU thread's state.
@@ -321,7 +306,6 @@ impl<'a, 'r> GpuStage<'a, 'r> {
         number: u64,
     ) -> Result<PendingReadback, RunError> {
         let assume_linear = self.opts.assume_linear;
-        check_aux_sizes(img, aux)?;
         let (in_format, colorspace) = input_format(img, assume_linear);
         let key = PlanKey {
             width: img.width,
@@ -332,6 +316,10 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             aux: aux
                 .iter()
                 .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
+                .collect(),
+            aux_sizes: aux
+                .iter()
+                .map(|(n, a)| (n.clone(), (a.width, a.height)))
                 .collect(),
         };
         let ctx = self.engine.ctx.clone();
@@ -382,6 +370,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             format: key.input,
             colorspace: key.colorspace,
             aux: key.aux.clone(),
+            aux_sizes: key.aux_sizes.clone(),
             viewport: self.opts.viewport,
         };
         // Transient textures come from the engine's pool, kept for the next frame.
@@ -454,6 +443,7 @@ impl<'a, 'r> GpuStage<'a, 'r> {
                 format: fmt,
                 colorspace: cs,
                 aux: Vec::new(),
+                aux_sizes: Vec::new(),
                 viewport: self.opts.viewport,
             };
             let mut prepared = self.effect.prepare_with(

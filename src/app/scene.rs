@@ -117,6 +117,7 @@ impl SceneJob {
             format: Format::Rgba16f,
             colorspace: ColorSpace::Linear,
             aux: renderer.aux_formats().to_vec(),
+            aux_sizes: Vec::new(),
             viewport: None,
         }
     }

@@ -127,6 +127,7 @@ impl SceneFrames {
             format: Format::Rgba16f,
             colorspace: ColorSpace::Linear,
             aux: self.aux_formats().to_vec(),
+            aux_sizes: Vec::new(),
             viewport: None,
         }
     }

@@ -15,7 +15,7 @@ use fxgraph::graph::{compile, dot, library};
 use fxgraph::io::sequence::{parse_frames, InputSequence, OutputPattern, SequenceSpec};
 use fxgraph::script::types::format_value;
 use std::io::{IsTerminal, Write as _};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -56,14 +56,18 @@ struct Fail {
 
 /// What a plan without a real input is made for (`--check`, `--plan`, `--dot`,
 /// `--watch`'s shader list): a `w`x`h` 8-bit sRGB image with the renderer's AUX
-/// images, and the `--aux NAME=FILE` images as 8-bit sRGB.
+/// images, and the `--aux NAME=FILE` images as 8-bit sRGB at their own size
+/// (the input's where the file's cannot be read: the run reports that).
 fn planning_input(cli: &Cli, w: u32, h: u32) -> InputDesc {
     let mut desc = InputDesc::rgba8_srgb(w, h).with_aux(&fxgraph::render::published_aux(true));
     for a in &cli.aux {
-        let name = a.split_once('=').map(|(n, _)| n).unwrap_or(a);
+        let (name, file) = a.split_once('=').unwrap_or((a, ""));
         desc.aux.retain(|(n, _)| n != name);
         desc.aux
             .push((name.to_string(), fxgraph::script::types::Format::Rgba8Srgb));
+        if let Ok(size) = fxgraph::io::image_file_dimensions(Path::new(file)) {
+            desc = desc.with_aux_size(name, size);
+        }
     }
     desc
 }

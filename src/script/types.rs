@@ -208,6 +208,10 @@ pub struct Sampling {
     pub filter: Filter,
     pub wrap_u: Wrap,
     pub wrap_v: Wrap,
+    /// `NAME.MIPMAP = true`: the input is read with its full mip chain (made
+    /// after its producer writes it, box-filtered), and `filter` is also the
+    /// filter between mip levels. Without it, samples read level 0 only.
+    pub mipmap: bool,
 }
 
 /// Auxiliary scene images the deferred renderer provides (G-buffer), plus any

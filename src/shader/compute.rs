@@ -9,8 +9,11 @@
 //!    `@location(0)` result a plain result);
 //! 2. every implicit-derivative sample (`textureSample`, `textureSampleBias`,
 //!    `textureSampleCompare`) samples level 0 explicitly: pass textures have one
-//!    mip level, so the level an implicit sample computes is always 0 and the
-//!    result is the same texel fetch and filter;
+//!    mip level (and samplers of inputs without `NAME.MIPMAP` read level 0 only),
+//!    so the level an implicit sample computes is always 0 and the result is the
+//!    same texel fetch and filter. An implicit sample of a mipmapped input
+//!    (`NAME.MIPMAP = true`) needs the derivatives the fragment stage has: such a
+//!    shader is [`ComputeUnsupported::FragmentOnly`];
 //! 3. a `@compute @workgroup_size(8, 8)` entry point computes, for each invocation
 //!    inside the target, the same `pos` (pixel centre, `z = 0`, `w = 1`) and `uv`
 //!    (`pos.xy / size`) the rasteriser gives the fragment stage, calls the
@@ -70,16 +73,24 @@ enum Arg {
 
 /// The WGSL of `wgsl`'s fragment entry point `entry` as the compute entry point
 /// [`COMPUTE_ENTRY`], writing `target`.
+/// `mipmapped` names the textures read with a mip chain.
 pub fn wrap_fragment_as_compute(
     wgsl: &str,
     entry: &str,
     target: &StorageTarget,
+    mipmapped: &[String],
 ) -> Result<String, ComputeUnsupported> {
     let mut module = naga::front::wgsl::parse_str(wgsl)
         .map_err(|e| ComputeUnsupported::Parse(e.message().to_string()))?;
     let args = demote_entry_point(&mut module, entry)?;
+    let mips: Vec<_> = module
+        .global_variables
+        .iter()
+        .filter(|(_, g)| g.name.as_ref().is_some_and(|n| mipmapped.contains(n)))
+        .map(|(h, _)| h)
+        .collect();
     for (_, f) in module.functions.iter_mut() {
-        sample_level_zero(f)?;
+        sample_level_zero(f, &mips)?;
     }
     let body = write_wgsl(&module)?;
     Ok(format!("{body}\n{}", compute_entry(&args, target)))
@@ -123,9 +134,29 @@ fn demote_entry_point(
 /// The name the fragment function gets in the compute module.
 const BODY: &str = "fxgraph_fragment_body";
 
-/// Implicit-level samples become level-0 samples; fragment-only operations are
-/// refused.
-fn sample_level_zero(f: &mut naga::Function) -> Result<(), ComputeUnsupported> {
+/// Implicit-level samples become level-0 samples; fragment-only operations
+/// (and implicit-level samples of the mipmapped textures `mips`, or of a
+/// texture passed as an argument when there are any) are refused.
+fn sample_level_zero(
+    f: &mut naga::Function,
+    mips: &[naga::Handle<naga::GlobalVariable>],
+) -> Result<(), ComputeUnsupported> {
+    let mipmapped = |e: &Expression| match e {
+        Expression::GlobalVariable(g) => mips.contains(g),
+        _ => !mips.is_empty(),
+    };
+    let implicit_of_mips = f.expressions.iter().any(|(_, e)| match e {
+        Expression::ImageSample { image, level, .. } => {
+            matches!(level, SampleLevel::Auto | SampleLevel::Bias(_))
+                && mipmapped(&f.expressions[*image])
+        }
+        _ => false,
+    });
+    if implicit_of_mips {
+        return Err(ComputeUnsupported::FragmentOnly(
+            "an implicit-level sample (textureSample, textureSampleBias) of a mipmapped input",
+        ));
+    }
     for (_, e) in f.expressions.iter_mut() {
         match e {
             Expression::ImageSample { level, .. } => {
@@ -263,7 +294,7 @@ fn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @lo
 
     #[test]
     fn implicit_samples_become_level_zero_everywhere() {
-        let out = wrap_fragment_as_compute(SAMPLING, "fs_main", &target()).unwrap();
+        let out = wrap_fragment_as_compute(SAMPLING, "fs_main", &target(), &[]).unwrap();
         valid(&out);
         assert!(!out.contains("@fragment"), "{out}");
         assert!(out.contains("textureSampleLevel"), "{out}");
@@ -277,11 +308,11 @@ fn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @lo
     #[test]
     fn arguments_in_any_order_or_none() {
         let pos_only = "@fragment fn main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> { return p; }";
-        let out = wrap_fragment_as_compute(pos_only, "main", &target()).unwrap();
+        let out = wrap_fragment_as_compute(pos_only, "main", &target(), &[]).unwrap();
         valid(&out);
         assert!(out.contains("fxgraph_fragment_body(fxgraph_pos)"), "{out}");
         let none = "@fragment fn main() -> @location(0) vec4<f32> { return vec4<f32>(1.0); }";
-        valid(&wrap_fragment_as_compute(none, "main", &target()).unwrap());
+        valid(&wrap_fragment_as_compute(none, "main", &target(), &[]).unwrap());
     }
 
     #[test]
@@ -291,7 +322,7 @@ fn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @lo
             encode_srgb: true,
             binding: 3,
         };
-        let out = wrap_fragment_as_compute(SAMPLING, "fs_main", &t).unwrap();
+        let out = wrap_fragment_as_compute(SAMPLING, "fs_main", &t, &[]).unwrap();
         valid(&out);
         assert!(out.contains("texture_storage_2d<rgba8unorm, write>"));
         assert!(out.contains("fxgraph_srgb_encode(fxgraph_color)"));
@@ -301,22 +332,48 @@ fn fs_main(@location(0) uv: vec2<f32>, @builtin(position) pos: vec4<f32>) -> @lo
     fn fragment_only_shaders_are_refused() {
         let deriv = "@fragment fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> { return vec4<f32>(fwidth(uv), 0.0, 1.0); }";
         assert!(matches!(
-            wrap_fragment_as_compute(deriv, "fs_main", &target()),
+            wrap_fragment_as_compute(deriv, "fs_main", &target(), &[]),
             Err(ComputeUnsupported::FragmentOnly(_))
         ));
         let kill = "@fragment fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> { if uv.x > 0.5 { discard; } return vec4<f32>(1.0); }";
         assert!(matches!(
-            wrap_fragment_as_compute(kill, "fs_main", &target()),
+            wrap_fragment_as_compute(kill, "fs_main", &target(), &[]),
             Err(ComputeUnsupported::FragmentOnly(_))
         ));
         let other_input = "@fragment fn fs_main(@builtin(front_facing) f: bool) -> @location(0) vec4<f32> { return vec4<f32>(1.0); }";
         assert!(matches!(
-            wrap_fragment_as_compute(other_input, "fs_main", &target()),
+            wrap_fragment_as_compute(other_input, "fs_main", &target(), &[]),
             Err(ComputeUnsupported::Input(_))
         ));
         assert!(matches!(
-            wrap_fragment_as_compute(SAMPLING, "nope", &target()),
+            wrap_fragment_as_compute(SAMPLING, "nope", &target(), &[]),
             Err(ComputeUnsupported::NoEntry(_))
+        ));
+    }
+
+    #[test]
+    fn implicit_samples_of_mipmapped_inputs_stay_fragment() {
+        let mips = ["img".to_string()];
+        // Through a helper taking the texture as an argument: refused.
+        assert!(matches!(
+            wrap_fragment_as_compute(SAMPLING, "fs_main", &target(), &mips),
+            Err(ComputeUnsupported::FragmentOnly(_))
+        ));
+        let direct = "
+@group(0) @binding(0) var img: texture_2d<f32>;
+@group(0) @binding(1) var lut: texture_2d<f32>;
+@group(0) @binding(2) var s: sampler;
+@fragment
+fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
+    return textureSample(lut, s, uv) + textureSampleLevel(img, s, uv, 2.0);
+}
+";
+        // An explicit level of the mipmapped input, an implicit one of another.
+        valid(&wrap_fragment_as_compute(direct, "fs_main", &target(), &mips).unwrap());
+        let lut = ["lut".to_string()];
+        assert!(matches!(
+            wrap_fragment_as_compute(direct, "fs_main", &target(), &lut),
+            Err(ComputeUnsupported::FragmentOnly(_))
         ));
     }
 }

@@ -61,7 +61,7 @@ pub fn load_plan_shaders(
                     None,
                 )
             }
-            PassShader::Blit => (
+            PassShader::Blit | PassShader::Mips => (
                 find_shader("_blit", None, &[]).expect("built-in shader"),
                 Vec::new(),
                 None,

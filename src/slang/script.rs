@@ -100,6 +100,9 @@ fn write_pass(out: &mut String, s: &ScriptInput, i: usize) -> Result<(), SlangEr
         let _ = writeln!(out, "            {t}.FILTER = {}", filter(b.filter));
         let _ = writeln!(out, "            {t}.WRAP = {}", wrap(b.wrap));
         let _ = writeln!(out, "            {t}.COLORSPACE = {}", b.colorspace);
+        if b.mipmap {
+            let _ = writeln!(out, "            {t}.MIPMAP = true");
+        }
     }
     for (id, field) in &p.params {
         let _ = writeln!(out, "            {field} = PARAM.{id}");
@@ -122,6 +125,10 @@ struct Binding {
     filter: FilterMode,
     wrap: WrapMode,
     colorspace: &'static str,
+    /// Read with a mip chain: the pass's `Source` with `mipmap_input`, an
+    /// output of the pass before one that has it (its texture has the chain in
+    /// librashader, for every reader), a LUT with `NAME_mipmap`.
+    mipmap: bool,
 }
 
 fn bind(s: &ScriptInput, i: usize, texture: &str) -> Result<Binding, SlangError> {
@@ -136,11 +143,13 @@ fn bind(s: &ScriptInput, i: usize, texture: &str) -> Result<Binding, SlangError>
             });
         }
         let meta = s.passes[k].meta;
+        let next_mipmaps = s.passes.get(k + 1).is_some_and(|n| n.meta.mipmap_input);
         Ok(Binding {
             source: format!("PASS.{}{back}", pass_name(s.passes, k)),
             filter: meta.filter,
             wrap: meta.wrap_mode,
             colorspace: colorspace_of(&s.passes[k]),
+            mipmap: back.is_empty() && next_mipmaps,
         })
     };
     let input = |source: String, meta: &PassMeta| Binding {
@@ -148,10 +157,14 @@ fn bind(s: &ScriptInput, i: usize, texture: &str) -> Result<Binding, SlangError>
         filter: meta.filter,
         wrap: meta.wrap_mode,
         colorspace: "srgb",
+        mipmap: false,
     };
     if texture == "Source" {
         return match i {
-            0 => Ok(input("IN".into(), own)),
+            0 => Ok(Binding {
+                mipmap: own.mipmap_input,
+                ..input("IN".into(), own)
+            }),
             _ => pass(i - 1, "").map(|b| Binding {
                 filter: own.filter,
                 wrap: own.wrap_mode,
@@ -186,6 +199,7 @@ fn bind(s: &ScriptInput, i: usize, texture: &str) -> Result<Binding, SlangError>
             filter: lut.filter_mode,
             wrap: lut.wrap_mode,
             colorspace: "srgb",
+            mipmap: lut.mipmap,
         });
     }
     Err(SlangError::Semantic {

@@ -266,6 +266,7 @@ impl Playback {
             format,
             colorspace,
             aux: Vec::new(),
+            aux_sizes: Vec::new(),
             viewport: None,
         });
     }

@@ -83,15 +83,6 @@ impl Stills {
         let mut aux = Vec::new();
         for (name, p) in &self.aux {
             let a = load_image(p, max, &self.load)?;
-            if (a.width, a.height) != (image.width, image.height) {
-                return Err(RunError::BadInput(IoError::Unsupported {
-                    path: p.clone(),
-                    message: format!(
-                        "the auxiliary image is {}x{}, the input is {}x{}: they must have one size",
-                        a.width, a.height, image.width, image.height
-                    ),
-                }));
-            }
             let f = input_format(&a, assume_linear).0;
             aux.push((
                 name.clone(),
@@ -118,6 +109,12 @@ impl Stills {
             format,
             colorspace,
             aux: l.aux.iter().map(|(n, _, f)| (n.clone(), *f)).collect(),
+            // Each auxiliary image keeps its own size (a LUT, a background).
+            aux_sizes: l
+                .aux
+                .iter()
+                .map(|(n, t, _)| (n.clone(), (t.width(), t.height())))
+                .collect(),
             viewport: None,
         })
     }
@@ -133,7 +130,10 @@ impl Stills {
 
     /// Does the shown image need a plan other than the current one?
     pub fn needs_plan(&self) -> bool {
-        let key = |d: &InputDesc| (d.width, d.height, d.format, d.colorspace, d.aux.clone());
+        let key = |d: &InputDesc| {
+            let aux = (d.aux.clone(), d.aux_sizes.clone());
+            (d.width, d.height, d.format, d.colorspace, aux)
+        };
         self.prepared.is_none() || self.desc().map(|d| key(&d)) != self.planned.as_ref().map(key)
     }
 

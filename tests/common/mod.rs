@@ -10,6 +10,7 @@ pub mod display;
 pub mod gltf_gen;
 pub mod ibl;
 pub mod layers;
+pub mod mips;
 pub mod raster;
 pub mod render_bench;
 pub mod renders;

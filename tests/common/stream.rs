@@ -79,6 +79,7 @@ pub fn stream_with_aux(
         format,
         colorspace,
         aux,
+        aux_sizes: Vec::new(),
         viewport: None,
     };
     let opts = PlanOptions {

@@ -45,7 +45,7 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
     }
     if !cli.aux.is_empty() {
         return Err(rejected(
-            "--aux is for one image: its size must match the input's",
+            "--aux is for one image (-i FILE), not a batch or a sequence",
         ));
     }
     let inputs = collect_inputs(cli, &specs)?;

@@ -8,7 +8,7 @@
 //! `STORAGE_BINDING` too) and is drawn as before otherwise, so a caller that
 //! passes a render-only output still gets a correct frame.
 
-use super::encode::{bound_views, create_bind_group, source_view, BindKey, FrameTextures};
+use super::encode::{bound_views, create_bind_group, target_view, BindKey, FrameTextures};
 use super::record::{GpuPass, Source};
 use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
 use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
@@ -37,6 +37,9 @@ pub(super) struct ComputeKey {
     /// The render pipeline's key, with `target` the storage format.
     base: PipelineKey,
     encode_srgb: bool,
+    /// The textures read with a mip chain (an implicit-level sample of one keeps
+    /// the pass a fragment pass).
+    mipmapped: Vec<String>,
 }
 
 /// The compute path of one pass.
@@ -146,6 +149,12 @@ impl Engine {
                 ..render_key.clone()
             },
             encode_srgb,
+            mipmapped: p
+                .inputs
+                .iter()
+                .filter(|i| i.sampling.mipmap)
+                .map(|i| i.name.clone())
+                .collect(),
         };
         let st = StorageTarget {
             format: format.to_string(),
@@ -199,6 +208,7 @@ impl Engine {
                 ..render_key.clone()
             },
             encode_srgb: false,
+            mipmapped: Vec::new(),
         };
         let st = StorageTarget {
             format: wanted.to_string(),
@@ -248,21 +258,23 @@ impl Engine {
         if let Some(p) = self.compute_pipelines.get(key) {
             return p.clone();
         }
-        let built = match wrap_fragment_as_compute(&key.base.wgsl, &key.base.entry, st) {
-            Ok(wgsl) => {
-                match self.build_compute(key, (&wgsl, COMPUTE_ENTRY), st, refl, samplers, label) {
-                    Ok(p) => Some(Arc::new(p)),
-                    Err(e) => {
-                        log::warn!("pass `{label}` stays a fragment pass: {e}");
-                        None
+        let built =
+            match wrap_fragment_as_compute(&key.base.wgsl, &key.base.entry, st, &key.mipmapped) {
+                Ok(wgsl) => {
+                    match self.build_compute(key, (&wgsl, COMPUTE_ENTRY), st, refl, samplers, label)
+                    {
+                        Ok(p) => Some(Arc::new(p)),
+                        Err(e) => {
+                            log::warn!("pass `{label}` stays a fragment pass: {e}");
+                            None
+                        }
                     }
                 }
-            }
-            Err(why) => {
-                log::info!("pass `{label}` stays a fragment pass: {why}");
-                None
-            }
-        };
+                Err(why) => {
+                    log::info!("pass `{label}` stays a fragment pass: {why}");
+                    None
+                }
+            };
         self.compute_pipelines.insert(key.clone(), built.clone());
         built
     }
@@ -364,7 +376,7 @@ fn storage_target<'v>(
     path: &ComputePath,
     tex: FrameTextures<'v>,
 ) -> Option<(BindKey, &'v wgpu::TextureView)> {
-    let (key, view) = source_view(&path.target, Some(path.storage), tex).ok()?;
+    let (key, view) = target_view(&path.target, Some(path.storage), tex).ok()?;
     view.texture()
         .usage()
         .contains(wgpu::TextureUsages::STORAGE_BINDING)

@@ -34,6 +34,29 @@ pub(super) fn source_view<'v>(
     format: Option<wgpu::TextureFormat>,
     tex: FrameTextures<'v>,
 ) -> Result<(BindKey, &'v wgpu::TextureView), ExecError> {
+    view_of(source, format, tex, PooledTexture::view)
+}
+
+/// The view a pass writes `target` through this frame: level 0 of a
+/// mipmapped texture.
+pub(super) fn target_view<'v>(
+    target: &Source,
+    format: Option<wgpu::TextureFormat>,
+    tex: FrameTextures<'v>,
+) -> Result<(BindKey, &'v wgpu::TextureView), ExecError> {
+    view_of(target, format, tex, PooledTexture::target_view)
+}
+
+/// The view `pick` chooses of the texture `source` names this frame.
+fn view_of<'v>(
+    source: &Source,
+    format: Option<wgpu::TextureFormat>,
+    tex: FrameTextures<'v>,
+    pick: for<'t> fn(
+        &'t PooledTexture,
+        Option<wgpu::TextureFormat>,
+    ) -> Option<&'t wgpu::TextureView>,
+) -> Result<(BindKey, &'v wgpu::TextureView), ExecError> {
     let FrameTextures {
         pool,
         slots,
@@ -42,7 +65,7 @@ pub(super) fn source_view<'v>(
         caller,
     } = tex;
     let pooled = |t: &'v PooledTexture| {
-        t.view(format)
+        pick(t, format)
             .map(|v| (BindKey::Pooled(t.id), v))
             .ok_or_else(|| {
                 ExecError::Input(format!(
@@ -150,7 +173,7 @@ pub(super) fn encode_pass(
 ) -> Result<u64, ExecError> {
     let (bg, created) = bind_group(gp, &ctx.device, tex)?;
     let gp = &*gp;
-    let (_, target) = source_view(&gp.target, gp.target_format, tex)?;
+    let (_, target) = target_view(&gp.target, gp.target_format, tex)?;
     // SAFETY: the fullscreen triangle writes every pixel of the target.
     let load = wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() });
     let mut rp = begin_color_pass(encoder, &gp.path, target, load, timestamps);

@@ -28,6 +28,7 @@ mod compute;
 mod encode;
 mod execution;
 mod inspect;
+mod mips;
 mod params;
 mod pool;
 
@@ -238,6 +239,8 @@ pub struct Engine {
     compute_pipelines_created: usize,
     bind_groups_created: u64,
     frames: u64,
+    /// The mip chains' pipelines, made on the first mipmapped texture.
+    mips: Option<mips::MipChains>,
 }
 
 impl Engine {
@@ -262,6 +265,7 @@ impl Engine {
             compute_pipelines_created: 0,
             bind_groups_created: 0,
             frames: 0,
+            mips: None,
         };
         engine.set_execution(default_execution());
         engine
@@ -408,18 +412,33 @@ impl Engine {
                 } else {
                     wgpu::FilterMode::Nearest
                 };
+                // A mipmapped input filters between levels as within one; any
+                // other reads level 0 only, even of a texture that has more
+                // levels for another reader.
+                let (mipmap_filter, lod_max_clamp) = if s.mipmap {
+                    let mip = match filter {
+                        wgpu::FilterMode::Linear => wgpu::MipmapFilterMode::Linear,
+                        wgpu::FilterMode::Nearest => wgpu::MipmapFilterMode::Nearest,
+                    };
+                    (mip, 32.0)
+                } else {
+                    (wgpu::MipmapFilterMode::Nearest, 0.0)
+                };
                 self.ctx.device.create_sampler(&wgpu::SamplerDescriptor {
                     label: Some(&format!(
-                        "sampler {} {}/{}",
+                        "sampler {} {}/{}{}",
                         s.filter.name(),
                         s.wrap_u.name(),
-                        s.wrap_v.name()
+                        s.wrap_v.name(),
+                        if s.mipmap { " mipmap" } else { "" }
                     )),
                     address_mode_u: mode(s.wrap_u),
                     address_mode_v: mode(s.wrap_v),
                     address_mode_w: wgpu::AddressMode::ClampToEdge,
                     mag_filter: filter,
                     min_filter: filter,
+                    mipmap_filter,
+                    lod_max_clamp,
                     border_color,
                     ..Default::default()
                 })

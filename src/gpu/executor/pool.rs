@@ -26,6 +26,11 @@ pub(crate) struct PooledTexture {
     /// raw), where the backend allows one.
     pub alternate: Option<(wgpu::TextureFormat, wgpu::TextureView)>,
     pub desc: TextureDesc,
+    /// A mipmapped texture (`desc.mips > 1`): one view of each level in the
+    /// natural format (the targets of the chain's passes), and level 0 in the
+    /// alternate format. Empty for one level: the views above are the targets.
+    pub levels: Vec<wgpu::TextureView>,
+    pub alternate_level0: Option<wgpu::TextureView>,
     /// Unique on the engine (never reused, unlike pool indices): what bind groups
     /// are cached by.
     pub id: u64,
@@ -75,7 +80,10 @@ impl PooledTexture {
             usage |= wgpu::TextureUsages::STORAGE_BINDING;
         }
         let size = (desc.width, desc.height);
-        let texture = device.create_texture(&texture_2d(label, size, format, usage, &view_formats));
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            mip_level_count: desc.mips,
+            ..texture_2d(label, size, format, usage, &view_formats)
+        });
         // A view inherits the texture's usages; an sRGB view cannot be a storage one.
         let view_usage = |f: wgpu::TextureFormat| {
             f.is_srgb()
@@ -96,14 +104,54 @@ impl PooledTexture {
             });
             (f, view)
         });
+        let level_view = |f: wgpu::TextureFormat, level: u32| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some(&format!("{label} level {level} view {f:?}")),
+                format: Some(f),
+                usage: view_usage(f),
+                base_mip_level: level,
+                mip_level_count: Some(1),
+                ..Default::default()
+            })
+        };
+        let (levels, alternate_level0) = if desc.mips > 1 {
+            (
+                (0..desc.mips)
+                    .map(|l| level_view(natural_format, l))
+                    .collect(),
+                alternate.as_ref().map(|(f, _)| level_view(*f, 0)),
+            )
+        } else {
+            (Vec::new(), None)
+        };
         PooledTexture {
             texture,
             natural,
             natural_format,
             alternate,
             desc,
+            levels,
+            alternate_level0,
             id,
             last_used: 0,
+        }
+    }
+
+    /// The view a pass writing this texture renders to (or stores to) in
+    /// `format`: as [`PooledTexture::view`], but only level 0 of a mipmapped
+    /// texture (a target has one level).
+    pub fn target_view(&self, format: Option<wgpu::TextureFormat>) -> Option<&wgpu::TextureView> {
+        if self.levels.is_empty() {
+            return self.view(format);
+        }
+        match format {
+            None => Some(&self.levels[0]),
+            Some(f) if f == self.natural_format => Some(&self.levels[0]),
+            Some(f) => self
+                .alternate
+                .as_ref()
+                .filter(|(af, _)| *af == f)
+                .and(self.alternate_level0.as_ref()),
         }
     }
 

@@ -509,6 +509,7 @@ impl Prepared {
                 encode_pass(gp, &pipeline, &engine.ctx, tex, encoder, timestamps)?
             }
         };
+        let created = created + self.make_mips(engine, encoder, pass);
         self.copy_inspected(engine, encoder, pass, caller)?;
         engine.bind_groups_created += created;
         self.stats.bind_groups_created += created;

@@ -34,8 +34,13 @@ pub struct InputDesc {
     pub format: Format,
     /// What the input's sampled values mean.
     pub colorspace: ColorSpace,
-    /// Auxiliary images available (same size as the input).
+    /// Auxiliary images available (of the input's size unless `aux_sizes`
+    /// gives theirs).
     pub aux: Vec<(String, Format)>,
+    /// Auxiliary images of their own size (an image given with `--aux`, a
+    /// slang preset's LUT): `(name, (width, height))`. An auxiliary image not
+    /// listed has the input's size (the renderer's G-buffer).
+    pub aux_sizes: Vec<(String, (u32, u32))>,
     /// The run's output size, which passes scale from as `VIEWPORT`
     /// (`None`: the input's size).
     pub viewport: Option<(u32, u32)>,
@@ -50,6 +55,7 @@ impl InputDesc {
             format: Format::Rgba8Srgb,
             colorspace: ColorSpace::Linear,
             aux: Vec::new(),
+            aux_sizes: Vec::new(),
             viewport: None,
         }
     }
@@ -63,6 +69,21 @@ impl InputDesc {
     pub fn with_viewport(mut self, viewport: Option<(u32, u32)>) -> Self {
         self.viewport = viewport;
         self
+    }
+
+    /// Gives auxiliary image `name` its own size `(width, height)`.
+    pub fn with_aux_size(mut self, name: &str, size: (u32, u32)) -> Self {
+        self.aux_sizes.retain(|(n, _)| n != name);
+        self.aux_sizes.push((name.to_string(), size));
+        self
+    }
+
+    /// The size of auxiliary image `name`: its own, or the input's.
+    pub fn aux_size(&self, name: &str) -> (u32, u32) {
+        self.aux_sizes
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or((self.width, self.height), |(_, s)| *s)
     }
 
     /// Adds every other auxiliary input `graph` reads, as an 8-bit sRGB image
@@ -106,12 +127,48 @@ pub struct TextureDesc {
     pub width: u32,
     pub height: u32,
     pub format: Format,
+    /// Mip levels: 1, or the full chain down to 1x1 for an input read with
+    /// `NAME.MIPMAP = true` ([`mip_levels`]). Left out of JSON when 1.
+    #[serde(skip_serializing_if = "one_level")]
+    pub mips: u32,
 }
 
 impl TextureDesc {
-    pub fn bytes(&self) -> u64 {
-        self.width as u64 * self.height as u64 * self.format.bytes_per_pixel()
+    /// A texture of one mip level.
+    pub fn new(width: u32, height: u32, format: Format) -> Self {
+        TextureDesc {
+            width,
+            height,
+            format,
+            mips: 1,
+        }
     }
+
+    /// Bytes of all its mip levels.
+    pub fn bytes(&self) -> u64 {
+        (0..self.mips)
+            .map(|l| {
+                let (w, h) = mip_size((self.width, self.height), l);
+                w as u64 * h as u64 * self.format.bytes_per_pixel()
+            })
+            .sum()
+    }
+}
+
+fn one_level(mips: &u32) -> bool {
+    *mips == 1
+}
+
+/// The levels of a full mip chain of a `width` x `height` texture, down to 1x1:
+/// `floor(log2(max(width, height))) + 1` (what RetroArch and librashader make).
+pub fn mip_levels(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
+}
+
+/// The size of mip level `level` of a `(width, height)` texture: each side
+/// halved (rounded down) per level, at least 1.
+pub fn mip_size((width, height): (u32, u32), level: u32) -> (u32, u32) {
+    ((width >> level).max(1), (height >> level).max(1))
 }
 
 /// An image a pass reads or writes.
@@ -134,7 +191,7 @@ pub enum Resource {
 }
 
 /// How an input texture is viewed when sampled.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 pub enum View {
     /// As stored.
     Natural,
@@ -165,6 +222,10 @@ pub enum PassShader {
     },
     /// Copies its input to the output target (format conversion included).
     Blit,
+    /// Copies its input into level 0 of a mipmapped value (an input read with
+    /// `NAME.MIPMAP = true` that is not a pass output of this frame: `IN`,
+    /// `AUX.x`, history, feedback). The executor then makes the other levels.
+    Mips,
 }
 
 #[derive(Debug, Clone, Serialize)]

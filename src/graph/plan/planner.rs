@@ -38,6 +38,8 @@ pub(super) struct Planner<'g> {
     passes: Vec<PlannedPass>,
     produced: HashMap<NodeIndex, Resource>,
     conversions: HashMap<(NodeIndex, ColorSpace), Resource>,
+    /// Mipmapped copies of inputs that are not this frame's pass outputs.
+    mip_copies: HashMap<(NodeIndex, View), Resource>,
     values: Vec<Value>,
 }
 
@@ -67,6 +69,7 @@ impl<'g> Planner<'g> {
             passes: Vec::new(),
             produced: HashMap::new(),
             conversions: HashMap::new(),
+            mip_copies: HashMap::new(),
             values: Vec::new(),
         }
     }
@@ -252,6 +255,9 @@ impl<'g> Planner<'g> {
                 }
             }
         }
+        if inp.sampling.mipmap {
+            (resource, view, in_desc) = self.mipmapped(p, inp, src, (resource, view, in_desc));
+        }
         Some(PlannedInput {
             name: inp.name.clone(),
             resource,
@@ -259,6 +265,60 @@ impl<'g> Planner<'g> {
             sampling: inp.sampling,
             desc: in_desc,
         })
+    }
+
+    /// Input `inp` (`NAME.MIPMAP = true`) read with a full mip chain: a value of
+    /// this frame gets the chain itself (the executor makes its levels after its
+    /// producer writes it); any other resource is first copied into a new value
+    /// that has one (a `Mips` pass, once per source and view). Returns what the
+    /// pass then reads: the resource, its view, its descriptor.
+    fn mipmapped(
+        &mut self,
+        p: &PassNode,
+        inp: &PassInput,
+        src: NodeIndex,
+        (resource, view, desc): (Resource, View, TextureDesc),
+    ) -> (Resource, View, TextureDesc) {
+        let mips = super::mip_levels(desc.width, desc.height);
+        if let Resource::Value(v) = resource {
+            self.values[v].desc.mips = mips;
+            return (resource, view, self.values[v].desc);
+        }
+        // The copy stores what the view reads, so the consumer reads it as is.
+        let format = match view {
+            View::Natural => desc.format,
+            View::Raw => Format::Rgba8,
+            View::SrgbDecode => Format::Rgba8Srgb,
+        };
+        let copy_desc = TextureDesc {
+            format,
+            mips,
+            ..desc
+        };
+        if let Some(res) = self.mip_copies.get(&(src, view)) {
+            return (res.clone(), View::Natural, copy_desc);
+        }
+        let v = self.push_value(copy_desc);
+        let mut pass = engine_pass(
+            format!("{}:{}:mips", p.path, inp.name),
+            PassShader::Mips,
+            resource,
+            desc,
+        );
+        pass.inputs[0].view = view;
+        self.passes.push(PlannedPass {
+            output: Resource::Value(v),
+            desc: TextureDesc {
+                mips: 1,
+                ..copy_desc
+            },
+            colorspace: self.space(inp.colorspace),
+            target_view: View::Natural,
+            ..pass
+        });
+        let res = Resource::Value(v);
+        self.mip_copies.insert((src, view), res.clone());
+        (res, View::Natural, copy_desc)
     }
 
     /// An explicit conversion pass (once per source and target space): the
@@ -316,11 +376,11 @@ impl<'g> Planner<'g> {
                     .iter()
                     .find(|p| p.output == Resource::Output)
                     .map(|p| p.desc)
-                    .unwrap_or(TextureDesc {
-                        width: self.input.width,
-                        height: self.input.height,
-                        format: self.input.format,
-                    }),
+                    .unwrap_or(TextureDesc::new(
+                        self.input.width,
+                        self.input.height,
+                        self.input.format,
+                    )),
             );
         }
         let src_desc = self.r.desc(route.source)?;
@@ -377,12 +437,8 @@ impl<'g> Planner<'g> {
 
     /// Bytes of feedback rings and input history kept across frames.
     fn persistent_bytes(&self) -> u64 {
-        let in_bytes = TextureDesc {
-            width: self.input.width,
-            height: self.input.height,
-            format: self.input.format,
-        }
-        .bytes();
+        let in_bytes =
+            TextureDesc::new(self.input.width, self.input.height, self.input.format).bytes();
         self.rings
             .iter()
             .map(|r| r.desc.bytes() * (r.depth as u64 + 1))

@@ -96,8 +96,13 @@ impl Plan {
                 create,
             } => {
                 let d = self.values[*value].desc;
+                let mips = if d.mips > 1 {
+                    format!(" {} mip levels", d.mips)
+                } else {
+                    String::new()
+                };
                 format!(
-                    "alloc  v{value} -> t{slot} {}x{} {}{}",
+                    "alloc  v{value} -> t{slot} {}x{} {}{mips}{}",
                     d.width,
                     d.height,
                     d.format,

@@ -16,7 +16,8 @@ impl Resolver<'_> {
         }
         self.sizes.insert(n, None); // in progress: a size that depends on itself is None
         let s = match &self.graph.graph[n] {
-            Node::Input { .. } | Node::Aux { .. } => Some((self.input.width, self.input.height)),
+            Node::Input { .. } => Some((self.input.width, self.input.height)),
+            Node::Aux { name, .. } => Some(self.input.aux_size(name)),
             Node::Output => Some(self.input.viewport()),
             Node::Feedback { pass, .. } => self.size(*pass),
             Node::Pass(p) => self.pass_size(n, p, &p.size),
@@ -111,10 +112,6 @@ impl Resolver<'_> {
 
     pub(super) fn desc(&mut self, n: NodeIndex) -> Option<TextureDesc> {
         let (width, height) = self.size(n)?;
-        Some(TextureDesc {
-            width,
-            height,
-            format: self.format(n, 0),
-        })
+        Some(TextureDesc::new(width, height, self.format(n, 0)))
     }
 }

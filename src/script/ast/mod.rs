@@ -95,6 +95,8 @@ pub struct InputDef {
     pub wrap: Option<Spanned<(Wrap, Wrap)>>,
     /// The colour space the shader expects this input in (default: the pass's).
     pub colorspace: Option<Spanned<ColorSpace>>,
+    /// `NAME.MIPMAP = true`: read with a generated mip chain.
+    pub mipmap: Option<Spanned<bool>>,
 }
 
 impl InputDef {
@@ -104,6 +106,7 @@ impl InputDef {
             filter: self.filter.as_ref().map(|f| f.node).unwrap_or_default(),
             wrap_u,
             wrap_v,
+            mipmap: self.mipmap.as_ref().is_some_and(|m| m.node),
         }
     }
 }

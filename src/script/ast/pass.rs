@@ -28,7 +28,7 @@ pub(super) fn check_pass(stmt: &Stmt, diags: &mut Diagnostics) -> Option<PassDef
         match parts.as_slice() {
             ["OUT", _] => check_pass_attr(&mut pass, is_effect, s, diags),
             ["DEFINE", _] if !is_effect => check_pass_attr(&mut pass, is_effect, s, diags),
-            [_input, "FILTER" | "WRAP" | "COLORSPACE"] => sampling.push(s),
+            [_input, "FILTER" | "WRAP" | "MIPMAP" | "COLORSPACE"] => sampling.push(s),
             _ => check_pass_attr(&mut pass, is_effect, s, diags),
         }
     }
@@ -130,6 +130,7 @@ fn check_pass_attr(pass: &mut PassDef, is_effect: bool, s: &Stmt, diags: &mut Di
                     filter: None,
                     wrap: None,
                     colorspace: None,
+                    mipmap: None,
                 }),
                 Some(Binding::Param(value)) => pass.params.push(ParamSet { name, value }),
                 None => {}
@@ -138,7 +139,7 @@ fn check_pass_attr(pass: &mut PassDef, is_effect: bool, s: &Stmt, diags: &mut Di
         _ => diags.push(
             Diagnostic::error(format!("unknown pass attribute `{}`", s.key.dotted()))
                 .at(s.key.span, "not a pass attribute")
-                .note("a pass contains inputs (`img = IN`), parameters (`threshold = 0.8`), `img.FILTER`, `img.WRAP`, `img.COLORSPACE`, `OUT.SIZE`, `OUT.WIDTH`, `OUT.HEIGHT`, `OUT.SCALE`, `OUT.RELATIVE_TO`, `OUT.FORMAT`, `OUT.COLORSPACE` and `DEFINE.NAME`"),
+                .note("a pass contains inputs (`img = IN`), parameters (`threshold = 0.8`), `img.FILTER`, `img.WRAP`, `img.MIPMAP`, `img.COLORSPACE`, `OUT.SIZE`, `OUT.WIDTH`, `OUT.HEIGHT`, `OUT.SCALE`, `OUT.RELATIVE_TO`, `OUT.FORMAT`, `OUT.COLORSPACE` and `DEFINE.NAME`"),
         ),
     }
 }
@@ -158,7 +159,8 @@ fn define_arg(value: &RawValue) -> Option<DefineArg> {
     }
 }
 
-/// `img.FILTER`, `img.WRAP` or `img.COLORSPACE` of an input bound in the pass.
+/// `img.FILTER`, `img.WRAP`, `img.MIPMAP` or `img.COLORSPACE` of an input bound
+/// in the pass.
 fn check_sampling_attr(pass: &mut PassDef, s: &Stmt, diags: &mut Diagnostics) {
     let input_name = &s.key.parts[0];
     let attr = s.key.parts[1].node.as_str();
@@ -190,6 +192,14 @@ fn check_sampling_attr(pass: &mut PassDef, s: &Stmt, diags: &mut Diagnostics) {
                 s.value.span,
                 "expected `clamp`, `repeat`, `mirror`, `border` or a pair `(u, v)` of them",
             )),
+        },
+        "MIPMAP" => match word(&s.value) {
+            Some("true") => input.mipmap = Some(Spanned::new(true, s.value.span)),
+            Some("false") => input.mipmap = Some(Spanned::new(false, s.value.span)),
+            _ => diags.push(
+                Diagnostic::error("`MIPMAP` takes `true` or `false`")
+                    .at(s.value.span, "expected `true` or `false`"),
+            ),
         },
         _ => input.colorspace = colorspace_value(s, diags),
     }

@@ -242,6 +242,7 @@ fn run_gbuffer(
         format: Format::Rgba16f,
         colorspace: ColorSpace::Linear,
         aux: aux.iter().map(|n| (n.to_string(), formats[*n])).collect(),
+        aux_sizes: Vec::new(),
         viewport: None,
     };
     let mut prepared = e
