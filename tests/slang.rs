@@ -442,6 +442,92 @@ fn size_chooses_the_viewport_and_axes_may_mix_pixels_and_scale() {
     assert!(stderr(&o).contains("sets the viewport"), "{}", stderr(&o));
 }
 
+/// A preset with a LUT of its own size (16x8, the input's 8x8), on every kind
+/// of input: a batch, a numbered sequence, a y4m video and a rendered scene.
+/// The shader reads the LUT's right half, (0, 200, 40), at every pixel.
+#[test]
+fn a_lut_preset_runs_on_batches_sequences_video_and_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // (no history or feedback binding: a still effect, which batches take)
+    let shader =
+        common::slang::one_pass_shader("", "FragColor = texture(lut, vec2(0.75, 0.25));", "")
+            .replace(
+                "uniform sampler2D OriginalHistory1;",
+                "uniform sampler2D lut;",
+            )
+            .replace(
+                "layout(set = 0, binding = 4) uniform sampler2D PassFeedback0;\n",
+                "",
+            );
+    std::fs::write(d.join("lut.slang"), shader).unwrap();
+    let half = |x: u32| {
+        if x < 8 {
+            [255, 0, 0, 255]
+        } else {
+            [0, 200, 40, 255]
+        }
+    };
+    save(&d.join("lut.png"), &image_u8(16, 8, |x, _| half(x)));
+    let p = d.join("lut.slangp");
+    std::fs::write(
+        &p,
+        "shaders = 1\nshader0 = lut.slang\nfilter_linear0 = false\n\
+         textures = \"lut\"\nlut = lut.png\nlut_linear = false\n",
+    )
+    .unwrap();
+    let input = grey_sequence(d, &[60, 90, 120]);
+    std::fs::create_dir_all(d.join("out")).unwrap();
+    let sequence_out = d.join("out/%04d.png").display().to_string();
+    let (a, b) = (d.join("in/0000.png"), d.join("in/0001.png"));
+    let batch_out = d.join("batch");
+    let y4m = d.join("in.y4m");
+    grey_y4m(&y4m, &[60, 90]);
+    let y4m_out = d.join("out.y4m");
+    let scene_out = d.join("scene.png");
+    let runs: [Vec<&str>; 4] = [
+        vec![arg(&p), "-i", &input, "-o", &sequence_out],
+        vec![arg(&p), "-i", arg(&a), "-i", arg(&b), "-o", arg(&batch_out)],
+        vec![arg(&p), "-i", arg(&y4m), "-o", arg(&y4m_out)],
+        vec![
+            "--scene",
+            "builtin:room",
+            arg(&p),
+            "--size",
+            "32x18",
+            "-o",
+            arg(&scene_out),
+        ],
+    ];
+    for args in &runs {
+        let o = fxrun(args);
+        assert_eq!(code(&o), 0, "{args:?}: {}", stderr(&o));
+    }
+    let expect = [0.0f32, 200.0, 40.0];
+    for png in [
+        d.join("out/0002.png"),
+        batch_out.join("0001.png"),
+        scene_out,
+    ] {
+        let (_, _, px) = rgb(&png);
+        for c in px.chunks(3) {
+            assert!(
+                c.iter().zip(expect).all(|(g, e)| (g - e).abs() <= 1.0),
+                "{}: {c:?}",
+                png.display()
+            );
+        }
+    }
+    // Y'CbCr 4:4:4, full range (the input's): luma of (0, 200, 40), BT.601.
+    let luma = 0.587 * 200.0 + 0.114 * 40.0;
+    for (n, l) in y4m_centre_luma(&y4m_out).iter().enumerate() {
+        assert!(
+            (l - luma).abs() <= 2.0,
+            "y4m frame {n}: luma {l}, expected {luma:.1}"
+        );
+    }
+}
+
 /// Runs `--check` on `p` and returns its message, which must give status 1
 /// and contain each of `needles`, without a panic or a wgpu error chain.
 fn rejected(p: &Path, needles: &[&str]) -> String {

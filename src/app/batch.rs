@@ -55,6 +55,9 @@ pub struct BatchOptions {
     /// The viewport: the output size passes scale from as `VIEWPORT` (`None`:
     /// each input's size; `fxrun --size`).
     pub viewport: Option<(u32, u32)>,
+    /// Auxiliary images (`AUX.NAME`) given to every frame: `--aux NAME=FILE`
+    /// and a slang preset's LUTs; each keeps its own size.
+    pub aux: Vec<(String, PathBuf)>,
 }
 
 impl Default for BatchOptions {
@@ -66,6 +69,7 @@ impl Default for BatchOptions {
             queue: 2,
             timings: false,
             viewport: None,
+            aux: Vec::new(),
         }
     }
 }
@@ -124,10 +128,11 @@ pub fn run_batch(
         viewport: opts.viewport,
         ..Default::default()
     };
+    let aux = super::sources::load_aux(&opts.aux, &load)?;
     run_frames(
         device,
         effect,
-        Box::new(source),
+        super::sources::with_aux(Box::new(source), aux),
         Box::new(sink),
         &p,
         stop,

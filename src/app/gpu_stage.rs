@@ -147,7 +147,10 @@ impl<'a, 'r> GpuStage<'a, 'r> {
                     };
                     self.still_frame(frame, img, &aux, halt)
                 }
-                Ok((img, _)) => match self.push(img, number, name).and_then(|()| self.drain()) {
+                Ok((img, aux)) => match self
+                    .push(img, &aux, number, name)
+                    .and_then(|()| self.drain())
+                {
                     Ok(true) => Step::Next,
                     Ok(false) => Step::Stop,
                     Err(e) => Step::Fail(e),
@@ -430,20 +433,34 @@ impl<'a, 'r> GpuStage<'a, 'r> {
         Ok(pending)
     }
 
-    /// Push a frame of a sequence into the stream (created for the first frame).
-    fn push(&mut self, img: Picture, number: u64, name: String) -> Result<(), RunError> {
+    /// Push a frame of a sequence into the stream (created for the first frame,
+    /// with the auxiliary images `aux` of the first frame for the whole sequence).
+    fn push(
+        &mut self,
+        img: Picture,
+        aux: &[(String, Image)],
+        number: u64,
+        name: String,
+    ) -> Result<(), RunError> {
         let t = Instant::now();
         let (width, height) = img.size();
         if self.stream.is_none() {
             self.first_number = Some(number);
             let (fmt, cs) = picture_format(&img, self.opts.assume_linear);
+            let assume_linear = self.opts.assume_linear;
             let desc = InputDesc {
                 width,
                 height,
                 format: fmt,
                 colorspace: cs,
-                aux: Vec::new(),
-                aux_sizes: Vec::new(),
+                aux: aux
+                    .iter()
+                    .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
+                    .collect(),
+                aux_sizes: aux
+                    .iter()
+                    .map(|(n, a)| (n.clone(), (a.width, a.height)))
+                    .collect(),
                 viewport: self.opts.viewport,
             };
             let mut prepared = self.effect.prepare_with(
@@ -454,6 +471,11 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             self.note_plan(&prepared, t.elapsed());
             prepared.fps = self.opts.fps;
             let mut s = Stream::new(self.engine, prepared, fmt);
+            for (n, a) in aux {
+                let f = input_format(a, assume_linear).0;
+                let tex = upload_image(&self.engine.ctx, &format!("aux {n}"), a, f)?;
+                s.aux.insert(n.clone(), tex);
+            }
             s.rate = self.opts.rate.max(1);
             s.camera = self.opts.camera;
             s.want_timings = self.opts.timings;

@@ -93,6 +93,28 @@ pub struct SceneJob {
     pub environment: Option<crate::scene::Environment>,
     /// What pixels without geometry show (`None`: the scene's colour).
     pub background: Option<crate::scene::Background>,
+    /// Auxiliary images beside the renderer's (`--aux NAME=FILE`, a slang
+    /// preset's LUTs), each at its own size, the same for every frame.
+    pub aux: Vec<(String, PathBuf)>,
+}
+
+/// The job's own auxiliary images, on the GPU: name, texture, format, size.
+pub(super) type JobAux = Vec<(String, wgpu::Texture, Format, (u32, u32))>;
+
+/// Decodes and uploads the job's `aux` images once for the run.
+pub(super) fn upload_job_aux(
+    job: &SceneJob,
+    ctx: &crate::gpu::context::GpuContext,
+) -> Result<JobAux, RunError> {
+    let images = super::sources::load_aux(&job.aux, &crate::io::LoadOptions::default())?;
+    images
+        .iter()
+        .map(|(name, img)| {
+            let format = crate::gpu::transfer::input_format(img, false).0;
+            let tex = crate::gpu::transfer::upload_image(ctx, &format!("aux {name}"), img, format)?;
+            Ok((name.clone(), tex, format, (img.width, img.height)))
+        })
+        .collect()
 }
 
 impl SceneJob {
@@ -109,15 +131,19 @@ impl SceneJob {
     }
 
     /// What the effects get from a frame this job renders: linear rgba16f at the
-    /// render size, with the renderer's auxiliary images.
-    pub(super) fn effect_input(&self, renderer: &Renderer) -> InputDesc {
+    /// render size, with the renderer's auxiliary images and the job's own
+    /// (`job_aux`, at their sizes).
+    pub(super) fn effect_input(&self, renderer: &Renderer, job_aux: &JobAux) -> InputDesc {
+        let mut aux = renderer.aux_formats().to_vec();
+        aux.retain(|(n, _)| !job_aux.iter().any(|(j, ..)| j == n));
+        aux.extend(job_aux.iter().map(|(n, _, f, _)| (n.clone(), *f)));
         InputDesc {
             width: self.width,
             height: self.height,
             format: Format::Rgba16f,
             colorspace: ColorSpace::Linear,
-            aux: renderer.aux_formats().to_vec(),
-            aux_sizes: Vec::new(),
+            aux,
+            aux_sizes: job_aux.iter().map(|(n, _, _, s)| (n.clone(), *s)).collect(),
             viewport: None,
         }
     }
@@ -363,7 +389,8 @@ fn run_effect_on(
     report: &mut RunReport,
 ) -> Result<(wgpu::Texture, Format), RunError> {
     let ctx = engine.ctx.clone();
-    let desc = job.effect_input(renderer);
+    let job_aux = upload_job_aux(job, &ctx)?;
+    let desc = job.effect_input(renderer, &job_aux);
     let t = Instant::now();
     let mut prepared = effect.prepare(engine, &desc, Some(out_format))?;
     report.steps.pipeline_ms = ms(t.elapsed());
@@ -374,6 +401,9 @@ fn run_effect_on(
     let t = Instant::now();
     let mut inputs = FrameInputs::still(&out.scene, &prepared.plan);
     inputs.aux = out.aux.iter().map(|(n, t)| (n.clone(), t.into())).collect();
+    inputs
+        .aux
+        .extend(job_aux.iter().map(|(n, t, ..)| (n.clone(), t.into())));
     inputs.camera = Some(out.camera);
     report.passes = prepared.run(engine, &inputs, &target, job.timings)?;
     report.steps.passes_ms = ms(t.elapsed());

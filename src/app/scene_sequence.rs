@@ -445,7 +445,8 @@ fn stream_for(
     renderer: &Renderer,
     output_format: Format,
 ) -> Result<(Stream, u64, u64), RunError> {
-    let desc = job.effect_input(renderer);
+    let job_aux = super::scene::upload_job_aux(job, &engine.ctx)?;
+    let desc = job.effect_input(renderer, &job_aux);
     let mut prepared = effect.prepare_with(
         engine,
         &desc,
@@ -457,6 +458,7 @@ fn stream_for(
     prepared.fps = times.fps;
     let (history, latency) = (prepared.plan.history as u64, prepared.plan.latency as u64);
     let mut s = Stream::new(engine, prepared, Format::Rgba16f);
+    s.aux = job_aux.into_iter().map(|(n, t, ..)| (n, t)).collect();
     s.want_timings = job.timings;
     Ok((s, history, latency))
 }

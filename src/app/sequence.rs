@@ -14,6 +14,7 @@ use super::planes::PlaneConversion;
 use super::report::{JobKind, Progress, RunReport};
 use crate::gpu::executor::CameraStd;
 use crate::script::types::Format;
+use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
@@ -37,6 +38,9 @@ pub struct SequenceOptions {
     /// The viewport: the output size passes scale from as `VIEWPORT` (`None`:
     /// each input's size; `fxrun --size`).
     pub viewport: Option<(u32, u32)>,
+    /// Auxiliary images (`AUX.NAME`) given to every frame: `--aux NAME=FILE`
+    /// and a slang preset's LUTs; each keeps its own size.
+    pub aux: Vec<(String, PathBuf)>,
 }
 
 impl Default for SequenceOptions {
@@ -51,6 +55,7 @@ impl Default for SequenceOptions {
             timings: false,
             ycbcr: PlaneConversion::Auto,
             viewport: None,
+            aux: Vec::new(),
         }
     }
 }
@@ -86,5 +91,9 @@ pub fn run_sequence(
         ycbcr: opts.ycbcr,
         viewport: opts.viewport,
     };
+    let load = crate::io::LoadOptions {
+        assume_linear: opts.assume_linear,
+    };
+    let source = super::sources::with_aux(source, super::sources::load_aux(&opts.aux, &load)?);
     run_frames(device, effect, source, sink, &p, stop, progress)
 }

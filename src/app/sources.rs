@@ -458,3 +458,51 @@ impl FrameSink for DiscardSink {
         Ok(format!("frame {} (not written)", frame.number))
     }
 }
+
+/// The auxiliary images of `--aux NAME=FILE` (and a slang preset's LUTs),
+/// decoded once for a whole batch or sequence.
+pub(crate) fn load_aux(
+    paths: &[(String, std::path::PathBuf)],
+    load: &io::LoadOptions,
+) -> Result<Vec<(String, Image)>, IoError> {
+    let limit = SideLimit::known(io::MAX_SIDE);
+    paths
+        .iter()
+        .map(|(name, path)| Ok((name.clone(), load_checked(path, &limit, load)?)))
+        .collect()
+}
+
+/// A source whose frames all come with the same auxiliary images (`AUX.NAME`):
+/// the images of `--aux` for a batch or a sequence.
+pub(crate) struct WithAux {
+    inner: Box<dyn FrameSource>,
+    aux: Vec<(String, Image)>,
+}
+
+/// `source`, its frames given `aux` (`source` itself when `aux` is empty).
+pub(crate) fn with_aux(
+    source: Box<dyn FrameSource>,
+    aux: Vec<(String, Image)>,
+) -> Box<dyn FrameSource> {
+    if aux.is_empty() {
+        return source;
+    }
+    Box::new(WithAux { inner: source, aux })
+}
+
+impl FrameSource for WithAux {
+    fn frame_count(&self) -> Option<u64> {
+        self.inner.frame_count()
+    }
+    fn next_frame(&mut self) -> Option<SourceFrame> {
+        let mut f = self.inner.next_frame()?;
+        f.aux.extend(self.aux.iter().cloned());
+        Some(f)
+    }
+    fn set_limit(&mut self, limit: SideLimit) {
+        self.inner.set_limit(limit);
+    }
+    fn set_plane_route(&mut self, route: PlaneRoute) {
+        self.inner.set_plane_route(route);
+    }
+}

@@ -488,7 +488,7 @@ fn add_preset_luts(cli: &mut Cli) -> Result<(), Fail> {
 }
 
 /// The auxiliary images of `--aux NAME=FILE`.
-fn aux_images(cli: &Cli) -> Result<Vec<(String, PathBuf)>, Fail> {
+pub(crate) fn aux_images(cli: &Cli) -> Result<Vec<(String, PathBuf)>, Fail> {
     cli.aux
         .iter()
         .map(|a| {

@@ -348,13 +348,16 @@ impl Stream {
             .iter()
             .find(|f| f.index == t)
             .and_then(|f| f.extras.as_ref());
-        let (aux, camera, jitter, cut) = match extras {
-            Some(e) => (&e.aux, e.camera, e.jitter, e.cut),
-            None => (&self.aux, self.camera, [0.0, 0.0], false),
+        let (frame_aux, camera, jitter, cut) = match extras {
+            Some(e) => (Some(&e.aux), e.camera, e.jitter, e.cut),
+            None => (None, self.camera, [0.0, 0.0], false),
         };
+        // The stream's images, and the frame's own (a rendered frame's G-buffer)
+        // over them.
+        let aux = self.aux.iter().chain(frame_aux.into_iter().flatten());
         let mut inputs = FrameInputs {
             frames: HashMap::new(),
-            aux: aux.iter().map(|(n, t)| (n.clone(), t.into())).collect(),
+            aux: aux.map(|(n, t)| (n.clone(), t.into())).collect(),
             camera,
             jitter,
             cut,

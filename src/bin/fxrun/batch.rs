@@ -43,11 +43,6 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
             "this effect reads other frames (IN[-n], IN[+n] or feedback): give its frames as one folder or pattern, not as several -i",
         ));
     }
-    if !cli.aux.is_empty() {
-        return Err(rejected(
-            "--aux is for one image (-i FILE), not a batch or a sequence",
-        ));
-    }
     let inputs = collect_inputs(cli, &specs)?;
     let mut items = name_outputs(cli, &inputs, &ospec)?;
     check_outputs(&items)?;
@@ -364,6 +359,7 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
         queue: cli.queue.max(1),
         timings: cli.timings || cli.timings_json.is_some(),
         viewport: crate::viewport_of(cli)?,
+        aux: crate::aux_images(cli)?,
     };
     let progress = ProgressLine::new("images");
     // The device is created while the first image decodes.

@@ -105,6 +105,7 @@ pub(crate) fn scene_job(
         shadow_layers: cli.shadow_layers,
         environment,
         background,
+        aux: crate::aux_images(cli)?,
     };
     Ok(job)
 }

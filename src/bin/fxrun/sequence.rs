@@ -62,6 +62,7 @@ pub(crate) fn run_sequence_cli(
             .parse()
             .map_err(|e: String| rejected(format!("--ycbcr: {e}")))?,
         viewport: crate::viewport_of(cli)?,
+        aux: crate::aux_images(cli)?,
     };
     let adapter = adapter_choice(&cli.adapter);
     let progress = ProgressLine::new("frames");
