@@ -18,7 +18,8 @@ fn bad_arguments_are_rejected_with_exit_1() {
         &["no effect file or built-in effect named `no_such_effect`"],
     );
     assert_eq!(code(&fxrun(&["--help"])), 0);
-    // --size is a scene's (and --plan's) size: never silently ignored on an input
+    // --size with an input is the viewport, which glow's passes do not scale
+    // from: refused, never silently ignored
     let dir = tempfile::tempdir().unwrap();
     let input = input_png(dir.path());
     let out = dir.path().join("o.png");
@@ -31,7 +32,7 @@ fn bad_arguments_are_rejected_with_exit_1() {
         "--size",
         "64x32",
     ]);
-    exits_with(&o, 1, &["--size sets the size of a rendered --scene"]);
+    exits_with(&o, 1, &["--size with -i INPUT sets the viewport"]);
     assert!(!out.exists(), "nothing written");
 }
 

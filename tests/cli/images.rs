@@ -200,21 +200,29 @@ fn an_image_over_the_guaranteed_limit_waits_for_the_devices_own() {
     assert_eq!((r.width, r.height), (10000, 2));
 }
 
-/// An auxiliary image of another size than the input is an input error (exit 1)
-/// naming it, and nothing is written.
+/// An auxiliary image keeps its own size: chroma_composite stretches a 20x10
+/// background over a 48x32 input made of the key colour alone (alpha 0), so
+/// every output pixel is the background's flat colour (within 1 code).
 #[test]
-fn an_auxiliary_image_of_another_size_is_refused() {
+fn an_auxiliary_image_of_another_size_is_sampled_by_position() {
     let Some(dir) = gpu_scratch() else { return };
-    let input = input_png(dir.path());
+    let input = dir.path().join("key.png");
+    save(&input, &image_u8(48, 32, |_, _| [58, 210, 65, 255]));
     let bg = dir.path().join("bg.png");
-    save(&bg, &pattern_u8(20, 10));
+    save(&bg, &image_u8(20, 10, |_, _| [10, 100, 200, 255]));
     let out = dir.path().join("o.png");
     let aux = format!("background={}", bg.display());
-    let o = apply("chroma_composite", &input, &out, &["--aux", &aux]);
-    let e = exits(&o, 1);
-    assert!(
-        e.contains("AUX.background") && e.contains("20x10, the input is 48x32"),
-        "{e}"
+    exits(
+        &apply("chroma_composite", &input, &out, &["--aux", &aux]),
+        0,
     );
-    assert!(!out.exists());
+    let r = fxgraph::io::load_image(&out, &Default::default()).unwrap();
+    assert_eq!((r.width, r.height), (48, 32));
+    let fxgraph::io::Pixels::U8(px) = &r.pixels else {
+        panic!("8-bit")
+    };
+    for c in px.chunks(4) {
+        let d = [c[0] as i32 - 10, c[1] as i32 - 100, c[2] as i32 - 200];
+        assert!(d.iter().all(|v| v.abs() <= 1), "{c:?}");
+    }
 }

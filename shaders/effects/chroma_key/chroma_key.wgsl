@@ -9,11 +9,14 @@
 // Spill: with k the unit vector of the key's chroma, the chroma's component along k
 // is reduced: c -= spill * max(dot(c, k), 0) * k. Y' is kept, so brightness is.
 // OUTPUT: 0 straight RGBA, 1 premultiplied RGBA, 2 the matte as grey (alpha 1).
-// COMPOSITE = 1: the keyed image over `bg` (linear), alpha = a + bg.a (1 - a).
+// COMPOSITE = 1: the keyed image over `bg` (linear), alpha = a + bg.a (1 - a);
+// `bg` is sampled at the pixel's place in the image, so a background of another
+// size is stretched over it (at the same size, each pixel reads its own texel).
 // Colours are decoded to linear light on output.
 @group(0) @binding(0) var img: texture_2d<f32>;
 #if COMPOSITE
 @group(0) @binding(1) var bg: texture_2d<f32>;
+@group(0) @binding(3) var bg_sampler: sampler;
 #endif
 
 struct Params {
@@ -61,7 +64,8 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let fg = lib_srgb_to_linear(rgb(vec3<f32>(v.x, c)));
 #if COMPOSITE
-    let b = textureLoad(bg, p, 0);
+    let uv = pos.xy / vec2<f32>(textureDimensions(img));
+    let b = textureSampleLevel(bg, bg_sampler, uv, 0.0);
     return vec4<f32>(fg * a + b.rgb * (1.0 - a), a + b.a * (1.0 - a));
 #else
     return lib_keyed_output(fg, a);
