@@ -16,7 +16,8 @@
 //! normalised, of roughness `ρ_k` (at least 0.2, the first filtered level,
 //! for surfaces from 0.2 on); below roughness 0.25 it is instead the mix of
 //! two levels' lobes that the shader's trilinear read gives in a 1024 × 512
-//! map's chain (levels 0.2 apart: there the lobe is no wider than a step),
+//! map's chain (levels of roughness 0, 0.2, 0.3, 0.45, 0.7, 1: below 0.25 the
+//! lobe is no wider than the first step),
 //! with level 0, the unfiltered map, a point read that adds its whole weight
 //! to the distance. Below 0.15 the taps are the split sum's. The fit minimises the L1 distance between the normalised true
 //! lobe and the weighted sum of tap lobes over the sphere (it bounds the
@@ -187,9 +188,23 @@ fn taps(p: &[f64], floor: f64) -> [[f64; 3]; TAPS] {
 }
 
 /// The last level of the specular cube the taps are read from: a 1024 × 512
-/// map's chain, level m at roughness m / 5 (docs/environment.md,
-/// "Prefiltering"); other chains read the same taps from their own levels.
+/// map's chain, level m at roughness [`LEVEL_ROUGHNESS`]`[m]`
+/// (docs/environment.md, "Prefiltering"); other chains read the same taps from
+/// their own levels.
 const LAST_LEVEL: f64 = 5.0;
+
+/// src/render/environment/levels.rs's knots: a 1024 × 512 map's levels.
+const LEVEL_ROUGHNESS: [f64; 6] = [0.0, 0.2, 0.3, 0.45, 0.7, 1.0];
+
+/// The level (0 ..= `LAST_LEVEL`, fractional) of roughness `rho`.
+fn level_of(rho: f64) -> f64 {
+    let r = rho.clamp(0.0, 1.0);
+    let i = LEVEL_ROUGHNESS[1..]
+        .iter()
+        .position(|&k| r <= k)
+        .unwrap_or(LEVEL_ROUGHNESS.len() - 2);
+    i as f64 + (r - LEVEL_ROUGHNESS[i]) / (LEVEL_ROUGHNESS[i + 1] - LEVEL_ROUGHNESS[i])
+}
 
 /// environment.wgsl's `fx_env_lobe_spread` (the same constants).
 fn spread(roughness: f64) -> f64 {
@@ -199,18 +214,18 @@ fn spread(roughness: f64) -> f64 {
 }
 
 /// What the shader's read at roughness `rho` mixes (`fx_env_specular_level`):
-/// (the lower level's roughness, the fraction of the upper level's lobe).
-fn levels(rho: f64) -> (f64, f64) {
-    let k = (rho * LAST_LEVEL).floor().min(LAST_LEVEL - 1.0);
-    let (s0, s1) = (spread(k / LAST_LEVEL), spread((k + 1.0) / LAST_LEVEL));
+/// (the lower level, the fraction of the upper level's lobe).
+fn levels(rho: f64) -> (usize, f64) {
+    let k = level_of(rho).floor().min(LAST_LEVEL - 1.0) as usize;
+    let (s0, s1) = (spread(LEVEL_ROUGHNESS[k]), spread(LEVEL_ROUGHNESS[k + 1]));
     let f = ((spread(rho) - s0) / (s1 - s0).max(1e-12)).clamp(0.0, 1.0);
-    (k / LAST_LEVEL, f)
+    (k, f)
 }
 
 /// The lowest roughness a tap of a surface of roughness `roughness` reads:
 /// not below the first filtered level (level 0 is the unfiltered map).
 fn floor(roughness: f64) -> f64 {
-    roughness.min(1.0 / LAST_LEVEL)
+    roughness.min(LEVEL_ROUGHNESS[1])
 }
 
 /// Whether the fit at `roughness` models the shader's reads as the mix of two
@@ -241,12 +256,12 @@ fn loss(pts: &[(V3, f64)], want: &[f64], mu: f64, roughness: f64, p: &[f64]) -> 
             continue;
         }
         let (low, f) = levels(rho);
-        if low > 0.0 {
-            add_lobe(low, w * (1.0 - f));
+        if low > 0 {
+            add_lobe(LEVEL_ROUGHNESS[low], w * (1.0 - f));
         } else {
             point_reads += w * (1.0 - f);
         }
-        add_lobe(low + 1.0 / LAST_LEVEL, w * f);
+        add_lobe(LEVEL_ROUGHNESS[low + 1], w * f);
     }
     point_reads
         + sum

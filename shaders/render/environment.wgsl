@@ -18,7 +18,8 @@ struct FxEnvironment {
     flags: vec4<u32>,
 }
 
-// GGX-prefiltered radiance: level k holds perceptual roughness k / (levels - 1)
+// GGX-prefiltered radiance: level k holds perceptual roughness
+// fx_env_level_roughness(k / (levels - 1))
 @group(0) @binding(11) var fx_env_specular: texture_cube<f32>;
 // cosine-weighted mean radiance (irradiance / pi)
 @group(0) @binding(12) var fx_env_irradiance: texture_cube<f32>;
@@ -40,19 +41,47 @@ fn fx_env_lobe_spread(roughness: f32) -> f32 {
     return a * a * (30.124 - 9.4665 * sa + 1.4145 * a) / (1.0 + 8.8945 * sa + 3.2514 * a + 46.424 * a * a);
 }
 
+// Level m of the specular map (of `last` + 1) holds the perceptual roughness
+// at x = m / last, piecewise linear between these knots at x = 0, 0.2, ..., 1:
+// closer together at low roughness (src/render/environment/levels.rs).
+const FX_ENV_LEVEL_ROUGHNESS = array<f32, 6>(0.0, 0.2, 0.3, 0.45, 0.7, 1.0);
+
+// The roughness at position `x` (0 ..= 1) of the chain.
+fn fx_env_level_roughness(x: f32) -> f32 {
+    var knots = FX_ENV_LEVEL_ROUGHNESS;
+    let t = clamp(x, 0.0, 1.0) * 5.0;
+    let i = min(u32(t), 4u);
+    return mix(knots[i], knots[i + 1u], t - f32(i));
+}
+
+// The position (0 ..= 1) in the chain of roughness `roughness`.
+fn fx_env_level_position(roughness: f32) -> f32 {
+    var knots = FX_ENV_LEVEL_ROUGHNESS;
+    let r = clamp(roughness, 0.0, 1.0);
+    var i = 0u;
+    loop {
+        if i >= 4u || r <= knots[i + 1u] {
+            break;
+        }
+        i += 1u;
+    }
+    return (f32(i) + (r - knots[i]) / (knots[i + 1u] - knots[i])) / 5.0;
+}
+
 // The level of the specular map to read for perceptual roughness `roughness`.
-// Level k holds the lobe of roughness k / last (last = params.y); between two
-// levels the trilinear lookup mixes their lobes, and the fraction is chosen so
-// that the mix spreads as far as the lobe it stands for: linear in the lobe's
-// spread (`fx_env_lobe_spread`), not in roughness. Linear in roughness weighs
-// the wider lobe too much at low roughness (at 0.3, between the levels of 0.2
-// and 0.4: 1/2 instead of 0.38) and too little at high roughness (issue 29).
+// Level k holds the lobe of roughness fx_env_level_roughness(k / last) (last =
+// params.y); between two levels the trilinear lookup mixes their lobes, and
+// the fraction is chosen so that the mix spreads as far as the lobe it stands
+// for: linear in the lobe's spread (`fx_env_lobe_spread`), not in roughness.
+// Linear in roughness weighs the wider lobe too much at low roughness (at 0.3,
+// between levels of 0.2 and 0.4: 1/2 instead of 0.38) and too little at high
+// roughness (issue 29).
 fn fx_env_specular_level(roughness: f32) -> f32 {
     let last = max(fx_env.params.y, 1.0);
     let r = clamp(roughness, 0.0, 1.0);
-    let k = min(floor(r * last), last - 1.0);
-    let s0 = fx_env_lobe_spread(k / last);
-    let s1 = fx_env_lobe_spread((k + 1.0) / last);
+    let k = min(floor(fx_env_level_position(r) * last), last - 1.0);
+    let s0 = fx_env_lobe_spread(fx_env_level_roughness(k / last));
+    let s1 = fx_env_lobe_spread(fx_env_level_roughness((k + 1.0) / last));
     return k + clamp((fx_env_lobe_spread(r) - s0) / max(s1 - s0, 1e-12), 0.0, 1.0);
 }
 

@@ -18,12 +18,14 @@
 //!   background.
 
 mod dfg;
+mod levels;
 mod lobe;
 mod lobe_table;
 mod prefilter;
 mod small_cube;
 mod spread;
 
+pub use levels::{level_roughness, position_of, roughness_at, LEVEL_ROUGHNESS};
 pub use prefilter::{
     face_size, specular_levels, CONVOLVED_ROUGHNESS, CONVOLVED_SIDE, DFG_SAMPLES, DFG_SIZE,
     IRRADIANCE_FACE, MAX_FACE, SPECULAR_SAMPLES,
@@ -221,7 +223,7 @@ impl EnvironmentLighting {
         };
         let g = GpuEnvironment {
             map_from_view: [col(m.x_axis), col(m.y_axis), col(m.z_axis)],
-            params: [intensity, max_lod, blur.clamp(0.0, 1.0) * max_lod, fog.1],
+            params: [intensity, max_lod, position_of(blur) * max_lod, fog.1],
             fog_color: fog.0.extend(0.0).into(),
             flags: [u32::from(self.is_on()), mode, 0, 0],
         };

@@ -8,7 +8,8 @@
 //!    chain down to 1×1;
 //! 2. the specular cube map: side `S`, `L = log2(S) − 2` levels (down to 8×8);
 //!    level `m` holds the radiance prefiltered with the GGX lobe of perceptual
-//!    roughness `m / (L − 1)` (level 0, roughness 0, is a copy of the source);
+//!    roughness [`level_roughness`](super::level_roughness)`(m, L)` (0, 0.2,
+//!    0.3, 0.45, 0.7, 1 for six levels; level 0 is a copy of the source);
 //!    shading reads it trilinearly between the two levels that bracket the
 //!    surface's roughness, at the fraction linear in the lobes' spread
 //!    (environment.wgsl `fx_env_specular_level`). Narrow lobes (roughness below [`CONVOLVED_ROUGHNESS`]) are
@@ -36,10 +37,10 @@ pub const MAX_FACE: u32 = 512;
 pub const IRRADIANCE_FACE: u32 = 16;
 /// GGX importance samples per texel of the specular levels of roughness below
 /// [`CONVOLVED_ROUGHNESS`] (level 1, level 2, ...; the last for the rest).
-pub const SPECULAR_SAMPLES: [u32; 2] = [128, 256];
+pub const SPECULAR_SAMPLES: [u32; 3] = [128, 512, 256];
 /// Levels of at least this roughness, and the irradiance, are summed over
 /// every texel of the source's [`CONVOLVED_SIDE`]² level instead.
-pub const CONVOLVED_ROUGHNESS: f32 = 0.75;
+pub const CONVOLVED_ROUGHNESS: f32 = 0.65;
 pub const CONVOLVED_SIDE: u32 = 16;
 /// Side of the DFG table and its samples per texel.
 pub const DFG_SIZE: u32 = 64;
@@ -403,7 +404,7 @@ impl Recorder<'_> {
         let source_cube = cube_view(source, "environment source cube");
         for level in 1..levels {
             let side = size >> level;
-            let roughness = level as f32 / (levels - 1) as f32;
+            let roughness = super::level_roughness(level, levels);
             let convolved = roughness >= CONVOLVED_ROUGHNESS;
             let samples = SPECULAR_SAMPLES[(level as usize - 1).min(SPECULAR_SAMPLES.len() - 1)];
             let lobe = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
