@@ -19,7 +19,7 @@ use crate::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use crate::render::renderer::Renderer;
 use crate::render::{FrameMotion, RenderError, RenderOutput, RenderStats};
 use crate::scene::{Camera, CameraPath, Playback, Pose, Scene};
-use crate::script::types::{ColorSpace, Format};
+use crate::script::types::Format;
 
 /// Which frame to render, and from where.
 #[derive(Debug, Clone, Copy)]
@@ -47,6 +47,8 @@ pub struct SceneFrames {
     /// The sub-pixel jitter the render was made with.
     jitter: [f32; 2],
     prepared: Option<Prepared>,
+    /// The job's own auxiliary images (`--aux`, a slang preset's LUTs), on the GPU.
+    job_aux: super::scene::JobAux,
 }
 
 impl SceneFrames {
@@ -65,6 +67,7 @@ impl SceneFrames {
         };
         let timed = scene.is_animated() || !matches!(path, CameraPath::Fixed(_));
         let renderer = scene_renderer(&job, ctx, &scene)?;
+        let job_aux = super::scene::upload_job_aux(&job, ctx)?;
         Ok(SceneFrames {
             job,
             scene,
@@ -76,6 +79,7 @@ impl SceneFrames {
             rendered: None,
             jitter: [0.0, 0.0],
             prepared: None,
+            job_aux,
         })
     }
 
@@ -119,17 +123,15 @@ impl SceneFrames {
         self.renderer.aux_formats()
     }
 
-    /// What an effect over a `width` x `height` render reads.
+    /// What an effect over a `width` x `height` render reads: the G-buffer
+    /// and the job's own auxiliary images.
     pub fn input_desc(&self, (width, height): (u32, u32)) -> InputDesc {
-        InputDesc {
+        SceneJob {
             width,
             height,
-            format: Format::Rgba16f,
-            colorspace: ColorSpace::Linear,
-            aux: self.aux_formats().to_vec(),
-            aux_sizes: Vec::new(),
-            viewport: None,
+            ..self.job.clone()
         }
+        .effect_input(&self.renderer, &self.job_aux)
     }
 
     /// Plan `effect` for renders of `size` with output `output_format` (pooled
@@ -238,6 +240,9 @@ impl SceneFrames {
         let mut inputs = FrameInputs::still(&out.scene, &p.plan);
         inputs.jitter = self.jitter;
         inputs.aux = out.aux.iter().map(|(n, t)| (n.clone(), t.into())).collect();
+        inputs
+            .aux
+            .extend(self.job_aux.iter().map(|(n, t, ..)| (n.clone(), t.into())));
         inputs.camera = Some(out.camera);
         Ok(p.record(engine, encoder, &inputs, target)?)
     }
