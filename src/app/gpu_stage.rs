@@ -310,20 +310,15 @@ impl<'a, 'r> GpuStage<'a, 'r> {
     ) -> Result<PendingReadback, RunError> {
         let assume_linear = self.opts.assume_linear;
         let (in_format, colorspace) = input_format(img, assume_linear);
+        let (aux_formats, aux_sizes) = aux_plan(aux, assume_linear);
         let key = PlanKey {
             width: img.width,
             height: img.height,
             input: in_format,
             colorspace,
             output: self.opts.format_for(number),
-            aux: aux
-                .iter()
-                .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
-                .collect(),
-            aux_sizes: aux
-                .iter()
-                .map(|(n, a)| (n.clone(), (a.width, a.height)))
-                .collect(),
+            aux: aux_formats,
+            aux_sizes,
         };
         let ctx = self.engine.ctx.clone();
         let t = Instant::now();
@@ -448,19 +443,14 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             self.first_number = Some(number);
             let (fmt, cs) = picture_format(&img, self.opts.assume_linear);
             let assume_linear = self.opts.assume_linear;
+            let (aux_formats, aux_sizes) = aux_plan(aux, assume_linear);
             let desc = InputDesc {
                 width,
                 height,
                 format: fmt,
                 colorspace: cs,
-                aux: aux
-                    .iter()
-                    .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
-                    .collect(),
-                aux_sizes: aux
-                    .iter()
-                    .map(|(n, a)| (n.clone(), (a.width, a.height)))
-                    .collect(),
+                aux: aux_formats,
+                aux_sizes,
                 viewport: self.opts.viewport,
             };
             let mut prepared = self.effect.prepare_with(
@@ -555,4 +545,20 @@ impl<'a, 'r> GpuStage<'a, 'r> {
             }
         }
     }
+}
+
+/// The formats and sizes the plan gives the auxiliary images `aux`.
+type AuxPlan = (Vec<(String, Format)>, Vec<(String, (u32, u32))>);
+
+/// [`AuxPlan`] of `aux`, each image as it will be uploaded.
+fn aux_plan(aux: &[(String, Image)], assume_linear: bool) -> AuxPlan {
+    let formats = aux
+        .iter()
+        .map(|(n, a)| (n.clone(), input_format(a, assume_linear).0))
+        .collect();
+    let sizes = aux
+        .iter()
+        .map(|(n, a)| (n.clone(), (a.width, a.height)))
+        .collect();
+    (formats, sizes)
 }
