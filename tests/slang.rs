@@ -528,6 +528,36 @@ fn a_lut_preset_runs_on_batches_sequences_video_and_scenes() {
     }
 }
 
+/// The frontend's semantics, as librashader binds them: `OriginalFPS` the
+/// input's rate, `FrameTimeDelta` its frame interval in milliseconds (0 on the
+/// first frame), `BrightnessNits` 200 and `HDRMode` 0 (an SDR display),
+/// `Gyroscope` (0, 0, 0). A sequence at `--fps 50`: (50, 0, 200) on frame 0,
+/// (50, 20, 200) after, as stored codes.
+#[test]
+fn frontend_semantics_have_librashaders_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let p = preset(
+        d,
+        "frontend",
+        "float OriginalFPS; uint FrameTimeDelta; float BrightnessNits; uint HDRMode; vec3 Gyroscope;",
+        "FragColor = vec4(params.OriginalFPS, float(params.FrameTimeDelta), \
+         params.BrightnessNits - float(params.HDRMode) - length(params.Gyroscope), 255.0) / 255.0 \
+         + 0.0 * texture(Source, vTexCoord) + 0.0 * texture(OriginalHistory1, vTexCoord) \
+         + 0.0 * texture(PassFeedback0, vTexCoord);",
+        "",
+    );
+    let input = grey_sequence(d, &[10, 20, 30]);
+    std::fs::create_dir_all(d.join("out")).unwrap();
+    let out = d.join("out/%04d.png").display().to_string();
+    let o = fxrun(&[arg(&p), "--fps", "50", "-i", &input, "-o", &out]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    for (n, delta) in [(0, 0.0), (1, 20.0), (2, 20.0)] {
+        let (_, _, px) = rgb(&d.join(format!("out/{n:04}.png")));
+        assert_eq!(&px[..3], &[50.0, delta, 200.0], "frame {n}");
+    }
+}
+
 /// Runs `--check` on `p` and returns its message, which must give status 1
 /// and contain each of `needles`, without a panic or a wgpu error chain.
 fn rejected(p: &Path, needles: &[&str]) -> String {
@@ -595,15 +625,6 @@ fn every_error_class_names_its_file_and_cause() {
         "",
     );
     rejected(&p, &["sem.slang", "unknown semantic `mystery`"]);
-    // a semantic fxgraph has no value for
-    let p = preset(
-        d,
-        "fps",
-        "float OriginalFPS;",
-        "FragColor = vec4(params.OriginalFPS);",
-        "",
-    );
-    rejected(&p, &["fps.slang", "`OriginalFPS` is not supported"]);
     // a shader that translates but cannot run as a pass (an integer colour
     // output): the error lies in the generated WGSL, and names the `.slang` file
     let float_out = "layout(location = 0) out vec4 FragColor;";

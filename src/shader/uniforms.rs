@@ -57,6 +57,19 @@ pub enum StdValue {
     /// `mvp`: the orthographic projection of the unit square onto clip space
     /// (slang's `MVP`).
     Mvp,
+    /// `fps`: the input's frames per second (slang's `OriginalFPS`).
+    Fps,
+    /// `frame_time_ms`: milliseconds from the previous frame, 1000 / fps
+    /// rounded, 0 on the first frame (slang's `FrameTimeDelta`).
+    FrameTimeMs,
+    /// `frontend_*`: what a RetroArch frontend tells its presets about the
+    /// display and the device, as librashader binds them by default (an SDR
+    /// display, no sensors): `frontend_hdr_mode` 0, `frontend_brightness_nits`
+    /// 200, `frontend_expand_gamut`, `frontend_scanlines`,
+    /// `frontend_inverse_tonemap`, `frontend_hdr10`, `frontend_subpixel_layout`
+    /// 0, `frontend_gyroscope`, `frontend_accelerometer`,
+    /// `frontend_accelerometer_rest` (0, 0, 0).
+    Frontend(f32),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +110,8 @@ pub struct StdContext {
     /// Size of the effect's input and output images.
     pub in_size: (u32, u32),
     pub final_size: (u32, u32),
+    /// The input's frames per second.
+    pub fps: f64,
 }
 
 /// `(w, h, 1/w, 1/h)`.
@@ -167,6 +182,8 @@ impl UniformLayout {
                         | StdValue::Jitter
                         | StdValue::Cut
                         | StdValue::FrameMod(_)
+                        | StdValue::Fps
+                        | StdValue::FrameTimeMs
                 )
             )
         })
@@ -188,6 +205,10 @@ fn slang_value(v: StdValue, ctx: &StdContext) -> Vec<f64> {
             vec![f64::from(ctx.in_size.0.max(1)) / f64::from(ctx.in_size.1.max(1))]
         }
         StdValue::Mvp => MVP.to_vec(),
+        StdValue::Fps => vec![ctx.fps],
+        StdValue::FrameTimeMs if ctx.frame == 0 || ctx.fps <= 0.0 => vec![0.0],
+        StdValue::FrameTimeMs => vec![(1000.0 / ctx.fps).round()],
+        StdValue::Frontend(v) => vec![f64::from(v); 3],
         _ => Vec::new(),
     }
 }
@@ -219,6 +240,18 @@ pub(crate) fn std_value(name: &str, inputs: &[String]) -> Option<(StdValue, &'st
         "current_subframe" => (StdValue::CurrentSubframe, SCALAR),
         "in_aspect" => (StdValue::InAspect, F1),
         "mvp" => (StdValue::Mvp, M4),
+        "fps" => (StdValue::Fps, F1),
+        "frame_time_ms" => (StdValue::FrameTimeMs, SCALAR),
+        "frontend_brightness_nits" => (StdValue::Frontend(200.0), SCALAR),
+        "frontend_hdr_mode"
+        | "frontend_expand_gamut"
+        | "frontend_scanlines"
+        | "frontend_inverse_tonemap"
+        | "frontend_hdr10"
+        | "frontend_subpixel_layout" => (StdValue::Frontend(0.0), SCALAR),
+        "frontend_gyroscope" | "frontend_accelerometer" | "frontend_accelerometer_rest" => {
+            (StdValue::Frontend(0.0), &[FieldType::F32(3)])
+        }
         _ => {
             if let Some(n) = name
                 .strip_prefix("frame_mod_")

@@ -352,6 +352,7 @@ impl Prepared {
             }
             u.std.frame = self.frame;
             u.std.time = self.frame as f64 / self.fps;
+            u.std.fps = self.fps;
             u.std.subframe = self.subframe;
             u.std.near = cam.near;
             u.std.far = cam.far;
