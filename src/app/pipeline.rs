@@ -165,6 +165,21 @@ fn write_one(
 /// early (Ctrl-C): frames already written stay, frames in flight are finished.
 ///
 /// `Err` when the run cannot go on at all: the device cannot be created, the effect or
+/// A viewport (`fxrun --size` with an input) that no pass scales from would be
+/// ignored: refused before any frame is read.
+fn check_viewport(effect: &Effect, opts: &PipelineOptions) -> Result<(), RunError> {
+    if opts.viewport.is_some() && !effect.graph.scales_from_viewport() {
+        return Err(RunError::Rejected {
+            rendered: "--size with -i INPUT sets the viewport, the size passes scale from as \
+                       OUT.RELATIVE_TO = VIEWPORT (a slang preset's viewport); no pass of these \
+                       effects does, so the output has the size their passes give it \
+                       (OUT.SIZE, OUT.SCALE)"
+                .into(),
+        });
+    }
+    Ok(())
+}
+
 /// its shaders are rejected, a thread cannot start, or (sequences) any frame fails.
 #[allow(clippy::too_many_arguments)]
 pub fn run_frames(
@@ -176,6 +191,7 @@ pub fn run_frames(
     stop: Arc<AtomicBool>,
     mut progress: impl FnMut(Progress),
 ) -> Result<RunReport, RunError> {
+    check_viewport(effect, opts)?;
     let start = Instant::now();
     let limit = SideLimit::default();
     // Y'CbCr planes go to the GPU for sequences, as `opts.ycbcr` says for the device.

@@ -503,22 +503,10 @@ pub(crate) fn aux_images(cli: &Cli) -> Result<Vec<(String, PathBuf)>, Fail> {
 
 /// `--size WxH` with `-i INPUT`: the viewport, the output size that passes scale
 /// from as `OUT.RELATIVE_TO = VIEWPORT` (a slang preset's viewport and its last
-/// pass). Refused when no pass of the effects reads it: their output has the
-/// size their passes give it.
+/// pass). The run refuses it when no pass of the effects reads it
+/// (`app::run_frames`, with the effect it compiles anyway).
 pub(crate) fn viewport_of(cli: &Cli) -> Result<Option<(u32, u32)>, Fail> {
-    let Some(s) = &cli.size else { return Ok(None) };
-    let size = parse_size(s)?;
-    let request = fxgraph::lookup::DiskEffects::request_with(&cli.effects, cli.set.clone());
-    if let (Some(graph), _, _) = compile(&request) {
-        if !graph.scales_from_viewport() {
-            return Err(rejected(
-                "--size with -i INPUT sets the viewport, the size passes scale from as \
-                 OUT.RELATIVE_TO = VIEWPORT (a slang preset's viewport); no pass of these effects does, \
-                 so the output has the size their passes give it (OUT.SIZE, OUT.SCALE)",
-            ));
-        }
-    }
-    Ok(Some(size))
+    cli.size.as_deref().map(parse_size).transpose()
 }
 
 /// An image, batch or sequence run (what `--watch` re-runs).
