@@ -8,7 +8,9 @@
 #
 # Settings (environment): FXRUN, FXRUN_ARGS (e.g. "--adapter 1"), SIZES, FRAMES,
 # VIDEO_FRAMES, STILL / TEMPORAL / SCENE / VIDEO_EFFECTS (effect lists), RUNS,
-# BENCH_DIR (work folder, default /tmp/fxgraph-gpu-bench).
+# BENCH_DIR (work folder, default /tmp/fxgraph-gpu-bench), RUN_LIMIT (seconds one
+# fxrun process may take before it counts as failed, default 120),
+# FX_BENCH_CORNELL (see bench/gpu_render.sh).
 #
 # Needs only the fxrun binary (FXRUN=path, default target/release/fxrun, built
 # here when cargo exists) and bash; python3 formats the table, and when it can
@@ -46,7 +48,9 @@ if [ -z "${FXRUN:-}" ]; then
     fi
 fi
 [ -x "$FXRUN" ] || { echo "no fxrun binary at $FXRUN (set FXRUN=...)"; exit 1; }
-FX="$FXRUN ${FXRUN_ARGS:-}"
+# Every fxrun process runs under a time limit, so that one hang costs one row,
+# not the whole benchmark.
+FX="timeout ${RUN_LIMIT:-120} $FXRUN ${FXRUN_ARGS:-}"
 PY=$(command -v python3 || true)
 
 if [ "$QUICK" = 1 ]; then
@@ -89,6 +93,25 @@ print(f"| {sys.argv[2]} | " + ("%.3f" % total if timed else "no timestamps") + "
       "; ".join(f"{p['path']} {p['execution']} {p['gpu_ms'] if p['gpu_ms'] is None else round(p['gpu_ms'], 3)}" for p in passes) + " |")
 with open(sys.argv[1] + ".total", "w") as f:
     f.write("%.3f" % total if timed else "-")
+EOF
+    cat "$1.total"
+}
+
+# chain_ms JSON LABEL: "TOTAL (render R + effects E)" for a scene job: the render
+# passes of the last frame and the effect passes' medians, in GPU ms.
+chain_ms() {
+    [ -n "$PY" ] || { echo "?"; return; }
+    "$PY" - "$1" "$2" >> "$OUT/passes.md" <<'EOF'
+import json, sys
+r = json.load(open(sys.argv[1]))
+fx = [p for p in r.get("passes", []) if p.get("gpu_ms") is not None]
+rp = r.get("scene", {}).get("render_passes", [])
+e = sum(p["gpu_ms"] for p in fx)
+g = sum(ms for _, ms in rp)
+print(f"| {sys.argv[2]} | {g + e:.3f} | " + "; ".join(f"{n} {ms:.3f}" for n, ms in rp) + "; "
+      + "; ".join(f"{p['path']} {p['execution']} {p['gpu_ms']:.3f}" for p in fx) + " |")
+with open(sys.argv[1] + ".total", "w") as f:
+    f.write(f"{g + e:.3f} (render {g:.2f} + effects {e:.2f})" if fx and rp else "-")
 EOF
     cat "$1.total"
 }
@@ -136,6 +159,21 @@ for size in $SIZES; do
         done
         row "$effect GPU ms/frame" "$size" "${ms[fragment]}" "${ms[compute]}" "$(ratio "${ms[fragment]}" "${ms[compute]}")" ""
     done
+    # The room with its default chain (ssao fog glow tonemap fxaa): the render
+    # passes' GPU time (last frame) plus the effect passes' medians, the figure
+    # issue 26's targets are set against.
+    declare -A chain=()
+    for exec in fragment compute; do
+        json="$OUT/default-chain-$size-$exec.json"
+        if $FX --scene builtin:room --size "$size" --frames "0..$((FRAMES - 1))" --camera orbit -o - \
+            --execution "$exec" --timings --timings-json "$json" >/dev/null 2>"$OUT/err.txt"; then
+            chain[$exec]=$(chain_ms "$json" "room + default chain $size $exec")
+        else
+            chain[$exec]="failed"
+            sed 's/^/    /' "$OUT/err.txt" | tail -3
+        fi
+    done
+    row "room + default chain, GPU ms/frame (render + effects)" "$size" "${chain[fragment]}" "${chain[compute]}" "$(ratio "${chain[fragment]%% *}" "${chain[compute]%% *}")" ""
 done
 
 # Whole-pipeline video: y4m in, y4m out (to a pipe), fps.

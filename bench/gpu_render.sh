@@ -18,7 +18,8 @@
 # Environment (optional): FXRUN=path (default: cargo build --release),
 # FX_BENCH_SIZES="1920x1080 3840x2160", FX_BENCH_FRAMES=16, FX_BENCH_LIGHTS=16384,
 # FX_BENCH_CHAIN="ssao tonemap fxaa" (the effects after the renderer; default:
-# tonemap), WGPU_BACKEND=vulkan (recommended on GPU servers).
+# tonemap), FX_BENCH_CORNELL=path (the corpus CornellBox.glb, where ../shared is
+# not beside the checkout), WGPU_BACKEND=vulkan (recommended on GPU servers).
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 QUICK=0
@@ -33,7 +34,7 @@ else
     LIGHTS=${FX_BENCH_LIGHTS:-16384}
 fi
 CHAIN=${FX_BENCH_CHAIN:-tonemap}
-CORNELL=../shared/corpus/gltf/CornellBox.glb
+CORNELL=${FX_BENCH_CORNELL:-../shared/corpus/gltf/CornellBox.glb}
 need_files "$CORNELL"
 command -v python3 >/dev/null || { echo "install python3"; exit 1; }
 if [ -z "${FXRUN:-}" ]; then
