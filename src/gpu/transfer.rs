@@ -109,7 +109,7 @@ pub fn pixels_from_bytes(raw: Vec<u8>, format: Format) -> Result<Pixels, GpuErro
 /// gets `STORAGE_BINDING`, so the pass writing it can be a compute dispatch
 /// (compute execution, or a compute-native pass); a caller making its own output
 /// texture adds that usage for the same effect. sRGB formats cannot be storage
-/// textures: their last pass stays a fragment pass.
+/// textures: their last pass writes a stand-in copied into the output.
 pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) -> wgpu::Texture {
     // An sRGB output may be written through a raw 8-bit view (View::Raw).
     let view_formats: &[wgpu::TextureFormat] =
@@ -118,8 +118,11 @@ pub fn create_output(ctx: &GpuContext, width: u32, height: u32, format: Format) 
         } else {
             &[]
         };
+    // COPY_DST: where the format cannot be stored to (sRGB), a compute pass
+    // writes a stand-in that is copied into it (gpu/executor/stand_in.rs).
     let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT
         | wgpu::TextureUsages::COPY_SRC
+        | wgpu::TextureUsages::COPY_DST
         | wgpu::TextureUsages::TEXTURE_BINDING;
     if ctx.format_support(wgpu_format(format)).storage {
         usage |= wgpu::TextureUsages::STORAGE_BINDING;

@@ -240,8 +240,9 @@ fn {COMPUTE_ENTRY}(@builtin(global_invocation_id) fxgraph_id: vec3<u32>) {{
 }
 
 /// The sRGB curve (IEC 61966-2-1) the fragment path's sRGB views apply in
-/// hardware; alpha stays linear as it does there.
-const SRGB_ENCODE: &str = "
+/// hardware; alpha stays linear as it does there. Defines
+/// `fxgraph_srgb_encode(c: vec4<f32>) -> vec4<f32>`.
+pub const SRGB_ENCODE: &str = "
 fn fxgraph_srgb_encode(c: vec4<f32>) -> vec4<f32> {
     let x = clamp(c.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
     let lo = x * 12.92;

@@ -13,7 +13,7 @@ use super::record::{GpuPass, Source};
 use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
 use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
 use crate::gpu::context::GpuError;
-use crate::graph::plan::PlannedPass;
+use crate::graph::plan::{PlannedPass, Resource};
 use crate::script::types::{Format, Sampling};
 use crate::script::Diagnostic;
 use crate::shader::compute::{
@@ -53,7 +53,29 @@ pub(super) struct ComputePath {
     size: (u32, u32),
     /// Invocations per workgroup in x and y: one invocation per output pixel.
     workgroup: (u32, u32),
+    /// A compute-native pass writing the caller's output in another format
+    /// than its own (an sRGB image, say): its values are converted into the
+    /// output after the dispatch, sRGB-encoded when `Some(true)` (stand_in.rs).
+    convert: Option<bool>,
     bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
+}
+
+impl ComputePath {
+    /// Where the dispatch writes.
+    pub(super) fn target(&self) -> &Source {
+        &self.target
+    }
+
+    /// The format the dispatch stores (an sRGB target's raw twin).
+    pub(super) fn storage(&self) -> wgpu::TextureFormat {
+        self.storage
+    }
+
+    /// Whether the stored values are converted into the output, and encoded
+    /// to sRGB on the way (`Some(true)`).
+    pub(super) fn convert(&self) -> Option<bool> {
+        self.convert
+    }
 }
 
 /// The WGSL texel format of a storage texture of `f`.
@@ -87,6 +109,16 @@ fn naga_storage_name(f: naga::StorageFormat) -> &'static str {
         S::Rg16Float => "rg16float",
         S::Rg32Float => "rg32float",
         _ => "another format",
+    }
+}
+
+/// The texture format of a four-channel float storage format naga parsed (the
+/// formats a compute-native pass's values can be converted from).
+fn wgpu_of_naga(f: naga::StorageFormat) -> Option<wgpu::TextureFormat> {
+    match f {
+        naga::StorageFormat::Rgba16Float => Some(wgpu::TextureFormat::Rgba16Float),
+        naga::StorageFormat::Rgba32Float => Some(wgpu::TextureFormat::Rgba32Float),
+        _ => None,
     }
 }
 
@@ -169,7 +201,31 @@ impl Engine {
             storage,
             size: (p.desc.width, p.desc.height),
             workgroup: WRAP_WORKGROUP,
+            convert: None,
             bind_groups: Vec::new(),
+        })
+    }
+
+    /// Whether compute-native pass `p`, writing the caller's output as
+    /// `rgba8-srgb` (an 8-bit image: no adapter stores to it), can have its
+    /// values converted into the output: `Some(encode)` where the shader stores
+    /// four float channels, the device can store those and the output's raw format, and
+    /// `encode` (sRGB) is what the fragment path's target view would do.
+    fn output_conversion(&self, p: &PlannedPass, native: &ComputeNative) -> Option<bool> {
+        if !matches!(p.output, Resource::Output)
+            || p.desc.format != Format::Rgba8Srgb
+            || self.ctx.info.backend == wgpu::Backend::Gl
+        {
+            return None;
+        }
+        let stored = wgpu_of_naga(native.output.format)?;
+        let raw = storage_format(p.desc.format);
+        wgsl_storage_format(raw)?;
+        let support = |f| self.ctx.format_support(f).storage;
+        (support(stored) && support(raw)).then(|| {
+            view_format(p.desc.format, p.target_view)
+                .unwrap_or(wgpu_format(p.desc.format))
+                .is_srgb()
         })
     }
 
@@ -188,7 +244,17 @@ impl Engine {
         let storage = storage_format(p.desc.format);
         let declared = wgsl_storage_format(storage);
         let wanted = naga_storage_name(native.output.format);
-        if declared != Some(wanted) || wgpu_format(p.desc.format).is_srgb() {
+        let mismatch = declared != Some(wanted) || wgpu_format(p.desc.format).is_srgb();
+        // The caller's output in another format: stored in the shader's own
+        // format, then converted (stand_in.rs).
+        let convert = mismatch
+            .then(|| self.output_conversion(p, native))
+            .flatten();
+        let storage = match convert {
+            Some(_) => wgpu_of_naga(native.output.format).expect("checked by output_conversion"),
+            None => storage,
+        };
+        if mismatch && convert.is_none() {
             return Err(Diagnostic::error(format!(
                 "pass `{}` writes {}, but its shader's `{}` is a texture_storage_2d<{wanted}, write>",
                 p.path, p.desc.format, native.output.name
@@ -201,7 +267,9 @@ impl Engine {
                 p.path, p.desc.format, self.ctx.info.name
             )));
         }
-        self.pool.add_storage_format(p.desc.format);
+        if convert.is_none() {
+            self.pool.add_storage_format(p.desc.format);
+        }
         let key = ComputeKey {
             base: PipelineKey {
                 target: storage,
@@ -241,6 +309,7 @@ impl Engine {
             storage,
             size: (p.desc.width, p.desc.height),
             workgroup: (wx.max(1), wy.max(1)),
+            convert,
             bind_groups: Vec::new(),
         })
     }
@@ -377,9 +446,11 @@ fn storage_target<'v>(
     tex: FrameTextures<'v>,
 ) -> Option<(BindKey, &'v wgpu::TextureView)> {
     let (key, view) = target_view(&path.target, Some(path.storage), tex).ok()?;
-    view.texture()
+    let texture = view.texture();
+    (texture
         .usage()
         .contains(wgpu::TextureUsages::STORAGE_BINDING)
+        && texture.format() == path.storage)
         .then_some((key, view))
 }
 

@@ -38,6 +38,7 @@ mod pool;
 pub struct LibraryDoc;
 mod prepare;
 mod record;
+mod stand_in;
 
 pub use super::formats::wgpu_format;
 pub use bgra::bgra_twin;

@@ -16,6 +16,7 @@ use super::compute::{encode_compute_pass, prebind_compute, ComputePath};
 use super::encode::{bind_group, encode_pass, BindKey, FrameTextures};
 use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
+use super::stand_in::StandIn;
 use super::{
     CachedPipeline, CameraStd, Engine, ExecError, Execution, FrameInputs, ImageRef, PassTiming,
 };
@@ -152,6 +153,9 @@ pub struct Prepared {
     pub(super) inspection: Option<Inspection>,
     /// Per-pass GPU times of recorded frames ([`Prepared::set_gpu_timings`]).
     pub(super) frame_timings: Option<FrameTimings>,
+    /// The storage texture a compute pass writes in place of an output that
+    /// cannot be stored to (stand_in.rs).
+    pub(super) stand_in: Option<StandIn>,
 }
 
 const IDENTITY: [f32; 16] = [
@@ -196,6 +200,7 @@ impl Prepared {
             camera: None,
             inspection: None,
             frame_timings: None,
+            stand_in: None,
         }
     }
 
@@ -477,7 +482,22 @@ impl Prepared {
         let gp = &self.passes[pass];
         // Only a pass writing the caller's output writes a BGRA (window) texture.
         let bgra = bgra && matches!(gp.target, Source::Caller(_));
-        let storage = gp.runs_as_compute(self.frame_textures(engine, caller));
+        let mut storage = gp.runs_as_compute(self.frame_textures(engine, caller));
+        // An output that cannot be stored to: the dispatch writes a stand-in.
+        let stand_in = match storage || bgra {
+            true => None,
+            false => self.stand_in_for(engine, pass, caller),
+        };
+        let swapped;
+        let caller = match &stand_in {
+            Some(s) => {
+                swapped = s.caller_views(caller);
+                storage = true;
+                &swapped[..]
+            }
+            None => caller,
+        };
+        let gp = &self.passes[pass];
         if gp.pipeline.is_none() && (!storage || bgra) {
             return Err(ExecError::Input(format!(
                 "pass `{}` is a compute pass and its output cannot be a storage texture here (an sRGB or BGRA output, or one made without STORAGE_BINDING)",
@@ -502,7 +522,12 @@ impl Prepared {
             None => {
                 self.stats.compute_passes += 1;
                 let timestamps = timer.and_then(|t| t.compute_pass_writes(index));
-                encode_compute_pass(gp, &engine.ctx.device, tex, encoder, timestamps)?
+                let created =
+                    encode_compute_pass(gp, &engine.ctx.device, tex, encoder, timestamps)?;
+                if let Some(s) = &stand_in {
+                    s.finish(encoder);
+                }
+                created
             }
             Some(pipeline) => {
                 self.stats.fragment_passes += 1;
