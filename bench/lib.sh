@@ -25,11 +25,24 @@ load() {
     echo "load $(cut -d' ' -f1-3 /proc/loadavg)$(sed -n 's/^some avg10=\([^ ]*\) avg60=\([^ ]*\).*/, cpu pressure (PSI some) 10 s: \1 %, 60 s: \2 %/p' /proc/pressure/cpu 2>/dev/null)"
 }
 
-# report_test REPORT TEST NAME: runs the ignored test NAME of tests/TEST.rs in
+# test_binary FILE: the test binary holding tests/FILE.rs: tests/scene and
+# tests/engine gather most files as modules (Cargo.toml); the others are their own.
+test_binary() {
+    local b
+    for b in scene engine; do
+        grep -qx "mod $1;" "tests/$b/main.rs" && { echo "$b"; return; }
+    done
+    echo "$1"
+}
+
+# report_test REPORT FILE NAME: runs the ignored test NAME of tests/FILE.rs in
 # release mode; it prints its Markdown report and writes it to $FX_BENCH_OUT
 # (default target/REPORT).
 report_test() {
     export FX_BENCH_OUT="${FX_BENCH_OUT:-$PWD/target/$1}"
     mkdir -p "$(dirname "$FX_BENCH_OUT")"
-    cargo test --release --test "$2" -- --ignored --exact "$3" --nocapture
+    local bin name=$3
+    bin=$(test_binary "$2")
+    [ "$bin" != "$2" ] && name="$2::$3"
+    cargo test --release --test "$bin" -- --ignored --exact "$name" --nocapture
 }

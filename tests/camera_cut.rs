@@ -7,7 +7,7 @@
 //! control: frame 29, inside the first shot, differs from itself rendered alone
 //! (the history does change taa's output).
 
-mod common;
+use crate::common;
 
 use common::anim_gltf::{node_scene, write, ChannelSpec, GltfBuilder};
 use common::cli::{code, fxrun, stderr};

@@ -7,7 +7,7 @@
 //! Cornell box with 1,024 lights. (The animated skinned model's agreement is
 //! tests/gpu_skinning.rs, which renders with the defaults, the compute pass.)
 
-mod common;
+use crate::common;
 
 use common::ibl::corpus;
 use common::renders::{rgb_psnr, save_rgb_review};

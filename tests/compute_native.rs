@@ -15,7 +15,7 @@
 //! tests check (tests/effects/motion_blur.rs, tests/effects/taa.rs,
 //! tests/effects/temporal_denoise.rs, tests/taa_scene.rs).
 
-mod common;
+use crate::common;
 
 use common::cli::{command, save};
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};

@@ -4,7 +4,7 @@
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1. glTF tests skip with a
 //! message when ../shared/corpus is absent.
 
-mod common;
+use crate::common;
 
 use common::bench;
 use common::gpu_context as gpu;
@@ -549,7 +549,7 @@ fn gltf_scenes_render() {
 }
 
 /// The benchmark (not a test): `bash bench/renderer.sh`, or
-/// `cargo test --release --test deferred -- --ignored renderer_benchmark --nocapture`.
+/// `cargo test --release --test scene -- --ignored deferred::renderer_benchmark --nocapture`.
 /// Environment: FX_BENCH_SIZE=WxH, FX_BENCH_LIGHTS=1,8,..., FX_BENCH_FRAMES=N,
 /// FX_BENCH_WARMUP=N,
 /// FX_BENCH_TECHNIQUES=deferred,light-prepass,forward, FX_BENCH_OUT=report.md.

@@ -4,7 +4,7 @@
 //! `NAME.expected` exactly. A missing or different snapshot fails and writes
 //! `NAME.actual` next to it; `FX_BLESS=1` writes `NAME.expected` (review the diff).
 
-mod common;
+use crate::common;
 
 use common::compile::compile_file;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};

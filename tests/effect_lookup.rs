@@ -3,7 +3,7 @@
 //! built-in of the same name, and `./shaders/NAME.wgsl` overrides a built-in
 //! shader (README, "Using fxrun").
 
-mod common;
+use crate::common;
 
 use common::cli::{fxrun_in, stdout};
 

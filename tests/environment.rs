@@ -4,7 +4,7 @@
 //! prefiltered levels against a CPU GGX convolution, the irradiance and the DFG
 //! table against their integrals, the map's orientation and rotation.
 
-mod common;
+use crate::common;
 
 use common::brdf::{hemisphere_albedo, Model};
 use common::ibl::{self, env_sphere, interior_pixels, sphere_camera, SPHERE_PX};

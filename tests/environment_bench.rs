@@ -8,7 +8,7 @@
 //!    scene rendered with and without an environment (background colour in both),
 //!    frames interleaved, medians of `FX_BENCH_FRAMES` (5).
 
-mod common;
+use crate::common;
 
 use fxgraph::gpu::context::GpuTimer;
 use fxgraph::render::{Renderer, RendererOptions, Technique};
@@ -118,8 +118,8 @@ fn environment_benchmark() {
 /// builtin:room at 1920×1080, deferred, with and without builtin:studio,
 /// frames interleaved, medians of `FX_BENCH_FRAMES` (5). The timestamps are
 /// the GPU's (lavapipe's), so a debug build of the test measures the same
-/// work as a release one. Run: `cargo test --test environment_bench
-/// environment_term_cost -- --ignored --nocapture`.
+/// work as a release one. Run: `cargo test --test scene
+/// environment_bench::environment_term_cost -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn environment_term_cost() {

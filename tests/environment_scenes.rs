@@ -4,7 +4,7 @@
 //! engine's term, a sky's sun casts shadows, and bad environment inputs are
 //! refused with clear messages (`fxrun`).
 
-mod common;
+use crate::common;
 #[allow(dead_code)]
 #[path = "common/shadow_scene.rs"]
 mod shadow_scene;

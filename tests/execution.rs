@@ -6,7 +6,7 @@
 //! is the fragment path, which the effects' own oracle tests check; the timings
 //! JSON shows which path each pass took, so a silent fall-back to fragment fails.
 
-mod common;
+use crate::common;
 
 use common::cli::{command, save};
 use fxgraph::gpu::context::{require_gpu, AdapterChoice, GpuContext};

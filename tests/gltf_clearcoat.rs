@@ -3,7 +3,7 @@
 //! a constant environment in all three techniques, a coat of strength 0 that
 //! leaves the material exactly as it was, and the extension read from glTF.
 
-mod common;
+use crate::common;
 
 use common::brdf::{self, render_sphere_oracle, Model, Surface};
 use common::gltf_gen::{self, SpheresGltf};

@@ -4,7 +4,7 @@
 //! CPU BRDF oracle of tests/common/brdf.rs checked against itself and the glTF
 //! specification.
 
-mod common;
+use crate::common;
 
 use common::brdf::{self, Model, OracleCamera, Surface};
 use common::gltf_gen::{self, textured, GltfLight, SpheresGltf};

@@ -4,7 +4,7 @@
 //! screen-space refraction), a light behind a thin square, metals that transmit
 //! nothing, and the extension read from glTF.
 
-mod common;
+use crate::common;
 
 use common::gltf_gen::{self, SpheresGltf};
 use common::ibl::{self, interior_pixels, SPHERE_PX};

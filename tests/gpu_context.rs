@@ -2,7 +2,7 @@
 //! works, unless `FX_REQUIRE_GPU=1`, which turns that into a failure. The GL case runs
 //! in a child process with `WGPU_BACKEND=gl` and skips unless `FX_REQUIRE_GL=1`.
 //!
-//! Run with `XDG_RUNTIME_DIR=/tmp cargo test --test gpu_context -- --nocapture` to see
+//! Run with `XDG_RUNTIME_DIR=/tmp cargo test --test engine gpu_context:: -- --nocapture` to see
 //! the adapter list, format support and timings.
 #![cfg(feature = "gpu")]
 
@@ -476,7 +476,7 @@ fn gl_backend_works_headless() {
     let exe = std::env::current_exe().expect("test executable");
     let output = Command::new(exe)
         .args([
-            "gl_child_probe",
+            &crate::common::test_name(module_path!(), "gl_child_probe"),
             "--exact",
             "--nocapture",
             "--test-threads=1",

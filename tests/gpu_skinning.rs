@@ -14,7 +14,7 @@
 //! Tolerances (f32 on both sides, different operation order): positions within
 //! 1e-4 × max(1, |p|), unit normals and tangents within 1e-4, handedness exact.
 
-mod common;
+use crate::common;
 
 use common::anim_gltf::animated_corpus;
 use common::skinned_scene::skinned_scene;

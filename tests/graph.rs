@@ -1,7 +1,7 @@
 //! Graph compiler and lifetime plan: schedule, culling, namespaces, temporal
 //! references, chains, and property tests of the plan on random DAGs.
 
-mod common;
+use crate::common;
 
 use common::compile::{compile_chain, compile_file};
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions, Resource, ReusePolicy, Step};

@@ -3,7 +3,7 @@
 //! `path:line:col` where the input is text), never with a dependency's panic text,
 //! `Debug` dump, log line or validation chain, and never abort.
 
-mod common;
+use crate::common;
 
 use common::cli::{code, fxrun_in, stderr};
 use std::path::Path;
@@ -405,12 +405,19 @@ fn a_caught_panic_prints_nothing() {
         return;
     }
     let out = std::process::Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", "a_caught_panic_prints_nothing", "--nocapture"])
+        .args([
+            "--exact",
+            &common::test_name(module_path!(), "a_caught_panic_prints_nothing"),
+            "--nocapture",
+        ])
         .env("FX_QUIET_PANIC_CHILD", "1")
         .output()
         .unwrap();
     let err = stderr(&out);
     assert!(out.status.success(), "{err}");
+    // The child ran this test (a name that matches none passes vacuously).
+    let listed = String::from_utf8_lossy(&out.stdout);
+    assert!(listed.contains("1 passed"), "{listed}");
     clean(&err);
     assert!(!err.contains("quiet-"), "{err}");
 }

@@ -5,7 +5,7 @@
 //! the caller's encoder, without stalling; an 8-bit output recorded into its BGRA
 //! twin (a window surface's format) holds the same values.
 
-mod common;
+use crate::common;
 
 use fxgraph::app::Effect;
 use fxgraph::gpu::context::GpuContext;

@@ -3,7 +3,7 @@
 //! `jitter` reaching a shader (per frame, through `FrameInputs` and the stream's
 //! per-frame data).
 
-mod common;
+use crate::common;
 
 use common::stream::{run_stream_frames, SeqFrame};
 use fxgraph::app::Effect;

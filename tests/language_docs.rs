@@ -1,7 +1,7 @@
 //! Every ```fx example in docs/language.md compiles without errors or warnings and
 //! plans at 256x256 (with the G-buffer as auxiliary inputs).
 
-mod common;
+use crate::common;
 
 use common::compile::compile_file;
 use fxgraph::graph::plan::{plan, InputDesc, PlanOptions};

@@ -2,7 +2,7 @@
 //! own input and output textures; parameters changed between frames; the pool's
 //! reuse; a temporal effect recorded frame by frame against the CLI stream path.
 
-mod common;
+use crate::common;
 
 use fxgraph::app::Effect;
 use fxgraph::gpu::context::{require_gpu, GpuContext};

@@ -7,7 +7,7 @@
 //! The GPU lists themselves are compared with the CPU reference in
 //! src/render/cluster_gpu_tests.rs.
 
-mod common;
+use crate::common;
 
 use common::cli::{exits_with, fxrun_line};
 use common::gpu_context;

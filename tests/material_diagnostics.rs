@@ -2,7 +2,7 @@
 //! material file or a material shader, as file:line:col snapshots, all in one
 //! report; mutated material files are errors, never panics; `fxrun` exits 1.
 
-mod common;
+use crate::common;
 
 use common::cli::{code, exits, exits_with, fxrun, fxrun_line, stderr, stdout};
 

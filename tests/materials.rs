@@ -4,7 +4,7 @@
 //! every (surface, lighting) pair of the library and a user pair, identical images
 //! in the three variant modes, and the variant cache counts.
 
-mod common;
+use crate::common;
 
 use common::bench;
 use common::brdf::{self, Model, OracleCamera, Surface};
@@ -492,7 +492,7 @@ fn user_materials_replace_scene_materials_by_name_and_star() {
 }
 
 /// The benchmark (not a test): `bash bench/materials.sh`, or
-/// `cargo test --release --test materials -- --ignored variant_benchmark --nocapture`.
+/// `cargo test --release --test scene -- --ignored materials::variant_benchmark --nocapture`.
 /// builtin:bench with its materials replaced by the standard surface in nine map
 /// combinations (bench/materials_maps.fx) and `FX_BENCH_LIGHTS` random point
 /// lights (default 16). Environment: FX_BENCH_SIZE=WxH (1920x1080),

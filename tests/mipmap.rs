@@ -14,7 +14,7 @@
 //!   the output and its `NAME_size` standard value;
 //! - on the CPU, the plan: which textures get a chain, the copies, the bytes.
 
-mod common;
+use crate::common;
 
 use common::mips::box_level;
 use fxgraph::app::apply_in_memory;

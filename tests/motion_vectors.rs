@@ -6,7 +6,7 @@
 //! right, y down. Interior pixels (whose 3×3 neighbourhood sees one surface)
 //! agree within 0.05 px in all three techniques.
 
-mod common;
+use crate::common;
 #[path = "common/shadow_scene.rs"]
 #[allow(dead_code)]
 mod shadow_scene;

@@ -7,7 +7,7 @@
 //! (The folder of a bare name is the empty path, which `canonicalize` refuses: a
 //! material file's shaders were not found that way.)
 
-mod common;
+use crate::common;
 
 use common::cli::{code, fxrun_in, save, stderr, write};
 use std::path::Path;

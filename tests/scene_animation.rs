@@ -10,7 +10,7 @@
 //! compared as the images of the X and Y axes, 1e-5. The oracle works in f64,
 //! the implementation samples in f64 from f32 keys.
 
-mod common;
+use crate::common;
 
 use common::anim_gltf::{appendix_c as oracle, node_scene, write, ChannelSpec, GltfBuilder};
 use fxgraph::scene::{Playback, Scene, Selection};

@@ -11,7 +11,7 @@
 //! A missing corpus fails the tests with a message. Tolerance: 1e-4 relative to
 //! max(1, the largest magnitude compared).
 
-mod common;
+use crate::common;
 
 use common::anim_gltf::{animated_corpus, appendix_c, RawGltf};
 use fxgraph::scene::{Playback, Scene};

@@ -2,7 +2,7 @@
 //! `fog` post effect with the same parameters, the three techniques agreeing,
 //! height fog thicker low down, and bad settings rejected together.
 
-mod common;
+use crate::common;
 
 use common::cli::{exits, exits_with, fxrun_line};
 use common::scenes::opaque_room;

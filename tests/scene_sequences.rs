@@ -5,7 +5,7 @@
 //! temporal effect that reads the previous frame), and the sequence feeds
 //! temporal effects like a file sequence.
 
-mod common;
+use crate::common;
 
 use common::cli::{assert_same_file, code, fxrun, read, stderr};
 use std::path::Path;

@@ -8,7 +8,7 @@
 //! Tolerances: 1e-4 on positions (coordinates up to ~10), 1e-5 on unit vectors
 //! and joint matrices.
 
-mod common;
+use crate::common;
 
 use common::anim_gltf::{node_scene, write, GltfBuilder, TRIANGLE};
 use common::skinned_scene::*;

@@ -1,7 +1,7 @@
 //! Shader layer: `#ifdef` preprocessing, naga reflection, and the pipeline cache
 //! (each distinct define set and target format compiles once).
 
-mod common;
+use crate::common;
 
 use common::cli::{exits, exits_with, fxrun, write, write_effect};
 use fxgraph::script::types::Format;

@@ -8,7 +8,7 @@
 //!
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1.
 
-mod common;
+use crate::common;
 #[path = "common/shadow_scene.rs"]
 mod shadow_scene;
 
@@ -258,7 +258,7 @@ fn a_user_lighting_shader_is_shadowed_too() {
 /// The shadow benchmark (not a test): frame times of a scene with shadows off,
 /// hard and PCF, median of 5 frames after a warm-up, GPU pass times when the
 /// adapter has timestamps, else wall time; the modes are interleaved:
-/// `cargo test --test shadows -- --ignored shadow_benchmark --nocapture`.
+/// `cargo test --test scene -- --ignored shadows::shadow_benchmark --nocapture`.
 /// Environment: FX_SHADOW_BENCH_SCENE (default the corpus Cornell box),
 /// FX_SHADOW_BENCH_SIZE=WxH (default 1920x1080), FX_SHADOW_BENCH_TECHNIQUE.
 #[test]

@@ -11,7 +11,7 @@
 //! - every error class: its message names the file (and line) and the cause, exit
 //!   status 1, no panic.
 
-mod common;
+use crate::common;
 
 use common::cli::{arg, code, fxrun, save, stderr};
 use common::{image_u8, psnr};

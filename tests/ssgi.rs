@@ -11,7 +11,7 @@
 //!
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1.
 
-mod common;
+use crate::common;
 
 use common::brdf::OracleCamera;
 use common::stream::effect_path;

@@ -10,7 +10,7 @@
 //! the CPU to every image alike. The same reference resolved in display values
 //! (the 16 samples tone-mapped, then averaged) is printed for the record.
 
-mod common;
+use crate::common;
 
 use common::stream::{run_stream_frames, SeqFrame};
 use fxgraph::gpu::context::GpuContext;

@@ -1,7 +1,7 @@
 //! Temporal references through the streaming runtime: frames whose pixels encode
 //! their index prove which frame each reference reads at the start, middle and end.
 
-mod common;
+use crate::common;
 
 use common::cli::write_effect;
 use common::stream::{output_f32, stream_of};

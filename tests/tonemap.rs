@@ -10,7 +10,7 @@
 //!   the base contrast sigmoid, the punchy look (power 1.35, saturation 1.4),
 //!   and the 2.2 power to linear display light.
 
-mod common;
+use crate::common;
 
 use common::cli::{code, fxrun, stdout};
 use common::{engine, image_f32, run, words};

@@ -1,7 +1,7 @@
 //! `fxrun --watch`: a changed shader re-runs the effect; a broken one is reported and
 //! the watch goes on; options it does not take are refused.
 
-mod common;
+use crate::common;
 
 use std::io::Read as _;
 use std::path::Path;

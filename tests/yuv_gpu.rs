@@ -9,7 +9,7 @@
 //! of the formula, one 16-bit code is 1.5e-5 of R'); rgba16f within 2^-10 of the
 //! value (one half-float step) plus 1e-6. The largest differences are printed.
 
-mod common;
+use crate::common;
 
 use common::rng::Rng;
 use fxgraph::app::planes::plane_layout;

@@ -302,3 +302,13 @@ pub fn check_reference(name: &str, w: u32, h: u32, p: &Pixels, min_psnr: f64) {
         actual.display()
     );
 }
+
+/// The harness name of test `name` of the module `module` (`module_path!()`):
+/// the path without the binary's name (tests/engine and tests/scene gather
+/// files as modules), for a test that runs itself in a child process.
+pub fn test_name(module: &str, name: &str) -> String {
+    match module.split_once("::") {
+        Some((_, m)) => format!("{m}::{name}"),
+        None => name.to_string(),
+    }
+}

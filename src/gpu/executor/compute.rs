@@ -10,6 +10,7 @@
 
 use super::encode::{bound_views, create_bind_group, target_view, BindKey, FrameTextures};
 use super::record::{GpuPass, Source};
+use super::stand_in::OutputTarget;
 use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
 use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
 use crate::gpu::context::GpuError;
@@ -58,24 +59,6 @@ pub(super) struct ComputePath {
     /// output after the dispatch, sRGB-encoded when `Some(true)` (stand_in.rs).
     convert: Option<bool>,
     bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
-}
-
-impl ComputePath {
-    /// Where the dispatch writes.
-    pub(super) fn target(&self) -> &Source {
-        &self.target
-    }
-
-    /// The format the dispatch stores (an sRGB target's raw twin).
-    pub(super) fn storage(&self) -> wgpu::TextureFormat {
-        self.storage
-    }
-
-    /// Whether the stored values are converted into the output, and encoded
-    /// to sRGB on the way (`Some(true)`).
-    pub(super) fn convert(&self) -> Option<bool> {
-        self.convert
-    }
 }
 
 /// The WGSL texel format of a storage texture of `f`.
@@ -455,6 +438,25 @@ fn storage_target<'v>(
 }
 
 impl GpuPass {
+    /// Where this pass would write the caller's output through a stand-in
+    /// (stand_in.rs): it has a compute path writing the output, and runs it
+    /// under this execution (a pass that can be drawn is drawn under fragment
+    /// execution).
+    pub(super) fn output_target(&self, execution: super::Execution) -> Option<OutputTarget> {
+        let path = self.compute.as_ref()?;
+        let Source::Caller(caller_index) = path.target else {
+            return None;
+        };
+        if self.pipeline.is_some() && execution != super::Execution::Compute {
+            return None;
+        }
+        Some(OutputTarget {
+            caller_index,
+            storage: path.storage,
+            convert: path.convert,
+        })
+    }
+
     /// Whether this frame can run the pass as compute: it has a compute path and
     /// its target can be bound for storage.
     pub(super) fn runs_as_compute(&self, tex: FrameTextures) -> bool {

@@ -16,7 +16,7 @@ use super::compute::{encode_compute_pass, prebind_compute, ComputePath};
 use super::encode::{bind_group, encode_pass, BindKey, FrameTextures};
 use super::inspect::{FrameTimings, Inspection};
 use super::pool::PooledTexture;
-use super::stand_in::StandIn;
+use super::stand_in::{self, StandIn};
 use super::{
     CachedPipeline, CameraStd, Engine, ExecError, Execution, FrameInputs, ImageRef, PassTiming,
 };
@@ -484,9 +484,11 @@ impl Prepared {
         let bgra = bgra && matches!(gp.target, Source::Caller(_));
         let mut storage = gp.runs_as_compute(self.frame_textures(engine, caller));
         // An output that cannot be stored to: the dispatch writes a stand-in.
-        let stand_in = match storage || bgra {
-            true => None,
-            false => self.stand_in_for(engine, pass, caller),
+        let stand_in = match (storage || bgra, gp.output_target(engine.execution)) {
+            (false, Some(target)) => {
+                stand_in::for_output(&mut self.stand_in, &engine.ctx, target, caller)
+            }
+            _ => None,
         };
         let swapped;
         let caller = match &stand_in {

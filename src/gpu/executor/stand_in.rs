@@ -29,9 +29,8 @@
 //! which no adapter stores to: another mismatch of its storage format and its
 //! `OUT.FORMAT` stays the error it is.
 
-use super::record::{Prepared, Source};
-use super::{Engine, Execution};
 use crate::gpu::bindings::texture_entry;
+use crate::gpu::context::GpuContext;
 use crate::gpu::transfer::texture_2d;
 use crate::shader::compute::SRGB_ENCODE;
 
@@ -118,81 +117,82 @@ fn qualifies(output: &wgpu::Texture, storage: wgpu::TextureFormat, converts: boo
         && (converts || output.format().remove_srgb_suffix() == storage)
 }
 
-impl Prepared {
-    /// The stand-in for pass `pass` this frame, where it has a compute path
-    /// writing the caller's output and that output qualifies (module docs).
-    /// The textures are made on first use and remade when the output's size or
-    /// format changes.
-    pub(super) fn stand_in_for(
-        &mut self,
-        engine: &Engine,
-        pass: usize,
-        caller: &[wgpu::TextureView],
-    ) -> Option<StandInUse> {
-        // Under fragment execution the output pass is drawn, as every other,
-        // unless it is a compute pass only.
-        let gp = &self.passes[pass];
-        let drawable = gp.pipeline.is_some();
-        if engine.ctx.info.backend == wgpu::Backend::Gl
-            || (drawable && engine.execution != Execution::Compute)
-        {
-            return None;
-        }
-        let path = gp.compute.as_ref()?;
-        let Source::Caller(i) = *path.target() else {
-            return None;
-        };
-        let storage = path.storage();
-        let output = caller.get(i)?.texture().clone();
-        let raw = output.format().remove_srgb_suffix();
-        let encode = path.convert().filter(|_| raw != storage);
-        if !qualifies(&output, storage, encode.is_some()) {
-            return None;
-        }
-        let fits = self.stand_in.as_ref().is_some_and(|s| {
-            s.stored.texture.size() == output.size()
-                && s.stored.texture.format() == storage
-                && s.conversion
-                    .as_ref()
-                    .map(|c| (c.raw.texture.format(), c.encode))
-                    == encode.map(|e| (raw, e))
+/// What the pass writing the caller's output stores: the caller image it
+/// writes, the storage format, and whether its values are converted into the
+/// output (`Some(encode)`, a compute-native pass), from its compute path.
+pub(super) struct OutputTarget {
+    pub caller_index: usize,
+    pub storage: wgpu::TextureFormat,
+    pub convert: Option<bool>,
+}
+
+/// The stand-in for a pass writing `target` this frame, where that output
+/// qualifies (module docs); `None` on the GL backend. The textures are kept in
+/// `slot`, made on first use and remade when the output's size or format
+/// changes.
+pub(super) fn for_output(
+    slot: &mut Option<StandIn>,
+    ctx: &GpuContext,
+    target: OutputTarget,
+    caller: &[wgpu::TextureView],
+) -> Option<StandInUse> {
+    if ctx.info.backend == wgpu::Backend::Gl {
+        return None;
+    }
+    let OutputTarget {
+        caller_index,
+        storage,
+        convert,
+    } = target;
+    let output = caller.get(caller_index)?.texture().clone();
+    let raw = output.format().remove_srgb_suffix();
+    let encode = convert.filter(|_| raw != storage);
+    if !qualifies(&output, storage, encode.is_some()) {
+        return None;
+    }
+    let fits = slot.as_ref().is_some_and(|s| {
+        s.stored.texture.size() == output.size()
+            && s.stored.texture.format() == storage
+            && s.conversion
+                .as_ref()
+                .map(|c| (c.raw.texture.format(), c.encode))
+                == encode.map(|e| (raw, e))
+    });
+    if !fits {
+        let cache = ctx.pipeline_cache.clone();
+        let made = ctx.scoped("output stand-in", |device| {
+            let stored = image(device, &output, storage);
+            let conversion =
+                encode.map(|e| conversion(device, cache.as_ref(), &stored, (&output, raw), e));
+            StandIn { stored, conversion }
         });
-        if !fits {
-            let cache = engine.ctx.pipeline_cache.clone();
-            let made = engine.ctx.scoped("output stand-in", |device| {
-                let stored = image(device, &output, storage);
-                let conversion =
-                    encode.map(|e| conversion(device, cache.as_ref(), &stored, (&output, raw), e));
-                StandIn { stored, conversion }
-            });
-            match made {
-                Ok(s) => self.stand_in = Some(s),
-                Err(e) => {
-                    log::warn!("the output pass stays a fragment pass: {e}");
-                    return None;
-                }
+        match made {
+            Ok(s) => *slot = Some(s),
+            Err(e) => {
+                log::warn!("the output pass stays a fragment pass: {e}");
+                return None;
             }
         }
-        let s = self.stand_in.as_ref().expect("made above");
-        let (from, convert) = match &s.conversion {
-            Some(c) => (
-                c.raw.texture.clone(),
-                Some((
-                    c.pipeline.clone(),
-                    c.bind_group.clone(),
-                    (output.width(), output.height()),
-                )),
-            ),
-            None => (s.stored.texture.clone(), None),
-        };
-        Some(StandInUse {
-            caller_index: i,
-            view: s.stored.view.clone(),
-            from,
-            to: output,
-            convert,
-        })
     }
+    let s = slot.as_ref().expect("made above");
+    let (from, convert) = match &s.conversion {
+        Some(c) => (
+            c.raw.texture.clone(),
+            Some((
+                c.pipeline.clone(),
+                c.bind_group.clone(),
+                (output.width(), output.height()),
+            )),
+        ),
+        None => (s.stored.texture.clone(), None),
+    };
+    Some(StandInUse {
+        caller_index,
+        view: s.stored.view.clone(),
+        from,
+        to: output,
+        convert,
+    })
 }
 
 /// A storage texture of `format` the size of `output`.
