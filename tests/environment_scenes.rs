@@ -5,9 +5,7 @@
 //! refused with clear messages (`fxrun`).
 
 use crate::common;
-#[allow(dead_code)]
-#[path = "common/shadow_scene.rs"]
-mod shadow_scene;
+use crate::common::shadow_scene;
 
 use common::cli::{code, fxrun, stderr};
 use common::ibl::{env_sphere, interior_pixels, sphere_camera, SPHERE_PX};

@@ -7,9 +7,7 @@
 //! agree within 0.05 px in all three techniques.
 
 use crate::common;
-#[path = "common/shadow_scene.rs"]
-#[allow(dead_code)]
-mod shadow_scene;
+use crate::common::shadow_scene;
 
 use common::brdf::OracleCamera;
 use fxgraph::render::gbuffer::read_rgba_f32;

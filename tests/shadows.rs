@@ -9,8 +9,7 @@
 //! GPU tests skip without an adapter unless FX_REQUIRE_GPU=1.
 
 use crate::common;
-#[path = "common/shadow_scene.rs"]
-mod shadow_scene;
+use crate::common::shadow_scene;
 
 use common::renders::assert_psnr;
 use fxgraph::render::gbuffer::read_rgba_f32;

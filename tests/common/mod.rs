@@ -17,6 +17,7 @@ pub mod renders;
 pub mod rng;
 pub mod samples;
 pub mod scenes;
+pub mod shadow_scene;
 pub mod skinned_scene;
 pub mod slang;
 pub mod stream;

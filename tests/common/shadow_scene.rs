@@ -3,7 +3,7 @@
 //! and per pixel the ground point under the pixel centre, its analytic radiance
 //! and whether a ray from it to the light hits the box.
 
-use super::common::brdf::illuminance;
+use super::brdf::illuminance;
 use fxgraph::scene::{Camera, Instance, Light, Material, Scene, ShaderBinding};
 use glam::{Mat4, Vec3, Vec4};
 use std::f32::consts::PI;
@@ -82,7 +82,7 @@ pub fn point() -> Light {
 /// Writes `pixels` to tests/output/shadows_NAME.png for review.
 pub fn save_review(name: &str, pixels: &[[f32; 4]]) {
     let name = format!("shadows_{}", name.replace(' ', "_"));
-    super::common::renders::save_rgb_review(&name, (W, H), pixels);
+    super::renders::save_rgb_review(&name, (W, H), pixels);
 }
 
 /// Entry and exit distances of the ray `o + t d` through the box, if it hits.
