@@ -15,7 +15,8 @@
 //    E|N * I| = 6 sigma sqrt(2/pi). |N * I| (mean of r, g, b) is averaged over
 //    16x16-pixel blocks (two 4x reductions); blocks with a pixel within 2/255 of
 //    black or white are left out (clipped noise reads low). The 20% quantile of
-//    the block means (bisection, in a 1x1 pass), divided by 6 sqrt(2/pi), is the
+//    the block means (bisection in a 1x1 pass: one workgroup of 256 lanes counting
+//    the blocks of each step together), divided by 6 sqrt(2/pi), is the
 //    estimate: the flattest blocks see noise, textured ones read high. It is
 //    smoothed over time, sigma_t = mix(sigma_t-1, new, 0.25).
 // 2. Motion (y1..y3, mv3..mv0): hierarchical block matching, coarse to fine, on

@@ -6,7 +6,8 @@
 //!   another (its `@fragment` one is drawn), and the values agree exactly
 //!   (motion_blur's tile and neighbour maxima: comparisons only;
 //!   temporal_denoise's block matching and refinement: the same costs summed in
-//!   the same order, the same scans);
+//!   the same order, the same scans; its noise estimate: integer counts, the
+//!   same bisection);
 //! - effect by effect, over frames with motion and history (taa, motion_blur on
 //!   a rendered scene with an orbiting camera), fragment against compute
 //!   execution, where the timings show which entry point each pass ran.
@@ -322,5 +323,106 @@ fn taa_resolve_fragment_entry_point_gives_the_compute_ones_image() {
         let diff = worst(a, b, &[0, 1, 2, 3]);
         eprintln!("taa frame {f}: |compute - fragment entry point| = {diff:e}");
         assert_eq!(diff, 0.0, "taa frame {f}");
+    }
+}
+
+/// temporal_denoise's noise estimate (effects/temporal_denoise.fx) on its own:
+/// residuals, block means and the 1x1 estimate (with its temporal smoothing,
+/// `last`) of format FMT, copied out.
+const NOISE: &str = "EFFECT.agree = {
+    PASS = {
+        nres = SHADER.temporal_denoise_noise_residual { img = IN  OUT.SCALE = 0.25  OUT.FORMAT = rg16f }
+        nblk = SHADER.temporal_denoise_noise_blocks { img = PASS.nres  OUT.SCALE = 0.25  OUT.RELATIVE_TO = img  OUT.FORMAT = rg16f }
+        p = SHADER.temporal_denoise_noise_estimate { blk = PASS.nblk  last = PASS.p[-1]  OUT.SIZE = (1, 1)  OUT.FORMAT = FMT }
+        q = SHADER.copy { img = PASS.p  OUT.SCALE = 1  OUT.RELATIVE_TO = img  OUT.FORMAT = rgba32f }
+    }
+    OUT = q
+}
+";
+
+/// A 400x272 frame `t` (25 x 17 = 425 blocks of 16 px: more than the compute
+/// entry point's 256 lanes): a texture on the left, a flat grey on the right,
+/// uniform noise of 3/255 (amplitude growing with t), and clipped bands (black
+/// and white) whose blocks the estimate leaves out. With `clipped`, a black
+/// pixel every 8 on each axis but in the top-left 32 x 64 pixels clips all
+/// blocks but 4 there (fewer than 8 unclipped: every block counts).
+fn noise_frame(t: u32, clipped: bool) -> fxgraph::io::Image {
+    let (w, h) = (400u32, 272u32);
+    let amp = (3.0 + t as f32) / 255.0 * 3f32.sqrt();
+    let mut px = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let k = u64::from((t * h + y) * w + x);
+            let n = |c: u64| amp * (2.0 * common::rng::hash01(3 * k + c) - 1.0);
+            let base = if x < 200 {
+                0.5 + 0.25 * (x as f32 * 0.21).sin() * (y as f32 * 0.13).cos()
+            } else {
+                0.4
+            };
+            let dot = clipped && x % 8 == 0 && y % 8 == 0 && !(x < 32 && y < 64);
+            let v = if dot || (40..60).contains(&y) {
+                [0.0; 3]
+            } else if (200..216).contains(&y) {
+                [1.0; 3]
+            } else {
+                [base + n(0), base + n(1), base + n(2)]
+            };
+            px.extend([v[0], v[1], v[2], 1.0]);
+        }
+    }
+    common::samples::float_image(w, h, px)
+}
+
+/// The compute entry point (one workgroup, the counts of each bisection step
+/// summed in workgroup memory) gives exactly what the fragment one (one
+/// invocation counting every block) gives: integer counts, an exact maximum,
+/// the same bisection. Over three frames (the smoothing with `last`), with
+/// clipped blocks left out, and with nearly every block clipped (all counted).
+#[test]
+fn noise_estimate_compute_entry_point_agrees_with_its_fragment_one() {
+    if !gpu() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("copy.wgsl"), COPY).unwrap();
+    for clipped in [false, true] {
+        let seq = format!("seq{}", u8::from(clipped));
+        std::fs::create_dir_all(d.join(&seq)).unwrap();
+        for t in 0..3 {
+            save(
+                &d.join(format!("{seq}/{t:04}.exr")),
+                &noise_frame(t, clipped),
+            );
+        }
+        let mut images = Vec::new();
+        for (format, runs_as) in [("r32f", "compute"), ("rgba32f", "fragment")] {
+            std::fs::write(d.join("agree.fx"), NOISE.replace("FMT", format)).unwrap();
+            let input = format!("{seq}/%04d.exr");
+            let output = format!("{seq}-{format}/%04d.exr");
+            let outputs: Vec<String> = (0..3)
+                .map(|t| format!("{seq}-{format}/{t:04}.exr"))
+                .collect();
+            let args = ["agree.fx", "-i", &input, "--bit-depth", "32", "-o", &output];
+            let (imgs, executions) = run(d, &args, &outputs, "compute");
+            let got = executions
+                .iter()
+                .find(|(p, _)| p == "agree/p")
+                .map(|(_, e)| e.as_str());
+            assert_eq!(got, Some(runs_as), "{seq} at {format}: {executions:?}");
+            images.push(imgs);
+        }
+        for (f, (a, b)) in images[0].iter().zip(&images[1]).enumerate() {
+            let sigma = a[0] * 255.0;
+            eprintln!(
+                "{seq} frame {f}: estimate {sigma:.3}/255 (compute), {:.3}/255 (fragment)",
+                b[0] * 255.0
+            );
+            assert!(
+                sigma > 0.0 && sigma < 50.0,
+                "{seq} frame {f}: estimate {sigma}/255"
+            );
+            assert_eq!(a[0], b[0], "{seq} frame {f}");
+        }
     }
 }

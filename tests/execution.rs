@@ -53,6 +53,7 @@ const SCENE_EFFECTS: &[&str] = &[
 
 /// Passes written as compute passes (`@compute` shaders): compute on both paths.
 /// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2,
+/// temporal_denoise's noise estimate `nsig`,
 /// motion_blur's tile maxima and temporal_denoise's motion search are compute
 /// passes drawn as fragment passes under fragment execution;
 /// tests/compute_native.rs compares those entry points.)
