@@ -3,14 +3,17 @@
 // spot lights as view-space spheres with the tiles and slices they may touch).
 //
 // 1. fx_cs_cluster_bounds: each cluster's view-space box; its counter zeroed.
-// 2. fx_cs_cluster_count: one invocation per (light, depth slice) tests the
-//    light's sphere against every cluster box of its tile rectangle in that
-//    slice and counts the hits per cluster.
+// 2. fx_cs_cluster_count: a light's footprint (its slices × its tile
+//    rectangle) is cut into chunks of CHUNK clusters, one workgroup each (the
+//    host numbers the chunks: lights[i].first); the lanes test the light's
+//    sphere against the chunk's cluster boxes in turn and count the hits per
+//    cluster. A light over the whole screen thus spreads over hundreds of
+//    workgroups, and 16,384 small lights take one each.
 // 3. fx_cs_cluster_offsets: one workgroup turns the counts into (offset, count)
 //    ranges (an exclusive prefix sum after the global lights), the entry total,
 //    the longest list and the indirect arguments of step 5.
-// 4. fx_cs_cluster_fill: the same tests again, each hit appended to its
-//    cluster's range in arrival order (with the cluster it belongs to).
+// 4. fx_cs_cluster_fill: the same chunks and tests again, each hit appended to
+//    its cluster's range in arrival order (with the cluster it belongs to).
 // 5. fx_cs_cluster_sort: one invocation per entry places it at its rank among
 //    its cluster's lights, so every list runs in light order as the CPU
 //    reference (clusters.rs `build`) lists it: a pixel adds its lights in the
@@ -21,13 +24,15 @@
 struct Params {
     // tiles x, tiles y, slices, clusters
     grid: vec4<u32>,
-    // local lights, global lights, capacity of the index lists, 0
+    // local lights, global lights, capacity of the index lists, chunks (the
+    // workgroups of the count and fill dispatches)
     counts: vec4<u32>,
 }
 
 // A point or spot light's bounding sphere in view space, its index in the
-// light array, and the tiles (x0 | x1 << 16, y0 | y1 << 16) and slices
-// (s0 | s1 << 16) it may touch.
+// light array, the tiles (x0 | x1 << 16, y0 | y1 << 16) and slices
+// (s0 | s1 << 16) it may touch, and its first chunk (lights in order: the
+// chunks before it are those of the lights before it).
 struct ClusterLight {
     center: vec3<f32>,
     radius: f32,
@@ -35,6 +40,7 @@ struct ClusterLight {
     tiles_x: u32,
     tiles_y: u32,
     slices: u32,
+    first: u32,
 }
 
 struct Bounds {
@@ -63,6 +69,8 @@ struct Bounds {
 @group(0) @binding(9) var<storage, read_write> summary: array<atomic<u32>, 8>;
 
 const WORKGROUP: u32 = 64u;
+// clusters of a light's footprint per workgroup of the count and fill passes
+const CHUNK: u32 = 256u;
 const SCAN: u32 = 256u;
 // workgroups per row of a 2D dispatch
 const ROW: u32 = 32768u;
@@ -104,67 +112,87 @@ fn fx_cs_cluster_bounds(@builtin(global_invocation_id) id: vec3<u32>) {
     atomicStore(&counts[c], 0u);
 }
 
-// Calls `hit` for every cluster of slice `s` whose box light `l`'s sphere
-// touches. (WGSL has no function pointers: `mode` 0 counts, 1 appends.)
-fn visit(l: ClusterLight, s: u32, mode: u32) {
+// Tests light `l`'s sphere against cluster `cluster` (tile `tx`, `ty` of slice
+// `s`) and, on a hit, counts it (`mode` 0) or appends it (1). The tests are the
+// CPU reference's in its order: the slab along z, the row along y, the tile
+// along x. Every cluster of a slice has the slice's z range and every cluster
+// of a row the row's y range (computed from the same edges), so the cluster's
+// own box gives the three terms.
+fn test_cluster(l: ClusterLight, cluster: u32, mode: u32) {
     let c = l.center;
     let r2 = l.radius * l.radius;
-    let slab = (s * tiles_y()) * tiles_x();
-    let b0 = bounds[slab];
+    let b = bounds[cluster];
     // distance² along z from the centre to the slab
-    let dz = clamp(-c.z, b0.lo.z, b0.hi.z) + c.z;
+    let dz = clamp(-c.z, b.lo.z, b.hi.z) + c.z;
     let dz2 = dz * dz;
     if dz2 > r2 {
         return;
     }
-    let y0 = l.tiles_y & 0xffffu;
-    let y1 = l.tiles_y >> 16u;
-    let x0 = l.tiles_x & 0xffffu;
-    let x1 = l.tiles_x >> 16u;
-    for (var ty = y0; ty <= y1; ty++) {
-        let row = slab + ty * tiles_x();
-        let by = bounds[row];
-        let dy = clamp(c.y, by.lo.y, by.hi.y) - c.y;
-        let dyz2 = dz2 + dy * dy;
-        if dyz2 > r2 {
-            continue;
-        }
-        for (var tx = x0; tx <= x1; tx++) {
-            let b = bounds[row + tx];
-            let dx = clamp(c.x, b.lo.x, b.hi.x) - c.x;
-            if dyz2 + dx * dx <= r2 {
-                let cluster = row + tx;
-                if mode == 0u {
-                    atomicAdd(&counts[cluster], 1u);
-                } else {
-                    let slot = ranges[cluster].x + atomicAdd(&counts[cluster], 1u);
-                    if slot < params.counts.z {
-                        unsorted[slot] = l.index;
-                        owner[slot] = cluster;
-                    } else {
-                        atomicAdd(&summary[5], 1u);
-                    }
-                }
-            }
+    let dy = clamp(c.y, b.lo.y, b.hi.y) - c.y;
+    let dyz2 = dz2 + dy * dy;
+    if dyz2 > r2 {
+        return;
+    }
+    let dx = clamp(c.x, b.lo.x, b.hi.x) - c.x;
+    if dyz2 + dx * dx > r2 {
+        return;
+    }
+    if mode == 0u {
+        atomicAdd(&counts[cluster], 1u);
+    } else {
+        let slot = ranges[cluster].x + atomicAdd(&counts[cluster], 1u);
+        if slot < params.counts.z {
+            unsorted[slot] = l.index;
+            owner[slot] = cluster;
+        } else {
+            atomicAdd(&summary[5], 1u);
         }
     }
 }
 
-fn light_slice(id: vec3<u32>, mode: u32) {
-    if id.x >= params.counts.x {
+// One workgroup per chunk of CHUNK clusters of a light's footprint (its slices
+// × its tile rectangle, numbered slice by slice, row by row): the lanes take
+// the chunk's clusters in turn. Light i's chunks start at lights[i].first, so
+// the workgroup finds its light by a binary search (the same for every lane).
+fn light_chunk(group: vec3<u32>, lane: u32, mode: u32) {
+    let w = group.x + group.y * ROW;
+    if w >= params.counts.w {
         return;
     }
-    let l = lights[id.x];
-    let s = id.y;
-    if s < (l.slices & 0xffffu) || s > (l.slices >> 16u) {
-        return;
+    var lo = 0u;
+    var hi = params.counts.x - 1u;
+    while lo < hi {
+        let mid = (lo + hi + 1u) / 2u;
+        if lights[mid].first <= w {
+            lo = mid;
+        } else {
+            hi = mid - 1u;
+        }
     }
-    visit(l, s, mode);
+    let l = lights[lo];
+    let x0 = l.tiles_x & 0xffffu;
+    let y0 = l.tiles_y & 0xffffu;
+    let s0 = l.slices & 0xffffu;
+    let width = (l.tiles_x >> 16u) - x0 + 1u;
+    let area = width * ((l.tiles_y >> 16u) - y0 + 1u);
+    let total = area * ((l.slices >> 16u) - s0 + 1u);
+    let start = (w - l.first) * CHUNK;
+    let end = min(start + CHUNK, total);
+    for (var t = start + lane; t < end; t += WORKGROUP) {
+        let s = s0 + t / area;
+        let r = t % area;
+        let ty = y0 + r / width;
+        let tx = x0 + r % width;
+        test_cluster(l, (s * tiles_y() + ty) * tiles_x() + tx, mode);
+    }
 }
 
 @compute @workgroup_size(64)
-fn fx_cs_cluster_count(@builtin(global_invocation_id) id: vec3<u32>) {
-    light_slice(id, 0u);
+fn fx_cs_cluster_count(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    light_chunk(group, lane, 0u);
 }
 
 var<workgroup> sums: array<u32, SCAN>;
@@ -221,8 +249,11 @@ fn fx_cs_cluster_offsets(@builtin(local_invocation_index) i: u32) {
 }
 
 @compute @workgroup_size(64)
-fn fx_cs_cluster_fill(@builtin(global_invocation_id) id: vec3<u32>) {
-    light_slice(id, 1u);
+fn fx_cs_cluster_fill(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    light_chunk(group, lane, 1u);
 }
 
 @compute @workgroup_size(64)

@@ -3,11 +3,15 @@
 //! The host uploads the frame's data as it is: the grid's plane slopes and
 //! slice depths ([`GridEdges`], a few hundred floats) and one record per point or
 //! spot light (its view-space bounding sphere and the tiles and slices it may
-//! touch, [`ClusterGrid::footprint`]: O(lights), no binning). Five dispatches in
+//! touch, [`ClusterGrid::footprint`]: O(lights), no binning). Four dispatches in
 //! one compute pass ("light clusters") then compute the clusters' view-space
 //! boxes, count each cluster's lights, turn the counts into ranges (one
-//! workgroup's prefix sum), append the lights, and sort each list into light
-//! order. The lists are those of the CPU reference ([`super::clusters::build`]),
+//! workgroup's prefix sum) and append the lights; a fifth ("light clusters
+//! sort") sorts each list into light order. Counting and appending take one
+//! workgroup per `CHUNK` clusters of a light's footprint (slices × tiles),
+//! numbered by the host, so a light over the whole screen is spread over many
+//! workgroups and a few large lights keep the GPU busy. The lists are those of
+//! the CPU reference ([`super::clusters::build`]),
 //! test for test, in the same order; `cluster_gpu_tests.rs` compares the two.
 //!
 //! Room for the lists is reserved from the footprints (the clusters a light's
@@ -30,7 +34,11 @@ const COMPUTE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
 /// dispatches, and workgroups per row of a 2D dispatch (as in the shader).
 const WORKGROUP: u32 = 64;
 const ROW: u32 = 32768;
-/// The most point and spot lights one frame can bin (one dispatch row).
+/// Clusters of a light's footprint per workgroup of the count and fill
+/// dispatches (as in the shader).
+const CHUNK: usize = 256;
+/// The most point and spot lights one frame can bin (their chunks, at least one
+/// each, fit a 2D dispatch many times over).
 pub(crate) const MAX_CLUSTER_LIGHTS: usize = 65535 * WORKGROUP as usize;
 
 /// `Params` of clusters.wgsl.
@@ -51,6 +59,9 @@ struct GpuClusterLight {
     tiles_x: u32,
     tiles_y: u32,
     slices: u32,
+    /// The light's first chunk (the chunks of the lights before it come first).
+    first: u32,
+    _pad: [u32; 3],
 }
 
 /// A frame's lists could not be built.
@@ -109,8 +120,8 @@ struct Buffers {
 #[derive(Debug, Clone, Copy, Default)]
 struct Plan {
     clusters: u32,
-    locals: u32,
-    slices: u32,
+    /// Workgroups of the count and fill dispatches.
+    chunks: u32,
     /// (read back by the tests' [`GpuClusters::read_lists`])
     #[cfg_attr(not(test), allow(dead_code))]
     globals: u32,
@@ -329,12 +340,15 @@ impl GpuClusters {
         }
         let one = grid.count() == 1;
         let mut bound = globals.len();
+        let mut chunks = 0;
         self.records.clear();
         for l in locals {
             let Some(f) = grid.footprint(proj, width, height, l) else {
                 continue;
             };
             bound += f.clusters();
+            let first = chunks as u32;
+            chunks += f.clusters().div_ceil(CHUNK);
             let pack = |(a, b): (u32, u32)| a | (b << 16);
             self.records.push(GpuClusterLight {
                 center: l.center.into(),
@@ -344,6 +358,8 @@ impl GpuClusters {
                 tiles_x: pack(f.tiles_x),
                 tiles_y: pack(f.tiles_y),
                 slices: pack(f.slices),
+                first,
+                _pad: [0; 3],
             });
         }
         if bound > MAX_ENTRIES {
@@ -367,7 +383,12 @@ impl GpuClusters {
         }
         let params = GpuClusterParams {
             grid: [grid.tiles_x, grid.tiles_y, grid.slices, clusters],
-            counts: [self.records.len() as u32, globals.len() as u32, capacity, 0],
+            counts: [
+                self.records.len() as u32,
+                globals.len() as u32,
+                capacity,
+                chunks as u32,
+            ],
         };
         let b = &self.buffers;
         let q = &ctx.queue;
@@ -383,8 +404,7 @@ impl GpuClusters {
         }
         self.plan = Some(Plan {
             clusters,
-            locals: self.records.len() as u32,
-            slices: grid.slices,
+            chunks: chunks as u32,
             globals: globals.len() as u32,
             capacity,
         });
@@ -437,16 +457,17 @@ impl GpuClusters {
         let (x, y) = dispatch_2d(plan.clusters);
         pass.set_pipeline(bounds);
         pass.dispatch_workgroups(x, y, 1);
-        let light_groups = plan.locals.div_ceil(WORKGROUP);
-        if light_groups > 0 {
+        // one workgroup per chunk of a light's footprint
+        let (cx, cy) = (plan.chunks.min(ROW), plan.chunks.div_ceil(ROW));
+        if plan.chunks > 0 {
             pass.set_pipeline(count);
-            pass.dispatch_workgroups(light_groups, plan.slices, 1);
+            pass.dispatch_workgroups(cx, cy, 1);
         }
         pass.set_pipeline(offsets);
         pass.dispatch_workgroups(1, 1, 1);
-        if light_groups > 0 {
+        if plan.chunks > 0 {
             pass.set_pipeline(fill);
-            pass.dispatch_workgroups(light_groups, plan.slices, 1);
+            pass.dispatch_workgroups(cx, cy, 1);
         }
     }
 

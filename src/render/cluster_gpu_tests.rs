@@ -239,3 +239,53 @@ fn one_cluster_lists_every_light_and_buffers_are_reused() {
     assert_eq!(lists.ranges, vec![[0, 5]]);
     assert_eq!(lists.indices, vec![0, 1, 2, 3, 4]);
 }
+
+/// A room's few large lights at 1920×1080 with the renderer's grid, the camera
+/// inside some: footprints of thousands of clusters (many workgroups each)
+/// between small ones of a single chunk. The GPU lists equal the CPU reference.
+#[test]
+fn large_lights_spread_over_many_workgroups() {
+    let Some(ctx) = context() else { return };
+    let (w, h) = (1920, 1080);
+    let proj = perspective_rh(0.9, w as f32 / h as f32, 0.1, 60.0);
+    let grid = ClusterGrid::new(w, h, 0.1, 60.0, TILE_PX, SLICES);
+    let mut rng = Rng(7);
+    let locals: Vec<LocalLight> = (0..26)
+        .map(|i| {
+            let big = i % 3 != 1;
+            LocalLight {
+                index: i,
+                center: Vec3::new(
+                    (rng.next() - 0.5) * 8.0,
+                    (rng.next() - 0.5) * 4.0,
+                    -rng.next() * 12.0 + 1.0,
+                ),
+                radius: if big { 4.0 + rng.next() * 12.0 } else { 0.1 },
+            }
+        })
+        .collect();
+    let frame = ClusterFrame {
+        grid,
+        proj: &proj,
+        width: w,
+        height: h,
+        globals: &[26],
+        locals: &locals,
+    };
+    let most = locals
+        .iter()
+        .filter_map(|l| grid.footprint(&proj, w, h, l))
+        .map(|f| f.clusters())
+        .max();
+    assert!(
+        most > Some(16 * CHUNK),
+        "a light spans many chunks: {most:?}"
+    );
+    let mut clusters = GpuClusters::new(&ctx).unwrap();
+    let lists = gpu_lists(&ctx, &mut clusters, &frame);
+    let cpu = build(grid, &proj, w, h, &[26], &locals).unwrap();
+    assert!(cpu.indices.len() > 50_000, "the lights fill the view");
+    assert_same_lists(&lists, &cpu);
+    let checked = every_point_finds_its_light(&lists, &proj, (w, h), &locals, 200);
+    assert!(checked > 1000, "too few visible samples: {checked}");
+}
