@@ -218,6 +218,14 @@ if [ -n "$PY" ] && "$PY" -c "import torch, cv2" 2>/dev/null; then
 fi
 row "gaussian_blur σ8 PNG→PNG, whole process ms" "$PNG_SIZE" "${t[fragment]}" "${t[compute]}" "$(ratio "${t[fragment]}" "${t[compute]}")" "${peer:-no python3 cv2/torch}"
 
+# Where the whole-process time of the PNG run goes: fxrun's own split
+# (--timings: decode, device creation, pipelines, upload, passes, readback,
+# encode, total) of one compute run, and the process's wall time.
+t0=$(date +%s%N)
+SPLIT=$($FX tonemap -i "$PNG" -o "$OUT/tm.png" --execution compute --timings 2>&1 | grep -E "^compile" | head -1 || true)
+t1=$(date +%s%N)
+SPLIT="$SPLIT; process wall $(( (t1 - t0) / 1000000 )) ms"
+
 # The renderer rows (bench/gpu_render.sh): render passes, render CPU per frame,
 # rendered-sequence fps; printed after the table.
 if [ "$QUICK" = 1 ]; then
@@ -229,6 +237,8 @@ fi
 
 echo
 echo "$(load)"
+echo
+echo "tonemap PNG→PNG ($PNG_SIZE), one compute run: $SPLIT"
 echo
 echo "| what | size | fragment | compute | compute / fragment | peer |"
 echo "|---|---|---|---|---|---|"
