@@ -286,9 +286,9 @@ struct FxAuxB {
     @location(2) specular: vec4<f32>,
 }
 
-@fragment
-fn fx_fs_aux_b(@builtin(position) pos: vec4<f32>) -> FxAuxB {
-    let c = vec2<i32>(pos.xy);
+// The albedo, material and specular AUX images of the pixel whose centre is `xy`.
+fn fx_aux_b(xy: vec2<f32>) -> FxAuxB {
+    let c = vec2<i32>(xy);
     let depth = textureLoad(fx_t_depth, c, 0);
     var out: FxAuxB;
     if depth >= 1.0 {
@@ -303,4 +303,39 @@ fn fx_fs_aux_b(@builtin(position) pos: vec4<f32>) -> FxAuxB {
     out.material = vec4<f32>(a.a, sp.a, textureLoad(fx_t_normal, c, 0).z, 1.0);
     out.specular = vec4<f32>(dot(sp.rgb, vec3<f32>(1.0 / 3.0)), 0.0, 0.0, 0.0);
     return out;
+}
+
+@fragment
+fn fx_fs_aux_b(@builtin(position) pos: vec4<f32>) -> FxAuxB {
+    return fx_aux_b(pos.xy);
+}
+
+// Linear -> sRGB (IEC 61966-2-1), what an sRGB render target encodes: the
+// compute resolve stores AUX.albedo through its raw `rgba8unorm` twin (a
+// storage texture cannot be sRGB; src/render/targets.rs copies it into the
+// sRGB image).
+fn fx_srgb_encode(c: vec4<f32>) -> vec4<f32> {
+    let x = clamp(c.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    let lo = x * 12.92;
+    let hi = 1.055 * pow(x, vec3<f32>(1.0 / 2.4)) - vec3<f32>(0.055);
+    return vec4<f32>(select(hi, lo, x <= vec3<f32>(0.0031308)), c.a);
+}
+
+// The same as a compute dispatch (src/render/light_compute.rs), where the
+// adapter can store to the images' formats (its own dispatch: a stage binds at
+// most 4 storage textures by default).
+@group(2) @binding(8) var fx_b_albedo: texture_storage_2d<rgba8unorm, write>;
+@group(2) @binding(9) var fx_b_material: texture_storage_2d<rgba8unorm, write>;
+@group(2) @binding(10) var fx_b_specular: texture_storage_2d<r16float, write>;
+
+@compute @workgroup_size(8, 8)
+fn fx_cs_aux_b(@builtin(global_invocation_id) id: vec3<u32>) {
+    if !fx_cs_inside(id) {
+        return;
+    }
+    let b = fx_aux_b(vec2<f32>(id.xy) + 0.5);
+    let c = vec2<i32>(id.xy);
+    textureStore(fx_b_albedo, c, fx_srgb_encode(b.albedo));
+    textureStore(fx_b_material, c, b.material);
+    textureStore(fx_b_specular, c, b.specular);
 }

@@ -66,9 +66,14 @@ fn geometry_keys(
 /// (deferred in fragments) or the background (the other techniques, when the
 /// environment draws one).
 fn light_pipes(r: &FrameGpu<'_>, technique: Technique, compute: bool) -> Vec<LightPipe> {
-    let mut light = vec![LightPipe::AuxB];
-    if !computes_aux(r) {
-        light.push(LightPipe::AuxA);
+    let mut light = Vec::new();
+    for (which, pipe) in [
+        (LightCompute::AuxResolveB, LightPipe::AuxB),
+        (LightCompute::AuxResolve, LightPipe::AuxA),
+    ] {
+        if !computes_aux(r, which) {
+            light.push(pipe);
+        }
     }
     if !compute && technique != Technique::Forward {
         if r.opts.light_culling == super::clusters::LightCulling::Volumes {
@@ -118,7 +123,8 @@ pub(crate) fn ensure_pipelines(
     let compute = computes_lights(r.opts, technique);
     let dispatches = [
         compute.then_some(light_compute_of(technique)),
-        computes_aux(r).then_some(LightCompute::AuxResolve),
+        computes_aux(r, LightCompute::AuxResolve).then_some(LightCompute::AuxResolve),
+        computes_aux(r, LightCompute::AuxResolveB).then_some(LightCompute::AuxResolveB),
     ];
     for which in dispatches.into_iter().flatten() {
         light_compute.ensure(

@@ -5,7 +5,7 @@
 
 use super::cluster_gpu::GpuClusters;
 use super::environment::EnvironmentLighting;
-use super::light_compute::{ComputeLighting, LightCompute, LightComputeGroups};
+use super::light_compute::{ComputeLighting, LightCompute, LightComputeGroups, AUX_HALVES};
 use super::lights::{FrameLists, LightVolumes};
 use super::material::{MaterialSet, VariantMode};
 use super::motion::{MotionCameras, MotionPass};
@@ -74,11 +74,10 @@ pub(super) fn geo_key(
     }
 }
 
-/// Whether AUX.depth, normal, position and the camera motion are resolved by
-/// a compute dispatch (`fx_cs_aux_a`): with compute lighting on, where the
-/// adapter can store to their formats; else the fragment pass draws them.
-pub(super) fn computes_aux(r: &FrameGpu<'_>) -> bool {
-    r.opts.compute_lighting && r.layouts.g2_aux_compute.is_some()
+/// Whether the AUX resolve's half `which` is a compute dispatch
+/// ([`LightCompute::aux_in_compute`]).
+pub(super) fn computes_aux(r: &FrameGpu<'_>, which: LightCompute) -> bool {
+    which.aux_in_compute(r.opts.compute_lighting, r.layouts)
 }
 
 /// The compute light pass of `technique`.
@@ -365,40 +364,34 @@ impl<'a> Recorder<'a> {
     }
 
     /// The AUX images from the G-buffer (motion: of the camera alone; the
-    /// moved instances are drawn over it by [`Recorder::object_motion`]).
+    /// moved instances are drawn over it by [`Recorder::object_motion`]), in
+    /// two halves, each a compute dispatch where [`computes_aux`] says so
+    /// (the second's albedo then copied from its raw twin), else drawn.
     pub fn aux_resolve(&mut self, encoder: &mut wgpu::CommandEncoder) {
         let (r, p, t) = (self.r, self.p, self.t);
-        let zero = clear_to(Vec4::ZERO);
-        let first_half = "aux depth/normal/position/motion";
-        let drawn: &[(LightPipe, &[usize], &str)] = match &t.bg_aux_compute {
-            Some(outputs) if computes_aux(r) => {
-                p.light_compute.encode(
-                    encoder,
-                    LightCompute::AuxResolve,
-                    &LightComputeGroups {
-                        g0: r.g0,
-                        gbuffer: &t.bg_all,
-                        outputs,
-                        params: &r.material_gpu.params_group,
-                    },
-                    (t.width, t.height),
-                    first_half,
-                    &mut self.names,
-                    self.timer,
-                );
-                &[(LightPipe::AuxB, &[3, 4, 5], "aux albedo/material/specular")]
+        let groups = [&t.bg_aux_compute, &t.bg_aux_b_compute];
+        for ((which, name, images, pipe), outputs) in AUX_HALVES.into_iter().zip(groups) {
+            let Some(outputs) = outputs.as_ref().filter(|_| computes_aux(r, which)) else {
+                let zero = clear_to(Vec4::ZERO);
+                let targets: Vec<_> = images
+                    .iter()
+                    .map(|&i| attach(&t.aux[i].1.view, zero))
+                    .collect();
+                self.fullscreen(encoder, name, pipe, &targets);
+                continue;
+            };
+            let groups = LightComputeGroups {
+                g0: r.g0,
+                gbuffer: &t.bg_all,
+                outputs,
+                params: &r.material_gpu.params_group,
+            };
+            let (size, names) = ((t.width, t.height), &mut self.names);
+            p.light_compute
+                .encode(encoder, which, &groups, size, name, names, self.timer);
+            if which == LightCompute::AuxResolveB {
+                t.copy_aux_albedo(encoder);
             }
-            _ => &[
-                (LightPipe::AuxA, &[0, 1, 2, 6], first_half),
-                (LightPipe::AuxB, &[3, 4, 5], "aux albedo/material/specular"),
-            ],
-        };
-        for &(pipe, range, name) in drawn {
-            let attachments: Vec<_> = range
-                .iter()
-                .map(|&i| attach(&t.aux[i].1.view, zero))
-                .collect();
-            self.fullscreen(encoder, name, pipe, &attachments);
         }
     }
 

@@ -15,7 +15,7 @@
 //!
 //! [`RendererOptions::compute_lighting`]: super::RendererOptions::compute_lighting
 
-use super::pipelines::{Layouts, Pipelines};
+use super::pipelines::{Layouts, LightPipe, Pipelines};
 use crate::gpu::context::{GpuContext, GpuTimer};
 use std::collections::HashMap;
 
@@ -32,6 +32,9 @@ pub(crate) enum LightCompute {
     /// AUX.depth, normal, position and camera motion from the G-buffer (the
     /// resolve's first half: `fx_cs_aux_a`).
     AuxResolve,
+    /// AUX.albedo (sRGB-encoded into its raw twin), material and specular (the
+    /// resolve's second half: `fx_cs_aux_b`).
+    AuxResolveB,
 }
 
 impl LightCompute {
@@ -40,7 +43,40 @@ impl LightCompute {
             LightCompute::Prepass => "fx_cs_light",
             LightCompute::Compose => "fx_cs_light_compose",
             LightCompute::AuxResolve => "fx_cs_aux_a",
+            LightCompute::AuxResolveB => "fx_cs_aux_b",
         }
+    }
+}
+
+/// The AUX resolve's halves: the dispatch, the pass's name (as `--timings`
+/// lists it), the AUX images it writes (by their index in `published_aux`)
+/// and the fragment pass that draws them where the dispatch cannot run.
+pub(crate) const AUX_HALVES: [(LightCompute, &str, &[usize], LightPipe); 2] = [
+    (
+        LightCompute::AuxResolve,
+        "aux depth/normal/position/motion",
+        &[0, 1, 2, 6],
+        LightPipe::AuxA,
+    ),
+    (
+        LightCompute::AuxResolveB,
+        "aux albedo/material/specular",
+        &[3, 4, 5],
+        LightPipe::AuxB,
+    ),
+];
+
+impl LightCompute {
+    /// Whether the AUX resolve's half `self` is a compute dispatch: with
+    /// compute lighting on, where the adapter can store to its images'
+    /// formats (its group-2 layout exists); else a fragment pass draws it.
+    pub fn aux_in_compute(self, compute_lighting: bool, layouts: &Layouts) -> bool {
+        compute_lighting
+            && match self {
+                LightCompute::AuxResolve => layouts.g2_aux_compute.is_some(),
+                LightCompute::AuxResolveB => layouts.g2_aux_b_compute.is_some(),
+                _ => false,
+            }
     }
 }
 
@@ -78,6 +114,10 @@ impl ComputeLighting {
                 .g2_aux_compute
                 .as_ref()
                 .ok_or("the adapter cannot store to the AUX images' formats")?,
+            LightCompute::AuxResolveB => layouts
+                .g2_aux_b_compute
+                .as_ref()
+                .ok_or("the adapter cannot store to AUX.albedo/material/specular's formats")?,
             _ => &layouts.g2_light_compute,
         };
         let pipeline = ctx

@@ -36,6 +36,10 @@ pub(crate) struct Layouts {
     /// motion (written, in [`AUX_COMPUTE_FORMATS`]); `None` where the adapter
     /// cannot store to them (the resolve is then a fragment pass).
     pub g2_aux_compute: Option<wgpu::BindGroupLayout>,
+    /// Group 2 of the compute AUX resolve's second half: AUX.albedo (its raw
+    /// twin), material and specular (written, in [`AUX_B_COMPUTE_FORMATS`]);
+    /// `None` where the adapter cannot store to them (that half is then drawn).
+    pub g2_aux_b_compute: Option<wgpu::BindGroupLayout>,
 }
 
 /// The formats the compute AUX resolve stores (`fx_cs_aux_a`, bindings 4–7 of
@@ -46,6 +50,17 @@ pub(crate) const AUX_COMPUTE_FORMATS: [wgpu::TextureFormat; 4] = [
     wgpu::TextureFormat::Rgba16Float,
     wgpu::TextureFormat::Rgba16Float,
     wgpu::TextureFormat::Rg16Float,
+];
+
+/// The formats the compute AUX resolve's second half stores (`fx_cs_aux_b`,
+/// bindings 8–10 of group 2): AUX.albedo through the raw twin of its
+/// `Rgba8UnormSrgb` (a storage texture cannot be sRGB: the shader encodes, and
+/// the twin is copied into the sRGB image), material and specular, as
+/// `published_aux` makes them.
+pub(crate) const AUX_B_COMPUTE_FORMATS: [wgpu::TextureFormat; 3] = [
+    wgpu::TextureFormat::Rgba8Unorm,
+    wgpu::TextureFormat::Rgba8Unorm,
+    wgpu::TextureFormat::R16Float,
 ];
 
 /// The stages of group 0 and of the G-buffer group: the render stages and the
@@ -77,6 +92,14 @@ pub(crate) fn aux_compute_supported(ctx: &GpuContext) -> bool {
         && ctx.format_support(wgpu::TextureFormat::R32Float).render
 }
 
+/// Whether the adapter can store to every format of the compute AUX resolve's
+/// second half (albedo, material, specular).
+pub(crate) fn aux_b_compute_supported(ctx: &GpuContext) -> bool {
+    AUX_B_COMPUTE_FORMATS
+        .iter()
+        .all(|f| ctx.format_support(*f).storage)
+}
+
 /// A write-only `Rgba16Float` storage texture of the compute light pass.
 fn storage_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     storage_texture_entry_of(binding, LIGHT_FORMAT)
@@ -102,8 +125,9 @@ fn storage_texture_entry_of(
 impl Layouts {
     /// Group 0 (frame, material info, instances, lights, visible light indices),
     /// group 1 of the light passes (G-buffer) and of the light pre-pass final pass
-    /// (light buffers).
-    pub fn new(device: &wgpu::Device, aux_compute: bool) -> Layouts {
+    /// (light buffers); group 2 of the compute AUX resolve's halves where the
+    /// adapter can store to their formats (`aux_compute`: first, second).
+    pub fn new(device: &wgpu::Device, aux_compute: (bool, bool)) -> Layouts {
         let env = super::environment::EnvironmentLighting::g0_layout_entries();
         let g0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred group 0 (frame, materials, instances, lights)"),
@@ -155,7 +179,7 @@ impl Layouts {
                 texture_entry(3, unfilterable),
             ],
         });
-        let g2_aux_compute = aux_compute.then(|| {
+        let g2_aux_compute = aux_compute.0.then(|| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("deferred group 2 (compute AUX resolve)"),
                 entries: &[
@@ -166,12 +190,23 @@ impl Layouts {
                 ],
             })
         });
+        let g2_aux_b_compute = aux_compute.1.then(|| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("deferred group 2 (compute AUX resolve, albedo/material/specular)"),
+                entries: &[
+                    storage_texture_entry_of(8, AUX_B_COMPUTE_FORMATS[0]),
+                    storage_texture_entry_of(9, AUX_B_COMPUTE_FORMATS[1]),
+                    storage_texture_entry_of(10, AUX_B_COMPUTE_FORMATS[2]),
+                ],
+            })
+        });
         Layouts {
             g0,
             g1_gbuffer,
             g1_light_buffers,
             g2_light_compute,
             g2_aux_compute,
+            g2_aux_b_compute,
         }
     }
 }

@@ -41,7 +41,7 @@ use super::cluster_gpu::GpuClusters;
 pub use super::error::RenderError;
 use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
-use super::light_compute::ComputeLighting;
+use super::light_compute::{ComputeLighting, LightCompute};
 use super::lights::LightVolumes;
 use super::material::MaterialSet;
 use super::motion::MotionPass;
@@ -190,7 +190,10 @@ fn create_frame_buffers(
     if infos.is_empty() {
         infos.push(bytemuck::Zeroable::zeroed());
     }
-    let aux_compute = super::pipelines::aux_compute_supported(ctx);
+    let aux_compute = (
+        super::pipelines::aux_compute_supported(ctx),
+        super::pipelines::aux_b_compute_supported(ctx),
+    );
     ctx.scoped("deferred renderer: scene upload", |device| {
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -440,7 +443,14 @@ impl Renderer {
     /// compute dispatch (compute lighting on, and the adapter can store to
     /// their formats) rather than drawn.
     pub fn resolves_aux_in_compute(&self) -> bool {
-        self.opts.compute_lighting && self.layouts.g2_aux_compute.is_some()
+        LightCompute::AuxResolve.aux_in_compute(self.opts.compute_lighting, &self.layouts)
+    }
+
+    /// Whether AUX.albedo, material and specular are resolved by a compute
+    /// dispatch (compute lighting on, and the adapter can store to their
+    /// formats) rather than drawn.
+    pub fn resolves_aux_albedo_in_compute(&self) -> bool {
+        LightCompute::AuxResolveB.aux_in_compute(self.opts.compute_lighting, &self.layouts)
     }
 
     /// Creates the frame targets for `width`×`height` if the size changed.
@@ -473,6 +483,7 @@ impl Renderer {
                 dummy_light: &self.dummy_light,
                 light_compute: &self.layouts.g2_light_compute,
                 aux_compute: self.layouts.g2_aux_compute.as_ref(),
+                aux_b_compute: self.layouts.g2_aux_b_compute.as_ref(),
             },
         )?;
         self.targets = Some(targets);

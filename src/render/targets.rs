@@ -64,11 +64,24 @@ pub(crate) struct Targets {
     /// group 2 of the compute AUX resolve (AUX.depth, normal, position and
     /// motion written), where the adapter can store to them.
     pub bg_aux_compute: Option<wgpu::BindGroup>,
+    /// group 2 of the compute AUX resolve's second half (AUX.albedo's raw
+    /// twin, material and specular written), where the adapter can store to
+    /// them.
+    pub bg_aux_b_compute: Option<wgpu::BindGroup>,
+    /// The raw `Rgba8Unorm` twin of AUX.albedo that the compute resolve stores
+    /// (sRGB-encoded by the shader) and [`Targets::copy_aux_albedo`] copies
+    /// into the published `Rgba8UnormSrgb` image (which readers get as a
+    /// texture and view in its own format, so it stays sRGB).
+    pub aux_albedo_store: Option<Target>,
 }
 
 /// The AUX images the compute resolve writes, by their index in the AUX list
 /// (`published_aux`: depth, normal, position, ..., motion last).
 const AUX_COMPUTE_IMAGES: [usize; 4] = [0, 1, 2, 6];
+
+/// The AUX images the compute resolve's second half writes: albedo (through
+/// its raw twin), material, specular.
+const AUX_B_COMPUTE_IMAGES: [usize; 3] = [3, 4, 5];
 
 /// Layouts of the group-1 bind groups.
 pub(crate) struct TargetLayouts<'a> {
@@ -82,6 +95,8 @@ pub(crate) struct TargetLayouts<'a> {
     pub light_compute: &'a wgpu::BindGroupLayout,
     /// The compute AUX resolve's outputs (`None`: the resolve is drawn).
     pub aux_compute: Option<&'a wgpu::BindGroupLayout>,
+    /// The second half's outputs (`None`: that half is drawn).
+    pub aux_b_compute: Option<&'a wgpu::BindGroupLayout>,
 }
 
 /// The frame's images, before their bind groups.
@@ -95,6 +110,7 @@ struct Images {
     emission: Target,
     scene: Target,
     aux: Vec<(String, Target)>,
+    aux_albedo_store: Option<Target>,
 }
 
 /// The bind groups of the frame's images.
@@ -105,15 +121,17 @@ struct Groups {
     compute_deferred: wgpu::BindGroup,
     compute_prepass: wgpu::BindGroup,
     aux_compute: Option<wgpu::BindGroup>,
+    aux_b_compute: Option<wgpu::BindGroup>,
 }
 
 /// Every image of a `width`×`height` frame (rendered to, sampled, copied; the
-/// light buffers and the scene written by the compute light pass as well).
+/// light buffers and the scene written by the compute light pass as well,
+/// and the AUX images by the compute resolve's halves, `aux_storage`).
 fn create_images(
     device: &wgpu::Device,
     (width, height): (u32, u32),
     aux_formats: &[(String, wgpu::TextureFormat)],
-    aux_storage: bool,
+    aux_storage: (bool, bool),
 ) -> Images {
     let make_with = |label: &str, format: wgpu::TextureFormat, extra| {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
@@ -146,13 +164,29 @@ fn create_images(
             .enumerate()
             .map(|(i, (name, format))| {
                 let label = format!("deferred aux {name}");
-                let image = match aux_storage && AUX_COMPUTE_IMAGES.contains(&i) {
-                    true => make_with(&label, *format, wgpu::TextureUsages::STORAGE_BINDING),
-                    false => make(&label, *format),
+                let stored = (aux_storage.0 && AUX_COMPUTE_IMAGES.contains(&i))
+                    || (aux_storage.1 && AUX_B_COMPUTE_IMAGES.contains(&i));
+                let extra = match (stored, format.is_srgb()) {
+                    (false, _) => wgpu::TextureUsages::empty(),
+                    // stored through its raw twin, then copied in
+                    (true, true) => wgpu::TextureUsages::COPY_DST,
+                    (true, false) => wgpu::TextureUsages::STORAGE_BINDING,
                 };
-                (name.clone(), image)
+                (name.clone(), make_with(&label, *format, extra))
             })
             .collect(),
+        aux_albedo_store: aux_storage.1.then(|| {
+            let label = "deferred aux albedo (raw twin the compute resolve stores)";
+            let format = aux_formats[AUX_B_COMPUTE_IMAGES[0]].1.remove_srgb_suffix();
+            let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
+            let texture =
+                device.create_texture(&texture_2d(label, (width, height), format, usage, &[]));
+            let view = texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some(label),
+                ..Default::default()
+            });
+            Target { texture, view }
+        }),
     }
 }
 
@@ -240,10 +274,27 @@ fn create_groups(device: &wgpu::Device, im: &Images, layouts: &TargetLayouts) ->
             entries: &entries,
         })
     });
+    let aux_b_compute = layouts.aux_b_compute.zip(im.aux_albedo_store.as_ref());
+    let aux_b_compute = aux_b_compute.map(|(layout, albedo)| {
+        let [_, material, specular] = AUX_B_COMPUTE_IMAGES.map(|i| &im.aux[i].1.view);
+        let entries: Vec<wgpu::BindGroupEntry> = (8..)
+            .zip([&albedo.view, material, specular])
+            .map(|(binding, view)| wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("deferred group 2 (compute AUX resolve, albedo/material/specular)"),
+            layout,
+            entries: &entries,
+        })
+    });
     Groups {
         light,
         all,
         aux_compute,
+        aux_b_compute,
         prepass_final,
         compute_deferred: compute(
             "deferred group 2 (compute lights, deferred)",
@@ -267,7 +318,10 @@ impl Targets {
     ) -> Result<Targets, crate::gpu::context::GpuError> {
         ctx.check_size(width, height, "deferred render target")?;
         ctx.scoped("deferred render targets", |device| {
-            let aux_storage = layouts.aux_compute.is_some();
+            let aux_storage = (
+                layouts.aux_compute.is_some(),
+                layouts.aux_b_compute.is_some(),
+            );
             let images = create_images(device, (width, height), aux_formats, aux_storage);
             let groups = create_groups(device, &images, layouts);
             let Images {
@@ -280,6 +334,7 @@ impl Targets {
                 emission,
                 scene,
                 aux,
+                aux_albedo_store,
             } = images;
             Targets {
                 width,
@@ -299,7 +354,23 @@ impl Targets {
                 bg_compute_deferred: groups.compute_deferred,
                 bg_compute_prepass: groups.compute_prepass,
                 bg_aux_compute: groups.aux_compute,
+                bg_aux_b_compute: groups.aux_b_compute,
+                aux_albedo_store,
             }
         })
+    }
+
+    /// Copies the compute resolve's AUX.albedo (its raw twin, already
+    /// sRGB-encoded) into the published sRGB image: the formats differ only
+    /// in sRGB-ness, so the bytes are copied as they are.
+    pub fn copy_aux_albedo(&self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some(store) = &self.aux_albedo_store {
+            let albedo = &self.aux[AUX_B_COMPUTE_IMAGES[0]].1.texture;
+            encoder.copy_texture_to_texture(
+                store.texture.as_image_copy(),
+                albedo.as_image_copy(),
+                store.texture.size(),
+            );
+        }
     }
 }
