@@ -39,7 +39,9 @@ pub struct RenderOutput {
     /// (r = material id / 255, g = lighting model id / 255, b = roughness, a = 1),
     /// `specular` R16Float mean F0, `motion` Rg16Float motion vectors in pixels
     /// (current − previous position, x right, y down). Usage: TEXTURE_BINDING | COPY_SRC |
-    /// RENDER_ATTACHMENT.
+    /// RENDER_ATTACHMENT, and where the AUX resolve is a compute dispatch
+    /// STORAGE_BINDING (albedo, which cannot be one, COPY_DST: its raw twin is
+    /// copied in).
     pub aux: Vec<(String, wgpu::Texture)>,
     pub camera: CameraStd,
     pub gbuffer: GBufferTextures,
