@@ -9,7 +9,7 @@ use crate::common;
 
 use fxgraph::app::Effect;
 use fxgraph::gpu::context::GpuContext;
-use fxgraph::gpu::executor::{Engine, FrameInputs, Prepared};
+use fxgraph::gpu::executor::{Engine, Execution, FrameInputs, Prepared};
 use fxgraph::gpu::transfer::{create_output, read_pixels, upload_image};
 use fxgraph::graph::plan::{InputDesc, PlanOptions, ReusePolicy};
 use fxgraph::io::Pixels;
@@ -194,4 +194,28 @@ fn an_output_in_the_bgra_twin_format_holds_the_same_values() {
         .record(&mut engine, &mut enc, &inputs, &wrong)
         .unwrap_err();
     assert!(e.to_string().contains("BGRA twin"), "{e}");
+}
+
+/// Under compute execution gaussian_blur's last pass (compute-native, storing
+/// rgba16float) writes an 8-bit sRGB output through a stand-in, converted and
+/// copied in (gpu/executor/stand_in.rs): no pass is drawn, and inspecting that
+/// pass copies the output itself, in the output's format.
+#[test]
+fn inspecting_an_output_written_through_a_stand_in_copies_the_output() {
+    let Some((mut engine, ctx, input, desc)) = setup(64, 48) else {
+        return;
+    };
+    let before = engine.execution();
+    engine.set_execution(Execution::Compute);
+    let mut blur = prepare(&mut engine, "gaussian_blur", &desc, Format::Rgba8Srgb);
+    let out = create_output(&ctx, desc.width, desc.height, Format::Rgba8Srgb);
+    let last = blur.plan.passes.len() - 1;
+    blur.inspect(Some(last)).unwrap();
+    frame(&mut engine, &mut blur, &input, &out);
+    engine.set_execution(before);
+    assert_eq!(blur.stats().fragment_passes, 0, "a pass was drawn");
+    let copy = blur.inspected().expect("a copy after the frame").clone();
+    let seen = read_pixels(&ctx, &copy, Format::Rgba8Srgb).unwrap();
+    let written = read_pixels(&ctx, &out, Format::Rgba8Srgb).unwrap();
+    assert!(seen == written, "the inspected copy is the output");
 }

@@ -490,6 +490,9 @@ impl Prepared {
             }
             _ => None,
         };
+        // The inspection copy below reads the output itself (filled by the
+        // stand-in's copy), in the output's format.
+        let output_views = caller;
         let swapped;
         let caller = match &stand_in {
             Some(s) => {
@@ -538,7 +541,7 @@ impl Prepared {
             }
         };
         let created = created + self.make_mips(engine, encoder, pass);
-        self.copy_inspected(engine, encoder, pass, caller)?;
+        self.copy_inspected(engine, encoder, pass, output_views)?;
         engine.bind_groups_created += created;
         self.stats.bind_groups_created += created;
         Ok(if compute {
