@@ -260,16 +260,24 @@ fn eight_bit_outputs_agree_within_one_level() {
     let dir = temp();
     save(&dir.path().join("in.png"), &picture(3));
     for effect in ["glow", "gaussian_blur", "pencil", "sharpen", "tonemap"] {
-        let out = format!("{effect}-EXEC.png");
-        let args = [effect, "-i", "in.png", "-o", &out];
         // The output texture of an 8-bit file is sRGB-encoded by its format,
         // which no adapter stores to: the last pass writes a stand-in in the
         // raw format (encoding sRGB in the shader; gaussian_blur's compute-native
         // `vertical` stores rgba16float, converted after it), copied into the
         // output. No pass stays a fragment pass.
-        let d = compare(dir.path(), effect, &args, &[&out], 1.0 / 255.0 + 1e-6, 0);
-        assert!(d <= 1.0 / 255.0 + 1e-6);
+        eight_bit_agree(dir.path(), effect, &["-i", "in.png"]);
     }
+}
+
+/// `effect` with `source` (its input arguments) into a PNG under both
+/// execution paths: within one 8-bit level, no pass drawn under compute.
+fn eight_bit_agree(dir: &Path, effect: &str, source: &[&str]) {
+    let out = format!("{effect}-EXEC.png");
+    let mut args = vec![effect];
+    args.extend_from_slice(source);
+    args.extend(["-o", &out]);
+    let d = compare(dir, effect, &args, &[&out], 1.0 / 255.0 + 1e-6, 0);
+    assert!(d <= 1.0 / 255.0 + 1e-6);
 }
 
 /// SSAO's and SSGI's last passes are compute-native and store rgba16float:
@@ -283,18 +291,8 @@ fn eight_bit_outputs_of_compute_native_passes_are_converted() {
     }
     let dir = temp();
     for effect in ["ssao", "ssgi"] {
-        let out = format!("{effect}-EXEC.png");
-        let args = [
-            effect,
-            "--scene",
-            "builtin:room",
-            "--size",
-            "96x64",
-            "-o",
-            &out,
-        ];
-        let d = compare(dir.path(), effect, &args, &[&out], 1.0 / 255.0 + 1e-6, 0);
-        assert!(d <= 1.0 / 255.0 + 1e-6);
+        let scene = ["--scene", "builtin:room", "--size", "96x64"];
+        eight_bit_agree(dir.path(), effect, &scene);
     }
 }
 

@@ -138,13 +138,7 @@ fn create_images(
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC
             | extra;
-        let texture =
-            device.create_texture(&texture_2d(label, (width, height), format, usage, &[]));
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some(label),
-            ..Default::default()
-        });
-        Target { texture, view }
+        target(device, label, (width, height), format, usage)
     };
     let make = |label: &str, format| make_with(label, format, wgpu::TextureUsages::empty());
     // written by the compute light pass as well
@@ -179,15 +173,25 @@ fn create_images(
             let label = "deferred aux albedo (raw twin the compute resolve stores)";
             let format = aux_formats[AUX_B_COMPUTE_IMAGES[0]].1.remove_srgb_suffix();
             let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
-            let texture =
-                device.create_texture(&texture_2d(label, (width, height), format, usage, &[]));
-            let view = texture.create_view(&wgpu::TextureViewDescriptor {
-                label: Some(label),
-                ..Default::default()
-            });
-            Target { texture, view }
+            target(device, label, (width, height), format, usage)
         }),
     }
+}
+
+/// A texture of `size` in `format` with `usage`, and its view.
+fn target(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> Target {
+    let texture = device.create_texture(&texture_2d(label, size, format, usage, &[]));
+    let view = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some(label),
+        ..Default::default()
+    });
+    Target { texture, view }
 }
 
 /// A bind group of `views`, bound 0, 1, 2… in order.
