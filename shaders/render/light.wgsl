@@ -310,16 +310,12 @@ fn fx_fs_aux_b(@builtin(position) pos: vec4<f32>) -> FxAuxB {
     return fx_aux_b(pos.xy);
 }
 
-// Linear -> sRGB (IEC 61966-2-1), what an sRGB render target encodes: the
+// `fxgraph_srgb_encode` (linear -> sRGB, what an sRGB render target encodes)
+// is appended to this module by src/render/material/template.rs, from
+// `crate::shader::compute::SRGB_ENCODE`, the executor's compute paths' own: the
 // compute resolve stores AUX.albedo through its raw `rgba8unorm` twin (a
-// storage texture cannot be sRGB; src/render/targets.rs copies it into the
-// sRGB image).
-fn fx_srgb_encode(c: vec4<f32>) -> vec4<f32> {
-    let x = clamp(c.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
-    let lo = x * 12.92;
-    let hi = 1.055 * pow(x, vec3<f32>(1.0 / 2.4)) - vec3<f32>(0.055);
-    return vec4<f32>(select(hi, lo, x <= vec3<f32>(0.0031308)), c.a);
-}
+// storage texture cannot be sRGB; src/render/targets.rs copies it into the sRGB
+// image).
 
 // The same as a compute dispatch (src/render/light_compute.rs), where the
 // adapter can store to the images' formats (its own dispatch: a stage binds at
@@ -335,7 +331,7 @@ fn fx_cs_aux_b(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let b = fx_aux_b(vec2<f32>(id.xy) + 0.5);
     let c = vec2<i32>(id.xy);
-    textureStore(fx_b_albedo, c, fx_srgb_encode(b.albedo));
+    textureStore(fx_b_albedo, c, fxgraph_srgb_encode(b.albedo));
     textureStore(fx_b_material, c, b.material);
     textureStore(fx_b_specular, c, b.specular);
 }

@@ -19,3 +19,22 @@ pub fn wgpu_format(f: Format) -> wgpu::TextureFormat {
         Format::Rg32f => T::Rg32Float,
     }
 }
+
+/// The WGSL texel format of a storage texture of `f` (`None`: no storage
+/// texture of it is written here): the compute wrapper's target and the output
+/// stand-in's conversion (gpu/executor).
+pub fn wgsl_storage_format(f: wgpu::TextureFormat) -> Option<&'static str> {
+    use wgpu::TextureFormat as T;
+    Some(match f {
+        T::Rgba8Unorm => "rgba8unorm",
+        T::Rgba16Float => "rgba16float",
+        T::Rgba32Float => "rgba32float",
+        T::Rgb10a2Unorm => "rgb10a2unorm",
+        T::R8Unorm => "r8unorm",
+        T::R16Float => "r16float",
+        T::R32Float => "r32float",
+        T::Rg16Float => "rg16float",
+        T::Rg32Float => "rg32float",
+        _ => return None,
+    })
+}

@@ -14,6 +14,7 @@ use super::stand_in::OutputTarget;
 use super::{view_format, wgpu_format, Engine, ExecError, PipelineKey};
 use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
 use crate::gpu::context::GpuError;
+use crate::gpu::formats::wgsl_storage_format;
 use crate::graph::plan::{PlannedPass, Resource};
 use crate::script::types::{Format, Sampling};
 use crate::script::Diagnostic;
@@ -59,23 +60,6 @@ pub(super) struct ComputePath {
     /// output after the dispatch, sRGB-encoded when `Some(true)` (stand_in.rs).
     convert: Option<bool>,
     bind_groups: Vec<(Vec<BindKey>, wgpu::BindGroup)>,
-}
-
-/// The WGSL texel format of a storage texture of `f`.
-fn wgsl_storage_format(f: wgpu::TextureFormat) -> Option<&'static str> {
-    use wgpu::TextureFormat as T;
-    Some(match f {
-        T::Rgba8Unorm => "rgba8unorm",
-        T::Rgba16Float => "rgba16float",
-        T::Rgba32Float => "rgba32float",
-        T::Rgb10a2Unorm => "rgb10a2unorm",
-        T::R8Unorm => "r8unorm",
-        T::R16Float => "r16float",
-        T::R32Float => "r32float",
-        T::Rg16Float => "rg16float",
-        T::Rg32Float => "rg32float",
-        _ => return None,
-    })
 }
 
 /// The WGSL name of a storage texel format naga parsed.

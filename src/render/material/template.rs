@@ -136,6 +136,8 @@ pub fn light_module(set: &MaterialSet, normal_encoding: u32) -> Result<Generated
     text.push_str(SHADOW);
     text.push('\n');
     text.push_str(LIGHT);
+    // light.wgsl's compute AUX resolve encodes albedo with it.
+    text.push_str(crate::shader::compute::SRGB_ENCODE);
     text.push('\n');
     let mut dispatch = String::from(
         "fn fx_lighting_model(model: u32, material: u32, li: LightingInput) -> LightingOutput {\n    switch model {\n",
