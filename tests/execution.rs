@@ -51,9 +51,10 @@ const SCENE_EFFECTS: &[&str] = &[
     "taa",
 ];
 
-/// Passes written as compute passes (`@compute` shaders): compute on both paths.
-/// (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2,
-/// temporal_denoise's noise estimate `nsig`,
+/// Passes written as compute passes (`@compute` shaders): compute on both paths
+/// (temporal_denoise's `nsig`: one workgroup for its 1x1 output, where its
+/// fragment entry point is one invocation; tests/compute_native.rs compares the
+/// two). (The reductions, auto_exposure's m1 and m2 and tonemap's p1 and p2,
 /// motion_blur's tile maxima and temporal_denoise's motion search are compute
 /// passes drawn as fragment passes under fragment execution;
 /// tests/compute_native.rs compares those entry points.)
@@ -70,6 +71,7 @@ const NATIVE: &[&str] = &[
     "dof/nearmax_v",
     "motion_blur/neighbor",
     "taa/resolve",
+    "temporal_denoise/nsig",
 ];
 
 /// Float outputs agree within this (absolute, per channel).

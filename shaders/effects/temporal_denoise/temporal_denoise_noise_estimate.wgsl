@@ -10,12 +10,9 @@
 // used as it is.
 //
 // Two entry points (docs/shaders.md, "Compute passes"): `cs_main`, one workgroup
-// of LANES invocations for the one output texel (`@workgroup_size(1, 1, LANES)`:
-// LANES lanes per texel, so, like the other reductions, it is dispatched under
-// compute execution and its fragment entry point is drawn under fragment
-// execution, where one CPU thread runs a workgroup's lanes one after another
-// and the single fragment invocation costs half as much on lavapipe;
-// lane 0 writes the texel), wherever the output can be a storage texture: lane l takes the
+// of LANES invocations for the one output texel (`@workgroup_size(LANES, 1)`:
+// lane 0 is the texel, the others lie past the edge and only count), wherever
+// the output can be a storage texture, on both execution paths: lane l takes the
 // blocks l, l + LANES, ... (row-major), and at each bisection step the lanes'
 // counts below the midpoint are summed in a tree in workgroup memory, so every
 // lane takes the same next interval; `fs_main`, one invocation counting every
@@ -130,7 +127,7 @@ fn cs_reduce(lane: u32, n: u32, m: f32) -> vec2<f32> {
     return r;
 }
 
-@compute @workgroup_size(1, 1, 256)
+@compute @workgroup_size(256, 1, 1)
 fn cs_main(@builtin(local_invocation_index) lane: u32) {
     if (params.sigma > 0.0) {
         if (lane == 0u) {
