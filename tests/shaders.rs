@@ -260,3 +260,53 @@ fn wrap_modes_read_the_texels_they_name() {
         }
     }
 }
+
+/// Every built-in compute entry point fits WebGPU's default workgroup limits
+/// (256 invocations, at most 256 along x and y and 64 along z), which the
+/// hardware GPUs we ran on keep: an NVIDIA H200 refused 256 along z, and the
+/// pass fell back to its fragment entry point, twenty times slower there.
+/// Lavapipe allows more, so only this check catches it on CI.
+#[test]
+fn built_in_workgroups_fit_the_default_limits() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut files = vec![root];
+    let mut checked = 0;
+    while let Some(p) = files.pop() {
+        if p.is_dir() {
+            files.extend(std::fs::read_dir(&p).unwrap().map(|e| e.unwrap().path()));
+            continue;
+        }
+        if p.extension().is_none_or(|e| e != "wgsl") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&p).unwrap();
+        for line in text
+            .lines()
+            .filter(|l| l.trim_start().starts_with("@compute"))
+        {
+            let Some(args) = line
+                .split("@workgroup_size(")
+                .nth(1)
+                .and_then(|r| r.split(')').next())
+            else {
+                continue;
+            };
+            let dims: Vec<u32> = args
+                .split(',')
+                .map(|d| d.trim().parse().unwrap_or(1))
+                .collect();
+            let (x, y, z) = (
+                dims[0],
+                *dims.get(1).unwrap_or(&1),
+                *dims.get(2).unwrap_or(&1),
+            );
+            assert!(
+                x <= 256 && y <= 256 && z <= 64 && x * y * z <= 256,
+                "{}: @workgroup_size({args}) is over WebGPU's default limits",
+                p.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20, "only {checked} compute entry points found");
+}

@@ -18,7 +18,12 @@
 // lane takes the same next interval; `fs_main`, one invocation counting every
 // block at every step, where the output cannot be a storage texture. The counts
 // are integers and the maximum is exact: the two give the same value
-// (tests/compute_native.rs).
+// (tests/compute_native.rs). The lanes lie along x, not z as the other
+// reductions' (lanes per texel, drawn under fragment execution): an NVIDIA
+// H200 allows at most 64 invocations along z, and `@workgroup_size(1, 1, 256)`
+// fell back to this file's single-invocation fragment entry there (20.5 ms a
+// 1080p frame, bench/gpu.sh). So it is dispatched on both paths; on lavapipe that
+// costs about 4 ms a 1080p frame more than the drawn entry.
 @group(0) @binding(0) var blk: texture_2d<f32>;
 @group(0) @binding(1) var last: texture_2d<f32>;
 
