@@ -9,7 +9,7 @@ use crate::common;
 use common::brdf::{hemisphere_albedo, Model};
 use common::ibl::{self, env_sphere, interior_pixels, sphere_camera, SPHERE_PX};
 use fxgraph::gpu::context::GpuContext;
-use fxgraph::render::environment::EnvironmentTexture;
+use fxgraph::render::environment::{bright, EnvironmentTexture};
 use fxgraph::render::gbuffer::read_rgba_f32;
 use fxgraph::render::{Renderer, RendererOptions, Technique};
 use fxgraph::scene::{Environment, EnvironmentSource, Scene};
@@ -167,6 +167,47 @@ const FOREST: [SphereCase; 5] = [
     (GOLD, 1.0, 0.9, 0.015, 0.01),
 ];
 
+/// Gold and red paint under the corpus maps whose light comes from a few very
+/// bright texels: a low sun (sunset, sunrise), street lamps (night), a
+/// studio's soft boxes. Held to issue 29's figures: 5 % from roughness 0.3 on,
+/// 10 % below. What meets them is the split of the map's bright cells
+/// (src/render/environment/bright.rs). Measured, gold at 0.2 / 0.3 / 0.5 /
+/// 0.7 against the integral (before the split → after):
+/// - sunset 5.5 / 2.4 / 1.8 / 1.3 → 5.4 / 2.2 / 1.6 / 1.1 %
+/// - sunrise 10.2 / 10.1 / 8.5 / 6.0 → 4.6 / 3.7 / 1.9 / 1.7 %
+/// - night 15.2 / 6.3 / 7.9 / 4.6 → 5.9 / 2.3 / 2.8 / 1.6 %
+/// - studio 63 / 21.6 / 11.8 / 4.6 → 8.3 / 3.3 / 1.2 / 0.8 %
+const BRIGHT_MAPS: [(&str, [SphereCase; 5]); 4] = [
+    ("sunset.exr", BRIGHT_LIMITS),
+    ("sunrise.exr", BRIGHT_LIMITS),
+    ("night.exr", BRIGHT_LIMITS),
+    ("studio.exr", BRIGHT_LIMITS),
+];
+
+/// The cases of [`BRIGHT_MAPS`]: the issue's limits against the integral, and
+/// 6 % against the model on the CPU (measured up to 5.5 %, studio at 0.2,
+/// where the GPU's level 1 holds the residual to 6 %).
+const BRIGHT_LIMITS: [SphereCase; 5] = [
+    (GOLD, 1.0, 0.2, 0.10, 0.06),
+    (GOLD, 1.0, 0.3, 0.05, 0.04),
+    (GOLD, 1.0, 0.5, 0.05, 0.03),
+    (GOLD, 1.0, 0.7, 0.05, 0.03),
+    (PAINT, 0.0, 0.35, 0.05, 0.04),
+];
+
+#[test]
+fn metals_under_maps_with_a_sun_or_lamps_match_the_brdf_integral() {
+    let Some(gpu) = common::gpu_context() else {
+        return;
+    };
+    let ctx = &*gpu;
+    let failures: Vec<String> = BRIGHT_MAPS
+        .iter()
+        .flat_map(|(name, cases)| spheres_under(ctx, name, cases))
+        .collect();
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
 /// [`SphereCase`]s under corpus map `name`: the failures.
 fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<String> {
     let env = Environment::new(EnvironmentSource::File(common::ibl::corpus(&format!(
@@ -175,14 +216,22 @@ fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<Stri
     let map = env.load().unwrap();
     // The references integrate over a box-filtered copy of the map: 256x128
     // (1.4° texels), 512x256 below roughness 0.3, where the lobe (α = 0.04 at
-    // roughness 0.2) spans only a few 1.4° texels.
+    // roughness 0.2) spans only a few 1.4° texels. The renderer's model reads
+    // the residual of the map's bright cells the same way.
     let coarse = ibl::texels(&ibl::downsampled(&map.map, 256));
     let fine = ibl::texels(&ibl::downsampled(&map.map, 512));
+    let split = bright::split(&map.map);
+    let residual_coarse = ibl::texels(&ibl::downsampled(&split.residual, 256));
+    let residual_fine = ibl::texels(&ibl::downsampled(&split.residual, 512));
     let (_, o) = sphere_camera();
     let pixels = interior_pixels(&o, 6);
     let mut failures = Vec::new();
     for &(base, metallic, roughness, limit, model_limit) in cases {
-        let t = if roughness < 0.3 { &fine } else { &coarse };
+        let (t, residual) = if roughness < 0.3 {
+            (&fine, &residual_fine)
+        } else {
+            (&coarse, &residual_coarse)
+        };
         let scene = env_sphere(base, metallic, roughness, env.clone());
         let (_, px) = render(ctx, &scene, Technique::Deferred);
         let surface = ibl::MetalRough {
@@ -194,7 +243,7 @@ fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<Stri
             ibl::reference_radiance(t, surface, n, v)
         });
         let (model, _, _) = sphere_error(&px, &pixels, |n, v| {
-            ibl::split_sum_radiance(t, surface, n, v)
+            ibl::bright_split_radiance(t, residual, &split.cells, surface, n, v)
         });
         eprintln!(
             "{name}, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.1} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the model on the CPU (limit {:.1} %), {} pixels",
@@ -237,7 +286,10 @@ fn prefiltered_levels_and_irradiance_match_cpu_convolutions() {
             "hdri/{name}"
         ))));
         let map = env.load().unwrap();
+        // the irradiance holds the whole map, the specular levels from 1 on the
+        // residual of its bright cells
         let t = ibl::texels(&ibl::downsampled(&map.map, 512));
+        let residual = ibl::texels(&ibl::downsampled(&bright::split(&map.map).residual, 512));
         let scene = env_sphere(Vec3::ONE, 0.0, 0.5, env);
         let r = Renderer::new(ctx, &scene, &RendererOptions::default()).unwrap();
         let (levels, size) = r.environment_shape().expect("an environment is set");
@@ -259,7 +311,7 @@ fn prefiltered_levels_and_irradiance_match_cpu_convolutions() {
                 for _ in 0..4 {
                     let (x, y) = pick(side);
                     let want = ibl::ggx_prefiltered(
-                        &t,
+                        &residual,
                         ibl::cube_texel_direction(face, x, y, side),
                         roughness,
                     );

@@ -14,8 +14,21 @@ struct FxEnvironment {
     // rgb: the fog colour the background is mixed towards
     fog_color: vec4<f32>,
     // x: 1 when an environment lights the scene; y: the background (0 the
-    // frame's colour, 1 the environment, 2 transparent)
+    // frame's colour, 1 the environment, 2 transparent); z: bright cells
     flags: vec4<u32>,
+    // the normalisation of fx_env_bright_lobe at roughness i / 15 (element i
+    // of the 16): the integral of the prefiltered lobe's weight D G1 / 4
+    bright_norm: array<vec4<f32>, 4>,
+    // the map's brightest parts, taken out of the specular levels from level 1
+    // on and shaded exactly (src/render/environment/bright.rs)
+    bright: array<FxEnvBright, 64>,
+}
+
+struct FxEnvBright {
+    // unit direction in the map's frame, angular radius (radians)
+    direction_radius: vec4<f32>,
+    // the excess radiance times the solid angle (rgb), the solid angle
+    power_omega: vec4<f32>,
 }
 
 // GGX-prefiltered radiance: level k holds perceptual roughness
@@ -95,12 +108,7 @@ fn fx_env_specular_level(roughness: f32) -> f32 {
 // fit replaces: at n != v the true lobe is stretched along the plane of
 // incidence and narrower across it.
 fn fx_env_prefiltered(n: vec3<f32>, v: vec3<f32>, roughness: f32) -> vec3<f32> {
-    // the dominant direction leans from the mirror direction towards the normal
-    // as the surface gets rough (Lagarde and de Rousiers, "Moving Frostbite to
-    // PBR", 2014, listing 22; alpha = roughness^2)
-    let alpha = roughness * roughness;
-    let gloss = 1.0 - alpha;
-    let r = normalize(mix(n, reflect(-v, n), gloss * (sqrt(gloss) + alpha)));
+    let r = fx_env_dominant(n, v, roughness);
     let across = n - dot(n, r) * r;
     let t = across * inverseSqrt(max(dot(across, across), 1e-12));
     let uv = vec2<f32>(max(dot(n, v), 1e-4), roughness);
@@ -113,6 +121,114 @@ fn fx_env_prefiltered(n: vec3<f32>, v: vec3<f32>, roughness: f32) -> vec3<f32> {
         sum += weight[k] * textureSampleLevel(fx_env_specular, fx_env_sampler, fx_env.map_from_view * d, fx_env_specular_level(level[k])).rgb;
     }
     return sum / max(dot(weight, vec4<f32>(1.0)), 1e-6);
+}
+
+// The dominant direction of the specular lobe: it leans from the mirror
+// direction towards the normal as the surface gets rough (Lagarde and de
+// Rousiers, "Moving Frostbite to PBR", 2014, listing 22; alpha = roughness^2).
+fn fx_env_dominant(n: vec3<f32>, v: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let alpha = roughness * roughness;
+    let gloss = 1.0 - alpha;
+    return normalize(mix(n, reflect(-v, n), gloss * (sqrt(gloss) + alpha)));
+}
+
+// The bright cells' share of the specular light at `roughness`: level 0 of the
+// specular map (a mirror) holds the whole map, the levels from 1 on the
+// residual, so the cells count as much as level 1 does in the trilinear read.
+fn fx_env_bright_share(roughness: f32) -> f32 {
+    return clamp(fx_env_specular_level(roughness), 0.0, 1.0);
+}
+
+fn fx_env_d_ggx(ndh: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let d = ndh * ndh * (a2 - 1.0) + 1.0;
+    return a2 / (3.14159265358979 * d * d);
+}
+
+// GGX of `alpha` widened by a cell of angular radius `radius` (the half vector
+// spreads half as far as the light direction), so that a cell reflected by a
+// smooth surface is a patch of its size, not a point.
+fn fx_env_cell_alpha(alpha: f32, radius: f32) -> f32 {
+    return sqrt(alpha * alpha + 0.25 * radius * radius);
+}
+
+// The glTF BRDF's single-scattering specular term (GGX, height-correlated
+// Smith, Schlick's Fresnel) summed over the bright cells: the cells' share of
+// the environment's specular light at view-space normal `n` and view `v`.
+fn fx_env_bright_specular(n: vec3<f32>, v: vec3<f32>, f0: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let count = fx_env.flags.z;
+    if count == 0u {
+        return vec3<f32>(0.0);
+    }
+    let nm = fx_env.map_from_view * n;
+    let vm = fx_env.map_from_view * v;
+    let alpha = max(roughness * roughness, 1e-3);
+    let a2 = alpha * alpha;
+    let ndv = max(dot(nm, vm), 1e-4);
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < count; i++) {
+        let c = fx_env.bright[i];
+        let l = c.direction_radius.xyz;
+        let ndl = dot(nm, l);
+        if ndl <= 0.0 {
+            continue;
+        }
+        let h = normalize(vm + l);
+        let d = fx_env_d_ggx(max(dot(nm, h), 0.0), fx_env_cell_alpha(alpha, c.direction_radius.w));
+        let vis = 0.5 / max(ndl * sqrt(ndv * ndv * (1.0 - a2) + a2) + ndv * sqrt(ndl * ndl * (1.0 - a2) + a2), 1e-12);
+        let f = f0 + (vec3<f32>(1.0) - f0) * pow(1.0 - max(dot(vm, h), 0.0), 5.0);
+        sum += c.power_omega.rgb * f * (d * vis * ndl);
+    }
+    return sum * (fx_env.params.x * fx_env_bright_share(roughness));
+}
+
+// The normalisation of fx_env_bright_lobe at `roughness` (linear between the
+// 16 tabulated values).
+fn fx_env_bright_norm(roughness: f32) -> f32 {
+    let x = clamp(roughness, 0.0, 1.0) * 15.0;
+    let i = min(u32(x), 14u);
+    let a = fx_env.bright_norm[i / 4u][i % 4u];
+    let b = fx_env.bright_norm[(i + 1u) / 4u][(i + 1u) % 4u];
+    return mix(a, b, x - f32(i));
+}
+
+// The bright cells as a prefiltered level would hold them about view-space
+// direction `d` (the split sum's n = v = r, weight D G1 / 4, normalised):
+// what the reads of the specular map miss from level 1 on, for the terms that
+// use those reads (a lighting shader's own environment function, the coat,
+// transmission, a blurred background).
+fn fx_env_bright_lobe(d: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let count = fx_env.flags.z;
+    if count == 0u {
+        return vec3<f32>(0.0);
+    }
+    let dm = fx_env.map_from_view * d;
+    let alpha = max(roughness * roughness, 1e-3);
+    let a2 = alpha * alpha;
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < count; i++) {
+        let c = fx_env.bright[i];
+        let l = c.direction_radius.xyz;
+        let ndl = dot(dm, l);
+        if ndl <= 0.0 {
+            continue;
+        }
+        let h = normalize(dm + l);
+        let dd = fx_env_d_ggx(max(dot(dm, h), 0.0), fx_env_cell_alpha(alpha, c.direction_radius.w));
+        let c2 = max(ndl * ndl, 1e-8);
+        let g1 = 2.0 / (1.0 + sqrt(1.0 + a2 * (1.0 - c2) / c2));
+        sum += c.power_omega.rgb * (dd * g1);
+    }
+    let share = fx_env.params.x * fx_env_bright_share(roughness);
+    return sum * (share / (4.0 * max(fx_env_bright_norm(roughness), 1e-6)));
+}
+
+// `e` with the bright cells folded into its prefiltered radiance (for a
+// lighting shader's own environment function).
+fn fx_env_with_bright(e: EnvironmentInput) -> EnvironmentInput {
+    var out = e;
+    out.prefiltered += fx_env_bright_lobe(fx_env_dominant(e.normal, e.view_dir, e.roughness), e.roughness);
+    return out;
 }
 
 // The lookups of the surface at view-space point `p`.
@@ -150,7 +266,9 @@ fn fx_environment_default(e: EnvironmentInput) -> LightingOutput {
     let ndv = max(dot(e.normal, e.view_dir), 1e-4);
     let ao = e.occlusion;
     let spec_ao = clamp(pow(ndv + ao, exp2(-16.0 * e.roughness * e.roughness - 1.0)) - 1.0 + ao, 0.0, 1.0);
-    let specular = (fss_ess * e.prefiltered + fms * ems * e.irradiance) * spec_ao;
+    // the bright cells (bright.rs) with the BRDF itself, the rest from the maps
+    let bright = fx_env_bright_specular(e.normal, e.view_dir, f0, e.roughness);
+    let specular = (fss_ess * e.prefiltered + fms * ems * e.irradiance + bright) * spec_ao;
     // what the specular layer leaves to the diffuse one
     let kd = vec3<f32>(1.0) - (fss_ess + fms * ems);
     return LightingOutput(kd * e.irradiance * ao, specular);
@@ -179,11 +297,10 @@ fn fx_environment(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
 // term above over a constant environment).
 fn fx_environment_transmitted(e: EnvironmentInput) -> vec3<f32> {
     let n = e.normal;
-    let alpha = e.roughness * e.roughness;
-    let gloss = 1.0 - alpha;
-    let r = normalize(mix(n, reflect(-e.view_dir, n), gloss * (sqrt(gloss) + alpha)));
+    let r = fx_env_dominant(n, e.view_dir, e.roughness);
     let t = r - 2.0 * dot(n, r) * n;
-    let radiance = textureSampleLevel(fx_env_specular, fx_env_sampler, fx_env.map_from_view * t, fx_env_specular_level(e.roughness)).rgb * fx_env.params.x;
+    let radiance = textureSampleLevel(fx_env_specular, fx_env_sampler, fx_env.map_from_view * t, fx_env_specular_level(e.roughness)).rgb * fx_env.params.x
+        + fx_env_bright_lobe(t, e.roughness);
     return radiance * (vec3<f32>(1.0) - e.specular) * e.dfg.x;
 }
 
@@ -197,7 +314,7 @@ fn fx_environment_coat(s: SurfaceOutput, p: vec3<f32>) -> vec3<f32> {
     var c = s;
     c.normal = s.clearcoat_normal;
     c.roughness = s.clearcoat_roughness;
-    let e = fx_environment_input(c, p);
+    let e = fx_env_with_bright(fx_environment_input(c, p));
     let ndv = max(dot(e.normal, e.view_dir), 1e-4);
     let spec_ao = clamp(pow(ndv + e.occlusion, exp2(-16.0 * e.roughness * e.roughness - 1.0)) - 1.0 + e.occlusion, 0.0, 1.0);
     return e.prefiltered * (e.dfg.x + e.dfg.y) * spec_ao;
@@ -210,7 +327,12 @@ fn fx_background(frag_xy: vec2<f32>) -> vec4<f32> {
     switch fx_env.flags.y {
         case 1u: {
             let d = fx_env.map_from_view * fx_safe_normalize(fx_view_position(frag_xy, 1.0));
-            let c = textureSampleLevel(fx_env_specular, fx_env_sampler, d, fx_env.params.z).rgb * fx_env.params.x;
+            let level = fx_env.params.z;
+            var c = textureSampleLevel(fx_env_specular, fx_env_sampler, d, level).rgb * fx_env.params.x;
+            if level > 0.0 {
+                let view_d = fx_safe_normalize(fx_view_position(frag_xy, 1.0));
+                c += fx_env_bright_lobe(view_d, fx_env_level_roughness(level / max(fx_env.params.y, 1.0)));
+            }
             return vec4<f32>(mix(fx_env.fog_color.rgb, c, fx_env.params.w), 1.0);
         }
         case 2u: {

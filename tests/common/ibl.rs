@@ -6,6 +6,7 @@
 #![allow(dead_code)]
 
 use super::brdf::{gltf_spec_brdf, hemisphere_albedo, Model, OracleCamera};
+use fxgraph::render::environment::bright::BrightCell;
 use fxgraph::scene::environment::{uv_to_direction, Equirect};
 use fxgraph::scene::{Camera, Environment, Material, Scene, ShaderBinding};
 use glam::{Mat4, Vec3};
@@ -193,6 +194,64 @@ pub fn split_sum_radiance(t: &[Texel], s: MetalRough, n: Vec3, v: Vec3) -> Vec3 
     fss_ess * model_prefiltered(t, s.roughness, n, v)
         + fms_ems * e
         + s.c_diff() * (Vec3::ONE - fss_ess - fms_ems) * e
+}
+
+/// The renderer's model with the map split by
+/// [`fxgraph::render::environment::bright::split`]: [`split_sum_radiance`]'s
+/// terms with the lobe model reading the `residual` texels (the specular levels
+/// from 1 on hold the residual) and the irradiance the `whole` map's, plus the
+/// bright cells' light under the glTF BRDF's single-scattering specular term,
+/// each cell a direction with the lobe widened by its angular radius
+/// (environment.wgsl `fx_env_bright_specular`). Roughness ≥ 0.2: the cells'
+/// share is 1 there.
+pub fn bright_split_radiance(
+    whole: &[Texel],
+    residual: &[Texel],
+    cells: &[BrightCell],
+    s: MetalRough,
+    n: Vec3,
+    v: Vec3,
+) -> Vec3 {
+    assert!(
+        s.roughness >= 0.2,
+        "the cells' share below roughness 0.2 is not modelled here"
+    );
+    let (fss_ess, fms_ems) = scattering(s.f0(), s.roughness, n, v);
+    let e = irradiance(whole, n);
+    let alpha = (s.roughness * s.roughness).max(1e-3);
+    let bright: Vec3 = cells
+        .iter()
+        .map(|c| {
+            let l = Vec3::from_slice(&c.direction_radius[..3]);
+            let widened = (alpha * alpha + 0.25 * c.direction_radius[3].powi(2)).sqrt();
+            let power = Vec3::from_slice(&c.power_omega[..3]);
+            power * specular_term(s.f0(), alpha, widened, n, v, l)
+        })
+        .sum();
+    fss_ess * model_prefiltered(residual, s.roughness, n, v)
+        + fms_ems * e
+        + s.c_diff() * (Vec3::ONE - fss_ess - fms_ems) * e
+        + bright
+}
+
+/// The glTF BRDF's specular term times n·l: Schlick's F, GGX D of `d_alpha`,
+/// height-correlated Smith V of `alpha`.
+fn specular_term(f0: Vec3, alpha: f32, d_alpha: f32, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
+    let ndl = n.dot(l);
+    if ndl <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let ndv = n.dot(v).max(1e-4);
+    let h = (v + l).normalize();
+    let da2 = d_alpha * d_alpha;
+    let dd = n.dot(h).max(0.0).powi(2) * (da2 - 1.0) + 1.0;
+    let d = da2 / (PI * dd * dd);
+    let a2 = alpha * alpha;
+    let vis = 0.5
+        / (ndl * (ndv * ndv * (1.0 - a2) + a2).sqrt() + ndv * (ndl * ndl * (1.0 - a2) + a2).sqrt())
+            .max(1e-12);
+    let f = f0 + (Vec3::ONE - f0) * (1.0 - v.dot(h).max(0.0)).powi(5);
+    f * (d * vis * ndl)
 }
 
 /// The lobe's dominant direction: the mirror direction leaned towards the

@@ -5,6 +5,8 @@
 //!   specular cube map, a diffuse irradiance cube map and the split-sum DFG table,
 //!   on the GPU, once per map: the result is cached by (map content, face size),
 //!   so a sequence or a renderer given the same map again prefilters once.
+//! - `bright.rs`: the map's brightest cells (a sun, lamps) taken out of the
+//!   specular levels from 1 on and shaded exactly per pixel.
 //! - `dfg.rs`: the split-sum table and, beside it, the lobe model's taps
 //!   (`lobe.rs`, fitted offline into `lobe_table.rs` by
 //!   `examples/ibl_lobe_fit.rs`); `small_cube.rs`: the map as a 16² cube on
@@ -17,6 +19,7 @@
 //!   Fdez-Agüera's multiple-scattering compensation, specular occlusion) and the
 //!   background.
 
+pub mod bright;
 mod dfg;
 mod levels;
 mod lobe;
@@ -35,6 +38,7 @@ use crate::gpu::bindings::{sampler_entry, texture_entry, uniform_entry};
 use crate::gpu::context::{GpuContext, GpuError};
 use crate::gpu::transfer::texture_2d;
 use crate::scene::{Background, Environment, EnvironmentMap};
+use bright::BrightCell;
 use glam::{Mat3, Mat4, Vec3};
 use prefilter::{PrefilterPipelines, Prefiltered, FORMAT};
 use std::collections::HashMap;
@@ -62,8 +66,12 @@ struct GpuEnvironment {
     /// rgb: the fog colour the background is mixed towards.
     fog_color: [f32; 4],
     /// x: an environment lights the scene; y: background 0 colour, 1
-    /// environment, 2 transparent.
+    /// environment, 2 transparent; z: bright cells.
     flags: [u32; 4],
+    /// [`bright::lobe_norms`].
+    bright_norm: [[f32; 4]; 4],
+    /// The map's bright cells ([`bright::split`]), the first `flags.z`.
+    bright: [BrightCell; bright::MAX_CELLS],
 }
 
 /// The environment a renderer lights with, and its cache.
@@ -221,11 +229,20 @@ impl EnvironmentLighting {
             Background::Environment { blur } => (if self.is_on() { 1 } else { 0 }, blur),
             Background::Transparent => (2, 0.0),
         };
+        let mut bright = [BrightCell::default(); bright::MAX_CELLS];
+        let cells = match &self.current {
+            Some((p, _, _)) => &p.bright[..p.bright.len().min(bright::MAX_CELLS)],
+            None => &[][..],
+        };
+        bright[..cells.len()].copy_from_slice(cells);
+        let z = bright::lobe_norms();
         let g = GpuEnvironment {
             map_from_view: [col(m.x_axis), col(m.y_axis), col(m.z_axis)],
             params: [intensity, max_lod, position_of(blur) * max_lod, fog.1],
             fog_color: fog.0.extend(0.0).into(),
-            flags: [u32::from(self.is_on()), mode, 0, 0],
+            flags: [u32::from(self.is_on()), mode, cells.len() as u32, 0],
+            bright_norm: std::array::from_fn(|i| std::array::from_fn(|j| z[4 * i + j])),
+            bright,
         };
         ctx.queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&g));

@@ -25,9 +25,11 @@
 //! over the sample's solid angle, so levels come out smooth rather than
 //! speckled (at the price of a slight extra blur).
 
+use super::bright;
 use super::small_cube::cube_texels;
 use crate::gpu::context::{GpuContext, GpuError};
 use crate::gpu::fullscreen::{begin_color_pass, fullscreen_pipeline};
+use crate::scene::environment::Equirect;
 use crate::scene::EnvironmentMap;
 use wgpu::util::DeviceExt;
 
@@ -124,6 +126,8 @@ pub(crate) struct Prefiltered {
     pub levels: u32,
     /// Side of the specular map's level 0.
     pub size: u32,
+    /// The map's bright cells, taken out of levels 1 and on (bright.rs).
+    pub bright: Vec<super::bright::BrightCell>,
     /// GPU and CPU time to make them (upload included), milliseconds.
     pub ms: f64,
 }
@@ -380,18 +384,9 @@ impl Recorder<'_> {
         }
     }
 
-    /// The specular map: level 0 the source itself (roughness 0), each further
-    /// level the GGX lobe of its roughness, sampled from the source cube, or
-    /// convolved from the small cube from [`CONVOLVED_ROUGHNESS`] on.
-    fn filter_specular(
-        &mut self,
-        source: &wgpu::Texture,
-        specular: &wgpu::Texture,
-        small: &wgpu::Buffer,
-    ) {
-        let (device, pipes, sizes) = (self.device, self.pipes, self.sizes);
-        let (size, levels) = (sizes.size, sizes.levels);
-        // level 0 of the specular map: roughness 0, the source itself
+    /// Level 0 of the specular map: roughness 0, the source itself.
+    fn copy_mirror_level(&mut self, source: &wgpu::Texture, specular: &wgpu::Texture) {
+        let size = self.sizes.size;
         self.encoder.copy_texture_to_texture(
             source.as_image_copy(),
             specular.as_image_copy(),
@@ -401,6 +396,19 @@ impl Recorder<'_> {
                 depth_or_array_layers: 6,
             },
         );
+    }
+
+    /// The specular map's levels from 1 on: each the GGX lobe of its
+    /// roughness, sampled from the source cube, or convolved from the small
+    /// cube from [`CONVOLVED_ROUGHNESS`] on.
+    fn filter_specular(
+        &mut self,
+        source: &wgpu::Texture,
+        specular: &wgpu::Texture,
+        small: &wgpu::Buffer,
+    ) {
+        let (device, pipes, sizes) = (self.device, self.pipes, self.sizes);
+        let (size, levels) = (sizes.size, sizes.levels);
         let source_cube = cube_view(source, "environment source cube");
         for level in 1..levels {
             let side = size >> level;
@@ -455,9 +463,12 @@ impl Recorder<'_> {
     }
 }
 
-/// The map as an `Rgba16Float` texture (alpha 1).
-fn upload_equirect(ctx: &GpuContext, map: &EnvironmentMap) -> Result<wgpu::Texture, GpuError> {
-    let m = &map.map;
+/// Map `m` (of [`EnvironmentMap`] `map`) as an `Rgba16Float` texture (alpha 1).
+fn upload_equirect(
+    ctx: &GpuContext,
+    map: &EnvironmentMap,
+    m: &Equirect,
+) -> Result<wgpu::Texture, GpuError> {
     let texels: Vec<half::f16> = m
         .texels
         .iter()
@@ -474,7 +485,9 @@ fn upload_equirect(ctx: &GpuContext, map: &EnvironmentMap) -> Result<wgpu::Textu
 }
 
 /// Prefilters `map` (blocks until the GPU is done, so that [`Prefiltered::ms`]
-/// is the real cost).
+/// is the real cost): level 0 of the specular map and the irradiance from the
+/// whole map, the further levels from the residual of its bright cells
+/// ([`bright::split`]).
 pub(crate) fn prefilter(
     ctx: &GpuContext,
     pipes: &PrefilterPipelines,
@@ -482,7 +495,13 @@ pub(crate) fn prefilter(
 ) -> Result<Prefiltered, GpuError> {
     let start = std::time::Instant::now();
     let m = &map.map;
-    let equirect = upload_equirect(ctx, map)?;
+    let split = bright::split(m);
+    let equirect = upload_equirect(ctx, map, m)?;
+    let residual = if split.cells.is_empty() {
+        None
+    } else {
+        Some(upload_equirect(ctx, map, &split.residual)?)
+    };
     let sizes = Sizes::of(m.width);
     let Sizes { size, levels, .. } = sizes;
     let made = ctx.scoped("environment prefiltering", |device| {
@@ -503,14 +522,28 @@ pub(crate) fn prefilter(
             pipes,
             sizes,
         };
+        let small = |label: &str, m: &Equirect| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(&cube_texels(m, CONVOLVED_SIDE)),
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
         rec.fill_source(&source, &equirect);
-        let small = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("environment small cube texels"),
-            contents: bytemuck::cast_slice(&cube_texels(&map.map, CONVOLVED_SIDE)),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        rec.filter_specular(&source, &specular, &small);
-        rec.convolve_irradiance(&irradiance, &small);
+        rec.copy_mirror_level(&source, &specular);
+        let whole = small("environment small cube texels", m);
+        rec.convolve_irradiance(&irradiance, &whole);
+        let residual_small = match &residual {
+            Some(r) => {
+                rec.fill_source(&source, r);
+                small(
+                    "environment small cube texels (residual of the bright cells)",
+                    &split.residual,
+                )
+            }
+            None => whole,
+        };
+        rec.filter_specular(&source, &specular, &residual_small);
         ctx.queue.submit([rec.encoder.finish()]);
         let specular_view = cube_view(&specular, "environment specular cube");
         let irradiance_view = cube_view(&irradiance, "environment irradiance cube");
@@ -520,10 +553,11 @@ pub(crate) fn prefilter(
     let (specular, specular_view, irradiance, irradiance_view) = made;
     let ms = start.elapsed().as_secs_f64() * 1e3;
     log::info!(
-        "{}: environment prefiltered in {ms:.0} ms ({}x{} map, {size}² faces, {levels} GGX levels, {IRRADIANCE_FACE}² irradiance)",
+        "{}: environment prefiltered in {ms:.0} ms ({}x{} map, {size}² faces, {levels} GGX levels, {IRRADIANCE_FACE}² irradiance, {} bright cells)",
         map.name,
         m.width,
-        m.height
+        m.height,
+        split.cells.len()
     );
     Ok(Prefiltered {
         specular,
@@ -532,6 +566,7 @@ pub(crate) fn prefilter(
         irradiance_view,
         levels,
         size,
+        bright: split.cells,
         ms,
     })
 }

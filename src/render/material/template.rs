@@ -77,8 +77,11 @@ fn call(k: usize, l: &ShaderInfo) -> String {
 fn environment_dispatch(k: Option<(usize, &ShaderInfo)>) -> String {
     let call = match k {
         Some((k, l)) => match l.shader.environment {
-            Some(true) => format!("{}environment(e, fx_lp{k}[material])", model_prefix(k)),
-            Some(false) => format!("{}environment(e)", model_prefix(k)),
+            Some(true) => format!(
+                "{}environment(fx_env_with_bright(e), fx_lp{k}[material])",
+                model_prefix(k)
+            ),
+            Some(false) => format!("{}environment(fx_env_with_bright(e))", model_prefix(k)),
             None => "fx_environment_default(e)".to_string(),
         },
         None => "fx_environment_default(e)".to_string(),
