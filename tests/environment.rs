@@ -140,7 +140,7 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
 /// 4.3 %); paint at 0.2 / 0.5 / 0.9: 2.9 / 1.6 / 3.1 % (before: 3.0 / 1.8 /
 /// 3.2 %). The limits are those figures plus about half a point.
 const CITY: [SphereCase; 8] = [
-    (GOLD, 1.0, 0.2, 0.045, 0.02),
+    (GOLD, 1.0, 0.2, 0.045, 0.023),
     (GOLD, 1.0, 0.3, 0.025, 0.017),
     (GOLD, 1.0, 0.5, 0.02, 0.014),
     (GOLD, 1.0, 0.7, 0.013, 0.01),
@@ -157,7 +157,7 @@ const CITY: [SphereCase; 8] = [
 /// 3.0 / 2.1 / 1.0 / 0.7 %; the split sum before the lobe model: 8.2 / 8.8 /
 /// 7.2 / 7.8 / 4.7 %).
 const FOREST: [SphereCase; 5] = [
-    (GOLD, 1.0, 0.2, 0.072, 0.031),
+    (GOLD, 1.0, 0.2, 0.072, 0.036),
     (GOLD, 1.0, 0.3, 0.038, 0.027),
     (GOLD, 1.0, 0.5, 0.026, 0.017),
     (GOLD, 1.0, 0.7, 0.018, 0.01),
@@ -182,10 +182,11 @@ const BRIGHT_MAPS: [(&str, [SphereCase; 5]); 4] = [
 ];
 
 /// The cases of [`BRIGHT_MAPS`]: the limits against the integral, and
-/// 6 % against the model on the CPU (measured up to 5.5 %, studio at 0.2,
-/// where the GPU's level 1 holds the residual to 6 %).
+/// 7 % against the model on the CPU at roughness 0.2 (measured up to 6.2 %,
+/// studio, where the GPU's level 1 holds the residual to 6 % and the deferred
+/// composition reads the G-buffer's 10-bit normal and roughness).
 const BRIGHT_LIMITS: [SphereCase; 5] = [
-    (GOLD, 1.0, 0.2, 0.10, 0.06),
+    (GOLD, 1.0, 0.2, 0.10, 0.07),
     (GOLD, 1.0, 0.3, 0.05, 0.04),
     (GOLD, 1.0, 0.5, 0.05, 0.03),
     (GOLD, 1.0, 0.7, 0.05, 0.03),

@@ -117,7 +117,14 @@ fn fx_masked(in: FxVsOut, s: SurfaceOutput) -> bool {
 // Light that needs no light loop: emission, ambient × occlusion and the
 // environment (environment.wgsl) of the surface at view-space point `p`.
 fn fx_unlit(s: SurfaceOutput, p: vec3<f32>, material: u32) -> vec3<f32> {
-    return s.emission + s.diffuse * fx_frame.ambient.rgb * s.occlusion + fx_environment(s, p, material);
+    return fx_unlit_local(s) + fx_environment(s, p, material);
+}
+
+// Emission and ambient × occlusion: what the deferred geometry pass writes
+// (the composition adds the environment from the G-buffer, in compute where
+// the light pass is: light.wgsl `fx_deferred_environment`).
+fn fx_unlit_local(s: SurfaceOutput) -> vec3<f32> {
+    return s.emission + s.diffuse * fx_frame.ambient.rgb * s.occlusion;
 }
 
 struct FxGBufferOut {
@@ -128,7 +135,9 @@ struct FxGBufferOut {
     @location(1) normal: vec4<f32>,
     // rgb specular colour F0 (sRGB storage), a = lighting model id / 255
     @location(2) specular: vec4<f32>,
-    // the specular light buffer starts with emission + ambient + environment
+    // rgb: the specular light buffer starts with emission + ambient (the
+    // composition adds the environment); a: the material's occlusion, which
+    // the composition's environment term reads (the lights add 0 to it)
     @location(3) light: vec4<f32>,
 }
 
@@ -146,7 +155,7 @@ fn fx_fs_gbuffer(in: FxVsOut, @builtin(front_facing) front: bool) -> FxGBufferOu
     out.albedo = vec4<f32>(s.diffuse, f32(in.material) / 255.0);
     out.normal = vec4<f32>(fx_encode_normal(s.normal), s.roughness, select(1.0, 0.0, layered));
     out.specular = vec4<f32>(s.specular, f32(fx_materials[in.material].model) / 255.0);
-    out.light = vec4<f32>(fx_unlit(s, in.view_pos, in.material), 0.0);
+    out.light = vec4<f32>(fx_unlit_local(s), s.occlusion);
 #ifdef HAS_LAYERS
     if layered {
         // clear coat or transmission: every light here, as forward does

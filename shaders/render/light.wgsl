@@ -126,8 +126,8 @@ fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
 
 // The clustered light pass in compute (src/render/light_compute.rs): one
 // invocation per pixel in 8 × 8 tiles, writing the light buffers once. The
-// specular buffer starts from what the geometry pass wrote (emission, ambient,
-// environment; zero in the light pre-pass), read from `fx_c_emission`.
+// specular buffer starts from what the geometry pass wrote (emission, ambient;
+// a: the occlusion; zero in the light pre-pass), read from `fx_c_emission`.
 @group(2) @binding(0) var fx_c_diffuse: texture_storage_2d<rgba16float, write>;
 @group(2) @binding(1) var fx_c_specular: texture_storage_2d<rgba16float, write>;
 @group(2) @binding(2) var fx_c_scene: texture_storage_2d<rgba16float, write>;
@@ -174,7 +174,8 @@ fn fx_cs_light_compose(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
     let p = fx_view_position(xy, depth);
-    textureStore(fx_c_scene, c, vec4<f32>(fx_fog(albedo * lit.diffuse.rgb + lit.specular.rgb, p), 1.0));
+    let environment = fx_deferred_environment(c, p, albedo, lit.specular.a);
+    textureStore(fx_c_scene, c, vec4<f32>(fx_fog(albedo * lit.diffuse.rgb + lit.specular.rgb + environment, p), 1.0));
 }
 
 @vertex
@@ -182,8 +183,31 @@ fn fx_vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f
     return fx_fullscreen_pos(vi);
 }
 
+// The environment's light (environment.wgsl) at deferred pixel `c` of view-space
+// point `p`, from the G-buffer: evaluated here, once per pixel and in compute
+// where the light pass runs in compute, rather than in the geometry pass (on
+// GPUs whose rasterisation is a small part of the chip, its lookups cost the
+// G-buffer pass half its time; issue 26). `occlusion` is the specular light
+// buffer's alpha, where the geometry pass wrote the material's occlusion. A
+// layered surface (clear coat, transmission) was lit whole, environment
+// included, in its geometry pass.
+fn fx_deferred_environment(c: vec2<i32>, p: vec3<f32>, albedo: vec3<f32>, occlusion: f32) -> vec3<f32> {
+    let g = textureLoad(fx_t_normal, c, 0);
+    if g.a < 0.5 || fx_env.flags.x == 0u {
+        return vec3<f32>(0.0);
+    }
+    var s: SurfaceOutput;
+    s.normal = fx_decode_normal(g.xy);
+    s.diffuse = albedo;
+    s.specular = textureLoad(fx_t_specular, c, 0).rgb;
+    s.roughness = g.z;
+    s.occlusion = occlusion;
+    let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
+    return fx_environment(s, p, material);
+}
+
 // diffuse colour × diffuse light + specular light (which started as emission +
-// ambient + environment in the geometry pass), through the fog
+// ambient in the geometry pass) + the environment, through the fog
 @fragment
 fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let c = vec2<i32>(pos.xy);
@@ -193,9 +217,10 @@ fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
     let diffuse = textureLoad(fx_t_light_diffuse, c, 0).rgb;
-    let specular = textureLoad(fx_t_light_specular, c, 0).rgb;
+    let specular = textureLoad(fx_t_light_specular, c, 0);
     let p = fx_view_position(pos.xy, depth);
-    return vec4<f32>(fx_fog(albedo * diffuse + specular, p), 1.0);
+    let environment = fx_deferred_environment(c, p, albedo, specular.a);
+    return vec4<f32>(fx_fog(albedo * diffuse + specular.rgb + environment, p), 1.0);
 }
 
 // The environment behind the geometry (light pre-pass and forward; deferred

@@ -125,7 +125,10 @@ impl GbufferImage {
 /// - `gbuffer_normal_rgb10a2.png` (the raw target: encoded normal in rg,
 ///   roughness in b), `gbuffer_albedo_id.png` (raw diffuse target, rgb) and
 ///   `gbuffer_specular_model.png` (raw specular target: F0 in rgb);
-/// - `light_diffuse.exr`, `light_specular.exr` (light accumulation buffers),
+/// - `light_diffuse.exr`, `light_specular.exr` (light accumulation buffers:
+///   the lights, and emission + ambient in the specular one; deferred shading
+///   adds the environment in its composition, and keeps the material's
+///   occlusion in the specular buffer's alpha),
 ///   `scene.exr` (linear HDR) and `scene.png` (clamped, sRGB).
 pub fn gbuffer_images<E: From<RenderError>>(
     output: &RenderOutput,

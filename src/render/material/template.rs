@@ -72,10 +72,11 @@ fn call(k: usize, l: &ShaderInfo) -> String {
     }
 }
 
-/// `fx_environment_lighting`: the lighting shader's `environment` (renamed
-/// `lmK_environment`) when it has one, else the engine's default term.
-fn environment_dispatch(k: Option<(usize, &ShaderInfo)>) -> String {
-    let call = match k {
+/// The environment term of lighting shader `k` (`None`: the engine's
+/// default): its `environment` (renamed `lmK_environment`) when it has one,
+/// else the engine's default term.
+fn environment_call(k: Option<(usize, &ShaderInfo)>) -> String {
+    match k {
         Some((k, l)) => match l.shader.environment {
             Some(true) => format!(
                 "{}environment(fx_env_with_bright(e), fx_lp{k}[material])",
@@ -85,10 +86,33 @@ fn environment_dispatch(k: Option<(usize, &ShaderInfo)>) -> String {
             None => "fx_environment_default(e)".to_string(),
         },
         None => "fx_environment_default(e)".to_string(),
-    };
+    }
+}
+
+/// `fx_environment_lighting` of a geometry module: its lighting shader's term.
+fn environment_dispatch(k: Option<(usize, &ShaderInfo)>) -> String {
     format!(
-        "fn fx_environment_lighting(material: u32, e: EnvironmentInput) -> LightingOutput {{\n    return {call};\n}}\n"
+        "fn fx_environment_lighting(material: u32, e: EnvironmentInput) -> LightingOutput {{\n    return {};\n}}\n",
+        environment_call(k)
     )
+}
+
+/// `fx_environment_lighting` of the light module (the deferred composition
+/// adds the environment there): a switch on the material's lighting model.
+fn environment_model_dispatch(set: &MaterialSet) -> String {
+    let mut text = String::from(
+        "fn fx_environment_lighting(material: u32, e: EnvironmentInput) -> LightingOutput {\n    switch fx_materials[material].model {\n",
+    );
+    for (k, l) in set.lightings.iter().enumerate() {
+        writeln!(
+            text,
+            "        case {k}u: {{ return {}; }}",
+            environment_call(Some((k, l)))
+        )
+        .unwrap();
+    }
+    text.push_str("        default: { return fx_environment_default(e); }\n    }\n}\n");
+    text
 }
 
 fn header(normal_encoding: u32) -> String {
@@ -155,8 +179,7 @@ pub fn light_module(set: &MaterialSet, normal_encoding: u32) -> Result<Generated
         "        default: { return LightingOutput(vec3<f32>(0.0), vec3<f32>(0.0)); }\n    }\n}\n",
     );
     text.push_str(&dispatch);
-    // (the light module shades no surface: it needs the name only)
-    text.push_str(&environment_dispatch(None));
+    text.push_str(&environment_model_dispatch(set));
     text.push_str(MATERIAL_INTERFACE);
     let (wgsl, _) = preprocess(&text, &[]).map_err(|e| e.message)?;
     Ok(Generated {
