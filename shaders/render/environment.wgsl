@@ -152,6 +152,12 @@ fn fx_env_cell_alpha(alpha: f32, radius: f32) -> f32 {
     return sqrt(alpha * alpha + 0.25 * radius * radius);
 }
 
+// GGX D at normal `n` for view `v` and light `l` (unit vectors) of a cell of
+// angular radius `radius` (fx_env_cell_alpha).
+fn fx_env_cell_d(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, alpha: f32, radius: f32) -> f32 {
+    return fx_env_d_ggx(max(dot(n, normalize(v + l)), 0.0), fx_env_cell_alpha(alpha, radius));
+}
+
 // The glTF BRDF's single-scattering specular term (GGX, height-correlated
 // Smith, Schlick's Fresnel) summed over the bright cells: the cells' share of
 // the environment's specular light at view-space normal `n` and view `v`.
@@ -174,7 +180,7 @@ fn fx_env_bright_specular(n: vec3<f32>, v: vec3<f32>, f0: vec3<f32>, roughness: 
             continue;
         }
         let h = normalize(vm + l);
-        let d = fx_env_d_ggx(max(dot(nm, h), 0.0), fx_env_cell_alpha(alpha, c.direction_radius.w));
+        let d = fx_env_cell_d(nm, vm, l, alpha, c.direction_radius.w);
         let vis = 0.5 / max(ndl * sqrt(ndv * ndv * (1.0 - a2) + a2) + ndv * sqrt(ndl * ndl * (1.0 - a2) + a2), 1e-12);
         let f = f0 + (vec3<f32>(1.0) - f0) * pow(1.0 - max(dot(vm, h), 0.0), 5.0);
         sum += c.power_omega.rgb * f * (d * vis * ndl);
@@ -213,8 +219,7 @@ fn fx_env_bright_lobe(d: vec3<f32>, roughness: f32) -> vec3<f32> {
         if ndl <= 0.0 {
             continue;
         }
-        let h = normalize(dm + l);
-        let dd = fx_env_d_ggx(max(dot(dm, h), 0.0), fx_env_cell_alpha(alpha, c.direction_radius.w));
+        let dd = fx_env_cell_d(dm, dm, l, alpha, c.direction_radius.w);
         let c2 = max(ndl * ndl, 1e-8);
         let g1 = 2.0 / (1.0 + sqrt(1.0 + a2 * (1.0 - c2) / c2));
         sum += c.power_omega.rgb * (dd * g1);
