@@ -147,40 +147,58 @@ fn off_plans_nothing() {
     assert_eq!(lights[0].shadow_count, 0);
 }
 
+/// Every corner of each cascade's slice lands inside its map (x, y and depth);
+/// with the stable fit, every corner inside the scene's bounds (the rest holds
+/// no receivers).
 #[test]
 fn cascades_cover_their_slice_and_the_scene_depth() {
     let cam = camera();
-    let f = frame(&cam, 24);
-    let mut lights = vec![light(
-        KIND_DIRECTIONAL,
-        Vec3::ZERO,
-        cam.view().transform_vector3(Vec3::new(0.3, -1.0, 0.2)),
-        1.0,
-    )];
-    let p = plan(&mut lights, &f);
-    assert_eq!(p.layers.len(), CASCADES);
-    let k_y = (cam.fov_y * 0.5).tan();
-    let mut prev = cam.near;
-    for l in &p.layers {
-        assert!(l.split > prev);
-        // the slice's corners land inside the map, depth inside 0..1
-        for d in [prev, l.split] {
-            for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-                let q = project(l, Vec3::new(sx * d * k_y * f.aspect, sy * d * k_y, -d));
-                assert!(
-                    (0.0..=1.0).contains(&q.x) && (0.0..=1.0).contains(&q.y),
-                    "{q}"
-                );
-                assert!((0.0..=1.0).contains(&q.z), "{q}");
+    for stable in [false, true] {
+        let f = ShadowFrame {
+            stable,
+            ..frame(&cam, 24)
+        };
+        let mut lights = vec![light(
+            KIND_DIRECTIONAL,
+            Vec3::ZERO,
+            cam.view().transform_vector3(Vec3::new(0.3, -1.0, 0.2)),
+            1.0,
+        )];
+        let p = plan(&mut lights, &f);
+        assert_eq!(p.layers.len(), CASCADES);
+        let k_y = (cam.fov_y * 0.5).tan();
+        let view_inv = f.view.inverse();
+        let inside = |v: Vec3| {
+            let w = view_inv.transform_point3(v);
+            w.cmpge(f.bounds.min).all() && w.cmple(f.bounds.max).all()
+        };
+        let (mut prev, mut checked) = (cam.near, 0);
+        for l in &p.layers {
+            assert!(l.split > prev);
+            for d in [prev, l.split] {
+                for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                    let v = Vec3::new(sx * d * k_y * f.aspect, sy * d * k_y, -d);
+                    if stable && !inside(v) {
+                        continue;
+                    }
+                    checked += 1;
+                    let q = project(l, v);
+                    assert!(
+                        (0.0..=1.0).contains(&q.x) && (0.0..=1.0).contains(&q.y),
+                        "{stable} {q}"
+                    );
+                    assert!((0.0..=1.0).contains(&q.z), "{stable} {q}");
+                }
             }
+            // every scene corner is inside the depth range (casters outside the
+            // slice still cast)
+            for c in corners(&f.bounds) {
+                let q = project(l, f.view.transform_point3(c));
+                assert!((0.0..=1.0).contains(&q.z), "{stable} {q}");
+            }
+            prev = l.split;
         }
-        // every scene corner is inside the depth range (casters outside the
-        // slice still cast)
-        for c in corners(&f.bounds) {
-            let q = project(l, f.view.transform_point3(c));
-            assert!((0.0..=1.0).contains(&q.z), "{q}");
-        }
-        prev = l.split;
+        assert!(checked >= 8, "{stable}: {checked} corners");
     }
 }
 
@@ -317,13 +335,11 @@ fn orbit_cascades(stable: bool, frames: usize) -> (usize, [f32; CASCADES]) {
             stable,
             ..frame(&cam, 24)
         };
-        let mut lights = vec![light(
-            KIND_DIRECTIONAL,
-            Vec3::ZERO,
-            f.view.transform_vector3(sun),
-            1.0,
-        )];
-        let p = plan(&mut lights, &f);
+        // the sun's world direction as the renderer gives it (bit for bit the
+        // same every frame)
+        let mut lights = vec![light(KIND_DIRECTIONAL, Vec3::ZERO, sun, 1.0)];
+        let world = [(Vec3::ZERO, sun)];
+        let p = super::plan(&mut lights, &ShadowFrame { world: &world, ..f });
         if !last.is_empty() {
             changes += p
                 .clip_from_world
@@ -353,6 +369,7 @@ fn stable_cascades_stay_under_an_orbiting_camera() {
         "{frames} frames of the room's orbit: {stable} of {} cascade matrices changed (stable fit, half side / slice radius {ratio:?}), {refit} (per-frame fit, {refit_ratio:?})",
         CASCADES * (frames - 1)
     );
-    assert!(refit > CASCADES * (frames - 1) / 2, "{refit}");
-    assert!(stable * 10 < refit, "{stable} stable, {refit} per-frame");
+    // measured: 41 of 796 (cascade 1 alone moves), the per-frame fit 796
+    assert!(refit > CASCADES * (frames - 1) * 9 / 10, "{refit}");
+    assert!(stable <= 50, "{stable} stable, {refit} per-frame");
 }
