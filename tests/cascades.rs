@@ -56,8 +56,8 @@ fn frame(
 }
 
 /// Over 24 orbit frames (a 30° turn) the sun's 4 cascades are rendered 4 times
-/// on the first frame and at most 8 times after it (the per-frame fit: about
-/// 3 of 4 every frame); the spot only on the first. Every 4th frame equals a fresh renderer's, bit for bit.
+/// on the first frame and at most 8 times after it (measured: 6, all cascade
+/// 1; the per-frame fit: all 4 every frame, 92); the spot only on the first. Every 4th frame equals a fresh renderer's, bit for bit.
 #[test]
 fn an_orbiting_camera_renders_the_cascades_again_rarely() {
     let Some(engine) = common::engine() else {
@@ -84,18 +84,15 @@ fn an_orbiting_camera_renders_the_cascades_again_rarely() {
         );
         counts.push(rendered);
     }
-    let again = |r: &[u32]| r[1..].iter().sum::<u32>();
+    let again = |r: &[usize]| r[1..].iter().sum::<usize>();
     assert_eq!(counts[0][0], 5);
     assert!(again(&counts[0]) <= 8, "{:?}", counts[0]);
-    assert!(
-        again(&counts[1]) >= 3 * (FRAMES as u32 - 1),
-        "{:?}",
-        counts[1]
-    );
+    assert!(again(&counts[1]) >= 3 * (FRAMES - 1), "{:?}", counts[1]);
 }
 
 /// The stable cascades' image against the per-frame fit's, at 4 frames of the
-/// orbit: PSNR at least 40 dB (RGB clamped to [0, 1]).
+/// orbit: PSNR at least 50 dB (RGB clamped to [0, 1]; measured 60.9–63.2 dB,
+/// mean |difference| 6e-5, on lavapipe).
 #[test]
 fn stable_cascades_shade_like_cascades_fitted_every_frame() {
     let Some(engine) = common::engine() else {
@@ -119,6 +116,6 @@ fn stable_cascades_shade_like_cascades_fitted_every_frame() {
             "room orbit at {:.2?}: stable vs per-frame cascades PSNR {db:.1} dB, mean |difference| {mean_abs:.5}",
             cam.eye
         );
-        assert!(db >= 40.0, "{db:.1} dB");
+        assert!(db >= 50.0, "{db:.1} dB");
     }
 }

@@ -28,7 +28,7 @@
 //! rung of the ladder, or the scene's bounds change.
 
 use crate::scene::Aabb;
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// Extra half side of a stable cascade, as a fraction of the slice's radius
 /// (chosen by measurement: docs/renderer.md, "Caching").
@@ -51,7 +51,7 @@ impl CascadeSquare {
         let (lo, hi) = self.z;
         let margin = (hi - lo) * 0.01 + 1e-4;
         let (c, h) = (self.center, self.half);
-        super::shadows::orthographic_rh(
+        orthographic_rh(
             c.x - h,
             c.x + h,
             c.y - h,
@@ -65,6 +65,24 @@ impl CascadeSquare {
     pub fn texel(&self, size: f32) -> f32 {
         2.0 * self.half / size
     }
+}
+
+/// Right-handed orthographic projection to depth 0 (`-near`) .. 1 (`-far`).
+pub(crate) fn orthographic_rh(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Mat4 {
+    let (w, h, d) = (right - left, top - bottom, near - far);
+    Mat4::from_cols(
+        Vec4::new(2.0 / w, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 2.0 / h, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, 1.0 / d, 0.0),
+        Vec4::new(-(right + left) / w, -(top + bottom) / h, near / d, 1.0),
+    )
 }
 
 /// The per-frame fit of the sphere (`c`, `r`) in light space (`r` with its

@@ -159,7 +159,7 @@ pub(crate) fn overlaps(m: &Mat4, b: &Aabb) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::shadows::orthographic_rh;
+    use crate::render::cascades::orthographic_rh;
     use crate::scene::perspective_rh;
     use glam::Vec3;
 

@@ -22,7 +22,7 @@ use super::cli_names::cli_names;
 use super::gpu_types::{mat_array, GpuLight, KIND_DIRECTIONAL, KIND_POINT, KIND_SPOT};
 use crate::scene::{look_to_rh, perspective_rh, Aabb, Camera};
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 
 /// How shadows are filtered (or whether there are any).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -287,24 +287,6 @@ fn cascade_far(f: &ShadowFrame) -> f32 {
         .iter()
         .map(|c| -f.view.transform_point3(*c).z)
         .fold(f32::NEG_INFINITY, f32::max)
-}
-
-/// Right-handed orthographic projection to depth 0 (`-near`) .. 1 (`-far`).
-pub(crate) fn orthographic_rh(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Mat4 {
-    let (w, h, d) = (right - left, top - bottom, near - far);
-    Mat4::from_cols(
-        Vec4::new(2.0 / w, 0.0, 0.0, 0.0),
-        Vec4::new(0.0, 2.0 / h, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, 1.0 / d, 0.0),
-        Vec4::new(-(right + left) / w, -(top + bottom) / h, near / d, 1.0),
-    )
 }
 
 /// Near plane of a light's perspective maps: close enough for casters near the
