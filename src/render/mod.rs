@@ -52,6 +52,7 @@
 //! ```
 
 mod camera_std;
+mod cascades;
 mod cli_names;
 mod cluster_gpu;
 mod clusters;

@@ -30,6 +30,10 @@ pub struct RendererOptions {
     /// when its light or a caster in its volume changed (default;
     /// `shadow_cache.rs` has the rule). Off: every layer every frame.
     pub shadow_cache: bool,
+    /// Place directional cascades on a world-fixed set of squares, so that a
+    /// moving camera keeps them (default; `cascades.rs` has the rule). Off:
+    /// each cascade fitted to its slice afresh every frame (the reference).
+    pub stable_cascades: bool,
     /// The clustered light pass of deferred shading and the light pre-pass as a
     /// compute dispatch (default; `light_compute.rs`), or as the full-screen
     /// fragment pass it replaces (the reference it is tested against).
@@ -47,6 +51,7 @@ impl Default for RendererOptions {
             shadow_size: DEFAULT_SHADOW_SIZE,
             shadow_budget: DEFAULT_SHADOW_LAYERS,
             shadow_cache: true,
+            stable_cascades: true,
             compute_lighting: true,
         }
     }

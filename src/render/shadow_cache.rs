@@ -5,16 +5,27 @@
 //! layer texture keeps its depths between frames, so a layer is rendered again
 //! only when
 //! - it was never rendered, or the texture was replaced (it grew);
-//! - its matrix changed: the light moved or turned, a directional cascade slid
-//!   with the camera (cascades are snapped to whole texels, so a camera that
-//!   moves less than a texel keeps them), or the casters' bounds changed the
-//!   depth range of a directional light;
+//! - its matrix changed: the light moved or turned, a directional cascade moved
+//!   to another square, or the casters' bounds changed (a directional light's
+//!   depth range, and its squares over the whole scene);
 //! - a caster changed inside its volume: an instance whose world transform
 //!   differs from the one of the layer's last render, where the instance's box
 //!   at either transform overlaps the layer's clip volume;
 //! - a deformed (skinned or morphed) instance changed its pose: its vertices
 //!   move within the instance, so every layer is rendered again (conservative:
 //!   the pose does not bound the skinned vertices cheaply).
+//!
+//! Directional cascades under a moving camera (`cascades.rs` has the rule in
+//! full): by default a cascade's square is taken from a world-fixed set, a
+//! margin of 15 % larger than the slice of the view frustum it serves, its
+//! centre on a grid of `floor(size × 0.15 / 1.15)` texels (267 of 2048) and its
+//! half side on the ladder 2^(k/8), so the matrix changes only when the slice
+//! crosses into another cell or onto another rung; a cascade at least as large
+//! as the scene, or whose slice holds none of it, takes the scene's own square
+//! and never moves. The choice depends on the frame alone, never on earlier
+//! frames: a still equals the same frame of a sequence. The built-in room under
+//! `fxrun`'s orbit renders 7 of its 40 layer-frames over 8 frames (33 with the
+//! per-frame fit, `RendererOptions::stable_cascades` off).
 //!
 //! Everything is compared exactly (bit-equal matrices and poses): a cached
 //! layer holds the same depths a fresh render would (tests/shadows.rs compares
@@ -148,7 +159,7 @@ pub(crate) fn overlaps(m: &Mat4, b: &Aabb) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::shadows::orthographic_rh;
+    use crate::render::cascades::orthographic_rh;
     use crate::scene::perspective_rh;
     use glam::Vec3;
 

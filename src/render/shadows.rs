@@ -5,9 +5,10 @@
 //!
 //! Every map is one layer of a single `Depth32Float` 2D array texture:
 //! - directional light: [`CASCADES`] cascades (practical split scheme), each an
-//!   orthographic map fitted to the bounding sphere of its slice of the view
-//!   frustum, snapped to whole texels, its depth range stretched over the scene's
-//!   bounds so that casters outside the slice still cast;
+//!   orthographic map over the bounding sphere of its slice of the view
+//!   frustum, its depth range over the scene's bounds so that casters outside
+//!   the slice still cast; `cascades.rs` places the map (by default on a
+//!   world-fixed set of squares, so that it stays while the camera moves);
 //! - spot light: one perspective map (fov = 2 × outer angle);
 //! - point light: six 90° perspective maps along the world axes (a cube map as
 //!   six layers; the shader picks the face by the major axis).
@@ -16,11 +17,12 @@
 //! shift the texel grid: no shimmering) and stored as view space → light clip,
 //! because lights and shading points are in view space in the shaders.
 
+use super::cascades;
 use super::cli_names::cli_names;
 use super::gpu_types::{mat_array, GpuLight, KIND_DIRECTIONAL, KIND_POINT, KIND_SPOT};
 use crate::scene::{look_to_rh, perspective_rh, Aabb, Camera};
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 
 /// How shadows are filtered (or whether there are any).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -113,6 +115,9 @@ pub(crate) struct ShadowFrame<'a> {
     pub mode: ShadowMode,
     pub size: u32,
     pub budget: u32,
+    /// Directional cascades by the stable fit (`cascades.rs`), or fitted
+    /// afresh every frame (`RendererOptions::stable_cascades`).
+    pub stable: bool,
 }
 
 /// The frame's shadow layers.
@@ -234,70 +239,54 @@ pub(crate) fn slice_sphere(d0: f32, d1: f32, k: f32) -> (f32, f32) {
     (zc, r0.max(r1))
 }
 
-/// The cascades of a directional light.
+/// The cascades of a directional light: split the view depth, bound each
+/// slice with a sphere, and place its map (`cascades.rs`: the stable or the
+/// per-frame fit).
 fn directional(dir: Vec3, f: &ShadowFrame, view_inv: &Mat4) -> Vec<(Mat4, GpuShadowLayer)> {
     let cam = f.camera;
     let light_view = look_to_rh(Vec3::ZERO, dir, up_for(dir));
-    // The cascades end where the scene does: no resolution for empty space.
-    let corners = corners(&f.bounds);
-    let scene_far = corners
-        .iter()
-        .map(|c| -f.view.transform_point3(*c).z)
-        .fold(f32::NEG_INFINITY, f32::max);
-    let far = scene_far.min(cam.far).max(cam.near * 1.01);
+    // the casters' box in light space (light space looks down -z)
+    let scene = f.bounds.transformed(&light_view);
+    let far = cascade_far(f).min(cam.far).max(cam.near * 1.01);
     let splits = cascade_splits(cam.near, far);
     let k = (cam.fov_y * 0.5).tan() * (1.0 + f.aspect * f.aspect).sqrt();
-    // Depth range of the casters along the light (light space looks down -z).
-    let (mut zmin, mut zmax) = (f32::INFINITY, f32::NEG_INFINITY);
-    for c in &corners {
-        let z = light_view.transform_point3(*c).z;
-        zmin = zmin.min(z);
-        zmax = zmax.max(z);
-    }
     let size = f.size as f32;
+    // the border texels round each sphere (a radius grows by this factor)
+    let border = size / (size - 2.0 * BORDER_TEXELS);
     (0..CASCADES)
         .map(|i| {
             let (zc, r) = slice_sphere(splits[i], splits[i + 1], k);
             let r = r * size / (size - 2.0 * BORDER_TEXELS);
             let center = view_inv.transform_point3(Vec3::new(0.0, 0.0, -zc));
-            let mut c = light_view.transform_point3(center);
-            // Snapped to whole texels: a moving camera slides the map by whole
-            // texels, so the rasterised shadow edges stay put.
-            let texel = 2.0 * r / size;
-            c.x = (c.x / texel).floor() * texel;
-            c.y = (c.y / texel).floor() * texel;
-            let lo = zmin.min(c.z - r);
-            let hi = zmax.max(c.z + r);
-            let margin = (hi - lo) * 0.01 + 1e-4;
-            let ortho = orthographic_rh(
-                c.x - r,
-                c.x + r,
-                c.y - r,
-                c.y + r,
-                -hi - margin,
-                -lo + margin,
-            );
-            layer(ortho * light_view, view_inv, splits[i + 1], texel, false)
+            let c = light_view.transform_point3(center);
+            let square = if f.stable {
+                let empty = cascades::misses(center, r, &f.bounds);
+                cascades::stable(c, r, &scene, (size, border), empty)
+            } else {
+                cascades::refit(c, r, &scene, size)
+            };
+            layer(
+                square.clip_from_light() * light_view,
+                view_inv,
+                splits[i + 1],
+                square.texel(size),
+                false,
+            )
         })
         .collect()
 }
 
-/// Right-handed orthographic projection to depth 0 (`-near`) .. 1 (`-far`).
-pub(crate) fn orthographic_rh(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Mat4 {
-    let (w, h, d) = (right - left, top - bottom, near - far);
-    Mat4::from_cols(
-        Vec4::new(2.0 / w, 0.0, 0.0, 0.0),
-        Vec4::new(0.0, 2.0 / h, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, 1.0 / d, 0.0),
-        Vec4::new(-(right + left) / w, -(top + bottom) / h, near / d, 1.0),
-    )
+/// Where the cascades end: the scene's farthest corner (the per-frame fit:
+/// no resolution for empty space), or the far side of its bounding sphere (the
+/// stable fit: the same for every direction the camera looks).
+fn cascade_far(f: &ShadowFrame) -> f32 {
+    if f.stable {
+        return cascades::stable_far(f.camera.eye, &f.bounds);
+    }
+    corners(&f.bounds)
+        .iter()
+        .map(|c| -f.view.transform_point3(*c).z)
+        .fold(f32::NEG_INFINITY, f32::max)
 }
 
 /// Near plane of a light's perspective maps: close enough for casters near the

@@ -7,6 +7,8 @@ mod common;
 
 #[path = "../camera_cut.rs"]
 mod camera_cut;
+#[path = "../cascades.rs"]
+mod cascades;
 #[path = "../compute_lighting.rs"]
 mod compute_lighting;
 #[path = "../deferred.rs"]
