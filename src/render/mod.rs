@@ -53,6 +53,7 @@
 
 mod camera_std;
 mod cli_names;
+mod cluster_capacity;
 mod cluster_gpu;
 mod clusters;
 pub mod environment;
@@ -65,6 +66,7 @@ pub mod gbuffer;
 mod gpu_types;
 mod light_buffers;
 mod light_compute;
+mod light_view_gpu;
 mod lights;
 pub mod material;
 mod motion;
@@ -76,6 +78,7 @@ mod pipelines;
 pub mod renderer;
 mod renderer_environment;
 mod renderer_frame;
+mod renderer_lights;
 mod renderer_pose;
 mod shadow_cache;
 mod shadow_pass;
@@ -84,6 +87,7 @@ pub mod targets;
 mod technique;
 mod upload;
 mod wgsl_check;
+mod world_lights;
 
 pub use camera_std::camera_std;
 pub use gbuffer::{gbuffer_images, GbufferImage};
