@@ -55,23 +55,6 @@ struct GpuClusterParams {
     counts: [u32; 4],
 }
 
-/// `ClusterLight` of clusters.wgsl (written by light_view.wgsl; the host only
-/// sizes its buffer).
-#[allow(dead_code)]
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
-pub(crate) struct GpuClusterLight {
-    center: [f32; 3],
-    radius: f32,
-    index: u32,
-    tiles_x: u32,
-    tiles_y: u32,
-    slices: u32,
-    /// The light's first chunk (the chunks of the lights before it come first).
-    first: u32,
-    _pad: [u32; 3],
-}
-
 /// A frame's lists could not be built.
 #[derive(Debug, thiserror::Error)]
 pub(crate) enum ClusterError {

@@ -10,7 +10,6 @@
 //! indirect buffer. The visible-light count and the footprints' clusters stay
 //! on the GPU unless asked for ([`LightView::summary`]).
 
-use super::cluster_gpu::GpuClusterLight;
 use super::clusters::ClusterGrid;
 use super::gpu_types::GpuLight;
 use super::world_lights::{GpuWorldLocal, WorldLights};
@@ -35,6 +34,23 @@ struct GpuViewParams {
     grid: [u32; 4],
     counts: [u32; 4],
     scale: [f32; 4],
+}
+
+/// `ClusterLight` of clusters.wgsl and light_view.wgsl (written by the GPU;
+/// the host only sizes its buffer).
+#[allow(dead_code)]
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub(crate) struct GpuClusterLight {
+    center: [f32; 3],
+    radius: f32,
+    index: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    slices: u32,
+    /// The light's first chunk (the chunks of the lights before it come first).
+    first: u32,
+    _pad: [u32; 3],
 }
 
 /// One frame's camera and grid.

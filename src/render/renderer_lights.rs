@@ -6,7 +6,7 @@
 //! path classifies every light on the CPU: `lights.rs`.)
 
 use super::cluster_gpu::{ClusterError, ClusterFrame};
-use super::clusters::ClusterGrid;
+use super::clusters::{ClusterGrid, LocalLight};
 use super::error::RenderError;
 use super::light_view_gpu::ViewFrame;
 use super::lights::{frame_grid, frustum_planes, FrameLists, LightLists, VolumeScales};
@@ -15,7 +15,7 @@ use super::renderer_frame::{FrameLights, FrameView};
 use super::shadow_cache::CasterChange;
 use super::shadows::ShadowFrame;
 use super::world_lights::WorldLights;
-use crate::gpu::context::{GpuContext, GpuError};
+use crate::gpu::context::GpuContext;
 use crate::scene::Aabb;
 
 impl Renderer {
@@ -115,7 +115,7 @@ impl Renderer {
         self.light_view.prepare(ctx, &frame);
         let key = (self.light_view.uploads(), grid.tiles_x, grid.tiles_y);
         if self.cluster_sizing != Some(key) {
-            self.size_clusters(ctx)?;
+            self.size_clusters(fv, grid);
             self.cluster_sizing = Some(key);
         }
         self.clusters
@@ -136,21 +136,35 @@ impl Renderer {
             })
     }
 
-    /// Runs the light view pass alone and reserves room for the entries its
-    /// footprints may hold (waits for the GPU: once per change of the lights
-    /// or the grid).
-    fn size_clusters(&mut self, ctx: &GpuContext) -> Result<(), GpuError> {
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("light view (cluster reservation)"),
-            });
-        self.light_view.encode(&mut encoder, &mut Vec::new(), None);
-        ctx.queue.submit([encoder.finish()]);
-        let summary = self.light_view.summary(ctx)?;
-        self.clusters
-            .reserve(u64::from(summary.footprint_clusters) * 5 / 4);
-        Ok(())
+    /// Reserves room for the entries this frame's footprints may hold,
+    /// computed on the CPU as the light view pass computes them: once per
+    /// change of the lights or the grid (the lights were just uploaded, also
+    /// O(lights)), so that the first frame neither waits for the GPU nor
+    /// outgrows its lists; later frames follow the GPU's sums
+    /// (`cluster_capacity.rs`).
+    fn size_clusters(&mut self, fv: &FrameView<'_>, grid: ClusterGrid) {
+        let Some(world) = &self.world_lights else {
+            return;
+        };
+        let planes = frustum_planes(&fv.proj);
+        let footprints: u64 = world
+            .locals
+            .iter()
+            .filter_map(|l| {
+                let center = fv.view.transform_point3(glam::Vec3::from(l.center));
+                let outside = planes
+                    .iter()
+                    .any(|p| p.truncate().dot(center) + p.w < -l.radius);
+                let light = LocalLight {
+                    index: l.index,
+                    center,
+                    radius: l.radius,
+                };
+                let f = (!outside).then(|| grid.footprint(&fv.proj, fv.width, fv.height, &light));
+                f.flatten().map(|f| f.clusters() as u64)
+            })
+            .sum();
+        self.clusters.reserve(footprints * 5 / 4);
     }
 
     /// The point and spot lights inside the frustum of the frame last
