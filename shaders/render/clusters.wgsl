@@ -1,17 +1,21 @@
 // Clustered light lists built on the GPU (src/render/cluster_gpu.rs): five
-// dispatches per frame over data the host uploads as is (the frame's point and
-// spot lights as view-space spheres with the tiles and slices they may touch).
+// dispatches per frame over the point and spot lights as view-space spheres
+// with the tiles and slices they may touch and their first chunk, which the
+// light view pass (light_view.wgsl) writes before them.
 //
 // 1. fx_cs_cluster_bounds: each cluster's view-space box; its counter zeroed.
 // 2. fx_cs_cluster_count: a light's footprint (its slices × its tile
 //    rectangle) is cut into chunks of CHUNK clusters, one workgroup each (the
-//    host numbers the chunks: lights[i].first); the lanes test the light's
+//    light view pass numbers the chunks, lights[i].first, and sizes these
+//    dispatches); the lanes test the light's
 //    sphere against the chunk's cluster boxes in turn and count the hits per
 //    cluster. A light over the whole screen thus spreads over hundreds of
 //    workgroups, and 16,384 small lights take one each.
 // 3. fx_cs_cluster_offsets: one workgroup turns the counts into (offset, count)
 //    ranges (an exclusive prefix sum after the global lights), the entry total,
-//    the longest list and the indirect arguments of step 5.
+//    the longest list and the indirect arguments of step 5. When the entries
+//    exceed the room reserved, every cluster lists every point and spot light
+//    instead (exact, slower; the host reserves more for the next frames).
 // 4. fx_cs_cluster_fill: the same chunks and tests again, each hit appended to
 //    its cluster's range in arrival order (with the cluster it belongs to).
 // 5. fx_cs_cluster_sort: one invocation per entry places it at its rank among
@@ -24,8 +28,7 @@
 struct Params {
     // tiles x, tiles y, slices, clusters
     grid: vec4<u32>,
-    // local lights, global lights, capacity of the index lists, chunks (the
-    // workgroups of the count and fill dispatches)
+    // local lights, global lights, capacity of the index lists, -
     counts: vec4<u32>,
 }
 
@@ -65,8 +68,10 @@ struct Bounds {
 // the lists in light order: the lighting passes' fx_cluster_lights
 @group(0) @binding(8) var<storage, read_write> sorted: array<u32>;
 // indirect arguments of the sort (x, y, z), cluster entries, longest list,
-// entries that did not fit
+// 1 when the entries did not fit (every cluster lists every light)
 @group(0) @binding(9) var<storage, read_write> summary: array<atomic<u32>, 8>;
+// the light view pass's summary: its word 3 is the number of chunks
+@group(0) @binding(10) var<storage, read> chunking: array<u32, 8>;
 
 const WORKGROUP: u32 = 64u;
 // clusters of a light's footprint per workgroup of the count and fill passes
@@ -141,11 +146,10 @@ fn test_cluster(l: ClusterLight, cluster: u32, mode: u32) {
         atomicAdd(&counts[cluster], 1u);
     } else {
         let slot = ranges[cluster].x + atomicAdd(&counts[cluster], 1u);
+        // (the offsets pass made room for every entry, else no fill runs)
         if slot < params.counts.z {
             unsorted[slot] = l.index;
             owner[slot] = cluster;
-        } else {
-            atomicAdd(&summary[5], 1u);
         }
     }
 }
@@ -156,7 +160,7 @@ fn test_cluster(l: ClusterLight, cluster: u32, mode: u32) {
 // the workgroup finds its light by a binary search (the same for every lane).
 fn light_chunk(group: vec3<u32>, lane: u32, mode: u32) {
     let w = group.x + group.y * ROW;
-    if w >= params.counts.w {
+    if w >= chunking[3] || (mode == 1u && atomicLoad(&summary[5]) != 0u) {
         return;
     }
     var lo = 0u;
@@ -228,23 +232,25 @@ fn fx_cs_cluster_offsets(@builtin(local_invocation_index) i: u32) {
         longest[i] = max(longest[i], m);
         workgroupBarrier();
     }
+    // the entries do not fit: every cluster lists every point and spot light
+    let overflow = params.counts.y + sums[SCAN - 1u] > params.counts.z;
     var offset = params.counts.y + sums[i] - total;
     for (var c = start; c < end; c++) {
         let k = atomicLoad(&counts[c]);
-        ranges[c] = vec2<u32>(offset, k);
+        ranges[c] = select(vec2<u32>(offset, k), params.counts.yx, overflow);
         offset += k;
         // the fill pass counts again from 0
         atomicStore(&counts[c], 0u);
     }
     if i == SCAN - 1u {
-        let entries = params.counts.y + sums[i];
+        let entries = params.counts.y + select(sums[i], params.counts.x, overflow);
         let groups = (min(entries, params.counts.z) + WORKGROUP - 1u) / WORKGROUP;
         atomicStore(&summary[0], min(groups, ROW));
         atomicStore(&summary[1], (groups + ROW - 1u) / ROW);
         atomicStore(&summary[2], 1u);
         atomicStore(&summary[3], sums[i]);
-        atomicStore(&summary[4], longest[i]);
-        atomicStore(&summary[5], 0u);
+        atomicStore(&summary[4], select(longest[i], params.counts.x, overflow));
+        atomicStore(&summary[5], select(0u, 1u, overflow));
     }
 }
 
@@ -259,15 +265,22 @@ fn fx_cs_cluster_fill(
 @compute @workgroup_size(64)
 fn fx_cs_cluster_sort(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = id.x + id.y * ROW * WORKGROUP;
-    let entries = min(params.counts.y + atomicLoad(&summary[3]), params.counts.z);
+    let overflow = atomicLoad(&summary[5]) != 0u;
+    let listed = select(atomicLoad(&summary[3]), params.counts.x, overflow);
+    let entries = min(params.counts.y + listed, params.counts.z);
     if e >= entries {
         return;
     }
-    let light = unsorted[e];
     if e < params.counts.y {
-        sorted[e] = light;
+        sorted[e] = unsorted[e];
         return;
     }
+    if overflow {
+        // the point and spot lights in light order
+        sorted[e] = lights[e - params.counts.y].index;
+        return;
+    }
+    let light = unsorted[e];
     let range = ranges[owner[e]];
     // a light is listed at most once per cluster: its rank is the number of
     // smaller indices in the list

@@ -1,28 +1,33 @@
 //! Clustered light lists built on the GPU each frame (`shaders/render/clusters.wgsl`).
 //!
-//! The host uploads the frame's data as it is: the grid's plane slopes and
-//! slice depths ([`GridEdges`], a few hundred floats) and one record per point or
-//! spot light (its view-space bounding sphere and the tiles and slices it may
-//! touch, [`ClusterGrid::footprint`]: O(lights), no binning). Four dispatches in
-//! one compute pass ("light clusters") then compute the clusters' view-space
-//! boxes, count each cluster's lights, turn the counts into ranges (one
-//! workgroup's prefix sum) and append the lights; a fifth ("light clusters
-//! sort") sorts each list into light order. Counting and appending take one
-//! workgroup per `CHUNK` clusters of a light's footprint (slices × tiles),
-//! numbered by the host, so a light over the whole screen is spread over many
-//! workgroups and a few large lights keep the GPU busy. The lists are those of
-//! the CPU reference ([`super::clusters::build`]),
-//! test for test, in the same order; `cluster_gpu_tests.rs` compares the two.
+//! The host uploads the grid's plane slopes and slice depths ([`GridEdges`], a
+//! few hundred floats); the lights' records (view-space bounding sphere, the
+//! tiles and slices it may touch, its first chunk) come from the light view
+//! pass (`light_view_gpu.rs`), on the GPU, so no per-light work is left on the
+//! CPU. Four dispatches in one compute pass ("light clusters") then compute
+//! the clusters' view-space boxes, count each cluster's lights, turn the counts
+//! into ranges (one workgroup's prefix sum) and append the lights; a fifth
+//! ("light clusters sort") sorts each list into light order. Counting and
+//! appending take one workgroup per `CHUNK` clusters of a light's footprint
+//! (slices × tiles), numbered by the light view pass, which also leaves their
+//! number as the indirect dispatch size, so a light over the whole screen is
+//! spread over many workgroups and a few large lights keep the GPU busy. The
+//! lists are those of the CPU reference ([`super::clusters::build`]), test for
+//! test, in the same order; `cluster_gpu_tests.rs` compares the two.
 //!
-//! Room for the lists is reserved from the footprints (the clusters a light's
-//! rectangle and slices hold bound its entries), so a frame never overflows its
-//! buffers; the bound is what [`MAX_ENTRIES`] limits. The entry count and the
-//! longest list stay on the GPU unless asked for ([`GpuClusters::summary`]: a
-//! blocking read, done for timed frames).
+//! Room for the lists: the footprints' clusters bound the entries; the light
+//! view pass sums them on the GPU, and the reservation follows that sum (read
+//! when the lights or the grid change, and in the background every frame:
+//! `cluster_capacity.rs`), up to [`MAX_ENTRIES`]. A frame whose entries do not
+//! fit lists every light in every cluster instead (exact, slower), never less.
+//! The entry count and the longest list stay on the GPU unless asked for
+//! ([`GpuClusters::summary`]: a blocking read, done for timed frames).
 
+use super::cluster_capacity::CapacityFeedback;
 #[cfg(test)]
 use super::clusters::ClusterLists;
-use super::clusters::{ClusterGrid, GridEdges, LocalLight, MAX_ENTRIES};
+use super::clusters::{ClusterGrid, GridEdges, MAX_ENTRIES};
+use super::light_view_gpu::LightView;
 use crate::gpu::bindings;
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use bytemuck::{Pod, Zeroable};
@@ -35,7 +40,8 @@ const COMPUTE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
 const WORKGROUP: u32 = 64;
 const ROW: u32 = 32768;
 /// Clusters of a light's footprint per workgroup of the count and fill
-/// dispatches (as in the shader).
+/// dispatches (as in the shaders).
+#[cfg(test)]
 const CHUNK: usize = 256;
 /// The most point and spot lights one frame can bin (their chunks, at least one
 /// each, fit a 2D dispatch many times over).
@@ -49,43 +55,25 @@ struct GpuClusterParams {
     counts: [u32; 4],
 }
 
-/// `ClusterLight` of clusters.wgsl.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
-struct GpuClusterLight {
-    center: [f32; 3],
-    radius: f32,
-    index: u32,
-    tiles_x: u32,
-    tiles_y: u32,
-    slices: u32,
-    /// The light's first chunk (the chunks of the lights before it come first).
-    first: u32,
-    _pad: [u32; 3],
-}
-
 /// A frame's lists could not be built.
 #[derive(Debug, thiserror::Error)]
 pub(crate) enum ClusterError {
-    #[error(
-        "up to {entries} light-cluster entries exceed the limit of {MAX_ENTRIES}: fewer or smaller lights"
-    )]
-    TooManyEntries { entries: usize },
-    #[error("{0} point and spot lights in view exceed the limit of {MAX_CLUSTER_LIGHTS}")]
+    #[error("{0} point and spot lights exceed the limit of {MAX_CLUSTER_LIGHTS}")]
     TooManyLights(usize),
     #[error(transparent)]
     Gpu(#[from] GpuError),
 }
 
 /// One frame's request: the grid, the projection it is cut from, the global
-/// lights (listed first, everywhere) and the point and spot lights.
+/// lights (listed first, everywhere) and the light view pass that makes the
+/// point and spot lights' records.
 pub(crate) struct ClusterFrame<'a> {
     pub grid: ClusterGrid,
     pub proj: &'a Mat4,
     pub width: u32,
     pub height: u32,
     pub globals: &'a [u32],
-    pub locals: &'a [LocalLight],
+    pub view: &'a LightView,
 }
 
 /// What the GPU built, read back ([`GpuClusters::summary`]).
@@ -95,6 +83,9 @@ pub(crate) struct ClusterSummary {
     pub entries: u32,
     /// The longest cluster list.
     pub max_per_cluster: u32,
+    /// The entries did not fit the reservation: every cluster listed every
+    /// light.
+    pub overflowed: bool,
 }
 
 /// The buffers the five dispatches share, grown to a power of two when a frame
@@ -102,7 +93,6 @@ pub(crate) struct ClusterSummary {
 struct Buffers {
     params: wgpu::Buffer,
     edges: wgpu::Buffer,
-    lights: wgpu::Buffer,
     bounds: wgpu::Buffer,
     counts: wgpu::Buffer,
     ranges: wgpu::Buffer,
@@ -120,8 +110,8 @@ struct Buffers {
 #[derive(Debug, Clone, Copy, Default)]
 struct Plan {
     clusters: u32,
-    /// Workgroups of the count and fill dispatches.
-    chunks: u32,
+    /// Point and spot lights (records of the light view pass).
+    locals: u32,
     /// (read back by the tests' [`GpuClusters::read_lists`])
     #[cfg_attr(not(test), allow(dead_code))]
     globals: u32,
@@ -135,11 +125,12 @@ pub(crate) struct GpuClusters {
     pipelines: [wgpu::ComputePipeline; 5],
     buffers: Buffers,
     group: wgpu::BindGroup,
+    /// The light view buffers `group` binds (their generation).
+    view_generation: u64,
     plan: Option<Plan>,
-    /// Scratch of the light records (kept between frames: no allocation), and
-    /// the records the light buffer holds.
-    records: Vec<GpuClusterLight>,
-    written: Vec<GpuClusterLight>,
+    /// Entries to reserve room for (the footprints' clusters, as last read).
+    wanted: u64,
+    feedback: CapacityFeedback,
 }
 
 const ENTRY_POINTS: [&str; 5] = [
@@ -165,7 +156,6 @@ fn storage(
 }
 
 const EDGES: &str = "light clusters plane slopes and slice depths";
-const LIGHTS: &str = "light clusters lights";
 const BOUNDS: &str = "light clusters boxes";
 const COUNTS: &str = "light clusters counters";
 const RANGES: &str = "deferred cluster ranges";
@@ -186,7 +176,6 @@ impl Buffers {
                 mapped_at_creation: false,
             }),
             edges: storage(device, EDGES, 1 << 10, NONE),
-            lights: storage(device, LIGHTS, 1 << 12, NONE),
             bounds: storage(device, BOUNDS, 1 << 16, NONE),
             counts: storage(device, COUNTS, 1 << 12, NONE),
             ranges: storage(device, RANGES, 1 << 13, COPY_SRC),
@@ -203,16 +192,9 @@ impl Buffers {
         }
     }
 
-    /// Grows every buffer to hold `clusters` clusters, `locals` lights, `edges`
-    /// floats and `capacity` entries. Returns whether one was replaced.
-    fn ensure(
-        &mut self,
-        device: &wgpu::Device,
-        clusters: u64,
-        locals: u64,
-        edges: u64,
-        capacity: u64,
-    ) -> bool {
+    /// Grows every buffer to hold `clusters` clusters, `edges` floats and
+    /// `capacity` entries. Returns whether one was replaced.
+    fn ensure(&mut self, device: &wgpu::Device, clusters: u64, edges: u64, capacity: u64) -> bool {
         let mut grown = false;
         let mut grow = |buffer: &mut wgpu::Buffer, label: &str, bytes: u64, extra| {
             if bytes > buffer.size() {
@@ -220,9 +202,7 @@ impl Buffers {
                 grown = true;
             }
         };
-        let light_bytes = std::mem::size_of::<GpuClusterLight>() as u64;
         grow(&mut self.edges, EDGES, edges * 4, NONE);
-        grow(&mut self.lights, LIGHTS, locals * light_bytes, NONE);
         grow(&mut self.bounds, BOUNDS, clusters * 32, NONE);
         grow(&mut self.counts, COUNTS, clusters * 4, NONE);
         grow(&mut self.ranges, RANGES, clusters * 8, COPY_SRC);
@@ -233,11 +213,17 @@ impl Buffers {
     }
 }
 
-fn group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, b: &Buffers) -> wgpu::BindGroup {
+fn group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    b: &Buffers,
+    view: &LightView,
+) -> wgpu::BindGroup {
+    let (records, _, view_summary) = view.cluster_inputs();
     let all = [
         &b.params,
         &b.edges,
-        &b.lights,
+        records,
         &b.bounds,
         &b.counts,
         &b.ranges,
@@ -245,6 +231,7 @@ fn group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, b: &Buffers) -> 
         &b.owner,
         &b.indices,
         &b.summary,
+        view_summary,
     ];
     let entries: Vec<_> = all
         .iter()
@@ -268,7 +255,7 @@ fn dispatch_2d(n: u32) -> (u32, u32) {
 }
 
 impl GpuClusters {
-    pub fn new(ctx: &GpuContext) -> Result<GpuClusters, GpuError> {
+    pub fn new(ctx: &GpuContext, view: &LightView) -> Result<GpuClusters, GpuError> {
         ctx.scoped("light clusters", |device| {
             let mut entries = vec![
                 bindings::uniform_entry(0, COMPUTE),
@@ -276,6 +263,7 @@ impl GpuClusters {
                 bindings::storage_entry(2, COMPUTE),
             ];
             entries.extend((3..10).map(|i| bindings::storage_rw_entry(i, COMPUTE)));
+            entries.push(bindings::storage_entry(10, COMPUTE));
             let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("light clusters group 0"),
                 entries: &entries,
@@ -300,15 +288,16 @@ impl GpuClusters {
                 })
             });
             let buffers = Buffers::new(device);
-            let group = group(device, &layout, &buffers);
+            let group = group(device, &layout, &buffers, view);
             GpuClusters {
                 layout,
                 pipelines,
                 buffers,
                 group,
+                view_generation: view.generation(),
                 plan: None,
-                records: Vec::new(),
-                written: Vec::new(),
+                wanted: 0,
+                feedback: CapacityFeedback::new(device),
             }
         })
     }
@@ -319,9 +308,16 @@ impl GpuClusters {
         (&self.buffers.ranges, &self.buffers.indices)
     }
 
-    /// Uploads one frame's grid and lights. Returns whether the list buffers
-    /// were replaced (the lighting passes' bind group must then be rebuilt) and
-    /// the bytes reserved for the lists.
+    /// Reserves room for `entries` cluster entries from the next frame on
+    /// (the footprints' clusters, read back when the lights or the grid
+    /// changed).
+    pub fn reserve(&mut self, entries: u64) {
+        self.wanted = self.wanted.max(entries);
+    }
+
+    /// Uploads one frame's grid. Returns whether the list buffers were
+    /// replaced (the lighting passes' bind group must then be rebuilt) and the
+    /// bytes reserved for the lists.
     pub fn prepare(
         &mut self,
         ctx: &GpuContext,
@@ -333,78 +329,51 @@ impl GpuClusters {
             width,
             height,
             globals,
-            locals,
+            view,
         } = *frame;
-        if locals.len() > MAX_CLUSTER_LIGHTS {
-            return Err(ClusterError::TooManyLights(locals.len()));
+        let locals = view.locals();
+        if locals as usize > MAX_CLUSTER_LIGHTS {
+            return Err(ClusterError::TooManyLights(locals as usize));
         }
-        let one = grid.count() == 1;
-        let mut bound = globals.len();
-        let mut chunks = 0;
-        self.records.clear();
-        for l in locals {
-            let Some(f) = grid.footprint(proj, width, height, l) else {
-                continue;
-            };
-            bound += f.clusters();
-            let first = chunks as u32;
-            chunks += f.clusters().div_ceil(CHUNK);
-            let pack = |(a, b): (u32, u32)| a | (b << 16);
-            self.records.push(GpuClusterLight {
-                center: l.center.into(),
-                // one cluster lists every light: a sphere that touches everything
-                radius: if one { f32::INFINITY } else { l.radius },
-                index: l.index,
-                tiles_x: pack(f.tiles_x),
-                tiles_y: pack(f.tiles_y),
-                slices: pack(f.slices),
-                first,
-                _pad: [0; 3],
-            });
+        if let Some(footprints) = self.feedback.poll(&ctx.device) {
+            // room to spare, so that a moving camera seldom outgrows it
+            self.wanted = self.wanted.max(u64::from(footprints) * 5 / 4);
         }
-        if bound > MAX_ENTRIES {
-            return Err(ClusterError::TooManyEntries { entries: bound });
-        }
+        // every light in every cluster fits: the fallback of a frame that
+        // outgrows the reservation
+        let least = (globals.len() + locals as usize + 1) as u64;
+        let wanted = (self.wanted + globals.len() as u64).min(MAX_ENTRIES as u64);
         let GridEdges { ax, ay, depth } = grid.edges(proj, width, height);
         let mut edges = ax;
         edges.extend_from_slice(&ay);
         edges.extend_from_slice(&depth);
         let clusters = grid.count() as u32;
-        let capacity = bound.max(1) as u32;
-        let grown = self.buffers.ensure(
+        let mut grown = self.buffers.ensure(
             &ctx.device,
             u64::from(clusters),
-            self.records.len() as u64,
             edges.len() as u64,
-            u64::from(capacity),
+            wanted.max(least),
         );
-        if grown {
-            self.group = group(&ctx.device, &self.layout, &self.buffers);
+        if grown || self.view_generation != view.generation() {
+            self.group = group(&ctx.device, &self.layout, &self.buffers, view);
+            self.view_generation = view.generation();
+            grown = true;
         }
+        let capacity = (self.buffers.unsorted.size() / 4).min(u64::from(u32::MAX)) as u32;
         let params = GpuClusterParams {
             grid: [grid.tiles_x, grid.tiles_y, grid.slices, clusters],
-            counts: [
-                self.records.len() as u32,
-                globals.len() as u32,
-                capacity,
-                chunks as u32,
-            ],
+            counts: [locals, globals.len() as u32, capacity, 0],
         };
         let b = &self.buffers;
         let q = &ctx.queue;
         q.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
         q.write_buffer(&b.edges, 0, bytemuck::cast_slice(&edges));
-        // only what changed (a still camera over still lights writes nothing)
-        if !self.records.is_empty() && (grown || self.records != self.written) {
-            q.write_buffer(&b.lights, 0, bytemuck::cast_slice(&self.records));
-            self.written.clone_from(&self.records);
-        }
         if !globals.is_empty() {
             q.write_buffer(&b.unsorted, 0, bytemuck::cast_slice(globals));
         }
         self.plan = Some(Plan {
             clusters,
-            chunks: chunks as u32,
+            locals,
             globals: globals.len() as u32,
             capacity,
         });
@@ -419,12 +388,14 @@ impl GpuClusters {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         names: &mut Vec<String>,
-        timer: Option<&GpuTimer>,
+        (view, timer): (&LightView, Option<&GpuTimer>),
     ) {
         let Some(plan) = self.plan else {
             return;
         };
-        self.encode_lists(encoder, names, timer, plan);
+        view.encode(encoder, names, timer);
+        self.feedback.encode(encoder, view.summary_buffer());
+        self.encode_lists(encoder, names, (view, timer), plan);
         let b = &self.buffers;
         encoder.copy_buffer_to_buffer(&b.summary, 0, &b.indirect, 0, 12);
         let index = names.len() as u32;
@@ -443,7 +414,7 @@ impl GpuClusters {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         names: &mut Vec<String>,
-        timer: Option<&GpuTimer>,
+        (view, timer): (&LightView, Option<&GpuTimer>),
         plan: Plan,
     ) {
         let index = names.len() as u32;
@@ -457,28 +428,35 @@ impl GpuClusters {
         let (x, y) = dispatch_2d(plan.clusters);
         pass.set_pipeline(bounds);
         pass.dispatch_workgroups(x, y, 1);
-        // one workgroup per chunk of a light's footprint
-        let (cx, cy) = (plan.chunks.min(ROW), plan.chunks.div_ceil(ROW));
-        if plan.chunks > 0 {
+        // one workgroup per chunk of a light's footprint (as many as the
+        // light view pass numbered)
+        let (_, chunks, _) = view.cluster_inputs();
+        if plan.locals > 0 {
             pass.set_pipeline(count);
-            pass.dispatch_workgroups(cx, cy, 1);
+            pass.dispatch_workgroups_indirect(chunks, 0);
         }
         pass.set_pipeline(offsets);
         pass.dispatch_workgroups(1, 1, 1);
-        if plan.chunks > 0 {
+        if plan.locals > 0 {
             pass.set_pipeline(fill);
-            pass.dispatch_workgroups(cx, cy, 1);
+            pass.dispatch_workgroups_indirect(chunks, 0);
         }
+    }
+
+    /// Maps the background readback of the frame just submitted.
+    pub fn after_submit(&mut self) {
+        self.feedback.after_submit();
     }
 
     /// The entry count and the longest list of the frame last rendered (waits
     /// for the GPU).
     pub fn summary(&self, ctx: &GpuContext) -> Result<ClusterSummary, GpuError> {
-        let bytes = ctx.read_buffer(&self.buffers.summary, 12, 8)?;
+        let bytes = ctx.read_buffer(&self.buffers.summary, 12, 12)?;
         let words: &[u32] = bytemuck::cast_slice(&bytes);
         Ok(ClusterSummary {
             entries: words[0],
             max_per_cluster: words[1],
+            overflowed: words[2] != 0,
         })
     }
 
@@ -493,7 +471,12 @@ impl GpuClusters {
         let plan = self.plan.unwrap_or_default();
         let summary = self.summary(ctx)?;
         let ranges = ctx.read_buffer(&self.buffers.ranges, 0, u64::from(plan.clusters) * 8)?;
-        let entries = (plan.globals + summary.entries).min(plan.capacity);
+        let listed = if summary.overflowed {
+            plan.locals
+        } else {
+            summary.entries
+        };
+        let entries = (plan.globals + listed).min(plan.capacity);
         let indices = ctx.read_buffer(&self.buffers.indices, 0, u64::from(entries) * 4)?;
         Ok(ClusterLists {
             grid,

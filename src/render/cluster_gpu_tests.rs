@@ -5,7 +5,11 @@
 use super::*;
 use crate::gpu::context::{require_gpu, AdapterChoice};
 use crate::render::clusters::{build, ClusterGrid, LocalLight, SLICES, TILE_PX};
-use crate::scene::camera::perspective_rh;
+use crate::render::gpu_types::GpuLight;
+use crate::render::light_view_gpu::ViewFrame;
+use crate::render::lights::frustum_planes;
+use crate::render::world_lights::WorldLights;
+use crate::scene::camera::{look_to_rh, perspective_rh};
 use glam::Vec3;
 
 fn context() -> Option<GpuContext> {
@@ -19,24 +23,108 @@ fn context() -> Option<GpuContext> {
     }
 }
 
-/// Builds the lists on the GPU and reads them back.
-fn gpu_lists(
-    ctx: &GpuContext,
-    clusters: &mut GpuClusters,
-    frame: &ClusterFrame<'_>,
-) -> ClusterLists {
-    clusters.prepare(ctx, frame).expect("lists fit");
-    let mut encoder = ctx
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("cluster test"),
-        });
-    clusters.encode(&mut encoder, &mut Vec::new(), None);
-    ctx.queue.submit([encoder.finish()]);
-    let lists = clusters.read_lists(ctx, frame.grid).expect("read back");
+/// The light view and cluster passes of one test.
+struct Passes {
+    view: LightView,
+    clusters: GpuClusters,
+}
+
+impl Passes {
+    fn new(ctx: &GpuContext) -> Passes {
+        let view = LightView::new(ctx).unwrap();
+        let clusters = GpuClusters::new(ctx, &view).unwrap();
+        Passes { view, clusters }
+    }
+}
+
+/// One test frame: the grid, the camera and the global lights.
+#[derive(Clone, Copy)]
+struct TestFrame<'a> {
+    grid: ClusterGrid,
+    view: Mat4,
+    proj: &'a Mat4,
+    width: u32,
+    height: u32,
+    globals: &'a [u32],
+}
+
+/// Moves the uploaded lights into view space, culls and bins them on the GPU
+/// (the reservation read back first, as the renderer does when the lights or
+/// the grid change, when `size` is set) and reads the lists back.
+fn gpu_lists(ctx: &GpuContext, p: &mut Passes, f: &TestFrame<'_>, size: bool) -> ClusterLists {
+    p.view.prepare(
+        ctx,
+        &ViewFrame {
+            grid: f.grid,
+            view: &f.view,
+            proj: f.proj,
+            width: f.width,
+            height: f.height,
+        },
+    );
+    let encoder = |label| {
+        ctx.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    };
+    if size {
+        let mut e = encoder("cluster test sizing");
+        p.view.encode(&mut e, &mut Vec::new(), None);
+        ctx.queue.submit([e.finish()]);
+        let summary = p.view.summary(ctx).unwrap();
+        p.clusters.reserve(u64::from(summary.footprint_clusters));
+    }
+    let frame = ClusterFrame {
+        grid: f.grid,
+        proj: f.proj,
+        width: f.width,
+        height: f.height,
+        globals: f.globals,
+        view: &p.view,
+    };
+    p.clusters.prepare(ctx, &frame).expect("lists fit");
+    let mut e = encoder("cluster test");
+    p.clusters.encode(&mut e, &mut Vec::new(), (&p.view, None));
+    ctx.queue.submit([e.finish()]);
+    p.clusters.after_submit();
+    let lists = p.clusters.read_lists(ctx, f.grid).expect("read back");
     let errors = ctx.take_uncaptured_errors();
     assert!(errors.is_empty(), "{errors:?}");
     lists
+}
+
+/// Uploads `locals` (view-space spheres, the view the identity) and builds
+/// their lists on the GPU.
+fn lists_of(
+    ctx: &GpuContext,
+    p: &mut Passes,
+    f: &TestFrame<'_>,
+    locals: &[LocalLight],
+) -> ClusterLists {
+    let lights = locals.iter().map(|l| l.index + 1).max().unwrap_or(0);
+    let lights = lights.max(f.globals.iter().map(|g| g + 1).max().unwrap_or(0));
+    p.view
+        .set_lights(ctx, &WorldLights::for_tests(lights, f.globals, locals));
+    gpu_lists(ctx, p, f, true)
+}
+
+/// The CPU reference of a frame: the spheres moved by `view`, culled against
+/// the frustum as the CPU classification culls them, binned by `build`.
+fn cpu_lists(f: &TestFrame<'_>, world: &[LocalLight]) -> (ClusterLists, Vec<LocalLight>) {
+    let planes = frustum_planes(f.proj);
+    let visible: Vec<LocalLight> = world
+        .iter()
+        .map(|l| LocalLight {
+            center: f.view.transform_point3(l.center),
+            ..*l
+        })
+        .filter(|l| {
+            !planes
+                .iter()
+                .any(|p| p.truncate().dot(l.center) + p.w < -l.radius)
+        })
+        .collect();
+    let lists = build(f.grid, f.proj, f.width, f.height, f.globals, &visible).unwrap();
+    (lists, visible)
 }
 
 /// The cluster a view-space point falls in, as the lighting shaders compute it
@@ -141,22 +229,22 @@ fn every_lit_point_finds_its_light_in_the_gpu_lists() {
         sphere(2, Vec3::new(-3.0, 1.0, -20.0), 0.3),
         sphere(3, Vec3::new(0.0, 0.0, 5.0), 1.0),
     ];
-    let frame = ClusterFrame {
+    let frame = TestFrame {
         grid,
+        view: Mat4::IDENTITY,
         proj: &proj,
         width: w,
         height: h,
         globals: &[7],
-        locals: &locals,
     };
-    let mut clusters = GpuClusters::new(&ctx).unwrap();
-    let lists = gpu_lists(&ctx, &mut clusters, &frame);
+    let mut passes = Passes::new(&ctx);
+    let lists = lists_of(&ctx, &mut passes, &frame, &locals);
     assert_eq!(lists.indices[0], 7);
     let checked = every_point_finds_its_light(&lists, &proj, (w, h), &locals, 4000);
     assert!(checked > 3000, "too few visible samples: {checked}");
     // the light behind the camera is listed nowhere
     assert!(!lists.indices[1..].contains(&3));
-    let cpu = build(grid, &proj, w, h, &[7], &locals).unwrap();
+    let (cpu, _) = cpu_lists(&frame, &locals);
     assert_same_lists(&lists, &cpu);
 }
 
@@ -180,17 +268,17 @@ fn sixteen_thousand_lights_on_the_gpu() {
             radius: 0.2 + rng.next() * rng.next() * 3.0,
         })
         .collect();
-    let frame = ClusterFrame {
+    let frame = TestFrame {
         grid,
+        view: Mat4::IDENTITY,
         proj: &proj,
         width: w,
         height: h,
         globals: &[0, 1],
-        locals: &locals,
     };
-    let mut clusters = GpuClusters::new(&ctx).unwrap();
-    let lists = gpu_lists(&ctx, &mut clusters, &frame);
-    let cpu = build(grid, &proj, w, h, &[0, 1], &locals).unwrap();
+    let mut passes = Passes::new(&ctx);
+    let lists = lists_of(&ctx, &mut passes, &frame, &locals);
+    let (cpu, _) = cpu_lists(&frame, &locals);
     eprintln!(
         "16,384 lights: {} entries, longest list {}",
         cpu.indices.len() - 2,
@@ -202,8 +290,9 @@ fn sixteen_thousand_lights_on_the_gpu() {
     assert!(checked > 100_000 / 10, "too few visible samples: {checked}");
 }
 
-/// One cluster (`--light-culling none`) lists every light in light order, even
-/// those outside the view; a second, smaller frame reuses the buffers.
+/// One cluster (`--light-culling none`) lists every light in the view in light
+/// order (those behind the camera are culled); a second, smaller frame reuses
+/// the buffers.
 #[test]
 fn one_cluster_lists_every_light_and_buffers_are_reused() {
     let Some(ctx) = context() else { return };
@@ -216,28 +305,27 @@ fn one_cluster_lists_every_light_and_buffers_are_reused() {
             radius: 1.0,
         })
         .collect();
-    let mut clusters = GpuClusters::new(&ctx).unwrap();
-    let frame = ClusterFrame {
+    let mut passes = Passes::new(&ctx);
+    let frame = TestFrame {
         grid,
+        view: Mat4::IDENTITY,
         proj: &proj,
         width: 64,
         height: 64,
         globals: &[300],
-        locals: &locals,
     };
-    let lists = gpu_lists(&ctx, &mut clusters, &frame);
+    let lists = lists_of(&ctx, &mut passes, &frame, &locals);
     let mut expected = vec![300];
-    expected.extend(0..300);
-    assert_eq!(lists.ranges, vec![[1, 300]]);
+    expected.extend((0..300).filter(|i| i % 2 == 1));
+    assert_eq!(lists.ranges, vec![[1, 150]]);
     assert_eq!(lists.indices, expected);
-    let frame = ClusterFrame {
-        locals: &locals[..5],
+    let frame = TestFrame {
         globals: &[],
         ..frame
     };
-    let lists = gpu_lists(&ctx, &mut clusters, &frame);
-    assert_eq!(lists.ranges, vec![[0, 5]]);
-    assert_eq!(lists.indices, vec![0, 1, 2, 3, 4]);
+    let lists = lists_of(&ctx, &mut passes, &frame, &locals[..5]);
+    assert_eq!(lists.ranges, vec![[0, 2]]);
+    assert_eq!(lists.indices, vec![1, 3]);
 }
 
 /// A room's few large lights at 1920×1080 with the renderer's grid, the camera
@@ -264,13 +352,13 @@ fn large_lights_spread_over_many_workgroups() {
             }
         })
         .collect();
-    let frame = ClusterFrame {
+    let frame = TestFrame {
         grid,
+        view: Mat4::IDENTITY,
         proj: &proj,
         width: w,
         height: h,
         globals: &[26],
-        locals: &locals,
     };
     let most = locals
         .iter()
@@ -281,11 +369,114 @@ fn large_lights_spread_over_many_workgroups() {
         most > Some(16 * CHUNK),
         "a light spans many chunks: {most:?}"
     );
-    let mut clusters = GpuClusters::new(&ctx).unwrap();
-    let lists = gpu_lists(&ctx, &mut clusters, &frame);
-    let cpu = build(grid, &proj, w, h, &[26], &locals).unwrap();
+    let mut passes = Passes::new(&ctx);
+    let lists = lists_of(&ctx, &mut passes, &frame, &locals);
+    let (cpu, _) = cpu_lists(&frame, &locals);
     assert!(cpu.indices.len() > 50_000, "the lights fill the view");
     assert_same_lists(&lists, &cpu);
     let checked = every_point_finds_its_light(&lists, &proj, (w, h), &locals, 200);
     assert!(checked > 1000, "too few visible samples: {checked}");
+}
+
+/// Still lights, uploaded once, under a camera that orbits them for six
+/// frames: each frame the GPU moves them into view space, culls them and bins
+/// them, and the lists equal the CPU reference's (the spheres moved and culled
+/// on the CPU, then `build`) exactly; the view-space light array matches the
+/// CPU's transform (1e-4 relative), and the visible count the CPU's. No frame
+/// uploads the lights again. A reservation too small for a frame's entries
+/// gives every light in every cluster (exact, never fewer lights).
+#[test]
+fn a_moving_camera_over_still_lights_uploads_nothing() {
+    let Some(ctx) = context() else { return };
+    let (w, h) = (640, 360);
+    let proj = perspective_rh(0.9, w as f32 / h as f32, 0.1, 60.0);
+    let grid = ClusterGrid::new(w, h, 0.3, 40.0, TILE_PX, SLICES);
+    let mut rng = Rng(31);
+    let world: Vec<LocalLight> = (0..4096)
+        .map(|i| LocalLight {
+            index: i + 1,
+            center: Vec3::new(
+                (rng.next() - 0.5) * 30.0,
+                (rng.next() - 0.5) * 10.0,
+                (rng.next() - 0.5) * 30.0,
+            ),
+            radius: 0.2 + rng.next() * rng.next() * 3.0,
+        })
+        .collect();
+    let globals = [0];
+    let mut passes = Passes::new(&ctx);
+    passes
+        .view
+        .set_lights(&ctx, &WorldLights::for_tests(4097, &globals, &world));
+    assert_eq!(passes.view.uploads(), 1);
+    for k in 0..6 {
+        let angle = k as f32 * 0.7;
+        let eye = Vec3::new(angle.cos() * 12.0, 2.0 + k as f32 * 0.5, angle.sin() * 12.0);
+        let frame = TestFrame {
+            grid,
+            view: look_to_rh(eye, -eye.normalize(), Vec3::Y),
+            proj: &proj,
+            width: w,
+            height: h,
+            globals: &globals,
+        };
+        let lists = gpu_lists(&ctx, &mut passes, &frame, k == 0);
+        let (cpu, visible) = cpu_lists(&frame, &world);
+        assert!(
+            cpu.indices.len() > 2000,
+            "frame {k}: the lights fill the view"
+        );
+        assert_same_lists(&lists, &cpu);
+        let summary = passes.view.summary(&ctx).unwrap();
+        assert_eq!(summary.visible as usize, visible.len(), "frame {k}");
+        let bytes = ctx.read_buffer(passes.view.lights(), 0, 4098 * 96).unwrap();
+        let gpu: &[GpuLight] = bytemuck::cast_slice(&bytes);
+        for l in &world {
+            let cpu = frame.view.transform_point3(l.center);
+            let got = Vec3::from(gpu[l.index as usize].position);
+            assert!(
+                (got - cpu).length() <= 1e-4 * (1.0 + cpu.length()),
+                "frame {k}: light {} at {got}, not {cpu}",
+                l.index
+            );
+        }
+        let checked = every_point_finds_its_light(&lists, &proj, (w, h), &visible, 4);
+        assert!(checked > 1000, "too few visible samples: {checked}");
+    }
+    assert_eq!(
+        passes.view.uploads(),
+        1,
+        "a moving camera re-uploaded the lights"
+    );
+    // a reservation too small (for lights four times as large): every
+    // cluster lists every light, in order
+    let large: Vec<LocalLight> = world
+        .iter()
+        .map(|l| LocalLight {
+            radius: l.radius * 4.0,
+            ..*l
+        })
+        .collect();
+    let mut small = Passes::new(&ctx);
+    small
+        .view
+        .set_lights(&ctx, &WorldLights::for_tests(4097, &globals, &large));
+    let frame = TestFrame {
+        grid,
+        view: look_to_rh(
+            Vec3::new(12.0, 2.0, 0.0),
+            Vec3::new(-12.0, -2.0, 0.0).normalize(),
+            Vec3::Y,
+        ),
+        proj: &proj,
+        width: w,
+        height: h,
+        globals: &globals,
+    };
+    let lists = gpu_lists(&ctx, &mut small, &frame, false);
+    assert!(small.clusters.summary(&ctx).unwrap().overflowed);
+    assert!(lists.ranges.iter().all(|r| *r == [1, 4096]));
+    let mut all = vec![0];
+    all.extend(1..=4096);
+    assert_eq!(lists.indices, all);
 }

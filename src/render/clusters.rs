@@ -156,6 +156,8 @@ pub(crate) fn depth_range(
 /// sphere of the region it lights.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct LocalLight {
+    /// (read by the CPU reference `build`: tests)
+    #[cfg_attr(not(test), allow(dead_code))]
     pub index: u32,
     pub center: Vec3,
     pub radius: f32,

@@ -32,6 +32,7 @@ pub(crate) struct FrameGpu<'a> {
     pub g0: &'a wgpu::BindGroup,
     pub shadow_maps: &'a ShadowMaps,
     pub clusters: &'a GpuClusters,
+    pub light_view: &'a super::light_view_gpu::LightView,
     pub volumes: &'a LightVolumes,
     pub motion: &'a MotionPass,
     /// The frame's background colour (fogged).
@@ -258,7 +259,8 @@ impl<'a> Recorder<'a> {
             .shadow_maps
             .encode(encoder, r.geometry, &mut self.names, self.timer);
         if self.fl.clustered {
-            r.clusters.encode(encoder, &mut self.names, self.timer);
+            let inputs = (r.light_view, self.timer);
+            r.clusters.encode(encoder, &mut self.names, inputs);
         }
     }
 

@@ -79,8 +79,9 @@ impl LightBuffers {
         grown
     }
 
-    /// Group 0: frame uniforms, material infos, instances, these buffers, the
-    /// cluster lists, the shadow maps and the environment.
+    /// Group 0: frame uniforms, material infos, instances, the light array
+    /// (`lights`: this one, or the light view pass's with cluster lists), the
+    /// visible indices, the cluster lists, the shadow maps and the environment.
     #[allow(clippy::too_many_arguments)] // one argument per owner of a binding
     pub fn group0(
         &self,
@@ -89,6 +90,7 @@ impl LightBuffers {
         frame: &wgpu::Buffer,
         material_info: &wgpu::Buffer,
         instances: &wgpu::Buffer,
+        lights: &wgpu::Buffer,
         clusters: &GpuClusters,
         shadows: &ShadowMaps,
         environment: &super::environment::EnvironmentLighting,
@@ -98,7 +100,7 @@ impl LightBuffers {
             frame,
             material_info,
             instances,
-            &self.lights,
+            lights,
             &self.visible,
             cluster_ranges,
             cluster_lights,

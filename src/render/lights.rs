@@ -128,8 +128,10 @@ impl LightLists {
             near_margin: camera.near * (1.0 + half_fov * half_fov * (1.0 + aspect * aspect)).sqrt(),
             far: camera.far,
             view: *view,
-            sphere_scale,
-            cone_poly_scale,
+            scales: VolumeScales {
+                sphere: sphere_scale,
+                cone_poly: cone_poly_scale,
+            },
         };
         for l in lights {
             let color = l.color * l.intensity;
@@ -172,7 +174,7 @@ impl LightLists {
 
 /// A light as a directional light (colour `color`, view-space direction
 /// `dir_view`): what the other kinds start from.
-fn directional_light(l: &Light, color: Vec3, dir_view: Vec3) -> GpuLight {
+pub(crate) fn directional_light(l: &Light, color: Vec3, dir_view: Vec3) -> GpuLight {
     GpuLight {
         position: [0.0; 3],
         radius: 0.0,
@@ -194,9 +196,17 @@ fn directional_light(l: &Light, color: Vec3, dir_view: Vec3) -> GpuLight {
 
 /// The bounding spheres (view space) of a point or spot light: of the region
 /// it lights (for culling) and of its proxy volume.
-struct LightSpheres {
-    cull: (Vec3, f32),
-    proxy: (Vec3, f32),
+pub(crate) struct LightSpheres {
+    pub cull: (Vec3, f32),
+    pub proxy: (Vec3, f32),
+}
+
+/// The proxy scales of [`LightVolumes`]: a light's volume fields depend on
+/// them, not on the camera.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct VolumeScales {
+    pub sphere: f32,
+    pub cone_poly: f32,
 }
 
 /// What one frame's point and spot lights are classified against.
@@ -206,8 +216,7 @@ struct Classifier {
     near_margin: f32,
     far: f32,
     view: Mat4,
-    sphere_scale: f32,
-    cone_poly_scale: f32,
+    scales: VolumeScales,
 }
 
 impl Classifier {
@@ -216,18 +225,16 @@ impl Classifier {
     /// (inside: it holds the camera or the near plane; full-screen when it
     /// also crosses the far plane).
     fn add_local(&self, lists: &mut LightLists, l: &Light, mut g: GpuLight, dir_view: Vec3) {
-        let radius = l.radius();
-        if radius.is_nan() || radius <= 0.0 {
+        let Some(radius) = local_radius(l) else {
             return;
-        }
-        let radius = radius.min(1e7);
+        };
         let pos = self.view.transform_point3(l.position);
         g.position = pos.into();
         g.radius = radius;
         let LightSpheres {
             cull: (cull_center, cull_radius),
             proxy: (proxy_center, proxy_radius),
-        } = self.shape_volume(l, &mut g, pos, dir_view);
+        } = shape_volume(l, &mut g, pos, dir_view, self.scales);
         let outside = self
             .planes
             .iter()
@@ -253,45 +260,59 @@ impl Classifier {
         };
         list.push(index);
     }
+}
 
-    /// Sets the kind, cone and proxy volume of a point or spot light at view
-    /// position `pos` (radius in `g`): a cone for spots up to
-    /// [`MAX_CONE_ANGLE`], else a sphere. Returns its bounding spheres.
-    fn shape_volume(&self, l: &Light, g: &mut GpuLight, pos: Vec3, dir_view: Vec3) -> LightSpheres {
-        let radius = g.radius;
-        // bounding sphere of the lit region (for culling) and of the proxy
-        let mut cull = (pos, radius);
-        let sphere = (pos, radius * self.sphere_scale);
-        let LightKind::Spot { inner, outer } = l.kind else {
-            g.kind = KIND_POINT;
-            g.volume = VOLUME_SPHERE;
-            g.volume_scale = self.sphere_scale;
-            return LightSpheres {
-                cull,
-                proxy: sphere,
-            };
-        };
-        let outer = outer.clamp(1e-3, std::f32::consts::FRAC_PI_2);
-        let inner = inner.clamp(0.0, outer);
-        g.kind = KIND_SPOT;
-        g.cos_outer = outer.cos();
-        g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
-        if outer <= MAX_CONE_ANGLE {
-            g.volume = VOLUME_CONE;
-            g.cone_radius = radius * outer.tan() * self.cone_poly_scale;
-            let (c, r) = cone_bounding_sphere(pos, dir_view, radius, radius * outer.tan());
-            if r < cull.1 {
-                cull = (c, r);
-            }
-            let proxy = cone_bounding_sphere(pos, dir_view, radius, g.cone_radius);
-            return LightSpheres { cull, proxy };
-        }
+/// The radius of point or spot light `l` (capped at 10⁷), or `None` when it
+/// has none (such a light is skipped).
+pub(crate) fn local_radius(l: &Light) -> Option<f32> {
+    let radius = l.radius();
+    (!radius.is_nan() && radius > 0.0).then(|| radius.min(1e7))
+}
+
+/// Sets the kind, cone and proxy volume of a point or spot light at position
+/// `pos` with unit direction `dir` (radius in `g`): a cone for spots up to
+/// [`MAX_CONE_ANGLE`], else a sphere. Returns its bounding spheres, in the
+/// space of `pos` and `dir` (view or world: a rigid motion moves them alike).
+pub(crate) fn shape_volume(
+    l: &Light,
+    g: &mut GpuLight,
+    pos: Vec3,
+    dir: Vec3,
+    scales: VolumeScales,
+) -> LightSpheres {
+    let radius = g.radius;
+    // bounding sphere of the lit region (for culling) and of the proxy
+    let mut cull = (pos, radius);
+    let sphere = (pos, radius * scales.sphere);
+    let LightKind::Spot { inner, outer } = l.kind else {
+        g.kind = KIND_POINT;
         g.volume = VOLUME_SPHERE;
-        g.volume_scale = self.sphere_scale;
-        LightSpheres {
+        g.volume_scale = scales.sphere;
+        return LightSpheres {
             cull,
             proxy: sphere,
+        };
+    };
+    let outer = outer.clamp(1e-3, std::f32::consts::FRAC_PI_2);
+    let inner = inner.clamp(0.0, outer);
+    g.kind = KIND_SPOT;
+    g.cos_outer = outer.cos();
+    g.cos_inner = inner.cos().max(g.cos_outer + 1e-4);
+    if outer <= MAX_CONE_ANGLE {
+        g.volume = VOLUME_CONE;
+        g.cone_radius = radius * outer.tan() * scales.cone_poly;
+        let (c, r) = cone_bounding_sphere(pos, dir, radius, radius * outer.tan());
+        if r < cull.1 {
+            cull = (c, r);
         }
+        let proxy = cone_bounding_sphere(pos, dir, radius, g.cone_radius);
+        return LightSpheres { cull, proxy };
+    }
+    g.volume = VOLUME_SPHERE;
+    g.volume_scale = scales.sphere;
+    LightSpheres {
+        cull,
+        proxy: sphere,
     }
 }
 
@@ -327,18 +348,7 @@ impl LightLists {
         });
         let mut forward = self.forward.clone();
         forward.resize((loop_count as usize).max(forward.len()), black);
-        let grid = match culling {
-            LightCulling::Volumes => None,
-            LightCulling::Clustered | LightCulling::None => {
-                let (tile, slices) = match culling {
-                    LightCulling::Clustered => (clusters::TILE_PX, clusters::SLICES),
-                    _ => (0, 1),
-                };
-                Some(ClusterGrid::new(
-                    width, height, depth_near, depth_far, tile, slices,
-                ))
-            }
-        };
+        let grid = frame_grid(culling, width, height, depth_near, depth_far);
         let mut visible: Vec<u32> = Vec::new();
         let mut range = |list: &[u32]| -> Range<u32> {
             let start = visible.len() as u32;
@@ -360,9 +370,29 @@ impl LightLists {
     }
 }
 
+/// The cluster grid of a `width`×`height` frame whose slices span
+/// `depth_near..depth_far`: 32-pixel tiles and 24 slices when clustered, one
+/// cluster without culling, none with light volumes.
+pub(crate) fn frame_grid(
+    culling: LightCulling,
+    width: u32,
+    height: u32,
+    depth_near: f32,
+    depth_far: f32,
+) -> Option<ClusterGrid> {
+    let (tile, slices) = match culling {
+        LightCulling::Volumes => return None,
+        LightCulling::Clustered => (clusters::TILE_PX, clusters::SLICES),
+        LightCulling::None => (0, 1),
+    };
+    Some(ClusterGrid::new(
+        width, height, depth_near, depth_far, tile, slices,
+    ))
+}
+
 /// The six view-space frustum planes `(n, d)` with `n·p + d >= 0` inside, for a
 /// projection with depth 0..1 (Gribb-Hartmann).
-fn frustum_planes(proj: &Mat4) -> [Vec4; 6] {
+pub(crate) fn frustum_planes(proj: &Mat4) -> [Vec4; 6] {
     let r = |i: usize| proj.row(i);
     let planes = [
         r(3) + r(0),

@@ -69,7 +69,10 @@ pub struct RenderStats {
     pub triangles: usize,
     pub draw_calls: usize,
     pub lights_total: usize,
-    /// Lights left after frustum culling (forward shades all of these per fragment).
+    /// Lights left after frustum culling (forward shades all of these per
+    /// fragment). With cluster lists the GPU culls and counts them: timed
+    /// frames read the count back; untimed frames report the global lights
+    /// only ([`super::Renderer::read_visible_lights`] reads the count).
     pub lights_visible: usize,
     /// Full-screen light passes (ambient, directional, volumes that hold the camera
     /// and cross the far plane).

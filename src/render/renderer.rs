@@ -42,6 +42,7 @@ pub use super::error::RenderError;
 use super::gpu_types::*;
 use super::light_buffers::LightBuffers;
 use super::light_compute::{ComputeLighting, LightCompute};
+use super::light_view_gpu::LightView;
 use super::lights::LightVolumes;
 use super::material::MaterialSet;
 use super::motion::MotionPass;
@@ -53,6 +54,7 @@ pub use super::shadows::{
 };
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
+use super::world_lights::WorldLights;
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use crate::scene::{Camera, Light, Scene};
 use glam::{Mat4, Vec3};
@@ -106,6 +108,15 @@ pub struct Renderer {
     pub(super) light_buffers: LightBuffers,
     /// The clustered light lists, built on the GPU each frame.
     pub(super) clusters: GpuClusters,
+    /// The lights in view space, culled and given their cluster records on
+    /// the GPU each frame (clustered and unculled lighting).
+    pub(super) light_view: LightView,
+    /// The lights in world space, as `light_view` holds them (`None`: to be
+    /// built and uploaded, after a change of the lights).
+    pub(super) world_lights: Option<WorldLights>,
+    /// The light uploads and the grid the cluster reservation was read back
+    /// for.
+    pub(super) cluster_sizing: Option<(u64, u32, u32)>,
     /// The compute light passes.
     pub(super) light_compute: ComputeLighting,
     pub(crate) layouts: Layouts,
@@ -311,7 +322,8 @@ impl Renderer {
         let volumes = LightVolumes::new(ctx)?;
         let light_buffers = LightBuffers::new(device);
         let shadow_maps = ShadowMaps::new(ctx, opts, &geometry)?;
-        let clusters = GpuClusters::new(ctx)?;
+        let light_view = LightView::new(ctx)?;
+        let clusters = GpuClusters::new(ctx, &light_view)?;
         let environment = load_environment(ctx, scene)?;
         let g0 = light_buffers.group0(
             device,
@@ -319,6 +331,10 @@ impl Renderer {
             &frame_buffer,
             &material_info_buffer,
             &geometry.instance_buffer,
+            match opts.light_culling {
+                LightCulling::Volumes => &light_buffers.lights,
+                _ => light_view.lights(),
+            },
             &clusters,
             &shadow_maps,
             &environment,
@@ -354,6 +370,9 @@ impl Renderer {
             material_info_buffer,
             light_buffers,
             clusters,
+            light_view,
+            world_lights: None,
+            cluster_sizing: None,
             light_compute: ComputeLighting::default(),
             layouts,
             g0,
@@ -387,6 +406,7 @@ impl Renderer {
     pub fn set_lights(&mut self, lights: Vec<Light>) {
         warn_dark_lights(&self.name, &lights);
         self.lights = lights;
+        self.world_lights = None;
     }
 
     /// Fog applied by the lighting template (`None`: no fog).
@@ -407,6 +427,10 @@ impl Renderer {
             &self.frame_buffer,
             &self.material_info_buffer,
             &self.geometry.instance_buffer,
+            match self.opts.light_culling {
+                LightCulling::Volumes => &self.light_buffers.lights,
+                _ => self.light_view.lights(),
+            },
             &self.clusters,
             &self.shadow_maps,
             &self.environment,

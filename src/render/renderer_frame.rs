@@ -4,7 +4,6 @@
 //! the statistics and images handed back. (Methods of [`Renderer`]; the
 //! renderer itself does not import this file.)
 
-use super::cluster_gpu::{ClusterError, ClusterFrame};
 use super::clusters::ClusterGrid;
 use super::error::RenderError;
 use super::frame::{self, FrameGpu, FramePipelines};
@@ -28,33 +27,36 @@ use std::collections::HashSet;
 use std::time::Instant;
 
 /// What a frame is asked for, and the cameras derived from it.
-struct FrameView<'a> {
-    camera: &'a Camera,
-    width: u32,
-    height: u32,
+pub(super) struct FrameView<'a> {
+    pub camera: &'a Camera,
+    pub width: u32,
+    pub height: u32,
     technique: Technique,
-    aspect: f32,
-    view: Mat4,
+    pub aspect: f32,
+    pub view: Mat4,
     /// The projection without the jitter (motion vectors, `proj_unjittered`).
     unjittered: Mat4,
     /// The projection the geometry passes use (jittered).
-    proj: Mat4,
+    pub proj: Mat4,
     /// The camera one frame earlier (this one after a cut).
     prev_camera: Camera,
     motion: MotionCameras,
 }
 
 /// The frame's lights: the lists, their ranges in the visible-index buffer and
-/// the cluster grid (none with light volumes).
-struct FrameLights {
-    lists: LightLists,
-    ranges: FrameLists,
-    visible: Vec<u32>,
-    grid: Option<ClusterGrid>,
-    /// Lights in the frustum (before the forward loop's padding).
-    visible_count: u32,
+/// the cluster grid (none with light volumes). With cluster lists the light
+/// array and the culling are the GPU's (`renderer_lights.rs`): `lists` holds
+/// only the global lights, the ambient sum and the dark count.
+pub(super) struct FrameLights {
+    pub lists: LightLists,
+    pub ranges: FrameLists,
+    pub visible: Vec<u32>,
+    pub grid: Option<ClusterGrid>,
+    /// Lights in the frustum (before the forward loop's padding), when
+    /// counted on the CPU (light volumes).
+    pub visible_count: Option<u32>,
     /// The shadow-map array was replaced (group 0 binds it).
-    shadows_grown: bool,
+    pub shadows_grown: bool,
 }
 
 /// The renderer's parts the passes read, beside the pipeline caches they fill
@@ -168,6 +170,7 @@ impl Renderer {
         let mut stats = self.frame_stats(&fv, &fl, cluster_bytes);
         let label = format!("deferred frame ({technique}, {width}x{height})");
         let (pass_names, draws) = self.record_frame(ctx, (&fv, &fl), &label, timer, &moving)?;
+        self.clusters.after_submit();
         split.mark("record");
         stats.draw_calls = draws;
         stats.pipeline_ms = split.take("pipelines");
@@ -176,6 +179,9 @@ impl Renderer {
         stats.pipelines = self.pipelines.pipelines_created;
         stats.shader_modules = self.pipelines.modules_created;
         self.read_gpu_stats(ctx, (timer, fl.grid.is_some()), pass_names, &mut stats)?;
+        if timer.is_some() && fl.visible_count.is_none() {
+            stats.lights_visible = self.read_visible_lights(ctx)?.unwrap_or(0);
+        }
         check_device_errors(ctx, label)?;
         log::debug!(
             "{}: {technique} frame {width}x{height}: {} lights visible of {}, {} draws, cpu {:.2} ms",
@@ -235,6 +241,9 @@ impl Renderer {
         bounds: Aabb,
         casters: &CasterChange,
     ) -> Result<FrameLights, RenderError> {
+        if self.opts.light_culling != super::clusters::LightCulling::Volumes {
+            return self.plan_world_lights(ctx, fv, bounds, casters);
+        }
         let camera = fv.camera;
         let mut lists = LightLists::classify(
             &self.lights,
@@ -280,7 +289,7 @@ impl Renderer {
             ranges,
             visible,
             grid,
-            visible_count,
+            visible_count: Some(visible_count),
             shadows_grown,
         })
     }
@@ -295,23 +304,7 @@ impl Renderer {
         fl: &FrameLights,
     ) -> Result<u64, RenderError> {
         let (clusters_grown, cluster_bytes) = match fl.grid {
-            Some(grid) => self
-                .clusters
-                .prepare(
-                    ctx,
-                    &ClusterFrame {
-                        grid,
-                        proj: &fv.proj,
-                        width: fv.width,
-                        height: fv.height,
-                        globals: &fl.lists.globals,
-                        locals: &fl.lists.locals,
-                    },
-                )
-                .map_err(|e| match e {
-                    ClusterError::Gpu(e) => RenderError::Gpu(e),
-                    e => RenderError::Invalid(e.to_string()),
-                })?,
+            Some(grid) => self.prepare_clusters(ctx, fv, fl, grid)?,
             None => (false, 0),
         };
         let grown = self.light_buffers.upload(ctx, &fl.lists.gpu, &fl.visible);
@@ -358,7 +351,7 @@ impl Renderer {
             ambient: fl.lists.ambient.extend(0.0).into(),
             near: camera.near,
             far: camera.far,
-            light_count: fl.visible_count,
+            light_count: fl.visible_count.unwrap_or(0),
             global_lights,
             cluster,
             cluster_z,
@@ -387,6 +380,7 @@ impl Renderer {
                 g0: &self.g0,
                 shadow_maps: &self.shadow_maps,
                 clusters: &self.clusters,
+                light_view: &self.light_view,
                 volumes: &self.volumes,
                 motion: &self.motion,
                 frame_background: self.frame_background,
@@ -427,7 +421,12 @@ impl Renderer {
             height: fv.height,
             triangles: self.triangles,
             lights_total: self.lights.len(),
-            lights_visible: lists.forward.len(),
+            // with cluster lists: the global lights until the GPU's count is
+            // read back (timed frames, `Renderer::read_visible_lights`)
+            lights_visible: match fl.visible_count {
+                Some(n) => n as usize,
+                None => lists.globals.len(),
+            },
             lights_fullscreen: lists.fullscreen.len(),
             volumes_outside: lists.sphere_out.len() + lists.cone_out.len(),
             volumes_inside: lists.sphere_in.len() + lists.cone_in.len(),
