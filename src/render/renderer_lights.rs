@@ -57,6 +57,7 @@ impl Renderer {
                     mode: self.opts.shadows,
                     size: self.opts.shadow_size,
                     budget: self.opts.shadow_budget,
+                    stable: self.opts.stable_cascades,
                 },
                 casters,
             ),
