@@ -103,13 +103,18 @@ fn environment_model_dispatch(set: &MaterialSet) -> String {
     let mut text = String::from(
         "fn fx_environment_lighting(material: u32, e: EnvironmentInput) -> LightingOutput {\n    switch fx_materials[material].model {\n",
     );
+    // only the models with an environment function of their own: the others
+    // share the default term's one copy (a switch case each would inline it
+    // once per model, and lanes of different models would run it twice)
     for (k, l) in set.lightings.iter().enumerate() {
-        writeln!(
-            text,
-            "        case {k}u: {{ return {}; }}",
-            environment_call(Some((k, l)))
-        )
-        .unwrap();
+        if l.shader.environment.is_some() {
+            writeln!(
+                text,
+                "        case {k}u: {{ return {}; }}",
+                environment_call(Some((k, l)))
+            )
+            .unwrap();
+        }
     }
     text.push_str("        default: { return fx_environment_default(e); }\n    }\n}\n");
     text
