@@ -85,3 +85,25 @@ pub fn sampler_entry(
 ) -> wgpu::BindGroupLayoutEntry {
     entry(binding, visibility, wgpu::BindingType::Sampler(ty))
 }
+
+/// A bind group of whole buffers, `buffers[i]` at binding `i`.
+pub fn buffers_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}

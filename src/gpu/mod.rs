@@ -3,6 +3,7 @@
 //! of frames through it. No files: sources and sinks are the application's
 //! ([`crate::app`]).
 pub mod bindings;
+pub mod compute_module;
 pub mod context;
 pub mod executor;
 pub mod formats;

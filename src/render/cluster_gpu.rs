@@ -27,7 +27,7 @@ use super::cluster_capacity::CapacityFeedback;
 #[cfg(test)]
 use super::clusters::ClusterLists;
 use super::clusters::{ClusterGrid, GridEdges, MAX_ENTRIES};
-use super::light_view_gpu::LightView;
+use super::light_view_gpu::{dispatch_2d, LightView};
 use crate::gpu::bindings;
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use bytemuck::{Pod, Zeroable};
@@ -38,7 +38,6 @@ const COMPUTE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
 /// Invocations per workgroup of the per-cluster, per-light and per-entry
 /// dispatches, and workgroups per row of a 2D dispatch (as in the shader).
 const WORKGROUP: u32 = 64;
-const ROW: u32 = 32768;
 /// Clusters of a light's footprint per workgroup of the count and fill
 /// dispatches (as in the shaders).
 #[cfg(test)]
@@ -233,25 +232,7 @@ fn group(
         &b.summary,
         view_summary,
     ];
-    let entries: Vec<_> = all
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("light clusters group 0"),
-        layout,
-        entries: &entries,
-    })
-}
-
-/// A 2D dispatch of `n` invocations (rows of [`ROW`] workgroups).
-fn dispatch_2d(n: u32) -> (u32, u32) {
-    let groups = n.div_ceil(WORKGROUP);
-    (groups.min(ROW), groups.div_ceil(ROW).max(1))
+    bindings::buffers_group(device, "light clusters group 0", layout, &all)
 }
 
 impl GpuClusters {
@@ -268,25 +249,14 @@ impl GpuClusters {
                 label: Some("light clusters group 0"),
                 entries: &entries,
             });
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("light clusters"),
-                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-            });
-            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("light clusters"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let pipelines = ENTRY_POINTS.map(|entry| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&format!("light clusters {entry}")),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: ctx.pipeline_cache.as_ref(),
-                })
-            });
+            let pipelines = crate::gpu::compute_module::compute_pipelines(
+                device,
+                ctx.pipeline_cache.as_ref(),
+                "light clusters",
+                SHADER,
+                &layout,
+                ENTRY_POINTS,
+            );
             let buffers = Buffers::new(device);
             let group = group(device, &layout, &buffers, view);
             GpuClusters {

@@ -148,23 +148,12 @@ fn group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, b: &Buffers) -> 
     let all = [
         &b.params, &b.world, &b.locals, &b.lights, &b.records, &b.summary,
     ];
-    let entries: Vec<_> = all
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("light view group 0"),
-        layout,
-        entries: &entries,
-    })
+    bindings::buffers_group(device, "light view group 0", layout, &all)
 }
 
-/// A 2D dispatch of `n` invocations (rows of [`ROW`] workgroups).
-fn dispatch_2d(n: u32) -> (u32, u32) {
+/// A 2D dispatch of `n` invocations (rows of [`ROW`] workgroups of
+/// [`WORKGROUP`], as light_view.wgsl and clusters.wgsl number them).
+pub(crate) fn dispatch_2d(n: u32) -> (u32, u32) {
     let groups = n.div_ceil(WORKGROUP);
     (groups.min(ROW), groups.div_ceil(ROW).max(1))
 }
@@ -203,25 +192,14 @@ impl LightView {
                 label: Some("light view group 0"),
                 entries: &entries,
             });
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("light view"),
-                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-            });
-            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("light view"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let pipelines = ENTRY_POINTS.map(|entry| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&format!("light view {entry}")),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: ctx.pipeline_cache.as_ref(),
-                })
-            });
+            let pipelines = crate::gpu::compute_module::compute_pipelines(
+                device,
+                ctx.pipeline_cache.as_ref(),
+                "light view",
+                SHADER,
+                &layout,
+                ENTRY_POINTS,
+            );
             let buffers = Buffers::new(device);
             let group = group(device, &layout, &buffers);
             LightView {

@@ -43,6 +43,33 @@ pub(super) struct FrameView<'a> {
     motion: MotionCameras,
 }
 
+impl<'a> FrameView<'a> {
+    /// What the shadow planning needs of this frame: the camera, the lights'
+    /// world positions and directions `world`, the casters' `bounds` and the
+    /// renderer's shadow options.
+    pub fn shadow_frame<'b>(
+        &self,
+        opts: &super::RendererOptions,
+        world: &'b [(glam::Vec3, glam::Vec3)],
+        bounds: Aabb,
+    ) -> ShadowFrame<'b>
+    where
+        'a: 'b,
+    {
+        ShadowFrame {
+            camera: self.camera,
+            world,
+            view: self.view,
+            aspect: self.aspect,
+            bounds,
+            mode: opts.shadows,
+            size: opts.shadow_size,
+            budget: opts.shadow_budget,
+            stable: opts.stable_cascades,
+        }
+    }
+}
+
 /// The frame's lights: the lists, their ranges in the visible-index buffer and
 /// the cluster grid (none with light volumes). With cluster lists the light
 /// array and the culling are the GPU's (`renderer_lights.rs`): `lists` holds
@@ -259,20 +286,7 @@ impl Renderer {
             ctx,
             &self.name,
             &mut lists.gpu,
-            (
-                &ShadowFrame {
-                    camera,
-                    world: &lists.world,
-                    view: fv.view,
-                    aspect: fv.aspect,
-                    bounds,
-                    mode: self.opts.shadows,
-                    size: self.opts.shadow_size,
-                    budget: self.opts.shadow_budget,
-                    stable: self.opts.stable_cascades,
-                },
-                casters,
-            ),
+            (&fv.shadow_frame(&self.opts, &lists.world, bounds), casters),
         )?;
         let visible_count = lists.forward.len() as u32;
         let (depth_near, depth_far) =

@@ -13,7 +13,6 @@ use super::lights::{frame_grid, frustum_planes, FrameLists, LightLists, VolumeSc
 use super::renderer::Renderer;
 use super::renderer_frame::{FrameLights, FrameView};
 use super::shadow_cache::CasterChange;
-use super::shadows::ShadowFrame;
 use super::world_lights::WorldLights;
 use crate::gpu::context::GpuContext;
 use crate::scene::Aabb;
@@ -48,17 +47,7 @@ impl Renderer {
             &self.name,
             &mut in_view.gpu,
             (
-                &ShadowFrame {
-                    camera: fv.camera,
-                    world: &in_view.world,
-                    view: fv.view,
-                    aspect: fv.aspect,
-                    bounds,
-                    mode: self.opts.shadows,
-                    size: self.opts.shadow_size,
-                    budget: self.opts.shadow_budget,
-                    stable: self.opts.stable_cascades,
-                },
+                &fv.shadow_frame(&self.opts, &in_view.world, bounds),
                 casters,
             ),
         )?;
