@@ -175,7 +175,7 @@ const FOREST: [SphereCase; 5] = [
 /// - sunrise 10.2 / 10.1 / 8.5 / 6.0 → 4.5 / 3.7 / 1.8 / 1.6 %
 /// - night 15.2 / 6.3 / 7.9 / 4.6 → 6.0 / 2.3 / 2.9 / 1.7 %
 /// - studio 63 / 21.6 / 11.8 / 4.6 → 8.3 / 3.4 / 1.4 / 0.8 %
-const BRIGHT_MAPS: [(&str, [SphereCase; 5]); 4] = [
+const BRIGHT_MAPS: [(&str, [SphereCase; 6]); 4] = [
     ("sunset.exr", BRIGHT_LIMITS),
     ("sunrise.exr", BRIGHT_LIMITS),
     ("night.exr", BRIGHT_LIMITS),
@@ -186,12 +186,18 @@ const BRIGHT_MAPS: [(&str, [SphereCase; 5]); 4] = [
 /// 7 % against the model on the CPU at roughness 0.2 (measured up to 6.2 %,
 /// studio, where the GPU's level 1 holds the residual to 6 % and the deferred
 /// composition reads the G-buffer's 10-bit normal and roughness).
-const BRIGHT_LIMITS: [SphereCase; 5] = [
+///
+/// Red paint at 0.15 is the issue's own rough-glossy dielectric (limit 10 %;
+/// measured 2.5–5.9 % over these maps, 3.4 % under city). Below roughness 0.2
+/// the model on the CPU is not computed (the cells' share of the trilinear
+/// read between levels 0 and 1 is not modelled there), so its limit is unused.
+const BRIGHT_LIMITS: [SphereCase; 6] = [
     (GOLD, 1.0, 0.2, 0.10, 0.07),
     (GOLD, 1.0, 0.3, 0.05, 0.04),
     (GOLD, 1.0, 0.5, 0.05, 0.03),
     (GOLD, 1.0, 0.7, 0.05, 0.03),
     (PAINT, 0.0, 0.35, 0.05, 0.04),
+    (PAINT, 0.0, 0.15, 0.10, 1.0),
 ];
 
 #[test]
@@ -241,9 +247,13 @@ fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<Stri
         let (brdf, facing, grazing) = sphere_error(&px, &pixels, |n, v| {
             ibl::reference_radiance(t, surface, n, v)
         });
-        let (model, _, _) = sphere_error(&px, &pixels, |n, v| {
-            ibl::bright_split_radiance(t, residual, &split.cells, surface, n, v)
-        });
+        let (model, _, _) = if roughness >= 0.2 {
+            sphere_error(&px, &pixels, |n, v| {
+                ibl::bright_split_radiance(t, residual, &split.cells, surface, n, v)
+            })
+        } else {
+            (0.0, 0.0, 0.0)
+        };
         eprintln!(
             "{name}, metallic {metallic}, roughness {roughness}: mean relative error {:.2} % against the BRDF integral (limit {:.1} %; signed: facing {:+.2} %, grazing {:+.2} %), {:.2} % against the model on the CPU (limit {:.1} %), {} pixels",
             brdf * 100.0,
