@@ -459,4 +459,3 @@ fn the_map_is_oriented_as_blender_and_rotates_about_y() {
     eprintln!("centre: rotation 90 {c90:.3}, rotation -90 {cm90:.3}");
     assert!(c90 < 0.2 && cm90 > 0.8);
 }
-
