@@ -72,28 +72,24 @@ fn call(k: usize, l: &ShaderInfo) -> String {
     }
 }
 
-/// The environment term of lighting shader `k` (`None`: the engine's
-/// default): its `environment` (renamed `lmK_environment`) when it has one,
-/// else the engine's default term.
-fn environment_call(k: Option<(usize, &ShaderInfo)>) -> String {
-    match k {
-        Some((k, l)) => match l.shader.environment {
-            Some(true) => format!(
-                "{}environment(fx_env_with_bright(e), fx_lp{k}[material])",
-                model_prefix(k)
-            ),
-            Some(false) => format!("{}environment(fx_env_with_bright(e))", model_prefix(k)),
-            None => "fx_environment_default(e)".to_string(),
-        },
+/// The environment term of lighting shader `k`: its `environment` (renamed
+/// `lmK_environment`) when it has one, else the engine's default term.
+fn environment_call(k: usize, l: &ShaderInfo) -> String {
+    match l.shader.environment {
+        Some(true) => format!(
+            "{}environment(fx_env_with_bright(e), fx_lp{k}[material])",
+            model_prefix(k)
+        ),
+        Some(false) => format!("{}environment(fx_env_with_bright(e))", model_prefix(k)),
         None => "fx_environment_default(e)".to_string(),
     }
 }
 
 /// `fx_environment_lighting` of a geometry module: its lighting shader's term.
-fn environment_dispatch(k: Option<(usize, &ShaderInfo)>) -> String {
+fn environment_dispatch(k: usize, l: &ShaderInfo) -> String {
     format!(
         "fn fx_environment_lighting(material: u32, e: EnvironmentInput) -> LightingOutput {{\n    return {};\n}}\n",
-        environment_call(k)
+        environment_call(k, l)
     )
 }
 
@@ -111,7 +107,7 @@ fn environment_model_dispatch(set: &MaterialSet) -> String {
             writeln!(
                 text,
                 "        case {k}u: {{ return {}; }}",
-                environment_call(Some((k, l)))
+                environment_call(k, l)
             )
             .unwrap();
         }
@@ -154,7 +150,7 @@ pub fn geometry_module(
         call(k, l)
     )
     .unwrap();
-    text.push_str(&environment_dispatch(Some((k, l))));
+    text.push_str(&environment_dispatch(k, l));
     text.push_str(MATERIAL_INTERFACE);
     resolve(text, &s.flags, key.features, mode, light_count)
 }
