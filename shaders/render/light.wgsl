@@ -81,22 +81,46 @@ fn fx_fs_light(in: FxLightVsOut) -> FxLightOut {
     return FxLightOut(vec4<f32>(lo.diffuse, 0.0), vec4<f32>(lo.specular, 0.0));
 }
 
-// The lights of the pixel at `xy` (pixel centre) from the G-buffer: the global
-// lights and the lights of its cluster (src/render/clusters.rs), read once.
-fn fx_light_clustered(xy: vec2<f32>) -> FxLightOut {
+// One pixel of the G-buffer, read once by the clustered light pass and the
+// deferred composition.
+struct FxGbufferPixel {
+    // depth (1 where nothing was drawn: the other fields are then unset)
+    depth: f32,
+    // view-space position
+    p: vec3<f32>,
+    // encoded normal, roughness, 0 for a layered surface
+    normal: vec4<f32>,
+    // F0, lighting model id / 255
+    specular: vec4<f32>,
+    // diffuse colour, material id / 255
+    albedo: vec4<f32>,
+}
+
+fn fx_gbuffer_pixel(xy: vec2<f32>) -> FxGbufferPixel {
     let c = vec2<i32>(xy);
-    let depth = textureLoad(fx_t_depth, c, 0);
-    if depth >= 1.0 {
+    var px: FxGbufferPixel;
+    px.depth = textureLoad(fx_t_depth, c, 0);
+    if px.depth < 1.0 {
+        px.p = fx_view_position(xy, px.depth);
+        px.normal = textureLoad(fx_t_normal, c, 0);
+        px.specular = textureLoad(fx_t_specular, c, 0);
+        px.albedo = textureLoad(fx_t_albedo, c, 0);
+    }
+    return px;
+}
+
+// The lights of G-buffer pixel `px` at `xy` (pixel centre): the global lights
+// and the lights of its cluster (src/render/clusters.rs).
+fn fx_light_clustered(xy: vec2<f32>, px: FxGbufferPixel) -> FxLightOut {
+    if px.depth >= 1.0 || px.normal.a < 0.5 {
+        // nothing drawn, or a layered surface (clear coat, transmission), lit
+        // in its geometry pass
         return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
     }
-    let p = fx_view_position(xy, depth);
-    let g = textureLoad(fx_t_normal, c, 0);
-    if g.a < 0.5 {
-        // a layered surface (clear coat, transmission), lit in its geometry pass
-        return FxLightOut(vec4<f32>(0.0), vec4<f32>(0.0));
-    }
-    let sp = textureLoad(fx_t_specular, c, 0);
-    let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
+    let p = px.p;
+    let g = px.normal;
+    let sp = px.specular;
+    let material = u32(round(px.albedo.a * 255.0));
     let model = u32(round(sp.a * 255.0));
     let n = fx_decode_normal(g.xy);
     let v = fx_safe_normalize(-p);
@@ -121,7 +145,7 @@ fn fx_light_clustered(xy: vec2<f32>) -> FxLightOut {
 // added to the light buffers by blending.
 @fragment
 fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
-    return fx_light_clustered(pos.xy);
+    return fx_light_clustered(pos.xy, fx_gbuffer_pixel(pos.xy));
 }
 
 // The clustered light pass in compute (src/render/light_compute.rs): one
@@ -133,10 +157,10 @@ fn fx_fs_light_clustered(@builtin(position) pos: vec4<f32>) -> FxLightOut {
 @group(2) @binding(2) var fx_c_scene: texture_storage_2d<rgba16float, write>;
 @group(2) @binding(3) var fx_c_emission: texture_2d<f32>;
 
-// Lights one pixel; returns its light buffers (written) and its pixel position.
-fn fx_cs_light_pixel(id: vec2<u32>, emission: bool) -> FxLightOut {
+// Lights G-buffer pixel `px` at `id`; returns its light buffers (written).
+fn fx_cs_light_pixel(id: vec2<u32>, px: FxGbufferPixel, emission: bool) -> FxLightOut {
     let c = vec2<i32>(id);
-    var lit = fx_light_clustered(vec2<f32>(id) + 0.5);
+    var lit = fx_light_clustered(vec2<f32>(id) + 0.5, px);
     if emission {
         lit.specular += textureLoad(fx_c_emission, c, 0);
     }
@@ -153,7 +177,7 @@ fn fx_cs_inside(id: vec3<u32>) -> bool {
 @compute @workgroup_size(8, 8)
 fn fx_cs_light(@builtin(global_invocation_id) id: vec3<u32>) {
     if fx_cs_inside(id) {
-        fx_cs_light_pixel(id.xy, false);
+        fx_cs_light_pixel(id.xy, fx_gbuffer_pixel(vec2<f32>(id.xy) + 0.5), false);
     }
 }
 
@@ -164,18 +188,17 @@ fn fx_cs_light_compose(@builtin(global_invocation_id) id: vec3<u32>) {
     if !fx_cs_inside(id) {
         return;
     }
-    let lit = fx_cs_light_pixel(id.xy, true);
     let c = vec2<i32>(id.xy);
     let xy = vec2<f32>(id.xy) + 0.5;
-    let depth = textureLoad(fx_t_depth, c, 0);
-    if depth >= 1.0 {
+    let px = fx_gbuffer_pixel(xy);
+    let lit = fx_cs_light_pixel(id.xy, px, true);
+    if px.depth >= 1.0 {
         textureStore(fx_c_scene, c, fx_background(xy));
         return;
     }
-    let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
-    let p = fx_view_position(xy, depth);
-    let environment = fx_deferred_environment(c, p, albedo, lit.specular.a);
-    textureStore(fx_c_scene, c, vec4<f32>(fx_fog(albedo * lit.diffuse.rgb + lit.specular.rgb + environment, p), 1.0));
+    let environment = fx_deferred_environment(px, lit.specular.a);
+    let albedo = px.albedo.rgb;
+    textureStore(fx_c_scene, c, vec4<f32>(fx_fog(albedo * lit.diffuse.rgb + lit.specular.rgb + environment, px.p), 1.0));
 }
 
 @vertex
@@ -183,27 +206,25 @@ fn fx_vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f
     return fx_fullscreen_pos(vi);
 }
 
-// The environment's light (environment.wgsl) at deferred pixel `c` of view-space
-// point `p`, from the G-buffer: evaluated here, once per pixel and in compute
-// where the light pass runs in compute, rather than in the geometry pass (on
+// The environment's light (environment.wgsl) at deferred G-buffer pixel `px`:
+// evaluated here, once per pixel and in compute where the light pass runs in
+// compute, rather than in the geometry pass (on
 // GPUs whose rasterisation is a small part of the chip, its lookups cost the
 // G-buffer pass half its time; issue 26). `occlusion` is the specular light
 // buffer's alpha, where the geometry pass wrote the material's occlusion. A
 // layered surface (clear coat, transmission) was lit whole, environment
 // included, in its geometry pass.
-fn fx_deferred_environment(c: vec2<i32>, p: vec3<f32>, albedo: vec3<f32>, occlusion: f32) -> vec3<f32> {
-    let g = textureLoad(fx_t_normal, c, 0);
-    if g.a < 0.5 || fx_env.flags.x == 0u {
+fn fx_deferred_environment(px: FxGbufferPixel, occlusion: f32) -> vec3<f32> {
+    if px.normal.a < 0.5 || fx_env.flags.x == 0u {
         return vec3<f32>(0.0);
     }
     var s: SurfaceOutput;
-    s.normal = fx_decode_normal(g.xy);
-    s.diffuse = albedo;
-    s.specular = textureLoad(fx_t_specular, c, 0).rgb;
-    s.roughness = g.z;
+    s.normal = fx_decode_normal(px.normal.xy);
+    s.diffuse = px.albedo.rgb;
+    s.specular = px.specular.rgb;
+    s.roughness = px.normal.z;
     s.occlusion = occlusion;
-    let material = u32(round(textureLoad(fx_t_albedo, c, 0).a * 255.0));
-    return fx_environment(s, p, material);
+    return fx_environment(s, px.p, u32(round(px.albedo.a * 255.0)));
 }
 
 // diffuse colour × diffuse light + specular light (which started as emission +
@@ -211,16 +232,14 @@ fn fx_deferred_environment(c: vec2<i32>, p: vec3<f32>, albedo: vec3<f32>, occlus
 @fragment
 fn fx_fs_compose(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let c = vec2<i32>(pos.xy);
-    let depth = textureLoad(fx_t_depth, c, 0);
-    if depth >= 1.0 {
+    let px = fx_gbuffer_pixel(pos.xy);
+    if px.depth >= 1.0 {
         return fx_background(pos.xy);
     }
-    let albedo = textureLoad(fx_t_albedo, c, 0).rgb;
     let diffuse = textureLoad(fx_t_light_diffuse, c, 0).rgb;
     let specular = textureLoad(fx_t_light_specular, c, 0);
-    let p = fx_view_position(pos.xy, depth);
-    let environment = fx_deferred_environment(c, p, albedo, specular.a);
-    return vec4<f32>(fx_fog(albedo * diffuse + specular.rgb + environment, p), 1.0);
+    let environment = fx_deferred_environment(px, specular.a);
+    return vec4<f32>(fx_fog(px.albedo.rgb * diffuse + specular.rgb + environment, px.p), 1.0);
 }
 
 // The environment behind the geometry (light pre-pass and forward; deferred
