@@ -13,13 +13,13 @@
 //! perpendicular to r, towards the normal) at the level of roughness `ρ_k`,
 //! weighted by `w_k` (Σ w = 1, so a constant environment is kept exactly).
 //! Each tap's lobe is the prefiltered level's, `D(d·h) G1(d·l)` about d,
-//! normalised, of roughness `ρ_k` (at least 0.2, the first filtered level,
-//! for surfaces from 0.2 on); below roughness 0.25 it is instead the mix of
+//! normalised, of roughness `ρ_k` (at least 0.1, the first filtered level,
+//! for surfaces from 0.1 on); below roughness 0.25 it is instead the mix of
 //! two levels' lobes that the shader's trilinear read gives in a 1024 × 512
-//! map's chain (levels of roughness 0, 0.2, 0.3, 0.45, 0.7, 1: below 0.25 the
-//! lobe is no wider than the first step),
+//! map's chain (levels of roughness 0, 0.1, 0.2, 0.3, 0.45, 0.7, 1: below 0.25
+//! the lobe is no wider than the steps there),
 //! with level 0, the unfiltered map, a point read that adds its whole weight
-//! to the distance. Below 0.15 the taps are the split sum's. The fit minimises the L1 distance between the normalised true
+//! to the distance. At roughness 0 the taps are the split sum's (a mirror). The fit minimises the L1 distance between the normalised true
 //! lobe and the weighted sum of tap lobes over the sphere (it bounds the
 //! error of the mean radiance for any bounded map), by Nelder–Mead from the
 //! neighbouring grid point's solution (so the table is smooth for bilinear
@@ -191,10 +191,10 @@ fn taps(p: &[f64], floor: f64) -> [[f64; 3]; TAPS] {
 /// map's chain, level m at roughness [`LEVEL_ROUGHNESS`]`[m]`
 /// (docs/environment.md, "Prefiltering"); other chains read the same taps from
 /// their own levels.
-const LAST_LEVEL: f64 = 5.0;
+const LAST_LEVEL: f64 = 6.0;
 
 /// src/render/environment/levels.rs's knots: a 1024 × 512 map's levels.
-const LEVEL_ROUGHNESS: [f64; 6] = [0.0, 0.2, 0.3, 0.45, 0.7, 1.0];
+const LEVEL_ROUGHNESS: [f64; 7] = [0.0, 0.1, 0.2, 0.3, 0.45, 0.7, 1.0];
 
 /// The level (0 ..= `LAST_LEVEL`, fractional) of roughness `rho`.
 fn level_of(rho: f64) -> f64 {
@@ -339,9 +339,8 @@ fn fit_row(j: usize) -> Vec<Fitted> {
     let mut prev = split_sum(roughness);
     for i in (0..MU).rev() {
         let mu = (i as f64 / (MU - 1) as f64).max(0.02);
-        if roughness < 0.15 {
-            // below the first filtered level (0.2): the split sum, every tap on
-            // the dominant direction (a mirror at roughness 0)
+        if roughness < 0.05 {
+            // a mirror: the split sum, every tap on the dominant direction
             row[i] = ([[0.0, roughness, 1.0 / TAPS as f64]; TAPS], 0.0, 0.0);
             continue;
         }
@@ -350,7 +349,9 @@ fn fit_row(j: usize) -> Vec<Fitted> {
         let want = true_lobe(&pts, mu, roughness);
         let f = |p: &[f64]| loss(&pts, &want, mu, roughness, p);
         let base = f(&split_sum(roughness));
-        let step: Vec<f64> = (0..TAPS).flat_map(|_| [0.05, 0.05, 0.2]).collect();
+        // offsets in steps no wider than the lobe (α = 0.01 at roughness 0.1)
+        let o_step = 0.05 * (roughness / 0.2).min(1.0);
+        let step: Vec<f64> = (0..TAPS).flat_map(|_| [o_step, 0.05, 0.2]).collect();
         let (start, _) = nelder_mead(&f, &prev, &step);
         let fine: Vec<f64> = step.iter().map(|s| s * 0.3).collect();
         let (best, fbest) = nelder_mead(&f, &start, &fine);
@@ -373,7 +374,7 @@ fn main() {
          //! the environment term's lobe model, [`LOBE_TAPS`] reads of the prefiltered\n\
          //! cube per (n·v, roughness) fitted to the glTF BRDF's lobe at n ≠ v.\n\
          //! L1 distance of the normalised lobes (the shader's reads of a 1024 × 512\n\
-         //! map's chain), mean over the grid from roughness 0.2:\n\
+         //! map's chain), mean over the grid from roughness 0.1:\n\
          //! split sum {:.3}, fit {:.3}.\n",
         mean(&rows, 1),
         mean(&rows, 2)
@@ -413,7 +414,7 @@ fn main() {
 
 /// Mean of field `k` (1: split sum's L1, 2: the fit's) over the fitted rows.
 fn mean(rows: &[Vec<Fitted>], k: usize) -> f64 {
-    let vals: Vec<f64> = rows[2..]
+    let vals: Vec<f64> = rows[1..]
         .iter()
         .flatten()
         .map(|c| if k == 1 { c.1 } else { c.2 })

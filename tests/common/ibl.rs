@@ -5,7 +5,7 @@
 //! Vulkan / WebGPU face selection table.
 #![allow(dead_code)]
 
-use super::brdf::{gltf_spec_brdf, hemisphere_albedo, Model, OracleCamera};
+use super::brdf::{gltf_spec_brdf, specular_albedo_ggx_grid, OracleCamera};
 use fxgraph::render::environment::bright::BrightCell;
 use fxgraph::scene::environment::{uv_to_direction, Equirect};
 use fxgraph::scene::{Camera, Environment, Material, Scene, ShaderBinding};
@@ -100,8 +100,7 @@ impl MetalRough {
 /// integrated over every texel, plus the multiple-scattering lobe of
 /// Fdez-Agüera (2019) the renderer adds to compensate the energy single
 /// scattering loses: `Fms · Ems · E/π` with `Ess` (F0 = 1) and `Fss·Ess` (the
-/// surface's F0) integrated here by brute force over the hemisphere
-/// ([`hemisphere_albedo`]), `Favg = F0 + (1 − F0)/21`,
+/// surface's F0) integrated here over the hemisphere ([`scattering`]), `Favg = F0 + (1 − F0)/21`,
 /// `Fms = Fss·Ess · Favg / (1 − (1 − Ess) Favg)`.
 pub fn reference_radiance(t: &[Texel], s: MetalRough, n: Vec3, v: Vec3) -> Vec3 {
     let brdf = |l: Vec3| gltf_spec_brdf(s.base, s.metallic, s.roughness, n, v, l);
@@ -202,7 +201,7 @@ pub fn split_sum_radiance(t: &[Texel], s: MetalRough, n: Vec3, v: Vec3) -> Vec3 
 /// from 1 on hold the residual) and the irradiance the `whole` map's, plus the
 /// bright cells' light under the glTF BRDF's single-scattering specular term,
 /// each cell a direction with the lobe widened by its angular radius
-/// (environment.wgsl `fx_env_bright_specular`). Roughness ≥ 0.2: the cells'
+/// (environment.wgsl `fx_env_bright_specular`). Roughness ≥ 0.1: the cells'
 /// share is 1 there.
 pub fn bright_split_radiance(
     whole: &[Texel],
@@ -213,8 +212,8 @@ pub fn bright_split_radiance(
     v: Vec3,
 ) -> Vec3 {
     assert!(
-        s.roughness >= 0.2,
-        "the cells' share below roughness 0.2 is not modelled here"
+        s.roughness >= 0.1,
+        "the cells' share below roughness 0.1 is not modelled here"
     );
     let (fss_ess, fms_ems) = scattering(s.f0(), s.roughness, n, v);
     let e = irradiance(whole, n);
@@ -281,25 +280,28 @@ pub fn model_prefiltered(t: &[Texel], roughness: f32, n: Vec3, v: Vec3) -> Vec3 
 
 /// `(Fss·Ess, Fms·Ems)` of Fdez-Agüera (2019) at a point of normal `n` seen
 /// from `v`: the single-scattering specular albedo for `f0` and the
-/// multiple-scattering lobe's weight, from brute-force hemisphere integrals of
-/// the glTF BRDF ([`hemisphere_albedo`]), `Ess` its albedo for F0 = 1,
-/// `Ems = 1 − Ess`, `Favg = F0 + (1 − F0)/21`, `Fms = Fss·Ess · Favg / (1 −
-/// Ems·Favg)`. The hemisphere grid has 1.9° steps from roughness 0.3 on and
-/// 0.7° below, where the lobe (α = 0.04 at roughness 0.2) spans only a few
-/// 1.9° steps: there the coarse grid's albedo is off by several per cent.
+/// multiple-scattering lobe's weight, from the glTF BRDF integrated over the
+/// hemisphere on a grid uniform in GGX's distribution of the half vector
+/// ([`specular_albedo_ggx_grid`], 128 × 256 points), `Ess` its albedo for F0 =
+/// 1, `Ems = 1 − Ess`, `Favg = F0 + (1 − F0)/21`, `Fms = Fss·Ess · Favg / (1 −
+/// Ems·Favg)`. An angle grid (1.9° or 0.7° steps, as this used before) misses
+/// a smooth lobe at grazing view: at roughness 0.1 and n·v = 0.08 it gave Ess
+/// 0.03 instead of 0.76, so the reference added the irradiance back as if the
+/// surface had lost 97 % of its energy (tests/environment.rs checks the grid).
 pub fn scattering(f0: Vec3, roughness: f32, n: Vec3, v: Vec3) -> (Vec3, Vec3) {
     let mu = n.dot(v).clamp(1e-4, 1.0);
     let v_local = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-    let steps = if roughness < 0.3 { 128 } else { 48 };
-    let (_, ess) = hemisphere_albedo(Model::CookTorrance, Vec3::ONE, roughness, v_local, steps);
-    let (_, fss_ess) = hemisphere_albedo(Model::CookTorrance, f0, roughness, v_local, steps);
+    let ess = specular_albedo_ggx_grid(Vec3::ONE, roughness, v_local, SCATTERING_STEPS);
+    let fss_ess = specular_albedo_ggx_grid(f0, roughness, v_local, SCATTERING_STEPS);
     let ems = 1.0 - ess.x;
     let f_avg = f0 + (Vec3::ONE - f0) / 21.0;
     let fms = fss_ess * f_avg / (Vec3::ONE - ems * f_avg);
     (fss_ess, fms * ems)
 }
 
-/// `../shared/corpus/REL`; a missing corpus fails the test.
+/// Rows of [`scattering`]'s grid (its columns are twice as many).
+pub const SCATTERING_STEPS: u32 = 128;
+
 pub fn corpus(rel: &str) -> std::path::PathBuf {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/corpus")

@@ -2,17 +2,20 @@
 //!
 //! A chain of L levels spans roughness 0 (level 0, the unfiltered map) to 1
 //! (level L − 1). Level m holds the roughness of [`LEVEL_ROUGHNESS`] at
-//! x = m / (L − 1), piecewise linear between its knots (at x = 0, 0.2, …, 1):
-//! for a 1024 × 512 map's six levels exactly the knots, 0, 0.2, 0.3, 0.45,
-//! 0.7 and 1. The levels are closer together at low roughness, where a mix of
-//! two levels' lobes (what the shader's trilinear read between them gives) is
-//! furthest from the lobe between them (issue 29; docs/environment.md,
-//! "Prefiltering"). environment.wgsl's `fx_env_level_roughness` and
+//! x = m / (L − 1), piecewise linear between its knots (at x = 0, 1/6, …, 1):
+//! for a 1024 × 512 map's seven levels exactly the knots, 0, 0.1, 0.2, 0.3,
+//! 0.45, 0.7 and 1. The levels are closer together at low roughness, where a
+//! mix of two levels' lobes (what the shader's trilinear read between them
+//! gives) is furthest from the lobe between them (issue 29; docs/environment.md,
+//! "Prefiltering"). The knot at 0.1 is there for smooth metals: with the first
+//! filtered level at 0.2, a lobe of 0.1 was read as a mix of the unfiltered map
+//! and a lobe twice as wide, and gold at roughness 0.1 was 19–58 % off the
+//! BRDF integral under the corpus maps. environment.wgsl's `fx_env_level_roughness` and
 //! `fx_env_level_position`, and examples/ibl_lobe_fit.rs, hold the same knots
 //! (checked below).
 
-/// The roughness at x = 0, 0.2, 0.4, 0.6, 0.8, 1 of the chain.
-pub const LEVEL_ROUGHNESS: [f32; 6] = [0.0, 0.2, 0.3, 0.45, 0.7, 1.0];
+/// The roughness at x = 0, 1/6, 2/6, …, 1 of the chain.
+pub const LEVEL_ROUGHNESS: [f32; 7] = [0.0, 0.1, 0.2, 0.3, 0.45, 0.7, 1.0];
 
 /// The roughness at position `x` (0 ..= 1) of the chain.
 pub fn roughness_at(x: f32) -> f32 {
@@ -51,8 +54,9 @@ mod tests {
             let x = i as f32 / 100.0;
             assert!((position_of(roughness_at(x)) - x).abs() < 1e-5, "at {x}");
         }
-        assert_eq!(level_roughness(2, 6), 0.3);
-        assert_eq!(level_roughness(5, 6), 1.0);
+        assert_eq!(level_roughness(1, 7), 0.1);
+        assert_eq!(level_roughness(3, 7), 0.3);
+        assert_eq!(level_roughness(6, 7), 1.0);
     }
 
     #[test]
@@ -60,13 +64,13 @@ mod tests {
         let wgsl = include_str!("../../../shaders/render/environment.wgsl");
         let knots: Vec<String> = LEVEL_ROUGHNESS.iter().map(|r| format!("{r:?}")).collect();
         let line = format!(
-            "const FX_ENV_LEVEL_ROUGHNESS = array<f32, 6>({});",
+            "const FX_ENV_LEVEL_ROUGHNESS = array<f32, 7>({});",
             knots.join(", ")
         );
         assert!(wgsl.contains(&line), "environment.wgsl lacks `{line}`");
-        // the fit models the shader's reads of a six-level chain
+        // the fit models the shader's reads of a seven-level chain
         let fit = include_str!("../../../examples/ibl_lobe_fit.rs");
-        let line = format!("const LEVEL_ROUGHNESS: [f64; 6] = [{}];", knots.join(", "));
+        let line = format!("const LEVEL_ROUGHNESS: [f64; 7] = [{}];", knots.join(", "));
         assert!(
             fit.contains(&line),
             "examples/ibl_lobe_fit.rs lacks `{line}`"

@@ -6,10 +6,11 @@
 //! 1. the equirectangular map → a source cube map of side `S` (the map's width / 4
 //!    rounded up to a power of two, 16 ..= [`MAX_FACE`]) with a box-filtered mip
 //!    chain down to 1×1;
-//! 2. the specular cube map: side `S`, `L = log2(S) − 2` levels (down to 8×8);
+//! 2. the specular cube map: side `S`, `L = log2(S) − 1` levels (down to 4×4);
 //!    level `m` holds the radiance prefiltered with the GGX lobe of perceptual
-//!    roughness [`level_roughness`](super::level_roughness)`(m, L)` (0, 0.2,
-//!    0.3, 0.45, 0.7, 1 for six levels; level 0 is a copy of the source);
+//!    roughness [`level_roughness`](super::level_roughness)`(m, L)` (0, 0.1,
+//!    0.2, 0.3, 0.45, 0.7, 1 for seven levels; level 0 is a copy of the
+//!    source);
 //!    shading reads it trilinearly between the two levels that bracket the
 //!    surface's roughness, at the fraction linear in the lobes' spread
 //!    (environment.wgsl `fx_env_specular_level`). Narrow lobes (roughness below [`CONVOLVED_ROUGHNESS`]) are
@@ -39,7 +40,7 @@ pub const MAX_FACE: u32 = 512;
 pub const IRRADIANCE_FACE: u32 = 16;
 /// GGX importance samples per texel of the specular levels of roughness below
 /// [`CONVOLVED_ROUGHNESS`] (level 1, level 2, ...; the last for the rest).
-pub const SPECULAR_SAMPLES: [u32; 3] = [128, 512, 256];
+pub const SPECULAR_SAMPLES: [u32; 4] = [128, 512, 512, 256];
 /// Levels of at least this roughness, and the irradiance, are summed over
 /// every texel of the source's [`CONVOLVED_SIDE`]² level instead.
 pub const CONVOLVED_ROUGHNESS: f32 = 0.65;
@@ -182,9 +183,10 @@ pub fn face_size(width: u32) -> u32 {
     (width / 4).max(1).next_power_of_two().clamp(16, MAX_FACE)
 }
 
-/// Levels of the specular map of side `size`: down to 8×8.
+/// Levels of the specular map of side `size`: down to 4×4 (the roughness-1
+/// lobe is over 60° wide; a 4×4 face's texels are 22.5°).
 pub fn specular_levels(size: u32) -> u32 {
-    (size.trailing_zeros()).saturating_sub(2).max(2)
+    (size.trailing_zeros()).saturating_sub(1).max(2)
 }
 
 fn cube(device: &wgpu::Device, label: &str, size: u32, levels: u32) -> wgpu::Texture {
