@@ -21,7 +21,7 @@ struct FxEnvironment {
     bright_norm: array<vec4<f32>, 4>,
     // the map's brightest parts, taken out of the specular levels from level 1
     // on and shaded exactly (src/render/environment/bright.rs)
-    bright: array<FxEnvBright, 64>,
+    bright: array<FxEnvBright, 128>,
 }
 
 struct FxEnvBright {
@@ -182,7 +182,10 @@ fn fx_env_bright_specular(n: vec3<f32>, v: vec3<f32>, f0: vec3<f32>, roughness: 
         let h = normalize(vm + l);
         let d = fx_env_cell_d(nm, vm, l, alpha, c.direction_radius.w);
         let vis = 0.5 / max(ndl * sqrt(ndv * ndv * (1.0 - a2) + a2) + ndv * sqrt(ndl * ndl * (1.0 - a2) + a2), 1e-12);
-        let f = f0 + (vec3<f32>(1.0) - f0) * pow(1.0 - max(dot(vm, h), 0.0), 5.0);
+        // clamped: v.h of unit vectors can round above 1, and pow of a
+        // negative base is NaN (a cell behind the camera lit a wall's pixel
+        // NaN, which the effect chain spread into black squares)
+        let f = f0 + (vec3<f32>(1.0) - f0) * pow(clamp(1.0 - dot(vm, h), 0.0, 1.0), 5.0);
         sum += c.power_omega.rgb * f * (d * vis * ndl);
     }
     return sum * (fx_env.params.x * fx_env_bright_share(roughness));

@@ -204,7 +204,7 @@ fn fs_dfg(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         if l.z > 0.0 && vdh > 0.0 {
             // f cos / pdf, with pdf = D (n.h) / (4 v.h): 4 V (v.h) (n.l) / (n.h)
             let g = 4.0 * v_smith_correlated(ndv, l.z, alpha) * vdh * l.z / max(h.z, 1e-12);
-            let fc = pow(1.0 - vdh, 5.0);
+            let fc = pow(clamp(1.0 - vdh, 0.0, 1.0), 5.0);
             a += (1.0 - fc) * g;
             b += fc * g;
         }

@@ -40,7 +40,7 @@ pub const MAX_FACE: u32 = 512;
 pub const IRRADIANCE_FACE: u32 = 16;
 /// GGX importance samples per texel of the specular levels of roughness below
 /// [`CONVOLVED_ROUGHNESS`] (level 1, level 2, ...; the last for the rest).
-pub const SPECULAR_SAMPLES: [u32; 4] = [128, 512, 512, 256];
+pub const SPECULAR_SAMPLES: [u32; 4] = [128, 512, 512, 512];
 /// Levels of at least this roughness, and the irradiance, are summed over
 /// every texel of the source's [`CONVOLVED_SIDE`]² level instead.
 pub const CONVOLVED_ROUGHNESS: f32 = 0.65;
