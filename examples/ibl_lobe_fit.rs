@@ -18,8 +18,8 @@
 //! two levels' lobes that the shader's trilinear read gives in a 1024 × 512
 //! map's chain (levels of roughness 0, 0.1, 0.2, 0.3, 0.45, 0.7, 1: below 0.25
 //! the lobe is no wider than the steps there),
-//! with level 0, the unfiltered map, a point read that adds its whole weight
-//! to the distance. At roughness 0 the taps are the split sum's (a mirror). The fit minimises the L1 distance between the normalised true
+//! with level 0, the unfiltered map, a lobe a texel wide (`LEVEL0_FOOTPRINT`).
+//! At roughness 0 the taps are the split sum's (a mirror). The fit minimises the L1 distance between the normalised true
 //! lobe and the weighted sum of tap lobes over the sphere (it bounds the
 //! error of the mean radiance for any bounded map), by Nelder–Mead from the
 //! neighbouring grid point's solution (so the table is smooth for bilinear
@@ -223,9 +223,32 @@ fn levels(rho: f64) -> (usize, f64) {
 }
 
 /// The lowest roughness a tap of a surface of roughness `roughness` reads:
-/// not below the first filtered level (level 0 is the unfiltered map).
+/// any where the reads are modelled as mixes of levels (level 0 included, see
+/// [`LEVEL0_FOOTPRINT`]), else not below the first filtered level.
 fn floor(roughness: f64) -> f64 {
-    roughness.min(LEVEL_ROUGHNESS[1])
+    if reads_levels(roughness) {
+        0.0
+    } else {
+        roughness.min(LEVEL_ROUGHNESS[1])
+    }
+}
+
+/// Level 0, the unfiltered source cube of a 1024 × 512 map (256² faces, 0.35°
+/// texels), read bilinearly: not a point but a lobe about a texel wide, taken
+/// as GGX of this roughness (2α = 0.006 rad, a texel). At grazing view the
+/// true lobe of roughness 0.1 is narrower across the plane of incidence than
+/// level 1's round lobe (2α n·v), and mixes with level 0 fit it: with level 0
+/// counted as a misplaced point instead, the fit's L1 at roughness 0.1 was
+/// 0.53 at n·v = 0.5 and 0.98 at 0.25 (now 0.22 and 0.38).
+const LEVEL0_FOOTPRINT: f64 = 0.055;
+
+/// The lobe level `level` of the chain holds.
+fn level_lobe(level: usize) -> f64 {
+    if level == 0 {
+        LEVEL0_FOOTPRINT
+    } else {
+        LEVEL_ROUGHNESS[level]
+    }
 }
 
 /// Whether the fit at `roughness` models the shader's reads as the mix of two
@@ -238,13 +261,11 @@ fn reads_levels(roughness: f64) -> bool {
 
 /// L1 distance between the true lobe and the taps' sum. Each tap is the lobe
 /// of its roughness or, where [`reads_levels`], the mix of two levels' lobes
-/// that the shader's trilinear read gives; then level 0, the unfiltered map,
-/// is a point read, counted as a displaced mass (its whole weight adds to the
-/// distance).
+/// that the shader's trilinear read gives (level 0, the unfiltered map, as
+/// [`LEVEL0_FOOTPRINT`]'s lobe).
 fn loss(pts: &[(V3, f64)], want: &[f64], mu: f64, roughness: f64, p: &[f64]) -> f64 {
     let (_, r, t) = frame(mu, roughness);
     let mut sum = vec![0.0; pts.len()];
-    let mut point_reads = 0.0;
     for [o, rho, w] in taps(p, floor(roughness)) {
         let d = norm(add(r, t, o));
         let mut add_lobe = |level: f64, share: f64| {
@@ -256,20 +277,14 @@ fn loss(pts: &[(V3, f64)], want: &[f64], mu: f64, roughness: f64, p: &[f64]) -> 
             continue;
         }
         let (low, f) = levels(rho);
-        if low > 0 {
-            add_lobe(LEVEL_ROUGHNESS[low], w * (1.0 - f));
-        } else {
-            point_reads += w * (1.0 - f);
-        }
+        add_lobe(level_lobe(low), w * (1.0 - f));
         add_lobe(LEVEL_ROUGHNESS[low + 1], w * f);
     }
-    point_reads
-        + sum
-            .iter()
-            .zip(want)
-            .zip(pts)
-            .map(|((s, w), p)| (s - w).abs() * p.1)
-            .sum::<f64>()
+    sum.iter()
+        .zip(want)
+        .zip(pts)
+        .map(|((s, w), p)| (s - w).abs() * p.1)
+        .sum::<f64>()
 }
 
 /// Nelder–Mead from `x0` with initial steps `step`: (best point, its value).
