@@ -161,8 +161,9 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
     assert!(failures.is_empty(), "{failures:?}");
 }
 
-/// Gold at roughness 0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 0.9 and red paint at 0.2,
-/// 0.5, 0.9 under city.exr (a bright overcast sky over a dark car park).
+/// Gold at roughness 0.05, 0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 0.9 and red paint at
+/// 0.2, 0.5, 0.9 under city.exr (a bright overcast sky over a dark car park).
+/// Gold at 0.05 against the sampled reference ([`SAMPLED_BELOW`]): 5.0 %.
 /// Issue 29 asks for metals within 5 % of the integral from roughness 0.3 on
 /// and 10 % below. Measured with the chain's level at roughness 0.1 and the
 /// reference's albedo on a GGX-distributed grid (`ibl::scattering`), gold at
@@ -173,7 +174,8 @@ fn spheres_under_a_real_map_match_the_brdf_integrated_over_its_texels() {
 /// level at 0.1, with the reference's old angle-grid albedo: gold at 0.1 19.6
 /// %, at 0.15 7.6 % (integrated over the full 1024 × 512 map). The limits are
 /// the figures plus about half a point.
-const CITY: [SphereCase; 10] = [
+const CITY: [SphereCase; 11] = [
+    (GOLD, 1.0, 0.05, 0.10, None),
     (GOLD, 1.0, 0.1, 0.10, Some(0.025)),
     (GOLD, 1.0, 0.15, 0.10, Some(0.035)),
     (GOLD, 1.0, 0.2, 0.045, Some(0.023)),
@@ -223,12 +225,26 @@ const FOREST: [SphereCase; 7] = [
 /// the dark around the soft boxes; halving the cells' size quarters the
 /// widening: 9.9 %; level 0 modelled as a lobe a texel wide in the lobe
 /// model's fit: 6.6 %).
-const BRIGHT_MAPS: [(&str, [SphereCase; 8]); 4] = [
-    ("sunset.exr", BRIGHT_LIMITS),
-    ("sunrise.exr", BRIGHT_LIMITS),
-    ("night.exr", BRIGHT_LIMITS),
-    ("studio.exr", BRIGHT_LIMITS),
+const BRIGHT_MAPS: [(&str, &[SphereCase]); 4] = [
+    ("sunset.exr", &SMOOTH_AND_BRIGHT_LIMITS),
+    ("sunrise.exr", &SMOOTH_AND_BRIGHT_LIMITS),
+    ("night.exr", &SMOOTH_AND_BRIGHT_LIMITS),
+    ("studio.exr", &BRIGHT_LIMITS),
 ];
+
+/// [`BRIGHT_LIMITS`] and gold at roughness 0.05 against the sampled reference
+/// (measured: sunset 3.5 %, sunrise 5.9 %, night 4.1 %). Not under studio.exr,
+/// where that reference is not converged (its soft boxes in the lobe's far
+/// tails).
+const SMOOTH_AND_BRIGHT_LIMITS: [SphereCase; 9] = {
+    let mut cases = [(GOLD, 1.0, 0.05, 0.10, None); 9];
+    let mut i = 0;
+    while i < BRIGHT_LIMITS.len() {
+        cases[i + 1] = BRIGHT_LIMITS[i];
+        i += 1;
+    }
+    cases
+};
 
 /// The cases of [`BRIGHT_MAPS`]: the issue's limits against the integral, and
 /// against the model on the CPU 5 % at roughness 0.1–0.15 (measured up to 4.7
@@ -260,6 +276,10 @@ fn metals_under_maps_with_a_sun_or_lamps_match_the_brdf_integral() {
         .collect();
     assert!(failures.is_empty(), "{failures:?}");
 }
+
+/// Below this roughness the reference samples the BRDF over the full map
+/// ([`ibl::reference_radiance_sampled`]) instead of summing it over texels.
+const SAMPLED_BELOW: f32 = 0.08;
 
 /// [`SphereCase`]s under corpus map `name`: the failures.
 fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<String> {
@@ -293,7 +313,11 @@ fn spheres_under(ctx: &GpuContext, name: &str, cases: &[SphereCase]) -> Vec<Stri
             roughness,
         };
         let (brdf, facing, grazing) = sphere_error(&px, &pixels, |n, v| {
-            ibl::reference_radiance(t, surface, n, v)
+            if roughness < SAMPLED_BELOW {
+                ibl::reference_radiance_sampled(&map.map, t, surface, n, v, 128)
+            } else {
+                ibl::reference_radiance(t, surface, n, v)
+            }
         });
         // the model on the CPU where it is defined (roughness >= 0.1: the
         // cells' whole share)
