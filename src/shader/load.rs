@@ -15,6 +15,10 @@ use std::sync::Arc;
 /// A shader file (as shown) with its defines.
 type ShaderKey = (String, Vec<(String, i64)>);
 
+/// A shader file loaded with its defines: its WGSL and reflection (`None`: it has
+/// errors), and its diagnostics.
+type Loaded = (Option<(Arc<str>, Reflection)>, Diagnostics);
+
 /// A pass's shader, ready for pipeline creation.
 #[derive(Debug, Clone)]
 pub struct LoadedShader {
@@ -33,7 +37,7 @@ pub struct LoadedShader {
 #[derive(Default)]
 pub struct ShaderCache {
     files: HashMap<String, FileId>,
-    loaded: HashMap<ShaderKey, (Option<(Arc<str>, Reflection)>, Diagnostics)>,
+    loaded: HashMap<ShaderKey, Loaded>,
 }
 
 impl ShaderCache {
@@ -44,7 +48,7 @@ impl ShaderCache {
         file: &ShaderFile,
         defines: &[(String, i64)],
         sources: &mut SourceMap,
-    ) -> &(Option<(Arc<str>, Reflection)>, Diagnostics) {
+    ) -> &Loaded {
         let key = (file.shown.clone(), defines.to_vec());
         if !self.loaded.contains_key(&key) {
             let mut diags = Diagnostics::default();
