@@ -188,6 +188,38 @@ impl Engine {
         Some((key, st))
     }
 
+    /// The key and storage target of the compute pipeline of compute-native pass
+    /// `p` where it stores in its own format (no conversion into the caller's
+    /// output), as [`Engine::prepare_native`] makes them; `None` otherwise.
+    pub(super) fn native_key(
+        &self,
+        p: &PlannedPass,
+        render_key: &PipelineKey,
+        native: &ComputeNative,
+    ) -> Option<(ComputeKey, StorageTarget)> {
+        let storage = storage_format(p.desc.format);
+        let wanted = naga_storage_name(native.output.format);
+        let mismatch =
+            wgsl_storage_format(storage) != Some(wanted) || wgpu_format(p.desc.format).is_srgb();
+        if mismatch || !self.ctx.format_support(storage).storage {
+            return None;
+        }
+        let key = ComputeKey {
+            base: PipelineKey {
+                target: storage,
+                ..render_key.clone()
+            },
+            encode_srgb: false,
+            mipmapped: Vec::new(),
+        };
+        let st = StorageTarget {
+            format: wanted.to_string(),
+            encode_srgb: false,
+            binding: native.output.binding,
+        };
+        Some((key, st))
+    }
+
     /// Whether the compute pipeline of `key` is cached (built, or known not to
     /// build).
     pub(super) fn has_compute_pipeline(&self, key: &ComputeKey) -> bool {

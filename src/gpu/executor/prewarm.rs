@@ -7,9 +7,14 @@
 //! a plan's pipelines do not depend on each other (a wgpu device may be used
 //! from several threads, error scopes are per thread).
 //!
-//! Only an optimisation: whatever is not built here (a compute-native pass, a
-//! shader that cannot be wrapped, a pipeline that fails to build) is built, or
-//! reported, by the walk as before. On one core, or with one pipeline to build,
+//! Compute-native passes get theirs too: the compute pipeline of their own entry
+//! point, or the render pipeline of their @fragment entry where fragment
+//! execution draws them.
+//!
+//! Only an optimisation: whatever is not built here (a compute-native pass
+//! converting into the caller's output, the render pipeline of a compute-native
+//! pass writing it, a shader that cannot be wrapped, a pipeline that fails to
+//! build) is built, or reported, by the walk as before. On one core, or with one pipeline to build,
 //! nothing is done here. The GL backend's device is used from one thread.
 
 use super::compute::{build_compute_pipeline, ComputeKey};
@@ -34,6 +39,9 @@ enum Job<'a> {
     },
     Compute {
         key: ComputeKey,
+        /// A compute-native shader (its own entry point), else a fragment shader
+        /// to wrap.
+        native: bool,
         st: StorageTarget,
         refl: &'a Reflection,
         samplers: Vec<(u32, Sampling, bool)>,
@@ -80,33 +88,33 @@ impl Engine {
                     ),
                     Job::Compute {
                         key,
+                        native,
                         st,
                         refl,
                         samplers,
                         label,
-                    } => Built::Compute(
-                        key.clone(),
+                    } => {
                         // A shader that cannot be wrapped is left to the walk (which
                         // says why).
-                        wrap_fragment_as_compute(
-                            &key.base.wgsl,
-                            &key.base.entry,
-                            st,
-                            &key.mipmapped,
-                        )
-                        .ok()
-                        .and_then(|wgsl| {
-                            build_compute_pipeline(
-                                ctx,
-                                key,
-                                (&wgsl, COMPUTE_ENTRY),
+                        let source = if *native {
+                            Some((key.base.wgsl.to_string(), key.base.entry.clone()))
+                        } else {
+                            wrap_fragment_as_compute(
+                                &key.base.wgsl,
+                                &key.base.entry,
                                 st,
-                                (refl, samplers),
-                                label,
+                                &key.mipmapped,
                             )
                             .ok()
-                        }),
-                    ),
+                            .map(|wgsl| (wgsl, COMPUTE_ENTRY.to_string()))
+                        };
+                        let built = source.and_then(|(wgsl, entry)| {
+                            let shader = (wgsl.as_str(), entry.as_str());
+                            build_compute_pipeline(ctx, key, shader, st, (refl, samplers), label)
+                                .ok()
+                        });
+                        Built::Compute(key.clone(), built)
+                    }
                 });
             }
         };
@@ -153,9 +161,6 @@ impl Engine {
         for (p, loaded) in plan.passes.iter().zip(shaders) {
             let Some(loaded) = loaded else { continue };
             let refl = &loaded.reflection;
-            if refl.compute.is_some() {
-                continue; // compute-native: built by the walk
-            }
             let Ok(target) = self.check_target(p) else {
                 continue;
             };
@@ -169,11 +174,46 @@ impl Engine {
                 target,
                 filterable: bindings.filterable.clone(),
             };
+            if let Some(native) = &refl.compute {
+                // A compute-native pass: its @fragment entry's render pipeline
+                // where fragment execution draws it, else its compute pipeline
+                // (a conversion into the caller's output is left to the walk).
+                let drawn = native.fragment.as_ref().filter(|_| {
+                    self.execution == Execution::Fragment && native.drawn_under_fragment_execution()
+                });
+                if let Some(entry) = drawn {
+                    let key = PipelineKey {
+                        entry: entry.clone(),
+                        ..key
+                    };
+                    if !self.pipelines.contains_key(&key) && render_seen.insert(key.clone()) {
+                        jobs.push(Job::Render {
+                            key,
+                            refl,
+                            samplers: bindings.samplers,
+                            label: &p.path,
+                        });
+                    }
+                } else if let Some((ckey, st)) = self.native_key(p, &key, native) {
+                    if !self.has_compute_pipeline(&ckey) && compute_seen.insert(ckey.clone()) {
+                        jobs.push(Job::Compute {
+                            key: ckey,
+                            native: true,
+                            st,
+                            refl,
+                            samplers: bindings.samplers,
+                            label: &p.path,
+                        });
+                    }
+                }
+                continue;
+            }
             if self.execution == Execution::Compute {
                 if let Some((ckey, st)) = self.wrapped_key(p, &key, refl) {
                     if !self.has_compute_pipeline(&ckey) && compute_seen.insert(ckey.clone()) {
                         jobs.push(Job::Compute {
                             key: ckey,
+                            native: false,
                             st,
                             refl,
                             samplers: bindings.samplers.clone(),
