@@ -16,6 +16,7 @@ use crate::graph::plan::{plan, InputDesc, PlanOptions};
 use crate::graph::{Graph, Override};
 use crate::script::types::Format;
 use crate::script::{Diagnostics, SourceMap};
+use crate::shader::{preload_graph_shaders, ShaderCache};
 
 /// A compiled effect chain, with the settings it was compiled with (kept for
 /// [`Effect::set`]).
@@ -25,6 +26,8 @@ pub struct Effect {
     /// Warnings and notes from compiling.
     pub warnings: Diagnostics,
     pub(super) settings: Settings,
+    /// Shaders loaded ahead ([`Effect::preload_shaders`]) for the next prepare.
+    preloaded: Option<ShaderCache>,
 }
 
 impl Effect {
@@ -47,6 +50,7 @@ impl Effect {
                 sources,
                 warnings: diags,
                 settings: Settings::new(req.effects, req.overrides),
+                preloaded: None,
             }),
             _ => Err(RunError::Rejected {
                 rendered: diags.render(&sources),
@@ -72,6 +76,15 @@ impl Effect {
     /// [`crate::gpu::executor::FrameInputs::jitter`].
     pub fn jitter(&self) -> Option<crate::script::JitterPattern> {
         self.graph.jitter
+    }
+
+    /// Load and reflect the shaders of the chain's passes now, for the next
+    /// prepare to find (it loads what is missing, and reports every problem):
+    /// needs no device, so a run does it while its device is created.
+    pub fn preload_shaders(&mut self) {
+        let mut cache = ShaderCache::default();
+        preload_graph_shaders(&self.graph, &mut self.sources, &[], &mut cache);
+        self.preloaded = Some(cache);
     }
 
     /// Plan for `input` and prepare on `engine`; the output is rendered in
@@ -102,16 +115,16 @@ impl Effect {
             rendered: d.render(&self.sources),
         })?;
         self.warnings.extend(notes);
-        let mut prepared =
-            engine
-                .prepare(&self.graph, p, &mut self.sources)
-                .map_err(|e| match e {
-                    ExecError::Rejected(d) => RunError::Rejected {
-                        rendered: d.render(&self.sources),
-                    },
-                    ExecError::Gpu(g) => RunError::Gpu(g),
-                    ExecError::Input(s) => RunError::Other(s),
-                })?;
+        let mut cache = self.preloaded.take().unwrap_or_default();
+        let mut prepared = engine
+            .prepare_cached(&self.graph, p, &mut self.sources, &mut cache)
+            .map_err(|e| match e {
+                ExecError::Rejected(d) => RunError::Rejected {
+                    rendered: d.render(&self.sources),
+                },
+                ExecError::Gpu(g) => RunError::Gpu(g),
+                ExecError::Input(s) => RunError::Other(s),
+            })?;
         self.settings.apply(&mut prepared);
         Ok(prepared)
     }

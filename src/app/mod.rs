@@ -65,7 +65,7 @@ pub use sequence::{run_sequence, SequenceOptions};
 pub use sources::{
     DiscardSink, FilesSink, FilesSource, MemorySink, MemorySource, OutputNames, Y4mSink, Y4mSource,
 };
-pub use still::{apply_to_image, output_format_for, ImageJob};
+pub use still::{apply_to_image, apply_to_image_kept, output_format_for, ImageJob};
 pub use streams::{
     open_output, texture_format_for_depth, OpenedInput, OpenedOutput, OutputSettings, StreamInput,
     StreamOutput,

@@ -46,8 +46,26 @@ use std::time::{Duration, Instant};
 pub enum Device<'a> {
     /// The caller's engine (its device, pipelines and pools are reused).
     Engine(&'a mut Engine),
-    /// Create one (on a thread, while the first frames are decoded).
+    /// Create one (on a thread, while the first frames are decoded); it is dropped
+    /// when the run ends.
     Create(&'a AdapterChoice),
+    /// Create one as [`Device::Create`] does and leave it in the caller's slot
+    /// (replacing what it held) when the run ends, whether the run succeeded or
+    /// not, so that the caller decides when it is dropped: a program about to exit
+    /// may skip destroying it (the driver's teardown).
+    CreateInto(&'a AdapterChoice, &'a mut Option<Engine>),
+}
+
+impl<'a> Device<'a> {
+    /// The engine `kept` holds; when it holds none, one the run creates and leaves in
+    /// `kept` ([`Device::CreateInto`]).
+    pub fn kept(kept: &'a mut Option<Engine>, adapter: &'a AdapterChoice) -> Device<'a> {
+        if kept.is_some() {
+            Device::Engine(kept.as_mut().expect("checked"))
+        } else {
+            Device::CreateInto(adapter, kept)
+        }
+    }
 }
 
 /// What the encode thread hands back: busy and wait times, the frames written, the
@@ -193,6 +211,10 @@ pub fn run_frames(
 ) -> Result<RunReport, RunError> {
     check_viewport(effect, opts)?;
     let start = Instant::now();
+    let (device, keep) = match device {
+        Device::CreateInto(adapter, slot) => (Device::Create(adapter), Some(slot)),
+        other => (other, None),
+    };
     let limit = SideLimit::default();
     // Y'CbCr planes go to the GPU for sequences, as `opts.ycbcr` says for the device.
     let route = PlaneRoute::default();
@@ -222,6 +244,10 @@ pub fn run_frames(
         ..Default::default()
     };
     let mut own_engine = None;
+    if device_thread.is_some() {
+        // While the device is created: the shaders need none.
+        effect.preload_shaders();
+    }
     let engine = engine_of(
         device,
         device_thread,
@@ -250,6 +276,9 @@ pub fn run_frames(
     drop(dec_rx);
     if let Some(e) = &own_engine {
         super::pipeline_cache::save(&e.ctx);
+    }
+    if let (Some(slot), Some(e)) = (keep, own_engine.take()) {
+        *slot = Some(e);
     }
     let decode_busy = decoder.join().unwrap_or_default();
     let enc = encoder
@@ -289,7 +318,7 @@ fn start_device(
             route.set(sequence && ycbcr.wants_gpu(e.ctx.info.device_type));
             Ok(None)
         }
-        Device::Create(adapter) => {
+        Device::Create(adapter) | Device::CreateInto(adapter, _) => {
             let adapter = (*adapter).clone();
             let (l, route) = (limit.clone(), route.clone());
             Ok(Some(
@@ -366,7 +395,7 @@ fn engine_of<'a>(
 ) -> Result<&'a mut Engine, RunError> {
     match (device, device_thread) {
         (Device::Engine(e), _) => Ok(e),
-        (Device::Create(_), Some(h)) => {
+        (Device::Create(_) | Device::CreateInto(..), Some(h)) => {
             let t = Instant::now();
             let r = h
                 .join()
@@ -385,7 +414,9 @@ fn engine_of<'a>(
                 Err(e) => Err(e),
             }
         }
-        (Device::Create(_), None) => unreachable!("a device thread for Device::Create"),
+        (Device::Create(_) | Device::CreateInto(..), None) => {
+            unreachable!("a device thread for Device::Create")
+        }
     }
 }
 

@@ -119,6 +119,27 @@ pub fn apply_to_image(
     engine: Option<&mut Engine>,
     adapter: &AdapterChoice,
 ) -> Result<RunReport, RunError> {
+    let device = match engine {
+        Some(e) => Device::Engine(e),
+        None => Device::Create(adapter),
+    };
+    apply(job, device)
+}
+
+/// [`apply_to_image`] on the engine `kept` holds; when it holds none, on one created
+/// while the image decodes and left in `kept` (also when the run fails), so that the
+/// caller decides when the device is destroyed (`fxrun` exits without destroying
+/// it: [`Device::CreateInto`]).
+pub fn apply_to_image_kept(
+    job: &ImageJob,
+    kept: &mut Option<Engine>,
+    adapter: &AdapterChoice,
+) -> Result<RunReport, RunError> {
+    apply(job, Device::kept(kept, adapter))
+}
+
+/// [`apply_to_image`] on `device`.
+fn apply(job: &ImageJob, device: Device) -> Result<RunReport, RunError> {
     let t = Instant::now();
     let mut effect = Effect::compile_overrides(&job.effects, job.overrides.clone())?;
     let compile_ms = ms(t.elapsed());
@@ -150,10 +171,6 @@ pub fn apply_to_image(
         timings: job.timings,
         viewport: job.viewport,
         ..Default::default()
-    };
-    let device = match engine {
-        Some(e) => Device::Engine(e),
-        None => Device::Create(adapter),
     };
     let stop = Arc::new(AtomicBool::new(false));
     let mut report = run_frames(

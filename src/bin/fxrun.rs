@@ -5,8 +5,8 @@
 
 use clap::Parser;
 use fxgraph::app::{
-    apply_to_image, output_format_for, run_sequence, Effect, FilesSink, FilesSource, FrameSink,
-    FrameSource, ImageJob, Progress, RunError, SequenceOptions,
+    apply_to_image_kept, output_format_for, run_sequence, Effect, FilesSink, FilesSource,
+    FrameSink, FrameSource, ImageJob, Progress, RunError, SequenceOptions,
 };
 use fxgraph::gpu::context::{list_adapters, AdapterChoice};
 use fxgraph::gpu::executor::Engine;
@@ -106,18 +106,6 @@ fn rejected(message: impl Into<String>) -> Fail {
     }
 }
 
-/// The log filter unless `RUST_LOG` says otherwise: fxgraph's and fxrun's own
-/// warnings only; the dependencies' log lines (naga's validation errors, wgpu's,
-/// png's, ...) would interleave with the diagnostics that already report the same
-/// problems, so they are shown with `-v` only (warnings and errors).
-fn log_filter(verbose: bool) -> &'static str {
-    if verbose {
-        "warn,fxgraph=info,fxrun=info,wgpu_hal::gles::egl=off,winit=error"
-    } else {
-        "off,fxgraph=warn,fxrun=warn"
-    }
-}
-
 /// A panic that no library `catch_quiet` caught is a bug of fxrun: one line on
 /// stderr (the first one only, if several threads panic) and, from `main`, exit
 /// status 2. No backtrace, whatever `RUST_BACKTRACE` says (it is often set for
@@ -141,6 +129,7 @@ fn install_panic_hook() {
 }
 
 fn main() -> ExitCode {
+    startup::mark_main();
     install_panic_hook();
     match std::panic::catch_unwind(real_main) {
         Ok(code) => code,
@@ -169,22 +158,7 @@ fn real_main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    env_logger::Builder::from_env(
-        env_logger::Env::default().default_filter_or(log_filter(cli.verbose)),
-    )
-    // Warnings read like fxrun's own (`fxrun: warning: ...`); RUST_LOG=debug lines
-    // name their module.
-    .format(|buf, record| {
-        let msg = record.args().to_string();
-        match record.level() {
-            // Rendered diagnostics carry their own `path:line:col: warning:`.
-            log::Level::Warn if msg.contains(": warning:") => writeln!(buf, "{msg}"),
-            log::Level::Error => writeln!(buf, "fxrun: error: {msg}"),
-            log::Level::Warn => writeln!(buf, "fxrun: warning: {msg}"),
-            level => writeln!(buf, "fxrun: {level} {}: {msg}", record.target()),
-        }
-    })
-    .init();
+    logging::init(cli.verbose);
     let result = run(cli);
     stdout_result(std::io::stdout().flush());
     match result {
@@ -245,6 +219,7 @@ fn adapter_choice(a: &Option<String>) -> AdapterChoice {
 }
 
 fn run(mut cli: Cli) -> Result<(), Fail> {
+    startup::mark_job();
     #[cfg(feature = "slang")]
     add_preset_luts(&mut cli)?;
     let execution: fxgraph::gpu::executor::Execution = cli
@@ -282,7 +257,10 @@ fn run(mut cli: Cli) -> Result<(), Fail> {
     if cli.check || cli.dot.is_some() || cli.plan || cli.describe {
         return run_analysis(&cli);
     }
-    run_job(&cli)
+    let mut kept = None;
+    let result = run_job(&cli, &mut kept);
+    skip_teardown(kept);
+    result
 }
 
 /// `--adapters`: the GPU adapters, one a line.
@@ -509,9 +487,10 @@ pub(crate) fn viewport_of(cli: &Cli) -> Result<Option<(u32, u32)>, Fail> {
     cli.size.as_deref().map(parse_size).transpose()
 }
 
-/// An image, batch or sequence run (what `--watch` re-runs).
-fn run_job(cli: &Cli) -> Result<(), Fail> {
-    if try_run_batch(cli)? {
+/// An image, batch or sequence run (what `--watch` re-runs). The device it creates
+/// is left in `kept` (one it holds is used).
+fn run_job(cli: &Cli, kept: &mut Option<Engine>) -> Result<(), Fail> {
+    if try_run_batch(cli, kept)? {
         return Ok(());
     }
     if let ([i], Some(o)) = (cli.input.as_slice(), &cli.output) {
@@ -529,7 +508,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
                 }
                 other => other,
             };
-            return run_sequence_cli(cli, ispec, ospec);
+            return run_sequence_cli(cli, ispec, ospec, kept);
         }
     }
     let ([input], Some(output)) = (cli.input.as_slice(), cli.output.clone()) else {
@@ -555,7 +534,7 @@ fn run_job(cli: &Cli) -> Result<(), Fail> {
         timings: cli.timings || cli.timings_json.is_some(),
         viewport,
     };
-    let report = apply_to_image(&job, None, &adapter_choice(&cli.adapter))?;
+    let report = apply_to_image_kept(&job, kept, &adapter_choice(&cli.adapter))?;
     finish_report(cli, &report)?;
     Ok(())
 }
@@ -566,14 +545,20 @@ mod args;
 mod batch;
 #[path = "fxrun/describe.rs"]
 mod describe;
+#[path = "fxrun/logging.rs"]
+mod logging;
 #[path = "fxrun/report.rs"]
 mod report;
 #[path = "fxrun/scene.rs"]
 mod scene;
 #[path = "fxrun/sequence.rs"]
 mod sequence;
+#[path = "fxrun/startup.rs"]
+mod startup;
 #[path = "fxrun/streams.rs"]
 mod streams;
+#[path = "fxrun/teardown.rs"]
+mod teardown;
 #[path = "fxrun/watch.rs"]
 mod watch;
 
@@ -601,3 +586,4 @@ use describe::{describe, pass_param_rows};
 use report::finish_report;
 use scene::run_scene_cli;
 use sequence::{print_diagnostics, run_sequence_cli, ProgressLine};
+use teardown::skip_teardown;

@@ -15,6 +15,10 @@ use std::sync::Arc;
 /// A shader file (as shown) with its defines.
 type ShaderKey = (String, Vec<(String, i64)>);
 
+/// A shader file loaded with its defines: its WGSL and reflection (`None`: it has
+/// errors), and its diagnostics.
+type Loaded = (Option<(Arc<str>, Reflection)>, Diagnostics);
+
 /// A pass's shader, ready for pipeline creation.
 #[derive(Debug, Clone)]
 pub struct LoadedShader {
@@ -26,6 +30,55 @@ pub struct LoadedShader {
     pub layout: UniformLayout,
 }
 
+/// Shader files loaded (assembled, preprocessed, reflected) for one
+/// [`SourceMap`], by file and defines, with the diagnostics of each: what
+/// [`preload_graph_shaders`] does before a device exists, for
+/// [`load_plan_shaders_with`] to find.
+#[derive(Default)]
+pub struct ShaderCache {
+    files: HashMap<String, FileId>,
+    loaded: HashMap<ShaderKey, Loaded>,
+}
+
+impl ShaderCache {
+    /// The loaded shader of `file` with `defines` (loaded now if it is not yet),
+    /// and its diagnostics.
+    fn load(
+        &mut self,
+        file: &ShaderFile,
+        defines: &[(String, i64)],
+        sources: &mut SourceMap,
+    ) -> &Loaded {
+        let key = (file.shown.clone(), defines.to_vec());
+        if !self.loaded.contains_key(&key) {
+            let mut diags = Diagnostics::default();
+            let loaded = load_file(file, defines, sources, &mut self.files, &mut diags);
+            self.loaded.insert(key.clone(), (loaded, diags));
+        }
+        &self.loaded[&key]
+    }
+}
+
+/// Load the shaders of `graph`'s script passes into `cache`, each with its
+/// defines (no device needed: a run does it while its device is created). Only
+/// a head start: what cannot be found is left to [`load_plan_shaders_with`],
+/// which reports it.
+pub fn preload_graph_shaders(
+    graph: &Graph,
+    sources: &mut SourceMap,
+    extra_dirs: &[PathBuf],
+    cache: &mut ShaderCache,
+) {
+    for &n in &graph.schedule {
+        let crate::graph::Node::Pass(pn) = &graph.graph[n] else {
+            continue;
+        };
+        if let Some(file) = find_shader(&pn.shader, pn.shader_dir.as_deref(), extra_dirs) {
+            cache.load(&file, &pn.defines, sources);
+        }
+    }
+}
+
 /// Load the shader of every pass of `plan` (in order). A pass whose shader has a
 /// problem gets `None` and diagnostics (WGSL files are added to `sources`).
 pub fn load_plan_shaders(
@@ -34,9 +87,27 @@ pub fn load_plan_shaders(
     sources: &mut SourceMap,
     extra_dirs: &[PathBuf],
 ) -> (Vec<Option<LoadedShader>>, Diagnostics) {
+    load_plan_shaders_with(
+        graph,
+        plan,
+        sources,
+        extra_dirs,
+        &mut ShaderCache::default(),
+    )
+}
+
+/// [`load_plan_shaders`] with the shaders `cache` holds already (loaded for the
+/// same `sources`), adding those it loads.
+pub fn load_plan_shaders_with(
+    graph: &Graph,
+    plan: &Plan,
+    sources: &mut SourceMap,
+    extra_dirs: &[PathBuf],
+    cache: &mut ShaderCache,
+) -> (Vec<Option<LoadedShader>>, Diagnostics) {
     let mut diags = Diagnostics::default();
-    let mut files: HashMap<String, FileId> = HashMap::new();
-    let mut cache: HashMap<ShaderKey, Option<(Arc<str>, Reflection)>> = HashMap::new();
+    // Each shader's diagnostics are reported once.
+    let mut reported: std::collections::HashSet<ShaderKey> = Default::default();
     let mut out = Vec::with_capacity(plan.passes.len());
     for p in &plan.passes {
         let (file, defines, node) = match &p.shader {
@@ -68,12 +139,11 @@ pub fn load_plan_shaders(
             ),
         };
         let label = file.shown.clone();
-        let key = (label.clone(), defines.clone());
-        if !cache.contains_key(&key) {
-            let loaded = load_file(&file, &defines, sources, &mut files, &mut diags);
-            cache.insert(key.clone(), loaded);
+        let (loaded, file_diags) = cache.load(&file, &defines, sources);
+        if reported.insert((label.clone(), defines.clone())) {
+            diags.extend(file_diags.clone());
         }
-        let Some((wgsl, reflection)) = cache[&key].clone() else {
+        let Some((wgsl, reflection)) = loaded.clone() else {
             out.push(None);
             continue;
         };

@@ -18,8 +18,8 @@ pub mod wgsl_names;
 
 pub use features::{convert_features, feature_flags_used, FeatureMode};
 pub use load::{
-    check_references, compile_all, load_plan_shaders, pass_parameters, LoadedShader, PassParamInfo,
-    GENERATED_FROM,
+    check_references, compile_all, load_plan_shaders, load_plan_shaders_with, pass_parameters,
+    preload_graph_shaders, LoadedShader, PassParamInfo, ShaderCache, GENERATED_FROM,
 };
 pub use material::{
     find_material_shader, load_material_shader, MaterialParams, MaterialSampler, MaterialShader,

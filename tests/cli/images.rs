@@ -31,8 +31,25 @@ fn applies_glow_to_an_image() {
     let t: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(t["passes"].as_array().unwrap().len(), 4);
-    assert!(t["wall_ms"].as_f64().unwrap() > 0.0);
+    let wall = t["wall_ms"].as_f64().unwrap();
+    assert!(wall > 0.0);
     assert_eq!(t["job"], "image");
+    // The process's own split covers the job's total and more (from the process's
+    // start: before main, the arguments, the job, the rest).
+    let p = &t["process"];
+    let f = |k: &str| p[k].as_f64().unwrap_or_else(|| panic!("process.{k}: {p}"));
+    assert!(f("since_main_ms") >= wall, "{p} vs wall {wall}");
+    assert!(f("process_ms") >= f("since_main_ms"), "{p}");
+    assert_eq!(f("job_ms"), wall);
+    let parts = f("setup_ms") + f("job_ms") + f("rest_ms");
+    assert!((parts - f("since_main_ms")).abs() < 0.01, "{p}");
+    if cfg!(target_os = "linux") {
+        assert!(f("before_main_ms") >= 0.0, "{p}");
+    }
+    assert!(
+        stdout.contains("process ") && stdout.contains("before main"),
+        "{stdout}"
+    );
     // No temporary files are left beside the output.
     assert_no_temporaries(dir.path());
 }

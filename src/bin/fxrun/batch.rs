@@ -15,7 +15,7 @@ use std::path::Path;
 
 /// Runs the command as a batch when it is one; `Ok(false)`: it is a single image or a
 /// sequence, for the caller to run.
-pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
+pub(crate) fn try_run_batch(cli: &Cli, kept: &mut Option<Engine>) -> Result<bool, Fail> {
     let Some(output) = &cli.output else {
         return Ok(false);
     };
@@ -54,7 +54,7 @@ pub(crate) fn try_run_batch(cli: &Cli) -> Result<bool, Fail> {
         }
     }
     clean_output_dirs(&items);
-    run(cli, &mut effect, &items).map(|_| true)
+    run(cli, &mut effect, &items, kept).map(|_| true)
 }
 
 /// Whether the inputs and the output make a batch: one folder or wildcard pattern
@@ -349,7 +349,13 @@ pub(crate) fn check_outputs(items: &[BatchItem]) -> Result<(), Fail> {
     Ok(())
 }
 
-fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> {
+/// The device is left in `kept` (see [`crate::teardown`]).
+fn run(
+    cli: &Cli,
+    effect: &mut Effect,
+    items: &[BatchItem],
+    kept: &mut Option<Engine>,
+) -> Result<(), Fail> {
     let stop = stop_flag();
     let adapter = adapter_choice(&cli.adapter);
     let opts = BatchOptions {
@@ -363,8 +369,9 @@ fn run(cli: &Cli, effect: &mut Effect, items: &[BatchItem]) -> Result<(), Fail> 
     };
     let progress = ProgressLine::new("images");
     // The device is created while the first image decodes.
+    let device = Device::kept(kept, &adapter);
     let result = run_batch(
-        Device::Create(&adapter),
+        device,
         effect,
         items,
         &opts,

@@ -10,18 +10,39 @@ use fxgraph::app::{JobKind, RunReport};
 use fxgraph::gpu::executor::PassTiming;
 
 /// Print what `fxrun` reports about a finished job and write it to
-/// `--timings-json` when that is given.
+/// `--timings-json` when that is given; both add where the whole process's time
+/// went (`process`: [`super::startup`]).
 pub(crate) fn finish_report(cli: &Cli, report: &RunReport) -> Result<(), Fail> {
+    let process = super::startup::times(report.wall_ms);
     print_report(cli, report);
+    if cli.timings {
+        if let Some(p) = &process {
+            print_timing_line(report, &super::startup::line(p));
+        }
+    }
     match &cli.timings_json {
-        Some(path) => write_json(path, report),
+        Some(path) => write_json(path, report, process),
         None => Ok(()),
     }
 }
 
-/// Write `value` as pretty JSON to `path`, atomically (`--timings-json`).
-fn write_json(path: &std::path::Path, value: &impl serde::Serialize) -> Result<(), Fail> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| Fail {
+/// The `--timings-json` file: the report's keys, in their order, then `process`.
+#[derive(serde::Serialize)]
+struct JsonReport<'a> {
+    #[serde(flatten)]
+    report: &'a RunReport,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    process: Option<super::startup::ProcessTimes>,
+}
+
+/// Write the report as pretty JSON to `path`, atomically (`--timings-json`), with
+/// the process's times as `process`.
+fn write_json(
+    path: &std::path::Path,
+    report: &RunReport,
+    process: Option<super::startup::ProcessTimes>,
+) -> Result<(), Fail> {
+    let text = serde_json::to_string_pretty(&JsonReport { report, process }).map_err(|e| Fail {
         code: 2,
         message: e.to_string(),
     })?;
@@ -68,14 +89,18 @@ fn print_report(cli: &Cli, r: &RunReport) {
         print_batch_summary(r);
     }
     if cli.timings {
-        let to_stdout = matches!(r.job, JobKind::Image | JobKind::Scene);
         for line in timing_lines(r) {
-            if to_stdout {
-                outln!("{line}");
-            } else {
-                eprintln!("{line}");
-            }
+            print_timing_line(r, &line);
         }
+    }
+}
+
+/// A `--timings` line: on stdout for an image or a scene, else on stderr.
+fn print_timing_line(r: &RunReport, line: &str) {
+    if matches!(r.job, JobKind::Image | JobKind::Scene) {
+        outln!("{line}");
+    } else {
+        eprintln!("{line}");
     }
 }
 

@@ -18,6 +18,7 @@ pub(crate) fn run_sequence_cli(
     cli: &Cli,
     ispec: SequenceSpec,
     ospec: SequenceSpec,
+    kept: &mut Option<Engine>,
 ) -> Result<(), Fail> {
     if cli.rate == 0 || cli.rate > 4 {
         return Err(rejected(format!("--rate {}: expected 1 to 4", cli.rate)));
@@ -67,8 +68,10 @@ pub(crate) fn run_sequence_cli(
     let adapter = adapter_choice(&cli.adapter);
     let progress = ProgressLine::new("frames");
     // The device is created while the first frames decode.
+    // The device is left in `kept` (see `crate::teardown`).
+    let device = fxgraph::app::Device::kept(kept, &adapter);
     let result = run_sequence(
-        fxgraph::app::Device::Create(&adapter),
+        device,
         &mut effect,
         input.source,
         sink,

@@ -69,7 +69,8 @@ pub(crate) fn run_watch(cli: &Cli) -> Result<(), Fail> {
     let mut hot = HotFolders::new(cli)?;
     let mut job = cli.clone();
     loop {
-        let result = run_job(&job);
+        // Each run creates its device and drops it (the watch goes on).
+        let result = run_job(&job, &mut None);
         if let Err(f) = &result {
             print_fail(f);
         }

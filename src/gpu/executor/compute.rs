@@ -37,11 +37,11 @@ pub(super) struct CachedCompute {
 #[derive(Hash, PartialEq, Eq, Clone)]
 pub(super) struct ComputeKey {
     /// The render pipeline's key, with `target` the storage format.
-    base: PipelineKey,
+    pub(super) base: PipelineKey,
     encode_srgb: bool,
     /// The textures read with a mip chain (an implicit-level sample of one keeps
     /// the pass a fragment pass).
-    mipmapped: Vec<String>,
+    pub(super) mipmapped: Vec<String>,
 }
 
 /// The compute path of one pass.
@@ -124,6 +124,31 @@ impl Engine {
         samplers: &[(u32, Sampling, bool)],
         target: Source,
     ) -> Option<ComputePath> {
+        let (key, st) = self.wrapped_key(p, render_key, refl)?;
+        let binding = st.binding;
+        let storage = key.base.target;
+        let pipeline = self.compute_pipeline(&key, &st, refl, samplers, &p.path)?;
+        Some(ComputePath {
+            pipeline,
+            binding,
+            target,
+            storage,
+            size: (p.desc.width, p.desc.height),
+            workgroup: WRAP_WORKGROUP,
+            convert: None,
+            bind_groups: Vec::new(),
+        })
+    }
+
+    /// The key and storage target of the compute pipeline that wraps fragment
+    /// pass `p` (with render pipeline key `render_key`), or `None` where the pass
+    /// keeps the fragment path: a target format the device cannot store to.
+    pub(super) fn wrapped_key(
+        &self,
+        p: &PlannedPass,
+        render_key: &PipelineKey,
+        refl: &Reflection,
+    ) -> Option<(ComputeKey, StorageTarget)> {
         if !self.pool.stores(p.desc.format) {
             return None;
         }
@@ -160,17 +185,51 @@ impl Engine {
             encode_srgb,
             binding,
         };
-        let pipeline = self.compute_pipeline(&key, &st, refl, samplers, &p.path)?;
-        Some(ComputePath {
-            pipeline,
-            binding,
-            target,
-            storage,
-            size: (p.desc.width, p.desc.height),
-            workgroup: WRAP_WORKGROUP,
-            convert: None,
-            bind_groups: Vec::new(),
-        })
+        Some((key, st))
+    }
+
+    /// The key and storage target of the compute pipeline of compute-native pass
+    /// `p` where it stores in its own format (no conversion into the caller's
+    /// output), as [`Engine::prepare_native`] makes them; `None` otherwise.
+    pub(super) fn native_key(
+        &self,
+        p: &PlannedPass,
+        render_key: &PipelineKey,
+        native: &ComputeNative,
+    ) -> Option<(ComputeKey, StorageTarget)> {
+        let storage = storage_format(p.desc.format);
+        let wanted = naga_storage_name(native.output.format);
+        let mismatch =
+            wgsl_storage_format(storage) != Some(wanted) || wgpu_format(p.desc.format).is_srgb();
+        if mismatch || !self.ctx.format_support(storage).storage {
+            return None;
+        }
+        let key = ComputeKey {
+            base: PipelineKey {
+                target: storage,
+                ..render_key.clone()
+            },
+            encode_srgb: false,
+            mipmapped: Vec::new(),
+        };
+        let st = StorageTarget {
+            format: wanted.to_string(),
+            encode_srgb: false,
+            binding: native.output.binding,
+        };
+        Some((key, st))
+    }
+
+    /// Whether the compute pipeline of `key` is cached (built, or known not to
+    /// build).
+    pub(super) fn has_compute_pipeline(&self, key: &ComputeKey) -> bool {
+        self.compute_pipelines.contains_key(key)
+    }
+
+    /// Cache a compute pipeline built elsewhere (`prewarm.rs`).
+    pub(super) fn insert_compute_pipeline(&mut self, key: ComputeKey, built: CachedCompute) {
+        self.compute_pipelines_created += 1;
+        self.compute_pipelines.insert(key, Some(Arc::new(built)));
     }
 
     /// Whether compute-native pass `p`, writing the caller's output as
@@ -325,35 +384,50 @@ impl Engine {
         samplers: &[(u32, Sampling, bool)],
         label: &str,
     ) -> Result<CachedCompute, GpuError> {
-        let entries = compute_layout_entries(key, st, refl, samplers);
-        let cache = self.ctx.pipeline_cache.clone();
-        let built = self.ctx.scoped(label, |device| {
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(&format!("{label} (compute)")),
-                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-            });
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(&format!("{label} compute bind group layout")),
-                entries: &entries,
-            });
-            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(&format!("{label} compute pipeline layout")),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(&format!("{label} compute pipeline")),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: cache.as_ref(),
-            });
-            CachedCompute { pipeline, layout }
-        })?;
+        let built =
+            build_compute_pipeline(&self.ctx, key, (wgsl, entry), st, (refl, samplers), label)?;
         self.compute_pipelines_created += 1;
         Ok(built)
     }
+}
+
+/// The compute pipeline of `key` from `(wgsl, entry point)`. Needs only shared
+/// access, so that passes' pipelines can be built on several threads
+/// (`prewarm.rs`).
+pub(super) fn build_compute_pipeline(
+    ctx: &crate::gpu::context::GpuContext,
+    key: &ComputeKey,
+    (wgsl, entry): (&str, &str),
+    st: &StorageTarget,
+    (refl, samplers): (&Reflection, &[(u32, Sampling, bool)]),
+    label: &str,
+) -> Result<CachedCompute, GpuError> {
+    let entries = compute_layout_entries(key, st, refl, samplers);
+    let cache = ctx.pipeline_cache.as_ref();
+    ctx.scoped(label, |device| {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&format!("{label} (compute)")),
+            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(&format!("{label} compute bind group layout")),
+            entries: &entries,
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&format!("{label} compute pipeline layout")),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(&format!("{label} compute pipeline")),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache,
+        });
+        CachedCompute { pipeline, layout }
+    })
 }
 
 /// The bind group layout of a wrapped pass: its textures, samplers and uniform

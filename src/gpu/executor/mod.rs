@@ -12,6 +12,8 @@
 //! - `encode.rs`: one pass: its views, its cached bind group, its render pass.
 //! - `execution.rs`, `compute.rs`: [`Execution`], and passes run as compute
 //!   dispatches (the fragment shader wrapped by [`crate::shader::compute`]).
+//! - `prewarm.rs`: a plan's pipelines built side by side (one thread per core)
+//!   before the passes are prepared in order.
 //! - `pool.rs`: transient textures by descriptor, reused across frames.
 //! - `params.rs`: [`Prepared::set_param`], parameters changed between frames.
 //! - `caller.rs`: the caller's images of a frame, in the view formats the plan
@@ -31,6 +33,7 @@ mod inspect;
 mod mips;
 mod params;
 mod pool;
+mod prewarm;
 
 /// The code of docs/library.md, compiled as doc-tests.
 #[cfg(doctest)]
@@ -323,60 +326,7 @@ impl Engine {
         if let Some(p) = self.pipelines.get(key) {
             return Ok(p.clone());
         }
-        let fragment = wgpu::ShaderStages::FRAGMENT;
-        let mut entries = Vec::new();
-        for t in &refl.textures {
-            let filterable = key
-                .filterable
-                .iter()
-                .find(|(b, _)| *b == t.binding)
-                .map(|(_, f)| *f)
-                .unwrap_or(true);
-            entries.push(texture_entry(
-                t.binding,
-                fragment,
-                wgpu::TextureSampleType::Float { filterable },
-                wgpu::TextureViewDimension::D2,
-            ));
-        }
-        for (binding, _, filtering) in samplers {
-            let ty = if *filtering {
-                wgpu::SamplerBindingType::Filtering
-            } else {
-                wgpu::SamplerBindingType::NonFiltering
-            };
-            entries.push(sampler_entry(*binding, fragment, ty));
-        }
-        if let Some(u) = &refl.uniform {
-            entries.push(uniform_entry(u.binding, fragment));
-        }
-        let vs = self.vs.clone();
-        let cache = self.ctx.pipeline_cache.clone();
-        let built = self.ctx.scoped(label, |device| {
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(key.wgsl.to_string())),
-            });
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(&format!("{label} bind group layout")),
-                entries: &entries,
-            });
-            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(&format!("{label} pipeline layout")),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let pipeline = fullscreen_pipeline(
-                device,
-                &format!("{label} pipeline"),
-                Some(&pl),
-                (&vs, "vs_main"),
-                (&module, &key.entry),
-                key.target,
-                cache.as_ref(),
-            );
-            CachedPipeline { pipeline, layout }
-        })?;
+        let built = build_render_pipeline(&self.ctx, &self.vs, key, refl, samplers, label)?;
         self.pipelines_created += 1;
         let arc = Arc::new(built);
         self.pipelines.insert(key.clone(), arc.clone());
@@ -446,4 +396,71 @@ impl Engine {
             })
             .clone()
     }
+}
+
+/// The render pipeline of `key`: the fullscreen vertex shader `vs` and the pass's
+/// fragment shader, with the bind group layout of its textures, samplers and
+/// uniform. Needs only shared access, so that passes' pipelines can be built on
+/// several threads (`prewarm.rs`).
+fn build_render_pipeline(
+    ctx: &GpuContext,
+    vs: &wgpu::ShaderModule,
+    key: &PipelineKey,
+    refl: &Reflection,
+    samplers: &[(u32, Sampling, bool)],
+    label: &str,
+) -> Result<CachedPipeline, GpuError> {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    let mut entries = Vec::new();
+    for t in &refl.textures {
+        let filterable = key
+            .filterable
+            .iter()
+            .find(|(b, _)| *b == t.binding)
+            .map(|(_, f)| *f)
+            .unwrap_or(true);
+        entries.push(texture_entry(
+            t.binding,
+            fragment,
+            wgpu::TextureSampleType::Float { filterable },
+            wgpu::TextureViewDimension::D2,
+        ));
+    }
+    for (binding, _, filtering) in samplers {
+        let ty = if *filtering {
+            wgpu::SamplerBindingType::Filtering
+        } else {
+            wgpu::SamplerBindingType::NonFiltering
+        };
+        entries.push(sampler_entry(*binding, fragment, ty));
+    }
+    if let Some(u) = &refl.uniform {
+        entries.push(uniform_entry(u.binding, fragment));
+    }
+    let cache = ctx.pipeline_cache.as_ref();
+    ctx.scoped(label, |device| {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(key.wgsl.to_string())),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(&format!("{label} bind group layout")),
+            entries: &entries,
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&format!("{label} pipeline layout")),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = fullscreen_pipeline(
+            device,
+            &format!("{label} pipeline"),
+            Some(&pl),
+            (vs, "vs_main"),
+            (&module, &key.entry),
+            key.target,
+            cache,
+        );
+        CachedPipeline { pipeline, layout }
+    })
 }

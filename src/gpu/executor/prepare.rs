@@ -16,7 +16,7 @@ use crate::script::{Diagnostic, Diagnostics, SourceMap};
 use crate::shader::reflect::{StdContext, UniformBlock};
 use crate::shader::Reflection;
 use crate::shader::UniformLayout;
-use crate::shader::{load_plan_shaders, LoadedShader};
+use crate::shader::{load_plan_shaders_with, LoadedShader, ShaderCache};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -29,10 +29,10 @@ type PassPipelines = (
 
 /// The textures (binding, input index), their filterability (binding, filterable)
 /// and the samplers (binding, sampling, filtering) of a pass's shader.
-struct PassBindings {
+pub(super) struct PassBindings {
     textures: Vec<(u32, usize)>,
-    filterable: Vec<(u32, bool)>,
-    samplers: Vec<(u32, Sampling, bool)>,
+    pub(super) filterable: Vec<(u32, bool)>,
+    pub(super) samplers: Vec<(u32, Sampling, bool)>,
 }
 
 /// The source of a resource; caller images are added to `caller` once each.
@@ -130,10 +130,25 @@ impl Engine {
         plan: Plan,
         sources: &mut SourceMap,
     ) -> Result<Prepared, ExecError> {
+        self.prepare_cached(graph, plan, sources, &mut ShaderCache::default())
+    }
+
+    /// [`Engine::prepare`] with the shaders `cache` holds already, loaded for
+    /// `sources` ([`crate::shader::preload_graph_shaders`], which needs no device).
+    pub fn prepare_cached(
+        &mut self,
+        graph: &Graph,
+        plan: Plan,
+        sources: &mut SourceMap,
+        cache: &mut ShaderCache,
+    ) -> Result<Prepared, ExecError> {
         let start = Instant::now();
         let mut diags = Diagnostics::default();
-        let (shaders, shader_diags) = load_plan_shaders(graph, &plan, sources, &self.shader_dirs);
+        let (shaders, shader_diags) =
+            load_plan_shaders_with(graph, &plan, sources, &self.shader_dirs, cache);
         diags.extend(shader_diags);
+        // The passes' pipelines, built side by side; the passes below find them.
+        self.prewarm(graph, &plan, &shaders);
         let mut passes = Vec::new();
         let mut caller = Vec::new();
         let mut stats = PreparedStats::default();
@@ -194,7 +209,7 @@ impl Engine {
     /// the pass's inputs, with their filterability from the bound formats. `None` (and
     /// errors in `diags`) when an input is missing, or cannot be filtered or viewed as
     /// the pass asks on this adapter.
-    fn pass_bindings(
+    pub(super) fn pass_bindings(
         &self,
         graph: &Graph,
         p: &PlannedPass,
@@ -367,7 +382,7 @@ impl Engine {
 
     /// Whether the adapter can run pass `p` at all: its size, and the format its
     /// target is written in. Returns that format.
-    fn check_target(&self, p: &PlannedPass) -> Result<wgpu::TextureFormat, Diagnostic> {
+    pub(super) fn check_target(&self, p: &PlannedPass) -> Result<wgpu::TextureFormat, Diagnostic> {
         let max = self.ctx.device.limits().max_texture_dimension_2d;
         let adapter = &self.ctx.info.name;
         if p.desc.width > max || p.desc.height > max {
