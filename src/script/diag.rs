@@ -375,13 +375,26 @@ impl Diagnostics {
     }
 
     /// All diagnostics, then a summary line when there is anything to report.
+    /// One that renders exactly as an earlier one is shown and counted once: a
+    /// shader that two passes use with different defines is checked twice, and
+    /// an error outside the defined parts is the same error in both.
     pub fn render(&self, sources: &SourceMap) -> String {
         let mut out = String::new();
+        let mut seen = std::collections::HashSet::new();
+        let (mut e, mut w) = (0, 0);
         for d in &self.list {
-            out.push_str(&d.render(sources));
+            let text = d.render(sources);
+            if !seen.insert(text.clone()) {
+                continue;
+            }
+            match d.severity {
+                Severity::Error => e += 1,
+                Severity::Warning => w += 1,
+                _ => {}
+            }
+            out.push_str(&text);
             out.push('\n');
         }
-        let (e, w) = (self.error_count(), self.warning_count());
         if e > 0 || w > 0 {
             let plural = |n: usize, word: &str| {
                 if n == 1 {
@@ -393,5 +406,31 @@ impl Diagnostics {
             let _ = writeln!(out, "{}, {}", plural(e, "error"), plural(w, "warning"));
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A shader checked once per pass (two files of the same text, as two
+    /// variants are): its error is shown and counted once.
+    #[test]
+    fn the_same_diagnostic_twice_is_reported_once() {
+        let mut sources = SourceMap::default();
+        let text = "let a = 1;\nlet bad = i32(1) & params;\n";
+        let mut all = Diagnostics::default();
+        for _ in 0..2 {
+            let f = sources.add("pencil_blur.wgsl", text);
+            all.push(
+                Diagnostic::error("operator `&` can't work with `i32` and `Params`")
+                    .at(Span::new(f, 21, 36), ""),
+            );
+        }
+        let f = sources.add("other.wgsl", text);
+        all.push(Diagnostic::warning("unused").at(Span::new(f, 4, 5), ""));
+        let out = all.render(&sources);
+        assert_eq!(out.matches("can't work with").count(), 1, "{out}");
+        assert!(out.ends_with("1 error, 1 warning\n"), "{out}");
     }
 }
