@@ -426,39 +426,57 @@ pub fn hemisphere_albedo(
     sum
 }
 
-/// The specular albedo of the Cook-Torrance lobe for `f0` at `v` (n = +Z):
-/// ∫ f·cos dω over the hemisphere, on a `steps` × 2·`steps` grid that is
-/// uniform in GGX's own cumulative distribution of the half vector (ξ₁ →
-/// cos²θh = (1 − ξ₁) / (1 + (α² − 1) ξ₁), ξ₂ → φ) instead of in the angles:
-/// each cell weighs `1 / (N pdf(l))`, `pdf(l) = D cosθh / (4 v·h)`. Where the
-/// lobe is a degree wide (roughness 0.1), an angle grid needs thousands of
-/// steps to resolve it; this one puts its points where the lobe is.
-pub fn specular_albedo_ggx_grid(f0: Vec3, roughness: f32, v: Vec3, steps: u32) -> Vec3 {
+/// The directions of a `steps` × 2·`steps` grid uniform in GGX's cumulative
+/// distribution of the half vector about normal `n` (ξ₁ → cos²θh = (1 − ξ₁) /
+/// (1 + (α² − 1) ξ₁), ξ₂ → φ), reflected about `v`: `f(l, w)` for each `l`
+/// above the surface, `w = 1 / (N pdf(l))`, `pdf(l) = D cosθh / (4 v·h)`, so
+/// that Σ g(l) w estimates ∫ g dω. Where the lobe is a degree wide (roughness
+/// 0.1), an angle grid needs thousands of steps to resolve it; this one puts
+/// its points where the lobe is.
+pub fn for_each_ggx_grid_direction(
+    roughness: f32,
+    n: Vec3,
+    v: Vec3,
+    steps: u32,
+    mut f: impl FnMut(Vec3, f32),
+) {
     let a = (roughness * roughness).max(MIN_ALPHA);
     let a2 = a * a;
+    let across = v - n.dot(v) * n;
+    let b1 = if across.length() > 1e-5 {
+        across.normalize()
+    } else {
+        n.any_orthonormal_vector()
+    };
+    let b2 = n.cross(b1);
     let (nt, np) = (steps, 2 * steps);
     let count = (nt * np) as f32;
-    let mut sum = Vec3::ZERO;
     for i in 0..nt {
         let xi = (i as f32 + 0.5) / nt as f32;
         let cos_h = ((1.0 - xi) / (1.0 + (a2 - 1.0) * xi)).sqrt();
         let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
         for j in 0..np {
             let phi = 2.0 * PI * (j as f32 + 0.5) / np as f32;
-            let h = Vec3::new(sin_h * phi.cos(), sin_h * phi.sin(), cos_h);
+            let h = b1 * (sin_h * phi.cos()) + b2 * (sin_h * phi.sin()) + n * cos_h;
             let vdh = v.dot(h);
-            if vdh <= 0.0 {
-                continue;
-            }
             let l = 2.0 * vdh * h - v;
-            if l.z <= 0.0 {
+            if vdh <= 0.0 || n.dot(l) <= 0.0 {
                 continue;
             }
             let dd = cos_h * cos_h * (a2 - 1.0) + 1.0;
             let pdf = a2 / (PI * dd * dd) * cos_h / (4.0 * vdh);
-            let (_, s) = cook_torrance(f0, roughness, Vec3::Z, v, l, Vec3::ONE);
-            sum += s / (pdf * count);
+            f(l, 1.0 / (pdf * count));
         }
     }
+}
+
+/// The specular albedo of the Cook-Torrance lobe for `f0` at `v` (n = +Z):
+/// ∫ f·cos dω over the hemisphere on [`for_each_ggx_grid_direction`]'s grid.
+pub fn specular_albedo_ggx_grid(f0: Vec3, roughness: f32, v: Vec3, steps: u32) -> Vec3 {
+    let mut sum = Vec3::ZERO;
+    for_each_ggx_grid_direction(roughness, Vec3::Z, v, steps, |l, w| {
+        let (_, s) = cook_torrance(f0, roughness, Vec3::Z, v, l, Vec3::ONE);
+        sum += s * w;
+    });
     sum
 }

@@ -5,7 +5,9 @@
 //! Vulkan / WebGPU face selection table.
 #![allow(dead_code)]
 
-use super::brdf::{gltf_spec_brdf, specular_albedo_ggx_grid, OracleCamera};
+use super::brdf::{
+    for_each_ggx_grid_direction, gltf_spec_brdf, specular_albedo_ggx_grid, OracleCamera,
+};
 use fxgraph::render::environment::bright::BrightCell;
 use fxgraph::scene::environment::{direction_to_uv, uv_to_direction, Equirect};
 use fxgraph::scene::{Camera, Environment, Material, Scene, ShaderBinding};
@@ -128,39 +130,14 @@ pub fn reference_radiance_sampled(
     steps: u32,
 ) -> Vec3 {
     assert!(s.metallic == 1.0, "the sampled reference is for metals");
-    let a = (s.roughness * s.roughness).max(1e-3);
-    let a2 = a * a;
-    let across = v - n.dot(v) * n;
-    let b1 = if across.length() > 1e-5 {
-        across.normalize()
-    } else {
-        n.any_orthonormal_vector()
-    };
-    let b2 = n.cross(b1);
-    let (nt, np) = (steps, 2 * steps);
-    let count = (nt * np) as f32;
     let mut single = Vec3::ZERO;
-    for i in 0..nt {
-        let xi = (i as f32 + 0.5) / nt as f32;
-        let cos_h = ((1.0 - xi) / (1.0 + (a2 - 1.0) * xi)).sqrt();
-        let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
-        for j in 0..np {
-            let phi = 2.0 * PI * (j as f32 + 0.5) / np as f32;
-            let h = b1 * (sin_h * phi.cos()) + b2 * (sin_h * phi.sin()) + n * cos_h;
-            let vdh = v.dot(h);
-            let l = 2.0 * vdh * h - v;
-            if vdh <= 0.0 || n.dot(l) <= 0.0 {
-                continue;
-            }
-            let dd = cos_h * cos_h * (a2 - 1.0) + 1.0;
-            let pdf = a2 / (PI * dd * dd) * cos_h / (4.0 * vdh);
-            let f = gltf_spec_brdf(s.base, 1.0, s.roughness, n, v, l);
-            let (u, y) = direction_to_uv(l);
-            let x = ((u * map.width as f32) as u32).min(map.width - 1);
-            let y = ((y * map.height as f32) as u32).min(map.height - 1);
-            single += map.at(x, y) * f / (pdf * count);
-        }
-    }
+    for_each_ggx_grid_direction(s.roughness, n, v, steps, |l, w| {
+        let f = gltf_spec_brdf(s.base, 1.0, s.roughness, n, v, l);
+        let (u, y) = direction_to_uv(l);
+        let x = ((u * map.width as f32) as u32).min(map.width - 1);
+        let y = ((y * map.height as f32) as u32).min(map.height - 1);
+        single += map.at(x, y) * f * w;
+    });
     let (_, fms_ems) = scattering(s.f0(), s.roughness, n, v);
     single + fms_ems * irradiance(t, n)
 }

@@ -204,19 +204,7 @@ impl Engine {
         if mismatch || !self.ctx.format_support(storage).storage {
             return None;
         }
-        let key = ComputeKey {
-            base: PipelineKey {
-                target: storage,
-                ..render_key.clone()
-            },
-            encode_srgb: false,
-            mipmapped: Vec::new(),
-        };
-        let st = StorageTarget {
-            format: wanted.to_string(),
-            encode_srgb: false,
-            binding: native.output.binding,
-        };
+        let (key, st) = native_pipeline(storage, wanted, render_key, native);
         Some((key, st))
     }
 
@@ -296,19 +284,7 @@ impl Engine {
         if convert.is_none() {
             self.pool.add_storage_format(p.desc.format);
         }
-        let key = ComputeKey {
-            base: PipelineKey {
-                target: storage,
-                ..render_key.clone()
-            },
-            encode_srgb: false,
-            mipmapped: Vec::new(),
-        };
-        let st = StorageTarget {
-            format: wanted.to_string(),
-            encode_srgb: false,
-            binding: native.output.binding,
-        };
+        let (key, st) = native_pipeline(storage, wanted, render_key, native);
         let [wx, wy, _] = native.workgroup;
         let pipeline = match self.compute_pipelines.get(&key) {
             Some(Some(p)) => p.clone(),
@@ -596,4 +572,29 @@ pub(super) fn encode_compute_pass(
     let (wx, wy) = path.workgroup;
     cp.dispatch_workgroups(path.size.0.div_ceil(wx), path.size.1.div_ceil(wy), 1);
     Ok(created)
+}
+
+/// The key and storage target of compute-native pass `native`'s pipeline,
+/// storing `storage` as the shader's `wanted` format (no sRGB encoding, no
+/// mipmaps).
+fn native_pipeline(
+    storage: wgpu::TextureFormat,
+    wanted: &str,
+    render_key: &PipelineKey,
+    native: &ComputeNative,
+) -> (ComputeKey, StorageTarget) {
+    let key = ComputeKey {
+        base: PipelineKey {
+            target: storage,
+            ..render_key.clone()
+        },
+        encode_srgb: false,
+        mipmapped: Vec::new(),
+    };
+    let st = StorageTarget {
+        format: wanted.to_string(),
+        encode_srgb: false,
+        binding: native.output.binding,
+    };
+    (key, st)
 }

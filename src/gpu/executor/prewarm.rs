@@ -49,6 +49,26 @@ enum Job<'a> {
     },
 }
 
+impl<'a> Job<'a> {
+    fn compute(
+        key: ComputeKey,
+        native: bool,
+        st: StorageTarget,
+        refl: &'a Reflection,
+        samplers: Vec<(u32, Sampling, bool)>,
+        label: &'a str,
+    ) -> Job<'a> {
+        Job::Compute {
+            key,
+            native,
+            st,
+            refl,
+            samplers,
+            label,
+        }
+    }
+}
+
 /// What a job built (`None`: it failed, the walk builds it again and reports it).
 enum Built {
     Render(PipelineKey, Option<super::CachedPipeline>),
@@ -196,14 +216,14 @@ impl Engine {
                     }
                 } else if let Some((ckey, st)) = self.native_key(p, &key, native) {
                     if !self.has_compute_pipeline(&ckey) && compute_seen.insert(ckey.clone()) {
-                        jobs.push(Job::Compute {
-                            key: ckey,
-                            native: true,
+                        jobs.push(Job::compute(
+                            ckey,
+                            true,
                             st,
                             refl,
-                            samplers: bindings.samplers,
-                            label: &p.path,
-                        });
+                            bindings.samplers,
+                            &p.path,
+                        ));
                     }
                 }
                 continue;
@@ -211,14 +231,8 @@ impl Engine {
             if self.execution == Execution::Compute {
                 if let Some((ckey, st)) = self.wrapped_key(p, &key, refl) {
                     if !self.has_compute_pipeline(&ckey) && compute_seen.insert(ckey.clone()) {
-                        jobs.push(Job::Compute {
-                            key: ckey,
-                            native: false,
-                            st,
-                            refl,
-                            samplers: bindings.samplers.clone(),
-                            label: &p.path,
-                        });
+                        let samplers = bindings.samplers.clone();
+                        jobs.push(Job::compute(ckey, false, st, refl, samplers, &p.path));
                     }
                 }
             }
