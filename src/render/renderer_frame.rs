@@ -397,6 +397,7 @@ impl Renderer {
                 light_view: &self.light_view,
                 volumes: &self.volumes,
                 motion: &self.motion,
+                visibility: self.visibility.as_ref(),
                 frame_background: self.frame_background,
             },
             pipelines: &mut self.pipelines,

@@ -1,0 +1,206 @@
+// Visibility buffer, material resolve (src/render/visibility.rs): appended to a
+// material variant's geometry module (geometry.wgsl, its surface shader with
+// `textureSample` turned into `fx_vis_sample`, and the interface types). One
+// invocation per pixel rebuilds the fragment the G-buffer pass would have
+// shaded: the triangle the raster half stored, its corners transformed by
+// `fx_geometry_vertex`, the barycentrics of the ray through the pixel centre
+// (perspective-correct: the ray meets the view-space triangle), and the
+// interpolated `FxVsOut`; then it writes the G-buffer pass's outputs. The host
+// prepends `const FX_VIS_GRADIENTS: bool = ...;` (the surface samples
+// textures). SRGB_ENCODE (`fxgraph_srgb_encode`) is appended.
+
+struct FxVisSlot {
+    first_index: u32,
+    base_vertex: i32,
+    // the resolve dispatch (material and mesh features) of the slot
+    group: u32,
+    // bit 0: clockwise triangles are the front faces (a mirroring transform)
+    flags: u32,
+}
+
+struct FxVisDispatch {
+    group: u32,
+    // the first dispatch also clears the pixels without a resolved triangle
+    clear: u32,
+    _p0: u32,
+    _p1: u32,
+}
+
+@group(1) @binding(2) var fx_vis_ids: texture_2d<u32>;
+@group(1) @binding(3) var<storage, read> fx_vis_vertices: array<f32>;
+@group(1) @binding(4) var<storage, read> fx_vis_indices: array<u32>;
+@group(1) @binding(5) var<storage, read> fx_vis_slots: array<FxVisSlot>;
+@group(1) @binding(6) var<uniform> fx_vis_dispatch: FxVisDispatch;
+// the sRGB targets through raw twins (copied in afterwards), the normal and
+// the light the G-buffer pass starts with as they are
+@group(1) @binding(7) var fx_vis_albedo: texture_storage_2d<rgba8unorm, write>;
+@group(1) @binding(8) var fx_vis_normal: texture_storage_2d<rgb10a2unorm, write>;
+@group(1) @binding(9) var fx_vis_specular: texture_storage_2d<rgba8unorm, write>;
+@group(1) @binding(10) var fx_vis_light: texture_storage_2d<rgba16float, write>;
+
+const FX_VIS_NONE: u32 = 0xffffffffu;
+// f32 words per vertex (gpu_types.rs `Vertex`, 72 bytes)
+const FX_VIS_STRIDE: u32 = 18u;
+// texture reads per surface given their own gradients; later ones read level 0
+const FX_VIS_SAMPLES: u32 = 16u;
+
+// Gradients of the surface's texture coordinates: the surface runs first at
+// the pixel one to the right (mode 1) and one below (mode 2), on the plane of
+// the same triangle, recording the coordinates of each read in call order; the
+// shading run (mode 0) samples with their differences, as a 2x2 quad of
+// fragments differences them.
+var<private> fx_vis_mode: u32;
+var<private> fx_vis_k: u32;
+var<private> fx_vis_dx: array<vec2<f32>, FX_VIS_SAMPLES>;
+var<private> fx_vis_dy: array<vec2<f32>, FX_VIS_SAMPLES>;
+
+fn fx_vis_sample(t: texture_2d<f32>, s: sampler, uv: vec2<f32>) -> vec4<f32> {
+    let k = fx_vis_k;
+    fx_vis_k = k + 1u;
+    if k >= FX_VIS_SAMPLES {
+        return textureSampleLevel(t, s, uv, 0.0);
+    }
+    if fx_vis_mode == 1u {
+        fx_vis_dx[k] = uv;
+        return vec4<f32>(0.0);
+    }
+    if fx_vis_mode == 2u {
+        fx_vis_dy[k] = uv;
+        return vec4<f32>(0.0);
+    }
+    return textureSampleGrad(t, s, uv, fx_vis_dx[k] - uv, fx_vis_dy[k] - uv);
+}
+
+fn fx_vis_v2(b: u32) -> vec2<f32> {
+    return vec2<f32>(fx_vis_vertices[b], fx_vis_vertices[b + 1u]);
+}
+
+fn fx_vis_v3(b: u32) -> vec3<f32> {
+    return vec3<f32>(fx_vis_vertices[b], fx_vis_vertices[b + 1u], fx_vis_vertices[b + 2u]);
+}
+
+fn fx_vis_v4(b: u32) -> vec4<f32> {
+    return vec4<f32>(fx_vis_v3(b), fx_vis_vertices[b + 3u]);
+}
+
+// Corner `vertex` of the triangle, as the vertex stage transforms it.
+fn fx_vis_corner(vertex: u32, slot: u32) -> FxVsOut {
+    let b = vertex * FX_VIS_STRIDE;
+    var v: FxVsIn;
+    v.position = fx_vis_v3(b);
+    v.normal = fx_vis_v3(b + 3u);
+    v.uv0 = fx_vis_v2(b + 6u);
+    v.uv1 = fx_vis_v2(b + 8u);
+    v.tangent = fx_vis_v4(b + 10u);
+    v.color = fx_vis_v4(b + 14u);
+    return fx_geometry_vertex(v, slot);
+}
+
+// The view-space ray through framebuffer point `xy`: origin and direction
+// (through the inverse of the jittered projection: perspective or orthographic).
+struct FxVisRay {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+}
+
+fn fx_vis_ray(xy: vec2<f32>) -> FxVisRay {
+    let ndc = vec2<f32>(xy.x * 2.0 * fx_frame.viewport.z - 1.0, 1.0 - xy.y * 2.0 * fx_frame.viewport.w);
+    let a = fx_frame.inv_proj * vec4<f32>(ndc, 0.0, 1.0);
+    let b = fx_frame.inv_proj * vec4<f32>(ndc, 0.5, 1.0);
+    let o = a.xyz / a.w;
+    return FxVisRay(o, b.xyz / b.w - o);
+}
+
+// Barycentrics of the point where `ray` meets the plane of p0 p1 p2
+// (Möller and Trumbore), outside the triangle too (a neighbour's gradients).
+fn fx_vis_barycentrics(ray: FxVisRay, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>) -> vec3<f32> {
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let pv = cross(ray.dir, e2);
+    let det = dot(e1, pv);
+    if abs(det) < 1e-30 {
+        return vec3<f32>(1.0, 0.0, 0.0);
+    }
+    let inv = 1.0 / det;
+    let tv = ray.origin - p0;
+    let u = dot(tv, pv) * inv;
+    let v = dot(ray.dir, cross(tv, e1)) * inv;
+    return vec3<f32>(1.0 - u - v, u, v);
+}
+
+// The fragment at barycentrics `w` of corners a, b, c (what the rasteriser
+// interpolates); `xy` its framebuffer position.
+fn fx_vis_fragment(a: FxVsOut, b: FxVsOut, c: FxVsOut, w: vec3<f32>, xy: vec2<f32>) -> FxVsOut {
+    var f = a;
+    f.clip = vec4<f32>(xy, 0.0, 1.0);
+    f.view_pos = a.view_pos * w.x + b.view_pos * w.y + c.view_pos * w.z;
+    f.normal = a.normal * w.x + b.normal * w.y + c.normal * w.z;
+    f.uv0 = a.uv0 * w.x + b.uv0 * w.y + c.uv0 * w.z;
+    f.uv1 = a.uv1 * w.x + b.uv1 * w.y + c.uv1 * w.z;
+    f.tangent = a.tangent * w.x + b.tangent * w.y + c.tangent * w.z;
+    f.color = a.color * w.x + b.color * w.y + c.color * w.z;
+    f.world_pos = a.world_pos * w.x + b.world_pos * w.y + c.world_pos * w.z;
+    f.world_normal = a.world_normal * w.x + b.world_normal * w.y + c.world_normal * w.z;
+    return f;
+}
+
+fn fx_vis_store(c: vec2<i32>, albedo: vec4<f32>, normal: vec4<f32>, specular: vec4<f32>, light: vec4<f32>) {
+    textureStore(fx_vis_albedo, c, fxgraph_srgb_encode(albedo));
+    textureStore(fx_vis_normal, c, normal);
+    textureStore(fx_vis_specular, c, fxgraph_srgb_encode(specular));
+    textureStore(fx_vis_light, c, light);
+}
+
+@compute @workgroup_size(8, 8)
+fn fx_cs_visibility_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(fx_vis_ids);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    let c = vec2<i32>(gid.xy);
+    let id = textureLoad(fx_vis_ids, c, 0).xy;
+    if id.x == FX_VIS_NONE {
+        // nothing resolved here: the G-buffer pass's clear (its fallback
+        // draws, if any, come afterwards)
+        if fx_vis_dispatch.clear != 0u {
+            let zero = vec4<f32>(0.0);
+            fx_vis_store(c, zero, zero, zero, zero);
+        }
+        return;
+    }
+    let slot = fx_vis_slots[id.x];
+    if slot.group != fx_vis_dispatch.group {
+        return;
+    }
+    let first = slot.first_index + 3u * id.y;
+    let a = fx_vis_corner(u32(i32(fx_vis_indices[first]) + slot.base_vertex), id.x);
+    let b = fx_vis_corner(u32(i32(fx_vis_indices[first + 1u]) + slot.base_vertex), id.x);
+    let cc = fx_vis_corner(u32(i32(fx_vis_indices[first + 2u]) + slot.base_vertex), id.x);
+    let xy = vec2<f32>(gid.xy) + 0.5;
+    let ray = fx_vis_ray(xy);
+    // counter-clockwise on screen: the geometric normal faces the eye
+    let ccw = dot(cross(b.view_pos - a.view_pos, cc.view_pos - a.view_pos), ray.dir) < 0.0;
+    let front = ccw != ((slot.flags & 1u) != 0u);
+    if FX_VIS_GRADIENTS {
+        for (var m = 1u; m <= 2u; m++) {
+            let nxy = xy + select(vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 0.0), m == 1u);
+            let w = fx_vis_barycentrics(fx_vis_ray(nxy), a.view_pos, b.view_pos, cc.view_pos);
+            fx_vis_mode = m;
+            fx_vis_k = 0u;
+            _ = fx_surface(fx_vis_fragment(a, b, cc, w, nxy), front);
+        }
+        fx_vis_mode = 0u;
+        fx_vis_k = 0u;
+    }
+    let w = fx_vis_barycentrics(ray, a.view_pos, b.view_pos, cc.view_pos);
+    let f = fx_vis_fragment(a, b, cc, w, xy);
+    let s = fx_surface(f, front);
+    // fx_fs_gbuffer's outputs (layered and MASK materials are not resolved here)
+    fx_vis_store(
+        c,
+        vec4<f32>(s.diffuse, f32(f.material) / 255.0),
+        vec4<f32>(fx_encode_normal(s.normal), s.roughness, 1.0),
+        vec4<f32>(s.specular, f32(fx_materials[f.material].model) / 255.0),
+        vec4<f32>(fx_unlit_local(s), s.occlusion),
+    );
+}
