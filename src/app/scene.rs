@@ -191,6 +191,10 @@ pub(super) fn prepare(
     }
     stats.load_ms = ms(t.elapsed());
     let renderer = scene_renderer(job, &engine.ctx, &scene)?;
+    // the fat G-buffer where the adapter cannot have a visibility buffer
+    if renderer.visibility_fallback_batches().is_none() {
+        stats.gbuffer_layout = crate::render::GbufferLayout::Fat.to_string();
+    }
     Ok((scene, renderer, effect))
 }
 

@@ -121,11 +121,6 @@ const LOAD: wgpu::Operations<wgpu::Color> = wgpu::Operations {
     store: wgpu::StoreOp::Store,
 };
 
-const LOAD_DEPTH: wgpu::Operations<f32> = wgpu::Operations {
-    load: wgpu::LoadOp::Load,
-    store: wgpu::StoreOp::Store,
-};
-
 /// How a pass uses the depth buffer.
 #[derive(Clone, Copy, PartialEq)]
 enum Depth {
@@ -153,17 +148,15 @@ fn begin<'e>(
     names.push(name.to_string());
     let depth_stencil_attachment = match depth {
         Depth::None => None,
-        Depth::Clear => Some(wgpu::RenderPassDepthStencilAttachment {
+        Depth::Clear | Depth::Load => Some(wgpu::RenderPassDepthStencilAttachment {
             view: &t.depth.view,
             depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
+                load: match depth {
+                    Depth::Clear => wgpu::LoadOp::Clear(1.0),
+                    _ => wgpu::LoadOp::Load,
+                },
                 store: wgpu::StoreOp::Store,
             }),
-            stencil_ops: None,
-        }),
-        Depth::Load => Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &t.depth.view,
-            depth_ops: Some(LOAD_DEPTH),
             stencil_ops: None,
         }),
         Depth::Read => Some(wgpu::RenderPassDepthStencilAttachment {
@@ -563,7 +556,14 @@ impl<'a> Recorder<'a> {
             let vis = r.visibility.filter(|_| pass == GeoPass::GBuffer);
             let batches = r.geometry.batches.iter().enumerate();
             let batches = batches.filter(|(i, _)| vis.is_none_or(|v| !v.resolves(*i)));
-            draw_batches((r, p), &mut rp, batches.map(|(_, b)| b), pass, lights, draws);
+            draw_batches(
+                (r, p),
+                &mut rp,
+                batches.map(|(_, b)| b),
+                pass,
+                lights,
+                draws,
+            );
         }
     }
 }

@@ -89,6 +89,7 @@ pub mod targets;
 mod technique;
 mod upload;
 mod visibility;
+mod visibility_pipelines;
 mod visibility_shader;
 mod wgsl_check;
 mod world_lights;

@@ -16,22 +16,18 @@
 //! materials, and surfaces that take derivatives themselves (`dpdx`,
 //! `fwidth`, `textureSampleBias`, ...; `visibility_shader.rs`).
 
-use super::gpu_types::Vertex;
 use super::material::{variant, MaterialSet, VariantKey};
-use super::pass_states::{depth, target};
-use super::pipelines::{create, Layouts};
+use super::pipelines::Layouts;
 use super::targets::{Target, Targets};
 use super::upload::{Cull, Geometry, MaterialResources};
-use super::visibility_shader::{raster_module, resolve_module};
+use super::visibility_pipelines::{raster_pipeline, resolve_layout, resolve_pipeline, ID_FORMAT};
+use super::visibility_shader::resolve_module;
 use super::wgsl_check::check;
-use crate::gpu::bindings;
 use crate::gpu::context::{GpuContext, GpuTimer};
 use bytemuck::{Pod, Zeroable};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
-/// The id target: instance slot, triangle within the draw.
-const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 /// No triangle resolved at a pixel (the id target's clear value).
 const NONE: u32 = u32::MAX;
 /// Bytes between the dispatches' uniforms (the dynamic offset alignment).
@@ -84,7 +80,11 @@ pub(crate) struct VisibilityBuffer {
 
 /// Why the adapter or the scene cannot have a visibility buffer, if so.
 fn unsupported(ctx: &GpuContext, geometry: &Geometry) -> Option<String> {
-    if !ctx.device.features().contains(wgpu::Features::PRIMITIVE_INDEX) {
+    if !ctx
+        .device
+        .features()
+        .contains(wgpu::Features::PRIMITIVE_INDEX)
+    {
         return Some("the device has no `@builtin(primitive_index)`".into());
     }
     for f in [
@@ -103,50 +103,6 @@ fn unsupported(ctx: &GpuContext, geometry: &Geometry) -> Option<String> {
         ));
     }
     None
-}
-
-/// Group 1 of the resolve: the ids, vertices, indices, slots, the dispatch's
-/// uniform (dynamic offset) and the four G-buffer outputs.
-fn resolve_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let cs = wgpu::ShaderStages::COMPUTE;
-    let store = |binding, format| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: cs,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-        count: None,
-    };
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("visibility resolve group 1 (ids, geometry, G-buffer outputs)"),
-        entries: &[
-            bindings::texture_entry(
-                2,
-                cs,
-                wgpu::TextureSampleType::Uint,
-                wgpu::TextureViewDimension::D2,
-            ),
-            bindings::storage_entry(3, cs),
-            bindings::storage_entry(4, cs),
-            bindings::storage_entry(5, cs),
-            wgpu::BindGroupLayoutEntry {
-                binding: 6,
-                visibility: cs,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: true,
-                    min_binding_size: wgpu::BufferSize::new(16),
-                },
-                count: None,
-            },
-            store(7, wgpu::TextureFormat::Rgba8Unorm),
-            store(8, wgpu::TextureFormat::Rgb10a2Unorm),
-            store(9, wgpu::TextureFormat::Rgba8Unorm),
-            store(10, wgpu::TextureFormat::Rgba16Float),
-        ],
-    })
 }
 
 /// What [`VisibilityBuffer::new`] reads from the renderer.
@@ -231,7 +187,12 @@ fn slot_records(geometry: &Geometry, p: &Plan) -> Vec<GpuVisSlot> {
         flags: 0,
     };
     let mut slots = vec![none; geometry.slots.len().max(1)];
-    for (b, _) in geometry.batches.iter().zip(&p.resolved).filter(|(_, r)| **r) {
+    for (b, _) in geometry
+        .batches
+        .iter()
+        .zip(&p.resolved)
+        .filter(|(_, r)| **r)
+    {
         let group = p
             .groups
             .iter()
@@ -266,7 +227,9 @@ impl VisibilityBuffer {
             );
         }
         if p.groups.is_empty() {
-            log::warn!("visibility buffer: no draw can be resolved in compute: the fat G-buffer is drawn");
+            log::warn!(
+                "visibility buffer: no draw can be resolved in compute: the fat G-buffer is drawn"
+            );
             return Ok(None);
         }
         let device = &ctx.device;
@@ -274,10 +237,28 @@ impl VisibilityBuffer {
         let mut resolve = Vec::new();
         for (key, text) in &p.variants {
             let surface = &inp.material_gpu.layouts[key.surface];
-            resolve.push(resolve_pipeline(ctx, inp, (&layout, surface), *key, text)?);
+            let label = format!(
+                "visibility resolve ({} + {}, features {:#x})",
+                inp.materials.surfaces[key.surface].name,
+                inp.materials.lightings[key.lighting].name,
+                key.features
+            );
+            let groups = [
+                &inp.layouts.g0,
+                &layout,
+                surface,
+                &inp.material_gpu.params_layout,
+            ];
+            resolve.push(resolve_pipeline(ctx, &label, groups, text)?);
         }
         let mut raster = HashMap::new();
-        for (b, _) in inp.geometry.batches.iter().zip(&p.resolved).filter(|(_, r)| **r) {
+        for (b, _) in inp
+            .geometry
+            .batches
+            .iter()
+            .zip(&p.resolved)
+            .filter(|(_, r)| **r)
+        {
             if let std::collections::hash_map::Entry::Vacant(e) = raster.entry(b.cull) {
                 e.insert(raster_pipeline(ctx, inp.layouts, b.cull)?);
             }
@@ -480,7 +461,12 @@ impl VisibilityBuffer {
             rp.set_vertex_buffer(0, geometry.vertex_buffer.slice(..));
             rp.set_index_buffer(geometry.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             let mut current = None;
-            for (b, _) in geometry.batches.iter().zip(&self.resolved).filter(|(_, r)| **r) {
+            for (b, _) in geometry
+                .batches
+                .iter()
+                .zip(&self.resolved)
+                .filter(|(_, r)| **r)
+            {
                 if current != Some(b.cull) {
                     rp.set_pipeline(&self.raster[&b.cull]);
                     current = Some(b.cull);
@@ -515,81 +501,4 @@ impl VisibilityBuffer {
         }
         draws
     }
-}
-
-/// The raster half's pipeline for batches culled as `cull`.
-fn raster_pipeline(
-    ctx: &GpuContext,
-    layouts: &Layouts,
-    cull: Cull,
-) -> Result<wgpu::RenderPipeline, String> {
-    let label = format!("visibility raster pipeline {cull:?}");
-    check(&label, raster_module())?;
-    let module = ctx
-        .scoped(&label, |device| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(&label),
-                source: wgpu::ShaderSource::Wgsl(raster_module().into()),
-            })
-        })
-        .map_err(|e| e.to_string())?;
-    let attrs = wgpu::vertex_attr_array![0 => Float32x3];
-    let buffers = [Some(wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<Vertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &attrs,
-    })];
-    create(
-        ctx,
-        &label,
-        &module,
-        ("fx_vs_visibility", "fx_fs_visibility"),
-        &buffers,
-        &[target(ID_FORMAT)],
-        depth(true, wgpu::CompareFunction::Less),
-        cull.primitive(),
-        &[Some(&layouts.g0)],
-        &[],
-    )
-}
-
-/// The resolve pipeline of material variant `key` from its module `text`.
-fn resolve_pipeline(
-    ctx: &GpuContext,
-    inp: &VisInputs<'_>,
-    (layout, surface): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
-    key: VariantKey,
-    text: &str,
-) -> Result<wgpu::ComputePipeline, String> {
-    let label = format!(
-        "visibility resolve ({} + {}, features {:#x})",
-        inp.materials.surfaces[key.surface].name,
-        inp.materials.lightings[key.lighting].name,
-        key.features
-    );
-    ctx.scoped(&label, |device| {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(&label),
-            source: wgpu::ShaderSource::Wgsl(text.into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(&label),
-            bind_group_layouts: &[
-                Some(&inp.layouts.g0),
-                Some(layout),
-                Some(surface),
-                Some(&inp.material_gpu.params_layout),
-            ],
-            immediate_size: 0,
-        });
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(&label),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("fx_cs_visibility_resolve"),
-            compilation_options: Default::default(),
-            cache: ctx.pipeline_cache.as_ref(),
-        })
-    })
-    .map_err(|e| e.to_string())
 }

@@ -61,9 +61,10 @@ pub(crate) fn scene_job(
         .light_culling
         .parse()
         .map_err(|e: String| rejected(format!("--light-culling {}: {e}", cli.light_culling)))?;
-    let gbuffer_layout = cli.gbuffer_layout.parse().map_err(|e: String| {
-        rejected(format!("--gbuffer-layout {}: {e}", cli.gbuffer_layout))
-    })?;
+    let gbuffer_layout = cli
+        .gbuffer_layout
+        .parse()
+        .map_err(|e: String| rejected(format!("--gbuffer-layout {}: {e}", cli.gbuffer_layout)))?;
     let fog = parse_fog(cli)?;
     let material_map = parse_material_map(cli)?;
     let ambient = parse_ambient(cli)?;
