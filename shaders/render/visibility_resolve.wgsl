@@ -19,8 +19,10 @@ struct FxVisSlot {
 }
 
 struct FxVisDispatch {
+    // the dispatch's tile list (visibility_classify.wgsl)
     group: u32,
-    // the first dispatch also clears the pixels without a resolved triangle
+    // 1: the clearing dispatch, over the tiles with a pixel nothing was
+    // resolved at (it clears those pixels only)
     clear: u32,
     _p0: u32,
     _p1: u32,
@@ -37,6 +39,9 @@ struct FxVisDispatch {
 @group(1) @binding(8) var fx_vis_normal: texture_storage_2d<rgb10a2unorm, write>;
 @group(1) @binding(9) var fx_vis_specular: texture_storage_2d<rgba8unorm, write>;
 @group(1) @binding(10) var fx_vis_light: texture_storage_2d<rgba16float, write>;
+// the classification's tile lists and their lengths
+@group(1) @binding(11) var<storage, read> fx_vis_tiles: array<u32>;
+@group(1) @binding(12) var<storage, read> fx_vis_counts: array<u32>;
 
 const FX_VIS_NONE: u32 = 0xffffffffu;
 // f32 words per vertex (gpu_types.rs `Vertex`, 72 bytes)
@@ -151,25 +156,40 @@ fn fx_vis_store(c: vec2<i32>, albedo: vec4<f32>, normal: vec4<f32>, specular: ve
     textureStore(fx_vis_light, c, light);
 }
 
+// One 8 x 8 tile of the dispatch's list per workgroup (65535 a row).
 @compute @workgroup_size(8, 8)
-fn fx_cs_visibility_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn fx_cs_visibility_resolve(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    let list = fx_vis_dispatch.group;
+    let k = wg.y * 65535u + wg.x;
+    if k >= fx_vis_counts[list] {
+        return;
+    }
     let size = textureDimensions(fx_vis_ids);
+    let tiles_x = (size.x + 7u) / 8u;
+    let tile = fx_vis_tiles[list * tiles_x * ((size.y + 7u) / 8u) + k];
+    let gid = vec2<u32>(tile % tiles_x, tile / tiles_x) * 8u + lid.xy;
     if gid.x >= size.x || gid.y >= size.y {
         return;
     }
-    let c = vec2<i32>(gid.xy);
+    let c = vec2<i32>(gid);
     let id = textureLoad(fx_vis_ids, c, 0).xy;
-    if id.x == FX_VIS_NONE {
+    if fx_vis_dispatch.clear != 0u {
         // nothing resolved here: the G-buffer pass's clear (its fallback
         // draws, if any, come afterwards)
-        if fx_vis_dispatch.clear != 0u {
+        if id.x == FX_VIS_NONE {
             let zero = vec4<f32>(0.0);
             fx_vis_store(c, zero, zero, zero, zero);
         }
         return;
     }
+    if id.x == FX_VIS_NONE {
+        return;
+    }
     let slot = fx_vis_slots[id.x];
-    if slot.group != fx_vis_dispatch.group {
+    if slot.group != list {
         return;
     }
     let first = slot.first_index + 3u * id.y;

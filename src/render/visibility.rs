@@ -20,7 +20,10 @@ use super::material::{variant, MaterialSet, VariantKey};
 use super::pipelines::Layouts;
 use super::targets::{Target, Targets};
 use super::upload::{Cull, Geometry, MaterialResources};
-use super::visibility_pipelines::{raster_pipeline, resolve_layout, resolve_pipeline, ID_FORMAT};
+use super::visibility_pipelines::{
+    classify_layout, classify_pipelines, raster_pipeline, resolve_layout, resolve_pipeline,
+    ID_FORMAT,
+};
 use super::visibility_shader::resolve_module;
 use super::wgsl_check::check;
 use crate::gpu::context::{GpuContext, GpuTimer};
@@ -62,6 +65,18 @@ struct VisTargets {
     /// Group 1 with the light written to the emission target (compute light
     /// pass) and to the specular light buffer (fragment light pass).
     groups: [wgpu::BindGroup; 2],
+    /// The tile classification's group 0.
+    classify: wgpu::BindGroup,
+}
+
+/// The tile classification (`visibility_classify.wgsl`): its pipelines
+/// (tiles, arguments), layout, and the lists' counts and indirect arguments
+/// (the tiles themselves are per size, in `VisTargets`).
+struct Classify {
+    pipelines: [wgpu::ComputePipeline; 2],
+    layout: wgpu::BindGroupLayout,
+    counts: wgpu::Buffer,
+    args: wgpu::Buffer,
 }
 
 /// The visibility buffer of a renderer's scene.
@@ -75,6 +90,7 @@ pub(crate) struct VisibilityBuffer {
     slots: wgpu::Buffer,
     dispatch: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
+    classify: Classify,
     targets: Option<VisTargets>,
 }
 
@@ -96,7 +112,7 @@ fn unsupported(ctx: &GpuContext, geometry: &Geometry) -> Option<String> {
             return Some(format!("the adapter cannot store to {f:?} in compute"));
         }
     }
-    let max = u64::from(ctx.device.limits().max_storage_buffer_binding_size);
+    let max = ctx.device.limits().max_storage_buffer_binding_size;
     if geometry.vertex_buffer.size() > max || geometry.index_buffer.size() > max {
         return Some(format!(
             "the vertices or indices exceed a storage binding ({max} bytes)"
@@ -211,6 +227,14 @@ fn slot_records(geometry: &Geometry, p: &Plan) -> Vec<GpuVisSlot> {
     slots
 }
 
+/// Binding `binding`: the whole of `b`.
+fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: b.as_entire_binding(),
+    }
+}
+
 impl VisibilityBuffer {
     /// The visibility buffer of the scene, its pipelines created; `None` (with
     /// a warning) where the adapter cannot have one or no draw can be resolved.
@@ -264,12 +288,31 @@ impl VisibilityBuffer {
             }
         }
         let slots = slot_records(inp.geometry, &p);
-        let mut dispatch = vec![0u8; p.groups.len() * DISPATCH_STRIDE as usize];
-        for i in 0..p.groups.len() {
+        // one per group, then the clearing dispatch's (list `groups`)
+        let lists = p.groups.len() + 1;
+        let mut dispatch = vec![0u8; lists * DISPATCH_STRIDE as usize];
+        for i in 0..lists {
             let at = i * DISPATCH_STRIDE as usize;
-            let words = [i as u32, u32::from(i == 0), 0, 0];
+            let words = [i as u32, u32::from(i == p.groups.len()), 0, 0];
             dispatch[at..at + 16].copy_from_slice(bytemuck::cast_slice(&words));
         }
+        let classify_layout = classify_layout(device);
+        let classify = Classify {
+            pipelines: classify_pipelines(ctx, &classify_layout, p.groups.len())?,
+            layout: classify_layout,
+            counts: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("visibility tile counts"),
+                size: lists as u64 * 4,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            args: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("visibility resolve dispatch sizes"),
+                size: lists as u64 * 12,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
+        };
         let init = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
@@ -300,6 +343,7 @@ impl VisibilityBuffer {
             resolve,
             raster,
             layout,
+            classify,
             targets: None,
         }))
     }
@@ -361,17 +405,19 @@ impl VisibilityBuffer {
             wgpu::TextureFormat::Rgba8Unorm,
             twin,
         );
+        let tiles = t.width.div_ceil(TILE) as u64 * t.height.div_ceil(TILE) as u64;
+        let lists = self.groups.len() as u64 + 1;
+        let tile_lists = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("visibility tile lists"),
+            size: lists * tiles * 4,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let group = |label: &str, light: &wgpu::TextureView| {
             let view = |binding, v| wgpu::BindGroupEntry {
                 binding,
                 resource: wgpu::BindingResource::TextureView(v),
             };
-            fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-                wgpu::BindGroupEntry {
-                    binding,
-                    resource: b.as_entire_binding(),
-                }
-            }
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(label),
                 layout: &self.layout,
@@ -392,6 +438,8 @@ impl VisibilityBuffer {
                     view(8, &t.normal.view),
                     view(9, &specular.view),
                     view(10, light),
+                    buffer(11, &tile_lists),
+                    buffer(12, &self.classify.counts),
                 ],
             })
         };
@@ -402,12 +450,28 @@ impl VisibilityBuffer {
                 &t.light_specular.view,
             ),
         ];
+        let c = &self.classify;
+        let classify = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visibility classification group 0"),
+            layout: &c.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&ids.view),
+                },
+                buffer(1, &self.slots),
+                buffer(2, &c.counts),
+                buffer(3, &tile_lists),
+                buffer(4, &c.args),
+            ],
+        });
         self.targets = Some(VisTargets {
             size: (t.width, t.height),
             ids,
             albedo,
             specular,
             groups,
+            classify,
         });
     }
 
@@ -477,19 +541,29 @@ impl VisibilityBuffer {
         }
         let index = names.len() as u32;
         names.push("material resolve".into());
+        let c = &self.classify;
+        encoder.clear_buffer(&c.counts, 0, None);
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("material resolve"),
                 timestamp_writes: timer.and_then(|t| t.compute_pass_writes(index)),
             });
+            // the tiles of each dispatch, and its size
+            pass.set_bind_group(0, &vt.classify, &[]);
+            pass.set_pipeline(&c.pipelines[0]);
+            pass.dispatch_workgroups(t.width.div_ceil(TILE), t.height.div_ceil(TILE), 1);
+            pass.set_pipeline(&c.pipelines[1]);
+            pass.dispatch_workgroups((self.groups.len() as u32 + 1).div_ceil(64), 1, 1);
             let group1 = &vt.groups[usize::from(!light_start_is_emission)];
             pass.set_bind_group(0, g0, &[]);
             pass.set_bind_group(3, &material_gpu.params_group, &[]);
-            for (i, g) in self.groups.iter().enumerate() {
+            // every group, then the clearing dispatch (with the first's pipeline)
+            let clearing = (self.groups.len(), &self.groups[0]);
+            for (i, g) in self.groups.iter().enumerate().chain([clearing]) {
                 pass.set_pipeline(&self.resolve[g.pipeline]);
                 pass.set_bind_group(1, group1, &[(i as u64 * DISPATCH_STRIDE) as u32]);
                 pass.set_bind_group(2, material_gpu.group(g.material, g.features), &[]);
-                pass.dispatch_workgroups(t.width.div_ceil(TILE), t.height.div_ceil(TILE), 1);
+                pass.dispatch_workgroups_indirect(&c.args, i as u64 * 12);
             }
         }
         for (twin, target) in [(&vt.albedo, &t.albedo), (&vt.specular, &t.specular)] {

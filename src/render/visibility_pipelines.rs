@@ -6,7 +6,7 @@ use super::gpu_types::Vertex;
 use super::pass_states::{depth, target};
 use super::pipelines::{create, Layouts};
 use super::upload::Cull;
-use super::visibility_shader::raster_module;
+use super::visibility_shader::{classify_module, raster_module};
 use super::wgsl_check::check;
 use crate::gpu::bindings;
 use crate::gpu::context::GpuContext;
@@ -15,7 +15,8 @@ use crate::gpu::context::GpuContext;
 pub(crate) const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 
 /// Group 1 of the resolve: the ids, vertices, indices, slots, the dispatch's
-/// uniform (dynamic offset) and the four G-buffer outputs.
+/// uniform (dynamic offset), the four G-buffer outputs, and the
+/// classification's tile lists and counts.
 pub(crate) fn resolve_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let cs = wgpu::ShaderStages::COMPUTE;
     let store = |binding, format| wgpu::BindGroupLayoutEntry {
@@ -54,6 +55,8 @@ pub(crate) fn resolve_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             store(8, wgpu::TextureFormat::Rgb10a2Unorm),
             store(9, wgpu::TextureFormat::Rgba8Unorm),
             store(10, wgpu::TextureFormat::Rgba16Float),
+            bindings::storage_entry(11, cs),
+            bindings::storage_entry(12, cs),
         ],
     })
 }
@@ -120,6 +123,61 @@ pub(crate) fn resolve_pipeline(
             entry_point: Some("fx_cs_visibility_resolve"),
             compilation_options: Default::default(),
             cache: ctx.pipeline_cache.as_ref(),
+        })
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// The tile classification's group 0: the ids and slots (read), the lists'
+/// counts, tiles and indirect arguments (written).
+pub(crate) fn classify_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let cs = wgpu::ShaderStages::COMPUTE;
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("visibility classification group 0 (ids, slots, tile lists)"),
+        entries: &[
+            bindings::texture_entry(
+                0,
+                cs,
+                wgpu::TextureSampleType::Uint,
+                wgpu::TextureViewDimension::D2,
+            ),
+            bindings::storage_entry(1, cs),
+            bindings::storage_rw_entry(2, cs),
+            bindings::storage_rw_entry(3, cs),
+            bindings::storage_rw_entry(4, cs),
+        ],
+    })
+}
+
+/// The classification's two pipelines (the tiles, then the indirect
+/// arguments) for `groups` resolve dispatches.
+pub(crate) fn classify_pipelines(
+    ctx: &GpuContext,
+    layout: &wgpu::BindGroupLayout,
+    groups: usize,
+) -> Result<[wgpu::ComputePipeline; 2], String> {
+    let label = "visibility tile classification";
+    let text = classify_module(groups);
+    check(label, &text)?;
+    ctx.scoped(label, |device| {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(text.as_str().into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        });
+        ["fx_cs_visibility_classify", "fx_cs_visibility_args"].map(|entry| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(&format!("{label} ({entry})")),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: ctx.pipeline_cache.as_ref(),
+            })
         })
     })
     .map_err(|e| e.to_string())

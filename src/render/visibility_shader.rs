@@ -1,5 +1,5 @@
 //! The WGSL of the visibility buffer (`visibility.rs`): the raster half's
-//! module, and each material variant's resolve module: its geometry module
+//! module, the tile classification's, and each material variant's resolve module: its geometry module
 //! (`material::template`, preprocessed for the variant) with every
 //! `textureSample` turned into `fx_vis_sample` (explicit gradients, which a
 //! compute shader needs) and the resolve entry point appended. A surface that
@@ -14,6 +14,7 @@ const RASTER: &str = concat!(
     include_str!("../../shaders/render/instance.wgsl")
 );
 const RESOLVE: &str = include_str!("../../shaders/render/visibility_resolve.wgsl");
+const CLASSIFY: &str = include_str!("../../shaders/render/visibility_classify.wgsl");
 
 /// Builtins with implicit derivatives other than `textureSample`: a fragment
 /// quad's, which a compute invocation does not have.
@@ -34,6 +35,11 @@ const DERIVATIVES: [&str; 10] = [
 /// instances only).
 pub(crate) fn raster_module() -> &'static str {
     RASTER
+}
+
+/// The tile classification's module for `groups` resolve dispatches.
+pub(crate) fn classify_module(groups: usize) -> String {
+    format!("const FX_VIS_GROUPS: u32 = {groups}u;\n{CLASSIFY}")
 }
 
 fn is_ident(c: char) -> bool {
