@@ -2,10 +2,10 @@
 // material variant's geometry module (geometry.wgsl, its surface shader with
 // `textureSample` turned into `fx_vis_sample`, and the interface types). One
 // invocation per pixel rebuilds the fragment the G-buffer pass would have
-// shaded: the triangle the raster half stored, its corners transformed by
-// `fx_geometry_vertex`, the barycentrics of the ray through the pixel centre
-// (perspective-correct: the ray meets the view-space triangle), and the
-// interpolated `FxVsOut`; then it writes the G-buffer pass's outputs. The host
+// shaded: the triangle the raster half stored, the barycentrics of the ray
+// through the pixel centre (perspective-correct: the ray meets the view-space
+// triangle), and its corners interpolated and transformed by
+// `fx_geometry_vertex`; then it writes the G-buffer pass's outputs. The host
 // prepends `const FX_VIS_GRADIENTS: bool = ...;` (the surface samples
 // textures). SRGB_ENCODE (`fxgraph_srgb_encode`) is appended.
 
@@ -88,8 +88,8 @@ fn fx_vis_v4(b: u32) -> vec4<f32> {
     return vec4<f32>(fx_vis_v3(b), fx_vis_vertices[b + 3u]);
 }
 
-// Corner `vertex` of the triangle, as the vertex stage transforms it.
-fn fx_vis_corner(vertex: u32, slot: u32) -> FxVsOut {
+// Corner `vertex` of the triangle, as the vertex buffer holds it.
+fn fx_vis_corner(vertex: u32) -> FxVsIn {
     let b = vertex * FX_VIS_STRIDE;
     var v: FxVsIn;
     v.position = fx_vis_v3(b);
@@ -98,7 +98,13 @@ fn fx_vis_corner(vertex: u32, slot: u32) -> FxVsOut {
     v.uv1 = fx_vis_v2(b + 8u);
     v.tangent = fx_vis_v4(b + 10u);
     v.color = fx_vis_v4(b + 14u);
-    return fx_geometry_vertex(v, slot);
+    return v;
+}
+
+// The view-space position of corner `v` of instance `inst` (as
+// fx_geometry_vertex computes it).
+fn fx_vis_view_pos(inst: FxInstance, v: FxVsIn) -> vec3<f32> {
+    return (fx_frame.view * (inst.model * vec4<f32>(v.position, 1.0))).xyz;
 }
 
 // The view-space ray through framebuffer point `xy`: origin and direction
@@ -133,19 +139,20 @@ fn fx_vis_barycentrics(ray: FxVisRay, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32
     return vec3<f32>(1.0 - u - v, u, v);
 }
 
-// The fragment at barycentrics `w` of corners a, b, c (what the rasteriser
-// interpolates); `xy` its framebuffer position.
-fn fx_vis_fragment(a: FxVsOut, b: FxVsOut, c: FxVsOut, w: vec3<f32>, xy: vec2<f32>) -> FxVsOut {
-    var f = a;
+// The fragment at barycentrics `w` of corners a, b, c of instance slot
+// `slot`; `xy` its framebuffer position. The vertex stage's transforms are
+// linear in its inputs, so the corners are interpolated first and transformed
+// once (what the rasteriser interpolates, up to rounding).
+fn fx_vis_fragment(a: FxVsIn, b: FxVsIn, c: FxVsIn, w: vec3<f32>, slot: u32, xy: vec2<f32>) -> FxVsOut {
+    var v: FxVsIn;
+    v.position = a.position * w.x + b.position * w.y + c.position * w.z;
+    v.normal = a.normal * w.x + b.normal * w.y + c.normal * w.z;
+    v.uv0 = a.uv0 * w.x + b.uv0 * w.y + c.uv0 * w.z;
+    v.uv1 = a.uv1 * w.x + b.uv1 * w.y + c.uv1 * w.z;
+    v.tangent = a.tangent * w.x + b.tangent * w.y + c.tangent * w.z;
+    v.color = a.color * w.x + b.color * w.y + c.color * w.z;
+    var f = fx_geometry_vertex(v, slot);
     f.clip = vec4<f32>(xy, 0.0, 1.0);
-    f.view_pos = a.view_pos * w.x + b.view_pos * w.y + c.view_pos * w.z;
-    f.normal = a.normal * w.x + b.normal * w.y + c.normal * w.z;
-    f.uv0 = a.uv0 * w.x + b.uv0 * w.y + c.uv0 * w.z;
-    f.uv1 = a.uv1 * w.x + b.uv1 * w.y + c.uv1 * w.z;
-    f.tangent = a.tangent * w.x + b.tangent * w.y + c.tangent * w.z;
-    f.color = a.color * w.x + b.color * w.y + c.color * w.z;
-    f.world_pos = a.world_pos * w.x + b.world_pos * w.y + c.world_pos * w.z;
-    f.world_normal = a.world_normal * w.x + b.world_normal * w.y + c.world_normal * w.z;
     return f;
 }
 
@@ -193,27 +200,31 @@ fn fx_cs_visibility_resolve(
         return;
     }
     let first = slot.first_index + 3u * id.y;
-    let a = fx_vis_corner(u32(i32(fx_vis_indices[first]) + slot.base_vertex), id.x);
-    let b = fx_vis_corner(u32(i32(fx_vis_indices[first + 1u]) + slot.base_vertex), id.x);
-    let cc = fx_vis_corner(u32(i32(fx_vis_indices[first + 2u]) + slot.base_vertex), id.x);
+    let a = fx_vis_corner(u32(i32(fx_vis_indices[first]) + slot.base_vertex));
+    let b = fx_vis_corner(u32(i32(fx_vis_indices[first + 1u]) + slot.base_vertex));
+    let cc = fx_vis_corner(u32(i32(fx_vis_indices[first + 2u]) + slot.base_vertex));
+    let inst = fx_instances[id.x];
+    let p0 = fx_vis_view_pos(inst, a);
+    let p1 = fx_vis_view_pos(inst, b);
+    let p2 = fx_vis_view_pos(inst, cc);
     let xy = vec2<f32>(gid.xy) + 0.5;
     let ray = fx_vis_ray(xy);
     // counter-clockwise on screen: the geometric normal faces the eye
-    let ccw = dot(cross(b.view_pos - a.view_pos, cc.view_pos - a.view_pos), ray.dir) < 0.0;
+    let ccw = dot(cross(p1 - p0, p2 - p0), ray.dir) < 0.0;
     let front = ccw != ((slot.flags & 1u) != 0u);
     if FX_VIS_GRADIENTS {
         for (var m = 1u; m <= 2u; m++) {
             let nxy = xy + select(vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 0.0), m == 1u);
-            let w = fx_vis_barycentrics(fx_vis_ray(nxy), a.view_pos, b.view_pos, cc.view_pos);
+            let w = fx_vis_barycentrics(fx_vis_ray(nxy), p0, p1, p2);
             fx_vis_mode = m;
             fx_vis_k = 0u;
-            _ = fx_surface(fx_vis_fragment(a, b, cc, w, nxy), front);
+            _ = fx_surface(fx_vis_fragment(a, b, cc, w, id.x, nxy), front);
         }
         fx_vis_mode = 0u;
         fx_vis_k = 0u;
     }
-    let w = fx_vis_barycentrics(ray, a.view_pos, b.view_pos, cc.view_pos);
-    let f = fx_vis_fragment(a, b, cc, w, xy);
+    let w = fx_vis_barycentrics(ray, p0, p1, p2);
+    let f = fx_vis_fragment(a, b, cc, w, id.x, xy);
     let s = fx_surface(f, front);
     // fx_fs_gbuffer's outputs (layered and MASK materials are not resolved here)
     fx_vis_store(

@@ -6,7 +6,9 @@
 //!
 //! 1. Geometry pass: opaque and MASK objects run their surface shader and fill the
 //!    G-buffer ([`super::targets`]); emission and ambient × occlusion start the
-//!    specular light buffer.
+//!    specular light buffer. With [`super::GbufferLayout::Visibility`] a raster
+//!    pass writes depth and triangle ids instead, and compute dispatches
+//!    resolve the materials into the same targets (`super::visibility`).
 //! 2. Light pass into two `Rgba16Float` light buffers: every light's lighting
 //!    shader (chosen per pixel by the lighting-model id in the G-buffer). By
 //!    default ([`LightCulling::Clustered`], [`super::clusters`]) one compute
