@@ -5,11 +5,13 @@
 //! the light pass already reads (`shaders/render/visibility_resolve.wgsl`): per
 //! pixel, the triangle's corners read from the vertex and index buffers (the
 //! skinning pass's output for deformed instances), the barycentrics of the ray
-//! through the pixel, the interpolated vertex outputs, texture gradients from
-//! the same triangle's plane at the neighbouring pixels, and the surface
-//! shader. One dispatch per (material, mesh features) pair, the pixels of
-//! other pairs leaving at once; the first also clears the background. The sRGB
-//! targets are stored through raw `Rgba8Unorm` twins and copied in.
+//! through the pixel, the corners' inputs interpolated and run through the
+//! vertex stage's maths, texture gradients from the same triangle's plane at
+//! the neighbouring pixels, and the surface shader. A classification dispatch
+//! lists the 8 × 8 tiles of each (material, mesh features) pair
+//! (`visibility_classify.wgsl`); each pair's resolve is an indirect dispatch
+//! over its tiles, and a last one clears the pixels nothing was resolved at.
+//! The sRGB targets are stored through raw `Rgba8Unorm` twins and copied in.
 //!
 //! Draws the resolve cannot take stay in a G-buffer pass drawn afterwards over
 //! the same depth: alpha-tested (MASK) and layered (clear coat, transmission)
