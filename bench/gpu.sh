@@ -33,7 +33,9 @@
 #   (PNG in and out) where python3 has them;
 # - the renderer's rows (bench/gpu_render.sh): each render pass's GPU time, the
 #   render CPU per frame and rendered-sequence fps to y4m, the room and the
-#   Cornell box with 16,384 lights.
+#   Cornell box with 16,384 lights, each under both G-buffer layouts (the fat
+#   G-buffer and the visibility buffer: its geometry stage's GPU time against
+#   the fat `geometry` pass decides issue 26 point 3, docs/renderer.md).
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 

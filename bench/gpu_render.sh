@@ -7,6 +7,12 @@
 #     the frames: posing, light culling, uploads and command recording), and the
 #     one-time creation of the render pipelines on their first use
 #     (`scene.render_pipelines_ms`, once per run);
+#   - the geometry stage's GPU time (last frame) under each G-buffer layout
+#     (`--gbuffer-layout`, issue 26 point 3): `fat` is the `geometry` pass;
+#     `visibility` is the raster pass (`visibility`), the compute material
+#     resolve (`material resolve`) and the G-buffer draws it leaves
+#     (`geometry`, none for these scenes); docs/renderer.md has the rule that
+#     decides between them;
 #   - the rendered sequence's frames per second to a y4m file, steady state:
 #     two untimed runs of N and 3N frames, fps = 2N / (t(3N) - t(N)), so the
 #     process start, the device and the pipelines (once per run) cancel out;
@@ -20,7 +26,8 @@
 # Environment (optional): FXRUN=path (default: cargo build --release),
 # FX_BENCH_SIZES="1920x1080 3840x2160", FX_BENCH_FRAMES=16, FX_BENCH_LIGHTS=16384,
 # FX_BENCH_CHAIN="ssao tonemap fxaa" (the effects after the renderer; default:
-# tonemap), FX_BENCH_CORNELL=path (the corpus CornellBox.glb, where ../shared is
+# tonemap), FX_BENCH_LAYOUTS="fat visibility" (the G-buffer layouts, each a
+# row), FX_BENCH_CORNELL=path (the corpus CornellBox.glb, where ../shared is
 # not beside the checkout), WGPU_BACKEND=vulkan (recommended on GPU servers).
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
@@ -36,6 +43,7 @@ else
     LIGHTS=${FX_BENCH_LIGHTS:-16384}
 fi
 CHAIN=${FX_BENCH_CHAIN:-tonemap}
+LAYOUTS=${FX_BENCH_LAYOUTS:-fat visibility}
 CORNELL=${FX_BENCH_CORNELL:-../shared/corpus/gltf/CornellBox.glb}
 need_files "$CORNELL"
 command -v python3 >/dev/null || { echo "install python3"; exit 1; }
@@ -85,17 +93,20 @@ print(f"{cpu:.2f} {once:.1f} {steady:.1f}/{whole:.1f} {passes}")
 EOF
 }
 
-echo "| scene | size | render CPU ms/frame | pipelines created (ms, once) | sequence fps to y4m: steady / whole process of $FRAMES frames | render GPU ms per pass (last frame) |"
-echo "|---|---|---|---|---|---|"
+echo "| scene | G-buffer layout | size | render CPU ms/frame | pipelines created (ms, once) | sequence fps to y4m: steady / whole process of $FRAMES frames | geometry stage GPU ms (last frame) | render GPU ms per pass (last frame) |"
+echo "|---|---|---|---|---|---|---|---|"
 for size in $SIZES; do
     for scene in room cornell; do
-        case $scene in
-            room) label="builtin:room"; args=(builtin:room) ;;
-            cornell) label="Cornell box, $LIGHTS lights"; args=("$CORNELL" --lights "$LIGHTS") ;;
-        esac
-        read -r cpu once fps passes < <(run "$scene" "$size" "${args[@]}")
-        total=$(echo "$passes" | tr ';' '\n' | awk -F= '{s += $2} END {printf "%.2f", s}')
-        echo "| $label | $size | $cpu | $once | $fps | ${passes//;/, } (sum $total) |"
+        for layout in $LAYOUTS; do
+            case $scene in
+                room) label="builtin:room"; args=(builtin:room) ;;
+                cornell) label="Cornell box, $LIGHTS lights"; args=("$CORNELL" --lights "$LIGHTS") ;;
+            esac
+            read -r cpu once fps passes < <(run "$scene-$layout" "$size" "${args[@]}" --gbuffer-layout "$layout")
+            total=$(echo "$passes" | tr ';' '\n' | awk -F= '{s += $2} END {printf "%.2f", s}')
+            geometry=$(echo "$passes" | tr ';' '\n' | awk -F= '$1 == "geometry" || $1 == "visibility" || $1 == "material resolve" {s += $2} END {printf "%.3f", s}')
+            echo "| $label | $layout | $size | $cpu | $once | $fps | $geometry | ${passes//;/, } (sum $total) |"
+        done
     done
 done
 echo

@@ -36,6 +36,13 @@ struct FxVsOut {
 
 @vertex
 fn fx_vs_geometry(v: FxVsIn, @builtin(instance_index) ii: u32) -> FxVsOut {
+    return fx_geometry_vertex(v, ii);
+}
+
+// A vertex of instance slot `ii`: what the vertex stage hands the rasteriser,
+// and what the visibility buffer's material resolve interpolates itself
+// (visibility_resolve.wgsl).
+fn fx_geometry_vertex(v: FxVsIn, ii: u32) -> FxVsOut {
     let inst = fx_instances[ii];
     let wp = inst.model * vec4<f32>(v.position, 1.0);
     let vp = fx_frame.view * wp;

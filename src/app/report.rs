@@ -119,6 +119,10 @@ pub struct SceneStats {
     pub technique: String,
     pub light_culling: String,
     pub shadows: String,
+    /// How deferred shading filled the G-buffer: `fat` or `visibility`
+    /// (`--gbuffer-layout`; `fat` where the adapter cannot have a visibility
+    /// buffer).
+    pub gbuffer_layout: String,
     pub load_ms: f64,
     /// The renderer's CPU time of every frame's own steps, summed over the
     /// frames (without `render_pipelines_ms`).

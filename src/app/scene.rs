@@ -77,6 +77,8 @@ pub struct SceneJob {
     pub variants: crate::render::material::VariantMode,
     /// How the light passes pick each pixel's lights.
     pub light_culling: crate::render::renderer::LightCulling,
+    /// How deferred shading fills the G-buffer (`--gbuffer-layout`).
+    pub gbuffer_layout: crate::render::GbufferLayout,
     /// Fog applied in the lighting template (no post pass).
     pub fog: Option<crate::render::fog::Fog>,
     /// Print each material, its shaders and variant, and the pipelines compiled.
@@ -125,6 +127,7 @@ impl SceneJob {
             scene: self.scene.clone(),
             technique: self.technique.to_string(),
             light_culling: self.light_culling.to_string(),
+            gbuffer_layout: self.gbuffer_layout.to_string(),
             shadows: self.shadows.to_string(),
             ..Default::default()
         }
@@ -188,6 +191,10 @@ pub(super) fn prepare(
     }
     stats.load_ms = ms(t.elapsed());
     let renderer = scene_renderer(job, &engine.ctx, &scene)?;
+    // the fat G-buffer where the adapter cannot have a visibility buffer
+    if renderer.visibility_fallback_batches().is_none() {
+        stats.gbuffer_layout = crate::render::GbufferLayout::Fat.to_string();
+    }
     Ok((scene, renderer, effect))
 }
 
@@ -271,6 +278,7 @@ pub fn scene_renderer(
         &RendererOptions {
             variants: job.variants,
             light_culling: job.light_culling,
+            gbuffer_layout: job.gbuffer_layout,
             shadows: job.shadows,
             shadow_size: job.shadow_size,
             shadow_budget: job.shadow_layers,

@@ -43,8 +43,11 @@ fn geometry_keys(
     lights: u32,
 ) -> Vec<(GeoKey, usize)> {
     let mut keys: Vec<(GeoKey, usize)> = Vec::new();
-    for b in &r.geometry.batches {
+    for (i, b) in r.geometry.batches.iter().enumerate() {
         for &pass in opaque_passes(technique) {
+            if pass == GeoPass::GBuffer && r.visibility.is_some_and(|v| v.resolves(i)) {
+                continue;
+            }
             keys.push((
                 geo_key(r.materials, mode, pass, b, lights),
                 r.materials.materials[b.material].surface,

@@ -15,6 +15,7 @@ use super::shadow_pass::ShadowMaps;
 use super::targets::Targets;
 use super::technique::Technique;
 use super::upload::{Batch, Geometry, MaterialResources};
+use super::visibility::VisibilityBuffer;
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use glam::{Mat4, Vec3, Vec4};
 
@@ -35,6 +36,8 @@ pub(crate) struct FrameGpu<'a> {
     pub light_view: &'a super::light_view_gpu::LightView,
     pub volumes: &'a LightVolumes,
     pub motion: &'a MotionPass,
+    /// Deferred shading's visibility buffer, when it has one.
+    pub visibility: Option<&'a VisibilityBuffer>,
     /// The frame's background colour (fogged).
     pub frame_background: Vec3,
 }
@@ -126,6 +129,8 @@ enum Depth {
     Clear,
     /// Attached read-only (the pass also samples it).
     Read,
+    /// Loaded and written (drawn over the visibility buffer's depth).
+    Load,
 }
 
 /// Begins a render pass with `colors`, the depth attachment as `depth`, and the
@@ -143,10 +148,13 @@ fn begin<'e>(
     names.push(name.to_string());
     let depth_stencil_attachment = match depth {
         Depth::None => None,
-        Depth::Clear => Some(wgpu::RenderPassDepthStencilAttachment {
+        Depth::Clear | Depth::Load => Some(wgpu::RenderPassDepthStencilAttachment {
             view: &t.depth.view,
             depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
+                load: match depth {
+                    Depth::Clear => wgpu::LoadOp::Clear(1.0),
+                    _ => wgpu::LoadOp::Load,
+                },
                 store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
@@ -285,13 +293,25 @@ impl<'a> Recorder<'a> {
         } else {
             &t.light_specular
         };
+        let (ops, depth) = match self.r.visibility {
+            // the resolve filled the G-buffer: its other draws over it
+            Some(v) => {
+                let (r, names) = (self.r, &mut self.names);
+                let inputs = (r.g0, r.geometry, r.material_gpu);
+                self.draws += v.encode(encoder, inputs, t, self.compute, (names, self.timer));
+                (LOAD, Depth::Load)
+            }
+            None => (zero, Depth::Clear),
+        };
         let colors = [
-            attach(&t.albedo.view, zero),
-            attach(&t.normal.view, zero),
-            attach(&t.specular.view, zero),
-            attach(&start.view, zero),
+            attach(&t.albedo.view, ops),
+            attach(&t.normal.view, ops),
+            attach(&t.specular.view, ops),
+            attach(&start.view, ops),
         ];
-        self.geometry(encoder, "geometry", &colors, Depth::Clear, GeoPass::GBuffer);
+        if self.r.visibility.is_none_or(|v| v.has_fallback()) {
+            self.geometry(encoder, "geometry", &colors, depth, GeoPass::GBuffer);
+        }
         self.light_pass(encoder, LOAD);
         if !self.compute {
             let colors = [attach(&t.scene.view, zero)];
@@ -532,10 +552,14 @@ impl<'a> Recorder<'a> {
             let blend = self.blend.iter().copied();
             draw_batches((r, p), &mut rp, blend, pass, lights, draws);
         } else {
+            // the visibility buffer resolved some G-buffer draws already
+            let vis = r.visibility.filter(|_| pass == GeoPass::GBuffer);
+            let batches = r.geometry.batches.iter().enumerate();
+            let batches = batches.filter(|(i, _)| vis.is_none_or(|v| !v.resolves(*i)));
             draw_batches(
                 (r, p),
                 &mut rp,
-                r.geometry.batches.iter(),
+                batches.map(|(_, b)| b),
                 pass,
                 lights,
                 draws,

@@ -64,6 +64,7 @@ mod frame;
 mod frame_motion;
 mod frame_record;
 pub mod gbuffer;
+mod gbuffer_layout;
 mod gpu_types;
 mod light_buffers;
 mod light_compute;
@@ -87,11 +88,15 @@ pub mod shadows;
 pub mod targets;
 mod technique;
 mod upload;
+mod visibility;
+mod visibility_pipelines;
+mod visibility_shader;
 mod wgsl_check;
 mod world_lights;
 
 pub use camera_std::camera_std;
 pub use gbuffer::{gbuffer_images, GbufferImage};
+pub use gbuffer_layout::GbufferLayout;
 pub use normal::NormalEncoding;
 pub use output::published_aux;
 pub use renderer::{

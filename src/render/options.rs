@@ -1,8 +1,9 @@
 //! [`RendererOptions`]: what is fixed when a renderer is made (normal
 //! encoding, mipmaps, variants, light culling, shadows, the compute light
-//! pass). Its own home, so the parts that read it need not import the renderer.
+//! pass, the G-buffer layout). Its own home, so the parts that read it need not import the renderer.
 
 use super::clusters::LightCulling;
+use super::gbuffer_layout::GbufferLayout;
 use super::material::VariantMode;
 use super::normal::NormalEncoding;
 use super::shadows::{ShadowMode, DEFAULT_SHADOW_LAYERS, DEFAULT_SHADOW_SIZE};
@@ -38,6 +39,10 @@ pub struct RendererOptions {
     /// compute dispatch (default; `light_compute.rs`), or as the full-screen
     /// fragment pass it replaces (the reference it is tested against).
     pub compute_lighting: bool,
+    /// How deferred shading fills the G-buffer: one raster pass running the
+    /// surface shaders (default), or a visibility buffer resolved in compute
+    /// (`visibility.rs`).
+    pub gbuffer_layout: GbufferLayout,
 }
 
 impl Default for RendererOptions {
@@ -53,6 +58,7 @@ impl Default for RendererOptions {
             shadow_cache: true,
             stable_cascades: true,
             compute_lighting: true,
+            gbuffer_layout: GbufferLayout::default(),
         }
     }
 }

@@ -6,7 +6,9 @@
 //!
 //! 1. Geometry pass: opaque and MASK objects run their surface shader and fill the
 //!    G-buffer ([`super::targets`]); emission and ambient × occlusion start the
-//!    specular light buffer.
+//!    specular light buffer. With [`super::GbufferLayout::Visibility`] a raster
+//!    pass writes depth and triangle ids instead, and compute dispatches
+//!    resolve the materials into the same targets (`super::visibility`).
 //! 2. Light pass into two `Rgba16Float` light buffers: every light's lighting
 //!    shader (chosen per pixel by the lighting-model id in the G-buffer). By
 //!    default ([`LightCulling::Clustered`], [`super::clusters`]) one compute
@@ -54,6 +56,7 @@ pub use super::shadows::{
 };
 use super::targets::{TargetLayouts, Targets};
 use super::upload::{Geometry, MaterialResources};
+use super::visibility::{VisInputs, VisibilityBuffer};
 use super::world_lights::WorldLights;
 use crate::gpu::context::{GpuContext, GpuError, GpuTimer};
 use crate::scene::{Camera, Light, Scene};
@@ -130,6 +133,9 @@ pub struct Renderer {
     pub(super) ensured: std::collections::HashSet<(Technique, u32)>,
     /// The motion-vector passes (`AUX.motion`).
     pub(crate) motion: MotionPass,
+    /// The visibility buffer of deferred shading, where the options ask for
+    /// one and the adapter can have it (`super::visibility`).
+    pub(crate) visibility: Option<VisibilityBuffer>,
     /// The instances' rest transforms (scene order), and whether the instance
     /// buffer holds other ones (a posed frame was rendered).
     pub(super) rest_transforms: Vec<Mat4>,
@@ -350,7 +356,22 @@ impl Renderer {
         let aux_formats = aux_formats(ctx);
         warn_dark_lights(&name, &scene.lights);
         let motion = MotionPass::new(ctx)?;
+        let visibility = match opts.gbuffer_layout {
+            super::GbufferLayout::Fat => None,
+            super::GbufferLayout::Visibility => VisibilityBuffer::new(
+                ctx,
+                &VisInputs {
+                    materials: &materials,
+                    geometry: &geometry,
+                    material_gpu: &material_gpu,
+                    layouts: &layouts,
+                    normal_encoding: opts.normal_encoding.shader_id(),
+                },
+            )
+            .map_err(RenderError::Material)?,
+        };
         Ok(Renderer {
+            visibility,
             aux_formats,
             opts: opts.clone(),
             name,
@@ -477,6 +498,13 @@ impl Renderer {
         LightCompute::AuxResolveB.aux_in_compute(self.opts.compute_lighting, &self.layouts)
     }
 
+    /// With the visibility buffer ([`super::GbufferLayout::Visibility`], on
+    /// an adapter that can have it): the opaque batches drawn into the
+    /// G-buffer rather than resolved in compute. `None`: the fat G-buffer.
+    pub fn visibility_fallback_batches(&self) -> Option<usize> {
+        self.visibility.as_ref().map(|v| v.fallback_batches())
+    }
+
     /// Creates the frame targets for `width`×`height` if the size changed.
     pub(super) fn ensure_targets(
         &mut self,
@@ -508,8 +536,12 @@ impl Renderer {
                 light_compute: &self.layouts.g2_light_compute,
                 aux_compute: self.layouts.g2_aux_compute.as_ref(),
                 aux_b_compute: self.layouts.g2_aux_b_compute.as_ref(),
+                gbuffer_resolved: self.visibility.is_some(),
             },
         )?;
+        if let Some(v) = &mut self.visibility {
+            v.ensure_targets(ctx, &targets, &self.geometry);
+        }
         self.targets = Some(targets);
         Ok(())
     }

@@ -397,6 +397,7 @@ impl Renderer {
                 light_view: &self.light_view,
                 volumes: &self.volumes,
                 motion: &self.motion,
+                visibility: self.visibility.as_ref(),
                 frame_background: self.frame_background,
             },
             pipelines: &mut self.pipelines,
@@ -506,6 +507,16 @@ impl Renderer {
             stats.cluster_max = summary.max_per_cluster as usize;
         }
         let ms = timer.read_ms(ctx, pass_names.len() as u32)?;
+        log::debug!(
+            "{}: frame GPU passes: {}",
+            self.name,
+            pass_names
+                .iter()
+                .zip(&ms)
+                .map(|(n, t)| format!("{n}={t:.3}"))
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
         stats.gpu_ms = Some(ms.iter().sum());
         stats.pass_ms = pass_names.into_iter().zip(ms).collect();
         Ok(())

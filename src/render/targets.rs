@@ -97,6 +97,10 @@ pub(crate) struct TargetLayouts<'a> {
     pub aux_compute: Option<&'a wgpu::BindGroupLayout>,
     /// The second half's outputs (`None`: that half is drawn).
     pub aux_b_compute: Option<&'a wgpu::BindGroupLayout>,
+    /// The visibility buffer's resolve fills the G-buffer (`visibility.rs`):
+    /// it stores to the normal, emission and specular light targets and
+    /// copies into the albedo and specular ones.
+    pub gbuffer_resolved: bool,
 }
 
 /// The frame's images, before their bind groups.
@@ -131,7 +135,7 @@ fn create_images(
     device: &wgpu::Device,
     (width, height): (u32, u32),
     aux_formats: &[(String, wgpu::TextureFormat)],
-    aux_storage: (bool, bool),
+    (aux_storage, resolved): ((bool, bool), bool),
 ) -> Images {
     let make_with = |label: &str, format: wgpu::TextureFormat, extra| {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
@@ -144,14 +148,26 @@ fn create_images(
     // written by the compute light pass as well
     let storage =
         |label: &str| make_with(label, LIGHT_FORMAT, wgpu::TextureUsages::STORAGE_BINDING);
+    // the visibility buffer's resolve stores or copies into the G-buffer
+    let (stored, copied) = match resolved {
+        true => (
+            wgpu::TextureUsages::STORAGE_BINDING,
+            wgpu::TextureUsages::COPY_DST,
+        ),
+        false => (wgpu::TextureUsages::empty(), wgpu::TextureUsages::empty()),
+    };
     Images {
         depth: make("deferred depth", DEPTH_FORMAT),
-        albedo: make("deferred G-buffer diffuse+material", ALBEDO_FORMAT),
-        normal: make("deferred G-buffer normal+roughness", NORMAL_FORMAT),
-        specular: make("deferred G-buffer specular+model", SPECULAR_FORMAT),
+        albedo: make_with("deferred G-buffer diffuse+material", ALBEDO_FORMAT, copied),
+        normal: make_with("deferred G-buffer normal+roughness", NORMAL_FORMAT, stored),
+        specular: make_with("deferred G-buffer specular+model", SPECULAR_FORMAT, copied),
         light_diffuse: storage("deferred light buffer diffuse"),
         light_specular: storage("deferred light buffer specular"),
-        emission: make("deferred emission, ambient and environment", LIGHT_FORMAT),
+        emission: make_with(
+            "deferred emission, ambient and environment",
+            LIGHT_FORMAT,
+            stored,
+        ),
         scene: storage("deferred scene (HDR)"),
         aux: aux_formats
             .iter()
@@ -326,7 +342,8 @@ impl Targets {
                 layouts.aux_compute.is_some(),
                 layouts.aux_b_compute.is_some(),
             );
-            let images = create_images(device, (width, height), aux_formats, aux_storage);
+            let storage = (aux_storage, layouts.gbuffer_resolved);
+            let images = create_images(device, (width, height), aux_formats, storage);
             let groups = create_groups(device, &images, layouts);
             let Images {
                 depth,

@@ -32,6 +32,17 @@ fn renders_the_built_in_scene_through_the_default_chain() {
     }
     let raytraced = fxrun_line("--scene builtin:room --renderer raytraced -o {}", &[&out]);
     assert_eq!(code(&raytraced), 1);
+    // The visibility buffer renders; an unknown layout is rejected.
+    let line = "fog --scene builtin:room --gbuffer-layout visibility --size 48x27 -o {}";
+    let o = fxrun_line(line, &[&out]);
+    assert_eq!(code(&o), 0, "visibility: {}", stderr(&o));
+    let bogus = fxrun_line("--scene builtin:room --gbuffer-layout thin -o {}", &[&out]);
+    assert_eq!(code(&bogus), 1);
+    assert!(
+        stderr(&bogus).contains("--gbuffer-layout thin"),
+        "{}",
+        stderr(&bogus)
+    );
 }
 
 #[test]

@@ -53,3 +53,5 @@ mod shadows;
 mod ssgi;
 #[path = "../taa_scene.rs"]
 mod taa_scene;
+#[path = "../visibility_buffer.rs"]
+mod visibility_buffer;

@@ -232,6 +232,11 @@ pub(crate) struct Cli {
     /// (every light at every pixel).
     #[arg(help_heading = SCENES, long, default_value = "clustered")]
     pub(crate) light_culling: String,
+    /// Scene: how deferred shading fills the G-buffer: fat (one raster pass
+    /// runs the surface shaders, default) or visibility (depth and a triangle
+    /// id per pixel, materials resolved in compute; docs/renderer.md).
+    #[arg(help_heading = SCENES, long, default_value = "fat")]
+    pub(crate) gbuffer_layout: String,
     /// Scene: fog in the lighting template, KEY=VALUE with the `fog` effect's
     /// parameters (mode, distance, color, density, start, end, height_falloff,
     /// fog_height), or `on` for its defaults. Repeatable.

@@ -61,6 +61,10 @@ pub(crate) fn scene_job(
         .light_culling
         .parse()
         .map_err(|e: String| rejected(format!("--light-culling {}: {e}", cli.light_culling)))?;
+    let gbuffer_layout = cli
+        .gbuffer_layout
+        .parse()
+        .map_err(|e: String| rejected(format!("--gbuffer-layout {}: {e}", cli.gbuffer_layout)))?;
     let fog = parse_fog(cli)?;
     let material_map = parse_material_map(cli)?;
     let ambient = parse_ambient(cli)?;
@@ -97,6 +101,7 @@ pub(crate) fn scene_job(
         material_map,
         variants,
         light_culling,
+        gbuffer_layout,
         fog,
         describe_materials: cli.describe_materials,
         ambient,

@@ -14,13 +14,15 @@ use std::time::{Duration, Instant};
 /// `TIMESTAMP_QUERY` enables [`GpuTimer`], `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`
 /// the adapter's own format capabilities (storage `r16f`, `rg16f`, `r8`, `rgb10a2`
 /// for compute execution), `FLOAT32_FILTERABLE` linear sampling of 32-bit float
-/// textures and `FLOAT32_BLENDABLE` blending into them.
+/// textures, `FLOAT32_BLENDABLE` blending into them and `PRIMITIVE_INDEX` the
+/// renderer's visibility buffer (`@builtin(primitive_index)`).
 const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
     .union(wgpu::Features::PIPELINE_CACHE)
     .union(wgpu::Features::FLOAT32_FILTERABLE)
     .union(wgpu::Features::FLOAT32_BLENDABLE)
-    .union(wgpu::Features::ADDRESS_MODE_CLAMP_TO_BORDER);
+    .union(wgpu::Features::ADDRESS_MODE_CLAMP_TO_BORDER)
+    .union(wgpu::Features::PRIMITIVE_INDEX);
 
 /// How many uncaptured errors [`GpuContext`] keeps for [`GpuContext::take_uncaptured_errors`].
 const MAX_RECORDED_ERRORS: usize = 64;

@@ -375,8 +375,10 @@ fn create_buffers(
     };
     // the skinning pass writes the deformed instances' ranges (and
     // `Renderer::deformed_vertices` reads them back)
+    // (the visibility buffer's material resolve reads vertices and indices as
+    // storage: `crate::render::visibility`)
     let deformed_usage = if !any_deformed {
-        wgpu::BufferUsages::VERTEX
+        wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE
     } else {
         wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC
     };
@@ -398,7 +400,7 @@ fn create_buffers(
                 init(
                     "deferred indices",
                     bytemuck::cast_slice(&meshes.indices),
-                    wgpu::BufferUsages::INDEX,
+                    wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
                 ),
                 init(
                     "deferred instances",

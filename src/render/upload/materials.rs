@@ -23,16 +23,20 @@ pub(crate) struct MaterialResources {
     pub textures: usize,
 }
 
-/// A 2D texture of a material's group (fragment stage; the compute light pass
-/// reads no material textures).
+/// The stages that run surface shaders: the geometry passes' fragments and
+/// the visibility buffer's material resolve (`crate::render::visibility`).
+const SURFACE_STAGES: wgpu::ShaderStages =
+    wgpu::ShaderStages::FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+
+/// A 2D texture of a material's group.
 fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
     let d2 = wgpu::TextureViewDimension::D2;
-    bindings::texture_entry(binding, wgpu::ShaderStages::FRAGMENT, sample_type, d2)
+    bindings::texture_entry(binding, SURFACE_STAGES, sample_type, d2)
 }
 
-/// A uniform buffer read by the fragment stage.
+/// A uniform buffer of a material's group.
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    bindings::uniform_entry(binding, wgpu::ShaderStages::FRAGMENT)
+    bindings::uniform_entry(binding, SURFACE_STAGES)
 }
 
 impl MaterialResources {
@@ -115,10 +119,9 @@ fn surface_layouts(device: &wgpu::Device, set: &MaterialSet) -> Vec<wgpu::BindGr
             for t in &s.shader.textures {
                 entries.push(texture_entry(t.binding, filterable));
             }
-            let fragment = wgpu::ShaderStages::FRAGMENT;
             for sampler in &s.shader.samplers {
                 let ty = wgpu::SamplerBindingType::Filtering;
-                entries.push(bindings::sampler_entry(sampler.binding, fragment, ty));
+                entries.push(bindings::sampler_entry(sampler.binding, SURFACE_STAGES, ty));
             }
             entries.push(uniform_entry(FEATURES_BINDING));
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
