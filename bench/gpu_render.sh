@@ -86,10 +86,12 @@ s = r["scene"]
 cpu = s["render_cpu_ms"] / max(r["frames_in"], 1)
 once = s.get("render_pipelines_ms", 0.0)
 short, long = int(sys.argv[3]) / 1e9, int(sys.argv[4]) / 1e9
-steady = 2 * frames / (long - short) if long > short else float("nan")
+# the 3N-frame run no longer than the N-frame one (a loaded machine, few
+# frames): no steady-state figure, shown as "-"
+steady = f"{2 * frames / (long - short):.1f}" if long > short else "-"
 whole = frames / short
 passes = ";".join(f"{n}={ms:.3f}" for n, ms in s["render_passes"])
-print(f"{cpu:.2f} {once:.1f} {steady:.1f}/{whole:.1f} {passes}")
+print(f"{cpu:.2f} {once:.1f} {steady}/{whole:.1f} {passes}")
 EOF
 }
 

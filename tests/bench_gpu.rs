@@ -27,17 +27,19 @@ fn quick_gpu_benchmark_prints_its_table() {
         String::from_utf8_lossy(&o.stderr)
     );
     let table: Vec<&str> = out.lines().filter(|l| l.starts_with("| ")).collect();
-    // The renderer's rows: the room and the Cornell box, with figures.
-    for scene in [
-        "| builtin:room | 96x54 |",
-        "| Cornell box, 64 lights | 96x54 |",
-    ] {
-        let line = table
-            .iter()
-            .find(|l| l.starts_with(scene))
-            .unwrap_or_else(|| panic!("no renderer row `{scene}` in\n{out}"));
-        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
-        assert!(cells[3].parse::<f64>().is_ok(), "render CPU ms: {line}");
+    // The renderer's rows: the room and the Cornell box under both G-buffer
+    // layouts, with figures.
+    for scene in ["builtin:room", "Cornell box, 64 lights"] {
+        for layout in ["fat", "visibility"] {
+            let start = format!("| {scene} | {layout} | 96x54 |");
+            let line = table
+                .iter()
+                .find(|l| l.starts_with(&start))
+                .unwrap_or_else(|| panic!("no renderer row `{start}` in\n{out}"));
+            let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+            assert!(cells[4].parse::<f64>().is_ok(), "render CPU ms: {line}");
+            assert!(cells[7].parse::<f64>().is_ok(), "geometry stage ms: {line}");
+        }
     }
     let row = |what: &str| {
         table
