@@ -58,12 +58,14 @@ fn fx_env_lobe_spread(roughness: f32) -> f32 {
 // at x = m / last, piecewise linear between these knots at x = 0, 1/6, ..., 1:
 // closer together at low roughness (src/render/environment/levels.rs).
 const FX_ENV_LEVEL_ROUGHNESS = array<f32, 7>(0.0, 0.1, 0.2, 0.3, 0.45, 0.7, 1.0);
+// Segments between the knots.
+const FX_ENV_SEGMENTS = 6u;
 
 // The roughness at position `x` (0 ..= 1) of the chain.
 fn fx_env_level_roughness(x: f32) -> f32 {
     var knots = FX_ENV_LEVEL_ROUGHNESS;
-    let t = clamp(x, 0.0, 1.0) * 6.0;
-    let i = min(u32(t), 5u);
+    let t = clamp(x, 0.0, 1.0) * f32(FX_ENV_SEGMENTS);
+    let i = min(u32(t), FX_ENV_SEGMENTS - 1u);
     return mix(knots[i], knots[i + 1u], t - f32(i));
 }
 
@@ -73,12 +75,12 @@ fn fx_env_level_position(roughness: f32) -> f32 {
     let r = clamp(roughness, 0.0, 1.0);
     var i = 0u;
     loop {
-        if i >= 5u || r <= knots[i + 1u] {
+        if i + 1u >= FX_ENV_SEGMENTS || r <= knots[i + 1u] {
             break;
         }
         i += 1u;
     }
-    return (f32(i) + (r - knots[i]) / (knots[i + 1u] - knots[i])) / 6.0;
+    return (f32(i) + (r - knots[i]) / (knots[i + 1u] - knots[i])) / f32(FX_ENV_SEGMENTS);
 }
 
 // The level of the specular map to read for perceptual roughness `roughness`.
